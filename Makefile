@@ -1,0 +1,38 @@
+# tendonrod: the two commands of the README, and a few helpers.
+#   make demo   install what is missing, then regenerate the paper's figures
+#   make test   install what is missing, then run the whole test suite (notebooks included)
+PY      ?= python3
+VENV    := .venv
+VPY     := $(VENV)/bin/python
+STAMP   := $(VENV)/.installed
+SOURCES := setup.py pyproject.toml tendonrod/_core.c $(wildcard csrc/*.c csrc/*.h)
+DEMO_OUT ?= figures
+
+.PHONY: demo test install gsl bench sanitize valgrind clean
+
+# GSL: install libgsl-dev through apt-get when neither pkg-config nor gsl-config finds it.
+gsl:
+	@if pkg-config --exists gsl 2>/dev/null || command -v gsl-config >/dev/null 2>&1; then :; else \
+	  echo "GSL not found: installing libgsl-dev with apt-get"; \
+	  SUDO=; [ "$$(id -u)" = 0 ] || SUDO=sudo; \
+	  $$SUDO apt-get update -qq && $$SUDO apt-get install -y -qq libgsl-dev pkg-config; fi
+
+$(STAMP): $(SOURCES) | gsl
+	test -x $(VPY) || $(PY) -m venv $(VENV)
+	$(VPY) -m pip install -q --upgrade pip
+	$(VPY) -m pip install -q -e '.[plot,test,notebooks]'
+	touch $@
+
+install: $(STAMP)
+
+demo: $(STAMP)
+	MPLBACKEND=Agg $(VPY) -m tendonrod figures --out $(DEMO_OUT)
+
+test: $(STAMP)
+	MPLBACKEND=Agg $(VPY) -m pytest -q tests notebooks --nbmake
+
+bench: $(STAMP)
+	MPLBACKEND=Agg $(VPY) bench/closed_forms.py
+
+clean:
+	rm -rf build $(VENV) tendonrod/*.so *.egg-info

@@ -1,0 +1,20 @@
+"""tendonrod: deflection of tendon-driven continuum robots under external loads
+with prescribed tendon displacements (or tensions).
+
+- :mod:`tendonrod.analytic` -- the paper's closed-form small-deflection formulas
+  as NumPy ufuncs (Sections II-III).
+- :func:`tendonrod.solve` -- a geometrically exact Cosserat-rod/tendon solver
+  (Section IV) with prescribed displacements, tendon stretch, pretension, slack.
+
+SI units everywhere, angles in radians.
+"""
+from . import _core
+
+gsl_version: str = _core.gsl_version
+"""Version of the GSL library tendonrod._core was built against."""
+
+__version__ = "0.1.0"
+
+from . import analytic  # noqa: E402
+
+__all__ = ["analytic", "gsl_version", "__version__"]

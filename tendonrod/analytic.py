@@ -1,0 +1,1 @@
+"""Closed-form small-deflection formulas (paper Sections II-III) as NumPy ufuncs."""
