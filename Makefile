@@ -37,5 +37,17 @@ test: $(STAMP)
 bench: $(STAMP)
 	MPLBACKEND=Agg $(VPY) bench/closed_forms.py
 
+# Memory safety (issue 6).  sanitize: ASan+UBSan build in a copy of the tree
+# (/tmp/tendonrod-sanitize), then pytest against it; SANITIZE_ARGS picks tests.
+# valgrind: memcheck of a loop of solves and ufunc calls; VALGRIND_ARGS=--fast
+# for a short run.  See bench/sanitize.sh and bench/valgrind.sh.
+SANITIZE_ARGS ?= tests
+VALGRIND_ARGS ?=
+sanitize: $(STAMP)
+	VPY=$(abspath $(VPY)) bench/sanitize.sh $(SANITIZE_ARGS)
+
+valgrind: $(STAMP)
+	VPY=$(abspath $(VPY)) bench/valgrind.sh $(VALGRIND_ARGS)
+
 clean:
 	rm -rf build $(VENV) tendonrod/*.so *.egg-info
