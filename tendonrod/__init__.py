@@ -17,4 +17,13 @@ __version__ = "0.1.0"
 
 from . import analytic  # noqa: E402
 
+# BEGIN Cosserat solver API (model.py, solver.py)
+from .model import (DistributedLoad, PointLoad, Robot, Rod, Scene,  # noqa: E402
+                    Tendon)
+from .solver import (ConvergenceError, ConvergenceWarning, Options,  # noqa: E402
+                     Solution, compliance, solve)
+# END Cosserat solver API
+
 __all__ = ["analytic", "gsl_version", "__version__"]
+__all__ += ["Rod", "Tendon", "Robot", "Scene", "PointLoad", "DistributedLoad", "Options",
+            "Solution", "solve", "compliance", "ConvergenceWarning", "ConvergenceError"]

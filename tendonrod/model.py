@@ -1,0 +1,472 @@
+"""Scene description for the Cosserat-rod/tendon solver: frozen, validated dataclasses.
+
+Everything here is pure Python and describes *what* is solved; :mod:`tendonrod.solver`
+packs it into the flat arrays of the C core. Conventions (see ``MODEL.md``):
+
+- SI units (m, N, N m, Pa), angles in radians.
+- The base sits at the origin, the base frame is the world frame, and the undeformed
+  rod lies along +z. Loads are given in the world frame.
+- Tendon ``i`` runs at the body-frame offset
+  ``r_i(s) = (slope * s + offset) * (cos angle, sin angle, 0)`` and is anchored at
+  arc length ``end`` (``None``: the tip). A positive displacement retracts (pulls)
+  the tendon; a tension is >= 0.
+
+Every class validates itself on construction and raises :class:`ValueError` naming
+the field and its value, so bad input never reaches the C core.
+"""
+from __future__ import annotations
+
+import math
+import numbers
+from dataclasses import KW_ONLY, dataclass, field
+from typing import Optional, Sequence, Tuple, Union
+
+import numpy as np
+
+__all__ = ["Rod", "Tendon", "Robot", "PointLoad", "DistributedLoad", "Scene"]
+
+Vec3 = Tuple[float, float, float]
+
+
+# --------------------------------------------------------------------------- helpers
+def _real(owner: str, name: str, value, *, allow_inf: bool = False) -> float:
+    """``value`` as a float, or ValueError naming ``owner.name`` and the value."""
+    if isinstance(value, (bool, np.bool_)) or not isinstance(value, (numbers.Real, np.floating, np.integer)):
+        try:
+            arr = np.asarray(value)
+        except Exception:  # pragma: no cover - exotic objects
+            arr = None
+        if arr is None or arr.shape != () or arr.dtype.kind not in "fiu":
+            raise ValueError(f"{owner}.{name} must be a real number, got {value!r}")
+        value = arr.item()
+    x = float(value)
+    if math.isnan(x):
+        raise ValueError(f"{owner}.{name} must not be NaN, got {value!r}")
+    if math.isinf(x) and not allow_inf:
+        raise ValueError(f"{owner}.{name} must be finite, got {value!r}")
+    return x
+
+
+def _positive(owner: str, name: str, value, *, allow_inf: bool = False) -> float:
+    x = _real(owner, name, value, allow_inf=allow_inf)
+    if not x > 0.0:
+        raise ValueError(f"{owner}.{name} must be > 0, got {value!r}")
+    return x
+
+
+def _nonnegative(owner: str, name: str, value) -> float:
+    x = _real(owner, name, value)
+    if x < 0.0:
+        raise ValueError(f"{owner}.{name} must be >= 0, got {value!r}")
+    return x
+
+
+def _vec3(owner: str, name: str, value) -> Vec3:
+    try:
+        arr = np.asarray(value, dtype=float)
+    except (TypeError, ValueError):
+        raise ValueError(f"{owner}.{name} must be a 3-vector of real numbers, got {value!r}") from None
+    if arr.shape != (3,):
+        raise ValueError(f"{owner}.{name} must be a 3-vector (shape (3,)), got {value!r}")
+    if not np.all(np.isfinite(arr)):
+        raise ValueError(f"{owner}.{name} must be finite, got {value!r}")
+    return (float(arr[0]), float(arr[1]), float(arr[2]))
+
+
+# --------------------------------------------------------------------------- rod
+@dataclass(frozen=True)
+class Rod:
+    """The elastic backbone: a straight, uniform rod of length ``length``.
+
+    Stiffness comes from a round section of ``diameter`` [m] with Young's modulus
+    ``E`` [Pa] and shear modulus ``G`` [Pa]: ``A = pi d^2/4``, ``I = pi d^4/64``,
+    ``J = 2 I``, hence ``EI = E I``, ``GJ = G J``, ``EA = E A`` and ``GA = G A``
+    (shear coefficient 1, as the public codes use). Each of the keyword overrides
+    ``EI``, ``GJ`` [N m^2], ``EA``, ``GA`` [N] replaces what the diameter gives;
+    without a diameter, the rigidities the model needs must all be given.
+
+    ``kirchhoff=True`` makes the backbone unshearable and inextensible (``EA`` and
+    ``GA`` are then not used and may be omitted). ``EA`` and ``GA`` may be given as
+    ``np.inf`` to make only that deformation rigid.
+
+    Attributes
+    ----------
+    length : float
+        Rod length L [m], > 0.
+    diameter, E, G : float or None
+        Round section [m] and moduli [Pa] (each > 0 when given).
+    EI, GJ, EA, GA : float or None
+        Explicit rigidities [N m^2, N m^2, N, N]; ``None``: from the section.
+    kirchhoff : bool
+        Unshearable, inextensible backbone (``v = e3`` exactly).
+
+    The effective values are the properties :attr:`bending_stiffness` etc. (also
+    spelled :attr:`EI_eff`...), used by the solver.
+    """
+
+    length: float
+    diameter: Optional[float] = None
+    E: Optional[float] = None
+    G: Optional[float] = None
+    _: KW_ONLY
+    EI: Optional[float] = None
+    GJ: Optional[float] = None
+    EA: Optional[float] = None
+    GA: Optional[float] = None
+    kirchhoff: bool = False
+
+    def __post_init__(self):
+        own = "Rod"
+        object.__setattr__(self, "length", _positive(own, "length", self.length))
+        for name in ("diameter", "E", "G"):
+            v = getattr(self, name)
+            if v is not None:
+                object.__setattr__(self, name, _positive(own, name, v))
+        for name in ("EI", "GJ"):
+            v = getattr(self, name)
+            if v is not None:
+                object.__setattr__(self, name, _positive(own, name, v))
+        for name in ("EA", "GA"):
+            v = getattr(self, name)
+            if v is not None:
+                object.__setattr__(self, name, _positive(own, name, v, allow_inf=True))
+        if not isinstance(self.kirchhoff, (bool, np.bool_)):
+            raise ValueError(f"Rod.kirchhoff must be True or False, got {self.kirchhoff!r}")
+        object.__setattr__(self, "kirchhoff", bool(self.kirchhoff))
+        # every rigidity the model needs must be known
+        needed = ("EI", "GJ") if self.kirchhoff else ("EI", "GJ", "EA", "GA")
+        for name in needed:
+            if self._effective(name) is None:
+                src = "E" if name in ("EI", "EA") else "G"
+                raise ValueError(
+                    f"Rod.{name} is missing: give {name}=... or both diameter and {src} "
+                    f"(diameter={self.diameter!r}, {src}={getattr(self, src)!r})")
+
+    def _effective(self, name: str) -> Optional[float]:
+        explicit = getattr(self, name)
+        if explicit is not None:
+            return explicit
+        d = self.diameter
+        if d is None:
+            return None
+        A = math.pi * d * d / 4.0
+        I = math.pi * d ** 4 / 64.0
+        if name == "EI":
+            return None if self.E is None else self.E * I
+        if name == "GJ":
+            return None if self.G is None else self.G * 2.0 * I
+        if name == "EA":
+            return None if self.E is None else self.E * A
+        if name == "GA":
+            return None if self.G is None else self.G * A
+        raise KeyError(name)  # pragma: no cover
+
+    @property
+    def bending_stiffness(self) -> float:
+        """Effective bending rigidity EI [N m^2]."""
+        return self._effective("EI")
+
+    @property
+    def torsional_stiffness(self) -> float:
+        """Effective torsional rigidity GJ [N m^2]."""
+        return self._effective("GJ")
+
+    @property
+    def axial_stiffness(self) -> float:
+        """Effective axial rigidity EA [N] (``inf`` for a Kirchhoff rod)."""
+        return math.inf if self.kirchhoff else self._effective("EA")
+
+    @property
+    def shear_stiffness(self) -> float:
+        """Effective shear rigidity GA [N] (``inf`` for a Kirchhoff rod)."""
+        return math.inf if self.kirchhoff else self._effective("GA")
+
+    EI_eff = bending_stiffness
+    GJ_eff = torsional_stiffness
+    EA_eff = axial_stiffness
+    GA_eff = shear_stiffness
+
+
+# --------------------------------------------------------------------------- tendon
+@dataclass(frozen=True)
+class Tendon:
+    """One tendon in a frictionless channel.
+
+    Path in the body frame: ``r(s) = (slope * s + offset) * (cos angle, sin angle, 0)``
+    for ``0 <= s <= end``.
+
+    Attributes
+    ----------
+    offset : float
+        Radial offset b at the base [m], >= 0.
+    angle : float
+        Angular position phi of the channel in the cross section [rad] (0: +x).
+    slope : float
+        Radial slope a = dr/ds [-] (0: parallel; ``-offset/L``: converging to the
+        centre line at the tip). The radius ``slope*s + offset`` must stay >= 0 on
+        ``[0, end]`` (a tendon cannot cross the centre line); :class:`Robot` checks.
+    EA : float
+        Axial rigidity of the tendon [N], > 0; ``np.inf`` (default): inextensible.
+    end : float or None
+        Arc length where the tendon is anchored [m], ``0 < end <= L``; ``None``: the tip.
+    pretension : float
+        Tension [N] the tendon holds at zero displacement in the straight, unloaded
+        robot; its rest length is set so. Only meaningful for a balanced set
+        (sum of pretension * r_i = 0) with some axial compliance (finite EA or a
+        Cosserat backbone); :class:`Robot` checks.
+    """
+
+    offset: float = 0.01
+    angle: float = 0.0
+    slope: float = 0.0
+    EA: float = math.inf
+    end: Optional[float] = None
+    pretension: float = 0.0
+
+    def __post_init__(self):
+        own = "Tendon"
+        object.__setattr__(self, "offset", _nonnegative(own, "offset", self.offset))
+        object.__setattr__(self, "angle", _real(own, "angle", self.angle))
+        object.__setattr__(self, "slope", _real(own, "slope", self.slope))
+        object.__setattr__(self, "EA", _positive(own, "EA", self.EA, allow_inf=True))
+        if self.end is not None:
+            object.__setattr__(self, "end", _positive(own, "end", self.end))
+        object.__setattr__(self, "pretension", _nonnegative(own, "pretension", self.pretension))
+
+    @classmethod
+    def converging(cls, offset: float, angle: float = 0.0, length: Optional[float] = None, *,
+                   EA: float = math.inf, end: Optional[float] = None,
+                   pretension: float = 0.0) -> "Tendon":
+        """A tendon converging from ``offset`` at the base to the centre line at
+        arc length ``length`` [m] (normally the rod length): ``slope = -offset/length``."""
+        if length is None:
+            raise TypeError("Tendon.converging() missing required argument 'length'")
+        length = _positive("Tendon.converging", "length", length)
+        offset = _nonnegative("Tendon", "offset", offset)
+        return cls(offset=offset, angle=angle, slope=-offset / length, EA=EA, end=end,
+                   pretension=pretension)
+
+    def radius(self, s) -> np.ndarray:
+        """Channel radius ``slope*s + offset`` [m] at arc length(s) ``s``."""
+        return self.slope * np.asarray(s, dtype=float) + self.offset
+
+
+# --------------------------------------------------------------------------- robot
+# Relative tolerance on "the routing radius stays >= 0" and "the pretension set is
+# balanced": both are exact geometric statements that round-off can miss by a few
+# ulps (a converging tendon's radius at the tip is offset - offset/L*L).
+_GEOM_RTOL = 1e-12
+_BALANCE_RTOL = 1e-9
+
+
+@dataclass(frozen=True)
+class Robot:
+    """A rod with tendons: ``Robot(rod, [Tendon(...), ...])``. ``Robot(rod, [])`` is a plain rod.
+
+    Checks on construction: every tendon's ``end`` is <= the rod length; its routing
+    radius ``slope*s + offset`` stays >= 0 over ``[0, end]`` (a tendon may reach the
+    centre line, as a converging tendon does at its anchor, but not cross it: a
+    negative radius would be the same channel at ``angle + pi``, so describe it
+    that way); pretension is only accepted on sets that are balanced on every
+    segment between anchors and have some axial compliance.
+    """
+
+    rod: Rod
+    tendons: Tuple[Tendon, ...] = ()
+
+    def __post_init__(self):
+        if not isinstance(self.rod, Rod):
+            raise ValueError(f"Robot.rod must be a tendonrod.Rod, got {self.rod!r}")
+        try:
+            tendons = tuple(self.tendons)
+        except TypeError:
+            raise ValueError(f"Robot.tendons must be a sequence of Tendon, got {self.tendons!r}") from None
+        for i, t in enumerate(tendons):
+            if not isinstance(t, Tendon):
+                raise ValueError(f"Robot.tendons[{i}] must be a tendonrod.Tendon, got {t!r}")
+        object.__setattr__(self, "tendons", tendons)
+        L = self.rod.length
+        for i, t in enumerate(tendons):
+            end = self.tendon_end(i)
+            if end > L * (1.0 + _GEOM_RTOL):
+                raise ValueError(f"Robot.tendons[{i}].end must be <= rod length {L!r}, got {t.end!r}")
+            r_end = t.slope * end + t.offset
+            scale = max(t.offset, abs(t.slope) * end)
+            if r_end < -_GEOM_RTOL * scale:
+                raise ValueError(
+                    f"Robot.tendons[{i}]: routing radius slope*s + offset = {r_end!r} < 0 at "
+                    f"s = end = {end!r} (slope={t.slope!r}, offset={t.offset!r}); a tendon "
+                    f"cannot cross the centre line")
+        self._check_pretension()
+
+    @property
+    def n_tendons(self) -> int:
+        """Number of tendons."""
+        return len(self.tendons)
+
+    def tendon_end(self, i: int) -> float:
+        """Anchor arc length of tendon ``i`` [m] (``end`` or the rod length)."""
+        t = self.tendons[i]
+        return self.rod.length if t.end is None else min(t.end, self.rod.length)
+
+    def _check_pretension(self):
+        pre = [i for i, t in enumerate(self.tendons) if t.pretension > 0.0]
+        if not pre:
+            return
+        # balance on every segment between anchors: sum tau_p r_i(s) = 0 for all s there,
+        # i.e. both the offset and the slope moments vanish for the tendons present.
+        ends = sorted({self.tendon_end(i) for i in range(self.n_tendons)})
+        start = 0.0
+        for e in ends:
+            active = [i for i in range(self.n_tendons) if self.tendon_end(i) >= e]
+            mb = np.zeros(2)
+            ma = np.zeros(2)
+            scale = 0.0
+            for i in active:
+                t = self.tendons[i]
+                d = np.array([math.cos(t.angle), math.sin(t.angle)])
+                mb += t.pretension * t.offset * d
+                ma += t.pretension * t.slope * e * d
+                scale += t.pretension * (t.offset + abs(t.slope) * e)
+            if np.hypot(*mb) > _BALANCE_RTOL * scale or np.hypot(*ma) > _BALANCE_RTOL * scale:
+                vals = {i: self.tendons[i].pretension for i in active}
+                raise ValueError(
+                    f"Robot.tendons pretension {vals} is not balanced on s in [{start:g}, {e:g}] m: "
+                    f"sum of pretension * r_i(s) must vanish there (moment "
+                    f"{mb.tolist()} N m from offsets, {ma.tolist()} N m from slopes), otherwise "
+                    f"the 'unloaded' robot is not straight and pretension is not defined")
+            start = e
+        if self.rod.kirchhoff:
+            rigid = [i for i in pre if math.isinf(self.tendons[i].EA)]
+            if rigid:
+                raise ValueError(
+                    f"Robot.tendons[{rigid[0]}].pretension={self.tendons[rigid[0]].pretension!r} "
+                    f"needs axial compliance: an inextensible tendon (EA=inf) on a Kirchhoff "
+                    f"(inextensible) backbone cannot hold a defined pretension; give the tendon "
+                    f"a finite EA or use a Cosserat backbone (kirchhoff=False)")
+
+
+# --------------------------------------------------------------------------- loads
+@dataclass(frozen=True)
+class PointLoad:
+    """A point force and moment at arc length ``s`` [m] (0 <= s <= L, checked in :class:`Scene`).
+
+    ``force`` [N] and ``moment`` [N m] are 3-vectors in the world frame; the force acts on
+    the backbone centre line at ``s``.
+    """
+
+    s: float
+    force: Vec3 = (0.0, 0.0, 0.0)
+    moment: Vec3 = (0.0, 0.0, 0.0)
+
+    def __post_init__(self):
+        object.__setattr__(self, "s", _nonnegative("PointLoad", "s", self.s))
+        object.__setattr__(self, "force", _vec3("PointLoad", "force", self.force))
+        object.__setattr__(self, "moment", _vec3("PointLoad", "moment", self.moment))
+
+
+@dataclass(frozen=True)
+class DistributedLoad:
+    """A uniform distributed force ``force`` [N/m] (world frame) over the whole rod, e.g.
+    gravity ``(0, 0, -rho*A*g)``."""
+
+    force: Vec3 = (0.0, 0.0, 0.0)
+
+    def __post_init__(self):
+        object.__setattr__(self, "force", _vec3("DistributedLoad", "force", self.force))
+
+
+# --------------------------------------------------------------------------- scene
+def _actuation(name: str, values, n: int) -> Tuple[Optional[float], ...]:
+    if values is None:
+        return (None,) * n
+    if isinstance(values, (str, bytes)):
+        raise ValueError(f"Scene.{name} must be a sequence of length {n}, got {values!r}")
+    try:
+        vals = list(values)
+    except TypeError:
+        raise ValueError(f"Scene.{name} must be a sequence of length {n} (one entry per "
+                         f"tendon, None where not prescribed), got {values!r}") from None
+    if len(vals) != n:
+        raise ValueError(f"Scene.{name} must have one entry per tendon ({n}), got "
+                         f"{len(vals)}: {values!r}")
+    out = []
+    for i, v in enumerate(vals):
+        if v is None:
+            out.append(None)
+            continue
+        x = _real("Scene", f"{name}[{i}]", v)
+        if name == "tension" and x < 0.0:
+            raise ValueError(f"Scene.tension[{i}] must be >= 0 (a tendon cannot push), got {v!r}")
+        out.append(x)
+    return tuple(out)
+
+
+@dataclass(frozen=True)
+class Scene:
+    """A robot with its actuation and external loads.
+
+    Each tendon gets exactly one of ``displacement[i]`` [m] (> 0 retracts the tendon;
+    its tension is then unknown and it may go slack) or ``tension[i]`` [N] (>= 0);
+    the other list holds ``None`` at that place. Both lists may be omitted for a robot
+    without tendons. ``loads`` is a sequence of :class:`PointLoad` (world frame, at
+    0 <= s <= L) and :class:`DistributedLoad` (summed) objects.
+    """
+
+    robot: Robot
+    _: KW_ONLY
+    displacement: Optional[Sequence[Optional[float]]] = None
+    tension: Optional[Sequence[Optional[float]]] = None
+    loads: Sequence[Union[PointLoad, DistributedLoad]] = ()
+
+    def __post_init__(self):
+        if not isinstance(self.robot, Robot):
+            raise ValueError(f"Scene.robot must be a tendonrod.Robot, got {self.robot!r}")
+        n = self.robot.n_tendons
+        disp = _actuation("displacement", self.displacement, n)
+        tens = _actuation("tension", self.tension, n)
+        for i in range(n):
+            if disp[i] is None and tens[i] is None:
+                raise ValueError(
+                    f"Scene: tendon {i} has neither a displacement nor a tension "
+                    f"(displacement[{i}] = tension[{i}] = None); give exactly one")
+            if disp[i] is not None and tens[i] is not None:
+                raise ValueError(
+                    f"Scene: tendon {i} has both displacement[{i}]={disp[i]!r} and "
+                    f"tension[{i}]={tens[i]!r}; give exactly one, None in the other list")
+        object.__setattr__(self, "displacement", disp)
+        object.__setattr__(self, "tension", tens)
+        loads = self.loads
+        if isinstance(loads, (PointLoad, DistributedLoad)):
+            loads = (loads,)
+        try:
+            loads = tuple(loads)
+        except TypeError:
+            raise ValueError(f"Scene.loads must be a sequence of PointLoad/DistributedLoad, "
+                             f"got {self.loads!r}") from None
+        L = self.robot.rod.length
+        for k, ld in enumerate(loads):
+            if isinstance(ld, PointLoad):
+                if ld.s > L * (1.0 + _GEOM_RTOL):
+                    raise ValueError(f"Scene.loads[{k}].s must be in [0, L={L!r}], got {ld.s!r}")
+            elif not isinstance(ld, DistributedLoad):
+                raise ValueError(f"Scene.loads[{k}] must be a PointLoad or DistributedLoad, got {ld!r}")
+        object.__setattr__(self, "loads", loads)
+
+    @property
+    def point_loads(self) -> Tuple[PointLoad, ...]:
+        """The point loads, in the order given."""
+        return tuple(ld for ld in self.loads if isinstance(ld, PointLoad))
+
+    @property
+    def distributed_force(self) -> np.ndarray:
+        """Sum of the distributed loads [N/m], world frame, shape (3,)."""
+        f = np.zeros(3)
+        for ld in self.loads:
+            if isinstance(ld, DistributedLoad):
+                f += ld.force
+        return f
+
+    def displacement_controlled(self) -> Tuple[bool, ...]:
+        """Per tendon: True where the displacement is prescribed (tension unknown)."""
+        return tuple(d is not None for d in self.displacement)

@@ -1,0 +1,607 @@
+"""Public API of the Cosserat-rod/tendon solver: :func:`solve`, :class:`Solution`,
+:class:`Options`, :func:`compliance`.
+
+A :class:`~tendonrod.model.Scene` is packed into the flat float64 arrays of the raw
+entry point ``tendonrod._core.solve`` (see ``csrc/README.md``), solved in C with the
+GIL released, and wrapped in a :class:`Solution`. Bad input raises ``ValueError``
+before any C runs; a solve that does not converge is never silent (``success`` is
+False and a :class:`ConvergenceWarning` is issued, or :class:`ConvergenceError` is
+raised with ``strict=True``).
+
+Frames and units: SI, radians; base at the origin, base frame = world frame, the
+undeformed rod along +z; all vectors in the world frame unless said otherwise.
+"""
+from __future__ import annotations
+
+import math
+import numbers
+import warnings
+from dataclasses import dataclass, field, fields
+from typing import Any, Optional, Sequence, Union
+
+import numpy as np
+
+from . import _core
+from .model import DistributedLoad, PointLoad, Robot, Scene
+
+__all__ = ["Options", "Formulation", "Solution", "RodState", "solve", "compliance",
+           "ConvergenceWarning", "ConvergenceError", "pack_scene"]
+
+
+class ConvergenceWarning(RuntimeWarning):
+    """Issued by :func:`solve` when the shooting iteration did not converge."""
+
+
+class ConvergenceError(RuntimeError):
+    """Raised by ``solve(..., strict=True)`` when the iteration did not converge.
+
+    Attribute ``solution`` holds the (unconverged) :class:`Solution`.
+    """
+
+    def __init__(self, message: str, solution: "Solution" = None):
+        super().__init__(message)
+        self.solution = solution
+
+
+# --------------------------------------------------------------------------- options
+_INTEGRATORS = ("rk8", "rk4", "adaptive")
+_JACOBIANS = ("fd", "sensitivity")
+_SLACK_MODELS = ("linear", "squared")
+
+
+@dataclass(frozen=True)
+class Options:
+    """Numerical options of :func:`solve` (each maps onto the raw ``_core.solve`` keyword
+    of the same name).
+
+    Attributes
+    ----------
+    integrator : str
+        ``"rk8"`` (default: a fixed-step 8th-order Runge-Kutta reaches 1e-8 relative tip
+        accuracy in a handful of steps on this non-stiff ODE), ``"rk4"`` (classical RK4),
+        or ``"adaptive"`` (GSL's adaptive embedded RK with tolerance ``rtol``: slow,
+        for reference solutions).
+    steps : int
+        Fixed-step integrators: steps over the rod; 0 (default) lets the core choose
+        from the curvature scale of the scene.
+    rtol : float
+        Relative tolerance of the adaptive integrator (default 1e-10: well below the
+        1e-8 the fixed-step methods aim at, so references are references).
+    tol : float
+        Convergence tolerance on the scaled residual (forces by EI/L^2, moments by EI/L,
+        lengths by L). Default 1e-10: about 1e-10 relative accuracy of the tip, well
+        below the integrator's truncation error with default steps, so the iteration is
+        never the accuracy bottleneck.
+    max_iter : int
+        Cap on Newton/trust-region iterations per solve (default 50: converged solves
+        take 2-10; 50 leaves room for hard continuation stages without hiding a stall).
+    max_nfev : int
+        Cap on right-hand-side integrations counted as shooting evaluations, continuation
+        included (default 20000: bounds the time of a hopeless solve to well under a second).
+    jacobian_method : str
+        ``"fd"`` (default: forward differences in scaled unknowns, robust and cheap for
+        at most 6 + n_tendons unknowns) or ``"sensitivity"`` (forward sensitivities) if
+        the core provides it.
+    slack_model : str
+        ``"linear"`` (default: tension = max(gamma, 0), slack = max(-gamma, 0), whose
+        Jacobian stays nonsingular at the taut/slack switch) or ``"squared"`` (the
+        paper's gamma^2, kept to measure its singular Jacobian at the switch).
+    continuation : bool
+        If a cold solve fails, ramp load and actuation from a solved state (default True:
+        users should not have to hand-tune continuation).
+    max_continuation : int
+        Cap on continuation stages (default 64: a ramp halved six times).
+    nodes : int or array of float
+        Output nodes: a count of equally spaced arc lengths on [0, L] (default 101: a
+        smooth plot) or an increasing array of arc lengths [m] in [0, L]. Nodes do not
+        change the integration (the integrator steps are independent of them).
+    force_spatial : bool
+        Solve a planar scene with the full spatial formulation (default False: planar
+        scenes are solved as planar problems, which is faster and gives the same answer).
+    tip_only : bool
+        Fill only the tip state (``s``, ``position`` ... have one row, at s = L;
+        default False). For sweeps that need tip quantities only.
+    """
+
+    integrator: str = "rk8"
+    steps: int = 0
+    rtol: float = 1e-10
+    tol: float = 1e-10
+    max_iter: int = 50
+    max_nfev: int = 20000
+    jacobian_method: str = "fd"
+    slack_model: str = "linear"
+    continuation: bool = True
+    max_continuation: int = 64
+    nodes: Union[int, Sequence[float], np.ndarray] = 101
+    force_spatial: bool = False
+    tip_only: bool = False
+
+    def __post_init__(self):
+        own = "Options"
+        if self.integrator not in _INTEGRATORS:
+            raise ValueError(f"{own}.integrator must be one of {_INTEGRATORS}, got {self.integrator!r}")
+        if self.jacobian_method not in _JACOBIANS:
+            raise ValueError(f"{own}.jacobian_method must be one of {_JACOBIANS}, got {self.jacobian_method!r}")
+        if self.slack_model not in _SLACK_MODELS:
+            raise ValueError(f"{own}.slack_model must be one of {_SLACK_MODELS}, got {self.slack_model!r}")
+        for name, lo in (("steps", 0), ("max_iter", 1), ("max_nfev", 1), ("max_continuation", 0)):
+            v = getattr(self, name)
+            if isinstance(v, (bool, np.bool_)) or not isinstance(v, (numbers.Integral, np.integer)) or v < lo:
+                raise ValueError(f"{own}.{name} must be an integer >= {lo}, got {v!r}")
+            object.__setattr__(self, name, int(v))
+        for name in ("rtol", "tol"):
+            v = getattr(self, name)
+            ok = isinstance(v, (numbers.Real, np.floating)) and not isinstance(v, bool)
+            if not ok or not (math.isfinite(float(v)) and 0.0 < float(v) < 1.0):
+                raise ValueError(f"{own}.{name} must be a real number in (0, 1), got {v!r}")
+            object.__setattr__(self, name, float(v))
+        for name in ("continuation", "force_spatial", "tip_only"):
+            v = getattr(self, name)
+            if not isinstance(v, (bool, np.bool_)):
+                raise ValueError(f"{own}.{name} must be True or False, got {v!r}")
+            object.__setattr__(self, name, bool(v))
+        nodes = self.nodes
+        if isinstance(nodes, (numbers.Integral, np.integer)) and not isinstance(nodes, (bool, np.bool_)):
+            if nodes < 2:
+                raise ValueError(f"{own}.nodes must be >= 2 (or an array of arc lengths), got {nodes!r}")
+            object.__setattr__(self, "nodes", int(nodes))
+        else:
+            try:
+                arr = np.array(nodes, dtype=float).ravel()
+            except (TypeError, ValueError):
+                raise ValueError(f"{own}.nodes must be an int or an array of arc lengths, got {nodes!r}") from None
+            if arr.size < 1 or not np.all(np.isfinite(arr)) or np.any(np.diff(arr) < 0) or arr[0] < 0:
+                raise ValueError(f"{own}.nodes must be a non-empty, non-decreasing array of finite "
+                                 f"arc lengths >= 0, got {nodes!r}")
+            arr.setflags(write=False)
+            object.__setattr__(self, "nodes", arr)
+
+    def __hash__(self):  # nodes may be an array
+        return hash(tuple((f.name, self._key(getattr(self, f.name))) for f in fields(self)))
+
+    def __eq__(self, other):
+        if not isinstance(other, Options):
+            return NotImplemented
+        return all(np.array_equal(getattr(self, f.name), getattr(other, f.name))
+                   if isinstance(getattr(self, f.name), np.ndarray) or isinstance(getattr(other, f.name), np.ndarray)
+                   else getattr(self, f.name) == getattr(other, f.name) for f in fields(self))
+
+    @staticmethod
+    def _key(v):
+        return tuple(v.tolist()) if isinstance(v, np.ndarray) else v
+
+    def raw(self) -> dict:
+        """The keyword arguments of ``_core.solve`` (nodes as int or float64 array)."""
+        return {f.name: getattr(self, f.name) for f in fields(self)}
+
+
+# --------------------------------------------------------------------------- formulation
+@dataclass(frozen=True)
+class Formulation:
+    """What the core actually solved (the scene compiled into the smallest problem).
+
+    Attributes
+    ----------
+    planar : bool
+        Solved as a planar (x-z) problem.
+    kirchhoff : bool
+        Unshearable, inextensible backbone.
+    n_unknowns : int
+        Shooting unknowns (planar: 3, spatial: 6, plus one per displacement-controlled tendon).
+    n_states : int
+        ODE states integrated.
+    n_segments : int
+        Integration segments (split at point loads and tendon anchors).
+    n_length_states : int
+        Tendon path-length states (one per displacement-controlled tendon).
+    n_stretch_terms : int
+        Extensible (finite EA) displacement-controlled tendons.
+    distributed_load : bool
+        A distributed force is integrated.
+    tip_only : bool
+        Only the tip state was filled.
+    integrator : str
+        Integrator used.
+    steps : int
+        Integrator steps over the rod actually used.
+    slack_model : str
+        Tension/slack parametrisation.
+    """
+
+    planar: bool
+    kirchhoff: bool
+    n_unknowns: int
+    n_states: int
+    n_segments: int
+    n_length_states: int
+    n_stretch_terms: int
+    distributed_load: bool
+    tip_only: bool
+    integrator: str
+    steps: int
+    slack_model: str
+
+    @classmethod
+    def from_dict(cls, d: dict) -> "Formulation":
+        kw = {}
+        for f in fields(cls):
+            v = d.get(f.name)
+            if f.type in ("bool",):
+                v = bool(v)
+            elif f.type in ("int",):
+                v = int(v) if v is not None else -1
+            else:
+                v = "" if v is None else (v.decode() if isinstance(v, bytes) else str(v))
+            kw[f.name] = v
+        return cls(**kw)
+
+    def __repr__(self):
+        geom = "planar" if self.planar else "spatial"
+        rod = "Kirchhoff" if self.kirchhoff else "Cosserat"
+        extra = []
+        if self.n_length_states:
+            extra.append(f"{self.n_length_states} tendon length state(s)")
+        if self.n_stretch_terms:
+            extra.append(f"{self.n_stretch_terms} stretch term(s)")
+        if self.distributed_load:
+            extra.append("distributed load")
+        if self.tip_only:
+            extra.append("tip only")
+        more = (", " + ", ".join(extra)) if extra else ""
+        return (f"Formulation({geom} {rod}, {self.n_unknowns} unknowns, {self.n_states} states, "
+                f"{self.n_segments} segment(s){more}; {self.integrator} x {self.steps} steps, "
+                f"slack model {self.slack_model})")
+
+
+# --------------------------------------------------------------------------- packing
+def pack_scene(scene: Scene):
+    """Flat float64 arrays ``(rod (6,), tendons (nt, 8), loads (nl, 7), dist (3,))`` of the
+    raw glue contract (csrc/README.md) for ``scene``."""
+    if not isinstance(scene, Scene):
+        raise ValueError(f"scene must be a tendonrod.Scene, got {scene!r}")
+    robot = scene.robot
+    r = robot.rod
+    rod = np.array([r.length, r.bending_stiffness, r.torsional_stiffness,
+                    r.axial_stiffness, r.shear_stiffness, 1.0 if r.kirchhoff else 0.0])
+    nt = robot.n_tendons
+    tendons = np.empty((nt, 8))
+    for i, t in enumerate(robot.tendons):
+        disp = scene.displacement[i]
+        control = 0.0 if disp is not None else 1.0
+        value = disp if disp is not None else scene.tension[i]
+        tendons[i] = (t.offset, t.angle, t.slope, t.EA, robot.tendon_end(i), control, value,
+                      t.pretension)
+    pls = scene.point_loads
+    loads = np.empty((len(pls), 7))
+    for k, p in enumerate(pls):
+        loads[k, 0] = min(p.s, r.length)
+        loads[k, 1:4] = p.force
+        loads[k, 4:7] = p.moment
+    dist = scene.distributed_force
+    return rod, tendons, loads, dist
+
+
+def _nodes_for(scene: Scene, options: Options):
+    nodes = options.nodes
+    if isinstance(nodes, np.ndarray):
+        L = scene.robot.rod.length
+        if nodes[-1] > L * (1.0 + 1e-12):
+            raise ValueError(f"Options.nodes must lie in [0, L={L!r}], got max {nodes[-1]!r}")
+        return np.minimum(nodes, L)
+    return nodes
+
+
+def _structure_key(scene: Scene, options: Options):
+    """What fixes the shape of the shooting problem (so a Jacobian can be reused)."""
+    rob = scene.robot
+    return (rob.n_tendons, scene.displacement_controlled(), rob.rod.kirchhoff,
+            tuple(math.isinf(t.EA) for t in rob.tendons), _is_planar(scene), options.force_spatial,
+            options.slack_model)
+
+
+_PLANAR_ATOL = 0.0  # exact: the core decides planarity from exact zeros as well
+
+
+def _is_planar(scene: Scene) -> bool:
+    """True if tendons lie at angle 0 or pi and loads stay in the x-z plane (a prediction;
+    the core's ``formulation.planar`` is authoritative)."""
+    for t in scene.robot.tendons:
+        if t.offset != 0.0 or t.slope != 0.0:
+            if abs(math.sin(t.angle)) > 1e-15:
+                return False
+    for p in scene.point_loads:
+        if p.force[1] != 0.0 or p.moment[0] != 0.0 or p.moment[2] != 0.0:
+            return False
+    return scene.distributed_force[1] == 0.0
+
+
+def _guess_vector(guess, scene: Scene):
+    """(guess array (6+2nt,) or None, jacobian or None) from a Solution or an array."""
+    nt = scene.robot.n_tendons
+    if guess is None:
+        return None, None
+    if isinstance(guess, Solution):
+        if guess.tension.shape != (nt,):
+            raise ValueError(f"guess: a Solution with {guess.tension.shape[0]} tendons cannot "
+                             f"start a scene with {nt} tendons")
+        vec = np.concatenate([guess.force[0], guess.moment[0], guess.tension, guess.slack])
+        jac = None
+        if guess.jacobian is not None and guess.scene is not None and \
+                _structure_key(guess.scene, guess.options) == _structure_key(scene, guess.options):
+            jac = guess.jacobian
+        if not np.all(np.isfinite(vec)):
+            return None, None
+        return vec, jac
+    try:
+        vec = np.array(guess, dtype=float).ravel()
+    except (TypeError, ValueError):
+        raise ValueError(f"guess must be None, a Solution or an array of shape ({6 + 2 * nt},), "
+                         f"got {guess!r}") from None
+    if vec.shape != (6 + 2 * nt,) or not np.all(np.isfinite(vec)):
+        raise ValueError(f"guess must be a finite array of shape ({6 + 2 * nt},) "
+                         f"[n(0), m(0), tension, slack], got {guess!r}")
+    return vec, None
+
+
+# --------------------------------------------------------------------------- results
+@dataclass(frozen=True)
+class RodState:
+    """The rod state at given arc length(s), from :meth:`Solution.at`.
+
+    For a scalar ``s``: ``position`` (3,), ``rotation`` (3, 3), ``force`` (3,), ``moment`` (3,);
+    for an array of N arc lengths a leading axis of length N is added.
+
+    Attributes
+    ----------
+    s : float or ndarray (N,)
+        Arc length [m].
+    position : ndarray
+        Backbone position, world frame [m].
+    rotation : ndarray
+        Body-to-world rotation matrix.
+    force : ndarray
+        Internal backbone force n, world frame [N].
+    moment : ndarray
+        Internal backbone moment m, world frame [N m].
+    """
+
+    s: Any
+    position: np.ndarray
+    rotation: np.ndarray
+    force: np.ndarray
+    moment: np.ndarray
+
+
+class Solution:
+    """Result of :func:`solve`.
+
+    Attributes
+    ----------
+    success : bool
+        The residual fell below ``options.tol``.
+    status : int
+        Core status: 0 ok, > 0 finished with a caveat, < 0 failure.
+    message : str
+        Human-readable status.
+    nit, nfev, njev : int
+        Iterations, shooting evaluations (integrations), Jacobian evaluations.
+    residual_norm : float
+        Norm of the scaled residual at the returned state [-].
+    s : ndarray (N,)
+        Arc length of the output nodes [m].
+    position : ndarray (N, 3)
+        Backbone position, world frame [m].
+    rotation : ndarray (N, 3, 3)
+        Body-to-world rotation matrices.
+    force : ndarray (N, 3)
+        Internal backbone force n(s) (force of the distal part on the proximal part,
+        tendons excluded), world frame [N].
+    moment : ndarray (N, 3)
+        Internal backbone moment m(s), world frame [N m].
+    tension : ndarray (ntendon,)
+        Tendon tensions [N] (>= 0).
+    slack : ndarray (ntendon,)
+        Tendon slack [m] (>= 0; > 0 only where the tension is 0).
+    displacement : ndarray (ntendon,)
+        Actuator displacement [m] consistent with the solution for every tendon (> 0
+        retracts), so "actuate by tension, then lock the actuator" is two calls.
+    tip_position : ndarray (3,)
+        ``position[-1]`` [m] (the node at s = L).
+    tip_rotation : ndarray (3, 3)
+        ``rotation[-1]``.
+    jacobian_cond : float
+        Condition number of the scaled shooting Jacobian at the solution.
+    continuation_steps : int
+        Continuation stages used (0: solved directly).
+    truncation_estimate : float
+        Estimate of the integrator's truncation error (scaled, relative) [-].
+    unknowns : ndarray
+        Raw converged shooting unknowns (as the core defines them).
+    jacobian : ndarray or None
+        Raw shooting Jacobian (reused by warm starts of the same formulation).
+    formulation : Formulation
+        What was solved.
+    scene : Scene
+        The scene solved.
+    options : Options
+        The options used.
+    raw : dict
+        Everything ``_core.solve`` returned.
+    """
+
+    def __init__(self, raw: dict, scene: Scene, options: Options):
+        self.raw = raw
+        self.scene = scene
+        self.options = options
+        self.success = bool(raw["success"])
+        self.status = int(raw["status"])
+        msg = raw.get("message", "")
+        self.message = msg.decode() if isinstance(msg, bytes) else str(msg)
+        self.nit = int(raw.get("nit", 0))
+        self.nfev = int(raw.get("nfev", 0))
+        self.njev = int(raw.get("njev", 0))
+        self.residual_norm = float(raw.get("residual_norm", math.nan))
+        nt = scene.robot.n_tendons
+
+        def arr(key, shape=None):
+            a = np.asarray(raw[key], dtype=float)
+            if shape is not None:
+                a = a.reshape(shape)
+            a.setflags(write=False)
+            return a
+
+        self.s = arr("s", (-1,))
+        n = self.s.shape[0]
+        self.position = arr("position", (n, 3))
+        self.rotation = arr("rotation", (n, 3, 3))
+        self.force = arr("force", (n, 3))
+        self.moment = arr("moment", (n, 3))
+        self.tension = arr("tension", (nt,))
+        self.slack = arr("slack", (nt,))
+        self.displacement = arr("displacement", (nt,))
+        self.unknowns = arr("unknowns", (-1,)) if raw.get("unknowns") is not None else None
+        jac = raw.get("jacobian")
+        self.jacobian = None if jac is None else np.asarray(jac, dtype=float)
+        self.jacobian_cond = float(raw.get("jacobian_cond", math.nan))
+        self.continuation_steps = int(raw.get("continuation_steps", 0))
+        self.truncation_estimate = float(raw.get("truncation_estimate", math.nan))
+        self.formulation = Formulation.from_dict(raw.get("formulation", {}))
+
+    @property
+    def tip_position(self) -> np.ndarray:
+        """Tip position, world frame [m], shape (3,)."""
+        return self.position[-1]
+
+    @property
+    def tip_rotation(self) -> np.ndarray:
+        """Tip body-to-world rotation, shape (3, 3)."""
+        return self.rotation[-1]
+
+    @property
+    def base_state(self) -> np.ndarray:
+        """``[n(0), m(0), tension, slack]`` (6 + 2 ntendon,), world frame, SI: the raw guess format."""
+        return np.concatenate([self.force[0], self.moment[0], self.tension, self.slack])
+
+    def at(self, s) -> RodState:
+        """The state at arc length(s) ``s`` [m] (scalar or 1-D array in [0, L]).
+
+        Exact to solver accuracy: the core re-integrates from the converged base state
+        with output nodes at ``s`` (a warm solve that starts converged; no interpolation).
+        """
+        L = self.scene.robot.rod.length
+        scalar = np.ndim(s) == 0
+        ss = np.atleast_1d(np.asarray(s, dtype=float)).ravel()
+        if ss.size == 0 or not np.all(np.isfinite(ss)) or np.any(ss < 0) or np.any(ss > L * (1 + 1e-12)):
+            raise ValueError(f"s must be arc lengths in [0, L={L!r}], got {s!r}")
+        order = np.argsort(ss, kind="stable")
+        opts = _replace(self.options, nodes=np.minimum(ss[order], L), tip_only=False)
+        sol = solve(self.scene, guess=self, options=opts)
+        inv = np.empty_like(order)
+        inv[order] = np.arange(order.size)
+        pos, rot = sol.position[inv], sol.rotation[inv]
+        frc, mom = sol.force[inv], sol.moment[inv]
+        if scalar:
+            return RodState(float(ss[0]), pos[0], rot[0], frc[0], mom[0])
+        return RodState(ss, pos, rot, frc, mom)
+
+    def __repr__(self):
+        head = "converged" if self.success else "NOT converged"
+        tip = np.array2string(np.asarray(self.tip_position), precision=6, separator=", ")
+        lines = [f"Solution({head}: {self.message!r}, status {self.status}, nit {self.nit}, "
+                 f"nfev {self.nfev}, residual {self.residual_norm:.2e}",
+                 f"  tip_position {tip} m"]
+        if self.tension.size:
+            lines.append("  tension " + np.array2string(self.tension, precision=6, separator=", ")
+                         + " N, slack " + np.array2string(self.slack, precision=3, separator=", ") + " m")
+        lines.append(f"  {self.formulation!r}, {self.s.size} nodes)")
+        return "\n".join(lines)
+
+
+def _replace(options: Options, **changes) -> Options:
+    kw = options.raw()
+    kw.update(changes)
+    return Options(**kw)
+
+
+# --------------------------------------------------------------------------- solve
+def _check_options(options) -> Options:
+    if options is None:
+        return Options()
+    if isinstance(options, dict):
+        return Options(**options)
+    if not isinstance(options, Options):
+        raise ValueError(f"options must be a tendonrod.Options (or dict), got {options!r}")
+    return options
+
+
+def solve(scene: Scene, guess=None, options: Optional[Options] = None, strict: bool = False) -> Solution:
+    """Solve ``scene``: the static equilibrium of the robot under its actuation and loads.
+
+    Parameters
+    ----------
+    scene : Scene
+        Robot, actuation (displacements/tensions) and loads.
+    guess : Solution or array (6 + 2 ntendon,), optional
+        Warm start: a previous :class:`Solution` (its base force and moment, tensions,
+        slacks, and its Jacobian when the problem has the same structure), or a raw
+        ``[n(0), m(0), tension, slack]`` vector (world frame, SI).
+    options : Options, optional
+        Numerical options (default ``Options()``).
+    strict : bool
+        Raise :class:`ConvergenceError` instead of warning when the solve fails.
+
+    Returns
+    -------
+    Solution
+    """
+    options = _check_options(options)
+    rod, tendons, loads, dist = pack_scene(scene)
+    nodes = _nodes_for(scene, options)
+    gvec, jac = _guess_vector(guess, scene)
+    kw = options.raw()
+    kw["nodes"] = nodes
+    raw = _core.solve(rod, tendons, loads, dist, guess=gvec, jacobian=jac, **kw)
+    sol = Solution(raw, scene, options)
+    if not sol.success:
+        msg = (f"tendonrod.solve did not converge: {sol.message} (status {sol.status}, "
+               f"nit {sol.nit}, nfev {sol.nfev}, residual {sol.residual_norm:.3g})")
+        if strict:
+            raise ConvergenceError(msg, sol)
+        warnings.warn(msg, ConvergenceWarning, stacklevel=2)
+    return sol
+
+
+def compliance(scene: Scene, s: Optional[float] = None, guess=None,
+               options: Optional[Options] = None) -> np.ndarray:
+    """Compliance matrix (6, 6) at arc length ``s`` [m] (default: the tip).
+
+    Column j is the derivative of ``[dx (3) [m], dtheta (3) [rad]]`` (position and small
+    rotation of the backbone at ``s``, world frame) with respect to component j of
+    ``[force (3) [N], moment (3) [N m]]`` applied at ``s`` in the world frame, linearised
+    at the solved state of ``scene`` with the prescribed tendon displacements and tensions
+    held fixed. Units per block: m/N, m/(N m), rad/N, rad/(N m).
+
+    The scene is solved first (``guess`` and ``options`` as in :func:`solve`); if that
+    solve fails, :class:`ConvergenceError` is raised (a linearisation about an
+    unconverged state means nothing).
+    """
+    options = _check_options(options)
+    L = scene.robot.rod.length if isinstance(scene, Scene) else None
+    if s is None:
+        s_val = L
+    else:
+        s_val = float(np.asarray(s, dtype=float)) if np.ndim(s) == 0 else math.nan
+        if not (math.isfinite(s_val) and L is not None and 0.0 <= s_val <= L * (1 + 1e-12)):
+            raise ValueError(f"s must be an arc length in [0, L={L!r}], got {s!r}")
+        s_val = min(s_val, L)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", ConvergenceWarning)
+        sol = solve(scene, guess=guess, options=options)
+    if not sol.success:
+        raise ConvergenceError(f"tendonrod.compliance: the scene did not solve: {sol.message}", sol)
+    rod, tendons, loads, dist = pack_scene(scene)
+    kw = options.raw()
+    kw["nodes"] = _nodes_for(scene, options)
+    C = _core.compliance(rod, tendons, loads, dist, s_val, guess=sol.base_state, **kw)
+    return np.asarray(C, dtype=float).reshape(6, 6)
