@@ -287,9 +287,9 @@ class Robot:
         object.__setattr__(self, "tendons", tendons)
         L = self.rod.length
         for i, t in enumerate(tendons):
-            end = self.tendon_end(i)
-            if end > L * (1.0 + _GEOM_RTOL):
+            if t.end is not None and t.end > L * (1.0 + _GEOM_RTOL):
                 raise ValueError(f"Robot.tendons[{i}].end must be <= rod length {L!r}, got {t.end!r}")
+            end = self.tendon_end(i)
             r_end = t.slope * end + t.offset
             scale = max(t.offset, abs(t.slope) * end)
             if r_end < -_GEOM_RTOL * scale:
