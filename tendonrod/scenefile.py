@@ -1,0 +1,317 @@
+"""Scene files: a robot, its tendons, their actuation, loads and solver options in TOML.
+
+A scene file is read (never written to) and checked key by key before any
+object is built, so a malformed file gets a message naming the key and the
+problem, e.g. ``robot.toml: tendon[2].displacement: expected a number, got
+'abc' (string)``.  The format, with every key, is documented in
+``examples/README.md``; ``examples/*.toml`` are working examples.  In short::
+
+    title = "free text, optional"
+
+    [rod]                 # tr.Rod: length [m], diameter [m], E [Pa], G [Pa],
+    length = 0.2          # optional overrides EI, GJ [N m^2], EA, GA [N];
+    diameter = 0.8e-3     # kirchhoff = true for an unshearable, inextensible rod
+    E = 207e9
+    G = 79.6e9
+    kirchhoff = true
+
+    [[tendon]]            # one table per tendon; messages count them from 0: tendon[0], ...
+    offset = 0.01         # [m] radial offset at the base
+    angle = 0.0           # [rad] angular position in the cross-section
+    routing = "parallel"  # "parallel" (default) | "converging"; or give slope = a
+    EA = inf              # [N] axial rigidity; TOML's inf = inextensible (default)
+    end = 0.2             # [m] anchor arc length (default: the tip)
+    pretension = 0.0      # [N]
+    displacement = 0.005  # [m] (> 0 retracts)  -- exactly one of
+    # tension = 1.0       # [N]                 -- displacement / tension
+
+    [[load]]              # point load at arc length s, world frame
+    s = 0.2               # [m]
+    force = [0.0, 0.0, -1.0]    # [N]
+    moment = [0.0, 0.0, 0.0]    # [N m] (optional)
+
+    [distributed]         # uniform distributed force over the whole length, world frame
+    force = [0.0, 0.0, -0.25]   # [N/m]
+
+    [options]             # any field of tr.Options, passed through by name
+
+Functions: :func:`load_scene` (path -> :class:`SceneSpec`), :func:`parse_scene`
+(dict -> :class:`SceneSpec`).  Errors are :class:`SceneFileError` (a
+``ValueError``) with ``.key`` and ``.problem``.
+"""
+from __future__ import annotations
+
+import dataclasses
+import math
+import os
+import sys
+from dataclasses import dataclass
+from typing import Any, Mapping
+
+if sys.version_info >= (3, 11):
+    import tomllib
+else:  # pragma: no cover - exercised on Python 3.10 only
+    import tomli as tomllib
+
+__all__ = ["SceneFileError", "SceneSpec", "load_scene", "parse_scene", "TOP_LEVEL_KEYS"]
+
+
+class SceneFileError(ValueError):
+    """A scene file that cannot be used: ``key`` names where, ``problem`` says what."""
+
+    def __init__(self, key: str, problem: str, path: str | os.PathLike | None = None):
+        self.key = key
+        self.problem = problem
+        self.path = None if path is None else os.fspath(path)
+        where = f"{self.path}: " if self.path else ""
+        super().__init__(f"{where}{key}: {problem}")
+
+
+@dataclass(frozen=True)
+class SceneSpec:
+    """What a scene file describes.
+
+    Attributes
+    ----------
+    scene : tendonrod.Scene
+        The robot, actuation and loads.
+    options : tendonrod.Options or None
+        Solver options from the ``[options]`` table (None: the defaults).
+    title : str
+        The file's ``title`` (empty if absent).
+    source : str or None
+        The path the scene was read from.
+    """
+
+    scene: Any
+    options: Any = None
+    title: str = ""
+    source: str | None = None
+
+
+TOP_LEVEL_KEYS = ("title", "rod", "tendon", "load", "distributed", "options")
+_ROD_NUMBERS = ("length", "diameter", "E", "G", "EI", "GJ", "EA", "GA")
+_ROD_BOOLS = ("kirchhoff",)
+_TENDON_NUMBERS = ("offset", "angle", "slope", "EA", "end", "pretension", "displacement", "tension")
+_TENDON_STRINGS = ("routing",)
+_ROUTINGS = ("parallel", "converging")
+
+
+def _kind(value: Any) -> str:
+    """TOML's name for the type of a parsed value (for messages)."""
+    if isinstance(value, bool):
+        return "boolean"
+    if isinstance(value, (int, float)):
+        return "number"
+    if isinstance(value, str):
+        return "string"
+    if isinstance(value, list):
+        return "array"
+    if isinstance(value, dict):
+        return "table"
+    return type(value).__name__  # dates and times
+
+
+def _number(value: Any, key: str) -> float:
+    if isinstance(value, bool) or not isinstance(value, (int, float)):
+        raise SceneFileError(key, f"expected a number, got {value!r} ({_kind(value)})")
+    if math.isnan(value):
+        raise SceneFileError(key, "expected a number, got nan")
+    return float(value)
+
+
+def _boolean(value: Any, key: str) -> bool:
+    if not isinstance(value, bool):
+        raise SceneFileError(key, f"expected true or false, got {value!r} ({_kind(value)})")
+    return value
+
+
+def _vector3(value: Any, key: str) -> tuple[float, float, float]:
+    if not isinstance(value, list):
+        raise SceneFileError(key, f"expected an array of 3 numbers, got {value!r} ({_kind(value)})")
+    if len(value) != 3:
+        raise SceneFileError(key, f"expected an array of 3 numbers, got {len(value)} elements")
+    return tuple(_number(v, f"{key}[{j}]") for j, v in enumerate(value))  # type: ignore[return-value]
+
+
+def _table(value: Any, key: str) -> dict:
+    if not isinstance(value, dict):
+        raise SceneFileError(key, f"expected a table, got {value!r} ({_kind(value)})")
+    return value
+
+
+def _unknown(table: Mapping, allowed, key: str) -> None:
+    for name in table:
+        if name not in allowed:
+            raise SceneFileError(
+                f"{key}.{name}" if key else name,
+                "unknown key; allowed keys are " + ", ".join(sorted(allowed)))
+
+
+def _build(cls, kwargs: dict, key: str):
+    """Construct a library dataclass; its own ValueError/TypeError is re-raised naming `key`."""
+    try:
+        return cls(**kwargs)
+    except (ValueError, TypeError) as exc:
+        raise SceneFileError(key, str(exc)) from exc
+
+
+def _parse_rod(tr, raw: Any) -> Any:
+    rod = _table(raw, "rod")
+    fields = {f.name for f in dataclasses.fields(tr.Rod)}
+    _unknown(rod, fields, "rod")
+    kwargs = {}
+    for name, value in rod.items():
+        if name in _ROD_BOOLS:
+            kwargs[name] = _boolean(value, f"rod.{name}")
+        elif name in _ROD_NUMBERS:
+            kwargs[name] = _number(value, f"rod.{name}")
+        else:  # a field added to tr.Rod after this reader: pass through, the class validates
+            kwargs[name] = value
+    for required in ("length",):
+        if required not in kwargs:
+            raise SceneFileError(f"rod.{required}", "missing (required)")
+    return _build(tr.Rod, kwargs, "rod")
+
+
+def _parse_tendon(tr, raw: Any, j: int, length: float):
+    key = f"tendon[{j}]"
+    table = _table(raw, key)
+    fields = {f.name for f in dataclasses.fields(tr.Tendon)}
+    allowed = fields | {"displacement", "tension", "routing"}
+    _unknown(table, allowed, key)
+    values: dict[str, Any] = {}
+    for name, value in table.items():
+        if name in _TENDON_NUMBERS:
+            values[name] = _number(value, f"{key}.{name}")
+        elif name in _TENDON_STRINGS:
+            if not isinstance(value, str):
+                raise SceneFileError(f"{key}.{name}", f"expected a string, got {value!r} ({_kind(value)})")
+            values[name] = value
+        else:
+            values[name] = value
+    if "offset" not in values:
+        raise SceneFileError(f"{key}.offset", "missing (required)")
+    has_q, has_tau = "displacement" in values, "tension" in values
+    if has_q == has_tau:
+        raise SceneFileError(
+            key, "give exactly one of 'displacement' [m] or 'tension' [N]"
+            + (" (both given)" if has_q else " (neither given)"))
+    routing = values.pop("routing", None)
+    if routing is not None:
+        if routing not in _ROUTINGS:
+            raise SceneFileError(f"{key}.routing", f"expected one of {', '.join(map(repr, _ROUTINGS))}, got {routing!r}")
+        if "slope" in values:
+            raise SceneFileError(f"{key}.routing", "give either routing or slope, not both")
+        if routing == "converging":
+            end = values.get("end", length)
+            if not end > 0:
+                raise SceneFileError(f"{key}.end", f"must be > 0 for a converging tendon, got {end!r}")
+            values["slope"] = -values["offset"] / end
+    q = values.pop("displacement", None)
+    tau = values.pop("tension", None)
+    tendon = _build(tr.Tendon, values, key)
+    return tendon, q, tau
+
+
+def _parse_load(tr, raw: Any, j: int, length: float):
+    key = f"load[{j}]"
+    table = _table(raw, key)
+    fields = {f.name for f in dataclasses.fields(tr.PointLoad)}
+    _unknown(table, fields, key)
+    if "s" not in table:
+        raise SceneFileError(f"{key}.s", "missing (required)")
+    kwargs: dict[str, Any] = {}
+    for name, value in table.items():
+        if name == "s":
+            kwargs[name] = _number(value, f"{key}.s")
+        elif name in ("force", "moment"):
+            kwargs[name] = _vector3(value, f"{key}.{name}")
+        else:
+            kwargs[name] = value
+    if "force" not in kwargs and "moment" not in kwargs:
+        raise SceneFileError(key, "give a force and/or a moment")
+    if not 0.0 <= kwargs["s"] <= length:
+        raise SceneFileError(f"{key}.s", f"must lie on the rod, 0 <= s <= rod.length = {length!r}; "
+                                         f"got {kwargs['s']!r}")
+    return _build(tr.PointLoad, kwargs, key)
+
+
+def _parse_distributed(tr, raw: Any):
+    table = _table(raw, "distributed")
+    fields = {f.name for f in dataclasses.fields(tr.DistributedLoad)}
+    _unknown(table, fields, "distributed")
+    kwargs: dict[str, Any] = {}
+    for name, value in table.items():
+        if name in ("force", "moment"):
+            kwargs[name] = _vector3(value, f"distributed.{name}")
+        else:
+            kwargs[name] = value
+    return _build(tr.DistributedLoad, kwargs, "distributed")
+
+
+def _parse_options(tr, raw: Any):
+    table = _table(raw, "options")
+    fields = {f.name for f in dataclasses.fields(tr.Options)}
+    _unknown(table, fields, "options")
+    return _build(tr.Options, dict(table), "options")
+
+
+def parse_scene(data: Mapping[str, Any], source: str | None = None) -> SceneSpec:
+    """Build a :class:`SceneSpec` from an already parsed TOML document (a dict).
+
+    Raises :class:`SceneFileError` naming the offending key.
+    """
+    import tendonrod as tr
+
+    try:
+        if not isinstance(data, Mapping):
+            raise SceneFileError("(document)", f"expected a table, got {_kind(data)}")
+        _unknown(data, TOP_LEVEL_KEYS, "")
+        title = data.get("title", "")
+        if not isinstance(title, str):
+            raise SceneFileError("title", f"expected a string, got {title!r} ({_kind(title)})")
+        if "rod" not in data:
+            raise SceneFileError("rod", "missing (required): a [rod] table with at least length")
+        rod = _parse_rod(tr, data["rod"])
+        raw_tendons = data.get("tendon", [])
+        if not isinstance(raw_tendons, list):
+            raise SceneFileError("tendon", "expected an array of tables ([[tendon]] sections)")
+        tendons, qs, taus = [], [], []
+        for j, raw in enumerate(raw_tendons):
+            t, q, tau = _parse_tendon(tr, raw, j, rod.length)
+            tendons.append(t)
+            qs.append(q)
+            taus.append(tau)
+        raw_loads = data.get("load", [])
+        if not isinstance(raw_loads, list):
+            raise SceneFileError("load", "expected an array of tables ([[load]] sections)")
+        loads = [_parse_load(tr, raw, j, rod.length) for j, raw in enumerate(raw_loads)]
+        if "distributed" in data:
+            loads.append(_parse_distributed(tr, data["distributed"]))
+        robot = _build(tr.Robot, {"rod": rod, "tendons": tendons}, "tendon")
+        scene = _build(tr.Scene, {"robot": robot, "displacement": qs, "tension": taus, "loads": loads},
+                       "scene")
+        options = _parse_options(tr, data["options"]) if "options" in data else None
+    except SceneFileError as exc:
+        if source is not None and exc.path is None:
+            raise SceneFileError(exc.key, exc.problem, source) from exc.__cause__
+        raise
+    return SceneSpec(scene=scene, options=options, title=title, source=source)
+
+
+def load_scene(path: str | os.PathLike) -> SceneSpec:
+    """Read a scene file (opened read-only; never modified).
+
+    Raises :class:`SceneFileError` (a ``ValueError``) naming the key and the
+    problem, or ``OSError`` if the file cannot be read.
+    """
+    with open(path, "rb") as fh:
+        raw = fh.read()
+    try:
+        data = tomllib.loads(raw.decode("utf-8"))
+    except UnicodeDecodeError as exc:
+        raise SceneFileError("(file)", f"not UTF-8 text: {exc}", path) from exc
+    except tomllib.TOMLDecodeError as exc:
+        raise SceneFileError("(syntax)", f"not valid TOML: {exc}", path) from exc
+    return parse_scene(data, source=os.fspath(path))

@@ -1,0 +1,539 @@
+"""Design sweeps: solve a grid or list of scenes, in parallel, resumably.
+
+>>> res = tr.sweep(scene, {"loads[0].force": forces}, grid=False)   # doctest: +SKIP
+>>> res.success, res["tip_position"]                                   # doctest: +SKIP
+
+What is varied is named by a *path* into the scene's frozen dataclasses and
+replaced with :func:`dataclasses.replace`: ``"robot.rod.length"``,
+``"robot.tendons[0].EA"``, ``"displacement[0]"``, ``"loads[1].force"``,
+``"loads[0].force[2]"`` (one component of a vector).  Anything a path cannot
+express (a converging tendon whose slope follows its offset, say) goes through
+``build=``: a function ``build(base, **values) -> Scene``.
+
+Order, chunks, warm starts, determinism
+    Points are numbered in C order of the grid (the last name varies fastest)
+    or in list order.  They are cut into contiguous chunks of ``chunksize``
+    points; within a chunk each solve is warm-started from the previous
+    converged solution, so a chunk is a continuation path (sweep a load from
+    zero upwards along the last axis and large loads become reachable).  Each
+    chunk starts cold.  Results therefore depend only on the order and the
+    chunking, never on the number of workers or on which worker ran which
+    chunk: bitwise identical for the same chunking.  The default chunk is one
+    line of the last axis (grid) or 32 points (list) -- independent of the
+    machine, so that results are too.
+
+Parallelism
+    Chunks are handed to a :class:`concurrent.futures.Executor`; by default a
+    thread pool with one thread per core (the C core releases the GIL).  Pass
+    any executor -- ``ProcessPoolExecutor``, ``dask.distributed``'s
+    ``client.get_executor()``, Ray's -- and its workers run the chunks
+    (scenes, options and solutions pickle; ``measure``/``build`` must too,
+    so use module-level functions with process pools).
+
+Files, resume
+    With ``path=`` every finished chunk is appended to a JSON-lines file and
+    flushed to disk (``os.fsync``) before the next is recorded.  Calling the
+    same sweep with the same path again reads what is there (a half-written
+    last line from a killed process is discarded) and runs only the missing
+    chunks, so nothing finished is lost and the result equals an uninterrupted
+    run.  The file's header holds a fingerprint of the sweep; a different
+    sweep refuses to resume from it.
+
+Failures
+    A point that does not converge is recorded with ``status`` 1 and the
+    solver's message (its values are the solver's last iterate); a point that
+    raises (bad input made by the sweep, say) is recorded with ``status`` 2 and
+    the exception's message and NaN values.  Neither stops the sweep.
+"""
+from __future__ import annotations
+
+import concurrent.futures as cf
+import dataclasses
+import hashlib
+import itertools
+import json
+import math
+import os
+import re
+import threading
+import warnings
+from dataclasses import dataclass, field
+from typing import Any, Callable, Iterable, Mapping, Sequence
+
+import numpy as np
+
+__all__ = ["sweep", "SweepResult", "set_path", "get_path", "tip_measure", "ComplianceMeasure",
+           "STATUS_OK", "STATUS_NOT_CONVERGED", "STATUS_ERROR", "STATUS_NOT_RUN"]
+
+STATUS_OK = 0
+"""The solve converged."""
+STATUS_NOT_CONVERGED = 1
+"""The solver finished without converging (values: its last iterate)."""
+STATUS_ERROR = 2
+"""Building or solving the point raised (values: NaN)."""
+STATUS_NOT_RUN = -1
+"""Only in results of a sweep that was interrupted before the point ran."""
+
+_FORMAT_VERSION = 1
+_DEFAULT_LIST_CHUNK = 32
+
+# --------------------------------------------------------------------------
+# paths into frozen dataclasses
+# --------------------------------------------------------------------------
+_TOKEN = re.compile(r"\.?([A-Za-z_][A-Za-z_0-9]*)|\[(-?\d+)\]")
+
+
+def _parse_path(path: str) -> list:
+    tokens, pos = [], 0
+    while pos < len(path):
+        m = _TOKEN.match(path, pos)
+        if m is None or (pos == 0 and path.startswith(".")):
+            raise ValueError(f"path {path!r}: cannot parse at position {pos} ({path[pos:]!r}); "
+                             "use names and [index], e.g. 'robot.tendons[0].EA'")
+        tokens.append(m.group(1) if m.group(1) is not None else int(m.group(2)))
+        pos = m.end()
+    if not tokens:
+        raise ValueError(f"path {path!r}: empty")
+    return tokens
+
+
+def get_path(obj: Any, path: str) -> Any:
+    """The value at ``path`` (e.g. ``"robot.tendons[0].offset"``) inside ``obj``."""
+    for tok in _parse_path(path):
+        try:
+            obj = obj[tok] if isinstance(tok, int) else getattr(obj, tok)
+        except (IndexError, AttributeError, TypeError) as exc:
+            raise ValueError(f"path {path!r}: {tok!r} does not exist in {type(obj).__name__}") from exc
+    return obj
+
+
+def _set(obj: Any, tokens: list, value: Any, path: str) -> Any:
+    if not tokens:
+        return value
+    tok, rest = tokens[0], tokens[1:]
+    if isinstance(tok, int):
+        if isinstance(obj, np.ndarray):
+            new = np.array(obj, copy=True)
+            new[tok] = _set(new[tok], rest, value, path)
+            return new
+        if not isinstance(obj, (list, tuple)):
+            raise ValueError(f"path {path!r}: [{tok}] indexes a {type(obj).__name__}, not a sequence")
+        if not -len(obj) <= tok < len(obj):
+            raise ValueError(f"path {path!r}: index {tok} out of range (length {len(obj)})")
+        items = list(obj)
+        items[tok] = _set(items[tok], rest, value, path)
+        return type(obj)(items) if isinstance(obj, tuple) else items
+    if not dataclasses.is_dataclass(obj):
+        raise ValueError(f"path {path!r}: .{tok} on a {type(obj).__name__}, which is not a dataclass")
+    names = {f.name for f in dataclasses.fields(obj)}
+    if tok not in names:
+        raise ValueError(f"path {path!r}: {type(obj).__name__} has no field {tok!r} "
+                         f"(fields: {', '.join(sorted(names))})")
+    return dataclasses.replace(obj, **{tok: _set(getattr(obj, tok), rest, value, path)})
+
+
+def set_path(obj: Any, path: str, value: Any) -> Any:
+    """A copy of the dataclass ``obj`` with the value at ``path`` replaced.
+
+    Every dataclass on the way is rebuilt with :func:`dataclasses.replace`,
+    so its ``__post_init__`` validation runs on the new value.
+    """
+    return _set(obj, _parse_path(path), value, path)
+
+
+# --------------------------------------------------------------------------
+# what is recorded per point
+# --------------------------------------------------------------------------
+def tip_measure(scene: Any, sol: Any) -> dict:
+    """Default per-point record: tip pose, tendon tensions, slacks, displacements."""
+    return {
+        "tip_position": np.asarray(sol.tip_position, dtype=float),   # (3,) world [m]
+        "tip_rotation": np.asarray(sol.tip_rotation, dtype=float),   # (3, 3) body-to-world
+        "tension": np.asarray(sol.tension, dtype=float),             # (nt,) [N]
+        "slack": np.asarray(sol.slack, dtype=float),                 # (nt,) [m]
+        "displacement": np.asarray(sol.displacement, dtype=float),   # (nt,) [m]
+    }
+
+
+@dataclass(frozen=True)
+class ComplianceMeasure:
+    """Per-point record of ``tr.compliance(scene, s)`` for each s in ``s``.
+
+    Records ``"compliance"`` with shape (len(s), 6, 6) (world frame; rows
+    [dx, dtheta], columns [force, moment]) plus the :func:`tip_measure`
+    fields.  A picklable callable, so it works with process pools.
+    """
+
+    s: tuple = (None,)
+
+    def __call__(self, scene, sol):
+        import tendonrod as tr
+
+        out = tip_measure(scene, sol)
+        out["compliance"] = np.stack([np.asarray(tr.compliance(scene, s=s), dtype=float)
+                                      for s in self.s])
+        return out
+
+
+# --------------------------------------------------------------------------
+# the result
+# --------------------------------------------------------------------------
+@dataclass(frozen=True)
+class SweepResult:
+    """Tidy arrays of a sweep.  Indexing ``res[name]`` returns ``data[name]``
+    or, for a varied parameter, its value at every point.
+
+    Attributes
+    ----------
+    names : tuple of str
+        The varied parameters (paths or ``build`` keywords), in order.
+    shape : tuple of int
+        Grid shape (one axis per name) or ``(npoints,)`` for a list sweep.
+    values : dict name -> ndarray
+        The parameter value at every point, shape ``shape + value shape``.
+    status : ndarray of int8, shape ``shape``
+        :data:`STATUS_OK`, :data:`STATUS_NOT_CONVERGED`, :data:`STATUS_ERROR`
+        or :data:`STATUS_NOT_RUN`.
+    message : ndarray of object (str), shape ``shape``
+        The solver's message, or the exception's.
+    nit : ndarray of int, shape ``shape``
+        Solver iterations (-1 when the point raised).
+    data : dict name -> ndarray
+        What ``measure`` returned, stacked: shape ``shape + item shape``;
+        NaN where a point raised.
+    chunksize : int
+        Points per warm-started chunk (results depend on it).
+    """
+
+    names: tuple
+    shape: tuple
+    values: dict
+    status: np.ndarray
+    message: np.ndarray
+    nit: np.ndarray
+    data: dict
+    chunksize: int
+
+    @property
+    def success(self) -> np.ndarray:
+        """Boolean array, shape ``shape``: the point converged."""
+        return self.status == STATUS_OK
+
+    def __getitem__(self, key: str) -> np.ndarray:
+        if key in self.data:
+            return self.data[key]
+        if key in self.values:
+            return self.values[key]
+        raise KeyError(f"{key!r}: not a recorded quantity ({', '.join(self.data)}) "
+                       f"nor a varied parameter ({', '.join(self.values)})")
+
+    def failures(self) -> list:
+        """``[(index tuple, status, message), ...]`` for every point that did not converge."""
+        idx = np.argwhere(self.status != STATUS_OK)
+        return [(tuple(int(i) for i in ix), int(self.status[tuple(ix)]), str(self.message[tuple(ix)]))
+                for ix in idx]
+
+
+# --------------------------------------------------------------------------
+# the work done by one worker
+# --------------------------------------------------------------------------
+def _jsonable(value: Any) -> Any:
+    if isinstance(value, np.ndarray):
+        return value.tolist()
+    if isinstance(value, (np.floating, np.integer, np.bool_)):
+        return value.item()
+    return value
+
+
+def _run_chunk(task: dict) -> dict:
+    """Solve one chunk in order with warm starts; never raises for a point."""
+    import tendonrod as tr
+
+    scenes, measure, options, warm = task["scenes"], task["measure"], task["options"], task["warm_start"]
+    records, guess = [], None
+    for index, scene in zip(task["indices"], scenes):
+        if isinstance(scene, Exception):      # build failed in the parent: record, go on
+            records.append({"i": index, "status": STATUS_ERROR, "nit": -1,
+                            "message": f"{type(scene).__name__}: {scene}", "data": None})
+            continue
+        try:
+            if threading.current_thread() is threading.main_thread():
+                # a process-pool worker (or a serial run): non-convergence is recorded per
+                # point, so silence the warning here.  Thread-pool workers must not touch the
+                # (process-global) filters; sweep() silences them once, in the calling thread.
+                with warnings.catch_warnings():
+                    warnings.simplefilter("ignore", getattr(tr, "ConvergenceWarning", Warning))
+                    sol = tr.solve(scene, guess=guess if warm else None, options=options)
+            else:
+                sol = tr.solve(scene, guess=guess if warm else None, options=options)
+            values = {k: np.asarray(v, dtype=float) for k, v in dict(measure(scene, sol)).items()}
+            ok = bool(sol.success)
+            records.append({"i": index, "status": STATUS_OK if ok else STATUS_NOT_CONVERGED,
+                            "nit": int(getattr(sol, "nit", -1)), "message": str(sol.message),
+                            "data": {k: v.tolist() for k, v in values.items()}})
+            if ok:
+                guess = sol
+        except Exception as exc:  # noqa: BLE001 - a failed point never stops the sweep
+            records.append({"i": index, "status": STATUS_ERROR, "nit": -1,
+                            "message": f"{type(exc).__name__}: {exc}", "data": None})
+    return {"chunk": task["chunk"], "records": records}
+
+
+# --------------------------------------------------------------------------
+# the sweep
+# --------------------------------------------------------------------------
+def _fingerprint(base, names, point_values, chunksize, measure, build, options, warm_start) -> str:
+    def ident(f):
+        return None if f is None else (getattr(f, "__module__", ""), getattr(f, "__qualname__", repr(f)),
+                                       repr(f) if dataclasses.is_dataclass(f) else "")
+    payload = repr((_FORMAT_VERSION, repr(base), list(names),
+                    [[repr(_jsonable(np.asarray(v))) for v in row] for row in point_values],
+                    chunksize, ident(measure), ident(build), repr(options), bool(warm_start)))
+    return hashlib.sha256(payload.encode()).hexdigest()
+
+
+def _read_progress(path: str, fingerprint: str, npoints: int) -> dict:
+    """Chunks already recorded in ``path`` -> their records; drops a torn last line."""
+    done: dict = {}
+    with open(path, "rb+") as fh:
+        raw = fh.read()
+        good_end = 0
+        lines = raw.split(b"\n")
+        complete = lines[:-1]             # the last element follows the last newline
+        for n, line in enumerate(complete):
+            try:
+                obj = json.loads(line)
+            except json.JSONDecodeError:
+                break                      # torn write (killed mid-line): drop it and the rest
+            if n == 0:
+                if obj.get("tendonrod_sweep") != _FORMAT_VERSION or obj.get("fingerprint") != fingerprint:
+                    raise ValueError(
+                        f"path {path!r} holds results of a different sweep (fingerprint "
+                        f"{obj.get('fingerprint')!r}); choose another path or delete the file")
+            else:
+                done[int(obj["chunk"])] = obj["records"]
+            good_end += len(line) + 1
+        if good_end == 0:
+            raise ValueError(f"path {path!r} exists but has no sweep header; not overwriting it")
+        if good_end != len(raw):          # cut the torn tail so appends start on a clean line
+            fh.truncate(good_end)
+    return done
+
+
+def _append(fh, obj: dict) -> None:
+    fh.write(json.dumps(obj, allow_nan=True, separators=(",", ":")) + "\n")
+    fh.flush()
+    os.fsync(fh.fileno())
+
+
+def sweep(base: Any, vary: Mapping[str, Iterable] | None = None, *, grid: bool = True,
+          build: Callable[..., Any] | None = None, measure: Callable[[Any, Any], Mapping] | None = None,
+          options: Any = None, executor: cf.Executor | None = None, max_workers: int | None = None,
+          chunksize: int | None = None, warm_start: bool = True, path: str | os.PathLike | None = None,
+          progress: bool | None = None) -> SweepResult:
+    """Solve ``base`` with parameters varied over a grid (or a list) of points.
+
+    Parameters
+    ----------
+    base : tendonrod.Scene
+        The scene every point starts from.
+    vary : mapping name -> sequence
+        Name is a path into the scene (``"robot.tendons[0].EA"``,
+        ``"loads[0].force"``, ``"displacement[0]"``) or, with ``build``, a
+        keyword of ``build``.  Values are a sequence of scalars or of arrays
+        (a force vector per point, say).
+    grid : bool
+        True: every combination (outer product, C order, shape = lengths of
+        the sequences).  False: the sequences are zipped (equal lengths).
+    build : callable, optional
+        ``build(base, **point) -> Scene``; replaces the path mechanism.
+    measure : callable, optional
+        ``measure(scene, solution) -> {name: array}``, recorded per point;
+        default :func:`tip_measure`.  See also :class:`ComplianceMeasure`.
+    options : tendonrod.Options, optional
+        Passed to every :func:`tendonrod.solve`.
+    executor : concurrent.futures.Executor, optional
+        Runs the chunks; default a ``ThreadPoolExecutor`` with ``max_workers``
+        (default ``os.cpu_count()``) threads, shut down at the end.  An
+        executor you pass is left running.
+    chunksize : int, optional
+        Points per warm-started chunk (see the module docstring).
+    warm_start : bool
+        Pass the previous converged solution of the chunk as ``guess``.
+    path : str or PathLike, optional
+        JSON-lines file recording finished chunks; resumes from it if present.
+    progress : bool, optional
+        A tqdm progress bar (None: if tqdm is installed).
+
+    Returns
+    -------
+    SweepResult
+    """
+    if vary is None:
+        vary = {}
+    if not isinstance(vary, Mapping):
+        raise TypeError(f"vary must be a mapping name -> sequence of values, got {type(vary).__name__}")
+    names = tuple(vary)
+    columns = [list(vary[n]) for n in names]
+    for n, col in zip(names, columns):
+        if len(col) == 0:
+            raise ValueError(f"vary[{n!r}]: no values")
+    if grid:
+        shape = tuple(len(c) for c in columns)
+        point_values = [list(p) for p in itertools.product(*columns)] if names else [[]]
+    else:
+        lengths = {len(c) for c in columns}
+        if len(lengths) > 1:
+            raise ValueError("grid=False zips the sequences, which need equal lengths; got "
+                             + ", ".join(f"{n}: {len(c)}" for n, c in zip(names, columns)))
+        npts = lengths.pop() if lengths else 1
+        shape = (npts,)
+        point_values = [list(p) for p in zip(*columns)] if names else [[]]
+    npoints = len(point_values)
+    if chunksize is None:
+        chunksize = (shape[-1] if (grid and shape) else min(npoints, _DEFAULT_LIST_CHUNK))
+    chunksize = int(chunksize)
+    if chunksize < 1:
+        raise ValueError(f"chunksize must be >= 1, got {chunksize}")
+    if max_workers is not None and int(max_workers) < 1:
+        raise ValueError(f"max_workers must be >= 1, got {max_workers}")
+    if measure is None:
+        measure = tip_measure
+    if build is None:
+        for n in names:
+            _parse_path(n)            # fail early on a malformed path
+            get_path(base, n)         # ... or one that does not exist
+
+    # the scenes, built in the parent (cheap); a failed build becomes a recorded error
+    scenes: list = []
+    for pv in point_values:
+        try:
+            if build is not None:
+                scene = build(base, **dict(zip(names, pv)))
+            else:
+                scene = base
+                for n, v in zip(names, pv):
+                    scene = set_path(scene, n, v)
+            scenes.append(scene)
+        except Exception as exc:  # noqa: BLE001 - recorded as a failed point
+            scenes.append(exc)
+
+    nchunks = math.ceil(npoints / chunksize)
+    done: dict = {}
+    fh = None
+    fp = _fingerprint(base, names, point_values, chunksize, measure, build, options, warm_start)
+    if path is not None:
+        path = os.fspath(path)
+        if os.path.exists(path) and os.path.getsize(path) > 0:
+            done = _read_progress(path, fp, npoints)
+            fh = open(path, "a", encoding="utf-8")
+        else:
+            fh = open(path, "w", encoding="utf-8")
+            _append(fh, {"tendonrod_sweep": _FORMAT_VERSION, "fingerprint": fp, "npoints": npoints,
+                         "chunksize": chunksize, "names": list(names), "shape": list(shape)})
+
+    todo = [c for c in range(nchunks) if c not in done]
+    tasks = [{"chunk": c, "indices": list(range(c * chunksize, min((c + 1) * chunksize, npoints))),
+              "scenes": scenes[c * chunksize:(c + 1) * chunksize], "measure": measure,
+              "options": options, "warm_start": warm_start} for c in todo]
+
+    bar = None
+    if progress or progress is None:
+        try:
+            from tqdm.auto import tqdm
+            bar = tqdm(total=npoints, initial=sum(len(r) for r in done.values()), unit="pt",
+                       desc="sweep", disable=None if progress is None else False)
+        except ImportError:
+            if progress:
+                warnings.warn("progress=True but tqdm is not installed; running quietly", stacklevel=2)
+
+    own = executor is None
+    if own and tasks:
+        workers = max_workers or os.cpu_count() or 1
+        executor = cf.ThreadPoolExecutor(max_workers=min(workers, len(tasks)))
+    import tendonrod as tr
+
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", getattr(tr, "ConvergenceWarning", Warning))
+            _drive(executor, tasks, done, fh, bar)
+    finally:
+        if own and executor is not None:
+            executor.shutdown(wait=True, cancel_futures=True)
+        if fh is not None:
+            fh.close()
+        if bar is not None:
+            bar.close()
+
+    return _assemble(names, shape, point_values, done, npoints, chunksize)
+
+
+def _drive(executor, tasks, done, fh, bar) -> None:
+    """Submit every chunk, record each as it finishes (file first, then the bar)."""
+    if not tasks:
+        return
+    futures = [executor.submit(_run_chunk, t) for t in tasks]
+    try:
+        for fut in cf.as_completed(futures):
+            out = fut.result()
+            done[out["chunk"]] = out["records"]
+            if fh is not None:
+                _append(fh, {"chunk": out["chunk"], "records": out["records"]})
+            if bar is not None:
+                bar.update(len(out["records"]))
+    except BaseException:
+        for f in futures:
+            f.cancel()
+        raise
+
+
+def _assemble(names, shape, point_values, done, npoints, chunksize) -> SweepResult:
+    status = np.full(npoints, STATUS_NOT_RUN, dtype=np.int8)
+    message = np.empty(npoints, dtype=object)
+    message[:] = "not run"
+    nit = np.full(npoints, -1, dtype=np.int64)
+    items: list = [None] * npoints
+    for recs in done.values():
+        for r in recs:
+            i = int(r["i"])
+            status[i] = r["status"]
+            message[i] = r["message"]
+            nit[i] = r["nit"]
+            items[i] = r["data"]
+    keys: list = []
+    item_shapes: dict = {}
+    for it in items:
+        if it is None:
+            continue
+        for k, v in it.items():
+            shp = np.shape(v)
+            if k not in item_shapes:
+                keys.append(k)
+                item_shapes[k] = shp
+            elif item_shapes[k] != shp:
+                item_shapes[k] = None        # ragged: stored as objects
+    data = {}
+    for k in keys:
+        if item_shapes[k] is None:
+            arr = np.empty(npoints, dtype=object)
+            for i, it in enumerate(items):
+                arr[i] = None if (it is None or k not in it) else np.asarray(it[k], dtype=float)
+            data[k] = arr.reshape(shape)
+        else:
+            arr = np.full((npoints,) + item_shapes[k], np.nan)
+            for i, it in enumerate(items):
+                if it is not None and k in it:
+                    arr[i] = np.asarray(it[k], dtype=float)
+            data[k] = arr.reshape(tuple(shape) + item_shapes[k])
+    values = {}
+    for j, n in enumerate(names):
+        col = [np.asarray(pv[j]) for pv in point_values]
+        try:
+            values[n] = np.stack(col).reshape(tuple(shape) + col[0].shape)
+        except ValueError:
+            arr = np.empty(npoints, dtype=object)
+            arr[:] = [pv[j] for pv in point_values]
+            values[n] = arr.reshape(shape)
+    return SweepResult(names=names, shape=tuple(shape), values=values, status=status.reshape(shape),
+                       message=message.reshape(shape), nit=nit.reshape(shape), data=data,
+                       chunksize=chunksize)
