@@ -621,3 +621,358 @@ def test_planar_shape_bad_nodes(nodes):
     ValueError/TypeError that names `nodes`, raised before any work."""
     with pytest.raises((ValueError, TypeError), match="nodes"):
         tr.analytic.planar_shape(0.1, 0.3, 0.12, 0.2, 0.004, 0.0, 0.01, np.inf, nodes=nodes)
+
+
+# --------------------------------------------------------------------------
+# Public scene description: Rod, Tendon, Robot, PointLoad, DistributedLoad,
+# Scene, Options.  Every field gets hostile values; the outcome is a valid
+# object holding the value as a float, or a ValueError/TypeError that names
+# the field (and, for scalars, shows the value).
+# --------------------------------------------------------------------------
+
+from decimal import Decimal          # noqa: E402
+from fractions import Fraction       # noqa: E402
+
+# Scalars that are not reals, or not finite floats.  Huge Python ints
+# (10**400) are left to test_huge_ints_are_value_errors (finding F3).
+SCALARS = st.one_of(
+    hostile_floats(),
+    st.integers(-10**6, 10**6),
+    st.sampled_from([True, False, None, "0.1", "abc", "", b"1", 1j, 1 + 0j, Decimal("0.1"),
+                     Decimal("nan"), Fraction(1, 10), np.float32(0.1), np.float32("nan"),
+                     np.int64(3), np.uint8(7), np.bool_(True), np.float16(1.0),
+                     np.array(0.1), np.array([0.1]), np.array([[0.1]]), np.zeros(0),
+                     np.array("x"), [0.1], (0.1,), {"v": 0.1}, np.datetime64("2020-01-01"),
+                     np.array(0.1 + 0j)]))
+
+
+def _as_real(v):
+    """The float a real scalar stands for, or None when v is not one.
+
+    Real scalars: Python/NumPy ints and floats (not bool), Fraction, 0-d
+    integer/float arrays.  Everything else is not a real number here
+    (Decimal, complex, strings, sequences, bool).
+    """
+    import numbers
+    if isinstance(v, (bool, np.bool_)):
+        return None
+    if isinstance(v, np.ndarray):
+        return float(v) if v.shape == () and v.dtype.kind in "fiu" else None
+    if isinstance(v, (numbers.Real, np.floating, np.integer)):
+        return float(v)
+    return None
+
+
+def _expect(check, v):
+    """check(x) -> True/False for a real x; 'maybe' lets either outcome pass."""
+    x = _as_real(v)
+    if x is None:
+        if isinstance(v, Decimal):
+            return "maybe"     # Decimal is not numbers.Real; accepting it is also fine
+        return False
+    return check(x)
+
+
+FIN = math.isfinite
+REAL_FIELDS = {
+    # class: {field: (accepts None?, check for a real x)}
+    "Rod": {"length": (False, lambda x: FIN(x) and x > 0),
+            "diameter": (True, lambda x: FIN(x) and x > 0),
+            "E": (True, lambda x: FIN(x) and x > 0),
+            "G": (True, lambda x: FIN(x) and x > 0),
+            "EI": (True, lambda x: FIN(x) and x > 0),
+            "GJ": (True, lambda x: FIN(x) and x > 0),
+            "EA": (True, lambda x: x > 0),            # inf: rigid in extension
+            "GA": (True, lambda x: x > 0)},
+    "Tendon": {"offset": (False, lambda x: FIN(x) and x >= 0),
+               "angle": (False, FIN),
+               "slope": (False, FIN),
+               "EA": (False, lambda x: x > 0),        # inf: inextensible
+               "end": (True, lambda x: FIN(x) and x > 0),
+               "pretension": (False, lambda x: FIN(x) and x >= 0)},
+    "PointLoad": {"s": (False, lambda x: FIN(x) and x >= 0)},
+}
+ROD_OK = dict(length=0.2, diameter=0.8e-3, E=207e9, G=79.6e9)
+
+
+def _make(cls, field, value):
+    if cls == "Rod":
+        kw = dict(ROD_OK)
+        kw[field] = value
+        return tr.Rod(**kw)
+    if cls == "Tendon":
+        return tr.Tendon(**{field: value})
+    return tr.PointLoad(**{field: value})
+
+
+def _names_field(msg, field, value):
+    """The message names the field; for a scalar it shows the value too."""
+    if field not in msg:
+        return False
+    if isinstance(value, (float, int, str)) and not isinstance(value, bool):
+        shown = [repr(value), str(value)]
+        if isinstance(value, float):
+            shown += [f"{value:g}", f"{value!r}"]
+        return any(s in msg for s in shown)
+    return True
+
+
+@pytest.mark.parametrize("cls,field", [(c, f) for c in REAL_FIELDS for f in REAL_FIELDS[c]])
+@hostile(30)
+@given(value=SCALARS)
+def test_scalar_fields_hostile(cls, field, value):
+    none_ok, check = REAL_FIELDS[cls][field]
+    want = none_ok if value is None else _expect(check, value)
+    if cls == "Rod" and value is None:
+        # without diameter, E or G the section cannot give every rigidity
+        want = field in ("EI", "GJ", "EA", "GA")
+    if cls == "Rod" and field in ("diameter", "E", "G"):
+        # magnitudes whose derived rigidities (E pi d^4/64 ...) overflow or
+        # underflow are finding F4 (test_rod_derived_rigidities_finite_positive)
+        x = _as_real(value)
+        assume(x is None or not math.isfinite(x) or x <= 0 or 1e-60 <= x <= 1e60)
+    try:
+        obj = _make(cls, field, value)
+    except (ValueError, TypeError) as e:
+        assert want in (False, "maybe"), f"{cls}({field}={value!r}) rejected a valid value: {e}"
+        assert _names_field(str(e), field, value), f"{cls}({field}={value!r}): message {e}"
+        return
+    assert want in (True, "maybe"), f"{cls}({field}={value!r}) accepted an invalid value: {obj!r}"
+    got = getattr(obj, field)
+    if value is not None:
+        assert isinstance(got, float) and (got == float(value) or (math.isnan(got) and False)), (got, value)
+
+
+VEC_CASES = [(1.0, 2.0, 3.0), [0, 0, 0], np.arange(3), np.array([1.0, 2.0, 3.0], dtype=np.float32),
+             (1.0, 2.0), (1.0, 2.0, 3.0, 4.0), np.zeros((3, 1)), np.zeros((1, 3)), (math.nan, 0, 0),
+             (0, math.inf, 0), (0, 0, -math.inf), "abc", None, 3.0, (1.0, "a", 2.0), [[1, 2], 3, 4],
+             ("@", 1, 2), (1e308, 1e308, 1e308), (5e-324, 0, 0), np.array([1, 2, 3], dtype=object),
+             {"x": 1}, (True, False, True)]
+
+
+@pytest.mark.parametrize("cls,field", [("PointLoad", "force"), ("PointLoad", "moment"),
+                                       ("DistributedLoad", "force")])
+@pytest.mark.parametrize("value", VEC_CASES, ids=lambda v: repr(v)[:24])
+def test_vector_fields_hostile(cls, field, value):
+    """3-vectors: finite real (3,) accepted as floats; anything else names the field."""
+    arr = None
+    try:
+        arr = np.asarray(value, dtype=float)
+    except (TypeError, ValueError):
+        pass
+    bad_dtype = isinstance(value, np.ndarray) and value.dtype.kind in "cO"
+    valid = (arr is not None and arr.shape == (3,) and np.isfinite(arr).all()
+             and not isinstance(value, str) and not bad_dtype)
+    make = (lambda v: tr.PointLoad(s=0.1, **{field: v})) if cls == "PointLoad" else \
+        (lambda v: tr.DistributedLoad(force=v))
+    try:
+        obj = make(value)
+    except (ValueError, TypeError) as e:
+        assert not valid or isinstance(value, tuple) and any(isinstance(x, bool) for x in value), \
+            f"{cls}.{field}={value!r} rejected: {e}"
+        assert field in str(e), str(e)
+        return
+    if isinstance(value, tuple) and all(isinstance(x, bool) for x in value):
+        pass   # (True, False, True) as (1, 0, 1): NumPy's view of bools; not a lie
+    elif bad_dtype and np.asarray(value).dtype.kind == "O":
+        pass   # an object array of numbers is numbers
+    else:
+        assert valid, f"{cls}.{field}={value!r} accepted: {obj!r}"
+    got = getattr(obj, field)
+    assert len(got) == 3 and all(isinstance(x, float) and math.isfinite(x) for x in got)
+    assert np.array_equal(np.asarray(got), np.asarray(value, dtype=float))
+
+
+@pytest.mark.xfail(strict=True, reason="finding F5 in bench/results/reliability_findings.md: "
+                   "a complex 3-vector is accepted and its imaginary part dropped (NumPy "
+                   "ComplexWarning only)")
+@pytest.mark.parametrize("make", [lambda v: tr.PointLoad(s=0.1, force=v),
+                                  lambda v: tr.PointLoad(s=0.1, moment=v),
+                                  lambda v: tr.DistributedLoad(force=v)],
+                         ids=["PointLoad.force", "PointLoad.moment", "DistributedLoad.force"])
+def test_complex_vectors_rejected(make):
+    import warnings
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        with pytest.raises((ValueError, TypeError)):
+            make(np.array([1 + 1j, 0, 0]))
+
+
+@pytest.mark.xfail(strict=True, reason="finding F3 in bench/results/reliability_findings.md: "
+                   "a Python int too large for a float raises OverflowError, not ValueError")
+@pytest.mark.parametrize("make", [lambda: tr.Rod(length=10**400, diameter=1e-3, E=1e9, G=1e9),
+                                  lambda: tr.Tendon(offset=10**400),
+                                  lambda: tr.PointLoad(s=0.1, force=(10**400, 0, 0)),
+                                  lambda: tr.Scene(tr.Robot(tr.Rod(**ROD_OK), [tr.Tendon()]),
+                                                   displacement=[10**400])],
+                         ids=["Rod.length", "Tendon.offset", "PointLoad.force", "Scene.displacement"])
+def test_huge_ints_are_value_errors(make):
+    with pytest.raises((ValueError, TypeError)):
+        make()
+
+
+@pytest.mark.xfail(strict=True, reason="finding F4 in bench/results/reliability_findings.md: "
+                   "Rod accepts a section whose derived rigidities overflow (OverflowError "
+                   "from d**4) or underflow to 0 (EI_eff = 0.0)")
+@pytest.mark.parametrize("kw", [dict(diameter=1e100), dict(diameter=1e-90), dict(E=1e-320),
+                                dict(diameter=1e80, E=1e300)], ids=repr)
+def test_rod_derived_rigidities_finite_positive(kw):
+    """Every effective rigidity is finite and > 0 (EA, GA may be inf only when
+    given so), or the Rod is refused with a ValueError naming the field."""
+    args = dict(ROD_OK)
+    args.update(kw)
+    try:
+        rod = tr.Rod(**args)
+    except ValueError as e:
+        assert any(f in str(e) for f in kw), str(e)
+        return
+    for v in (rod.bending_stiffness, rod.torsional_stiffness, rod.axial_stiffness,
+              rod.shear_stiffness):
+        assert math.isfinite(v) and v > 0, (kw, v)
+
+
+def _rod():
+    return tr.Rod(**ROD_OK)
+
+
+ROBOT_CASES = [
+    # (rod, tendons, word the message must contain or None if valid)
+    ("@rod", None, "tendons"), ("@rod", 5, "tendons"), ("@rod", [None], "tendons[0]"),
+    ("@rod", [tr.Tendon(), "x"], "tendons[1]"), ("@rod", [tr.Tendon(end=0.3)], "end"),
+    ("@rod", [tr.Tendon(end=0.2000001)], "end"), ("@rod", [tr.Tendon(end=0.2)], None),
+    ("@rod", [tr.Tendon(end=1e-300)], None), ("@rod", [], None), ("@rod", (), None),
+    ("@rod", (t for t in [tr.Tendon(), tr.Tendon(angle=math.pi)]), None),
+    ("@rod", [tr.Tendon(offset=0.01, slope=-0.1)], "radius"),          # crosses the centre line
+    ("@rod", [tr.Tendon(pretension=1.0)], "pretension"),               # unbalanced
+    (None, [], "rod"), ("rod", [], "rod"), (ROD_OK, [], "rod"), (tr.Tendon(), [], "rod"),
+]
+
+
+@pytest.mark.parametrize("rod,tendons,word", ROBOT_CASES, ids=lambda v: repr(v)[:30])
+def test_robot_hostile(rod, tendons, word):
+    rod = _rod() if rod == "@rod" else rod
+    if word is None:
+        robot = tr.Robot(rod, tendons)
+        assert all(isinstance(t, tr.Tendon) for t in robot.tendons)
+        return
+    with pytest.raises((ValueError, TypeError)) as e:
+        tr.Robot(rod, tendons)
+    assert word in str(e.value), str(e.value)
+
+
+def _robot2():
+    return tr.Robot(_rod(), [tr.Tendon(), tr.Tendon(angle=math.pi)])
+
+
+SCENE_CASES = [
+    # (kwargs, word the message must contain or None if valid)
+    (dict(displacement=[0.01, None], tension=[None, 1.0]), None),
+    (dict(displacement=[0.01, 0.0]), None),
+    (dict(displacement=[0.01]), "displacement"),
+    (dict(displacement=[0.01, 0.0, 0.0]), "displacement"),
+    (dict(displacement=[math.nan, 0.0]), "displacement[0]"),
+    (dict(displacement=[0.0, math.inf]), "displacement[1]"),
+    (dict(displacement=["a", 0.0]), "displacement[0]"),
+    (dict(displacement="ab"), "displacement"),
+    (dict(displacement=0.01), "displacement"),
+    (dict(displacement=[0.01, None]), "tendon 1"),
+    (dict(displacement=[0.01, 0.0], tension=[1.0, None]), "tendon 0"),
+    (dict(tension=[-1.0, 0.0]), "tension[0]"),
+    (dict(tension=[1.0, math.nan]), "tension[1]"),
+    (dict(tension=[1.0, 1e400]), "tension[1]"),
+    (dict(displacement=[0.0, 0.0], loads=[tr.PointLoad(s=0.3)]), "loads[0]"),
+    (dict(displacement=[0.0, 0.0], loads=[tr.PointLoad(s=0.2)]), None),
+    (dict(displacement=[0.0, 0.0], loads=tr.PointLoad(s=0.1)), None),
+    (dict(displacement=[0.0, 0.0], loads=[None]), "loads[0]"),
+    (dict(displacement=[0.0, 0.0], loads=["x"]), "loads[0]"),
+    (dict(displacement=[0.0, 0.0], loads=5), "loads"),
+    (dict(displacement=[0.0, 0.0], loads=[tr.DistributedLoad(), tr.DistributedLoad((0, 0, -1))]), None),
+    (dict(displacement=[0.0, 0.0], loads=[tr.Tendon()]), "loads[0]"),
+    # displacements that would pull the robot into itself are legal input:
+    # the solver decides (test_solve_hostile_scenes)
+    (dict(displacement=[0.5, 0.0]), None),
+    (dict(displacement=[-0.5, 0.0]), None),
+]
+
+
+@pytest.mark.parametrize("kw,word", SCENE_CASES, ids=lambda v: repr(v)[:40])
+def test_scene_hostile(kw, word):
+    if word is None:
+        sc = tr.Scene(_robot2(), **kw)
+        assert len(sc.displacement) == len(sc.tension) == 2
+        return
+    with pytest.raises((ValueError, TypeError)) as e:
+        tr.Scene(_robot2(), **kw)
+    assert word in str(e.value), str(e.value)
+
+
+def test_scene_robot_hostile():
+    for bad in (None, _rod(), "robot", tr.Tendon()):
+        with pytest.raises((ValueError, TypeError), match="robot"):
+            tr.Scene(bad)
+
+
+INT_FIELDS = {"steps": 0, "max_iter": 1, "max_nfev": 1, "max_continuation": 0}
+STR_FIELDS = {"integrator": ("rk8", "rk4", "adaptive"), "jacobian_method": ("fd", "sensitivity"),
+              "slack_model": ("linear", "squared")}
+BOOL_FIELDS = ("continuation", "force_spatial", "tip_only")
+
+
+@pytest.mark.parametrize("field", list(INT_FIELDS) + ["rtol", "tol"] + list(STR_FIELDS)
+                         + list(BOOL_FIELDS) + ["nodes"])
+@hostile(30)
+@given(value=st.one_of(SCALARS, st.integers(-10**20, 10**20),
+                       st.sampled_from(["rk8", "RK8", "rk4 ", "fd", "sensitivity", "linear",
+                                        "squared", "adaptive", np.str_("rk4")])))
+def test_options_hostile(field, value):
+    import numbers
+    if field in INT_FIELDS:
+        want = (isinstance(value, (numbers.Integral, np.integer))
+                and not isinstance(value, (bool, np.bool_)) and value >= INT_FIELDS[field])
+    elif field in ("rtol", "tol"):
+        x = _as_real(value)
+        want = x is not None and 0 < x < 1
+        if isinstance(value, np.ndarray) or isinstance(value, Decimal):
+            want = "maybe"
+    elif field in STR_FIELDS:
+        # arrays in string fields: finding F6 (test_options_string_fields_arrays)
+        assume(not isinstance(value, np.ndarray))
+        want = isinstance(value, str) and value in STR_FIELDS[field]
+    elif field in BOOL_FIELDS:
+        want = isinstance(value, (bool, np.bool_))
+    else:  # nodes: an int >= 2, or arc lengths (checked against L at solve time)
+        x = _as_real(value)
+        if isinstance(value, (int, np.integer)) and not isinstance(value, (bool, np.bool_)):
+            want = value >= 2
+        else:
+            want = "maybe"
+            if x is not None and not (math.isfinite(x) and x >= 0):
+                want = False
+            if value is None or isinstance(value, (bytes, dict)):
+                want = False
+            if isinstance(value, str):
+                # NumPy parses a numeric string ("0.1" -> [0.1]); permissive, not a
+                # lie (minor finding F6); a non-numeric one must be refused
+                try:
+                    want = "maybe" if math.isfinite(float(value)) and float(value) >= 0 else False
+                except ValueError:
+                    want = False
+    try:
+        o = tr.Options(**{field: value})
+    except (ValueError, TypeError) as e:
+        assert want in (False, "maybe"), f"Options({field}={value!r}) rejected: {e}"
+        assert field in str(e), str(e)
+        return
+    assert want in (True, "maybe"), f"Options({field}={value!r}) accepted: {o!r}"
+
+
+@pytest.mark.xfail(strict=True, reason="finding F6 in bench/results/reliability_findings.md: "
+                   "Options string fields compare an array with `in`: ValueError about the "
+                   "truth value of an array (no field name), or np.array(['rk8']) accepted")
+@pytest.mark.parametrize("field", list(STR_FIELDS))
+@pytest.mark.parametrize("value", ["empty", "two", "valid-in-array"])
+def test_options_string_fields_arrays(field, value):
+    v = {"empty": np.zeros(0), "two": np.zeros(2),
+         "valid-in-array": np.array([STR_FIELDS[field][0]])}[value]
+    with pytest.raises((ValueError, TypeError), match=field):
+        tr.Options(**{field: v})
