@@ -39,7 +39,10 @@ def _real(owner: str, name: str, value, *, allow_inf: bool = False) -> float:
         if arr is None or arr.shape != () or arr.dtype.kind not in "fiu":
             raise ValueError(f"{owner}.{name} must be a real number, got {value!r}")
         value = arr.item()
-    x = float(value)
+    try:
+        x = float(value)
+    except OverflowError:
+        raise ValueError(f"{owner}.{name} must be finite, got {value!r}") from None
     if math.isnan(x):
         raise ValueError(f"{owner}.{name} must not be NaN, got {value!r}")
     if math.isinf(x) and not allow_inf:
@@ -63,7 +66,12 @@ def _nonnegative(owner: str, name: str, value) -> float:
 
 def _vec3(owner: str, name: str, value) -> Vec3:
     try:
-        arr = np.asarray(value, dtype=float)
+        raw = np.asarray(value)
+        if raw.dtype.kind not in "fiu":
+            raise TypeError
+        arr = raw.astype(float)
+    except OverflowError:
+        raise ValueError(f"{owner}.{name} must be finite, got {value!r}") from None
     except (TypeError, ValueError):
         raise ValueError(f"{owner}.{name} must be a 3-vector of real numbers, got {value!r}") from None
     if arr.shape != (3,):
@@ -133,14 +141,20 @@ class Rod:
         if not isinstance(self.kirchhoff, (bool, np.bool_)):
             raise ValueError(f"Rod.kirchhoff must be True or False, got {self.kirchhoff!r}")
         object.__setattr__(self, "kirchhoff", bool(self.kirchhoff))
-        # every rigidity the model needs must be known
+        # every rigidity the model needs must be known, finite and > 0 (EA and GA may be
+        # inf only when given so explicitly)
         needed = ("EI", "GJ") if self.kirchhoff else ("EI", "GJ", "EA", "GA")
         for name in needed:
-            if self._effective(name) is None:
-                src = "E" if name in ("EI", "EA") else "G"
+            v = self._effective(name)
+            src = "E" if name in ("EI", "EA") else "G"
+            if v is None:
                 raise ValueError(
                     f"Rod.{name} is missing: give {name}=... or both diameter and {src} "
                     f"(diameter={self.diameter!r}, {src}={getattr(self, src)!r})")
+            if getattr(self, name) is None and not (math.isfinite(v) and v > 0.0):
+                raise ValueError(
+                    f"Rod.{name} from diameter={self.diameter!r} and {src}={getattr(self, src)!r} "
+                    f"is {v!r}: the section's rigidity must be finite and > 0")
 
     def _effective(self, name: str) -> Optional[float]:
         explicit = getattr(self, name)
@@ -149,8 +163,9 @@ class Rod:
         d = self.diameter
         if d is None:
             return None
-        A = math.pi * d * d / 4.0
-        I = math.pi * d ** 4 / 64.0
+        d2 = d * d                      # floats: overflow gives inf, never OverflowError
+        A = math.pi * d2 / 4.0
+        I = math.pi * (d2 * d2) / 64.0
         if name == "EI":
             return None if self.E is None else self.E * I
         if name == "GJ":

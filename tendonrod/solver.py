@@ -119,12 +119,11 @@ class Options:
 
     def __post_init__(self):
         own = "Options"
-        if self.integrator not in _INTEGRATORS:
-            raise ValueError(f"{own}.integrator must be one of {_INTEGRATORS}, got {self.integrator!r}")
-        if self.jacobian_method not in _JACOBIANS:
-            raise ValueError(f"{own}.jacobian_method must be one of {_JACOBIANS}, got {self.jacobian_method!r}")
-        if self.slack_model not in _SLACK_MODELS:
-            raise ValueError(f"{own}.slack_model must be one of {_SLACK_MODELS}, got {self.slack_model!r}")
+        for name, allowed in (("integrator", _INTEGRATORS), ("jacobian_method", _JACOBIANS),
+                              ("slack_model", _SLACK_MODELS)):
+            v = getattr(self, name)
+            if not isinstance(v, str) or v not in allowed:
+                raise ValueError(f"{own}.{name} must be one of {allowed}, got {v!r}")
         for name, lo in (("steps", 0), ("max_iter", 1), ("max_nfev", 1), ("max_continuation", 0)):
             v = getattr(self, name)
             if isinstance(v, (bool, np.bool_)) or not isinstance(v, (numbers.Integral, np.integer)) or v < lo:

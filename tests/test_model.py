@@ -200,3 +200,21 @@ def test_solve_rejects_bad_input_before_c():
         tr.solve(sc, options=tr.Options(nodes=[0.0, 0.3]))
     with pytest.raises(ValueError, match=r"s must be an arc length in \[0, L"):
         tr.compliance(sc, s=0.5)
+
+
+@pytest.mark.parametrize("make, field", [
+    (lambda: tr.Rod(length=10**400, diameter=1e-3, E=1e9, G=1e9), "Rod.length"),
+    (lambda: tr.Tendon(offset=10**400), "Tendon.offset"),
+    (lambda: tr.PointLoad(s=0.1, force=(10**400, 0, 0)), "PointLoad.force"),
+    (lambda: tr.PointLoad(s=0.1, force=np.array([1 + 1j, 0, 0])), "PointLoad.force"),
+    (lambda: tr.DistributedLoad(force=np.array([1j, 0, 0])), "DistributedLoad.force"),
+    (lambda: tr.Rod(length=0.2, diameter=1e100, E=1e9, G=1e9), "Rod.EI"),
+    (lambda: tr.Rod(length=0.2, diameter=1e-90, E=1e9, G=1e9), "Rod.EI"),
+    (lambda: tr.Rod(length=0.2, diameter=8e-4, E=1e-320, G=1e9), "Rod.EI"),
+    (lambda: tr.Options(integrator=np.array(["rk8"])), "Options.integrator"),
+    (lambda: tr.Options(slack_model=np.zeros(2)), "Options.slack_model"),
+])
+def test_overflow_underflow_complex_and_array_inputs_are_value_errors(make, field):
+    """Reliability findings F3-F6: every refusal is a ValueError naming the field."""
+    with pytest.raises(ValueError, match=field.replace(".", r"\.")):
+        make()
