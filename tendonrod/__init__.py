@@ -24,6 +24,21 @@ from .solver import (ConvergenceError, ConvergenceWarning, Options,  # noqa: E40
                      Solution, compliance, solve)
 # END Cosserat solver API
 
+# BEGIN design studies (sweep.py; plot, studies and scenefile are imported on first use)
+from .sweep import SweepResult, sweep  # noqa: E402  (tendonrod.sweep is this function)
+
+_LAZY_SUBMODULES = ("plot", "studies", "scenefile")
+
+
+def __getattr__(name):
+    if name in _LAZY_SUBMODULES:
+        import importlib
+
+        return importlib.import_module(f".{name}", __name__)
+    raise AttributeError(f"module 'tendonrod' has no attribute {name!r}")
+# END design studies
+
 __all__ = ["analytic", "gsl_version", "__version__"]
 __all__ += ["Rod", "Tendon", "Robot", "Scene", "PointLoad", "DistributedLoad", "Options",
             "Solution", "solve", "compliance", "ConvergenceWarning", "ConvergenceError"]
+__all__ += ["sweep", "SweepResult"]

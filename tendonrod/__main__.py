@@ -186,12 +186,19 @@ def _cmd_figures(args) -> int:
 
 # --------------------------------------------------------------------------- bench
 def _cmd_bench(args) -> int:
+    return _bench(list(args.bench_args))
+
+
+def _bench(argv) -> int:
     try:
         from tendonrod import benchmarks
     except ImportError as exc:
         print(f"tendonrod bench: error: the benchmarks module is not available ({exc})", file=sys.stderr)
         return EXIT_BAD_INPUT
-    rc = benchmarks.main(list(args.bench_args))
+    try:
+        rc = benchmarks.main(list(argv))
+    except SystemExit as exc:          # its argparse: --help (0), usage errors (2)
+        rc = exc.code
     return int(rc or 0)
 
 
@@ -239,6 +246,11 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 def main(argv=None) -> int:
+    argv = sys.argv[1:] if argv is None else list(argv)
+    if argv and argv[0] == "bench":
+        # everything after 'bench' belongs to tendonrod.benchmarks.main, options included
+        # (argparse's REMAINDER would not pass a leading '--help' through)
+        return _bench(argv[1:])
     parser = build_parser()
     args = parser.parse_args(argv)
     return args.func(args)

@@ -100,6 +100,9 @@ def _parse_path(path: str) -> list:
 def get_path(obj: Any, path: str) -> Any:
     """The value at ``path`` (e.g. ``"robot.tendons[0].offset"``) inside ``obj``."""
     for tok in _parse_path(path):
+        if isinstance(tok, str) and dataclasses.is_dataclass(obj) and \
+                tok not in {f.name for f in dataclasses.fields(obj)}:
+            raise ValueError(f"path {path!r}: {type(obj).__name__} has no field {tok!r}")
         try:
             obj = obj[tok] if isinstance(tok, int) else getattr(obj, tok)
         except (IndexError, AttributeError, TypeError) as exc:
