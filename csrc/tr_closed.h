@@ -128,7 +128,7 @@ tr_closed_angle_tau(double s, double F, double z, double L, double EI,
  * (the load part is Maxwell-symmetric in s and z):
  *
  *   delta(s) = [F m^2 (3M - m) - tau s^2 (a s + 3b)] / (6 EI),
- *   m = min(s, z), M = max(s, z)
+ *   m = min(s, z), M = max(s, z), 3M - m = 2m + 3|s - z|
  *
  * (s < z: -(1/6 (F + a tau) s^3 + 1/2 (b tau - F z) s^2)/EI;
  *  s >= z: -(1/6 a tau s^3 + 1/2 b tau s^2 - 1/2 F z^2 s + 1/6 F z^3)/EI.)
@@ -141,9 +141,12 @@ tr_closed_deflection_tau(double s, double F, double z, double L, double EI,
     if (!(s >= 0.0 && s <= L))
         return NAN;
     {
+        /* 3M - m = 2m + 3|s - z|: one select (minsd) and a fabs instead of
+         * a branch on s < z, which compilers emit for a min/max pair and
+         * which is mispredicted half the time for unordered s.  Same
+         * value to a rounding of |s - z|. */
         const double m = s < z ? s : z;
-        const double M = s < z ? z : s;
-        return (F * m * m * (3.0 * M - m) - tau * s * s * (a * s + 3.0 * b))
+        return (F * m * m * (2.0 * m + 3.0 * fabs(s - z)) - tau * s * s * (a * s + 3.0 * b))
                / (6.0 * EI);
     }
 }
@@ -177,9 +180,11 @@ tr_closed_deflection(double s, double F, double z, double L, double EI,
 /*
  * Equivalent stiffness [N/m] of the tendon spring k and the backbone's axial
  * spring k_B in series (eq. 17): k_eq = k_B k / (k_B + k).
- * Evaluated as lo / (1 + lo/hi) with lo = min, hi = max, which cannot
- * overflow and gives the limits exactly: k_B = inf -> k, k = inf -> k_B,
- * either 0 -> 0, both inf -> inf.  Domain: k, k_B in [0, inf]; else NaN.
+ * Evaluated as printed (one division) while the product cannot overflow
+ * (hi < 1e150 N/m), else as lo / (1 + lo/hi) with lo = min, hi = max, which
+ * cannot overflow and gives the limits exactly: k_B = inf -> k,
+ * k = inf -> k_B, either 0 -> 0, both inf -> inf.
+ * Domain: k, k_B in [0, inf]; else NaN.
  */
 inline double
 tr_closed_equivalent_stiffness(double k, double k_B)
@@ -191,6 +196,8 @@ tr_closed_equivalent_stiffness(double k, double k_B)
         const double hi = k < k_B ? k_B : k;
         if (lo == 0.0)
             return 0.0;
+        if (hi < 1e150)
+            return k_B * k / (k_B + k);
         if (isinf(lo))
             return INFINITY;
         return lo / (1.0 + lo / hi);
@@ -211,7 +218,12 @@ tr_closed_equivalent_stiffness(double k, double k_B)
 inline double
 tr_closed_pattern_factor(double n)
 {
-    if (!(n >= 1.0 && n < INFINITY && n == floor(n)))
+    /* Every double >= 2^52 is an integer; below it the round trip through a
+     * 64-bit integer tests integrality without a libm call (floor). */
+    const double two52 = 4503599627370496.0;
+    if (!(n >= 1.0 && n < INFINITY))
+        return NAN;
+    if (n < two52 && n != (double)(long long)n)
         return NAN;
     return n >= 3.0 ? 0.5 * n : n;
 }
@@ -263,7 +275,7 @@ tr_closed_actuation_tension_for_deflection(double delta_L, double L, double EI,
     if (!tr_closed_beam_ok(L, EI) || isnan(delta_L))
         return NAN;
     {
-        const double arm = 0.5 * b + a * L / 6.0;  /* [m] */
+        const double arm = 0.5 * b + (1.0 / 6.0) * a * L;  /* [m] */
         if (!(arm != 0.0))
             return NAN;
         return EI * delta_L / (L * L * arm);

@@ -79,13 +79,23 @@ closed_tension_loop(char **args, npy_intp const *dimensions,
 
 /* The 8-argument (s, F, z, L, EI, a, b, k) loops of angle and deflection.
  * When the seven design parameters are broadcast scalars (steps 0; the
- * common "shape along s" call) the tension is computed once per call. */
-typedef double (*closed_tau_kernel)(double s, double F, double z, double L,
-                                    double EI, double a, double b, double tau);
+ * common "shape along s" call) the tension is computed once per call.
+ * The kernel is chosen by a loop-invariant selector, not a function pointer,
+ * so that both kernels are inlined into the loop (the branch on `kind` is
+ * perfectly predicted). */
+enum closed_s_kind { CLOSED_ANGLE, CLOSED_DEFLECTION };
+
+static inline double
+closed_s_kernel(enum closed_s_kind kind, double s, double F, double z, double L,
+                double EI, double a, double b, double tau)
+{
+    return kind == CLOSED_DEFLECTION ? tr_closed_deflection_tau(s, F, z, L, EI, a, b, tau)
+                                     : tr_closed_angle_tau(s, F, z, L, EI, a, b, tau);
+}
 
 static void
 closed_s_loop(char **args, npy_intp const *dimensions, npy_intp const *steps,
-              closed_tau_kernel kernel)
+              enum closed_s_kind kind)
 {
     const npy_intp n = dimensions[0];
     char *s = args[0], *F = args[1], *z = args[2], *L = args[3], *EI = args[4];
@@ -98,7 +108,8 @@ closed_s_loop(char **args, npy_intp const *dimensions, npy_intp const *steps,
         const double EI0 = *(double *)EI, a0 = *(double *)a, b0 = *(double *)b;
         const double tau = tr_closed_tension(F0, z0, L0, EI0, a0, b0, *(double *)k);
         for (npy_intp i = 0; i < n; i++) {
-            const double r = kernel(*(double *)s, F0, z0, L0, EI0, a0, b0, tau);
+            const double r = closed_s_kernel(kind, *(double *)s, F0, z0, L0, EI0, a0, b0,
+                                             tau);
             nan_seen |= isnan(r);
             *(double *)out = r;
             s += s_s; out += s_out;
@@ -109,7 +120,8 @@ closed_s_loop(char **args, npy_intp const *dimensions, npy_intp const *steps,
             const double Fi = *(double *)F, zi = *(double *)z, Li = *(double *)L;
             const double EIi = *(double *)EI, ai = *(double *)a, bi = *(double *)b;
             const double tau = tr_closed_tension(Fi, zi, Li, EIi, ai, bi, *(double *)k);
-            const double r = kernel(*(double *)s, Fi, zi, Li, EIi, ai, bi, tau);
+            const double r = closed_s_kernel(kind, *(double *)s, Fi, zi, Li, EIi, ai, bi,
+                                             tau);
             nan_seen |= isnan(r);
             *(double *)out = r;
             s += s_s; F += steps[1]; z += steps[2]; L += steps[3]; EI += steps[4];
@@ -120,19 +132,18 @@ closed_s_loop(char **args, npy_intp const *dimensions, npy_intp const *steps,
         closed_raise_invalid();
 }
 
-/* Separate entry points so the compiler specialises (inlines) each kernel. */
 static void
 closed_angle_loop(char **args, npy_intp const *dimensions,
                   npy_intp const *steps, void *data)
 {
-    closed_s_loop(args, dimensions, steps, tr_closed_angle_tau);
+    closed_s_loop(args, dimensions, steps, CLOSED_ANGLE);
 }
 
 static void
 closed_deflection_loop(char **args, npy_intp const *dimensions,
                        npy_intp const *steps, void *data)
 {
-    closed_s_loop(args, dimensions, steps, tr_closed_deflection_tau);
+    closed_s_loop(args, dimensions, steps, CLOSED_DEFLECTION);
 }
 
 /* equivalent_stiffness(k, k_backbone) -> k_eq */
@@ -171,21 +182,24 @@ closed_pattern_factor_loop(char **args, npy_intp const *dimensions,
         closed_raise_invalid();
 }
 
-/* actuation_tension_for_{angle,deflection}(x, L, EI, a, b) -> tau */
-typedef double (*closed_actuation_kernel)(double x, double L, double EI,
-                                          double a, double b);
+/* actuation_tension_for_{angle,deflection}(x, L, EI, a, b) -> tau; the
+ * kernel is selected as in closed_s_loop, so both are inlined. */
+enum closed_actuation_kind { CLOSED_FOR_ANGLE, CLOSED_FOR_DEFLECTION };
 
 static void
 closed_actuation_loop(char **args, npy_intp const *dimensions,
-                      npy_intp const *steps, closed_actuation_kernel kernel)
+                      npy_intp const *steps, enum closed_actuation_kind kind)
 {
     const npy_intp n = dimensions[0];
     char *x = args[0], *L = args[1], *EI = args[2], *a = args[3], *b = args[4];
     char *out = args[5];
     int nan_seen = 0;
     for (npy_intp i = 0; i < n; i++) {
-        const double r = kernel(*(double *)x, *(double *)L, *(double *)EI,
-                                *(double *)a, *(double *)b);
+        const double xi = *(double *)x, Li = *(double *)L, EIi = *(double *)EI;
+        const double ai = *(double *)a, bi = *(double *)b;
+        const double r = kind == CLOSED_FOR_ANGLE
+            ? tr_closed_actuation_tension_for_angle(xi, Li, EIi, ai, bi)
+            : tr_closed_actuation_tension_for_deflection(xi, Li, EIi, ai, bi);
         nan_seen |= isnan(r);
         *(double *)out = r;
         x += steps[0]; L += steps[1]; EI += steps[2]; a += steps[3]; b += steps[4];
@@ -199,15 +213,14 @@ static void
 closed_actuation_angle_loop(char **args, npy_intp const *dimensions,
                             npy_intp const *steps, void *data)
 {
-    closed_actuation_loop(args, dimensions, steps, tr_closed_actuation_tension_for_angle);
+    closed_actuation_loop(args, dimensions, steps, CLOSED_FOR_ANGLE);
 }
 
 static void
 closed_actuation_deflection_loop(char **args, npy_intp const *dimensions,
                                  npy_intp const *steps, void *data)
 {
-    closed_actuation_loop(args, dimensions, steps,
-                          tr_closed_actuation_tension_for_deflection);
+    closed_actuation_loop(args, dimensions, steps, CLOSED_FOR_DEFLECTION);
 }
 
 /* ---- docstrings (NumPy prepends the call signature) -------------------- */

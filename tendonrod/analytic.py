@@ -92,6 +92,8 @@ Example
 """
 from __future__ import annotations
 
+import operator
+
 import numpy as np
 
 from . import _core
@@ -114,6 +116,8 @@ equivalent_stiffness = _core.equivalent_stiffness
 pattern_factor = _core.pattern_factor
 actuation_tension_for_angle = _core.actuation_tension_for_angle
 actuation_tension_for_deflection = _core.actuation_tension_for_deflection
+
+_MAX_NODES = 100
 
 
 def planar_shape(s, F, z, L, EI, a, b, k, *, nodes=16):
@@ -142,7 +146,8 @@ def planar_shape(s, F, z, L, EI, a, b, k, *, nodes=16):
     F, z, L, EI, a, b, k : array_like
         As for :func:`deflection` (broadcast with ``s``).
     nodes : int
-        Gauss-Legendre nodes per piece (default 16).
+        Gauss-Legendre nodes per piece, 1 <= nodes <= 100 (default 16; more
+        than a few dozen gains nothing in double precision).
 
     Returns
     -------
@@ -152,13 +157,24 @@ def planar_shape(s, F, z, L, EI, a, b, k, *, nodes=16):
         positive in the direction of F (as :func:`deflection`).  For small
         angles lateral(s) ~ deflection(s) and axial(s) ~ s.
 
-    Out-of-domain input gives NaN with the "invalid" flag, as the ufuncs.
+    Out-of-domain input gives NaN with the "invalid" flag, as the ufuncs;
+    non-numeric input raises TypeError naming the argument, a bad ``nodes``
+    TypeError or ValueError naming ``nodes``.
     """
-    nodes = int(nodes)
-    if nodes < 1:
-        raise ValueError(f"nodes must be a positive integer, got {nodes!r}")
-    args = np.broadcast_arrays(*(np.asarray(v, dtype=float)
-                                 for v in (s, F, z, L, EI, a, b, k)))
+    try:
+        nodes = operator.index(nodes)
+    except TypeError:
+        raise TypeError(f"planar_shape: nodes must be an integer, got {nodes!r}") from None
+    if not 1 <= nodes <= _MAX_NODES:
+        raise ValueError(f"planar_shape: nodes must be an integer in [1, {_MAX_NODES}], "
+                         f"got {nodes!r}")
+    arrays = []
+    for name, v in zip(("s", "F", "z", "L", "EI", "a", "b", "k"), (s, F, z, L, EI, a, b, k)):
+        arr = np.asarray(v)
+        if arr.dtype.kind not in "biuf":          # as the ufuncs: real numbers only
+            raise TypeError(f"planar_shape: {name} must be real numbers, got {v!r}")
+        arrays.append(arr.astype(float, copy=False))
+    args = np.broadcast_arrays(*arrays)
     s_, F_, z_, L_, EI_, a_, b_, k_ = (v[..., np.newaxis] for v in args)
     x, w = np.polynomial.legendre.leggauss(nodes)
     t = 0.5 * (x + 1.0)                       # nodes on [0, 1]

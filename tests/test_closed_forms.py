@@ -645,8 +645,18 @@ def test_planar_shape_broadcasts_and_flags_bad_input():
         np.testing.assert_allclose(xy[:, j], one, rtol=4 * EPS, atol=0)  # summation order
     with np.errstate(invalid="raise"), pytest.raises(FloatingPointError):
         an.planar_shape([0.1, 0.3], 1.0, 0.1, 0.2, 0.05, 0.0, 0.01, 100.0)
-    with pytest.raises(ValueError, match="nodes"):
-        an.planar_shape(0.1, 1.0, 0.1, 0.2, 0.05, 0.0, 0.01, 100.0, nodes=0)
+    args = (0.1, 1.0, 0.1, 0.2, 0.05, 0.0, 0.01, 100.0)
+    for bad in (0, -3, 101, 10**12):
+        with pytest.raises(ValueError, match="nodes"):
+            an.planar_shape(*args, nodes=bad)
+    for bad in (2.7, np.inf, np.nan, "abc", None, [3]):
+        with pytest.raises(TypeError, match="nodes"):
+            an.planar_shape(*args, nodes=bad)
+    assert an.planar_shape(*args, nodes=np.int64(8)).shape == (2,)
+    for i, name in enumerate(("s", "F", "z", "L", "EI", "a", "b", "k")):
+        for bad in (None, "abc", 1j):
+            with pytest.raises(TypeError, match=f"\\b{name} must"):
+                an.planar_shape(*args[:i], bad, *args[i + 1:])
 
 
 def test_gsl_version_is_a_version_string():
