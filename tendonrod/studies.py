@@ -259,8 +259,11 @@ def _load_path(scene, forces, s=None, moments=None, options=None):
     forces = np.asarray(forces, dtype=float).reshape(-1, 3)
     moments = np.zeros_like(forces) if moments is None else np.asarray(moments, dtype=float).reshape(-1, 3)
     base = dataclasses.replace(scene, loads=(tr.PointLoad(s=s, force=(0.0, 0.0, 0.0)),))
-    return sweep(base, {"loads[0].force": list(forces), "loads[0].moment": list(moments)}, grid=False,
-                 chunksize=len(forces), measure=_shape_measure, options=options, progress=False)
+    res = sweep(base, {"loads[0].force": list(forces), "loads[0].moment": list(moments)}, grid=False,
+                chunksize=len(forces), measure=_shape_measure, options=options, progress=False)
+    if not res.data:
+        raise RuntimeError(f"load path: all {len(forces)} points failed; first: {res.message.flat[0]}")
+    return res
 
 
 def _shape_measure(scene, sol):
