@@ -155,6 +155,8 @@ class Options:
                                  f"arc lengths >= 0, got {nodes!r}")
             arr.setflags(write=False)
             object.__setattr__(self, "nodes", arr)
+        # the raw keyword arguments, built once (solve() is called in tight loops)
+        object.__setattr__(self, "_raw", {f.name: getattr(self, f.name) for f in fields(self)})
 
     def __hash__(self):  # nodes may be an array
         return hash(tuple((f.name, self._key(getattr(self, f.name))) for f in fields(self)))
@@ -171,8 +173,8 @@ class Options:
         return tuple(v.tolist()) if isinstance(v, np.ndarray) else v
 
     def raw(self) -> dict:
-        """The keyword arguments of ``_core.solve`` (nodes as int or float64 array)."""
-        return {f.name: getattr(self, f.name) for f in fields(self)}
+        """The keyword arguments of ``_core.solve`` (nodes as int or float64 array); a copy."""
+        return dict(self._raw)
 
 
 # --------------------------------------------------------------------------- formulation
@@ -259,6 +261,9 @@ def pack_scene(scene: Scene):
     raw glue contract (csrc/README.md) for ``scene``."""
     if not isinstance(scene, Scene):
         raise ValueError(f"scene must be a tendonrod.Scene, got {scene!r}")
+    cached = scene.__dict__.get("_packed")
+    if cached is not None:
+        return cached
     robot = scene.robot
     r = robot.rod
     rod = np.array([r.length, r.bending_stiffness, r.torsional_stiffness,
@@ -278,6 +283,10 @@ def pack_scene(scene: Scene):
         loads[k, 1:4] = p.force
         loads[k, 4:7] = p.moment
     dist = scene.distributed_force
+    for a in (rod, tendons, loads, dist):
+        a.setflags(write=False)
+    # a Scene is frozen: pack it once (sweeps and warm starts call solve() in loops)
+    object.__setattr__(scene, "_packed", (rod, tendons, loads, dist))
     return rod, tendons, loads, dist
 
 
@@ -293,10 +302,13 @@ def _nodes_for(scene: Scene, options: Options):
 
 def _structure_key(scene: Scene, options: Options):
     """What fixes the shape of the shooting problem (so a Jacobian can be reused)."""
-    rob = scene.robot
-    return (rob.n_tendons, scene.displacement_controlled(), rob.rod.kirchhoff,
-            tuple(math.isinf(t.EA) for t in rob.tendons), _is_planar(scene), options.force_spatial,
-            options.slack_model)
+    key = scene.__dict__.get("_structure")
+    if key is None:
+        rob = scene.robot
+        key = (rob.n_tendons, scene.displacement_controlled(), rob.rod.kirchhoff,
+               tuple(math.isinf(t.EA) for t in rob.tendons), _is_planar(scene))
+        object.__setattr__(scene, "_structure", key)
+    return key + (options.force_spatial, options.slack_model)
 
 
 _PLANAR_ATOL = 0.0  # exact: the core decides planarity from exact zeros as well
@@ -324,7 +336,7 @@ def _guess_vector(guess, scene: Scene):
         if guess.tension.shape != (nt,):
             raise ValueError(f"guess: a Solution with {guess.tension.shape[0]} tendons cannot "
                              f"start a scene with {nt} tendons")
-        vec = np.concatenate([guess.force[0], guess.moment[0], guess.tension, guess.slack])
+        vec = guess.base_state
         jac = None
         if guess.jacobian is not None and guess.scene is not None and \
                 _structure_key(guess.scene, guess.options) == _structure_key(scene, guess.options):
@@ -430,6 +442,8 @@ class Solution:
     """
 
     def __init__(self, raw: dict, scene: Scene, options: Options):
+        # Kept light: solve() runs in tight loops. The glue returns float64 arrays of the
+        # documented shapes; they are used as they are.
         self.raw = raw
         self.scene = scene
         self.options = options
@@ -441,31 +455,28 @@ class Solution:
         self.nfev = int(raw.get("nfev", 0))
         self.njev = int(raw.get("njev", 0))
         self.residual_norm = float(raw.get("residual_norm", math.nan))
-        nt = scene.robot.n_tendons
-
-        def arr(key, shape=None):
-            a = np.asarray(raw[key], dtype=float)
-            if shape is not None:
-                a = a.reshape(shape)
-            a.setflags(write=False)
-            return a
-
-        self.s = arr("s", (-1,))
-        n = self.s.shape[0]
-        self.position = arr("position", (n, 3))
-        self.rotation = arr("rotation", (n, 3, 3))
-        self.force = arr("force", (n, 3))
-        self.moment = arr("moment", (n, 3))
-        self.tension = arr("tension", (nt,))
-        self.slack = arr("slack", (nt,))
-        self.displacement = arr("displacement", (nt,))
-        self.unknowns = arr("unknowns", (-1,)) if raw.get("unknowns") is not None else None
-        jac = raw.get("jacobian")
-        self.jacobian = None if jac is None else np.asarray(jac, dtype=float)
+        self.s = raw["s"]
+        self.position = raw["position"]
+        self.rotation = raw["rotation"]
+        self.force = raw["force"]
+        self.moment = raw["moment"]
+        self.tension = raw["tension"]
+        self.slack = raw["slack"]
+        self.displacement = raw["displacement"]
+        self.unknowns = raw.get("unknowns")
+        self.jacobian = raw.get("jacobian")
         self.jacobian_cond = float(raw.get("jacobian_cond", math.nan))
         self.continuation_steps = int(raw.get("continuation_steps", 0))
         self.truncation_estimate = float(raw.get("truncation_estimate", math.nan))
-        self.formulation = Formulation.from_dict(raw.get("formulation", {}))
+        self._formulation = None
+        self._base = None
+
+    @property
+    def formulation(self) -> Formulation:
+        """What was solved (:class:`Formulation`)."""
+        if self._formulation is None:
+            self._formulation = Formulation.from_dict(self.raw.get("formulation", {}))
+        return self._formulation
 
     @property
     def tip_position(self) -> np.ndarray:
@@ -480,7 +491,9 @@ class Solution:
     @property
     def base_state(self) -> np.ndarray:
         """``[n(0), m(0), tension, slack]`` (6 + 2 ntendon,), world frame, SI: the raw guess format."""
-        return np.concatenate([self.force[0], self.moment[0], self.tension, self.slack])
+        if self._base is None:
+            self._base = np.concatenate([self.force[0], self.moment[0], self.tension, self.slack])
+        return self._base
 
     def at(self, s) -> RodState:
         """The state at arc length(s) ``s`` [m] (scalar or 1-D array in [0, L]).
@@ -524,9 +537,12 @@ def _replace(options: Options, **changes) -> Options:
 
 
 # --------------------------------------------------------------------------- solve
+_DEFAULT_OPTIONS = Options()
+
+
 def _check_options(options) -> Options:
     if options is None:
-        return Options()
+        return _DEFAULT_OPTIONS
     if isinstance(options, dict):
         return Options(**options)
     if not isinstance(options, Options):
@@ -558,8 +574,9 @@ def solve(scene: Scene, guess=None, options: Optional[Options] = None, strict: b
     rod, tendons, loads, dist = pack_scene(scene)
     nodes = _nodes_for(scene, options)
     gvec, jac = _guess_vector(guess, scene)
-    kw = options.raw()
-    kw["nodes"] = nodes
+    kw = options._raw
+    if nodes is not kw["nodes"]:
+        kw = dict(kw, nodes=nodes)
     raw = _core.solve(rod, tendons, loads, dist, guess=gvec, jacobian=jac, **kw)
     sol = Solution(raw, scene, options)
     if not sol.success:

@@ -607,3 +607,46 @@ def test_solution_fields_shapes_and_repr():
     assert sol.tension[1] == 0.5 and sol.displacement[0] == pytest.approx(1e-3, abs=1e-12)
     assert np.isfinite(sol.jacobian_cond) and sol.continuation_steps >= 0
     assert "converged" in repr(sol) and "tip_position" in repr(sol)
+
+
+def test_rotating_the_scene_about_the_axis_rotates_the_solution():
+    """Rotate every tendon angle by psi and every load by Rz(psi): the solution must be
+    p' = Rz p, R' = Rz R Rz^T (the base frame I is invariant), same tensions."""
+    name, scene = _spatial_scenes()[1]
+    psi = 0.7
+    c, s_ = math.cos(psi), math.sin(psi)
+    Rz = np.array([[c, -s_, 0], [s_, c, 0], [0, 0, 1.0]])
+    rob = scene.robot
+    rot_t = [tr.Tendon(offset=t.offset, angle=t.angle + psi, slope=t.slope, EA=t.EA, end=t.end,
+                       pretension=t.pretension) for t in rob.tendons]
+    loads = []
+    for ld in scene.loads:
+        if isinstance(ld, tr.PointLoad):
+            loads.append(tr.PointLoad(s=ld.s, force=Rz @ ld.force, moment=Rz @ ld.moment))
+        else:
+            loads.append(tr.DistributedLoad(force=Rz @ ld.force))
+    rotated = tr.Scene(tr.Robot(rob.rod, rot_t), displacement=scene.displacement,
+                       tension=scene.tension, loads=loads)
+    a, b = quiet_solve(scene), quiet_solve(rotated)
+    L = rob.rod.length
+    # the same discrete equations in rotated coordinates: agreement to round-off amplified
+    # by the shooting (1e-10 L is far above round-off, far below any physical difference)
+    np.testing.assert_allclose(b.position, a.position @ Rz.T, atol=1e-10 * L)
+    np.testing.assert_allclose(b.rotation, Rz @ a.rotation @ Rz.T, atol=1e-10)
+    np.testing.assert_allclose(b.tension, a.tension, rtol=1e-9, atol=1e-12)
+
+
+def test_at_matches_a_solve_with_those_nodes():
+    name, scene = _spatial_scenes()[0]
+    sol = quiet_solve(scene)
+    s_q = np.array([0.031, 0.07, 0.1234, 0.15])
+    st = sol.at(s_q)
+    direct = quiet_solve(scene, options=tr.Options(nodes=s_q))
+    # both integrate from the converged base state with the same steps: 1e-10 L
+    np.testing.assert_allclose(st.position, direct.position, atol=1e-10 * 0.15)
+    np.testing.assert_allclose(st.rotation, direct.rotation, atol=1e-10)
+    np.testing.assert_allclose(st.force, direct.force, atol=1e-9)
+    np.testing.assert_allclose(st.moment, direct.moment, atol=1e-10)
+    np.testing.assert_allclose(sol.at(0.15).position, sol.tip_position, atol=1e-10 * 0.15)
+    with pytest.raises(ValueError, match="arc lengths in"):
+        sol.at(0.2)
