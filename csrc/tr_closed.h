@@ -191,13 +191,15 @@ tr_closed_equivalent_stiffness(double k, double k_B)
 {
     if (!(k >= 0.0 && k_B >= 0.0))
         return NAN;
+    if (k < 1e150 && k_B < 1e150) {
+        const double sum = k_B + k;
+        return sum > 0.0 ? k_B * k / sum : 0.0;     /* both 0: 0 */
+    }
     {
         const double lo = k < k_B ? k : k_B;
         const double hi = k < k_B ? k_B : k;
         if (lo == 0.0)
             return 0.0;
-        if (hi < 1e150)
-            return k_B * k / (k_B + k);
         if (isinf(lo))
             return INFINITY;
         return lo / (1.0 + lo / hi);

@@ -147,6 +147,11 @@ def test_actuation_and_stiffness_match_reference():
     # a product and a sum, or lo/(1 + lo/hi): a few eps relative.
     np.testing.assert_allclose(an.equivalent_stiffness(k, kB), ref.equivalent_stiffness(k, kB),
                                rtol=4 * EPS)
+    # beyond 1e150 N/m the product k kB would overflow: the C kernel switches
+    # to lo / (1 + lo/hi); still a few eps, no overflow warning
+    with np.errstate(all="raise"):
+        big = an.equivalent_stiffness([1e200, 1e300, 1e300, 3e-300, 0.0], [1e200, 1e-300, 1e300, 1e300, 1e300])
+    np.testing.assert_allclose(big, [5e199, 1e-300, 5e299, 3e-300, 0.0], rtol=4 * EPS)
 
 
 def test_pattern_factor_is_the_direct_sum():
