@@ -388,6 +388,518 @@ add_closed_forms(PyObject *module)
 /* 2. Cosserat solver entry points                                           */
 /* ======================================================================== */
 
+/* BEGIN solver functions (section 2) */
+#include <stdarg.h>
+#include "tendonrod.h"
+
+/* Options and arrays shared by _core.solve and _core.compliance. */
+typedef struct {
+    PyArrayObject *rod, *tendons, *loads, *dist, *guess, *jac, *nodes;
+    int nt, nl, nnode;
+    tr_options opt;
+} solver_args;
+
+static void
+solver_args_clear(solver_args *a)
+{
+    Py_XDECREF(a->rod);
+    Py_XDECREF(a->tendons);
+    Py_XDECREF(a->loads);
+    Py_XDECREF(a->dist);
+    Py_XDECREF(a->guess);
+    Py_XDECREF(a->jac);
+    Py_XDECREF(a->nodes);
+}
+
+/* Exception with a printf-style message (doubles formatted with %g). */
+static void
+solver_err(PyObject *type, const char *fmt, ...)
+{
+    char buf[TR_MSGLEN + 128];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(buf, sizeof buf, fmt, ap);
+    va_end(ap);
+    PyErr_SetString(type, buf);
+}
+
+/* float64, C-contiguous copy-or-view of obj; NULL + exception naming `name`. */
+static PyArrayObject *
+solver_coerce(PyObject *obj, const char *name)
+{
+    PyArrayObject *arr = (PyArrayObject *)PyArray_FROMANY(obj, NPY_DOUBLE, 0, 0,
+                                                          NPY_ARRAY_IN_ARRAY);
+    if (arr == NULL) {
+        PyObject *et, *ev, *tb;
+        PyErr_Fetch(&et, &ev, &tb);
+        PyErr_Format(PyExc_TypeError, "%s must be a float64 array-like (could not convert %R)",
+                     name, obj);
+        Py_XDECREF(et); Py_XDECREF(ev); Py_XDECREF(tb);
+    }
+    return arr;
+}
+
+static int
+solver_all_finite(PyArrayObject *a, const char *name, int allow_posinf_col, int ncol)
+{
+    const double *v = (const double *)PyArray_DATA(a);
+    npy_intp i, n = PyArray_SIZE(a);
+    for (i = 0; i < n; i++) {
+        if (isnan(v[i]) || (isinf(v[i]) &&
+                            !(allow_posinf_col >= 0 && ncol > 0 && i % ncol == allow_posinf_col && v[i] > 0))) {
+            solver_err(PyExc_ValueError, "%s contains a non-finite value %g at flat index %ld",
+                       name, v[i], (long)i);
+            return -1;
+        }
+    }
+    return 0;
+}
+
+static int
+solver_choice(const char *value, const char *name, const char *const *choices, int n, int *out)
+{
+    int i;
+    for (i = 0; i < n; i++)
+        if (strcmp(value, choices[i]) == 0) {
+            *out = i;
+            return 0;
+        }
+    PyErr_Format(PyExc_ValueError, "%s = '%s' is not one of the accepted values", name, value);
+    return -1;
+}
+
+static const char *const solver_integrators[] = {"rk4", "rk8", "adaptive"};
+static const char *const solver_jacobians[] = {"fd", "newton"};
+static const char *const solver_slack[] = {"linear", "squared"};
+
+/* Parse the shared part; returns 0 or -1 with an exception set. */
+static int
+solver_prepare(solver_args *a, PyObject *rod, PyObject *tendons, PyObject *loads,
+               PyObject *dist, PyObject *guess, PyObject *jacobian, const char *integrator,
+               int steps, double rtol, double tol, int max_iter, int max_nfev,
+               const char *jac_method, const char *slack_model, int continuation,
+               int max_continuation, PyObject *nodes, int force_spatial, int tip_only)
+{
+    int ig, jm, sm;
+    memset(a, 0, sizeof *a);
+    a->opt = tr_default_options();
+    if (solver_choice(integrator, "integrator", solver_integrators, 3, &ig) < 0 ||
+        solver_choice(jac_method, "jacobian_method", solver_jacobians, 2, &jm) < 0 ||
+        solver_choice(slack_model, "slack_model", solver_slack, 2, &sm) < 0)
+        return -1;
+    if (steps < 0) {
+        PyErr_Format(PyExc_ValueError, "steps = %d must be >= 0 (0: automatic)", steps);
+        return -1;
+    }
+    if (!(rtol > 0.0) || !isfinite(rtol)) {
+        solver_err(PyExc_ValueError, "rtol = %g must be finite and > 0", rtol);
+        return -1;
+    }
+    if (!(tol > 0.0) || !isfinite(tol)) {
+        solver_err(PyExc_ValueError, "tol = %g must be finite and > 0", tol);
+        return -1;
+    }
+    if (max_iter < 0 || max_nfev < 1 || max_continuation < 0) {
+        PyErr_Format(PyExc_ValueError, "max_iter = %d, max_nfev = %d, max_continuation = %d: "
+                     "need max_iter >= 0, max_nfev >= 1, max_continuation >= 0",
+                     max_iter, max_nfev, max_continuation);
+        return -1;
+    }
+    a->opt.integrator = ig;
+    a->opt.steps = steps;
+    a->opt.rtol = rtol;
+    a->opt.tol = tol;
+    a->opt.max_iter = max_iter;
+    a->opt.max_nfev = max_nfev;
+    a->opt.jacobian_method = jm;
+    a->opt.slack_model = sm;
+    a->opt.continuation = continuation;
+    a->opt.max_continuation = max_continuation;
+    a->opt.force_spatial = force_spatial;
+    a->opt.tip_only = tip_only;
+
+    if (!(a->rod = solver_coerce(rod, "rod"))) return -1;
+    if (PyArray_NDIM(a->rod) != 1 || PyArray_DIM(a->rod, 0) != 6) {
+        PyErr_SetString(PyExc_ValueError, "rod must have shape (6,): [L, EI, GJ, EA, GA, kirchhoff]");
+        return -1;
+    }
+    if (!(a->tendons = solver_coerce(tendons, "tendons"))) return -1;
+    if (PyArray_SIZE(a->tendons) == 0 && PyArray_NDIM(a->tendons) <= 2) {
+        a->nt = 0;
+    } else if (PyArray_NDIM(a->tendons) != 2 || PyArray_DIM(a->tendons, 1) != 8) {
+        PyErr_SetString(PyExc_ValueError, "tendons must have shape (nt, 8): rows [offset, angle, "
+                        "slope, EA, end, control, value, pretension]");
+        return -1;
+    } else {
+        a->nt = (int)PyArray_DIM(a->tendons, 0);
+    }
+    if (!(a->loads = solver_coerce(loads, "loads"))) return -1;
+    if (PyArray_SIZE(a->loads) == 0 && PyArray_NDIM(a->loads) <= 2) {
+        a->nl = 0;
+    } else if (PyArray_NDIM(a->loads) != 2 || PyArray_DIM(a->loads, 1) != 7) {
+        PyErr_SetString(PyExc_ValueError, "loads must have shape (nl, 7): rows [s, Fx, Fy, Fz, Mx, My, Mz]");
+        return -1;
+    } else {
+        a->nl = (int)PyArray_DIM(a->loads, 0);
+    }
+    if (!(a->dist = solver_coerce(dist, "dist"))) return -1;
+    if (PyArray_NDIM(a->dist) != 1 || PyArray_DIM(a->dist, 0) != 3) {
+        PyErr_SetString(PyExc_ValueError, "dist must have shape (3,): distributed force, world frame [N/m]");
+        return -1;
+    }
+    {
+        /* rod: EA, GA may be inf only for a Kirchhoff rod; the C core checks values */
+        const double *r = (const double *)PyArray_DATA(a->rod);
+        int i;
+        for (i = 0; i < 6; i++)
+            if (isnan(r[i]) || (isinf(r[i]) && !(i >= 3 && i <= 4 && r[5] != 0.0 && r[i] > 0))) {
+                solver_err(PyExc_ValueError, "rod[%d] = %g must be finite (EA, GA may be inf only "
+                           "for a Kirchhoff rod)", i, r[i]);
+                return -1;
+            }
+    }
+    if (a->nt > 0 && solver_all_finite(a->tendons, "tendons", 3, 8) < 0) return -1;
+    if (a->nl > 0 && solver_all_finite(a->loads, "loads", -1, 0) < 0) return -1;
+    if (solver_all_finite(a->dist, "dist", -1, 0) < 0) return -1;
+
+    if (guess != NULL && guess != Py_None) {
+        if (!(a->guess = solver_coerce(guess, "guess"))) return -1;
+        if (PyArray_NDIM(a->guess) != 1 || PyArray_DIM(a->guess, 0) != 6 + 2 * a->nt) {
+            PyErr_Format(PyExc_ValueError, "guess must have shape (%d,): [n(0) (3), m(0) (3), "
+                         "tension (nt), slack (nt)]", 6 + 2 * a->nt);
+            return -1;
+        }
+        if (solver_all_finite(a->guess, "guess", -1, 0) < 0) return -1;
+    }
+    if (jacobian != NULL && jacobian != Py_None) {
+        if (!(a->jac = solver_coerce(jacobian, "jacobian"))) return -1;
+        if (PyArray_NDIM(a->jac) != 2 || PyArray_DIM(a->jac, 0) != PyArray_DIM(a->jac, 1)) {
+            PyErr_SetString(PyExc_ValueError, "jacobian must be a square 2-D array (the 'jacobian' "
+                            "a previous solve returned)");
+            return -1;
+        }
+    }
+    if (nodes == NULL || nodes == Py_None) {
+        a->nnode = 101;
+    } else if (PyLong_Check(nodes)) {
+        long nn = PyLong_AsLong(nodes);
+        if (nn == -1 && PyErr_Occurred()) return -1;
+        if (nn < 2 || nn > 10000000) {
+            PyErr_Format(PyExc_ValueError, "nodes = %ld must be an int >= 2 or a 1-D array of arc lengths", nn);
+            return -1;
+        }
+        a->nnode = (int)nn;
+    } else {
+        const double *v;
+        npy_intp i;
+        if (!(a->nodes = solver_coerce(nodes, "nodes"))) return -1;
+        if (PyArray_NDIM(a->nodes) != 1 || PyArray_DIM(a->nodes, 0) < 1) {
+            PyErr_SetString(PyExc_ValueError, "nodes must be an int >= 2 or a non-empty 1-D array of arc lengths");
+            return -1;
+        }
+        v = (const double *)PyArray_DATA(a->nodes);
+        for (i = 0; i < PyArray_DIM(a->nodes, 0); i++)
+            if (!isfinite(v[i]) || (i > 0 && v[i] < v[i - 1])) {
+                solver_err(PyExc_ValueError, "nodes must be finite and sorted (nodes[%ld] = %g)",
+                           (long)i, v[i]);
+                return -1;
+            }
+        a->nnode = (int)PyArray_DIM(a->nodes, 0);
+    }
+    return 0;
+}
+
+/* Compile the model and workspace; ValueError with the core's message on a bad
+ * model (it names the value), MemoryError on allocation failure. */
+static int
+solver_build(solver_args *a, const double *extra_load, tr_model **mp, tr_data **dp)
+{
+    char msg[TR_MSGLEN];
+    int status;
+    const double *loads = a->nl > 0 ? (const double *)PyArray_DATA(a->loads) : NULL;
+    double *tmp = NULL;
+    int nl = a->nl;
+    *mp = NULL;
+    *dp = NULL;
+    if (extra_load) {
+        tmp = (double *)PyMem_Malloc((size_t)(7 * (nl + 1)) * sizeof(double));
+        if (!tmp) { PyErr_NoMemory(); return -1; }
+        if (nl > 0) memcpy(tmp, loads, (size_t)(7 * nl) * sizeof(double));
+        memcpy(tmp + 7 * nl, extra_load, 7 * sizeof(double));
+        loads = tmp;
+        nl++;
+    }
+    status = tr_model_alloc(mp, (const double *)PyArray_DATA(a->rod),
+                            a->nt > 0 ? (const double *)PyArray_DATA(a->tendons) : NULL, a->nt,
+                            loads, nl, (const double *)PyArray_DATA(a->dist), &a->opt,
+                            msg, sizeof msg);
+    PyMem_Free(tmp);
+    if (status != TR_OK) {
+        if (status == TR_ENOMEM)
+            PyErr_NoMemory();
+        else
+            PyErr_SetString(PyExc_ValueError, msg);
+        return -1;
+    }
+    *dp = tr_data_alloc(*mp, &a->opt, a->nnode,
+                        a->nodes ? (const double *)PyArray_DATA(a->nodes) : NULL, msg, sizeof msg);
+    if (*dp == NULL) {
+        tr_model_free(*mp);
+        *mp = NULL;
+        PyErr_SetString(PyExc_ValueError, msg);
+        return -1;
+    }
+    return 0;
+}
+
+static PyObject *
+solver_array(int nd, const npy_intp *dims, const double *src)
+{
+    PyObject *arr = PyArray_SimpleNew(nd, (npy_intp *)dims, NPY_DOUBLE);
+    if (arr && src) {
+        npy_intp n = PyArray_SIZE((PyArrayObject *)arr);
+        if (n > 0) memcpy(PyArray_DATA((PyArrayObject *)arr), src, (size_t)n * sizeof(double));
+    }
+    return arr;
+}
+
+/* Steal `value` into dict[key]; returns -1 on error (value released). */
+static int
+solver_set(PyObject *dict, const char *key, PyObject *value)
+{
+    int r;
+    if (value == NULL) return -1;
+    r = PyDict_SetItemString(dict, key, value);
+    Py_DECREF(value);
+    return r;
+}
+
+static PyObject *
+solver_result(const tr_model *m, const tr_data *d, int status)
+{
+    PyObject *res = PyDict_New(), *form = NULL;
+    const int N = d->nnode, nt = m->nt, k = d->k;
+    npy_intp dims[3];
+    if (!res) return NULL;
+    if (solver_set(res, "status", PyLong_FromLong(status)) < 0 ||
+        solver_set(res, "message", PyUnicode_FromString(d->message)) < 0 ||
+        solver_set(res, "success", PyBool_FromLong(status >= 0)) < 0 ||
+        solver_set(res, "nit", PyLong_FromLong(d->nit)) < 0 ||
+        solver_set(res, "nfev", PyLong_FromLong(d->nfev)) < 0 ||
+        solver_set(res, "njev", PyLong_FromLong(d->njev)) < 0 ||
+        solver_set(res, "residual_norm", PyFloat_FromDouble(d->residual_norm)) < 0 ||
+        solver_set(res, "jacobian_cond", PyFloat_FromDouble(d->jacobian_cond)) < 0 ||
+        solver_set(res, "truncation_estimate", PyFloat_FromDouble(d->truncation)) < 0 ||
+        solver_set(res, "continuation_steps", PyLong_FromLong(d->cont_steps)) < 0)
+        goto fail;
+    dims[0] = N;
+    if (solver_set(res, "s", solver_array(1, dims, d->s)) < 0) goto fail;
+    dims[1] = 3;
+    if (solver_set(res, "position", solver_array(2, dims, d->pos)) < 0 ||
+        solver_set(res, "force", solver_array(2, dims, d->force)) < 0 ||
+        solver_set(res, "moment", solver_array(2, dims, d->moment)) < 0)
+        goto fail;
+    dims[2] = 3;
+    if (solver_set(res, "rotation", solver_array(3, dims, d->rot)) < 0) goto fail;
+    dims[0] = nt;
+    if (solver_set(res, "tension", solver_array(1, dims, d->tension)) < 0 ||
+        solver_set(res, "slack", solver_array(1, dims, d->slack)) < 0 ||
+        solver_set(res, "displacement", solver_array(1, dims, d->displacement)) < 0)
+        goto fail;
+    dims[0] = k;
+    if (solver_set(res, "unknowns", solver_array(1, dims, d->x)) < 0) goto fail;
+    dims[1] = k;
+    if (solver_set(res, "jacobian", solver_array(2, dims, d->J)) < 0) goto fail;
+    form = PyDict_New();
+    if (!form) goto fail;
+    if (solver_set(form, "planar", PyBool_FromLong(m->planar)) < 0 ||
+        solver_set(form, "kirchhoff", PyBool_FromLong(m->kirchhoff)) < 0 ||
+        solver_set(form, "n_unknowns", PyLong_FromLong(m->n_unknowns)) < 0 ||
+        solver_set(form, "n_states", PyLong_FromLong(m->n_states)) < 0 ||
+        solver_set(form, "n_segments", PyLong_FromLong(m->nseg)) < 0 ||
+        solver_set(form, "n_length_states", PyLong_FromLong(m->ndisp)) < 0 ||
+        solver_set(form, "n_stretch_terms", PyLong_FromLong(m->n_stretch)) < 0 ||
+        solver_set(form, "distributed_load", PyBool_FromLong(m->has_dist)) < 0 ||
+        solver_set(form, "tip_only", PyBool_FromLong(d->opt.tip_only)) < 0 ||
+        solver_set(form, "integrator", PyUnicode_FromString(solver_integrators[d->opt.integrator])) < 0 ||
+        solver_set(form, "steps", PyLong_FromLong(d->opt.integrator == TR_ADAPTIVE ? 0 : d->steps)) < 0 ||
+        solver_set(form, "slack_model", PyUnicode_FromString(solver_slack[d->opt.slack_model])) < 0 ||
+        solver_set(form, "jacobian_method", PyUnicode_FromString(solver_jacobians[d->opt.jacobian_method])) < 0)
+        goto fail;
+    if (solver_set(res, "formulation", form) < 0) { form = NULL; goto fail; }
+    return res;
+fail:
+    Py_XDECREF(form);
+    Py_DECREF(res);
+    return NULL;
+}
+
+#define SOLVER_KW_TAIL "guess", "jacobian", "integrator", "steps", "rtol", "tol", "max_iter", \
+    "max_nfev", "jacobian_method", "slack_model", "continuation", "max_continuation", "nodes", \
+    "force_spatial", "tip_only"
+
+PyDoc_STRVAR(core_solve_doc,
+"solve(rod, tendons, loads, dist, *, guess=None, jacobian=None, integrator='rk8', steps=0,\n"
+"      rtol=1e-10, tol=1e-10, max_iter=50, max_nfev=20000, jacobian_method='fd',\n"
+"      slack_model='linear', continuation=True, max_continuation=64, nodes=101,\n"
+"      force_spatial=False, tip_only=False) -> dict\n\n"
+"Raw entry point of the Cosserat-rod/tendon shooting solver (see csrc/README.md).\n\n"
+"rod (6,) [L, EI, GJ, EA, GA, kirchhoff]; tendons (nt, 8) [offset, angle, slope, EA (inf:\n"
+"inextensible), end, control (0 displacement / 1 tension), value (q [m], > 0 retracts, or\n"
+"tau [N]), pretension [N]]; loads (nl, 7) [s, F (3), M (3)] world frame; dist (3,) N/m world.\n"
+"guess: None or (6 + 2 nt,) [n(0) world, m(0) world, tension, slack]; jacobian: None or the\n"
+"'jacobian' of a previous solve (reused when its shape matches: Broyden steps from it).\n"
+"integrator 'rk4' | 'rk8' (fixed steps; steps = total over [0, L], 0 = automatic with\n"
+"step-doubling verification) | 'adaptive' (GSL rk8pd with error control rtol).\n"
+"jacobian_method 'fd' (forward differences, then Broyden updates, refreshed on poor\n"
+"progress) | 'newton' (fresh forward differences every iteration).\n"
+"slack_model 'linear' (tau = tau_s max(g,0), slack = L max(-g,0)) | 'squared' (the paper's g^2).\n"
+"continuation: on failure ramp the actuation (loads off), then the loads, from the straight\n"
+"robot; at most max_continuation steps.  nodes: int (uniform nodes incl. 0 and L plus every\n"
+"interior breakpoint twice: the state before and after its jump) or a sorted 1-D array of\n"
+"arc lengths (a node at an interior breakpoint gives the state after the jump, unless the\n"
+"next node has the same s).  tip_only: only the tip (N = 1).\n\n"
+"Returns a dict: status (0 ok, > 0 caveat, < 0 failure; _core.strerror(status)), message,\n"
+"success (status >= 0), nit, nfev (integrations, incl. the recording pass), njev,\n"
+"residual_norm (scaled max-norm), s (N,), position (N,3) world [m], rotation (N,3,3)\n"
+"body-to-world, force (N,3) and moment (N,3) internal backbone force/moment, world [N, N m],\n"
+"tension (nt,) [N], slack (nt,) [m], displacement (nt,) [m] (input q for displacement-\n"
+"controlled tendons; from the path length for tension-controlled ones), unknowns (k,)\n"
+"scaled [(n(0) + sum tau t0)/(EI/L^2), (m(0) + sum tau r x t0)/(EI/L), gammas],\n"
+"jacobian (k,k) scaled, jacobian_cond (1-norm), truncation_estimate (scaled residual at\n"
+"doubled steps; NaN when steps were given or the integrator is adaptive),\n"
+"continuation_steps, formulation (dict: planar, kirchhoff, n_unknowns, n_states,\n"
+"n_segments, n_length_states, n_stretch_terms, distributed_load, tip_only, integrator,\n"
+"steps, slack_model, jacobian_method).\n");
+
+static PyObject *
+core_solve(PyObject *self, PyObject *args, PyObject *kwds)
+{
+    static char *kwlist[] = {"rod", "tendons", "loads", "dist", SOLVER_KW_TAIL, NULL};
+    PyObject *rod, *tendons, *loads, *dist, *guess = Py_None, *jacobian = Py_None, *nodes = NULL;
+    const char *integrator = "rk8", *jac_method = "fd", *slack_model = "linear";
+    int steps = 0, max_iter = 50, max_nfev = 20000, continuation = 1, max_continuation = 64;
+    int force_spatial = 0, tip_only = 0, status;
+    double rtol = 1e-10, tol = 1e-10;
+    solver_args a;
+    tr_model *m = NULL;
+    tr_data *d = NULL;
+    PyObject *result = NULL;
+    const double *g = NULL, *jac = NULL;
+
+    memset(&a, 0, sizeof a);
+    if (!PyArg_ParseTupleAndKeywords(args, kwds, "OOOO|$OOsiddiisspiOpp", kwlist, &rod, &tendons,
+                                     &loads, &dist, &guess, &jacobian, &integrator, &steps, &rtol,
+                                     &tol, &max_iter, &max_nfev, &jac_method, &slack_model,
+                                     &continuation, &max_continuation, &nodes, &force_spatial,
+                                     &tip_only))
+        return NULL;
+    if (solver_prepare(&a, rod, tendons, loads, dist, guess, jacobian, integrator, steps, rtol,
+                       tol, max_iter, max_nfev, jac_method, slack_model, continuation,
+                       max_continuation, nodes, force_spatial, tip_only) < 0)
+        goto done;
+    if (solver_build(&a, NULL, &m, &d) < 0)
+        goto done;
+    g = a.guess ? (const double *)PyArray_DATA(a.guess) : NULL;
+    if (a.jac && PyArray_DIM(a.jac, 0) == m->n_unknowns)
+        jac = (const double *)PyArray_DATA(a.jac);
+    Py_BEGIN_ALLOW_THREADS
+    status = tr_solve(m, d, g, jac);
+    Py_END_ALLOW_THREADS
+    result = solver_result(m, d, status);
+done:
+    tr_data_free(d);
+    tr_model_free(m);
+    solver_args_clear(&a);
+    return result;
+}
+
+PyDoc_STRVAR(core_compliance_doc,
+"compliance(rod, tendons, loads, dist, s, *, guess=None, **options) -> (6, 6) array\n\n"
+"[dx (3), dtheta (3)] of the backbone point at arc length s per [force (3), moment (3)]\n"
+"applied there, world frame (dtheta: world rotation-vector increment), linearised at the\n"
+"solved state (solved first from `guess`, normally the solution's base state) with the\n"
+"prescribed displacements and tensions held fixed: implicit function theorem\n"
+"J du = -dF/dp with central differences on the shooting map (spatial formulation).\n"
+"Same options as solve (nodes, tip_only and force_spatial are ignored).  Raises\n"
+"RuntimeError with the solver's message if the state cannot be solved.\n");
+
+static PyObject *
+core_compliance(PyObject *self, PyObject *args, PyObject *kwds)
+{
+    static char *kwlist[] = {"rod", "tendons", "loads", "dist", "s", SOLVER_KW_TAIL, NULL};
+    PyObject *rod, *tendons, *loads, *dist, *guess = Py_None, *jacobian = Py_None, *nodes = NULL;
+    const char *integrator = "rk8", *jac_method = "fd", *slack_model = "linear";
+    int steps = 0, max_iter = 50, max_nfev = 20000, continuation = 1, max_continuation = 64;
+    int force_spatial = 0, tip_only = 0, status;
+    double rtol = 1e-10, tol = 1e-10, s = 0.0, extra[7] = {0, 0, 0, 0, 0, 0, 0};
+    solver_args a;
+    tr_model *m = NULL;
+    tr_data *d = NULL;
+    PyObject *result = NULL;
+    const double *g = NULL;
+    double C[36];
+
+    memset(&a, 0, sizeof a);
+    if (!PyArg_ParseTupleAndKeywords(args, kwds, "OOOOd|$OOsiddiisspiOpp", kwlist, &rod,
+                                     &tendons, &loads, &dist, &s, &guess, &jacobian, &integrator,
+                                     &steps, &rtol, &tol, &max_iter, &max_nfev, &jac_method,
+                                     &slack_model, &continuation, &max_continuation, &nodes,
+                                     &force_spatial, &tip_only))
+        return NULL;
+    if (solver_prepare(&a, rod, tendons, loads, dist, guess, Py_None, integrator, steps, rtol,
+                       tol, max_iter, max_nfev, jac_method, slack_model, continuation,
+                       max_continuation, NULL, 1, 1) < 0)
+        goto done;
+    {
+        const double L = ((const double *)PyArray_DATA(a.rod))[0];
+        if (!(s > 0.0 && s <= L)) {
+            solver_err(PyExc_ValueError, "s = %g must lie in (0, L = %g]", s, L);
+            goto done;
+        }
+    }
+    extra[0] = s;
+    if (solver_build(&a, extra, &m, &d) < 0)
+        goto done;
+    g = a.guess ? (const double *)PyArray_DATA(a.guess) : NULL;
+    Py_BEGIN_ALLOW_THREADS
+    status = tr_solve(m, d, g, NULL);
+    if (status >= 0)
+        status = tr_compliance(m, d, s, C);
+    Py_END_ALLOW_THREADS
+    if (status < 0) {
+        solver_err(PyExc_RuntimeError, "compliance: %s (status %d: %s)", d->message, status,
+                   tr_strerror(status));
+        goto done;
+    }
+    {
+        npy_intp dims[2] = {6, 6};
+        result = solver_array(2, dims, C);
+    }
+done:
+    tr_data_free(d);
+    tr_model_free(m);
+    solver_args_clear(&a);
+    return result;
+}
+
+PyDoc_STRVAR(core_strerror_doc, "strerror(status) -> str: the name of a solver status code.");
+
+static PyObject *
+core_strerror(PyObject *self, PyObject *arg)
+{
+    long code = PyLong_AsLong(arg);
+    if (code == -1 && PyErr_Occurred())
+        return NULL;
+    return PyUnicode_FromString(tr_strerror((int)code));
+}
+
+#define SOLVER_METHODS \
+    {"solve", (PyCFunction)(void (*)(void))core_solve, METH_VARARGS | METH_KEYWORDS, core_solve_doc}, \
+    {"compliance", (PyCFunction)(void (*)(void))core_compliance, METH_VARARGS | METH_KEYWORDS, core_compliance_doc}, \
+    {"strerror", (PyCFunction)core_strerror, METH_O, core_strerror_doc},
+/* END solver functions (section 2) */
+
 static int
 add_solver(PyObject *module)
 {
@@ -398,6 +910,7 @@ add_solver(PyObject *module)
 
 static PyMethodDef core_methods[] = {
     /* BEGIN method table (section 2 adds its entries here) */
+    SOLVER_METHODS
     /* END method table */
     {NULL, NULL, 0, NULL}
 };

@@ -1,0 +1,232 @@
+/*
+ * tendonrod.h -- public API of the Cosserat-rod/tendon solver (pure C99 + GSL).
+ *
+ * A scene (rod, tendons, point loads, distributed load) is compiled once into
+ * an immutable tr_model; every mutable buffer of a solve lives in a tr_data
+ * workspace allocated for that model.  Solver functions read the model and
+ * write the data:  int tr_solve(const tr_model *m, tr_data *d, ...).
+ * Threads may share a model; each thread owns its data.  Nothing allocates
+ * between tr_data_alloc() and tr_data_free(); there is no global state.
+ *
+ * Conventions (MODEL.md): SI units, radians.  Base at the origin, base frame =
+ * world frame, undeformed rod along +z.  R is body-to-world, stored row-major.
+ * Tendon i runs at the body-frame offset r_i(s) = (a_i s + b_i)(cos phi_i,
+ * sin phi_i, 0) and is anchored at s = t_i <= L.  q > 0 retracts a tendon.
+ *
+ * Status codes: 0 success, > 0 finished with a caveat, < 0 failure;
+ * tr_strerror() names each, and tr_data.message says what happened and what
+ * to do about it.
+ */
+#ifndef TENDONROD_H
+#define TENDONROD_H
+
+#include <stddef.h>
+#include <gsl/gsl_matrix.h>
+#include <gsl/gsl_permutation.h>
+#include <gsl/gsl_odeiv2.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* ---------------------------------------------------------------- status */
+enum tr_status {
+    TR_OK = 0,
+    TR_TRUNCATION = 1,       /* converged, but the step-doubling truncation estimate
+                                stayed above tol at the step cap */
+    TR_ILLCONDITIONED = 2,   /* converged, but the final Jacobian is nearly singular
+                                (tensions may be poorly determined) */
+    TR_CONTINUE = 100,       /* iteration in progress (tr_solve_iterate/test only) */
+    TR_EINVAL = -1,          /* invalid model or option value */
+    TR_ENOMEM = -2,          /* allocation failed */
+    TR_EMAXITER = -3,        /* iteration cap reached */
+    TR_EMAXFEV = -4,         /* function-evaluation cap reached */
+    TR_ENOPROGRESS = -5,     /* line search found no decrease of the residual */
+    TR_ENONFINITE = -6,      /* integration produced Inf/NaN */
+    TR_ESINGULAR = -7,       /* singular Jacobian */
+    TR_EINDETERMINATE = -8,  /* statically indeterminate tendon set */
+    TR_ENOEQUILIBRIUM = -9,  /* the prescribed displacements admit no equilibrium */
+    TR_EPRETENSION = -10,    /* pretension not meaningful for this tendon set */
+    TR_EINTEGRATOR = -11,    /* adaptive integrator failed (step underflow / cap) */
+    TR_ECONTINUATION = -12   /* continuation could not reach the full load */
+};
+
+const char *tr_strerror(int status);
+
+/* --------------------------------------------------------------- options */
+enum tr_integrator { TR_RK4 = 0, TR_RK8 = 1, TR_ADAPTIVE = 2 };
+enum tr_slack_model { TR_SLACK_LINEAR = 0, TR_SLACK_SQUARED = 1 };
+enum tr_jacobian_method {
+    TR_JAC_FD = 0,       /* forward-difference Jacobian, then Broyden updates; refreshed
+                            by finite differences when progress is poor */
+    TR_JAC_NEWTON = 1    /* fresh forward-difference Jacobian every iteration */
+};
+enum tr_control { TR_DISPLACEMENT = 0, TR_TENSION = 1 };
+
+typedef struct tr_options {
+    int integrator;       /* tr_integrator; default TR_RK8 (3-8 steps reach 1e-8 on a 90 deg bend) */
+    int steps;            /* total fixed steps over [0, L]; 0 = automatic (start small, verify by
+                             step doubling, refine while the estimate exceeds tol) */
+    double rtol;          /* relative/absolute (scaled) tolerance of the adaptive integrator;
+                             default 1e-10 (reference solutions) */
+    double tol;           /* convergence: scaled residual max-norm; default 1e-10
+                             (about 1e-10 relative tip accuracy, far below model error) */
+    int max_iter;         /* Newton/Broyden iterations per solve; default 50 */
+    int max_nfev;         /* residual evaluations (integrations) in total; default 20000 */
+    int jacobian_method;  /* tr_jacobian_method; default TR_JAC_FD */
+    int slack_model;      /* tr_slack_model; default TR_SLACK_LINEAR (nonsingular at the switch) */
+    int continuation;     /* 1: ramp loads and actuation when a solve fails; default 1 */
+    int max_continuation; /* cap on continuation steps; default 64 */
+    int force_spatial;    /* 1: solve planar scenes with the spatial formulation; default 0 */
+    int tip_only;         /* 1: record the tip state only; default 0 */
+} tr_options;
+
+tr_options tr_default_options(void);
+
+/* ----------------------------------------------------------------- model */
+typedef struct tr_tendon {
+    double b;          /* offset at s = 0 [m] */
+    double phi;        /* angle of the routing plane about e3, body frame [rad] */
+    double a;          /* slope d(offset)/ds [-] */
+    double EA;         /* axial rigidity [N]; INFINITY = inextensible */
+    double t;          /* arc length of the anchor, 0 < t <= L [m] */
+    int control;       /* TR_DISPLACEMENT or TR_TENSION */
+    double value;      /* q [m] (> 0 retracts) or tau [N] */
+    double pretension; /* tension held at q = 0 in the unloaded robot [N] */
+    double cphi, sphi; /* cos phi, sin phi (planar scenes: exactly +-1, 0) */
+    double rest;       /* unstretched length of the tendon between base and anchor [m] */
+    double sref;       /* reference path length in the undeformed robot, t sqrt(1 + a^2) [m] */
+    int end_bp;        /* index of the breakpoint where it is anchored */
+    int gamma_index;   /* index of its tension/slack unknown, -1 if tension-controlled */
+    int len_index;     /* slot of its path length in the shooting state, -1 if none */
+    double t0[3];      /* unit tangent at s = 0 of the straight robot, body frame */
+    double rt0[3];     /* r(0) x t0, body frame [m] */
+} tr_tendon;
+
+typedef struct tr_model {
+    double L, EI, GJ, EA, GA;   /* length [m]; bending, torsional [N m^2]; axial, shear [N] */
+    int kirchhoff;              /* 1: v = e3 (unshearable, inextensible backbone) */
+    int planar;                 /* 1: solved with the planar x-z formulation */
+    int nt;                     /* number of tendons */
+    tr_tendon *tendon;          /* (nt) */
+    int nl;                     /* number of point loads */
+    double *load;               /* (nl x 7) [s, F (3) world N, M (3) world N m] as given */
+    double dist[3];             /* uniform distributed force, world [N/m] */
+    int has_dist;               /* 1 if dist != 0 */
+    int nseg;                   /* number of integration segments */
+    double *bp;                 /* (nseg + 1) breakpoints, bp[0] = 0, bp[nseg] = L [m] */
+    double *bpF, *bpM;          /* (nseg + 1) x 3 point force [N] / moment [N m] sums at each
+                                   breakpoint, world frame (bp 0: carried by the base, unused) */
+    int *seg_act_start;         /* (nseg + 1) CSR offsets into seg_act */
+    int *seg_act;               /* tendons active on each segment (t_i > bp[k]) */
+    int ndisp;                  /* displacement-controlled tendons (= gamma unknowns) */
+    int n_unknowns;             /* shooting unknowns: 6 (3 planar) + ndisp */
+    int n_base;                 /* base states: 18 spatial (p, R, n_b, m_b), 6 planar */
+    int n_states;               /* shooting states: n_base + ndisp path lengths */
+    int n_states_rec;           /* recording states: n_base + nt path lengths */
+    int n_stretch;              /* displacement-controlled tendons with finite EA */
+    double F_s, M_s, tau_s;     /* scales: force EI/L^2 [N], moment EI/L [N m],
+                                   tension EI/(r_max L) [N] */
+    double xstate_scale[18];    /* absolute scale of each base state (adaptive control) */
+} tr_model;
+
+/* Compile a scene.  rod = [L, EI, GJ, EA, GA, kirchhoff]; tendons (nt x 8) rows
+ * [b, phi, a, EA, t, control, value, pretension]; loads (nl x 7) rows
+ * [s, Fx, Fy, Fz, Mx, My, Mz]; dist (3).  On failure returns a negative status,
+ * *out = NULL, and a message in msg (msglen bytes). */
+int tr_model_alloc(tr_model **out, const double rod[6], const double *tendons, int nt,
+                   const double *loads, int nl, const double dist[3],
+                   const tr_options *opt, char *msg, size_t msglen);
+void tr_model_free(tr_model *m);
+
+/* ------------------------------------------------------------------ data */
+#define TR_MSGLEN 512
+
+typedef struct tr_data {
+    const tr_model *model;      /* the model this workspace was allocated for */
+    tr_options opt;             /* options of this workspace */
+    int k;                      /* number of unknowns */
+    /* iteration */
+    double *x, *f;              /* (k) scaled unknowns / residual */
+    double *xt, *ft, *dx;       /* (k) trial point, trial residual, step */
+    double *xs, *xp, *fs;       /* (k) saved / previous (continuation) unknowns, saved residual */
+    double *J;                  /* (k x k) scaled Jacobian, row-major */
+    double *work;               /* (k) scratch */
+    gsl_matrix *LU;             /* (k x k) LU factors */
+    gsl_permutation *perm;      /* (k) */
+    double fnorm;               /* max-norm of f */
+    int have_J, J_fresh, J_refresh;
+    /* evaluation context */
+    double lam_act;             /* continuation: actuation (q, prescribed tau) scaled by it */
+    double lam_load;            /* continuation: point and distributed loads scaled by it */
+    double *tau, *beta;         /* (nt) current tension [N] / slack [m] */
+    int seg;                    /* segment being integrated */
+    int rec;                    /* 1: recording layout (all path lengths) */
+    int steps;                  /* current total fixed steps */
+    int probe_bp;               /* breakpoint of the compliance probe, -1 none */
+    double probe[6];            /* probe load (world F, M) added at probe_bp */
+    double probe_state[12];     /* p (3), R (9) captured at probe_bp in the last evaluation */
+    /* integrator workspaces */
+    double *y, *k1, *k2, *k3, *k4, *yt, *yerr;   /* (n_states_rec) */
+    gsl_odeiv2_system sys_shoot, sys_rec;
+    gsl_odeiv2_step *rk8_shoot, *rk8_rec;
+    gsl_odeiv2_step *ad_step_shoot, *ad_step_rec;
+    gsl_odeiv2_control *ad_ctl_shoot, *ad_ctl_rec;
+    gsl_odeiv2_evolve *ad_ev_shoot, *ad_ev_rec;
+    /* compliance */
+    double *Yx;                 /* (6 x k) d(output)/d(unknowns) */
+    double *Fp;                 /* (k x 6) d(residual)/d(probe load) */
+    /* counters and results */
+    int nit, nfev, njev, cont_steps;
+    int status;
+    char message[TR_MSGLEN];
+    double residual_norm;       /* final scaled residual max-norm */
+    double jacobian_cond;       /* 1-norm condition number of the final Jacobian */
+    double truncation;          /* step-doubling estimate (scaled residual), NaN if not estimated */
+    /* output (recording pass) */
+    int nnode;                  /* number of output nodes (1 when tip_only) */
+    double *s;                  /* (nnode) arc length [m] */
+    double *pos;                /* (nnode x 3) position, world [m] */
+    double *rot;                /* (nnode x 9) rotation body-to-world, row-major */
+    double *force;              /* (nnode x 3) internal force, world [N] */
+    double *moment;             /* (nnode x 3) internal moment, world [N m] */
+    double *tension;            /* (nt) tension [N] */
+    double *slack;              /* (nt) slack [m] */
+    double *displacement;       /* (nt) actuator displacement [m] */
+} tr_data;
+
+/* Allocate a workspace.  nodes: if node_s is NULL, nnode uniform nodes over
+ * [0, L] plus every interior breakpoint twice (state before and after the jump);
+ * otherwise the nnode sorted arc lengths node_s.  tip_only (opt) records only
+ * the tip.  Returns NULL on failure (msg says why). */
+tr_data *tr_data_alloc(const tr_model *m, const tr_options *opt, int nnode,
+                       const double *node_s, char *msg, size_t msglen);
+void tr_data_free(tr_data *d);
+
+/* ---------------------------------------------------------------- solver */
+/* Set the unknowns from a physical guess (6 + 2 nt: n(0) world, m(0) world,
+ * tension, slack; NULL: the straight robot), take a scaled Jacobian (k x k) to
+ * reuse if jac != NULL, and evaluate the residual. */
+int tr_solve_init(const tr_model *m, tr_data *d, const double *guess, const double *jac);
+/* One damped Newton/Broyden iteration with backtracking.  Returns TR_CONTINUE,
+ * or a negative status. */
+int tr_solve_iterate(const tr_model *m, tr_data *d);
+/* TR_OK when the scaled residual max-norm <= tol, else TR_CONTINUE. */
+int tr_solve_test(const tr_model *m, const tr_data *d);
+/* One-call driver: init, iterate, continuation on failure, step verification
+ * (steps = 0), conditioning check, recording pass.  Returns d->status. */
+int tr_solve(const tr_model *m, tr_data *d, const double *guess, const double *jac);
+/* Recording pass at the current unknowns: fills s, pos, rot, force, moment,
+ * tension, slack, displacement. */
+int tr_record(const tr_model *m, tr_data *d);
+/* Scaled residual at x (k) with the current step count; f (k). */
+int tr_residual(const tr_model *m, tr_data *d, const double *x, double *f);
+/* Compliance (6 x 6, row-major): [dx (3), dtheta (3)] per [F (3), M (3)] applied at
+ * the breakpoint s_probe (which must be a load position of the model or L), world
+ * frame, linearised at the solution (call tr_solve first). */
+int tr_compliance(const tr_model *m, tr_data *d, double s_probe, double C[36]);
+
+#ifdef __cplusplus
+}
+#endif
+#endif /* TENDONROD_H */

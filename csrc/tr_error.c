@@ -1,0 +1,25 @@
+/* tr_error.c -- names of the status codes. */
+#include "tendonrod.h"
+
+const char *tr_strerror(int status)
+{
+    switch (status) {
+    case TR_OK: return "success";
+    case TR_TRUNCATION: return "converged; truncation estimate above tolerance at the step cap";
+    case TR_ILLCONDITIONED: return "converged; final Jacobian nearly singular";
+    case TR_CONTINUE: return "iteration in progress";
+    case TR_EINVAL: return "invalid model or option";
+    case TR_ENOMEM: return "out of memory";
+    case TR_EMAXITER: return "iteration limit reached";
+    case TR_EMAXFEV: return "function-evaluation limit reached";
+    case TR_ENOPROGRESS: return "line search made no progress";
+    case TR_ENONFINITE: return "integration produced a non-finite value";
+    case TR_ESINGULAR: return "singular Jacobian";
+    case TR_EINDETERMINATE: return "statically indeterminate";
+    case TR_ENOEQUILIBRIUM: return "no equilibrium exists";
+    case TR_EPRETENSION: return "pretension not meaningful for this tendon set";
+    case TR_EINTEGRATOR: return "adaptive integrator failed";
+    case TR_ECONTINUATION: return "continuation failed";
+    default: return "unknown status";
+    }
+}

@@ -1,0 +1,321 @@
+/*
+ * tr_rod.c -- right-hand sides of the rod/tendon ODE (MODEL.md).
+ *
+ * Body-frame equilibrium with the tendon loads a + A v' + G u' (force) and
+ * b + B v' + H u' (moment); internal force and moment n_b, m_b are the states
+ * (never v itself), so with the substitution v' = K_se^-1 n_b', u' = K_bt^-1 m_b'
+ * the linear system per evaluation is
+ *
+ *   [ I + A K_se^-1   G K_bt^-1     ] [n_b']   [ -u x n_b - a - f_e       ]
+ *   [ B K_se^-1       I + H K_bt^-1 ] [m_b'] = [ -u x m_b - v x n_b - b   ]
+ *
+ * (Kirchhoff: v = e3, v' = 0: only the 3x3 moment block, then n_b' from the
+ * first row).  Every matrix is O(1), whatever the stiffness ratios.
+ * Four variants: spatial/planar x Kirchhoff/Cosserat.  Slack tendons (tau = 0)
+ * contribute only their path length.
+ */
+#include <math.h>
+#include <string.h>
+#include <gsl/gsl_errno.h>
+
+#include "tendonrod.h"
+#include "tr_internal.h"
+#include "tru_math.h"
+
+/* ------------------------------------------------------------- spatial */
+static int rhs_spatial(const tr_model *m, const tr_data *d, double s, const double *y,
+                       double *dy)
+{
+    const double *R = y + TR_Y_R, *nb = y + TR_Y_N, *mb = y + TR_Y_M;
+    const double EI = m->EI, GJ = m->GJ;
+    const int kirch = m->kirchhoff;
+    const double u[3] = {mb[0] / EI, mb[1] / EI, mb[2] / GJ};
+    double v[3] = {0.0, 0.0, 1.0};
+    double Asum[9] = {0}, Gsum[9] = {0}, Bsum[9] = {0}, Hsum[9] = {0};
+    double asum[3] = {0}, bsum[3] = {0};
+    double rhs[6], tmp[3], tmp2[3];
+    int coupled = 0, j, c;
+    const int nlen = d->rec ? m->nt : m->ndisp;
+    const int a0 = m->seg_act_start[d->seg], a1 = m->seg_act_start[d->seg + 1];
+
+    if (!kirch) {
+        v[0] = nb[0] / m->GA;
+        v[1] = nb[1] / m->GA;
+        v[2] = 1.0 + nb[2] / m->EA;
+    }
+    for (j = 0; j < nlen; j++)
+        dy[TR_Y_LEN + j] = 0.0;
+
+    for (c = a0; c < a1; c++) {
+        const int i = m->seg_act[c];
+        const tr_tendon *td = &m->tendon[i];
+        const double rho = td->a * s + td->b;
+        const double r[3] = {rho * td->cphi, rho * td->sphi, 0.0};
+        const double rp[3] = {td->a * td->cphi, td->a * td->sphi, 0.0};
+        const double tau = d->tau[i];
+        const int slot = d->rec ? i : td->len_index;
+        double w[3], nw, A[9], S[9], AS[9], SA[9], SAS[9], cv[3], ai[3];
+        int q;
+
+        tru_cross3(w, u, r);
+        w[0] += v[0] + rp[0];
+        w[1] += v[1] + rp[1];
+        w[2] += v[2];
+        nw = tru_norm3(w);
+        if (slot >= 0)
+            dy[TR_Y_LEN + slot] = nw;
+        if (!(tau > 0.0))
+            continue;
+        coupled = 1;
+        {
+            const double cf = tau / (nw * nw * nw), nw2 = nw * nw;
+            A[0] = cf * (nw2 - w[0] * w[0]); A[1] = -cf * w[0] * w[1]; A[2] = -cf * w[0] * w[2];
+            A[3] = A[1]; A[4] = cf * (nw2 - w[1] * w[1]); A[5] = -cf * w[1] * w[2];
+            A[6] = A[2]; A[7] = A[5]; A[8] = cf * (nw2 - w[2] * w[2]);
+        }
+        /* a_i = A (u x w + u x r')  (r'' = 0 for linear routing) */
+        tru_cross3(cv, u, w);
+        tru_cross3(tmp, u, rp);
+        cv[0] += tmp[0]; cv[1] += tmp[1]; cv[2] += tmp[2];
+        tru_matvec3(ai, A, cv);
+        tru_cross3(tmp2, r, ai);
+        for (q = 0; q < 3; q++) { asum[q] += ai[q]; bsum[q] += tmp2[q]; }
+        tru_skew3(S, r);
+        tru_matmul3(AS, A, S);
+        tru_matmul3(SAS, S, AS);
+        for (q = 0; q < 9; q++) { Gsum[q] -= AS[q]; Hsum[q] -= SAS[q]; }
+        if (!kirch) {
+            tru_matmul3(SA, S, A);
+            for (q = 0; q < 9; q++) { Asum[q] += A[q]; Bsum[q] += SA[q]; }
+        }
+    }
+
+    /* right-hand sides */
+    tru_cross3(tmp, u, nb);
+    rhs[0] = -tmp[0] - asum[0];
+    rhs[1] = -tmp[1] - asum[1];
+    rhs[2] = -tmp[2] - asum[2];
+    if (m->has_dist) {
+        const double lam = d->lam_load;
+        const double fw[3] = {lam * m->dist[0], lam * m->dist[1], lam * m->dist[2]};
+        tru_mattvec3(tmp, R, fw);
+        rhs[0] -= tmp[0]; rhs[1] -= tmp[1]; rhs[2] -= tmp[2];
+    }
+    tru_cross3(tmp, u, mb);
+    tru_cross3(tmp2, v, nb);
+    rhs[3] = -tmp[0] - tmp2[0] - bsum[0];
+    rhs[4] = -tmp[1] - tmp2[1] - bsum[1];
+    rhs[5] = -tmp[2] - tmp2[2] - bsum[2];
+
+    if (!coupled) {
+        memcpy(dy + TR_Y_N, rhs, 6 * sizeof(double));
+    } else if (kirch) {
+        const double kb[3] = {1.0 / EI, 1.0 / EI, 1.0 / GJ};
+        double M3[9], x[3] = {rhs[3], rhs[4], rhs[5]};
+        int r_, c_;
+        for (r_ = 0; r_ < 3; r_++)
+            for (c_ = 0; c_ < 3; c_++)
+                M3[3 * r_ + c_] = (r_ == c_ ? 1.0 : 0.0) + Hsum[3 * r_ + c_] * kb[c_];
+        if (tru_solve_dense(3, M3, x) != 0)
+            return GSL_EBADFUNC;
+        {
+            const double up[3] = {x[0] * kb[0], x[1] * kb[1], x[2] * kb[2]};
+            tru_matvec3(tmp, Gsum, up);
+        }
+        dy[TR_Y_N + 0] = rhs[0] - tmp[0];
+        dy[TR_Y_N + 1] = rhs[1] - tmp[1];
+        dy[TR_Y_N + 2] = rhs[2] - tmp[2];
+        dy[TR_Y_M + 0] = x[0];
+        dy[TR_Y_M + 1] = x[1];
+        dy[TR_Y_M + 2] = x[2];
+    } else {
+        const double ks[3] = {1.0 / m->GA, 1.0 / m->GA, 1.0 / m->EA};
+        const double kb[3] = {1.0 / EI, 1.0 / EI, 1.0 / GJ};
+        double M6[36];
+        int r_, c_;
+        for (r_ = 0; r_ < 3; r_++)
+            for (c_ = 0; c_ < 3; c_++) {
+                const double id = (r_ == c_ ? 1.0 : 0.0);
+                M6[6 * r_ + c_] = id + Asum[3 * r_ + c_] * ks[c_];
+                M6[6 * r_ + c_ + 3] = Gsum[3 * r_ + c_] * kb[c_];
+                M6[6 * (r_ + 3) + c_] = Bsum[3 * r_ + c_] * ks[c_];
+                M6[6 * (r_ + 3) + c_ + 3] = id + Hsum[3 * r_ + c_] * kb[c_];
+            }
+        if (tru_solve_dense(6, M6, rhs) != 0)
+            return GSL_EBADFUNC;
+        memcpy(dy + TR_Y_N, rhs, 6 * sizeof(double));
+    }
+
+    /* kinematics: p' = R v, R' = R u^ */
+    tru_matvec3(dy + TR_Y_P, R, v);
+    for (j = 0; j < 3; j++) {
+        const double *Rj = R + 3 * j;
+        double *dRj = dy + TR_Y_R + 3 * j;
+        /* row j of R u^ : (R u^)_{jk} = sum_l R_jl (u^)_lk = (Rj x u)_k */
+        tru_cross3(dRj, Rj, u);
+    }
+    return GSL_SUCCESS;
+}
+
+/* -------------------------------------------------------------- planar */
+/* x-z plane, rotation about +y by theta: R = [[c,0,s],[0,1,0],[-s,0,c]].
+ * Body vectors (x, z) components, moments about y; tendon offset rho e_x. */
+static int rhs_planar(const tr_model *m, const tr_data *d, double s, const double *y,
+                      double *dy)
+{
+    const double th = y[TR_YP_TH], n1 = y[TR_YP_N1], n3 = y[TR_YP_N3], m2 = y[TR_YP_M];
+    const double EI = m->EI;
+    const int kirch = m->kirchhoff;
+    const double kap = m2 / EI;
+    const double ct = cos(th), st = sin(th);
+    double v1 = 0.0, v3 = 1.0;
+    double A11 = 0, A13 = 0, A33 = 0, G1 = 0, G3 = 0, B1 = 0, B3 = 0, H = 0;
+    double a1s = 0, a3s = 0, bs = 0;
+    int coupled = 0, j, c;
+    const int nlen = d->rec ? m->nt : m->ndisp;
+    const int c0 = m->seg_act_start[d->seg], c1 = m->seg_act_start[d->seg + 1];
+    double r1, r3, r2;
+
+    if (!kirch) {
+        v1 = n1 / m->GA;
+        v3 = 1.0 + n3 / m->EA;
+    }
+    for (j = 0; j < nlen; j++)
+        dy[TR_YP_LEN + j] = 0.0;
+
+    for (c = c0; c < c1; c++) {
+        const int i = m->seg_act[c];
+        const tr_tendon *td = &m->tendon[i];
+        const double rho = td->cphi * (td->a * s + td->b);
+        const double rp = td->cphi * td->a;
+        const double w1 = v1 + rp, w3 = v3 - kap * rho;
+        const double nw = sqrt(w1 * w1 + w3 * w3);
+        const double tau = d->tau[i];
+        const int slot = d->rec ? i : td->len_index;
+        if (slot >= 0)
+            dy[TR_YP_LEN + slot] = nw;
+        if (!(tau > 0.0))
+            continue;
+        coupled = 1;
+        {
+            const double cf = tau / (nw * nw * nw);
+            const double a11 = cf * w3 * w3, a13 = -cf * w1 * w3, a33 = cf * w1 * w1;
+            /* c = u x w + u x r' = (kap w3, -kap (w1 + r')) */
+            const double cv1 = kap * w3, cv3 = -kap * (w1 + rp);
+            const double ai1 = a11 * cv1 + a13 * cv3, ai3 = a13 * cv1 + a33 * cv3;
+            a1s += ai1;
+            a3s += ai3;
+            bs += -rho * ai3;
+            G1 += -rho * a13;
+            G3 += -rho * a33;
+            H += rho * rho * a33;
+            if (!kirch) {
+                A11 += a11; A13 += a13; A33 += a33;
+                B1 += -rho * a13;
+                B3 += -rho * a33;
+            }
+        }
+    }
+    /* rhs1 = -u x n - a - f_e,  u x n = (kap n3, -kap n1);  rhs2 = -(v x n)_y - b */
+    r1 = -kap * n3 - a1s;
+    r3 = kap * n1 - a3s;
+    if (m->has_dist) {
+        const double lam = d->lam_load;
+        const double fx = lam * m->dist[0], fz = lam * m->dist[2];
+        r1 -= ct * fx - st * fz;
+        r3 -= st * fx + ct * fz;
+    }
+    r2 = -(v3 * n1 - v1 * n3) - bs;
+
+    if (!coupled) {
+        dy[TR_YP_N1] = r1;
+        dy[TR_YP_N3] = r3;
+        dy[TR_YP_M] = r2;
+    } else if (kirch) {
+        const double mp = r2 / (1.0 + H / EI);
+        dy[TR_YP_M] = mp;
+        dy[TR_YP_N1] = r1 - G1 * mp / EI;
+        dy[TR_YP_N3] = r3 - G3 * mp / EI;
+    } else {
+        const double ks1 = 1.0 / m->GA, ks3 = 1.0 / m->EA, kb = 1.0 / EI;
+        double M3[9] = {1.0 + A11 * ks1, A13 * ks3, G1 * kb,
+                        A13 * ks1, 1.0 + A33 * ks3, G3 * kb,
+                        B1 * ks1, B3 * ks3, 1.0 + H * kb};
+        double x[3] = {r1, r3, r2};
+        if (tru_solve_dense(3, M3, x) != 0)
+            return GSL_EBADFUNC;
+        dy[TR_YP_N1] = x[0];
+        dy[TR_YP_N3] = x[1];
+        dy[TR_YP_M] = x[2];
+    }
+    dy[TR_YP_X] = ct * v1 + st * v3;
+    dy[TR_YP_Z] = -st * v1 + ct * v3;
+    dy[TR_YP_TH] = kap;
+    return GSL_SUCCESS;
+}
+
+int tr_rhs(double s, const double y[], double dyds[], void *params)
+{
+    const tr_data *d = (const tr_data *)params;
+    const tr_model *m = d->model;
+    return m->planar ? rhs_planar(m, d, s, y, dyds) : rhs_spatial(m, d, s, y, dyds);
+}
+
+void tr_tendon_tangent(const tr_model *m, int i, double s, const double *y,
+                       double that[3], double r[3])
+{
+    const tr_tendon *td = &m->tendon[i];
+    double w[3], nw;
+    if (m->planar) {
+        const double kap = y[TR_YP_M] / m->EI;
+        const double rho = td->cphi * (td->a * s + td->b);
+        double v1 = 0.0, v3 = 1.0;
+        if (!m->kirchhoff) {
+            v1 = y[TR_YP_N1] / m->GA;
+            v3 = 1.0 + y[TR_YP_N3] / m->EA;
+        }
+        w[0] = v1 + td->cphi * td->a;
+        w[1] = 0.0;
+        w[2] = v3 - kap * rho;
+        r[0] = rho; r[1] = 0.0; r[2] = 0.0;
+    } else {
+        const double *nb = y + TR_Y_N, *mb = y + TR_Y_M;
+        const double u[3] = {mb[0] / m->EI, mb[1] / m->EI, mb[2] / m->GJ};
+        const double rho = td->a * s + td->b;
+        double v[3] = {0.0, 0.0, 1.0};
+        if (!m->kirchhoff) {
+            v[0] = nb[0] / m->GA;
+            v[1] = nb[1] / m->GA;
+            v[2] = 1.0 + nb[2] / m->EA;
+        }
+        r[0] = rho * td->cphi; r[1] = rho * td->sphi; r[2] = 0.0;
+        tru_cross3(w, u, r);
+        w[0] += v[0] + td->a * td->cphi;
+        w[1] += v[1] + td->a * td->sphi;
+        w[2] += v[2];
+    }
+    nw = tru_norm3(w);
+    that[0] = w[0] / nw;
+    that[1] = w[1] / nw;
+    that[2] = w[2] / nw;
+}
+
+void tr_state_world(const tr_model *m, const double *y, double p[3], double R[9],
+                    double n[3], double mom[3])
+{
+    if (m->planar) {
+        const double th = y[TR_YP_TH], c = cos(th), s = sin(th);
+        const double n1 = y[TR_YP_N1], n3 = y[TR_YP_N3];
+        p[0] = y[TR_YP_X]; p[1] = 0.0; p[2] = y[TR_YP_Z];
+        R[0] = c;  R[1] = 0.0; R[2] = s;
+        R[3] = 0.0; R[4] = 1.0; R[5] = 0.0;
+        R[6] = -s; R[7] = 0.0; R[8] = c;
+        n[0] = c * n1 + s * n3; n[1] = 0.0; n[2] = -s * n1 + c * n3;
+        mom[0] = 0.0; mom[1] = y[TR_YP_M]; mom[2] = 0.0;
+    } else {
+        memcpy(p, y + TR_Y_P, 3 * sizeof(double));
+        memcpy(R, y + TR_Y_R, 9 * sizeof(double));
+        tru_matvec3(n, R, y + TR_Y_N);
+        tru_matvec3(mom, R, y + TR_Y_M);
+    }
+}

@@ -1,0 +1,954 @@
+/*
+ * tr_shoot.c -- shooting: residual, init / iterate / test, the one-call
+ * driver (continuation, step verification, conditioning), the recording pass
+ * and the compliance by the implicit function theorem.
+ *
+ * Unknowns (scaled): the base reaction of backbone plus tendons,
+ *   (n(0) + sum tau_i t0_i) / (EI/L^2),  (m(0) + sum tau_i r_i(0) x t0_i) / (EI/L)
+ * (t0_i: tendon tangent of the straight robot; planar: x, z force and y moment),
+ * which global balance fixes (nearly) independently of the tensions, so the
+ * tension unknowns do not fight the backbone force; then one gamma per
+ * displacement-controlled tendon:
+ *   linear  (semismooth): tau = tau_s max(gamma, 0), slack = L max(-gamma, 0)
+ *   squared (paper):      tau = tau_s gamma^2 (gamma >= 0), slack = L gamma^2 (gamma < 0)
+ * Residuals (scaled): tip force / (EI/L^2) and moment / (EI/L), body frame,
+ * then the length constraints E_i / L with
+ *   E_i = s_i(t_i) + q_i + slack_i - (1 + tau_i/EA_i) rest_i.
+ */
+#include <math.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <string.h>
+#include <gsl/gsl_errno.h>
+#include <gsl/gsl_linalg.h>
+
+#include "tendonrod.h"
+#include "tr_internal.h"
+#include "tru_math.h"
+
+/* Forward-difference step for the Jacobian, scaled units: ~sqrt(machine eps). */
+#define TR_FD_H 1.5e-8
+/* Central-difference step for the compliance (scaled units): balances the
+ * h^2 truncation (~1e-11) against round-off (~1e-16/h). */
+#define TR_CD_H 3e-6
+/* Largest Newton step (scaled max-norm): 10 ~ a curl of 10 rad per length. */
+#define TR_MAX_STEP 10.0
+/* Armijo constant of the backtracking line search. */
+#define TR_ARMIJO 1e-4
+/* Smallest line-search step before giving up. */
+#define TR_ALPHA_MIN 1e-6
+/* A Broyden step reducing the residual by less than this factor triggers a
+ * fresh finite-difference Jacobian. */
+#define TR_BROYDEN_RATIO 0.5
+/* Condition number (1-norm, scaled) above which the Jacobian counts as singular. */
+#define TR_COND_SINGULAR 1e12
+/* Automatic step count: initial totals and the cap of the doubling. */
+#define TR_AUTO_RK8 4
+#define TR_AUTO_RK4 32
+#define TR_STEP_CAP 65536
+/* Continuation: first step and smallest step in lambda. */
+#define TR_CONT_DLAM0 0.25
+#define TR_CONT_DLAM_MIN 1e-4
+/* Iterations per continuation step: Newton from a near point converges in a few. */
+#define TR_CONT_ITER 15
+
+void tr_set_message(tr_data *d, const char *fmt, ...)
+{
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(d->message, TR_MSGLEN, fmt, ap);
+    va_end(ap);
+}
+
+static double maxnorm(const double *v, int n)
+{
+    double r = 0.0;
+    int i;
+    for (i = 0; i < n; i++) {
+        const double a = fabs(v[i]);
+        if (!(a <= r)) r = a;   /* propagates NaN */
+    }
+    return r;
+}
+
+static double sumsq(const double *v, int n)
+{
+    double r = 0.0;
+    int i;
+    for (i = 0; i < n; i++) r += v[i] * v[i];
+    return r;
+}
+
+static int n_force(const tr_model *m) { return m->planar ? 3 : 6; }
+
+static void set_tensions(const tr_model *m, tr_data *d, const double *x)
+{
+    const int off = n_force(m);
+    int i;
+    for (i = 0; i < m->nt; i++) {
+        const tr_tendon *t = &m->tendon[i];
+        if (t->control == TR_DISPLACEMENT) {
+            const double g = x[off + t->gamma_index];
+            if (d->opt.slack_model == TR_SLACK_SQUARED) {
+                d->tau[i] = g > 0.0 ? m->tau_s * g * g : 0.0;
+                d->beta[i] = g < 0.0 ? m->L * g * g : 0.0;
+            } else {
+                d->tau[i] = g > 0.0 ? m->tau_s * g : 0.0;
+                d->beta[i] = g < 0.0 ? -m->L * g : 0.0;
+            }
+        } else {
+            d->tau[i] = d->lam_act * t->value;
+            d->beta[i] = 0.0;
+        }
+    }
+}
+
+/* Base state from the unknowns (tensions already set): the backbone carries the
+ * base reaction minus the tendon pulls. */
+static void init_state(const tr_model *m, const tr_data *d, const double *x, double *y, int dim)
+{
+    double tn[3] = {0.0, 0.0, 0.0}, tm[3] = {0.0, 0.0, 0.0};
+    int i;
+    for (i = 0; i < m->nt; i++) {
+        const double tau = d->tau[i];
+        int c;
+        for (c = 0; c < 3; c++) {
+            tn[c] += tau * m->tendon[i].t0[c];
+            tm[c] += tau * m->tendon[i].rt0[c];
+        }
+    }
+    memset(y, 0, (size_t)dim * sizeof(double));
+    if (m->planar) {
+        y[TR_YP_N1] = x[0] * m->F_s - tn[0];
+        y[TR_YP_N3] = x[1] * m->F_s - tn[2];
+        y[TR_YP_M] = x[2] * m->M_s - tm[1];
+    } else {
+        y[TR_Y_R + 0] = y[TR_Y_R + 4] = y[TR_Y_R + 8] = 1.0;
+        for (i = 0; i < 3; i++) {
+            y[TR_Y_N + i] = x[i] * m->F_s - tn[i];
+            y[TR_Y_M + i] = x[3 + i] * m->M_s - tm[i];
+        }
+    }
+}
+
+/* Loads at breakpoint b (world): point loads scaled by lam_load, plus the probe. */
+static void bp_load(const tr_model *m, const tr_data *d, int b, double F[3], double M[3])
+{
+    int c;
+    for (c = 0; c < 3; c++) {
+        F[c] = d->lam_load * m->bpF[3 * b + c];
+        M[c] = d->lam_load * m->bpM[3 * b + c];
+    }
+    if (b == d->probe_bp)
+        for (c = 0; c < 3; c++) {
+            F[c] += d->probe[c];
+            M[c] += d->probe[3 + c];
+        }
+}
+
+/* Sum of the anchor pulls of the tendons anchored at breakpoint b, body frame:
+ * force sum tau t^, moment sum tau r x t^ (state just proximal of b). */
+static void anchor_sum(const tr_model *m, const tr_data *d, int b, const double *y,
+                       double fn[3], double fm[3])
+{
+    const double s = m->bp[b];
+    int i;
+    fn[0] = fn[1] = fn[2] = fm[0] = fm[1] = fm[2] = 0.0;
+    for (i = 0; i < m->nt; i++) {
+        double th[3], r[3], rt[3];
+        const double tau = d->tau[i];
+        if (m->tendon[i].end_bp != b || !(tau > 0.0))
+            continue;
+        tr_tendon_tangent(m, i, s, y, th, r);
+        tru_cross3(rt, r, th);
+        fn[0] += tau * th[0]; fn[1] += tau * th[1]; fn[2] += tau * th[2];
+        fm[0] += tau * rt[0]; fm[1] += tau * rt[1]; fm[2] += tau * rt[2];
+    }
+}
+
+/* Jump at interior breakpoint b: n(z+) = n(z-) - P + anchor pulls, same for m. */
+static void apply_jump(const tr_model *m, const tr_data *d, int b, double *y)
+{
+    double F[3], M[3], fn[3], fm[3];
+    bp_load(m, d, b, F, M);
+    anchor_sum(m, d, b, y, fn, fm);
+    if (m->planar) {
+        const double c = cos(y[TR_YP_TH]), s = sin(y[TR_YP_TH]);
+        y[TR_YP_N1] += fn[0] - (c * F[0] - s * F[2]);
+        y[TR_YP_N3] += fn[2] - (s * F[0] + c * F[2]);
+        y[TR_YP_M] += fm[1] - M[1];
+    } else {
+        double Fb[3], Mb[3];
+        int c;
+        tru_mattvec3(Fb, y + TR_Y_R, F);
+        tru_mattvec3(Mb, y + TR_Y_R, M);
+        for (c = 0; c < 3; c++) {
+            y[TR_Y_N + c] += fn[c] - Fb[c];
+            y[TR_Y_M + c] += fm[c] - Mb[c];
+        }
+    }
+}
+
+static void capture_probe(const tr_model *m, tr_data *d, const double *y)
+{
+    double n[3], mo[3];
+    tr_state_world(m, y, d->probe_state, d->probe_state + 3, n, mo);
+}
+
+/* Tip residual (scaled) into f. */
+static void tip_residual(const tr_model *m, tr_data *d, const double *y, double *f)
+{
+    double F[3], M[3], fn[3], fm[3];
+    const int off = n_force(m);
+    const int lenbase = m->planar ? TR_YP_LEN : TR_Y_LEN;
+    int i;
+    bp_load(m, d, m->nseg, F, M);
+    anchor_sum(m, d, m->nseg, y, fn, fm);
+    if (m->planar) {
+        const double c = cos(y[TR_YP_TH]), s = sin(y[TR_YP_TH]);
+        f[0] = (y[TR_YP_N1] + fn[0] - (c * F[0] - s * F[2])) / m->F_s;
+        f[1] = (y[TR_YP_N3] + fn[2] - (s * F[0] + c * F[2])) / m->F_s;
+        f[2] = (y[TR_YP_M] + fm[1] - M[1]) / m->M_s;
+    } else {
+        double Fb[3], Mb[3];
+        int c;
+        tru_mattvec3(Fb, y + TR_Y_R, F);
+        tru_mattvec3(Mb, y + TR_Y_R, M);
+        for (c = 0; c < 3; c++) {
+            f[c] = (y[TR_Y_N + c] + fn[c] - Fb[c]) / m->F_s;
+            f[3 + c] = (y[TR_Y_M + c] + fm[c] - Mb[c]) / m->M_s;
+        }
+    }
+    for (i = 0; i < m->nt; i++) {
+        const tr_tendon *t = &m->tendon[i];
+        double E;
+        if (t->control != TR_DISPLACEMENT)
+            continue;
+        E = y[lenbase + (d->rec ? i : t->len_index)] + d->lam_act * t->value + d->beta[i]
+            - (1.0 + (isfinite(t->EA) ? d->tau[i] / t->EA : 0.0)) * t->rest;
+        f[off + t->gamma_index] = E / m->L;
+    }
+}
+
+int tr_residual(const tr_model *m, tr_data *d, const double *x, double *f)
+{
+    int k, status;
+    double *y = d->y;
+    d->rec = 0;
+    d->nfev++;
+    set_tensions(m, d, x);
+    init_state(m, d, x, y, m->n_states);
+    for (k = 0; k < m->nseg; k++) {
+        d->seg = k;
+        status = tr_integrate(m, d, m->bp[k], m->bp[k + 1], tr_segment_steps(m, d, k), y);
+        if (status != TR_OK)
+            return status;
+        if (k + 1 == d->probe_bp)
+            capture_probe(m, d, y);
+        if (k + 1 < m->nseg)
+            apply_jump(m, d, k + 1, y);
+    }
+    tip_residual(m, d, y, f);
+    return isfinite(maxnorm(f, d->k)) ? TR_OK : TR_ENONFINITE;
+}
+
+/* ---------------------------------------------------------------- Newton */
+/* Cold guess: the base reaction from global balance of the straight robot (exact
+ * for the force), and for each displacement-controlled tendon the tension a
+ * straight robot would need for its retraction alone (diagonal small-deflection
+ * estimate q = tau (int rho^2 ds / EI + t / EA + t / EA_backbone)) plus its
+ * pretension; released tendons start slack by -q. */
+static void cold_guess(const tr_model *m, const tr_data *d, double *x)
+{
+    const int off = n_force(m);
+    double F[3] = {0, 0, 0}, M[3] = {0, 0, 0};
+    int i, b, c;
+    memset(x, 0, (size_t)d->k * sizeof(double));
+    for (b = 1; b <= m->nseg; b++) {
+        const double s = m->bp[b];
+        for (c = 0; c < 3; c++) {
+            F[c] += m->bpF[3 * b + c];
+            M[c] += m->bpM[3 * b + c];
+        }
+        /* s e3 x F = s (-Fy, Fx, 0) */
+        M[0] += -s * m->bpF[3 * b + 1];
+        M[1] += s * m->bpF[3 * b + 0];
+    }
+    for (c = 0; c < 3; c++) F[c] += m->L * m->dist[c];
+    M[0] += -0.5 * m->L * m->L * m->dist[1];
+    M[1] += 0.5 * m->L * m->L * m->dist[0];
+    for (c = 0; c < 3; c++) { F[c] *= d->lam_load; M[c] *= d->lam_load; }
+    if (m->planar) {
+        x[0] = F[0] / m->F_s;
+        x[1] = F[2] / m->F_s;
+        x[2] = M[1] / m->M_s;
+    } else {
+        for (c = 0; c < 3; c++) {
+            x[c] = F[c] / m->F_s;
+            x[3 + c] = M[c] / m->M_s;
+        }
+    }
+    for (i = 0; i < m->nt; i++) {
+        const tr_tendon *t = &m->tendon[i];
+        const double q = d->lam_act * t->value;
+        double tau = t->pretension, slack = 0.0, g;
+        if (t->control != TR_DISPLACEMENT)
+            continue;
+        if (q > 0.0) {
+            const double tt = t->t;
+            const double rho2 = t->a * t->a * tt * tt * tt / 3.0 + t->a * t->b * tt * tt + t->b * t->b * tt;
+            const double cmp = rho2 / m->EI + (isfinite(t->EA) ? tt / t->EA : 0.0)
+                             + (m->kirchhoff ? 0.0 : tt / m->EA);
+            if (cmp > 0.0) tau += q / cmp;
+        } else if (q < 0.0 && tau == 0.0) {
+            slack = -q;
+        }
+        if (tau > 0.0) {
+            g = tau / m->tau_s;
+            x[off + t->gamma_index] = d->opt.slack_model == TR_SLACK_SQUARED ? sqrt(g) : g;
+        } else if (slack > 0.0) {
+            g = slack / m->L;
+            x[off + t->gamma_index] = d->opt.slack_model == TR_SLACK_SQUARED ? -sqrt(g) : -g;
+        }
+    }
+}
+
+static int fd_jacobian(const tr_model *m, tr_data *d)
+{
+    const int k = d->k;
+    int i, j, status;
+    for (j = 0; j < k; j++) {
+        double h = TR_FD_H * (fabs(d->x[j]) > 1.0 ? fabs(d->x[j]) : 1.0);
+        memcpy(d->xt, d->x, (size_t)k * sizeof(double));
+        d->xt[j] += h;
+        h = d->xt[j] - d->x[j];
+        status = tr_residual(m, d, d->xt, d->ft);
+        if (status != TR_OK) {
+            /* try the other side */
+            d->xt[j] = d->x[j] - h;
+            status = tr_residual(m, d, d->xt, d->ft);
+            if (status != TR_OK)
+                return status;
+            h = -h;
+        }
+        for (i = 0; i < k; i++)
+            d->J[i * k + j] = (d->ft[i] - d->f[i]) / h;
+    }
+    d->njev++;
+    d->have_J = 1;
+    d->J_fresh = 1;
+    d->J_refresh = 0;
+    return TR_OK;
+}
+
+/* LU of d->J into d->LU.  Returns 0 or -1 if singular. */
+static int factor(tr_data *d)
+{
+    const int k = d->k;
+    int i, signum;
+    double dmax = 0.0, dmin = INFINITY;
+    for (i = 0; i < k * k; i++)
+        d->LU->data[(i / k) * d->LU->tda + i % k] = d->J[i];
+    if (gsl_linalg_LU_decomp(d->LU, d->perm, &signum) != GSL_SUCCESS)
+        return -1;
+    for (i = 0; i < k; i++) {
+        const double a = fabs(gsl_matrix_get(d->LU, i, i));
+        if (a > dmax) dmax = a;
+        if (a < dmin) dmin = a;
+    }
+    if (!(dmin > 1e-300) || !(dmin > 1e-15 * dmax) || !isfinite(dmax))
+        return -1;
+    return 0;
+}
+
+/* res = J^-1 rhs (after factor) */
+static int lu_solve(tr_data *d, const double *rhs, double *res)
+{
+    gsl_vector_const_view b = gsl_vector_const_view_array(rhs, (size_t)d->k);
+    gsl_vector_view xv = gsl_vector_view_array(res, (size_t)d->k);
+    return gsl_linalg_LU_solve(d->LU, d->perm, &b.vector, &xv.vector) == GSL_SUCCESS ? 0 : -1;
+}
+
+int tr_solve_init(const tr_model *m, tr_data *d, const double *guess, const double *jac)
+{
+    const int k = d->k, off = n_force(m);
+    int i, status;
+    if (d->model != m) {
+        tr_set_message(d, "workspace was allocated for a different model");
+        return TR_EINVAL;
+    }
+    if (guess) {
+        double tn[3] = {0, 0, 0}, tm[3] = {0, 0, 0};
+        for (i = 0; i < m->nt; i++) {
+            /* base reaction = backbone force + tendon pulls (see init_state) */
+            const double tau = guess[6 + i] > 0.0 ? guess[6 + i] : 0.0;
+            int c;
+            for (c = 0; c < 3; c++) {
+                tn[c] += tau * m->tendon[i].t0[c];
+                tm[c] += tau * m->tendon[i].rt0[c];
+            }
+        }
+        if (m->planar) {
+            d->x[0] = (guess[0] + tn[0]) / m->F_s;
+            d->x[1] = (guess[2] + tn[2]) / m->F_s;
+            d->x[2] = (guess[4] + tm[1]) / m->M_s;
+        } else {
+            for (i = 0; i < 3; i++) {
+                d->x[i] = (guess[i] + tn[i]) / m->F_s;
+                d->x[3 + i] = (guess[3 + i] + tm[i]) / m->M_s;
+            }
+        }
+        for (i = 0; i < m->nt; i++) {
+            const tr_tendon *t = &m->tendon[i];
+            const double tau = guess[6 + i], sl = guess[6 + m->nt + i];
+            double g = 0.0;
+            if (t->control != TR_DISPLACEMENT)
+                continue;
+            if (tau > 0.0)
+                g = d->opt.slack_model == TR_SLACK_SQUARED ? sqrt(tau / m->tau_s) : tau / m->tau_s;
+            else if (sl > 0.0)
+                g = d->opt.slack_model == TR_SLACK_SQUARED ? -sqrt(sl / m->L) : -sl / m->L;
+            d->x[off + t->gamma_index] = g;
+        }
+        for (i = 0; i < k; i++)
+            if (!isfinite(d->x[i])) {
+                tr_set_message(d, "guess contains a non-finite value");
+                return TR_EINVAL;
+            }
+    } else {
+        cold_guess(m, d, d->x);
+    }
+    d->have_J = d->J_fresh = d->J_refresh = 0;
+    if (jac) {
+        memcpy(d->J, jac, (size_t)k * k * sizeof(double));
+        d->have_J = 1;
+        for (i = 0; i < k * k; i++)
+            if (!isfinite(jac[i])) d->have_J = 0;
+    }
+    status = tr_residual(m, d, d->x, d->f);
+    d->fnorm = maxnorm(d->f, k);
+    if (status != TR_OK)
+        tr_set_message(d, "the residual at the initial guess is not finite (the guess is far "
+                       "from any equilibrium); try no guess, or a guess from a nearby scene");
+    return status;
+}
+
+int tr_solve_test(const tr_model *m, const tr_data *d)
+{
+    (void)m;
+    return d->fnorm <= d->opt.tol ? TR_OK : TR_CONTINUE;
+}
+
+int tr_solve_iterate(const tr_model *m, tr_data *d)
+{
+    const int k = d->k;
+    int attempt, i, j;
+    for (attempt = 0; attempt < 3; attempt++) {
+        double phi0, alpha = 1.0, dmax;
+        int status, accepted;
+        if (!d->have_J || d->J_refresh ||
+            (d->opt.jacobian_method == TR_JAC_NEWTON && !d->J_fresh)) {
+            status = fd_jacobian(m, d);
+            if (status != TR_OK) {
+                tr_set_message(d, "the residual became non-finite while forming the Jacobian");
+                return status;
+            }
+        }
+        if (factor(d) != 0 || lu_solve(d, d->f, d->dx) != 0) {
+            if (!d->J_fresh) { d->J_refresh = 1; continue; }
+            tr_set_message(d, "singular Jacobian at iteration %d (scaled residual %.3g): the "
+                           "unknowns are not determined by the boundary conditions (statically "
+                           "indeterminate tendons, or a tendon whose tension cannot act)",
+                           d->nit, d->fnorm);
+            return TR_ESINGULAR;
+        }
+        for (i = 0; i < k; i++) d->dx[i] = -d->dx[i];
+        dmax = maxnorm(d->dx, k);
+        if (dmax > TR_MAX_STEP)
+            for (i = 0; i < k; i++) d->dx[i] *= TR_MAX_STEP / dmax;
+        phi0 = sumsq(d->f, k);
+        accepted = 0;
+        for (;;) {
+            double phi;
+            if (d->nfev >= d->opt.max_nfev) {
+                tr_set_message(d, "function-evaluation limit (max_nfev = %d) reached at iteration %d "
+                               "(scaled residual %.3g > tol %.3g); raise max_nfev",
+                               d->opt.max_nfev, d->nit, d->fnorm, d->opt.tol);
+                return TR_EMAXFEV;
+            }
+            for (i = 0; i < k; i++) d->xt[i] = d->x[i] + alpha * d->dx[i];
+            status = tr_residual(m, d, d->xt, d->ft);
+            phi = status == TR_OK ? sumsq(d->ft, k) : INFINITY;
+            if (phi <= (1.0 - 2.0 * TR_ARMIJO * alpha) * phi0) {
+                accepted = 1;
+                break;
+            }
+            if (!d->J_fresh) {
+                d->J_refresh = 1;
+                break;
+            }
+            if (isfinite(phi)) {
+                /* minimiser of the quadratic through phi0, slope -2 phi0, phi(alpha) */
+                double an = phi0 * alpha * alpha / (phi - phi0 + 2.0 * phi0 * alpha);
+                if (!(an >= 0.1 * alpha)) an = 0.1 * alpha;
+                if (an > 0.5 * alpha) an = 0.5 * alpha;
+                alpha = an;
+            } else {
+                alpha *= 0.25;
+            }
+            if (alpha < TR_ALPHA_MIN) {
+                tr_set_message(d, "no progress at iteration %d: the line search found no decrease of "
+                               "the scaled residual (%.3g) along the Newton direction; the scene "
+                               "may have no equilibrium nearby (e.g. past a buckling or slack "
+                               "limit), or the guess is poor", d->nit, d->fnorm);
+                return TR_ENOPROGRESS;
+            }
+        }
+        if (!accepted)
+            continue;   /* stale Jacobian rejected: retry with a fresh one */
+        /* accept */
+        {
+            const double ratio = sqrt(sumsq(d->ft, k) / (phi0 > 0.0 ? phi0 : 1.0));
+            if (d->opt.jacobian_method == TR_JAC_FD) {
+                /* good Broyden: J += (dF - J dx) dx^T / (dx^T dx) */
+                double ss = 0.0;
+                for (i = 0; i < k; i++) {
+                    d->xs[i] = d->xt[i] - d->x[i];
+                    ss += d->xs[i] * d->xs[i];
+                }
+                if (ss > 0.0) {
+                    for (i = 0; i < k; i++) {
+                        double r = d->ft[i] - d->f[i];
+                        for (j = 0; j < k; j++) r -= d->J[i * k + j] * d->xs[j];
+                        d->work[i] = r / ss;
+                    }
+                    for (i = 0; i < k; i++)
+                        for (j = 0; j < k; j++)
+                            d->J[i * k + j] += d->work[i] * d->xs[j];
+                }
+            }
+            memcpy(d->x, d->xt, (size_t)k * sizeof(double));
+            memcpy(d->f, d->ft, (size_t)k * sizeof(double));
+            d->fnorm = maxnorm(d->f, k);
+            d->J_fresh = 0;
+            d->J_refresh = ratio > TR_BROYDEN_RATIO;
+            d->nit++;
+            return TR_CONTINUE;
+        }
+    }
+    tr_set_message(d, "no progress at iteration %d even with a fresh Jacobian", d->nit);
+    return TR_ENOPROGRESS;
+}
+
+/* Iterate from the current point until converged or a cap. */
+static int newton_run(const tr_model *m, tr_data *d, int max_iter)
+{
+    int it = 0;
+    for (;;) {
+        int status;
+        if (tr_solve_test(m, d) == TR_OK)
+            return TR_OK;
+        if (it >= max_iter) {
+            tr_set_message(d, "did not converge in %d iterations (scaled residual %.3g > tol %.3g); "
+                           "raise max_iter, or give a guess from a nearby solved scene",
+                           max_iter, d->fnorm, d->opt.tol);
+            return TR_EMAXITER;
+        }
+        status = tr_solve_iterate(m, d);
+        it++;
+        if (status < 0)
+            return status;
+    }
+}
+
+/* Ramp *lamp (d->lam_act or d->lam_load) from its solved value to 1 with an
+ * adaptive step (halve on failure, double on success) and a secant predictor. */
+static int ramp(const tr_model *m, tr_data *d, double *lamp, const char *what)
+{
+    const int k = d->k;
+    const int iter_cap = d->opt.max_iter < TR_CONT_ITER ? d->opt.max_iter : TR_CONT_ITER;
+    double lam = *lamp, dlam = TR_CONT_DLAM0, dlam_prev = 0.0;
+    int have_prev = 0, status, i;
+    while (lam < 1.0) {
+        const double lt = lam + dlam > 1.0 ? 1.0 : lam + dlam;
+        if (d->cont_steps >= d->opt.max_continuation) {
+            tr_set_message(d, "continuation reached only %.4g of the %s in max_continuation = %d "
+                           "steps; raise max_continuation, or the scene may have no equilibrium on "
+                           "this path (e.g. buckling, or a tendon that cannot hold the load)",
+                           lam, what, d->opt.max_continuation);
+            *lamp = lam;
+            return TR_ECONTINUATION;
+        }
+        memcpy(d->xs, d->x, (size_t)k * sizeof(double));
+        memcpy(d->fs, d->f, (size_t)k * sizeof(double));
+        if (have_prev)
+            for (i = 0; i < k; i++)
+                d->x[i] += (d->x[i] - d->xp[i]) * (lt - lam) / dlam_prev;
+        *lamp = lt;
+        status = tr_residual(m, d, d->x, d->f);
+        d->fnorm = maxnorm(d->f, k);
+        if (status == TR_OK)
+            status = newton_run(m, d, iter_cap);
+        d->cont_steps++;
+        if (status == TR_EMAXFEV)
+            return status;
+        if (status == TR_OK) {
+            memcpy(d->xp, d->xs, (size_t)k * sizeof(double));
+            dlam_prev = lt - lam;
+            lam = lt;
+            have_prev = 1;
+            dlam = 2.0 * dlam;
+        } else {
+            memcpy(d->x, d->xs, (size_t)k * sizeof(double));
+            memcpy(d->f, d->fs, (size_t)k * sizeof(double));
+            d->fnorm = maxnorm(d->f, k);
+            *lamp = lam;
+            d->have_J = 0;
+            have_prev = 0;   /* the secant may point across a switch: predict constant */
+            dlam *= 0.5;
+            if (dlam < TR_CONT_DLAM_MIN) {
+                tr_set_message(d, "continuation stalled at %.4g of the %s (step below %g): the "
+                               "scene may have no equilibrium on this path (a limit point, "
+                               "buckling, a tendon that cannot hold the load, or an impossible "
+                               "actuation)", lam, what, TR_CONT_DLAM_MIN);
+                return TR_ECONTINUATION;
+            }
+        }
+    }
+    return TR_OK;
+}
+
+/* Continuation from the unloaded straight robot: first the actuation (loads
+ * off), then the loads -- the order a robot is used in, which keeps an axial
+ * load on a still-straight robot from buckling it on the way. */
+static int continuation_run(const tr_model *m, tr_data *d)
+{
+    int status;
+    d->lam_act = 0.0;
+    d->lam_load = 0.0;
+    cold_guess(m, d, d->x);
+    d->have_J = 0;
+    status = tr_residual(m, d, d->x, d->f);
+    d->fnorm = maxnorm(d->f, d->k);
+    if (status == TR_OK)
+        status = newton_run(m, d, d->opt.max_iter);
+    if (status != TR_OK) {
+        tr_set_message(d, "continuation could not solve the unloaded robot: %s", tr_strerror(status));
+        return TR_ECONTINUATION;
+    }
+    status = ramp(m, d, &d->lam_act, "actuation (tendon displacements and tensions, loads off)");
+    if (status != TR_OK)
+        return status;
+    return ramp(m, d, &d->lam_load, "loads (at full actuation)");
+}
+
+/* Continuation steps use full Newton (fresh Jacobian every iteration): a
+ * Broyden Jacobian carried across a taut/slack switch misleads the step. */
+static int continuation(const tr_model *m, tr_data *d)
+{
+    const int saved = d->opt.jacobian_method;
+    int status;
+    d->opt.jacobian_method = TR_JAC_NEWTON;
+    status = continuation_run(m, d);
+    d->opt.jacobian_method = saved;
+    return status;
+}
+
+/* 1-norm condition number of d->J (inverts through the LU; k is small). */
+static double jac_cond(tr_data *d)
+{
+    const int k = d->k;
+    double nJ = 0.0, nI = 0.0;
+    int i, j;
+    if (k == 0) return 1.0;
+    for (j = 0; j < k; j++) {
+        double c = 0.0;
+        for (i = 0; i < k; i++) c += fabs(d->J[i * k + j]);
+        if (c > nJ) nJ = c;
+    }
+    if (factor(d) != 0)
+        return INFINITY;
+    for (j = 0; j < k; j++) {
+        double c = 0.0;
+        for (i = 0; i < k; i++) d->work[i] = (i == j);
+        if (lu_solve(d, d->work, d->ft) != 0)
+            return INFINITY;
+        for (i = 0; i < k; i++) c += fabs(d->ft[i]);
+        if (c > nI) nI = c;
+    }
+    return nJ * nI;
+}
+
+/* Verify the step count by doubling (steps = 0): the residual at the solution
+ * with twice the steps estimates the truncation error; refine while too big. */
+static int verify_steps(const tr_model *m, tr_data *d)
+{
+    const int k = d->k;
+    const double order = d->opt.integrator == TR_RK4 ? 4.0 : 8.0;
+    int round;
+    for (round = 0; round < 16; round++) {
+        const int N = d->steps;
+        double est;
+        int status, Nn;
+        d->steps = 2 * N;
+        status = tr_residual(m, d, d->x, d->ft);
+        d->steps = N;
+        est = status == TR_OK ? maxnorm(d->ft, k) : INFINITY;
+        d->truncation = est;
+        if (est <= d->opt.tol)
+            return TR_OK;
+        if (2 * N > TR_STEP_CAP) {
+            tr_set_message(d, "converged, but the truncation estimate %.3g stayed above tol %.3g "
+                           "at %d steps; use a higher-order integrator or a looser tol", est,
+                           d->opt.tol, N);
+            return TR_TRUNCATION;
+        }
+        /* predicted factor (Richardson, order p), at least doubling */
+        Nn = 2 * N;
+        if (isfinite(est)) {
+            const double fac = pow(est / (0.25 * d->opt.tol), 1.0 / order);
+            while (Nn < fac * N && 2 * Nn <= TR_STEP_CAP) Nn *= 2;
+        }
+        d->steps = Nn;
+        status = tr_residual(m, d, d->x, d->f);
+        d->fnorm = maxnorm(d->f, k);
+        if (status == TR_OK)
+            status = newton_run(m, d, d->opt.max_iter);
+        if (status != TR_OK)
+            return status;
+    }
+    return TR_TRUNCATION;
+}
+
+int tr_solve(const tr_model *m, tr_data *d, const double *guess, const double *jac)
+{
+    int status;
+    d->nit = d->nfev = d->njev = d->cont_steps = 0;
+    d->message[0] = '\0';
+    d->lam_act = d->lam_load = 1.0;
+    d->truncation = NAN;
+    d->jacobian_cond = NAN;
+    d->probe_bp = -1;
+    d->steps = d->opt.steps > 0 ? d->opt.steps
+             : (d->opt.integrator == TR_RK4 ? TR_AUTO_RK4 : TR_AUTO_RK8);
+    if (d->model != m) {
+        tr_set_message(d, "workspace was allocated for a different model");
+        return d->status = TR_EINVAL;
+    }
+    status = tr_solve_init(m, d, guess, jac);
+    if (status == TR_EINVAL)
+        return d->status = status;
+    if (status == TR_OK)
+        status = newton_run(m, d, d->opt.max_iter);
+    if (status < 0 && status != TR_EMAXFEV && d->opt.continuation && d->opt.max_continuation > 0) {
+        char first[TR_MSGLEN];
+        int st2;
+        memcpy(first, d->message, TR_MSGLEN);
+        st2 = continuation(m, d);
+        if (st2 == TR_OK) {
+            status = TR_OK;
+        } else {
+            char second[TR_MSGLEN];
+            memcpy(second, d->message, TR_MSGLEN);
+            tr_set_message(d, "%s; then %s", first, second);
+            status = st2 == TR_EMAXFEV ? st2 : TR_ECONTINUATION;
+        }
+    }
+    if (status == TR_OK && d->opt.steps == 0 && d->opt.integrator != TR_ADAPTIVE)
+        status = verify_steps(m, d);
+
+    d->jacobian_cond = d->have_J ? jac_cond(d) : NAN;
+    if (status >= 0 && d->jacobian_cond > TR_COND_SINGULAR) {
+        status = TR_ILLCONDITIONED;
+        tr_set_message(d, "converged, but the Jacobian is nearly singular (condition %.3g): the "
+                       "tendon tensions are poorly determined; if opposing inextensible tendons "
+                       "act on an inextensible backbone the problem is statically indeterminate: "
+                       "give the tendons a finite EA or the backbone an extension stiffness",
+                       d->jacobian_cond);
+    } else if (status < 0 && d->jacobian_cond > TR_COND_SINGULAR && m->ndisp >= 2) {
+        char first[TR_MSGLEN];
+        memcpy(first, d->message, TR_MSGLEN);
+        tr_set_message(d, "%s; the Jacobian is nearly singular (condition %.3g): the tendon "
+                       "tensions may be statically indeterminate (give the tendons a finite EA "
+                       "or the backbone an extension stiffness)", first, d->jacobian_cond);
+    }
+    d->residual_norm = d->fnorm;
+    d->lam_act = d->lam_load = 1.0;
+    {
+        const int rs = tr_record(m, d);
+        if (rs != TR_OK && status >= 0) {
+            status = rs;
+            tr_set_message(d, "the recording pass failed: %s", tr_strerror(rs));
+        }
+    }
+    if (status == TR_OK)
+        tr_set_message(d, "converged in %d iterations (scaled residual %.3g <= tol %.3g)",
+                       d->nit, d->residual_norm, d->opt.tol);
+    else if (status == TR_TRUNCATION && d->message[0] == '\0')
+        tr_set_message(d, "%s", tr_strerror(status));
+    return d->status = status;
+}
+
+/* ------------------------------------------------------------- recording */
+static void store_node(const tr_model *m, tr_data *d, int j, const double *y)
+{
+    tr_state_world(m, y, d->pos + 3 * j, d->rot + 9 * j, d->force + 3 * j, d->moment + 3 * j);
+}
+
+int tr_record(const tr_model *m, tr_data *d)
+{
+    const double eps = 1e-12 * m->L;
+    const int nn = d->nnode, lenbase = m->planar ? TR_YP_LEN : TR_Y_LEN;
+    double *y = d->y, scur = 0.0;
+    int j, k = 0, status = TR_OK, i;
+
+    d->rec = 1;
+    set_tensions(m, d, d->x);
+    init_state(m, d, d->x, y, m->n_states_rec);
+#define SEG_STEPS(s0, s1) \
+    ((int)ceil(((s1) - (s0)) / ((m->bp[k + 1] - m->bp[k]) / tr_segment_steps(m, d, k)) - 1e-9) < 1 ? 1 \
+     : (int)ceil(((s1) - (s0)) / ((m->bp[k + 1] - m->bp[k]) / tr_segment_steps(m, d, k)) - 1e-9))
+    for (j = 0; j < nn && status == TR_OK; j++) {
+        const double sj = d->s[j];
+        while (k < m->nseg - 1 && sj > m->bp[k + 1] + eps && status == TR_OK) {
+            d->seg = k;
+            status = tr_integrate(m, d, scur, m->bp[k + 1], SEG_STEPS(scur, m->bp[k + 1]), y);
+            apply_jump(m, d, k + 1, y);
+            scur = m->bp[k + 1];
+            k++;
+        }
+        if (status != TR_OK) break;
+        d->seg = k;
+        if (k < m->nseg - 1 && fabs(sj - m->bp[k + 1]) <= eps) {
+            const int pre = (j + 1 < nn && fabs(d->s[j + 1] - sj) <= eps);
+            status = tr_integrate(m, d, scur, m->bp[k + 1], SEG_STEPS(scur, m->bp[k + 1]), y);
+            scur = m->bp[k + 1];
+            if (!pre) {
+                apply_jump(m, d, k + 1, y);
+                k++;
+            }
+        } else {
+            const double se = sj > m->bp[k + 1] ? m->bp[k + 1] : sj;
+            if (se > scur)
+                status = tr_integrate(m, d, scur, se, SEG_STEPS(scur, se), y);
+            if (se > scur) scur = se;
+        }
+        store_node(m, d, j, y);
+    }
+    while (k < m->nseg && status == TR_OK) {
+        d->seg = k;
+        if (m->bp[k + 1] > scur)
+            status = tr_integrate(m, d, scur, m->bp[k + 1], SEG_STEPS(scur, m->bp[k + 1]), y);
+        scur = m->bp[k + 1];
+        if (k + 1 < m->nseg)
+            apply_jump(m, d, k + 1, y);
+        k++;
+    }
+#undef SEG_STEPS
+    d->nfev++;
+    d->rec = 0;
+    for (i = 0; i < m->nt; i++) {
+        const tr_tendon *t = &m->tendon[i];
+        d->tension[i] = d->tau[i];
+        d->slack[i] = d->beta[i];
+        if (t->control == TR_DISPLACEMENT)
+            d->displacement[i] = t->value;
+        else
+            d->displacement[i] = (1.0 + (isfinite(t->EA) ? d->tau[i] / t->EA : 0.0)) * t->rest
+                                 - y[lenbase + i];
+    }
+    if (status != TR_OK) {
+        for (j = 0; j < 19 * nn; j++) d->s[j] = NAN;
+    }
+    return status;
+}
+
+/* -------------------------------------------------------------- compliance */
+int tr_compliance(const tr_model *m, tr_data *d, double s_probe, double C[36])
+{
+    const int k = d->k;
+    const double hx = TR_CD_H;
+    int pb = -1, b, i, j, q, status;
+    double R0[9];
+    for (b = 1; b <= m->nseg; b++)
+        if (fabs(m->bp[b] - s_probe) <= 1e-12 * m->L) pb = b;
+    if (pb < 0) {
+        tr_set_message(d, "compliance: s = %g m is not a breakpoint of the model (add a zero "
+                       "point load there)", s_probe);
+        return TR_EINVAL;
+    }
+    if (m->planar) {
+        tr_set_message(d, "compliance needs the spatial formulation (force_spatial)");
+        return TR_EINVAL;
+    }
+    d->probe_bp = pb;
+    memset(d->probe, 0, sizeof d->probe);
+    d->lam_act = d->lam_load = 1.0;
+    status = tr_residual(m, d, d->x, d->f);
+    if (status != TR_OK) goto done;
+    memcpy(R0, d->probe_state + 3, sizeof R0);
+    /* d(residual)/dx and d(pose at probe)/dx, central differences */
+    for (j = 0; j < k; j++) {
+        double Yp[12];
+        memcpy(d->xt, d->x, (size_t)k * sizeof(double));
+        d->xt[j] = d->x[j] + hx;
+        status = tr_residual(m, d, d->xt, d->ft);
+        if (status != TR_OK) goto done;
+        memcpy(Yp, d->probe_state, sizeof Yp);
+        for (i = 0; i < k; i++) d->work[i] = d->ft[i];
+        d->xt[j] = d->x[j] - hx;
+        status = tr_residual(m, d, d->xt, d->ft);
+        if (status != TR_OK) goto done;
+        for (i = 0; i < k; i++) d->J[i * k + j] = (d->work[i] - d->ft[i]) / (2.0 * hx);
+        {
+            double dR[9], W[9];
+            for (i = 0; i < 3; i++)
+                d->Yx[i * k + j] = (Yp[i] - d->probe_state[i]) / (2.0 * hx);
+            for (i = 0; i < 9; i++) dR[i] = (Yp[3 + i] - d->probe_state[3 + i]) / (2.0 * hx);
+            /* W = dR R0^T (skew): dtheta = vee(W) */
+            for (i = 0; i < 3; i++)
+                for (q = 0; q < 3; q++)
+                    W[3 * i + q] = dR[3 * i] * R0[3 * q] + dR[3 * i + 1] * R0[3 * q + 1] + dR[3 * i + 2] * R0[3 * q + 2];
+            d->Yx[3 * k + j] = 0.5 * (W[7] - W[5]);
+            d->Yx[4 * k + j] = 0.5 * (W[2] - W[6]);
+            d->Yx[5 * k + j] = 0.5 * (W[3] - W[1]);
+        }
+    }
+    d->njev++;
+    /* d(residual)/d(probe load) */
+    for (q = 0; q < 6; q++) {
+        const double hp = hx * (q < 3 ? m->F_s : m->M_s);
+        memset(d->probe, 0, sizeof d->probe);
+        d->probe[q] = hp;
+        status = tr_residual(m, d, d->x, d->ft);
+        if (status != TR_OK) goto done;
+        for (i = 0; i < k; i++) d->work[i] = d->ft[i];
+        d->probe[q] = -hp;
+        status = tr_residual(m, d, d->x, d->ft);
+        if (status != TR_OK) goto done;
+        for (i = 0; i < k; i++) d->Fp[i * 6 + q] = (d->work[i] - d->ft[i]) / (2.0 * hp);
+    }
+    memset(d->probe, 0, sizeof d->probe);
+    if (factor(d) != 0) {
+        tr_set_message(d, "compliance: the Jacobian at the solution is singular");
+        status = TR_ESINGULAR;
+        goto done;
+    }
+    /* du/dp = -J^-1 Fp; C = Yx du/dp */
+    for (q = 0; q < 6; q++) {
+        for (i = 0; i < k; i++) d->work[i] = -d->Fp[i * 6 + q];
+        if (lu_solve(d, d->work, d->ft) != 0) { status = TR_ESINGULAR; goto done; }
+        for (i = 0; i < 6; i++) {
+            double c = 0.0;
+            for (j = 0; j < k; j++) c += d->Yx[i * k + j] * d->ft[j];
+            C[6 * i + q] = c;
+        }
+    }
+    status = TR_OK;
+done:
+    d->probe_bp = -1;
+    memset(d->probe, 0, sizeof d->probe);
+    if (status != TR_OK && d->message[0] == '\0')
+        tr_set_message(d, "compliance failed: %s", tr_strerror(status));
+    return status;
+}
