@@ -196,12 +196,13 @@ tr_closed_equivalent_stiffness(double k, double k_B)
         return sum > 0.0 ? k_B * k / sum : 0.0;     /* both 0: 0 */
     }
     {
+        /* lo / (1 + lo/hi); where lo/hi < 2^-53 that rounds to lo, and
+         * returning lo directly also avoids an underflow of lo/hi and covers
+         * hi = inf (and lo = hi = inf) exactly. */
         const double lo = k < k_B ? k : k_B;
         const double hi = k < k_B ? k_B : k;
-        if (lo == 0.0)
-            return 0.0;
-        if (isinf(lo))
-            return INFINITY;
+        if (lo <= hi * 0x1p-53)
+            return lo;
         return lo / (1.0 + lo / hi);
     }
 }
