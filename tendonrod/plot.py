@@ -191,12 +191,15 @@ def sigma_vs_zeta(data: dict, ax=None, slope_labels: bool = True):
     ``data`` from :func:`tendonrod.studies.closed_form_sigma_vs_zeta`."""
     ax = _ax(ax)
     z = data["zeta"]
+    import matplotlib as mpl
+
     ax.plot(z, data["no tendon"], "r-", label=r"no tendon ($4\zeta^3$)")
     slopes = [k for k in data if not isinstance(k, str)]
+    cmap = mpl.colormaps["winter"]
     for a in slopes:
         lab = ("parallel, inextensible" if a == 0 else
                "converging ($a=-b/L$)" if a == -1 else f"$aL/b = {a:g}$") if slope_labels else None
-        ax.plot(z, data[a], label=lab)
+        ax.plot(z, data[a], color="b" if len(slopes) == 1 else cmap(min(-a, 1.0)), label=lab)
     ax.set_xlabel(ZETA_LABEL)
     ax.set_ylabel(SIGMA_LABEL + " at the loaded point")
     ax.set_xlim(0, 1)
@@ -441,13 +444,19 @@ def paper_figures():
         d = S.straight_load_sweep(loads=np.linspace(0.0, 3.0, 11 if fast else 31))
         fig = _figure()
         straight_load(d, ax=fig.add_subplot())
+        c = d["converging"]
+        fig._tendonrod_notes = (f"At F L^2/EI = {d['F_nd'][-1]:g}: Cosserat tip deflection / L = "
+                                + ", ".join(f"{k} {d[k]['cosserat'][-1]:.4g} (closed form {d[k]['closed'][-1]:.4g})"
+                                            for k in ("no tendon", "parallel", "converging"))
+                                + f"; with the inextensible converging tendon the tip stays put even at "
+                                  f"large loads (largest |deflection| {np.nanmax(np.abs(c['cosserat'])):.1e} L).")
         return fig
 
     def fig11(fast=False):
         fig = _figure(13, 4.6)
         a1 = fig.add_subplot(1, 3, 1)
         a2 = fig.add_subplot(1, 3, 2)
-        a3 = fig.add_subplot(1, 3, 3, projection="3d")
+        a3 = fig.add_subplot(1, 3, 3)
         notes = []
         for ax, f, name in ((a1, (-0.5, 0.0, 0.0), "transverse"), (a2, (0.0, 0.0, -0.5), "vertical")):
             d = S.prescribed_comparison(theta=math.pi / 2, force=f)
@@ -457,18 +466,15 @@ def paper_figures():
             ax.set_title(f"({'ab'[name == 'vertical']}) {name} 0.5 N tip load", fontsize="small")
             notes.append(f"{name}: tension with displacement held {d['displacement held tension']:.2f} N")
         d = S.out_of_plane_comparison()
-        for key, P in d.items():
-            if key == "unloaded":
-                a3.plot(*np.asarray(P).T, color="0.6", ls=":", label="unloaded")
-            elif key == "tension held":
-                a3.plot(*np.asarray(P).T, label="tension held")
-            elif isinstance(key, tuple) and key[0] == "displacement held":
-                a3.plot(*np.asarray(P).T, label=f"displacement held, $r^2kL/3EI$ = {key[1]:g}")
-        a3.set_xlabel("x [m]")
-        a3.set_ylabel("y [m]")
-        a3.set_zlabel("z [m]")
-        a3.legend(fontsize="x-small")
-        a3.set_title("(c) three tendons, out-of-plane 0.5 N", fontsize="small")
+        cur = {"unloaded": d["unloaded"], "tension held": d["tension held"]}
+        for key, P_ in d.items():
+            if isinstance(key, tuple) and key[0] == "displacement held":
+                cur[f"displacement held, $r^2kL/3EI$ = {key[1]:g}"] = P_
+                notes.append(f"out-of-plane, r^2kL/3EI = {key[1]:g}: tip y = {1e3 * P_[-1, 1]:.2f} mm")
+        notes.append(f"out-of-plane, tension held: tip y = {1e3 * d['tension held'][-1, 1]:.2f} mm")
+        shapes(cur, ax=a3, plane="xy", scale=1e3, unit="mm", styles={"unloaded": {"color": "0.6", "ls": ":"}})
+        a3.set_aspect("auto")
+        a3.set_title("(c) three tendons, out-of-plane 0.5 N (top view)", fontsize="small")
         fig._tendonrod_notes = "; ".join(notes)
         return fig
 
@@ -513,6 +519,10 @@ def paper_figures():
             ax3 = a2.twinx()
             ax3.plot(d["F"], np.degrees(d["locked"]["tip_angle"]), "k:", label="tip angle (displacement held)")
             ax3.set_ylabel("tip angle [deg]")
+            lo, hi = ax3.get_ylim()
+            if hi - lo < 10.0:                  # a held angle: do not magnify round-off
+                mid = 0.5 * (hi + lo)
+                ax3.set_ylim(mid - 5.0, mid + 5.0)
             a2.set_xlabel("tip load F [N] (vertical, downwards)")
             a2.set_ylabel("tip displacement [mm]")
             a2.legend(fontsize="x-small", loc="upper left")
@@ -580,8 +590,9 @@ def paper_figures():
                   "actuated to 90 deg and locked, under a growing downward tip load: the tension falls to "
                   "zero, the tendon goes slack, and the tip then rotates. Cosserat model.",
          make_slack(False)),
-        ("fig18", "Fig. 18: the same with an opposing tendon; both pretensioned (5 N before locking, "
-                  "r^2kL/EI = 8.29e6) so neither goes slack and the tip keeps its orientation.",
+        ("fig18", "Fig. 18: the same with an opposing tendon; both pretensioned (5 N before locking; "
+                  "r^2kL/EI = 1e5: an opposing pair needs some stretch for a defined tension level) so "
+                  "neither goes slack and the tip keeps its orientation.",
          make_slack(True)),
         ("fig20", "Fig. 20: parallel prototype, deflection at the loaded point against load location "
                   "(eq. 8 with the calibrated EI = 11.2e3 N mm^2, k = 4.5 N/mm, L = 201 mm, r = 8 mm). "

@@ -154,12 +154,12 @@ def test_failed_points_recorded_and_sweep_continues():
     assert "offset" in res.message[1, 0] and np.isnan(res["tip_position"][1]).all()
     assert res.success[[0, 2]].all()
     assert [f[0] for f in res.failures()] == [(1, 0), (1, 1)]
-    # non-convergence: one iteration, no continuation, cold starts -- the 90-degree bend
-    # cannot be reached; the straight robot is solved by the zero guess itself
+    # non-convergence: one iteration, no continuation, cold starts -- a tip load of
+    # F L^2/EI = 2.5 cannot be solved in one step; the unloaded robot is solved by the
+    # initial guess itself
     opts = tr.Options(max_iter=1, continuation=False)
-    sc2 = tr.Scene(ivb_robot(), displacement=[0.0])
-    res2 = tr.sweep(sc2, {"displacement[0]": [0.0, 0.01 * math.pi / 2, 0.0]}, grid=False, options=opts,
-                    warm_start=False, progress=False)
+    res2 = tr.sweep(sc, {"loads[0].force": [(0.0, 0.0, 0.0), (-3.0, 0.0, 0.0), (0.0, 0.0, 0.0)]}, grid=False,
+                    options=opts, warm_start=False, progress=False)
     assert res2.status.tolist() == [STATUS_OK, STATUS_NOT_CONVERGED, STATUS_OK]
     assert res2.message[1] and res2.nit[1] >= 1
 
