@@ -45,7 +45,7 @@ class ConvergenceError(RuntimeError):
 
 # --------------------------------------------------------------------------- options
 _INTEGRATORS = ("rk8", "rk4", "adaptive")
-_JACOBIANS = ("fd", "sensitivity")
+_JACOBIANS = ("fd", "newton")
 _SLACK_MODELS = ("linear", "squared")
 
 
@@ -79,9 +79,9 @@ class Options:
         Cap on right-hand-side integrations counted as shooting evaluations, continuation
         included (default 20000: bounds the time of a hopeless solve to well under a second).
     jacobian_method : str
-        ``"fd"`` (default: forward differences in scaled unknowns, robust and cheap for
-        at most 6 + n_tendons unknowns) or ``"sensitivity"`` (forward sensitivities) if
-        the core provides it.
+        ``"fd"`` (default: one forward-difference Jacobian in scaled unknowns, then Broyden
+        updates, refreshed on poor progress: fewest integrations per solve) or ``"newton"``
+        (a fresh forward-difference Jacobian every iteration: more robust, slower).
     slack_model : str
         ``"linear"`` (default: tension = max(gamma, 0), slack = max(-gamma, 0), whose
         Jacobian stays nonsingular at the taut/slack switch) or ``"squared"`` (the
@@ -93,8 +93,11 @@ class Options:
         Cap on continuation stages (default 64: a ramp halved six times).
     nodes : int or array of float
         Output nodes: a count of equally spaced arc lengths on [0, L] (default 101: a
-        smooth plot) or an increasing array of arc lengths [m] in [0, L]. Nodes do not
-        change the integration (the integrator steps are independent of them).
+        smooth plot), to which every interior breakpoint (point load, tendon anchor) is
+        added twice (the states before and after its jump); or a non-decreasing array of
+        arc lengths [m] in [0, L] (a node at a breakpoint gives the state after the jump,
+        unless the next node has the same s). Nodes do not change the integration (the
+        integrator steps are independent of them).
     force_spatial : bool
         Solve a planar scene with the full spatial formulation (default False: planar
         scenes are solved as planar problems, which is faster and gives the same answer).

@@ -166,7 +166,7 @@ def test_loads_validation_and_packing():
     (dict(tol=0.0), "tol"),
     (dict(rtol=math.nan), "rtol"),
     (dict(max_iter=0), "max_iter"),
-    (dict(jacobian_method="exact"), "jacobian_method"),
+    (dict(jacobian_method="sensitivity"), "jacobian_method"),
     (dict(slack_model="cubic"), "slack_model"),
     (dict(nodes=1), "nodes"),
     (dict(nodes=[0.1, 0.05]), "nodes"),
