@@ -128,12 +128,18 @@ typedef struct tr_model {
     double F_s, M_s, tau_s;     /* scales: force EI/L^2 [N], moment EI/L [N m],
                                    tension EI/(r_max L) [N] */
     double xstate_scale[18];    /* absolute scale of each base state (adaptive control) */
+    int scene_status;           /* 0, or why this (well-formed) scene has no unique solution:
+                                   TR_EINDETERMINATE, TR_ENOEQUILIBRIUM, TR_EPRETENSION;
+                                   tr_solve then fails at once with scene_message */
+    char scene_message[512];    /* the message for scene_status */
 } tr_model;
 
 /* Compile a scene.  rod = [L, EI, GJ, EA, GA, kirchhoff]; tendons (nt x 8) rows
  * [b, phi, a, EA, t, control, value, pretension]; loads (nl x 7) rows
- * [s, Fx, Fy, Fz, Mx, My, Mz]; dist (3).  On failure returns a negative status,
- * *out = NULL, and a message in msg (msglen bytes). */
+ * [s, Fx, Fy, Fz, Mx, My, Mz]; dist (3).  On invalid input returns TR_EINVAL (or
+ * TR_ENOMEM), *out = NULL, and a message in msg (msglen bytes).  A well-formed
+ * scene without a unique equilibrium (statically indeterminate tendons, no
+ * equilibrium, meaningless pretension) compiles, with m->scene_status set. */
 int tr_model_alloc(tr_model **out, const double rod[6], const double *tendons, int nt,
                    const double *loads, int nl, const double dist[3],
                    const tr_options *opt, char *msg, size_t msglen);

@@ -19,6 +19,10 @@ int tr_rhs(double s, const double y[], double dyds[], void *params);
  * state y (either layout). */
 void tr_tendon_tangent(const tr_model *m, int i, double s, const double *y,
                        double that[3], double r[3]);
+/* Tendon pulls across a section (see tr_rod.c). */
+void tr_section_pulls(const tr_model *m, const tr_data *d, int seg, double s,
+                      const double nb[3], const double mb[3], double fn[3], double fm[3],
+                      double *J6);
 /* Pose (p (3), R (9)), internal force and moment (world) of a state y. */
 void tr_state_world(const tr_model *m, const double *y, double p[3], double R[9],
                     double n[3], double mom[3]);

@@ -486,10 +486,15 @@ int tr_model_alloc(tr_model **out, const double rod[6], const double *tendons, i
         }
     }
 
-    status = set_rest_lengths(m, msg, msglen);
-    if (status != TR_OK) goto fail;
-    status = check_indeterminate(m, msg, msglen);
-    if (status != TR_OK) goto fail;
+    status = set_rest_lengths(m, m->scene_message, sizeof m->scene_message);
+    if (status == TR_OK)
+        status = check_indeterminate(m, m->scene_message, sizeof m->scene_message);
+    if (status == TR_EINVAL || status == TR_ENOMEM) {
+        msgf(msg, msglen, "%s", m->scene_message);
+        goto fail;
+    }
+    m->scene_status = status;
+    status = TR_OK;
 
     free(cand);
     *out = m;

@@ -319,3 +319,59 @@ void tr_state_world(const tr_model *m, const double *y, double p[3], double R[9]
         tru_matvec3(mom, R, y + TR_Y_M);
     }
 }
+
+/* Pulls of the tendons active on segment seg at s, body frame, for backbone force
+ * nb and moment mb (3-vectors; planar scenes embed as (n1, 0, n3), (0, m2, 0)):
+ * fn = sum tau t^, fm = sum tau r x t^.  If J6 != NULL it receives the 6x6
+ * derivative of (fn, fm) with respect to (nb, mb), row-major. */
+void tr_section_pulls(const tr_model *m, const tr_data *d, int seg, double s,
+                      const double nb[3], const double mb[3], double fn[3], double fm[3],
+                      double *J6)
+{
+    const double kb[3] = {1.0 / m->EI, 1.0 / m->EI, 1.0 / m->GJ};
+    const double ks[3] = {m->kirchhoff ? 0.0 : 1.0 / m->GA, m->kirchhoff ? 0.0 : 1.0 / m->GA,
+                          m->kirchhoff ? 0.0 : 1.0 / m->EA};
+    const double u[3] = {mb[0] * kb[0], mb[1] * kb[1], mb[2] * kb[2]};
+    const double v[3] = {nb[0] * ks[0], nb[1] * ks[1], 1.0 + nb[2] * ks[2]};
+    int c, q, r_, c_;
+    fn[0] = fn[1] = fn[2] = fm[0] = fm[1] = fm[2] = 0.0;
+    if (J6)
+        memset(J6, 0, 36 * sizeof(double));
+    for (c = m->seg_act_start[seg]; c < m->seg_act_start[seg + 1]; c++) {
+        const int i = m->seg_act[c];
+        const tr_tendon *td = &m->tendon[i];
+        const double tau = d->tau[i];
+        const double rho = td->a * s + td->b;
+        const double r[3] = {rho * td->cphi, rho * td->sphi, 0.0};
+        double w[3], nw, th[3], rt[3];
+        if (!(tau > 0.0))
+            continue;
+        tru_cross3(w, u, r);
+        w[0] += v[0] + td->a * td->cphi;
+        w[1] += v[1] + td->a * td->sphi;
+        w[2] += v[2];
+        nw = tru_norm3(w);
+        for (q = 0; q < 3; q++) th[q] = w[q] / nw;
+        tru_cross3(rt, r, th);
+        for (q = 0; q < 3; q++) { fn[q] += tau * th[q]; fm[q] += tau * rt[q]; }
+        if (J6) {
+            /* A = tau (I - t t^T)/|w|;  d(tau t)/dnb = A Kse^-1, d(tau t)/dmb = -A r^ Kbt^-1;
+             * the moment rows are r^ times the force rows */
+            double A[9], S[9], AS[9], SA[9], SAS[9];
+            for (r_ = 0; r_ < 3; r_++)
+                for (c_ = 0; c_ < 3; c_++)
+                    A[3 * r_ + c_] = tau * ((r_ == c_) - th[r_] * th[c_]) / nw;
+            tru_skew3(S, r);
+            tru_matmul3(AS, A, S);
+            tru_matmul3(SA, S, A);
+            tru_matmul3(SAS, S, AS);
+            for (r_ = 0; r_ < 3; r_++)
+                for (c_ = 0; c_ < 3; c_++) {
+                    J6[6 * r_ + c_] += A[3 * r_ + c_] * ks[c_];
+                    J6[6 * r_ + c_ + 3] += -AS[3 * r_ + c_] * kb[c_];
+                    J6[6 * (r_ + 3) + c_] += SA[3 * r_ + c_] * ks[c_];
+                    J6[6 * (r_ + 3) + c_ + 3] += -SAS[3 * r_ + c_] * kb[c_];
+                }
+        }
+    }
+}

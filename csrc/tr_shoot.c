@@ -37,6 +37,8 @@
 #define TR_ARMIJO 1e-4
 /* Smallest line-search step before giving up. */
 #define TR_ALPHA_MIN 1e-6
+/* A stalled scaled residual below this is probably round-off, not a bad model. */
+#define TR_ROUNDOFF_HINT 1e-8
 /* A Broyden step reducing the residual by less than this factor triggers a
  * fresh finite-difference Jacobian. */
 #define TR_BROYDEN_RATIO 0.5
@@ -51,6 +53,8 @@
 #define TR_CONT_DLAM_MIN 1e-4
 /* Iterations per continuation step: Newton from a near point converges in a few. */
 #define TR_CONT_ITER 15
+/* Newton iterations of the implicit jump at a breakpoint (converges in 2-4). */
+#define TR_JUMP_ITER 20
 
 void tr_set_message(tr_data *d, const char *fmt, ...)
 {
@@ -166,26 +170,80 @@ static void anchor_sum(const tr_model *m, const tr_data *d, int b, const double 
     }
 }
 
-/* Jump at interior breakpoint b: n(z+) = n(z-) - P + anchor pulls, same for m. */
+/* Jump at interior breakpoint b.  The whole section (backbone plus tendons)
+ * carries the external load: its force and moment jump by the point load,
+ *   n_b+ + sum_cont tau t^+ = n_b- + sum_all tau t^- - R^T P    (moments alike),
+ * where "all" are the tendons active before b (those anchored at b hand their
+ * pull to the backbone) and "cont" those continuing past it.  Where the jump
+ * changes the strains (a Cosserat rod under a point force, any rod under a point
+ * moment or an anchor), the continuing tendons kink and push on the backbone;
+ * t^+ depends on n_b+, m_b+, so this is a small Newton solve with the matrix of
+ * the right-hand side. */
 static void apply_jump(const tr_model *m, const tr_data *d, int b, double *y)
 {
-    double F[3], M[3], fn[3], fm[3];
+    const double s = m->bp[b];
+    double F[3], M[3], Fb[3], Mb[3], nb[3], mb[3], fn[3], fm[3], Cn[3], Cm[3];
+    int c, it;
     bp_load(m, d, b, F, M);
-    anchor_sum(m, d, b, y, fn, fm);
     if (m->planar) {
-        const double c = cos(y[TR_YP_TH]), s = sin(y[TR_YP_TH]);
-        y[TR_YP_N1] += fn[0] - (c * F[0] - s * F[2]);
-        y[TR_YP_N3] += fn[2] - (s * F[0] + c * F[2]);
-        y[TR_YP_M] += fm[1] - M[1];
+        const double ct = cos(y[TR_YP_TH]), st = sin(y[TR_YP_TH]);
+        Fb[0] = ct * F[0] - st * F[2]; Fb[1] = 0.0; Fb[2] = st * F[0] + ct * F[2];
+        Mb[0] = 0.0; Mb[1] = M[1]; Mb[2] = 0.0;
+        nb[0] = y[TR_YP_N1]; nb[1] = 0.0; nb[2] = y[TR_YP_N3];
+        mb[0] = 0.0; mb[1] = y[TR_YP_M]; mb[2] = 0.0;
     } else {
-        double Fb[3], Mb[3];
-        int c;
         tru_mattvec3(Fb, y + TR_Y_R, F);
         tru_mattvec3(Mb, y + TR_Y_R, M);
+        memcpy(nb, y + TR_Y_N, sizeof nb);
+        memcpy(mb, y + TR_Y_M, sizeof mb);
+    }
+    tr_section_pulls(m, d, b - 1, s, nb, mb, fn, fm, NULL);
+    for (c = 0; c < 3; c++) {
+        Cn[c] = nb[c] + fn[c] - Fb[c];
+        Cm[c] = mb[c] + fm[c] - Mb[c];
+    }
+    /* first guess: the continuing tendons keep their direction */
+    tr_section_pulls(m, d, b, s, nb, mb, fn, fm, NULL);
+    for (c = 0; c < 3; c++) {
+        nb[c] = Cn[c] - fn[c];
+        mb[c] = Cm[c] - fm[c];
+    }
+    for (it = 0; it < TR_JUMP_ITER; it++) {
+        double J6[36], g[6], gmax = 0.0, scale = 0.0;
+        tr_section_pulls(m, d, b, s, nb, mb, fn, fm, J6);
         for (c = 0; c < 3; c++) {
-            y[TR_Y_N + c] += fn[c] - Fb[c];
-            y[TR_Y_M + c] += fm[c] - Mb[c];
+            g[c] = -(nb[c] + fn[c] - Cn[c]) / m->F_s;
+            g[3 + c] = -(mb[c] + fm[c] - Cm[c]) / m->M_s;
+            scale += fabs(Cn[c]) / m->F_s + fabs(Cm[c]) / m->M_s + fabs(fn[c]) / m->F_s;
         }
+        for (c = 0; c < 6; c++)
+            if (fabs(g[c]) > gmax) gmax = fabs(g[c]);
+        if (gmax <= 1e-15 * (1.0 + scale))
+            break;
+        /* (I + J6) dx = g in scaled units: columns of J6 times the unknowns' scales */
+        {
+            double Mx[36];
+            int r_, c_;
+            for (r_ = 0; r_ < 6; r_++)
+                for (c_ = 0; c_ < 6; c_++) {
+                    const double rs = r_ < 3 ? m->F_s : m->M_s, cs = c_ < 3 ? m->F_s : m->M_s;
+                    Mx[6 * r_ + c_] = (r_ == c_) + J6[6 * r_ + c_] * cs / rs;
+                }
+            if (tru_solve_dense(6, Mx, g) != 0)
+                break;
+        }
+        for (c = 0; c < 3; c++) {
+            nb[c] += g[c] * m->F_s;
+            mb[c] += g[3 + c] * m->M_s;
+        }
+    }
+    if (m->planar) {
+        y[TR_YP_N1] = nb[0];
+        y[TR_YP_N3] = nb[2];
+        y[TR_YP_M] = mb[1];
+    } else {
+        memcpy(y + TR_Y_N, nb, sizeof nb);
+        memcpy(y + TR_Y_M, mb, sizeof mb);
     }
 }
 
@@ -497,10 +555,17 @@ int tr_solve_iterate(const tr_model *m, tr_data *d)
                 alpha *= 0.25;
             }
             if (alpha < TR_ALPHA_MIN) {
-                tr_set_message(d, "no progress at iteration %d: the line search found no decrease of "
-                               "the scaled residual (%.3g) along the Newton direction; the scene "
-                               "may have no equilibrium nearby (e.g. past a buckling or slack "
-                               "limit), or the guess is poor", d->nit, d->fnorm);
+                if (d->fnorm < TR_ROUNDOFF_HINT)
+                    tr_set_message(d, "no progress at iteration %d: the scaled residual stalled at "
+                                   "%.3g > tol %.3g, near the round-off level of this scene (large "
+                                   "tensions or stiffness ratios); loosen tol", d->nit, d->fnorm,
+                                   d->opt.tol);
+                else
+                    tr_set_message(d, "no progress at iteration %d: the line search found no "
+                                   "decrease of the scaled residual (%.3g) along the Newton "
+                                   "direction; the scene may have no equilibrium nearby (e.g. past "
+                                   "a buckling or slack limit), or the guess is poor", d->nit,
+                                   d->fnorm);
                 return TR_ENOPROGRESS;
             }
         }
@@ -735,6 +800,16 @@ int tr_solve(const tr_model *m, tr_data *d, const double *guess, const double *j
         tr_set_message(d, "workspace was allocated for a different model");
         return d->status = TR_EINVAL;
     }
+    if (m->scene_status != TR_OK) {
+        int i;
+        tr_set_message(d, "%s", m->scene_message);
+        for (i = 0; i < 19 * d->nnode; i++) d->s[i] = NAN;
+        for (i = 0; i < 3 * m->nt; i++) d->tension[i] = NAN;
+        for (i = 0; i < d->k; i++) d->x[i] = NAN;
+        d->have_J = 0;
+        for (i = 0; i < d->k * d->k; i++) d->J[i] = NAN;
+        return d->status = m->scene_status;
+    }
     status = tr_solve_init(m, d, guess, jac);
     if (status == TR_EINVAL)
         return d->status = status;
@@ -756,6 +831,14 @@ int tr_solve(const tr_model *m, tr_data *d, const double *guess, const double *j
     }
     if (status == TR_OK && d->opt.steps == 0 && d->opt.integrator != TR_ADAPTIVE)
         status = verify_steps(m, d);
+    /* A cold solve returns a fresh finite-difference Jacobian at the solution (the
+     * Broyden-updated one is accurate only along recent steps): it makes the
+     * condition estimate meaningful and warm starts from it Newton-fast.  Warm
+     * solves keep the updated one (it came from a nearby fresh one). */
+    if (status >= 0 && !jac && !d->J_fresh && d->k > 0) {
+        const int fs = fd_jacobian(m, d);
+        if (fs != TR_OK) d->have_J = 0;
+    }
 
     d->jacobian_cond = d->have_J ? jac_cond(d) : NAN;
     if (status >= 0 && d->jacobian_cond > TR_COND_SINGULAR) {
