@@ -495,8 +495,34 @@ class Solution:
     def base_state(self) -> np.ndarray:
         """``[n(0), m(0), tension, slack]`` (6 + 2 ntendon,), world frame, SI: the raw guess format."""
         if self._base is None:
-            self._base = np.concatenate([self.force[0], self.moment[0], self.tension, self.slack])
+            if self.s.shape[0] and self.s[0] == 0.0:
+                n0, m0 = self.force[0], self.moment[0]
+            else:
+                n0, m0 = self._base_from_unknowns()
+            self._base = np.concatenate([n0, m0, self.tension, self.slack])
         return self._base
+
+    def _base_from_unknowns(self):
+        """n(0), m(0) of a tip-only solution from the core's scaled unknowns
+        [(n(0) + sum tau t0)/(EI/L^2), (m(0) + sum tau r0 x t0)/(EI/L), gammas] (planar:
+        [x, z, y] components of the first two); t0 is the tendon's base tangent of the
+        straight robot, as the core uses it to map a guess. Only used as a warm start."""
+        rob = self.scene.robot
+        L, EI = rob.rod.length, rob.rod.bending_stiffness
+        x = np.asarray(self.unknowns, dtype=float)
+        tn, tm = np.zeros(3), np.zeros(3)
+        for i, t in enumerate(rob.tendons):
+            d = np.array([math.cos(t.angle), math.sin(t.angle), 0.0])
+            t0 = (t.slope * d + np.array([0.0, 0.0, 1.0])) / math.hypot(1.0, t.slope)
+            tau = max(float(self.tension[i]), 0.0)
+            tn += tau * t0
+            tm += tau * np.cross(t.offset * d, t0)
+        if self.formulation.planar:
+            N = np.array([x[0], 0.0, x[1]]) * (EI / L ** 2)
+            M = np.array([0.0, x[2], 0.0]) * (EI / L)
+        else:
+            N, M = x[0:3] * (EI / L ** 2), x[3:6] * (EI / L)
+        return N - tn, M - tm
 
     def at(self, s) -> RodState:
         """The state at arc length(s) ``s`` [m] (scalar or 1-D array in [0, L]).

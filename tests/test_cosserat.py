@@ -7,6 +7,7 @@ integrals, a from-scratch planar SciPy shooting solver, and balance laws.
 Sign convention of the closed forms: with the tendon at +x, F > 0 is the world force
 -F e_x, and the deflection is positive toward F (so x = -delta).
 """
+import dataclasses
 import math
 import warnings
 
@@ -586,6 +587,13 @@ def test_formulation_leaves_out_what_is_not_needed():
     assert tip.formulation.tip_only and tip.s.shape == (1,) and tip.s[0] == L17
     full = quiet_solve(tr.Scene(tr.Robot(KIRCH17, [tr.Tendon()]), displacement=[1e-3]))
     np.testing.assert_allclose(tip.tip_position, full.tip_position, atol=1e-14)
+    # a tip-only solution still warm-starts: its base state comes from the core's unknowns
+    for opts in (tr.Options(tip_only=True), tr.Options(tip_only=True, force_spatial=True)):
+        sc = tr.Scene(tr.Robot(KIRCH17, [tr.Tendon(), tr.Tendon.converging(offset=R_OFF, angle=2.0, length=L17)]),
+                      displacement=[5e-3, None], tension=[None, 1.0], loads=[tr.PointLoad(s=L17, force=(0.1, 0, -0.2))])
+        t_only = quiet_solve(sc, options=opts)
+        whole = quiet_solve(sc, options=dataclasses.replace(opts, tip_only=False))
+        np.testing.assert_allclose(t_only.base_state, whole.base_state, atol=1e-12)  # same solve, round-off
 
 
 # =============================================================== warm starts, compliance, errors
