@@ -118,14 +118,19 @@ def bench_scene(name, scene, repeat, max_steps=64):
     warm = tr.solve(scene, guess=near, options=opts, strict=True)
     t_cold, _ = timeit(lambda: tr.solve(scene, options=opts), repeat)
     t_warm, _ = timeit(lambda: tr.solve(scene, guess=near, options=opts), repeat)
-    t_tip, _ = timeit(lambda: tr.solve(scene, guess=near, options=tr.Options(steps=opts.steps, tip_only=True)),
-                      repeat)
+    tip_opts = tr.Options(steps=opts.steps, tip_only=True)
+    t_tip_cold, _ = timeit(lambda: tr.solve(scene, options=tip_opts), repeat)
+    t_tip, _ = timeit(lambda: tr.solve(scene, guess=near, options=tip_opts), repeat)
+    near_d = tr.solve(scaled(scene, 0.99), strict=True)
+    t_cold_d, _ = timeit(lambda: tr.solve(scene), repeat)
+    t_warm_d, _ = timeit(lambda: tr.solve(scene, guess=near_d), repeat)
     return dict(scene=name, formulation=repr(cold.formulation), steps=opts.steps,
                 tip_err=err, auto_steps=auto.formulation.steps, auto_err=auto_err,
                 cold_us=t_cold * 1e6, cold_nfev=cold.nfev, cold_nit=cold.nit,
                 cold_continuation=cold.continuation_steps,
                 warm_us=t_warm * 1e6, warm_nfev=warm.nfev, warm_nit=warm.nit,
-                warm_tip_only_us=t_tip * 1e6)
+                cold_tip_only_us=t_tip_cold * 1e6, warm_tip_only_us=t_tip * 1e6,
+                default_cold_us=t_cold_d * 1e6, default_warm_us=t_warm_d * 1e6)
 
 
 def main(argv=None):
@@ -138,10 +143,12 @@ def main(argv=None):
     for name, sc in scenes().items():
         rows.append(bench_scene(name, sc, repeat))
         r = rows[-1]
-        print(f"{r['scene']:<34s} steps {r['steps']:3d} (err {r['tip_err']:.1e}; auto {r['auto_steps']} "
-              f"-> {r['auto_err']:.1e})  cold {r['cold_us']:8.1f} us (nfev {r['cold_nfev']}, "
-              f"cont {r['cold_continuation']})  warm {r['warm_us']:7.1f} us (nfev {r['warm_nfev']})  "
-              f"warm tip-only {r['warm_tip_only_us']:7.1f} us", flush=True)
+        print(f"{r['scene']:<30s} steps {r['steps']:2d} (err {r['tip_err']:.0e}) | 101 nodes: cold "
+              f"{r['cold_us']:8.1f} (nfev {r['cold_nfev']:4d}, cont {r['cold_continuation']:2d}) warm "
+              f"{r['warm_us']:6.1f} (nfev {r['warm_nfev']}) | tip only: cold {r['cold_tip_only_us']:8.1f} "
+              f"warm {r['warm_tip_only_us']:6.1f} | default Options() (auto {r['auto_steps']} steps, err "
+              f"{r['auto_err']:.0e}): cold {r['default_cold_us']:8.1f} warm {r['default_warm_us']:6.1f}  [us]",
+              flush=True)
     os.makedirs(OUT, exist_ok=True)
     path = os.path.join(OUT, "solve.csv")
     with open(path, "w", newline="") as f:
@@ -156,16 +163,19 @@ def main(argv=None):
         import matplotlib
         matplotlib.use("Agg")
         import matplotlib.pyplot as plt
-        fig, ax = plt.subplots(figsize=(8, 4))
+        fig, ax = plt.subplots(figsize=(9, 5))
         y = np.arange(len(rows))
-        ax.barh(y - 0.2, [r["cold_us"] for r in rows], 0.4, label="cold")
-        ax.barh(y + 0.2, [r["warm_us"] for r in rows], 0.4, label="warm (1 % load step)")
+        w = 0.2
+        ax.barh(y - 1.5 * w, [r["cold_us"] for r in rows], w, label="cold, 101 nodes")
+        ax.barh(y - 0.5 * w, [r["warm_us"] for r in rows], w, label="warm (1 % load step), 101 nodes")
+        ax.barh(y + 0.5 * w, [r["cold_tip_only_us"] for r in rows], w, label="cold, tip only")
+        ax.barh(y + 1.5 * w, [r["warm_tip_only_us"] for r in rows], w, label="warm, tip only")
         ax.axvline(300, color="C0", ls="--", lw=0.8)
         ax.axvline(50, color="C1", ls="--", lw=0.8)
         ax.set_yticks(y, [r["scene"] for r in rows])
         ax.set_xscale("log")
         ax.set_xlabel("median solve time [us] (1e-8 relative tip accuracy)")
-        ax.legend()
+        ax.legend(fontsize=7)
         fig.tight_layout()
         fig.savefig(os.path.join(OUT, "solve.png"), dpi=120)
     except ImportError:  # pragma: no cover
