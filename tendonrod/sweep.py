@@ -287,8 +287,15 @@ def _run_chunk(task: dict) -> dict:
 # --------------------------------------------------------------------------
 def _fingerprint(base, names, point_values, chunksize, measure, build, options, warm_start) -> str:
     def ident(f):
-        return None if f is None else (getattr(f, "__module__", ""), getattr(f, "__qualname__", repr(f)),
-                                       repr(f) if dataclasses.is_dataclass(f) else "")
+        # functions by module + qualified name; callable objects by their class (and, for
+        # dataclasses, their fields) -- never by a repr holding a memory address, which
+        # would change from one process to the next and make every file look foreign
+        if f is None:
+            return None
+        if hasattr(f, "__qualname__"):
+            return (getattr(f, "__module__", ""), f.__qualname__)
+        cls = type(f)
+        return (cls.__module__, cls.__qualname__, repr(f) if dataclasses.is_dataclass(f) else "")
     payload = repr((_FORMAT_VERSION, repr(base), list(names),
                     [[repr(_jsonable(np.asarray(v))) for v in row] for row in point_values],
                     chunksize, ident(measure), ident(build), repr(options), bool(warm_start)))

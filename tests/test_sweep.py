@@ -253,6 +253,23 @@ def test_torn_last_line_and_foreign_file(tmp_path):
     assert other.read_text() == "my notes\n"
 
 
+class PlainMeasure:
+    """A callable object without a stable repr (its default repr holds its address)."""
+
+    def __call__(self, scene, sol):
+        return {"tip": sol.tip_position}
+
+
+def test_resume_with_callable_object_measure(tmp_path):
+    path = tmp_path / "m.jsonl"
+    a = tr.sweep(base_scene(), {"loads[0].force": FORCES[:4]}, grid=False, chunksize=2, measure=PlainMeasure(),
+                 path=path, progress=False)
+    size = path.stat().st_size
+    b = tr.sweep(base_scene(), {"loads[0].force": FORCES[:4]}, grid=False, chunksize=2, measure=PlainMeasure(),
+                 path=path, progress=False)          # a new instance: same sweep, read back
+    assert path.stat().st_size == size and np.array_equal(a["tip"], b["tip"])
+
+
 def test_result_is_picklable_dataclass():
     res = tr.sweep(base_scene(), {"loads[0].force": FORCES[:2]}, grid=False, progress=False)
     back = pickle.loads(pickle.dumps(res))
