@@ -176,3 +176,38 @@ def test_torsion_slope_at_zero_is_the_rod_alone():
         # first step (M_nd = 5e-3): relative deviation O(alpha (r phi / L)^2) < 1e-2 here
         assert phi[1] / M[1] == pytest.approx(1.0, rel=1e-2)
     assert np.nanmax(np.abs(d[1e4][-5:])) < np.max(np.abs(d[10.0][-5:]))  # stiffer tendons twist less
+
+
+def test_torsion_matches_the_exact_helix_solution():
+    # Three symmetric tendons locked at q = 0 under a pure tip torque: the rod stays straight
+    # and twists uniformly (the helical tendons press radially, with no torque about the
+    # axis), each tendon is a helix of length l = sqrt(L^2 + (r phi)^2) with tension
+    # tau = EA (l/L - 1), and the tip balance is M = GJ phi/L + 3 tau r sin(psi),
+    # sin(psi) = r phi / l.  Exact for every twist and tendon stiffness.
+    d = S.torsion_paradox(alphas=(10.0, 1e3, 1e5), n=6, twist_max=0.5)
+    rod = S.paper_rod_ivb()
+    EI, GJ, L, r = rod.bending_stiffness, rod.torsional_stiffness, rod.length, 0.01
+    for a in d["alphas"]:
+        phi = d[a]
+        ell = np.sqrt(L ** 2 + (r * phi) ** 2)
+        tau = S.tendon_EA(a, EI, r) * (ell / L - 1)
+        M_nd = (GJ * phi / L + 3 * tau * r * r * phi / ell) * L / GJ
+        # 1e-9 on M L/GJ <= 0.5: measured 2e-10, the solver's 1e-10 scaled tolerance
+        assert np.allclose(M_nd, d["M_nd"], rtol=0, atol=1e-9)
+        assert np.allclose(d[("tension", a)][:, 0], tau[1:], rtol=1e-8)
+
+
+def test_locked_parallel_90_degrees_is_end_symmetric():
+    # A locked inextensible parallel tendon pins the tip angle (theta_L = q/r), so for
+    # in-plane loads the quarter circle is clamped at the base and rotation-fixed at the tip:
+    # swapping its ends maps x onto z, hence equal transverse and axial tip compliance.
+    d = S.compliance_map(zeta=np.array([1.0]), alpha=np.inf, routings=("parallel",), tension_held=False)
+    sx = d[("parallel", "displacement held", "transverse")][0]
+    sz = d[("parallel", "displacement held", "axial")][0]
+    # 1e-7 relative: the linearisation's accuracy in tr.compliance (~1e-7, measured above)
+    assert sx == pytest.approx(sz, rel=1e-7)
+    act = S.actuate(S.single_tendon_robot(S.paper_rod_ivb()), math.pi / 2)
+    C = tr.compliance(act.locked_scene, guess=act.solution)
+    # tip rotation about y per in-plane force: zero while the tendon is taut; 1e-7 rad/N
+    # against rotation entries of order L^2/EI ~ 0.8 rad/N (the linearisation's accuracy)
+    assert abs(C[4, 0]) < 1e-7 and abs(C[4, 2]) < 1e-7
