@@ -23,6 +23,13 @@
 #include "tru_math.h"
 
 /* ------------------------------------------------------------- spatial */
+/* Per tendon, with t = w/|w|, c_t = tau/|w|, q = r x t (r^ t = q, t^T r^ = -q^T):
+ *   A_i = c_t (I - t t^T)            a_i = A_i (u x w + u x r')
+ *   A_i r^ = c_t (r^ + t q^T)        G = -sum A_i r^
+ *   r^ A_i = c_t (r^ - q t^T)        B = sum r^ A_i
+ *   r^ A_i r^ = c_t (r r^T - |r|^2 I + q q^T),  H = -sum r^ A_i r^
+ * so the loop accumulates a few scalars and outer products, and the matrices are
+ * assembled once. */
 static int rhs_spatial(const tr_model *m, const tr_data *d, double s, const double *y,
                        double *dy)
 {
@@ -31,7 +38,8 @@ static int rhs_spatial(const tr_model *m, const tr_data *d, double s, const doub
     const int kirch = m->kirchhoff;
     const double u[3] = {mb[0] / EI, mb[1] / EI, mb[2] / GJ};
     double v[3] = {0.0, 0.0, 1.0};
-    double Asum[9] = {0}, Gsum[9] = {0}, Bsum[9] = {0}, Hsum[9] = {0};
+    double sc = 0.0, sr2 = 0.0, sr[3] = {0, 0, 0};
+    double TT[9] = {0}, TQ[9] = {0}, RR[9] = {0}, QQ[9] = {0};
     double asum[3] = {0}, bsum[3] = {0};
     double rhs[6], tmp[3], tmp2[3];
     int coupled = 0, j, c;
@@ -50,43 +58,57 @@ static int rhs_spatial(const tr_model *m, const tr_data *d, double s, const doub
         const int i = m->seg_act[c];
         const tr_tendon *td = &m->tendon[i];
         const double rho = td->a * s + td->b;
-        const double r[3] = {rho * td->cphi, rho * td->sphi, 0.0};
-        const double rp[3] = {td->a * td->cphi, td->a * td->sphi, 0.0};
+        const double r0 = rho * td->cphi, r1 = rho * td->sphi;
+        const double rp0 = td->a * td->cphi, rp1 = td->a * td->sphi;
         const double tau = d->tau[i];
         const int slot = d->rec ? i : td->len_index;
-        double w[3], nw, A[9], S[9], AS[9], SA[9], SAS[9], cv[3], ai[3];
-        int q;
-
-        tru_cross3(w, u, r);
-        w[0] += v[0] + rp[0];
-        w[1] += v[1] + rp[1];
-        w[2] += v[2];
-        nw = tru_norm3(w);
+        /* w = v + u x r + r'  (r = (r0, r1, 0)) */
+        const double w0 = v[0] - u[2] * r1 + rp0;
+        const double w1 = v[1] + u[2] * r0 + rp1;
+        const double w2 = v[2] + u[0] * r1 - u[1] * r0;
+        const double nw = sqrt(w0 * w0 + w1 * w1 + w2 * w2);
+        double t[3], q[3], cv[3], ct, tc, ai[3];
         if (slot >= 0)
             dy[TR_Y_LEN + slot] = nw;
         if (!(tau > 0.0))
             continue;
         coupled = 1;
+        t[0] = w0 / nw; t[1] = w1 / nw; t[2] = w2 / nw;
+        ct = tau / nw;
+        /* q = r x t */
+        q[0] = r1 * t[2];
+        q[1] = -r0 * t[2];
+        q[2] = r0 * t[1] - r1 * t[0];
+        /* cv = u x w + u x r' = u x (w + r') */
         {
-            const double cf = tau / (nw * nw * nw), nw2 = nw * nw;
-            A[0] = cf * (nw2 - w[0] * w[0]); A[1] = -cf * w[0] * w[1]; A[2] = -cf * w[0] * w[2];
-            A[3] = A[1]; A[4] = cf * (nw2 - w[1] * w[1]); A[5] = -cf * w[1] * w[2];
-            A[6] = A[2]; A[7] = A[5]; A[8] = cf * (nw2 - w[2] * w[2]);
+            const double e0 = w0 + rp0, e1 = w1 + rp1, e2 = w2;
+            cv[0] = u[1] * e2 - u[2] * e1;
+            cv[1] = u[2] * e0 - u[0] * e2;
+            cv[2] = u[0] * e1 - u[1] * e0;
         }
-        /* a_i = A (u x w + u x r')  (r'' = 0 for linear routing) */
-        tru_cross3(cv, u, w);
-        tru_cross3(tmp, u, rp);
-        cv[0] += tmp[0]; cv[1] += tmp[1]; cv[2] += tmp[2];
-        tru_matvec3(ai, A, cv);
-        tru_cross3(tmp2, r, ai);
-        for (q = 0; q < 3; q++) { asum[q] += ai[q]; bsum[q] += tmp2[q]; }
-        tru_skew3(S, r);
-        tru_matmul3(AS, A, S);
-        tru_matmul3(SAS, S, AS);
-        for (q = 0; q < 9; q++) { Gsum[q] -= AS[q]; Hsum[q] -= SAS[q]; }
-        if (!kirch) {
-            tru_matmul3(SA, S, A);
-            for (q = 0; q < 9; q++) { Asum[q] += A[q]; Bsum[q] += SA[q]; }
+        tc = t[0] * cv[0] + t[1] * cv[1] + t[2] * cv[2];
+        ai[0] = ct * (cv[0] - t[0] * tc);
+        ai[1] = ct * (cv[1] - t[1] * tc);
+        ai[2] = ct * (cv[2] - t[2] * tc);
+        asum[0] += ai[0]; asum[1] += ai[1]; asum[2] += ai[2];
+        /* b_i = r x a_i */
+        bsum[0] += r1 * ai[2];
+        bsum[1] += -r0 * ai[2];
+        bsum[2] += r0 * ai[1] - r1 * ai[0];
+        sc += ct;
+        sr[0] += ct * r0; sr[1] += ct * r1;
+        sr2 += ct * (r0 * r0 + r1 * r1);
+        RR[0] += ct * r0 * r0; RR[1] += ct * r0 * r1; RR[4] += ct * r1 * r1;
+        {
+            int p_, k_;
+            for (p_ = 0; p_ < 3; p_++) {
+                const double ctp = ct * t[p_], cqp = ct * q[p_];
+                for (k_ = 0; k_ < 3; k_++) {
+                    TQ[3 * p_ + k_] += ctp * q[k_];
+                    QQ[3 * p_ + k_] += cqp * q[k_];
+                    TT[3 * p_ + k_] += ctp * t[k_];
+                }
+            }
         }
     }
 
@@ -109,51 +131,71 @@ static int rhs_spatial(const tr_model *m, const tr_data *d, double s, const doub
 
     if (!coupled) {
         memcpy(dy + TR_Y_N, rhs, 6 * sizeof(double));
-    } else if (kirch) {
-        const double kb[3] = {1.0 / EI, 1.0 / EI, 1.0 / GJ};
-        double M3[9], x[3] = {rhs[3], rhs[4], rhs[5]};
-        int r_, c_;
-        for (r_ = 0; r_ < 3; r_++)
-            for (c_ = 0; c_ < 3; c_++)
-                M3[3 * r_ + c_] = (r_ == c_ ? 1.0 : 0.0) + Hsum[3 * r_ + c_] * kb[c_];
-        if (tru_solve_dense(3, M3, x) != 0)
-            return GSL_EBADFUNC;
-        {
-            const double up[3] = {x[0] * kb[0], x[1] * kb[1], x[2] * kb[2]};
-            tru_matvec3(tmp, Gsum, up);
-        }
-        dy[TR_Y_N + 0] = rhs[0] - tmp[0];
-        dy[TR_Y_N + 1] = rhs[1] - tmp[1];
-        dy[TR_Y_N + 2] = rhs[2] - tmp[2];
-        dy[TR_Y_M + 0] = x[0];
-        dy[TR_Y_M + 1] = x[1];
-        dy[TR_Y_M + 2] = x[2];
     } else {
-        const double ks[3] = {1.0 / m->GA, 1.0 / m->GA, 1.0 / m->EA};
         const double kb[3] = {1.0 / EI, 1.0 / EI, 1.0 / GJ};
-        double M6[36];
+        double Gm[9], Hm[9], Sr[9];
         int r_, c_;
-        for (r_ = 0; r_ < 3; r_++)
-            for (c_ = 0; c_ < 3; c_++) {
-                const double id = (r_ == c_ ? 1.0 : 0.0);
-                M6[6 * r_ + c_] = id + Asum[3 * r_ + c_] * ks[c_];
-                M6[6 * r_ + c_ + 3] = Gsum[3 * r_ + c_] * kb[c_];
-                M6[6 * (r_ + 3) + c_] = Bsum[3 * r_ + c_] * ks[c_];
-                M6[6 * (r_ + 3) + c_ + 3] = id + Hsum[3 * r_ + c_] * kb[c_];
+        RR[3] = RR[1];
+        tru_skew3(Sr, sr);
+        for (r_ = 0; r_ < 9; r_++) {
+            Gm[r_] = -(Sr[r_] + TQ[r_]);
+            Hm[r_] = -RR[r_] - QQ[r_];
+        }
+        Hm[0] += sr2; Hm[4] += sr2; Hm[8] += sr2;
+        if (kirch) {
+            /* (I + H K_bt^-1) m' = rhs2 (Cramer), n' = rhs1 - G K_bt^-1 m' */
+            double M3[9], x[3], det;
+            for (r_ = 0; r_ < 3; r_++)
+                for (c_ = 0; c_ < 3; c_++)
+                    M3[3 * r_ + c_] = (r_ == c_ ? 1.0 : 0.0) + Hm[3 * r_ + c_] * kb[c_];
+            {
+                const double c00 = M3[4] * M3[8] - M3[5] * M3[7];
+                const double c01 = M3[5] * M3[6] - M3[3] * M3[8];
+                const double c02 = M3[3] * M3[7] - M3[4] * M3[6];
+                det = M3[0] * c00 + M3[1] * c01 + M3[2] * c02;
+                if (!(fabs(det) > 0.0))
+                    return GSL_EBADFUNC;
+                x[0] = (c00 * rhs[3] + (M3[2] * M3[7] - M3[1] * M3[8]) * rhs[4]
+                        + (M3[1] * M3[5] - M3[2] * M3[4]) * rhs[5]) / det;
+                x[1] = (c01 * rhs[3] + (M3[0] * M3[8] - M3[2] * M3[6]) * rhs[4]
+                        + (M3[2] * M3[3] - M3[0] * M3[5]) * rhs[5]) / det;
+                x[2] = (c02 * rhs[3] + (M3[1] * M3[6] - M3[0] * M3[7]) * rhs[4]
+                        + (M3[0] * M3[4] - M3[1] * M3[3]) * rhs[5]) / det;
             }
-        if (tru_solve_dense(6, M6, rhs) != 0)
-            return GSL_EBADFUNC;
-        memcpy(dy + TR_Y_N, rhs, 6 * sizeof(double));
+            {
+                const double up[3] = {x[0] * kb[0], x[1] * kb[1], x[2] * kb[2]};
+                tru_matvec3(tmp, Gm, up);
+            }
+            dy[TR_Y_N + 0] = rhs[0] - tmp[0];
+            dy[TR_Y_N + 1] = rhs[1] - tmp[1];
+            dy[TR_Y_N + 2] = rhs[2] - tmp[2];
+            dy[TR_Y_M + 0] = x[0];
+            dy[TR_Y_M + 1] = x[1];
+            dy[TR_Y_M + 2] = x[2];
+        } else {
+            const double ks[3] = {1.0 / m->GA, 1.0 / m->GA, 1.0 / m->EA};
+            double M6[36];
+            for (r_ = 0; r_ < 3; r_++)
+                for (c_ = 0; c_ < 3; c_++) {
+                    const double id = (r_ == c_ ? 1.0 : 0.0);
+                    /* A = sc I - TT;  B = r^ sum - Q T^T = Sr - TQ^T */
+                    const double Arc = sc * id - TT[3 * r_ + c_];
+                    const double Brc = Sr[3 * r_ + c_] - TQ[3 * c_ + r_];
+                    M6[6 * r_ + c_] = id + Arc * ks[c_];
+                    M6[6 * r_ + c_ + 3] = Gm[3 * r_ + c_] * kb[c_];
+                    M6[6 * (r_ + 3) + c_] = Brc * ks[c_];
+                    M6[6 * (r_ + 3) + c_ + 3] = id + Hm[3 * r_ + c_] * kb[c_];
+                }
+            if (tru_solve_dense(6, M6, rhs) != 0)
+                return GSL_EBADFUNC;
+            memcpy(dy + TR_Y_N, rhs, 6 * sizeof(double));
+        }
     }
 
-    /* kinematics: p' = R v, R' = R u^ */
+    /* kinematics: p' = R v, R' = R u^  (row j of R u^ = R_j x u) */
     tru_matvec3(dy + TR_Y_P, R, v);
-    for (j = 0; j < 3; j++) {
-        const double *Rj = R + 3 * j;
-        double *dRj = dy + TR_Y_R + 3 * j;
-        /* row j of R u^ : (R u^)_{jk} = sum_l R_jl (u^)_lk = (Rj x u)_k */
-        tru_cross3(dRj, Rj, u);
-    }
+    for (j = 0; j < 3; j++)
+        tru_cross3(dy + TR_Y_R + 3 * j, R + 3 * j, u);
     return GSL_SUCCESS;
 }
 

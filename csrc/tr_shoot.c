@@ -48,6 +48,12 @@
 #define TR_AUTO_RK8 4
 #define TR_AUTO_RK4 32
 #define TR_STEP_CAP 65536
+/* Recording pass: RK4 steps of at most this fraction of the rk8 shooting step. */
+#define TR_RECORD_RK4_FRACTION 8.0
+#define TR_RECORD_RK4_MIN_STEPS 100.0
+/* ... and is redone with rk8 if its tip differs from the shooting tip by more than
+ * this many times tol (scaled states): 1e-8 at the default tol. */
+#define TR_RECORD_TOL_FACTOR 100.0
 /* Continuation: first step and smallest step in lambda. */
 #define TR_CONT_DLAM0 0.25
 #define TR_CONT_DLAM_MIN 1e-4
@@ -878,24 +884,49 @@ static void store_node(const tr_model *m, tr_data *d, int j, const double *y)
     tr_state_world(m, y, d->pos + 3 * j, d->rot + 9 * j, d->force + 3 * j, d->moment + 3 * j);
 }
 
-int tr_record(const tr_model *m, tr_data *d)
+/* Integrate a span [s0, s1] of segment k in the recording pass with at least the
+ * accuracy of the shooting steps.  Fixed-step rk8: where nodes are dense, a few
+ * classical RK4 steps of at most an eighth of the shooting step cost less than
+ * one 13-stage rk8 step and stay as accurate (error ~ (h/8)^4 against h^8 for
+ * the curvatures of a robot); where nodes are sparse, rk8 at the shooting step. */
+static int record_span(const tr_model *m, tr_data *d, double s0, double s1, int k, double *y,
+                       int allow_rk4, int *used_rk4)
+{
+    const double len = s1 - s0;
+    const double h = (m->bp[k + 1] - m->bp[k]) / tr_segment_steps(m, d, k);
+    int n8, n4, status;
+    if (!(len > 0.0))
+        return TR_OK;
+    n8 = (int)ceil(len / h - 1e-9);
+    if (n8 < 1) n8 = 1;
+    if (d->opt.integrator != TR_RK8)
+        return tr_integrate(m, d, s0, s1, n8, y);
+    n4 = (int)ceil(len / fmin(h / TR_RECORD_RK4_FRACTION, m->L / TR_RECORD_RK4_MIN_STEPS) - 1e-9);
+    if (n4 < 1) n4 = 1;
+    if (!allow_rk4 || 4 * n4 >= 13 * n8)
+        return tr_integrate(m, d, s0, s1, n8, y);
+    *used_rk4 = 1;
+    d->opt.integrator = TR_RK4;
+    status = tr_integrate(m, d, s0, s1, n4, y);
+    d->opt.integrator = TR_RK8;
+    return status;
+}
+
+static int record_pass(const tr_model *m, tr_data *d, int allow_rk4, int *used)
 {
     const double eps = 1e-12 * m->L;
     const int nn = d->nnode, lenbase = m->planar ? TR_YP_LEN : TR_Y_LEN;
     double *y = d->y, scur = 0.0;
-    int j, k = 0, status = TR_OK, i;
+    int j, k = 0, status = TR_OK, i, used_rk4 = 0;
 
     d->rec = 1;
     set_tensions(m, d, d->x);
     init_state(m, d, d->x, y, m->n_states_rec);
-#define SEG_STEPS(s0, s1) \
-    ((int)ceil(((s1) - (s0)) / ((m->bp[k + 1] - m->bp[k]) / tr_segment_steps(m, d, k)) - 1e-9) < 1 ? 1 \
-     : (int)ceil(((s1) - (s0)) / ((m->bp[k + 1] - m->bp[k]) / tr_segment_steps(m, d, k)) - 1e-9))
     for (j = 0; j < nn && status == TR_OK; j++) {
         const double sj = d->s[j];
         while (k < m->nseg - 1 && sj > m->bp[k + 1] + eps && status == TR_OK) {
             d->seg = k;
-            status = tr_integrate(m, d, scur, m->bp[k + 1], SEG_STEPS(scur, m->bp[k + 1]), y);
+            status = record_span(m, d, scur, m->bp[k + 1], k, y, allow_rk4, &used_rk4);
             apply_jump(m, d, k + 1, y);
             scur = m->bp[k + 1];
             k++;
@@ -904,7 +935,7 @@ int tr_record(const tr_model *m, tr_data *d)
         d->seg = k;
         if (k < m->nseg - 1 && fabs(sj - m->bp[k + 1]) <= eps) {
             const int pre = (j + 1 < nn && fabs(d->s[j + 1] - sj) <= eps);
-            status = tr_integrate(m, d, scur, m->bp[k + 1], SEG_STEPS(scur, m->bp[k + 1]), y);
+            status = record_span(m, d, scur, m->bp[k + 1], k, y, allow_rk4, &used_rk4);
             scur = m->bp[k + 1];
             if (!pre) {
                 apply_jump(m, d, k + 1, y);
@@ -913,7 +944,7 @@ int tr_record(const tr_model *m, tr_data *d)
         } else {
             const double se = sj > m->bp[k + 1] ? m->bp[k + 1] : sj;
             if (se > scur)
-                status = tr_integrate(m, d, scur, se, SEG_STEPS(scur, se), y);
+                status = record_span(m, d, scur, se, k, y, allow_rk4, &used_rk4);
             if (se > scur) scur = se;
         }
         store_node(m, d, j, y);
@@ -921,13 +952,12 @@ int tr_record(const tr_model *m, tr_data *d)
     while (k < m->nseg && status == TR_OK) {
         d->seg = k;
         if (m->bp[k + 1] > scur)
-            status = tr_integrate(m, d, scur, m->bp[k + 1], SEG_STEPS(scur, m->bp[k + 1]), y);
+            status = record_span(m, d, scur, m->bp[k + 1], k, y, allow_rk4, &used_rk4);
         scur = m->bp[k + 1];
         if (k + 1 < m->nseg)
             apply_jump(m, d, k + 1, y);
         k++;
     }
-#undef SEG_STEPS
     d->nfev++;
     d->rec = 0;
     for (i = 0; i < m->nt; i++) {
@@ -940,8 +970,32 @@ int tr_record(const tr_model *m, tr_data *d)
             d->displacement[i] = (1.0 + (isfinite(t->EA) ? d->tau[i] / t->EA : 0.0)) * t->rest
                                  - y[lenbase + i];
     }
+    *used = used_rk4;
     if (status != TR_OK) {
         for (j = 0; j < 19 * nn; j++) d->s[j] = NAN;
+    }
+    return status;
+}
+
+/* The recording pass; if it took RK4 shortcuts (dense nodes), its tip is checked
+ * against the shooting integration's tip and the pass is redone at the shooting
+ * steps when they differ by more than TR_RECORD_TOL_FACTOR x tol (scaled). */
+int tr_record(const tr_model *m, tr_data *d)
+{
+    int used = 0, status = record_pass(m, d, 1, &used);
+    if (status == TR_OK && used) {
+        double diff = 0.0;
+        int i;
+        memcpy(d->k4, d->y, (size_t)m->n_base * sizeof(double));
+        status = tr_residual(m, d, d->x, d->ft);
+        if (status != TR_OK)
+            return record_pass(m, d, 0, &used);
+        for (i = 0; i < m->n_base; i++) {
+            const double e = fabs(d->k4[i] - d->y[i]) / m->xstate_scale[i];
+            if (e > diff) diff = e;
+        }
+        if (!(diff <= TR_RECORD_TOL_FACTOR * d->opt.tol))
+            status = record_pass(m, d, 0, &used);
     }
     return status;
 }
