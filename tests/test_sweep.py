@@ -80,7 +80,8 @@ def series(scenes, chunksize, options=None, measure=tip_measure):
 def test_equals_series_bitwise_and_shapes():
     sc = base_scene()
     res = tr.sweep(sc, {"loads[0].force": FORCES}, grid=False, chunksize=3, progress=False)
-    ref = series([set_path(sc, "loads[0].force", f) for f in FORCES], 3)
+    # the default measure reads tip quantities only, so the sweep solves with tip_only=True
+    ref = series([set_path(sc, "loads[0].force", f) for f in FORCES], 3, options=tr.Options(tip_only=True))
     assert res.shape == (8,) and res.success.all()
     for i, (ok, m) in enumerate(ref):
         assert ok
@@ -223,13 +224,14 @@ def test_resume_after_sigkill(tmp_path, monkeypatch):
     assert sorted(chunks) == list(range(12))             # every chunk exactly once
     # an uninterrupted run (no file) gives bitwise the same result
     base, vary = sweep_worker.args()
-    full = tr.sweep(base, vary, grid=False, chunksize=2, progress=False)
+    # (options as the resumed run had them: a custom measure gets the default Options())
+    full = tr.sweep(base, vary, grid=False, chunksize=2, options=tr.Options(), progress=False)
     assert resumed.success.all()
     for k in full.data:
         assert np.array_equal(resumed[k], full[k]), k
     # a second call reads everything and solves nothing
     again = tr.sweep(base, vary, grid=False, chunksize=2, measure=sweep_worker.slow_measure,
-                     path=str(path), progress=False)
+                     path=str(path), progress=False)     # same sweep: nothing left to run
     assert path.read_bytes() == after
     assert all(np.array_equal(again[k], full[k]) for k in full.data)
 
