@@ -179,6 +179,9 @@ typedef struct tr_data {
     gsl_odeiv2_step *ad_step_shoot, *ad_step_rec;
     gsl_odeiv2_control *ad_ctl_shoot, *ad_ctl_rec;
     gsl_odeiv2_evolve *ad_ev_shoot, *ad_ev_rec;
+    /* cold guess (small-deflection linear model) */
+    double *lin;                /* (ndisp^2 + ndisp^2 + 2 ndisp) scratch */
+    int *lin_act;               /* (2 ndisp) active set / index map */
     /* compliance */
     double *Yx;                 /* (6 x k) d(output)/d(unknowns) */
     double *Fp;                 /* (k x 6) d(residual)/d(probe load) */

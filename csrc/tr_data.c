@@ -31,6 +31,8 @@ void tr_data_free(tr_data *d)
     if (d->ad_ev_shoot) gsl_odeiv2_evolve_free(d->ad_ev_shoot);
     if (d->ad_ev_rec) gsl_odeiv2_evolve_free(d->ad_ev_rec);
     free(d->Yx);
+    free(d->lin);
+    free(d->lin_act);
     free(d->s);
     free(d);
 }
@@ -90,7 +92,9 @@ tr_data *tr_data_alloc(const tr_model *m, const tr_options *opt, int nnode,
     d->tau = (double *)calloc((size_t)(2 * nt + 3 * nt + 1), sizeof(double));
     d->y = (double *)calloc((size_t)7 * nsr, sizeof(double));
     d->Yx = (double *)calloc((size_t)12 * k, sizeof(double));
-    if (!d->x || !d->J || !d->LU || !d->perm || !d->tau || !d->y || !d->Yx)
+    d->lin = (double *)calloc((size_t)(2 * m->ndisp * m->ndisp + 2 * m->ndisp + 1), sizeof(double));
+    d->lin_act = (int *)calloc((size_t)(2 * m->ndisp + 1), sizeof(int));
+    if (!d->lin || !d->lin_act || !d->x || !d->J || !d->LU || !d->perm || !d->tau || !d->y || !d->Yx)
         goto nomem;
     d->f = d->x + k; d->xt = d->x + 2 * k; d->ft = d->x + 3 * k; d->dx = d->x + 4 * k;
     d->xs = d->x + 5 * k; d->xp = d->x + 6 * k; d->fs = d->x + 7 * k; d->work = d->x + 8 * k;

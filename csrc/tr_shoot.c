@@ -317,16 +317,59 @@ int tr_residual(const tr_model *m, tr_data *d, const double *x, double *f)
 }
 
 /* ---------------------------------------------------------------- Newton */
-/* Cold guess: the base reaction from global balance of the straight robot (exact
- * for the force), and for each displacement-controlled tendon the tension a
- * straight robot would need for its retraction alone (diagonal small-deflection
- * estimate q = tau (int rho^2 ds / EI + t / EA + t / EA_backbone)) plus its
- * pretension; released tendons start slack by -q. */
-static void cold_guess(const tr_model *m, const tr_data *d, double *x)
+/* int_0^T r_i . r_j ds for linear routings (body frame, straight robot). */
+static double rr_integral(const tr_tendon *ti, const tr_tendon *tj, double T)
 {
-    const int off = n_force(m);
+    const double cdp = ti->cphi * tj->cphi + ti->sphi * tj->sphi;
+    return cdp * (ti->a * tj->a * T * T * T / 3.0 + 0.5 * (ti->a * tj->b + tj->a * ti->b) * T * T
+                  + ti->b * tj->b * T);
+}
+
+/* int_0^T (m1 r_i2 - m2 r_i1) ds, m = moment of the loads distal of s about the
+ * centreline of the straight robot (world = body): the path-length change the
+ * loads alone cause is this / EI.  Integrands are polynomials of degree <= 3 in s on
+ * each piece: 2-point Gauss-Legendre is exact. */
+static double load_path_integral(const tr_model *m, const tr_data *d, const tr_tendon *ti, double T)
+{
+    const double gx[2] = {0.5 - 0.5 / sqrt(3.0), 0.5 + 0.5 / sqrt(3.0)};
+    double sum = 0.0;
+    int b, g;
+    for (b = 1; b <= m->nseg; b++) {
+        const double z = m->bp[b], top = z < T ? z : T;
+        const double *F = m->bpF + 3 * b, *M = m->bpM + 3 * b;
+        if (F[0] == 0.0 && F[1] == 0.0 && M[0] == 0.0 && M[1] == 0.0)
+            continue;
+        for (g = 0; g < 2; g++) {
+            const double s = gx[g] * top, rho = ti->a * s + ti->b;
+            const double m1 = -(z - s) * F[1] + M[0], m2 = (z - s) * F[0] + M[1];
+            sum += 0.5 * top * (m1 * rho * ti->sphi - m2 * rho * ti->cphi);
+        }
+    }
+    if (m->has_dist) {
+        for (g = 0; g < 2; g++) {
+            const double s = gx[g] * T, rho = ti->a * s + ti->b, h = 0.5 * (m->L - s) * (m->L - s);
+            const double m1 = -h * m->dist[1], m2 = h * m->dist[0];
+            sum += 0.5 * T * (m1 * rho * ti->sphi - m2 * rho * ti->cphi);
+        }
+    }
+    return d->lam_load * sum;
+}
+
+/* Cold guess: the base reaction from global balance of the straight robot (exact
+ * for the force); the tensions from the small-deflection linear model about the
+ * straight robot (MODEL.md "links to the closed forms"):
+ *   sum_j C_ij tau_j = q_i + (load term)_i - sum_{j tension-controlled} C_ij tau_j,
+ *   C_ij = int r_i.r_j / EI + delta_ij t_i/EA_i + min(t_i, t_j)/EA_backbone,
+ * with an active set for slack tendons (negative tension -> slack, re-solve); the
+ * tensions are offsets from the pretensions.  If that system is singular (an
+ * indeterminate set) each tendon gets its own diagonal estimate. */
+static void cold_guess(const tr_model *m, tr_data *d, double *x)
+{
+    const int off = n_force(m), nd = m->ndisp;
     double F[3] = {0, 0, 0}, M[3] = {0, 0, 0};
-    int i, b, c;
+    double *C = d->lin, *rhs = d->lin + nd * nd, *sol = rhs + nd, *A = sol + nd;
+    int *act = d->lin_act, *map = d->lin_act + nd;
+    int i, j, b, c, round;
     memset(x, 0, (size_t)d->k * sizeof(double));
     for (b = 1; b <= m->nseg; b++) {
         const double s = m->bp[b];
@@ -352,29 +395,102 @@ static void cold_guess(const tr_model *m, const tr_data *d, double *x)
             x[3 + c] = M[c] / m->M_s;
         }
     }
+    if (nd == 0)
+        return;
+    /* the linear system over displacement-controlled tendons */
+    for (i = 0; i < m->nt; i++) {
+        const tr_tendon *ti = &m->tendon[i];
+        int ii = ti->gamma_index;
+        if (ti->control != TR_DISPLACEMENT)
+            continue;
+        rhs[ii] = d->lam_act * ti->value + load_path_integral(m, d, ti, ti->t) / m->EI;
+        for (j = 0; j < m->nt; j++) {
+            const tr_tendon *tj = &m->tendon[j];
+            const double T = ti->t < tj->t ? ti->t : tj->t;
+            double cij = rr_integral(ti, tj, T) / m->EI + (m->kirchhoff ? 0.0 : T / m->EA);
+            if (i == j && isfinite(ti->EA))
+                cij += ti->t / ti->EA;
+            if (tj->control == TR_DISPLACEMENT)
+                C[ii * nd + tj->gamma_index] = cij;
+            else
+                rhs[ii] -= cij * d->lam_act * tj->value;
+        }
+        act[ii] = 1;
+    }
+    for (round = 0; round <= nd; round++) {
+        int na = 0, neg = 0, ok;
+        for (i = 0; i < nd; i++)
+            if (act[i]) map[na++] = i;
+        for (i = 0; i < na; i++) {
+            for (j = 0; j < na; j++)
+                A[i * na + j] = C[map[i] * nd + map[j]];
+            sol[i] = rhs[map[i]];
+        }
+        ok = na == 0 || tru_solve_dense(na, A, sol) == 0;
+        for (i = 0; ok && i < na; i++)
+            if (!isfinite(sol[i]) || fabs(sol[i]) > 1e6 * m->tau_s) ok = 0;
+        if (!ok) {
+            /* singular: diagonal estimates */
+            for (i = 0; i < nd; i++) {
+                act[i] = C[i * nd + i] > 0.0 && rhs[i] > 0.0;
+                sol[i] = act[i] ? rhs[i] / C[i * nd + i] : 0.0;
+                map[i] = i;
+            }
+            na = nd;
+            for (i = 0; i < nd; i++) A[i] = sol[i];
+            for (i = 0; i < nd; i++) sol[i] = act[i] ? A[i] : 0.0;
+            break;
+        }
+        /* scatter, drop the most negative tension */
+        {
+            double worst = 0.0;
+            int wi = -1;
+            for (i = 0; i < na; i++)
+                if (sol[i] < worst) { worst = sol[i]; wi = map[i]; }
+            if (wi >= 0) { act[wi] = 0; neg = 1; }
+            for (i = 0; i < nd; i++) A[i] = 0.0;
+            for (i = 0; i < na; i++) A[map[i]] = sol[i];
+            for (i = 0; i < nd; i++) sol[i] = A[i];
+        }
+        if (!neg)
+            break;
+    }
     for (i = 0; i < m->nt; i++) {
         const tr_tendon *t = &m->tendon[i];
-        const double q = d->lam_act * t->value;
-        double tau = t->pretension, slack = 0.0, g;
+        const int ii = t->gamma_index;
+        double tau, g;
         if (t->control != TR_DISPLACEMENT)
             continue;
-        if (q > 0.0) {
-            const double tt = t->t;
-            const double rho2 = t->a * t->a * tt * tt * tt / 3.0 + t->a * t->b * tt * tt + t->b * t->b * tt;
-            const double cmp = rho2 / m->EI + (isfinite(t->EA) ? tt / t->EA : 0.0)
-                             + (m->kirchhoff ? 0.0 : tt / m->EA);
-            if (cmp > 0.0) tau += q / cmp;
-        } else if (q < 0.0 && tau == 0.0) {
-            slack = -q;
-        }
+        tau = t->pretension + (act[ii] ? sol[ii] : 0.0);
         if (tau > 0.0) {
             g = tau / m->tau_s;
-            x[off + t->gamma_index] = d->opt.slack_model == TR_SLACK_SQUARED ? sqrt(g) : g;
-        } else if (slack > 0.0) {
-            g = slack / m->L;
-            x[off + t->gamma_index] = d->opt.slack_model == TR_SLACK_SQUARED ? -sqrt(g) : -g;
+            x[off + ii] = d->opt.slack_model == TR_SLACK_SQUARED ? sqrt(g) : g;
+        } else {
+            /* slack = what the taut tendons leave of its constraint */
+            double sl = -rhs[ii];
+            for (j = 0; j < nd; j++) sl += C[ii * nd + j] * (act[j] ? sol[j] : 0.0);
+            if (sl < 0.0) sl = 0.0;
+            g = sl / m->L;
+            x[off + ii] = d->opt.slack_model == TR_SLACK_SQUARED ? -sqrt(g) : -g;
         }
     }
+}
+
+/* One forward-difference column j of the Jacobian at d->x (d->f). */
+static int fd_column(const tr_model *m, tr_data *d, int j)
+{
+    const int k = d->k;
+    int i, status;
+    double h = TR_FD_H * (fabs(d->x[j]) > 1.0 ? fabs(d->x[j]) : 1.0);
+    memcpy(d->xt, d->x, (size_t)k * sizeof(double));
+    d->xt[j] += h;
+    h = d->xt[j] - d->x[j];
+    status = tr_residual(m, d, d->xt, d->ft);
+    if (status != TR_OK)
+        return status;
+    for (i = 0; i < k; i++)
+        d->J[i * k + j] = (d->ft[i] - d->f[i]) / h;
+    return TR_OK;
 }
 
 static int fd_jacobian(const tr_model *m, tr_data *d)
@@ -598,8 +714,23 @@ int tr_solve_iterate(const tr_model *m, tr_data *d)
                             d->J[i * k + j] += d->work[i] * d->xs[j];
                 }
             }
-            memcpy(d->x, d->xt, (size_t)k * sizeof(double));
-            memcpy(d->f, d->ft, (size_t)k * sizeof(double));
+            /* semismooth switch: a tendon that changed between taut and slack has a
+             * new Jacobian column (dtau/dgamma jumps); refresh just that column */
+            {
+                const int off = n_force(m);
+                int nsw = 0;
+                for (j = off; j < k; j++)
+                    d->lin_act[j - off] = (d->x[j] > 0.0) != (d->xt[j] > 0.0);
+                memcpy(d->x, d->xt, (size_t)k * sizeof(double));
+                memcpy(d->f, d->ft, (size_t)k * sizeof(double));
+                if (d->opt.jacobian_method == TR_JAC_FD && !(ratio > TR_BROYDEN_RATIO))
+                    for (j = off; j < k; j++)
+                        if (d->lin_act[j - off]) {
+                            if (fd_column(m, d, j) != TR_OK) { d->J_refresh = 1; break; }
+                            nsw++;
+                        }
+                (void)nsw;
+            }
             d->fnorm = maxnorm(d->f, k);
             d->J_fresh = 0;
             d->J_refresh = ratio > TR_BROYDEN_RATIO;
