@@ -280,6 +280,48 @@ def test_tension_controlled_parallel_tendon_constant_curvature(rod):
     np.testing.assert_allclose(sol.displacement[0], q_expected, rtol=1e-8)
 
 
+@pytest.mark.parametrize("rod", [KIRCH17, COSS17], ids=["kirchhoff", "cosserat"])
+def test_oblique_end_moment_gives_helix_with_twist(rod):
+    """A dead end moment M with bending and twist components and no force: m(s) = M in the
+    world frame, so for EI1 = EI2 the body curvature is u = R^T M/EI + c e3 with the
+    constant c = (1/GJ - 1/EI) M_z, and R(s) = exp(s [M/EI]x) exp(s c [e3]x): the centre line
+    is a helix about M (independent of GJ), the frame twists on top of it."""
+    from scipy.spatial.transform import Rotation
+    M = np.array([0.004, -0.006, 0.003])          # N m: |M| L/EI ~ 0.37 rad
+    sol = quiet_solve(tr.Scene(tr.Robot(rod, []), loads=[tr.PointLoad(s=L17, moment=tuple(M))]))
+    assert not sol.formulation.planar
+    EI, GJ = rod.bending_stiffness, rod.torsional_stiffness
+    w = M / EI
+    om, n = np.linalg.norm(w), M / np.linalg.norm(M)
+    c = (1 / GJ - 1 / EI) * M[2]
+    e3 = np.array([0.0, 0.0, 1.0])
+    for k in range(0, sol.s.size, 10):
+        s_ = sol.s[k]
+        p = (math.sin(s_ * om) / om * e3 + (1 - math.cos(s_ * om)) / om * np.cross(n, e3)
+             + (s_ - math.sin(s_ * om) / om) * (n @ e3) * n)
+        R = Rotation.from_rotvec(s_ * w).as_matrix() @ Rotation.from_rotvec(s_ * c * e3).as_matrix()
+        # default rk8: 1e-8 relative accuracy target; a helix is smooth, 1e-9 L
+        np.testing.assert_allclose(sol.position[k], p, atol=1e-9 * L17)
+        np.testing.assert_allclose(sol.rotation[k], R, atol=1e-9)
+    np.testing.assert_allclose(sol.moment, np.tile(M, (sol.s.size, 1)), atol=1e-9 * np.linalg.norm(M))
+
+
+def test_small_distributed_load_cantilever():
+    """Uniform load w on a plain cantilever: delta(s) = w s^2 (6L^2 - 4Ls + s^2)/(24 EI); the
+    difference is odd in w (no tendon), so it shrinks like w^3."""
+    w0 = DEFL[3] * L17 * 8 * EI17 / L17 ** 4
+    ws = w0 * 2.0 ** np.arange(4)
+    errs = []
+    for w in ws:
+        sol = quiet_solve(tr.Scene(tr.Robot(KIRCH17, []), loads=[tr.DistributedLoad(force=(-w, 0, 0))]),
+                          options=tr.Options(**SMALL_OPTS))
+        s_ = sol.s
+        delta = w * s_ ** 2 * (6 * L17 ** 2 - 4 * L17 * s_ + s_ ** 2) / (24 * EI17)
+        errs.append(np.max(np.abs(sol.position[:, 0] + delta)))
+        assert sol.formulation.distributed_load and sol.formulation.planar
+    assert abs(_fitted_order(ws, np.array(errs)) - 3.0) < FIT_TOL, errs
+
+
 @pytest.mark.parametrize("P", [0.05, 0.2, 0.5])
 def test_elastica_tip_force(P):
     sc = tr.Scene(tr.Robot(KIRCH17, []), loads=[tr.PointLoad(s=L17, force=(-P, 0, 0))])
@@ -708,3 +750,18 @@ def test_at_matches_a_solve_with_those_nodes():
     np.testing.assert_allclose(sol.at(0.15).position, sol.tip_position, atol=1e-10 * 0.15)
     with pytest.raises(ValueError, match="arc lengths in"):
         sol.at(0.2)
+
+
+@pytest.mark.parametrize("kw", [dict(slack_model="squared"), dict(jacobian_method="newton"),
+                                dict(integrator="rk4", steps=200), dict(integrator="adaptive"),
+                                dict(continuation=False)], ids=repr)
+@pytest.mark.parametrize("P", [0.2, 0.5], ids=["taut", "slack"])
+def test_numerical_options_do_not_change_the_answer(kw, P):
+    """The options change how the equations are solved, not which: every variant agrees
+    with the default (rk8) solve of the Fig. 17 scene, taut and slack, to the integrators'
+    accuracy (rk4 with 200 steps: h^4 ~ 1e-9 relative)."""
+    base = quiet_solve(_fig17_scene(P))
+    other = quiet_solve(_fig17_scene(P), options=tr.Options(**kw))
+    np.testing.assert_allclose(other.tip_position, base.tip_position, atol=1e-8 * L17)
+    np.testing.assert_allclose(other.tension, base.tension, atol=1e-7)
+    assert (other.slack[0] > 0) == (base.slack[0] > 0) == (P > 0.3577)
