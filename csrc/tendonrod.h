@@ -95,10 +95,13 @@ typedef struct tr_tendon {
     double pretension; /* tension held at q = 0 in the unloaded robot [N] */
     double cphi, sphi; /* cos phi, sin phi (planar scenes: exactly +-1, 0) */
     double rest;       /* unstretched length of the tendon between base and anchor [m] */
+    double rest_dev;   /* rest - sref, computed without cancellation [m] */
     double sref;       /* reference path length in the undeformed robot, t sqrt(1 + a^2) [m] */
     int end_bp;        /* index of the breakpoint where it is anchored */
     int gamma_index;   /* index of its tension/slack unknown, -1 if tension-controlled */
-    int len_index;     /* slot of its path length in the shooting state, -1 if none */
+    int len_index;     /* slot of its path-length excess (path length minus the reference
+                          sref, integrated as |w| - |w_ref| without cancellation) in the
+                          shooting state, -1 if none */
     double t0[3];      /* unit tangent at s = 0 of the straight robot, body frame */
     double rt0[3];     /* r(0) x t0, body frame [m] */
 } tr_tendon;
@@ -127,6 +130,7 @@ typedef struct tr_model {
     int n_stretch;              /* displacement-controlled tendons with finite EA */
     double F_s, M_s, tau_s;     /* scales: force EI/L^2 [N], moment EI/L [N m],
                                    tension EI/(r_max L) [N] */
+    double len_s;               /* scale of slack and length residuals: r_max (L if 0) [m] */
     double xstate_scale[18];    /* absolute scale of each base state (adaptive control) */
     int scene_status;           /* 0, or why this (well-formed) scene has no unique solution:
                                    TR_EINDETERMINATE, TR_ENOEQUILIBRIUM, TR_EPRETENSION;
@@ -180,7 +184,7 @@ typedef struct tr_data {
     gsl_odeiv2_control *ad_ctl_shoot, *ad_ctl_rec;
     gsl_odeiv2_evolve *ad_ev_shoot, *ad_ev_rec;
     /* cold guess (small-deflection linear model) */
-    double *lin;                /* (ndisp^2 + ndisp^2 + 2 ndisp) scratch */
+    double *lin;                /* (2 ndisp^2 + 3 ndisp) scratch */
     int *lin_act;               /* (2 ndisp) active set / index map */
     /* compliance */
     double *Yx;                 /* (6 x k) d(output)/d(unknowns) */

@@ -92,7 +92,7 @@ tr_data *tr_data_alloc(const tr_model *m, const tr_options *opt, int nnode,
     d->tau = (double *)calloc((size_t)(2 * nt + 3 * nt + 1), sizeof(double));
     d->y = (double *)calloc((size_t)7 * nsr, sizeof(double));
     d->Yx = (double *)calloc((size_t)12 * k, sizeof(double));
-    d->lin = (double *)calloc((size_t)(2 * m->ndisp * m->ndisp + 2 * m->ndisp + 1), sizeof(double));
+    d->lin = (double *)calloc((size_t)(2 * m->ndisp * m->ndisp + 3 * m->ndisp + 1), sizeof(double));
     d->lin_act = (int *)calloc((size_t)(2 * m->ndisp + 1), sizeof(int));
     if (!d->lin || !d->lin_act || !d->x || !d->J || !d->LU || !d->perm || !d->tau || !d->y || !d->Yx)
         goto nomem;

@@ -93,6 +93,7 @@ static int set_rest_lengths(tr_model *m, char *msg, size_t msglen)
         tr_tendon *t = &m->tendon[i];
         t->sref = t->t * sqrt(1.0 + t->a * t->a);
         t->rest = t->sref;
+        t->rest_dev = 0.0;
         if (t->pretension != 0.0)
             any = 1;
     }
@@ -145,27 +146,36 @@ static int set_rest_lengths(tr_model *m, char *msg, size_t msglen)
                  i, t->pretension);
             return TR_EINVAL;
         }
+        /* len - sref accumulated without cancellation: per segment
+         * sqrt(a^2 + v3^2) - c = (v3^2 - 1) / (sqrt(a^2 + v3^2) + c), v3^2 - 1 = e (2 + e) */
         for (k = 0; k < t->end_bp; k++) {
-            double v3 = 1.0;
+            double e = 0.0;   /* v3 - 1 */
+            const double c = sqrt(1.0 + t->a * t->a);
             if (!m->kirchhoff) {
                 /* straight state: n3 = -sum tau_p v3 / |w|, |w| = sqrt(a^2 + v3^2);
-                 * fixed point in v3 (contracting: tau_p / EA << 1) */
+                 * fixed point in e = v3 - 1 (contracting: tau_p / EA << 1) */
                 int it;
                 for (it = 0; it < 60; it++) {
-                    double n3 = 0.0, v3n;
-                    int c;
-                    for (c = m->seg_act_start[k]; c < m->seg_act_start[k + 1]; c++) {
-                        const tr_tendon *tc = &m->tendon[m->seg_act[c]];
-                        n3 -= tc->pretension * v3 / sqrt(tc->a * tc->a + v3 * v3);
+                    double n3 = 0.0, en;
+                    int cc;
+                    for (cc = m->seg_act_start[k]; cc < m->seg_act_start[k + 1]; cc++) {
+                        const tr_tendon *tc = &m->tendon[m->seg_act[cc]];
+                        n3 -= tc->pretension * (1.0 + e) / sqrt(tc->a * tc->a + (1.0 + e) * (1.0 + e));
                     }
-                    v3n = 1.0 + n3 / m->EA;
-                    if (fabs(v3n - v3) <= 1e-16) { v3 = v3n; break; }
-                    v3 = v3n;
+                    en = n3 / m->EA;
+                    if (fabs(en - e) <= 1e-18) { e = en; break; }
+                    e = en;
                 }
             }
-            len += (m->bp[k + 1] - m->bp[k]) * sqrt(t->a * t->a + v3 * v3);
+            len += (m->bp[k + 1] - m->bp[k]) * e * (2.0 + e)
+                   / (sqrt(t->a * t->a + (1.0 + e) * (1.0 + e)) + c);
         }
-        t->rest = len / (1.0 + (isfinite(t->EA) ? t->pretension / t->EA : 0.0));
+        /* rest = (sref + len) / (1 + tau_p/EA);  rest - sref = (len - sref tau_p/EA) / (1 + tau_p/EA) */
+        {
+            const double st = isfinite(t->EA) ? t->pretension / t->EA : 0.0;
+            t->rest_dev = (len - t->sref * st) / (1.0 + st);
+            t->rest = t->sref + t->rest_dev;
+        }
     }
     return TR_OK;
 }
@@ -473,6 +483,7 @@ int tr_model_alloc(tr_model **out, const double rod[6], const double *tendons, i
     m->F_s = m->EI / (m->L * m->L);
     m->M_s = m->EI / m->L;
     m->tau_s = rmax > 0.0 ? m->EI / (rmax * m->L) : m->F_s;
+    m->len_s = rmax > 0.0 ? rmax : m->L;
     for (i = 0; i < 18; i++) m->xstate_scale[i] = 1.0;
     if (m->planar) {
         m->xstate_scale[TR_YP_X] = m->xstate_scale[TR_YP_Z] = m->L;

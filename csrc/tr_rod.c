@@ -46,10 +46,12 @@ static int rhs_spatial(const tr_model *m, const tr_data *d, double s, const doub
     const int nlen = d->rec ? m->nt : m->ndisp;
     const int a0 = m->seg_act_start[d->seg], a1 = m->seg_act_start[d->seg + 1];
 
+    double ev3 = 0.0;   /* v3 - 1 */
     if (!kirch) {
         v[0] = nb[0] / m->GA;
         v[1] = nb[1] / m->GA;
-        v[2] = 1.0 + nb[2] / m->EA;
+        ev3 = nb[2] / m->EA;
+        v[2] = 1.0 + ev3;
     }
     for (j = 0; j < nlen; j++)
         dy[TR_Y_LEN + j] = 0.0;
@@ -68,8 +70,15 @@ static int rhs_spatial(const tr_model *m, const tr_data *d, double s, const doub
         const double w2 = v[2] + u[0] * r1 - u[1] * r0;
         const double nw = sqrt(w0 * w0 + w1 * w1 + w2 * w2);
         double t[3], q[3], cv[3], ct, tc, ai[3];
-        if (slot >= 0)
-            dy[TR_Y_LEN + slot] = nw;
+        if (slot >= 0) {
+            /* |w| - |w_ref|, w_ref = e3 + r': (2 w_ref.dw + |dw|^2) / (|w| + |w_ref|) with
+             * dw = (v - e3) + u x r computed directly (no cancellation) */
+            const double c = sqrt(1.0 + td->a * td->a);
+            const double d0 = v[0] - u[2] * r1, d1 = v[1] + u[2] * r0;
+            const double d2 = ev3 + u[0] * r1 - u[1] * r0;
+            dy[TR_Y_LEN + slot] = (2.0 * (rp0 * d0 + rp1 * d1 + d2) + d0 * d0 + d1 * d1 + d2 * d2)
+                                  / (nw + c);
+        }
         if (!(tau > 0.0))
             continue;
         coupled = 1;
@@ -218,9 +227,11 @@ static int rhs_planar(const tr_model *m, const tr_data *d, double s, const doubl
     const int c0 = m->seg_act_start[d->seg], c1 = m->seg_act_start[d->seg + 1];
     double r1, r3, r2;
 
+    double ev3 = 0.0;   /* v3 - 1 */
     if (!kirch) {
         v1 = n1 / m->GA;
-        v3 = 1.0 + n3 / m->EA;
+        ev3 = n3 / m->EA;
+        v3 = 1.0 + ev3;
     }
     for (j = 0; j < nlen; j++)
         dy[TR_YP_LEN + j] = 0.0;
@@ -234,8 +245,11 @@ static int rhs_planar(const tr_model *m, const tr_data *d, double s, const doubl
         const double nw = sqrt(w1 * w1 + w3 * w3);
         const double tau = d->tau[i];
         const int slot = d->rec ? i : td->len_index;
-        if (slot >= 0)
-            dy[TR_YP_LEN + slot] = nw;
+        if (slot >= 0) {
+            /* |w| - |w_ref| without cancellation (see rhs_spatial) */
+            const double c = sqrt(1.0 + rp * rp), d1 = v1, d3 = ev3 - kap * rho;
+            dy[TR_YP_LEN + slot] = (2.0 * (rp * d1 + d3) + d1 * d1 + d3 * d3) / (nw + c);
+        }
         if (!(tau > 0.0))
             continue;
         coupled = 1;

@@ -9,11 +9,16 @@
  * which global balance fixes (nearly) independently of the tensions, so the
  * tension unknowns do not fight the backbone force; then one gamma per
  * displacement-controlled tendon:
- *   linear  (semismooth): tau = tau_s max(gamma, 0), slack = L max(-gamma, 0)
- *   squared (paper):      tau = tau_s gamma^2 (gamma >= 0), slack = L gamma^2 (gamma < 0)
+ *   linear  (semismooth): tau = tau_s max(gamma, 0), slack = l_s max(-gamma, 0)
+ *   squared (paper):      tau = tau_s gamma^2 (gamma >= 0), slack = l_s gamma^2 (gamma < 0)
+ * (tau_s = EI/(r L), l_s = r, r the largest offset of a displacement-controlled
+ * tendon: a unit of gamma then changes the path length by ~r on either side of
+ * the switch, so the Jacobian is balanced).
  * Residuals (scaled): tip force / (EI/L^2) and moment / (EI/L), body frame,
- * then the length constraints E_i / L with
- *   E_i = s_i(t_i) + q_i + slack_i - (1 + tau_i/EA_i) rest_i.
+ * then the length constraints E_i / l_s with
+ *   E_i = s_i(t_i) + q_i + slack_i - (1 + tau_i/EA_i) rest_i
+ * (the path length is integrated as its excess over the reference length, which
+ * keeps the digits that stiff tendons need).
  */
 #include <math.h>
 #include <stdarg.h>
@@ -57,6 +62,10 @@
 /* Continuation: first step and smallest step in lambda. */
 #define TR_CONT_DLAM0 0.25
 #define TR_CONT_DLAM_MIN 1e-4
+/* Polish: at most this many extra Newton steps, taken while the step exceeds this
+ * factor times tol (relative to max(1, |x|)). */
+#define TR_POLISH_STEPS 3
+#define TR_POLISH_XTOL_FACTOR 1e3
 /* Iterations per continuation step: Newton from a near point converges in a few. */
 #define TR_CONT_ITER 15
 /* Newton iterations of the implicit jump at a breakpoint (converges in 2-4). */
@@ -101,10 +110,10 @@ static void set_tensions(const tr_model *m, tr_data *d, const double *x)
             const double g = x[off + t->gamma_index];
             if (d->opt.slack_model == TR_SLACK_SQUARED) {
                 d->tau[i] = g > 0.0 ? m->tau_s * g * g : 0.0;
-                d->beta[i] = g < 0.0 ? m->L * g * g : 0.0;
+                d->beta[i] = g < 0.0 ? m->len_s * g * g : 0.0;
             } else {
                 d->tau[i] = g > 0.0 ? m->tau_s * g : 0.0;
-                d->beta[i] = g < 0.0 ? -m->L * g : 0.0;
+                d->beta[i] = g < 0.0 ? -m->len_s * g : 0.0;
             }
         } else {
             d->tau[i] = d->lam_act * t->value;
@@ -288,9 +297,10 @@ static void tip_residual(const tr_model *m, tr_data *d, const double *y, double 
         double E;
         if (t->control != TR_DISPLACEMENT)
             continue;
+        /* s_i - (1 + tau/EA) rest with s_i = sref + excess, rest = sref + rest_dev */
         E = y[lenbase + (d->rec ? i : t->len_index)] + d->lam_act * t->value + d->beta[i]
-            - (1.0 + (isfinite(t->EA) ? d->tau[i] / t->EA : 0.0)) * t->rest;
-        f[off + t->gamma_index] = E / m->L;
+            - t->rest_dev - (isfinite(t->EA) ? d->tau[i] / t->EA : 0.0) * t->rest;
+        f[off + t->gamma_index] = E / m->len_s;
     }
 }
 
@@ -416,6 +426,7 @@ static void cold_guess(const tr_model *m, tr_data *d, double *x)
                 rhs[ii] -= cij * d->lam_act * tj->value;
         }
         act[ii] = 1;
+        d->lin[2 * nd * nd + 2 * nd + ii] = ti->pretension;
     }
     for (round = 0; round <= nd; round++) {
         int na = 0, neg = 0, ok;
@@ -445,8 +456,10 @@ static void cold_guess(const tr_model *m, tr_data *d, double *x)
         {
             double worst = 0.0;
             int wi = -1;
-            for (i = 0; i < na; i++)
-                if (sol[i] < worst) { worst = sol[i]; wi = map[i]; }
+            for (i = 0; i < na; i++) {
+                const double tau_i = d->lin[2 * nd * nd + 2 * nd + map[i]] + sol[i];
+                if (tau_i < worst) { worst = tau_i; wi = map[i]; }
+            }
             if (wi >= 0) { act[wi] = 0; neg = 1; }
             for (i = 0; i < nd; i++) A[i] = 0.0;
             for (i = 0; i < na; i++) A[map[i]] = sol[i];
@@ -470,7 +483,7 @@ static void cold_guess(const tr_model *m, tr_data *d, double *x)
             double sl = -rhs[ii];
             for (j = 0; j < nd; j++) sl += C[ii * nd + j] * (act[j] ? sol[j] : 0.0);
             if (sl < 0.0) sl = 0.0;
-            g = sl / m->L;
+            g = sl / m->len_s;
             x[off + ii] = d->opt.slack_model == TR_SLACK_SQUARED ? -sqrt(g) : -g;
         }
     }
@@ -587,7 +600,7 @@ int tr_solve_init(const tr_model *m, tr_data *d, const double *guess, const doub
             if (tau > 0.0)
                 g = d->opt.slack_model == TR_SLACK_SQUARED ? sqrt(tau / m->tau_s) : tau / m->tau_s;
             else if (sl > 0.0)
-                g = d->opt.slack_model == TR_SLACK_SQUARED ? -sqrt(sl / m->L) : -sl / m->L;
+                g = d->opt.slack_model == TR_SLACK_SQUARED ? -sqrt(sl / m->len_s) : -sl / m->len_s;
             d->x[off + t->gamma_index] = g;
         }
         for (i = 0; i < k; i++)
@@ -922,6 +935,36 @@ static int verify_steps(const tr_model *m, tr_data *d)
     return TR_TRUNCATION;
 }
 
+/* Polish a converged point: if the Newton step from it (with the final Jacobian)
+ * is still large -- a small residual that does not pin the unknowns, as for stiff
+ * antagonistic tendons on an inextensible backbone -- take full Newton steps while
+ * they do not increase the residual. */
+static void polish(const tr_model *m, tr_data *d)
+{
+    const int k = d->k;
+    int p, i;
+    for (p = 0; p < TR_POLISH_STEPS; p++) {
+        double big = 0.0;
+        if (factor(d) != 0 || lu_solve(d, d->f, d->dx) != 0)
+            return;
+        for (i = 0; i < k; i++) {
+            const double r = fabs(d->dx[i]) / (fabs(d->x[i]) > 1.0 ? fabs(d->x[i]) : 1.0);
+            if (r > big) big = r;
+            d->xt[i] = d->x[i] - d->dx[i];
+        }
+        if (!(big > TR_POLISH_XTOL_FACTOR * d->opt.tol))
+            return;
+        if (tr_residual(m, d, d->xt, d->ft) != TR_OK)
+            return;
+        if (!(maxnorm(d->ft, k) <= (d->fnorm > d->opt.tol ? d->fnorm : d->opt.tol)))
+            return;
+        memcpy(d->x, d->xt, (size_t)k * sizeof(double));
+        memcpy(d->f, d->ft, (size_t)k * sizeof(double));
+        d->fnorm = maxnorm(d->f, k);
+        d->nit++;
+    }
+}
+
 int tr_solve(const tr_model *m, tr_data *d, const double *guess, const double *jac)
 {
     int status;
@@ -977,6 +1020,8 @@ int tr_solve(const tr_model *m, tr_data *d, const double *guess, const double *j
         if (fs != TR_OK) d->have_J = 0;
     }
 
+    if (status >= 0 && d->have_J)
+        polish(m, d);
     d->jacobian_cond = d->have_J ? jac_cond(d) : NAN;
     if (status >= 0 && d->jacobian_cond > TR_COND_SINGULAR) {
         status = TR_ILLCONDITIONED;
@@ -1098,7 +1143,7 @@ static int record_pass(const tr_model *m, tr_data *d, int allow_rk4, int *used)
         if (t->control == TR_DISPLACEMENT)
             d->displacement[i] = t->value;
         else
-            d->displacement[i] = (1.0 + (isfinite(t->EA) ? d->tau[i] / t->EA : 0.0)) * t->rest
+            d->displacement[i] = t->rest_dev + (isfinite(t->EA) ? d->tau[i] / t->EA : 0.0) * t->rest
                                  - y[lenbase + i];
     }
     *used = used_rk4;
