@@ -33,7 +33,7 @@ import tempfile
 
 import numpy as np
 import pytest
-from hypothesis import HealthCheck, assume, given, note, settings
+from hypothesis import HealthCheck, assume, event, given, note, settings
 from hypothesis import strategies as st
 
 import tendonrod as tr
@@ -961,3 +961,296 @@ def test_options_string_fields_arrays(field, value):
          "valid-in-array": np.array([STR_FIELDS[field][0]])}[value]
     with pytest.raises((ValueError, TypeError), match=field):
         tr.Options(**{field: v})
+
+
+# --------------------------------------------------------------------------
+# The Cosserat solver: raw _core.solve / _core.compliance (in the worker) and
+# the public tr.solve / tr.compliance / Solution.at.
+# --------------------------------------------------------------------------
+
+from tendonrod.solver import pack_scene   # noqa: E402
+
+_ROD = dict(length=0.2, diameter=0.8e-3, E=207e9, G=79.6e9)
+
+
+def _base_scenes():
+    L = 0.2
+    K = tr.Rod(**_ROD, kirchhoff=True)
+    C = tr.Rod(**_ROD)
+    three = [tr.Tendon(offset=0.01, angle=2 * math.pi * i / 3, EA=2e4) for i in range(3)]
+    return [
+        tr.Scene(tr.Robot(K, [tr.Tendon(offset=0.01)]), displacement=[0.004],
+                 loads=[tr.PointLoad(s=L, force=(-0.2, 0, 0))]),
+        tr.Scene(tr.Robot(C, [tr.Tendon.converging(offset=0.01, length=L)]), tension=[1.0],
+                 loads=[tr.DistributedLoad(force=(0, 0, -0.3))]),
+        tr.Scene(tr.Robot(C, three), displacement=[0.004, 0.0, None], tension=[None, None, 0.3],
+                 loads=[tr.PointLoad(s=L, force=(0.05, 0.1, 0), moment=(0, 0, 0.001)),
+                        tr.PointLoad(s=0.12, force=(0, -0.05, 0))]),
+        tr.Scene(tr.Robot(K, [tr.Tendon(offset=0.008, end=0.1),
+                              tr.Tendon(offset=0.008, angle=math.pi)]),
+                 displacement=[0.004, -0.002], loads=[tr.PointLoad(s=L, force=(0.3, 0, 0))]),
+        tr.Scene(tr.Robot(K, []), loads=[tr.PointLoad(s=L, force=(0.1, 0, 0))]),
+    ]
+
+
+BASES = [pack_scene(s) for s in _base_scenes()]
+
+# 1e-6 of the force scale: the fixed-step integrators are accurate to about
+# 1e-8 relative at their automatic step counts, and the balance error of a
+# converged solve measured on ordinary scenes is ~1e-12; a "success" that is
+# not an equilibrium misses by O(1).
+BALANCE_TOL = 1e-6
+
+
+def raw_balance(rod, tend, loads, dist, res):
+    """Relative residual of the global force balance of a raw solve:
+    n(0) + sum_i tau_i t_i(0) = sum of the point forces + dist * L, where t_i(0)
+    is the unit tangent of tendon i at the base (from u, v of the constitutive
+    law at s = 0).  Point loads at s = 0 are carried by the clamp."""
+    L, EI, GJ, EA, GA, kb = rod
+    R, n, m = res["rotation"][0], res["force"][0], res["moment"][0]
+    nb, mb = R.T @ n, R.T @ m
+    u = mb / np.array([EI, EI, GJ])
+    v = np.array([0.0, 0.0, 1.0])
+    if not kb:
+        v = v + nb / np.array([GA, GA, EA])
+    tot = np.array(n, dtype=float)
+    for i, t in enumerate(np.atleast_2d(tend) if len(tend) else []):
+        d = np.array([math.cos(t[1]), math.sin(t[1]), 0.0])
+        w = np.cross(u, t[0] * d) + t[2] * d + v
+        tot = tot + res["tension"][i] * (R @ (w / np.linalg.norm(w)))
+    # a point load at s = 0 acts on the clamp, not on the rod: n(0) is the
+    # internal force just past the base.  The core merges breakpoints closer
+    # than 1e-12 L (round-off in user arc lengths), so a load at 0 < s <= 1e-12 L
+    # is on the clamp as well (observation O1 in reliability_findings.md).
+    on_rod = loads[loads[:, 0] > 1e-12 * L] if len(loads) else loads
+    ext = (on_rod[:, 1:4].sum(axis=0) if len(on_rod) else np.zeros(3)) + np.asarray(dist) * L
+    scale = max(np.abs(ext).max(), np.abs(n).max(),
+                np.abs(res["tension"]).max() if len(res["tension"]) else 0.0, EI / L ** 2)
+    return float(np.abs(tot - ext).max() / scale)
+
+
+def check_raw_result(rod, tend, loads, dist, res, tol=1e-10, where=""):
+    """A returned dict is either an honest failure or a correct solution."""
+    assert isinstance(res, dict), res
+    assert isinstance(res["message"], str) and res["message"], f"{where}: empty message"
+    assert res["success"] == (res["status"] >= 0), where
+    if not res["success"]:
+        return "failure"
+    note = f"{where}: {res['message']}"
+    for f in ("s", "position", "rotation", "force", "moment", "tension", "slack", "displacement"):
+        assert np.all(np.isfinite(res[f])), f"success with non-finite {f}; {note}"
+    assert res["residual_norm"] <= tol, note
+    assert np.all(res["tension"] >= 0) and np.all(res["slack"] >= 0), note
+    R = res["rotation"]
+    # orthonormal to 1e-8: the integrators keep R on SO(3) to their truncation error
+    assert np.abs(np.einsum("nji,njk->nik", R, R) - np.eye(3)).max() < 1e-8, note
+    if res["s"][0] == 0.0:     # the base node is there (not tip_only, nodes from 0)
+        bal = raw_balance(rod, tend, loads, dist, res)
+        # a loose tol (the raw entry accepts any tol > 0) loosens the balance with it
+        assert bal < max(BALANCE_TOL, 10 * tol), \
+            f"success but the force balance is off by {bal:.2e}; {note}"
+    return "success"
+
+
+ARG_NAMES = ("rod", "tendons", "loads", "dist")
+# what a message about an element of each array may call it
+ELEMENT_WORDS = {"rod": ("rod", "L ", "EI", "GJ", "EA", "GA", "kirchhoff", "length"),
+                 "tendons": ("tendon",), "loads": ("load",), "dist": ("dist",)}
+
+
+@st.composite
+def raw_mutation(draw):
+    """A valid packed scene with 1-3 of its numbers replaced by hostile ones."""
+    b = draw(st.integers(0, len(BASES) - 1))
+    arrs = [np.array(a, dtype=float, copy=True) for a in BASES[b]]
+    touched = []
+    for _ in range(draw(st.integers(1, 3))):
+        which = draw(st.sampled_from([j for j in range(4) if arrs[j].size]))
+        idx = draw(st.integers(0, arrs[which].size - 1))
+        arrs[which].flat[idx] = draw(hostile_floats())
+        touched.append(ARG_NAMES[which])
+    return b, arrs, touched
+
+
+@hostile(60)
+@given(case=raw_mutation())
+def test_raw_solve_hostile_values(worker, case):
+    """Hostile numbers inside the arrays of _core.solve: ValueError naming the
+    array (or the element), an honest failure, or a correct solution."""
+    b, arrs, touched = case
+    out = worker.call("tendonrod._core.solve", *arrs)
+    if out[0] == "raise":
+        event(f"raised {out[1][0]}")
+        assert raised(out, ValueError, TypeError), out
+        msg = out[2]
+        assert any(w in msg for t in touched for w in ELEMENT_WORDS[t] + (t,)), (touched, msg)
+        return
+    event(check_raw_result(*arrs, out[1], where=f"base {b}, mutated {touched}"))
+
+
+def _shape_variants(a):
+    yield a.reshape(-1)[:-1] if a.size else np.zeros(1)       # one element short
+    yield np.concatenate([a.reshape(-1), [0.0]])              # one too many
+    yield a.reshape(1, -1) if a.ndim == 1 else a.reshape(-1)  # wrong rank
+    yield a[..., None]                                        # extra axis
+    yield np.zeros((2, 3, 4))
+
+
+BAD_OBJECTS = [None, "abc", 3.0, {"a": 1}, object, [[1.0, 2.0], [3.0]], np.array([1 + 2j] * 6),
+               np.array(["a"] * 6), np.array([None] * 6, dtype=object)]
+
+
+@pytest.mark.parametrize("pos", range(4), ids=ARG_NAMES)
+def test_raw_solve_wrong_shapes_and_types(worker, pos):
+    """Wrong shapes, ranks, dtypes and non-arrays for each positional argument:
+    ValueError/TypeError naming it."""
+    rod, tend, loads, dist = BASES[2]
+    base = [rod, tend, loads, dist]
+    bad = list(_shape_variants(np.asarray(base[pos]))) + BAD_OBJECTS
+    if pos in (1, 2):
+        bad = [x for x in bad if not (isinstance(x, np.ndarray) and x.size == 0)]
+    for x in bad:
+        args = list(base)
+        args[pos] = x
+        out = worker.call("tendonrod._core.solve", *args)
+        if out[0] == "ok":
+            # a ragged/object input NumPy can coerce to the right shape is just data
+            check_raw_result(*[np.asarray(a, dtype=float) for a in args], out[1],
+                             where=f"{ARG_NAMES[pos]}={x!r}")
+            continue
+        assert raised(out, ValueError, TypeError), (ARG_NAMES[pos], x, out)
+        assert ARG_NAMES[pos] in out[2], (ARG_NAMES[pos], x, out[2])
+
+
+@pytest.mark.parametrize("tag", ["@noncontig", "@fortran", "@readonly", "@bigendian",
+                                 "@misaligned"])
+def test_raw_solve_layouts_give_bitwise_the_same(worker, tag):
+    """Strided, Fortran-ordered, read-only, big-endian and misaligned arrays
+    are coerced, and the result is bitwise the contiguous one; lists too."""
+    args = BASES[2]
+    want = worker.call("tendonrod._core.solve", *args)
+    got = worker.call("tendonrod._core.solve", *[(tag, a) for a in args])
+    lists = worker.call("tendonrod._core.solve", *[a.tolist() for a in args])
+    assert want[0] == got[0] == lists[0] == "ok", (want[0], got, lists[0])
+    for k in ("position", "rotation", "force", "moment", "tension"):
+        assert want[1][k].tobytes() == got[1][k].tobytes() == lists[1][k].tobytes(), (tag, k)
+
+
+INT_KW = ("steps", "max_iter", "max_nfev", "max_continuation")
+STR_KW = ("integrator", "jacobian_method", "slack_model")
+BOOL_KW = ("continuation", "force_spatial", "tip_only")
+
+
+@st.composite
+def raw_kwargs(draw):
+    name = draw(st.sampled_from(INT_KW + ("rtol", "tol") + STR_KW + BOOL_KW
+                                + ("nodes", "guess", "jacobian")))
+    if name in INT_KW:
+        # up to 2**31 - 1; larger ints are finding F8; steps > 2000 is finding F9
+        hi = 2000 if name == "steps" else 2**31 - 1
+        v = draw(st.one_of(st.integers(-2**31, hi), st.sampled_from([0, 1, -1, True, 2.5, "3", None,
+                                                                     np.int64(7), math.nan])))
+        if name == "steps" and isinstance(v, (int, np.integer)) and not isinstance(v, bool):
+            v = min(int(v), hi)
+    elif name in ("rtol", "tol"):
+        v = draw(st.one_of(hostile_floats(), st.sampled_from(["1e-8", None, 1, np.float32(1e-6)])))
+    elif name in STR_KW:
+        v = draw(st.sampled_from(["rk4", "rk8", "adaptive", "fd", "newton", "linear", "squared",
+                                  "", "RK8", "rk8\x00", "x" * 1000, None, 3, b"rk8"]))
+    elif name in BOOL_KW:
+        v = draw(st.sampled_from([True, False, 0, 1, None, "no", 2.5]))
+    elif name == "nodes":
+        v = draw(st.one_of(st.integers(-5, 300),
+                           st.sampled_from([10**7 + 1, 2**31, 2**63, None, 2.0, "5", np.int64(5),
+                                            [], [0.1], [0.0, 0.2], [0.2, 0.0], [0.1, math.nan],
+                                            [-1.0, 0.1], [0.0, 0.5], [[0.1, 0.2]], np.zeros(3),
+                                            np.linspace(0, 0.2, 1000)])))
+    elif name == "guess":
+        v = draw(st.one_of(st.lists(hostile_floats(), min_size=12, max_size=12).map(np.array),
+                           st.sampled_from([np.zeros(11), np.zeros(13), np.zeros((2, 6)), "g",
+                                            np.full(12, 1e300), np.full(12, -1e300)])))
+    else:  # jacobian: right shape (k = 6 + 2 displacement-controlled... ) or not
+        k = draw(st.sampled_from([0, 1, 2, 3, 8, 9, 30]))
+        v = draw(st.one_of(st.just(np.zeros((k, k))), st.just(np.full((k, k), math.nan)),
+                           st.just(np.eye(k) * 1e300), st.just(np.zeros((k, k + 1))),
+                           st.just("j")))
+    return name, v
+
+
+@hostile(80)
+@given(kw=raw_kwargs())
+def test_raw_solve_hostile_options(worker, kw):
+    """Every keyword of _core.solve with hostile values: ValueError/TypeError
+    naming the keyword (or NumPy/CPython's own TypeError for a wrong Python
+    type), or a result that is an honest failure or a correct solution."""
+    name, v = kw
+    rod, tend, loads, dist = BASES[2]
+    out = worker.call("tendonrod._core.solve", rod, tend, loads, dist, **{name: v})
+    if out[0] == "raise":
+        event(f"raised {out[1][0]}")
+        assert raised(out, ValueError, TypeError), (name, v, out)
+        # CPython's argument parser names the type, not the keyword, for a
+        # wrong Python type ("an integer is required", "str, not int", ...)
+        generic = ("must be", "integer", "str", "float", "embedded null", "bool",
+                   "cannot be interpreted")
+        assert name in out[2] or any(g in out[2] for g in generic), (name, v, out[2])
+        return
+    tol = 1e-10
+    if name == "tol" and isinstance(v, (int, float, np.floating)) and not isinstance(v, bool):
+        tol = float(v)
+    event(check_raw_result(rod, tend, loads, dist, out[1], tol=tol, where=f"{name}={v!r}"))
+
+
+@pytest.mark.xfail(strict=True, reason="finding F8 in bench/results/reliability_findings.md: "
+                   "ints beyond the C int range raise OverflowError without the keyword's name")
+@pytest.mark.parametrize("name", INT_KW)
+def test_int_options_beyond_c_int(worker, name):
+    scene = _base_scenes()[0]
+    with pytest.raises((ValueError, TypeError), match=name):
+        opts = tr.Options(**{name: 2**40})
+        tr.solve(scene, options=opts)
+
+
+@pytest.mark.parametrize("b", range(len(BASES)))
+def test_raw_compliance_hostile_s(worker, b):
+    """_core.compliance with a hostile arc length: ValueError naming s, a
+    finite (6, 6) matrix, or RuntimeError with the solver's message."""
+    rod, tend, loads, dist = BASES[b]
+    L = rod[0]
+    for s in [L, 0.5 * L, 0.0, -L, 2 * L, math.nan, math.inf, -0.0, 5e-324, L * (1 + 1e-16),
+              "x", None, [L]]:
+        out = worker.call("tendonrod._core.compliance", rod, tend, loads, dist, s)
+        if out[0] == "ok":
+            C = np.asarray(out[1])
+            assert C.shape == (6, 6) and np.all(np.isfinite(C)), (s, C)
+            assert isinstance(s, float) and 0 < s <= L, (s, "accepted")
+            continue
+        assert raised(out, ValueError, TypeError, RuntimeError), (s, out)
+        if raised(out, ValueError):
+            assert "s =" in out[2] or "s must" in out[2], (s, out[2])
+
+
+def test_raw_strerror_any_int(worker):
+    for code in (0, 1, 2, -1, -12, -13, 100, -1000, 2**31 - 1, -2**31):
+        out = worker.call("tendonrod._core.strerror", code)
+        assert out[0] == "ok" and isinstance(out[1], str) and out[1], (code, out)
+    for bad in (2**70, "x", None, 1.5):
+        out = worker.call("tendonrod._core.strerror", bad)
+        assert raised(out, TypeError, ValueError, OverflowError), (bad, out)
+
+
+@pytest.mark.xfail(strict=True, reason="finding F10 in bench/results/reliability_findings.md: "
+                   "heap-buffer-overflow in tr_data_alloc/record_pass for L near DBL_MAX "
+                   "(the grid L*i/(n-1) overflows to inf)")
+@pytest.mark.parametrize("length", [1e308, 1.7976931348623157e308, 5e306])
+def test_huge_length_does_not_crash(worker, length):
+    rob = tr.Robot(tr.Rod(length=length, diameter=8e-4, E=207e9, G=79.6e9, kirchhoff=True),
+                   [tr.Tendon(offset=0.01, end=0.2)])
+    scene = tr.Scene(rob, displacement=[0.004], loads=[tr.PointLoad(s=0.2, force=(-0.2, 0, 0))])
+    out = worker.call("tendonrod.solve", scene)       # a crash raises Crash: the xfail
+    if out[0] == "raise":
+        assert raised(out, ValueError) and ("length" in out[2].lower() or "L" in out[2]), out
+    else:
+        sol = out[1]
+        assert not sol.success or np.all(np.isfinite(sol.position)), out

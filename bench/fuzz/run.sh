@@ -7,6 +7,7 @@
 # FUZZ_DIR (default build/fuzz: binary, corpus, crash artifacts, log).
 # Exit status 0 when the run ended without a finding; otherwise 1 and the
 # reproducer files are listed (run one with: $FUZZ_DIR/fuzz_core FILE).
+# Fork mode: the run goes on after a crash, so it collects every distinct one.
 set -euo pipefail
 ROOT="$(cd "$(dirname "$0")/../.." && pwd)"
 SECONDS_TO_RUN="${1:-600}"
@@ -38,17 +39,18 @@ set +e
     UBSAN_OPTIONS="halt_on_error=1:print_stacktrace=1" \
     ./fuzz_core -max_total_time="$SECONDS_TO_RUN" -timeout=10 -rss_limit_mb=2048 \
         -print_final_stats=1 -artifact_prefix="$OUT/artifacts/" \
-        -jobs="$JOBS" -workers="$JOBS" \
+        -fork="$JOBS" -ignore_crashes=1 -ignore_timeouts=1 -ignore_ooms=1 \
         corpus 2>&1) > "$OUT/fuzz.log"
 rc=$?
 set -e
-# with -jobs, the workers log to fuzz-N.log
-cat "$OUT"/fuzz-*.log >> "$OUT/fuzz.log" 2>/dev/null || true
-grep -E "^(#[0-9]+ +DONE|stat::number_of_executed_units|stat::peak_rss_mb|Done [0-9]+ runs)" "$OUT/fuzz.log" | tail -5 || true
+# fork mode (-fork=JOBS -ignore_crashes=1) keeps fuzzing after a finding, so one
+# run collects every distinct crash/timeout; the last status line has the totals
+grep -E "^#[0-9]+: cov:" "$OUT/fuzz.log" | tail -1 || true
 found=$(ls "$OUT/artifacts" 2>/dev/null | wc -l)
 echo "fuzz: exit $rc, corpus $(ls "$OUT/corpus" | wc -l) inputs, findings $found"
 if [ "$found" -gt 0 ] || [ "$rc" -ne 0 ]; then
     ls -l "$OUT/artifacts"
-    grep -E "contract violation|ERROR: (AddressSanitizer|LeakSanitizer|libFuzzer)|runtime error" "$OUT/fuzz.log" | sort | uniq -c | head -20
+    grep -hE "contract violation|ERROR: (AddressSanitizer|LeakSanitizer|libFuzzer)|runtime error" \
+        "$OUT/fuzz.log" "$OUT"/fuzz-*.log 2>/dev/null | sed 's/==[0-9]*==//' | sort | uniq -c | head -20
     exit 1
 fi

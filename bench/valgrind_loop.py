@@ -1,0 +1,146 @@
+"""The loop that bench/valgrind.sh runs under valgrind memcheck.
+
+    python bench/valgrind_loop.py [--fast] [--solves N] [--ufuncs N]
+
+Exercises every path of the glue and the core that a user reaches:
+- the closed-form ufuncs on scalars, arrays, out=/where=, NaN input, and the
+  TypeError path;
+- tr.solve on scenes that converge (planar/spatial, Kirchhoff/Cosserat,
+  displacement/tension control, point and distributed loads, two segments),
+  warm starts from a previous solution, tip_only, explicit nodes, every
+  integrator, sol.at(s), tr.compliance;
+- solves that fail (iteration cap, impossible displacement) and raise with
+  strict=True;
+- the raw _core.solve with wrong shapes, dtypes and option values (the error
+  paths of the glue, where a missing free or Py_DECREF hides).
+Every call's outcome is checked lightly (so a wrong turn is noticed), the
+point is what valgrind sees.
+"""
+import argparse
+import math
+import sys
+import warnings
+
+import numpy as np
+
+import tendonrod as tr
+from tendonrod.solver import pack_scene
+
+ROD = dict(length=0.2, diameter=0.8e-3, E=207e9, G=79.6e9)
+
+
+def scenes():
+    L = ROD["length"]
+    k = tr.Rod(**ROD, kirchhoff=True)
+    c = tr.Rod(**ROD)
+    three = [tr.Tendon(offset=0.01, angle=2 * math.pi * i / 3, EA=2e4) for i in range(3)]
+    return [
+        tr.Scene(tr.Robot(k, [tr.Tendon(offset=0.01)]), displacement=[0.005],
+                 loads=[tr.PointLoad(s=L, force=(-0.2, 0, 0))]),
+        tr.Scene(tr.Robot(c, [tr.Tendon.converging(offset=0.01, length=L)]), tension=[1.0],
+                 loads=[tr.DistributedLoad(force=(0, 0, -0.3))]),
+        tr.Scene(tr.Robot(c, three), displacement=[0.004, 0.0, None], tension=[None, None, 0.3],
+                 loads=[tr.PointLoad(s=L, force=(0.05, 0.1, 0), moment=(0, 0, 0.001)),
+                        tr.PointLoad(s=0.12, force=(0, -0.05, 0))]),
+        tr.Scene(tr.Robot(k, [tr.Tendon(offset=0.008, end=0.1),
+                              tr.Tendon(offset=0.008, angle=math.pi)]),
+                 displacement=[0.004, -0.002], loads=[tr.PointLoad(s=L, force=(0.3, 0, 0))]),
+        tr.Scene(tr.Robot(k, [])),
+    ]
+
+
+def ufunc_loop(n):
+    a = tr.analytic
+    s = np.linspace(0.0, 0.2, 7)
+    out = np.empty(7)
+    args = (0.3, 0.12, 0.2, 4e-3, -0.02, 0.01, 5e4)
+    for _ in range(n):
+        a.tension(*args)
+        a.angle(s, *args)
+        a.deflection(s, *args, out=out, where=s > 0.05)
+        a.equivalent_stiffness(5e4, np.array([2e5, np.inf]))
+        a.pattern_factor(np.arange(1, 6))
+        a.actuation_tension_for_angle(0.5, 0.2, 4e-3, -0.02, 0.01)
+        a.actuation_tension_for_deflection(0.03, 0.2, 4e-3, -0.02, 0.01)
+        with np.errstate(invalid="ignore"):
+            assert np.isnan(a.deflection(-1.0, *args))
+        try:
+            a.angle("x", *args)
+        except TypeError:
+            pass
+    a.planar_shape(s, *args)
+
+
+def solve_loop(n):
+    sc = scenes()
+    warnings.simplefilter("ignore", tr.ConvergenceWarning)
+    prev = [None] * len(sc)
+    for it in range(n):
+        i = it % len(sc)
+        sol = tr.solve(sc[i], guess=prev[i])
+        assert sol.success, sol.message
+        prev[i] = sol if it % 3 else None
+        if it % 7 == 0:
+            tr.solve(sc[i], options=tr.Options(tip_only=True))
+            tr.solve(sc[i], options=tr.Options(nodes=np.array([0.0, 0.05, 0.2]),
+                                               integrator=("rk4", "rk8", "adaptive")[it % 3]))
+            sol.at(0.07)
+            if sc[i].robot.n_tendons:
+                tr.compliance(sc[i])
+        if it % 11 == 0:
+            # failures: an iteration cap, an impossible displacement, strict=True
+            bad = tr.Scene(sc[0].robot, displacement=[0.5])
+            r = tr.solve(bad, options=tr.Options(max_nfev=50))
+            assert not r.success and r.message
+            try:
+                tr.solve(sc[2], options=tr.Options(max_iter=1, continuation=False), strict=True)
+            except tr.ConvergenceError:
+                pass
+
+
+def raw_error_loop(n):
+    rod, tend, loads, dist = pack_scene(scenes()[2])
+    bad_calls = [
+        ((rod[:5], tend, loads, dist), {}),
+        ((rod, tend[:, :7], loads, dist), {}),
+        ((rod, tend, loads[:, :6], dist), {}),
+        ((rod, tend, loads, dist[:2]), {}),
+        ((rod.astype(complex), tend, loads, dist), {}),
+        (("rod", tend, loads, dist), {}),
+        ((rod, None, loads, dist), {}),
+        ((rod, tend, loads, dist), {"steps": -1}),
+        ((rod, tend, loads, dist), {"integrator": "nope"}),
+        ((rod, tend, loads, dist), {"guess": np.zeros(3)}),
+        ((rod, tend, loads, dist), {"nodes": np.array([0.3, 0.1])}),
+        ((rod, tend, loads, dist), {"bogus": 1}),
+    ]
+    rod_nan = rod.copy()
+    rod_nan[1] = np.nan
+    bad_calls.append(((rod_nan, tend, loads, dist), {}))
+    for _ in range(n):
+        for args, kw in bad_calls:
+            try:
+                r = tr._core.solve(*args, **kw)
+                assert not r["success"], (args, kw)
+            except (ValueError, TypeError):
+                pass
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--fast", action="store_true", help="small counts (CI)")
+    ap.add_argument("--solves", type=int, default=None)
+    ap.add_argument("--ufuncs", type=int, default=None)
+    a = ap.parse_args(argv)
+    n_solve = a.solves if a.solves is not None else (30 if a.fast else 150)
+    n_uf = a.ufuncs if a.ufuncs is not None else (50 if a.fast else 300)
+    ufunc_loop(n_uf)
+    solve_loop(n_solve)
+    raw_error_loop(max(2, n_solve // 10))
+    print(f"valgrind_loop: {n_uf} ufunc rounds, {n_solve} solves, "
+          f"{max(2, n_solve // 10)} rounds of raw error paths: done")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
