@@ -449,6 +449,15 @@ class Scene:
                 raise ValueError(
                     f"Scene: tendon {i} has both displacement[{i}]={disp[i]!r} and "
                     f"tension[{i}]={tens[i]!r}; give exactly one, None in the other list")
+        rod = self.robot.rod
+        for i, t in enumerate(self.robot.tendons):
+            if disp[i] is not None and t.offset == 0.0 and t.slope == 0.0 and \
+                    rod.kirchhoff and math.isinf(t.EA):
+                raise ValueError(
+                    f"Scene.displacement[{i}]={disp[i]!r}: tendon {i} runs on the centre line "
+                    f"(offset=0, slope=0) of an inextensible backbone and is inextensible, so its "
+                    f"path length is always its rest length: a displacement cannot act (its tension "
+                    f"is indeterminate at 0, impossible otherwise); prescribe its tension instead")
         object.__setattr__(self, "displacement", disp)
         object.__setattr__(self, "tension", tens)
         loads = self.loads

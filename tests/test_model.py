@@ -128,6 +128,11 @@ def test_scene_actuation_rules():
     with pytest.raises(ValueError, match=r"displacement\[0\].*nan"):
         tr.Scene(rob, displacement=[math.nan, None], tension=[None, 1.0])
     tr.Scene(tr.Robot(rod, []))  # no tendons: lists may be omitted
+    kir = tr.Rod(length=0.2, diameter=0.8e-3, E=207e9, G=79.6e9, kirchhoff=True)
+    with pytest.raises(ValueError, match=r"displacement\[0\]=0.0: tendon 0 runs on the centre line"):
+        tr.Scene(tr.Robot(kir, [tr.Tendon(offset=0.0)]), displacement=[0.0])
+    tr.Scene(tr.Robot(kir, [tr.Tendon(offset=0.0)]), tension=[1.0])          # a tension can act
+    tr.Scene(tr.Robot(rod, [tr.Tendon(offset=0.0)]), displacement=[1e-4])    # backbone compresses
 
 
 def test_loads_validation_and_packing():
