@@ -131,3 +131,119 @@ def test_planar_shape_loop_does_not_leak():
 
     drss, dblocks, dt = measure(loop, 3_000, warm=100)
     assert_flat("planar_shape", 3_000, drss, dblocks, dt)
+
+
+# ------------------------------------------------------------------ solver
+# Counts: 10^5 raw solves (warm-started, tip only: about 0.1 ms each on this
+# machine, so ~10-15 s) -- the full 10^5 of the issue -- plus 10^4 public
+# tr.solve calls of mixed kinds (cold, warm, full output, failures with their
+# ConvergenceWarning, ~0.3 ms each: ~3 s) and 10^4 raw calls that raise.
+# Measured: test_solve_loops_do_not_leak takes about 20 s on the 2-core CI
+# machine under load.
+
+ROD = dict(length=0.2, diameter=0.8e-3, E=207e9, G=79.6e9)
+
+
+def _scenes():
+    L = ROD["length"]
+    k = tr.Rod(**ROD, kirchhoff=True)
+    c = tr.Rod(**ROD)
+    three = [tr.Tendon(offset=0.01, angle=2 * np.pi * i / 3, EA=2e4) for i in range(3)]
+    return [
+        tr.Scene(tr.Robot(k, [tr.Tendon(offset=0.01)]), displacement=[0.004],
+                 loads=[tr.PointLoad(s=L, force=(-0.2, 0, 0))]),
+        tr.Scene(tr.Robot(c, three), displacement=[0.004, 0.0, None], tension=[None, None, 0.3],
+                 loads=[tr.PointLoad(s=L, force=(0.05, 0.1, 0)), tr.DistributedLoad((0, 0, -0.2))]),
+    ]
+
+
+def test_raw_solve_loop_does_not_leak():
+    """10^5 raw _core.solve calls (warm start with guess and Jacobian, tip
+    only): RSS, allocated blocks and the refcounts of every argument flat."""
+    from tendonrod.solver import pack_scene
+    sc = _scenes()[0]
+    sol = tr.solve(sc)
+    rod, tend, loads, dist = pack_scene(sc)
+    g, J = sol.base_state.copy(), sol.jacobian.copy()
+    args = (rod, tend, loads, dist, g, J)
+    before = [sys.getrefcount(a) for a in args]
+    solve = tr._core.solve
+
+    def loop(n):
+        for _ in range(n):
+            r = solve(rod, tend, loads, dist, guess=g, jacobian=J, tip_only=True)
+        assert r["success"]
+
+    n = 100_000
+    drss, dblocks, dt = measure(loop, n, warm=2_000)
+    assert_flat("raw _core.solve (warm, tip only)", n, drss, dblocks, dt)
+    assert [sys.getrefcount(a) for a in args] == before
+
+
+def test_public_solve_loop_does_not_leak():
+    """10^4 public solves of mixed kinds, incl. failures (warning path) and
+    strict=True (exception path), and 10^4 raw calls that raise ValueError
+    (the glue's error exits)."""
+    from tendonrod.solver import pack_scene
+    scs = _scenes()
+    warm = [tr.solve(s) for s in scs]
+    bad = tr.Scene(scs[0].robot, displacement=[0.5])        # no equilibrium
+    few = tr.Options(max_nfev=20, continuation=False)
+
+    def loop(n):
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", tr.ConvergenceWarning)
+            for i in range(n):
+                j = i % 2
+                if i % 5 == 0:
+                    tr.solve(scs[j])
+                elif i % 5 == 1:
+                    tr.solve(scs[j], guess=warm[j], options=tr.Options(nodes=11))
+                elif i % 5 == 2:
+                    assert not tr.solve(bad, options=few).success
+                elif i % 5 == 3:
+                    try:
+                        tr.solve(bad, options=few, strict=True)
+                    except tr.ConvergenceError:
+                        pass
+                else:
+                    tr.solve(scs[j], guess=warm[j], options=tr.Options(tip_only=True))
+
+    n = 10_000
+    drss, dblocks, dt = measure(loop, n, warm=200)
+    assert_flat("tr.solve (mixed)", n, drss, dblocks, dt)
+
+    rod, tend, loads, dist = pack_scene(scs[1])
+    bad_rod = rod.copy()
+    bad_rod[1] = -1.0                                        # EI < 0: the core refuses it
+    calls = [((rod[:5], tend, loads, dist), {}), ((bad_rod, tend, loads, dist), {}),
+             ((rod, tend, loads, dist), {"guess": np.zeros(3)}),
+             ((rod, tend, loads, dist), {"nodes": np.array([0.2, 0.1])}),
+             ((rod, tend, loads, dist), {"integrator": "nope"})]
+
+    def err_loop(n):
+        for i in range(n):
+            a, kw = calls[i % len(calls)]
+            try:
+                tr._core.solve(*a, **kw)
+            except (ValueError, TypeError):
+                pass
+            else:
+                raise AssertionError((a, kw))
+
+    drss, dblocks, dt = measure(err_loop, 10_000, warm=200)
+    assert_flat("raw _core.solve error paths", 10_000, drss, dblocks, dt)
+
+
+def test_compliance_and_at_loops_do_not_leak():
+    """tr.compliance and Solution.at, 10^3 each (each is a few solves)."""
+    sc = _scenes()[1]
+    sol = tr.solve(sc)
+
+    def loop(n):
+        for i in range(n):
+            tr.compliance(sc, guess=sol)
+            sol.at(0.05 + 0.0001 * (i % 100))
+
+    drss, dblocks, dt = measure(loop, 1_000, warm=50)
+    assert_flat("compliance + at", 1_000, drss, dblocks, dt)
