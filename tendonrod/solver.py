@@ -211,6 +211,8 @@ class Formulation:
         Integrator steps over the rod actually used.
     slack_model : str
         Tension/slack parametrisation.
+    jacobian_method : str
+        How the shooting Jacobian was formed.
     """
 
     planar: bool
@@ -225,6 +227,7 @@ class Formulation:
     integrator: str
     steps: int
     slack_model: str
+    jacobian_method: str = ""
 
     @classmethod
     def from_dict(cls, d: dict) -> "Formulation":
@@ -255,7 +258,7 @@ class Formulation:
         more = (", " + ", ".join(extra)) if extra else ""
         return (f"Formulation({geom} {rod}, {self.n_unknowns} unknowns, {self.n_states} states, "
                 f"{self.n_segments} segment(s){more}; {self.integrator} x {self.steps} steps, "
-                f"slack model {self.slack_model})")
+                f"slack model {self.slack_model}, jacobian {self.jacobian_method})")
 
 
 # --------------------------------------------------------------------------- packing
