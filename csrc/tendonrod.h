@@ -63,6 +63,10 @@ enum tr_jacobian_method {
 };
 enum tr_control { TR_DISPLACEMENT = 0, TR_TENSION = 1 };
 
+/* Largest fixed step count accepted: an 8th-order method gains nothing beyond a few
+ * thousand steps on [0, L]; the cap keeps max_nfev a bound on the work. */
+#define TR_MAX_STEPS 100000
+
 typedef struct tr_options {
     int integrator;       /* tr_integrator; default TR_RK8 (3-8 steps reach 1e-8 on a 90 deg bend) */
     int steps;            /* total fixed steps over [0, L]; 0 = automatic (start small, verify by

@@ -57,10 +57,10 @@ tr_data *tr_data_alloc(const tr_model *m, const tr_options *opt, int nnode,
     if (!m || !opt) { dmsg(msg, msglen, "tr_data_alloc: NULL model or options"); return NULL; }
     if (opt->integrator < TR_RK4 || opt->integrator > TR_ADAPTIVE || opt->steps < 0 ||
         !(opt->tol > 0.0) || !(opt->rtol > 0.0) || opt->max_iter < 0 || opt->max_nfev < 1 ||
-        opt->max_continuation < 0 || (opt->jacobian_method != TR_JAC_FD && opt->jacobian_method != TR_JAC_NEWTON) ||
+        opt->max_continuation < 0 || opt->steps > TR_MAX_STEPS || (opt->jacobian_method != TR_JAC_FD && opt->jacobian_method != TR_JAC_NEWTON) ||
         (opt->slack_model != TR_SLACK_LINEAR && opt->slack_model != TR_SLACK_SQUARED)) {
-        dmsg(msg, msglen, "invalid solver options (integrator %d, steps %d, tol %g, rtol %g, "
-             "max_iter %d, max_nfev %d, max_continuation %d)", opt->integrator, opt->steps,
+        dmsg(msg, msglen, "invalid solver options (integrator %d, steps %d (max %d), tol %g, rtol %g, "
+             "max_iter %d, max_nfev %d, max_continuation %d)", opt->integrator, opt->steps, TR_MAX_STEPS,
              opt->tol, opt->rtol, opt->max_iter, opt->max_nfev, opt->max_continuation);
         return NULL;
     }
@@ -153,13 +153,15 @@ tr_data *tr_data_alloc(const tr_model *m, const tr_options *opt, int nnode,
          * after its jump) */
         int iu = 0, ib = 1, o = 0;
         while ((iu < nnode || ib < m->nseg) && o < nn) {
-            const double su = iu < nnode ? (iu == nnode - 1 ? m->L : m->L * iu / (nnode - 1)) : INFINITY;
+            const double su = iu < nnode ? (iu == nnode - 1 ? m->L : m->L * ((double)iu / (nnode - 1))) : INFINITY;
             const double sb = ib < m->nseg ? m->bp[ib] : INFINITY;
-            if (sb <= su) {
+            if (ib < m->nseg && sb <= su && o + 2 <= nn) {
                 d->s[o++] = sb; d->s[o++] = sb; ib++;
                 if (fabs(su - sb) <= 1e-12 * m->L) iu++;
-            } else {
+            } else if (iu < nnode) {
                 d->s[o++] = su; iu++;
+            } else {
+                break;
             }
         }
         d->nnode = nn = o;

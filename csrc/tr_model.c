@@ -295,6 +295,15 @@ int tr_model_alloc(tr_model **out, const double rod[6], const double *tendons, i
                 return TR_EINVAL;
             }
         }
+        /* scales EI/L^2, EI/L and the stiffness ratios must stay normal doubles */
+        if (rod[0] > 1e100 || rod[0] < 1e-100 || rod[1] > 1e100 || rod[1] < 1e-100 ||
+            rod[2] > 1e100 || rod[2] < 1e-100 || (isfinite(rod[3]) && (rod[3] > 1e150 || rod[3] < 1e-100)) ||
+            (isfinite(rod[4]) && (rod[4] > 1e150 || rod[4] < 1e-100))) {
+            msgf(msg, msglen, "rod values out of range: L = %g m, EI = %g, GJ = %g N m^2, EA = %g, GA = %g N "
+                 "(L, EI, GJ within [1e-100, 1e100]; EA, GA within [1e-100, 1e150] or inf for a "
+                 "Kirchhoff rod)", rod[0], rod[1], rod[2], rod[3], rod[4]);
+            return TR_EINVAL;
+        }
         if (rod[5] != 0.0 && rod[5] != 1.0) {
             msgf(msg, msglen, "%s = %g must be 0 or 1", names[5], rod[5]);
             return TR_EINVAL;

@@ -510,6 +510,11 @@ static int fd_jacobian(const tr_model *m, tr_data *d)
 {
     const int k = d->k;
     int i, j, status;
+    if (d->nfev + k > d->opt.max_nfev) {
+        tr_set_message(d, "function-evaluation limit (max_nfev = %d) reached: a Jacobian needs %d "
+                       "more evaluations; raise max_nfev", d->opt.max_nfev, k);
+        return TR_EMAXFEV;
+    }
     for (j = 0; j < k; j++) {
         double h = TR_FD_H * (fabs(d->x[j]) > 1.0 ? fabs(d->x[j]) : 1.0);
         memcpy(d->xt, d->x, (size_t)k * sizeof(double));
@@ -643,7 +648,8 @@ int tr_solve_iterate(const tr_model *m, tr_data *d)
             (d->opt.jacobian_method == TR_JAC_NEWTON && !d->J_fresh)) {
             status = fd_jacobian(m, d);
             if (status != TR_OK) {
-                tr_set_message(d, "the residual became non-finite while forming the Jacobian");
+                if (status != TR_EMAXFEV)
+                    tr_set_message(d, "the residual became non-finite while forming the Jacobian");
                 return status;
             }
         }
@@ -763,6 +769,11 @@ static int newton_run(const tr_model *m, tr_data *d, int max_iter)
         int status;
         if (tr_solve_test(m, d) == TR_OK)
             return TR_OK;
+        if (d->nfev >= d->opt.max_nfev) {
+            tr_set_message(d, "function-evaluation limit (max_nfev = %d) reached (scaled residual "
+                           "%.3g > tol %.3g); raise max_nfev", d->opt.max_nfev, d->fnorm, d->opt.tol);
+            return TR_EMAXFEV;
+        }
         if (it >= max_iter) {
             tr_set_message(d, "did not converge in %d iterations (scaled residual %.3g > tol %.3g); "
                            "raise max_iter, or give a guess from a nearby solved scene",
@@ -786,6 +797,12 @@ static int ramp(const tr_model *m, tr_data *d, double *lamp, const char *what)
     int have_prev = 0, status, i;
     while (lam < 1.0) {
         const double lt = lam + dlam > 1.0 ? 1.0 : lam + dlam;
+        if (d->nfev >= d->opt.max_nfev) {
+            tr_set_message(d, "function-evaluation limit (max_nfev = %d) reached during continuation "
+                           "at %.4g of the %s; raise max_nfev", d->opt.max_nfev, lam, what);
+            *lamp = lam;
+            return TR_EMAXFEV;
+        }
         if (d->cont_steps >= d->opt.max_continuation) {
             tr_set_message(d, "continuation reached only %.4g of the %s in max_continuation = %d "
                            "steps; raise max_continuation, or the scene may have no equilibrium on "
@@ -847,6 +864,8 @@ static int continuation_run(const tr_model *m, tr_data *d)
     d->fnorm = maxnorm(d->f, d->k);
     if (status == TR_OK)
         status = newton_run(m, d, d->opt.max_iter);
+    if (status == TR_EMAXFEV)
+        return status;
     if (status != TR_OK) {
         tr_set_message(d, "continuation could not solve the unloaded robot: %s", tr_strerror(status));
         return TR_ECONTINUATION;

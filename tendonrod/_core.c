@@ -468,6 +468,29 @@ solver_choice(const char *value, const char *name, const char *const *choices, i
     return -1;
 }
 
+/* An int option in [lo, hi] from any Python int; ValueError/TypeError naming it. */
+static int
+solver_int(PyObject *obj, const char *name, long long lo, long long hi, int *out)
+{
+    long long v;
+    int overflow = 0;
+    if (obj == NULL)
+        return 0;
+    if (!PyLong_Check(obj) || PyBool_Check(obj)) {
+        PyErr_Format(PyExc_TypeError, "%s must be an int (got %R)", name, obj);
+        return -1;
+    }
+    v = PyLong_AsLongLongAndOverflow(obj, &overflow);
+    if (v == -1 && PyErr_Occurred())
+        return -1;
+    if (overflow || v < lo || v > hi) {
+        PyErr_Format(PyExc_ValueError, "%s = %R must lie in [%lld, %lld]", name, obj, lo, hi);
+        return -1;
+    }
+    *out = (int)v;
+    return 0;
+}
+
 static const char *const solver_integrators[] = {"rk4", "rk8", "adaptive"};
 static const char *const solver_jacobians[] = {"fd", "newton"};
 static const char *const solver_slack[] = {"linear", "squared"};
@@ -585,7 +608,8 @@ solver_prepare(solver_args *a, PyObject *rod, PyObject *tendons, PyObject *loads
         long nn = PyLong_AsLong(nodes);
         if (nn == -1 && PyErr_Occurred()) return -1;
         if (nn < 2 || nn > 10000000) {
-            PyErr_Format(PyExc_ValueError, "nodes = %ld must be an int >= 2 or a 1-D array of arc lengths", nn);
+            PyErr_Format(PyExc_ValueError, "nodes = %ld must be an int in [2, 10000000] or a 1-D "
+                         "array of arc lengths", nn);
             return -1;
         }
         a->nnode = (int)nn;
@@ -780,6 +804,7 @@ core_solve(PyObject *self, PyObject *args, PyObject *kwds)
     const char *integrator = "rk8", *jac_method = "fd", *slack_model = "linear";
     int steps = 0, max_iter = 50, max_nfev = 20000, continuation = 1, max_continuation = 64;
     int force_spatial = 0, tip_only = 0, status;
+    PyObject *o_steps = NULL, *o_max_iter = NULL, *o_max_nfev = NULL, *o_max_cont = NULL;
     double rtol = 1e-10, tol = 1e-10;
     solver_args a;
     tr_model *m = NULL;
@@ -788,11 +813,16 @@ core_solve(PyObject *self, PyObject *args, PyObject *kwds)
     const double *g = NULL, *jac = NULL;
 
     memset(&a, 0, sizeof a);
-    if (!PyArg_ParseTupleAndKeywords(args, kwds, "OOOO|$OOsiddiisspiOpp", kwlist, &rod, &tendons,
-                                     &loads, &dist, &guess, &jacobian, &integrator, &steps, &rtol,
-                                     &tol, &max_iter, &max_nfev, &jac_method, &slack_model,
-                                     &continuation, &max_continuation, &nodes, &force_spatial,
+    if (!PyArg_ParseTupleAndKeywords(args, kwds, "OOOO|$OOsOddOOsspOOpp", kwlist, &rod, &tendons,
+                                     &loads, &dist, &guess, &jacobian, &integrator, &o_steps, &rtol,
+                                     &tol, &o_max_iter, &o_max_nfev, &jac_method, &slack_model,
+                                     &continuation, &o_max_cont, &nodes, &force_spatial,
                                      &tip_only))
+        return NULL;
+    if (solver_int(o_steps, "steps", 0, TR_MAX_STEPS, &steps) < 0 ||
+        solver_int(o_max_iter, "max_iter", 0, 1000000, &max_iter) < 0 ||
+        solver_int(o_max_nfev, "max_nfev", 1, 1000000000, &max_nfev) < 0 ||
+        solver_int(o_max_cont, "max_continuation", 0, 1000000, &max_continuation) < 0)
         return NULL;
     if (solver_prepare(&a, rod, tendons, loads, dist, guess, jacobian, integrator, steps, rtol,
                        tol, max_iter, max_nfev, jac_method, slack_model, continuation,
@@ -832,6 +862,7 @@ core_compliance(PyObject *self, PyObject *args, PyObject *kwds)
     const char *integrator = "rk8", *jac_method = "fd", *slack_model = "linear";
     int steps = 0, max_iter = 50, max_nfev = 20000, continuation = 1, max_continuation = 64;
     int force_spatial = 0, tip_only = 0, status;
+    PyObject *o_steps = NULL, *o_max_iter = NULL, *o_max_nfev = NULL, *o_max_cont = NULL;
     double rtol = 1e-10, tol = 1e-10, s = 0.0, extra[7] = {0, 0, 0, 0, 0, 0, 0};
     solver_args a;
     tr_model *m = NULL;
@@ -841,11 +872,16 @@ core_compliance(PyObject *self, PyObject *args, PyObject *kwds)
     double C[36];
 
     memset(&a, 0, sizeof a);
-    if (!PyArg_ParseTupleAndKeywords(args, kwds, "OOOOd|$OOsiddiisspiOpp", kwlist, &rod,
+    if (!PyArg_ParseTupleAndKeywords(args, kwds, "OOOOd|$OOsOddOOsspOOpp", kwlist, &rod,
                                      &tendons, &loads, &dist, &s, &guess, &jacobian, &integrator,
-                                     &steps, &rtol, &tol, &max_iter, &max_nfev, &jac_method,
-                                     &slack_model, &continuation, &max_continuation, &nodes,
+                                     &o_steps, &rtol, &tol, &o_max_iter, &o_max_nfev, &jac_method,
+                                     &slack_model, &continuation, &o_max_cont, &nodes,
                                      &force_spatial, &tip_only))
+        return NULL;
+    if (solver_int(o_steps, "steps", 0, TR_MAX_STEPS, &steps) < 0 ||
+        solver_int(o_max_iter, "max_iter", 0, 1000000, &max_iter) < 0 ||
+        solver_int(o_max_nfev, "max_nfev", 1, 1000000000, &max_nfev) < 0 ||
+        solver_int(o_max_cont, "max_continuation", 0, 1000000, &max_continuation) < 0)
         return NULL;
     if (solver_prepare(&a, rod, tendons, loads, dist, guess, Py_None, integrator, steps, rtol,
                        tol, max_iter, max_nfev, jac_method, slack_model, continuation,

@@ -332,6 +332,9 @@ def test_nodes_include_breakpoints_on_both_sides():
     (dict(nodes=1), "nodes"),
     (dict(nodes=np.array([0.1, 0.05])), "nodes"),
     (dict(steps=-1), "steps"),
+    (dict(steps=10 ** 6), "steps"),          # capped: keeps max_nfev a bound on the work
+    (dict(max_iter=2 ** 40), "max_iter"),
+    (dict(max_nfev=2 ** 70), "max_nfev"),
     (dict(tol=0.0), "tol"),
     (dict(integrator="euler"), "integrator"),
     (dict(slack_model="cubic"), "slack_model"),
