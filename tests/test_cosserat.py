@@ -779,3 +779,83 @@ def test_numerical_options_do_not_change_the_answer(kw, P):
     np.testing.assert_allclose(other.tip_position, base.tip_position, atol=1e-8 * L17)
     np.testing.assert_allclose(other.tension, base.tension, atol=1e-7)
     assert (other.slack[0] > 0) == (base.slack[0] > 0) == (P > 0.3577)
+
+
+# =============================================================== random scenes: balance
+def _balance_errors(sol):
+    """Global force and moment balance of the robot (backbone + tendons) about the base."""
+    scene = sol.scene
+    L = scene.robot.rod.length
+    pls = scene.point_loads
+    F_ext = sum((np.array(p.force) for p in pls), np.zeros(3)) + scene.distributed_force * L
+    M_ext = np.zeros(3)
+    for p in pls:
+        k = int(np.flatnonzero(np.isclose(sol.s, p.s, rtol=0, atol=1e-15))[0])
+        M_ext += np.cross(sol.position[k], p.force) + np.array(p.moment)
+    from scipy.integrate import simpson
+    M_ext += np.cross(simpson(sol.position, x=sol.s, axis=0), scene.distributed_force)
+    F_b, M_b = sol.force[0].copy(), sol.moment[0].copy()
+    for i in range(scene.robot.n_tendons):
+        th, r0 = _tendon_tangent_at_base(sol, i)
+        F_b += sol.tension[i] * th
+        M_b += np.cross(r0, sol.tension[i] * th)
+    scale = np.linalg.norm(F_ext) + np.sum(sol.tension) + 1e-3 * EI17 / L ** 2
+    return np.max(np.abs(F_b - F_ext)) / scale, np.max(np.abs(M_b - M_ext)) / (scale * L)
+
+
+def test_random_scenes_converge_and_balance():
+    """Random robots (1-4 tendons: parallel, sloped, converging, anchored mid-rod, stretchable
+    or not; Kirchhoff or Cosserat), random actuation (tensions, or displacements that keep
+    opposing inextensible pairs feasible) and random point/distributed loads: every solve
+    converges and balances forces and moments globally."""
+    from hypothesis import given, settings, strategies as st, HealthCheck
+
+    @settings(max_examples=25, deadline=None, derandomize=True,
+              suppress_health_check=[HealthCheck.too_slow])
+    @given(st.data())
+    def check(data):
+        kir = data.draw(st.booleans())
+        rod = tr.Rod(0.15, 1.0e-3, 200e9, 77e9, kirchhoff=kir)
+        L = 0.15
+        EI = rod.bending_stiffness
+        nt = data.draw(st.integers(1, 4))
+        tendons, disp, tens = [], [], []
+        for i in range(nt):
+            b = data.draw(st.floats(0.002, 0.01))
+            kind = data.draw(st.sampled_from(["parallel", "sloped", "converging"]))
+            end = data.draw(st.sampled_from([None, 0.1, 0.12]))
+            e = L if end is None else end
+            a = {"parallel": 0.0, "sloped": -0.4 * b / e, "converging": -b / e}[kind]
+            EA = data.draw(st.sampled_from([math.inf, 2e3, 2e4]))
+            tendons.append(tr.Tendon(offset=b, angle=data.draw(st.floats(0, 2 * math.pi)), slope=a,
+                                     EA=EA, end=end))
+            if data.draw(st.booleans()):
+                tens.append(data.draw(st.floats(0.0, 2.0)))       # N: up to ~kappa L = 0.5 rad
+                disp.append(None)
+            else:
+                # released up to 2 mm or retracted up to 1 mm: at most one retracted, so no
+                # pair of opposing inextensible tendons is retracted together
+                q = data.draw(st.floats(-2e-3, 1e-3))
+                if any(d is not None and d > 0 for d in disp):
+                    q = -abs(q)
+                disp.append(q)
+                tens.append(None)
+        loads = []
+        for _ in range(data.draw(st.integers(0, 2))):
+            f = data.draw(st.lists(st.floats(-0.3, 0.3), min_size=3, max_size=3))
+            m = data.draw(st.lists(st.floats(-3e-3, 3e-3), min_size=3, max_size=3))
+            loads.append(tr.PointLoad(s=data.draw(st.sampled_from([0.05, 0.09, L])), force=f, moment=m))
+        if data.draw(st.booleans()):
+            loads.append(tr.DistributedLoad(force=data.draw(st.lists(st.floats(-1, 1), min_size=3, max_size=3))))
+        scene = tr.Scene(tr.Robot(rod, tendons), displacement=disp, tension=tens, loads=loads)
+        nodes = np.union1d(np.linspace(0, L, 401), [p.s for p in scene.point_loads])
+        sol = tr.solve(scene, options=tr.Options(integrator="adaptive", rtol=1e-12, tol=1e-12, nodes=nodes),
+                       strict=True)
+        ef, em = _balance_errors(sol)
+        # adaptive integration at rtol 1e-12, residual 1e-12, Simpson on 401 nodes (~1e-12)
+        assert ef < 1e-9 and em < 1e-9, (ef, em, scene)
+        RtR = np.einsum("nji,njk->nik", sol.rotation, sol.rotation)
+        assert np.max(np.abs(RtR - np.eye(3))) < 1e-10
+        assert np.all(sol.tension >= 0) and np.all(sol.slack >= 0) and np.all(sol.tension * sol.slack == 0)
+
+    check()
