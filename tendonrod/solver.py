@@ -333,7 +333,7 @@ def _is_planar(scene: Scene) -> bool:
     return scene.distributed_force[1] == 0.0
 
 
-def _guess_vector(guess, scene: Scene):
+def _guess_vector(guess, scene: Scene, options: Options):
     """(guess array (6+2nt,) or None, jacobian or None) from a Solution or an array."""
     nt = scene.robot.n_tendons
     if guess is None:
@@ -345,7 +345,7 @@ def _guess_vector(guess, scene: Scene):
         vec = guess.base_state
         jac = None
         if guess.jacobian is not None and guess.scene is not None and \
-                _structure_key(guess.scene, guess.options) == _structure_key(scene, guess.options):
+                _structure_key(guess.scene, guess.options) == _structure_key(scene, options):
             jac = guess.jacobian
         if not np.all(np.isfinite(vec)):
             return None, None
@@ -605,7 +605,7 @@ def solve(scene: Scene, guess=None, options: Optional[Options] = None, strict: b
     options = _check_options(options)
     rod, tendons, loads, dist = pack_scene(scene)
     nodes = _nodes_for(scene, options)
-    gvec, jac = _guess_vector(guess, scene)
+    gvec, jac = _guess_vector(guess, scene, options)
     kw = options._raw
     if nodes is not kw["nodes"]:
         kw = dict(kw, nodes=nodes)

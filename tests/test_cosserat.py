@@ -663,6 +663,11 @@ def test_warm_start_from_solution():
     assert warm2.nfev <= cold2.nfev
     raw = quiet_solve(sc2, guess=cold1.base_state)   # a raw vector works too
     np.testing.assert_allclose(raw.tip_position, cold2.tip_position, atol=1e-9 * L17)
+    # a planar solution warm-starts a forced-spatial solve (its Jacobian is not reused)
+    sp = quiet_solve(sc2, guess=cold1, options=tr.Options(force_spatial=True))
+    assert not sp.formulation.planar
+    np.testing.assert_allclose(sp.tip_position, cold2.tip_position, atol=1e-9 * L17)
+    np.testing.assert_allclose(raw.tip_position, cold2.tip_position, atol=1e-9 * L17)
 
 
 def test_compliance_matches_finite_differences():
