@@ -166,9 +166,6 @@ def test_caps_are_reported_by_name():
     assert not r["success"] and "max_nfev" in r["message"], r["message"]
 
 
-@pytest.mark.xfail(strict=True, reason="finding F7 in bench/results/reliability_findings.md: "
-                   "continuation ignores max_nfev when the Jacobian is singular (nfev 132 "
-                   "with max_nfev=1)")
 @pytest.mark.parametrize("max_nfev", [1, 10, 65])
 def test_max_nfev_holds_with_singular_jacobians(max_nfev):
     """Three identical displacement-controlled tendons (a singular Jacobian),
@@ -200,13 +197,10 @@ except ValueError as e:
 """
 
 
-@pytest.mark.xfail(strict=True, reason="finding F9 in bench/results/reliability_findings.md: "
-                   "steps has no upper bound, so max_nfev does not bound the work "
-                   "(steps=10**5 with max_nfev=50 takes 47 s; 10**9 days)")
 def test_huge_steps_refused_or_bounded():
     """steps=10**9: either refused up front (ValueError naming steps) or the
-    solve returns within the hang guard.  Today it would run for days, so the
-    guard here is short (10 s)."""
+    solve returns within the hang guard (F9, fixed: steps <= 100000).  Before
+    the fix it would have run for days, so the guard here is short (10 s)."""
     root = os.path.dirname(os.path.dirname(os.path.abspath(tr.__file__)))
     env = dict(os.environ)
     env["PYTHONPATH"] = root + (os.pathsep + env["PYTHONPATH"] if env.get("PYTHONPATH") else "")
