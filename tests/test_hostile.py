@@ -1458,3 +1458,18 @@ def test_pure_tip_moment_spatial_accuracy(worker, M):
     # 1e-7 L: the automatic step count aims at 1e-8 relative tip accuracy
     assert np.abs(sol.tip_position - exact).max() < 1e-7 * L, (sol.tip_position, exact)
     assert np.abs(R.T @ R - np.eye(3)).max() < 1e-9
+
+
+@pytest.mark.parametrize("end", [0.2 * 1.5, 0.2 * (1 + 1e-9), 1e300, 0.0, -0.1, -0.0, 5e-324, 0.1])
+def test_raw_tendon_anchor_beyond_tip(worker, end):
+    """A tendon anchored beyond the tip (or at/below the base) in the raw
+    arrays: ValueError naming the tendon; anchors inside (0, L] solve."""
+    rod, tend, loads, dist = BASES[3]
+    tend = tend.copy()
+    tend[0, 4] = end
+    out = worker.call("tendonrod._core.solve", rod, tend, loads, dist)
+    if 0.0 < end <= 0.2 * (1 + 1e-12):
+        assert out[0] == "ok", out
+        check_raw_result(rod, tend, loads, dist, out[1], where=f"end={end}")
+    else:
+        assert raised(out, ValueError) and "tendon" in out[2], (end, out)
