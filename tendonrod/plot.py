@@ -482,6 +482,9 @@ def paper_figures():
         d = S.torsion_paradox(n=9 if fast else 21)
         fig = _figure()
         torsion(d, ax=fig.add_subplot())
+        fig._tendonrod_notes = "Twist at M L/GJ = 0.5: " + ", ".join(
+            f"alpha = {a:g}: {np.degrees(d[a][-1]):.2f} deg" for a in d["alphas"]) + \
+            f" (rod alone {np.degrees(d['M_nd'][-1]):.2f} deg)."
         return fig
 
     def make_map(direction):
@@ -492,8 +495,12 @@ def paper_figures():
                 zeta = np.linspace(0.1, 1.0, 5 if fast else 19)
                 cache[fast] = S.compliance_map(zeta=zeta)
             fig = _figure()
-            compliance_map(cache[fast], direction, ax=fig.add_subplot())
+            d = cache[fast]
+            compliance_map(d, direction, ax=fig.add_subplot())
             fig.axes[0].set_title(f"actuated to 90 deg, {ALPHA_LABEL} = {S.ALPHA_PAPER:.3g}", fontsize="small")
+            fig._tendonrod_notes = "Tip sigma: " + "; ".join(
+                f"{k[0]}, {k[1]}: {v[-1]:.4g}" for k, v in d.items()
+                if isinstance(k, tuple) and len(k) == 3 and k[2] == direction) + "."
             return fig
         return f
 
@@ -502,6 +509,13 @@ def paper_figures():
         fig = _figure()
         tip_compliance_vs_alpha(d, ax=fig.add_subplot())
         fig.axes[0].set_title("tip compliance, actuated to 90 deg", fontsize="small")
+        notes = []
+        for dname in S.DIRECTIONS:
+            better = d[("converging", dname)] < d[("parallel", dname)]
+            notes.append(f"{dname}: converging stiffer " + (
+                "at every alpha on the grid" if better.all() else
+                f"from alpha = {d['alpha'][np.argmax(better)]:.3g} on the grid" if better.any() else "nowhere"))
+        fig._tendonrod_notes = "; ".join(notes) + " (the paper: transverse always, axial above about 15)."
         return fig
 
     def make_slack(opposing):
