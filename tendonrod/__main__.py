@@ -112,7 +112,9 @@ def _cmd_solve(args) -> int:
         else:
             ax = fig.add_subplot(111, projection="3d")
         trplot.robot(sol, spec.scene, ax=ax)
-        ax.set_title(spec.title or os.path.basename(args.scene))
+        import textwrap
+
+        ax.set_title(textwrap.fill(spec.title or os.path.basename(args.scene), 60), fontsize="small")
         fig.tight_layout()
         fig.savefig(os.path.join(args.out, "solution.png"), dpi=120)
         plt.close(fig)

@@ -97,7 +97,10 @@ def test_solve_spatial_example(tmp_path, capsys):
                               str(tmp_path), "--plot"], capsys)
     assert rc == EXIT_OK, stdout
     summary = json.loads((tmp_path / "solution.json").read_text())
-    assert summary["tension_N"][0] == pytest.approx(1.5, rel=1e-12)  # tension-controlled: returned as given
+    assert summary["tension_N"][0] == pytest.approx(10.0, rel=1e-12)  # tension-controlled: returned as given
+    # the tendon paid out by 2 mm goes slack, the locked one carries tension (never both)
+    assert summary["tension_N"][1] == 0.0 and summary["slack_m"][1] > 0
+    assert summary["tension_N"][2] > 0 and summary["slack_m"][2] == 0.0
     assert np.load(tmp_path / "solution.npz")["s"].shape == (51,)   # [options] nodes = 51 honoured
 
 
@@ -119,6 +122,14 @@ def test_figures_closed_form_subset(tmp_path, capsys):
         assert (tmp_path / f"{k}.png").stat().st_size > 1000
     index = (tmp_path / "index.md").read_text()
     assert "fig07.png" in index and "Fig. 7" in index
+
+
+def test_figures_all(tmp_path, capsys):
+    # what `make demo` runs (here with the fast setting): every figure, no failure
+    rc, out, err = run_main(["figures", "--out", str(tmp_path), "--fast"], capsys)
+    assert rc == EXIT_OK, err
+    pngs = sorted(p.name for p in tmp_path.glob("*.png"))
+    assert len(pngs) == 18 and "FAILED" not in (tmp_path / "index.md").read_text()
 
 
 def test_figures_list_and_unknown(tmp_path, capsys):

@@ -61,7 +61,7 @@ def test_examples_parse():
     assert len(sc.robot.tendons) == 3
     for t in sc.robot.tendons:  # routing = "converging" -> slope = -offset / L, exactly as Tendon.converging
         assert t.slope == tr.Tendon.converging(offset=t.offset, length=0.1).slope
-    assert sc.tension == (1.5, None, None) and sc.displacement == (None, 0.0, 0.0)
+    assert sc.tension == (10.0, None, None) and sc.displacement == (None, -0.002, 0.0)
     assert spec.options == tr.Options(nodes=51)
     assert len(sc.loads) == 2  # one point load + the distributed load
 
