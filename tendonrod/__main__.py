@@ -134,6 +134,7 @@ def _cmd_figures(args) -> int:
 
     from tendonrod import studies
 
+    args.fast = bool(args.fast or studies.fast_mode())     # --fast or TENDONROD_FAST=1
     registry = studies.figure_registry()
     keys = list(registry)
     if args.only:
@@ -228,7 +229,8 @@ def build_parser() -> argparse.ArgumentParser:
                         description="Regenerate the paper's figures (1, 3, 6-8, 10-18, 20-23) as PNG "
                                     "files with an index.md listing files and captions.")
     pf.add_argument("--out", required=True, help="output directory (created if missing)")
-    pf.add_argument("--fast", action="store_true", help="coarse grids (for CI); same figures")
+    pf.add_argument("--fast", action="store_true",
+                    help="coarse grids (for CI); same figures (also: environment TENDONROD_FAST=1)")
     pf.add_argument("--only", default="", help="comma-separated figure keys (see --list)")
     pf.add_argument("--list", action="store_true", help="list figure keys and captions, then exit")
     pf.add_argument("--dpi", type=int, default=110, help="PNG resolution (default 110)")

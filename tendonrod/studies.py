@@ -390,13 +390,8 @@ def actuation_tradeoff(proto: Prototype = PROTOTYPE, theta: float = math.pi / 2,
             return sol.tip_position[0], sol
 
         try:
-            # continuation in the load first (the loaded cantilever is far from straight)
-            path = _load_path(tr.Scene(robot, displacement=[0.0]),
-                              np.outer(np.linspace(0, 1, 9)[1:], [-load, 0.0, 0.0]), options=options)
-            if not bool(np.all(path.success)):
-                raise RuntimeError("load path failed")
+            # the first solve (q = 0, full load, cold) leans on the solver's own continuation
             q0, q1 = 0.0, 0.25 * float(act.displacements[0])
-            guess = None
             f0, _ = tip_x(q0)
             f1, s1 = tip_x(q1)
             for _ in range(40):
