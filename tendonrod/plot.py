@@ -9,6 +9,7 @@ nondimensional group, and returns the Axes.  Nothing here calls
   r(s) mapped through the solved frames, spacer disks, point loads as arrows;
   a 3D view, or the x-z plane for planar scenes.
 - :func:`shapes` -- several backbones in the x-z plane (deflection curves).
+- :func:`sweep_lines` -- a recorded quantity of a sweep against one varied parameter.
 - Charts: :func:`sigma_vs_zeta` (Figs. 3, 6), :func:`tip_sigma_vs_alpha`
   (Fig. 7), :func:`compliance_map` (Figs. 13-15), :func:`tip_compliance_vs_alpha`
   (Fig. 16), :func:`tension_vs_load` (Figs. 17-18), :func:`torsion` (Fig. 12),
@@ -22,7 +23,7 @@ import math
 
 import numpy as np
 
-__all__ = ["is_planar", "robot", "shapes", "sigma_vs_zeta", "tip_sigma_vs_alpha", "compliance_map",
+__all__ = ["is_planar", "robot", "shapes", "sweep_lines", "sigma_vs_zeta", "tip_sigma_vs_alpha", "compliance_map",
            "tip_compliance_vs_alpha", "tension_vs_load", "torsion", "straight_load",
            "prototype_deflection", "prototype_tension", "prototype_shapes", "paper_figures"]
 
@@ -184,6 +185,61 @@ def shapes(curves: dict, ax=None, plane: str = "xz", styles: dict | None = None,
     ax.set_aspect("equal", adjustable="datalim")
     ax.legend(fontsize="small")
     return ax
+
+
+def sweep_lines(res, x: str, y: str, component=None, ax=None, xlabel=None, ylabel=None, **kwargs):
+    """Plot a recorded quantity of a :class:`tendonrod.SweepResult` against one varied
+    parameter: one line per combination of the other grid axes (labelled with their
+    values); points that did not converge are left out (NaN).
+
+    ``x``: a varied name (its values must be scalars, or vectors, which are plotted by
+    their norm); ``y``: a recorded key; ``component``: index into the item shape (e.g.
+    ``0`` for the x of ``tip_position``, ``(2, 2)`` for a rotation entry).  Give
+    ``xlabel``/``ylabel`` with units; the defaults are the names.
+    """
+    ax = _ax(ax)
+    names = list(res.names)
+    if x not in names:
+        raise ValueError(f"x={x!r} is not a varied parameter ({', '.join(names)})")
+    shape = tuple(res.shape)
+    nd = len(shape)
+    ys = np.asarray(res[y], dtype=float)
+    if component is not None:
+        comp = component if isinstance(component, tuple) else (component,)
+        ys = ys[(slice(None),) * nd + comp]
+    if ys.shape != shape:
+        raise ValueError(f"{y!r} has item shape {ys.shape[nd:]}; choose a component")
+    ys = np.where(res.success, ys, np.nan)
+    xv = np.asarray(res[x], dtype=float)
+    if xv.ndim > nd:
+        xv = np.linalg.norm(xv.reshape(shape + (-1,)), axis=-1)
+        xlabel = xlabel or f"|{x}|"
+    axis = names.index(x) if nd == len(names) else 0
+    others = [k for k in range(nd) if k != axis]
+    for combo in np.ndindex(*[shape[k] for k in others]):
+        idx = [0] * nd
+        for k, c in zip(others, combo):
+            idx[k] = c
+        sl = list(idx)
+        sl[axis] = slice(None)
+        lab = ", ".join(f"{names[k]} = {_fmt(np.asarray(res[names[k]])[tuple(idx)])}" for k in others)
+        ax.plot(xv[tuple(sl)], ys[tuple(sl)], label=lab or None, **kwargs)
+    if others:
+        ax.legend(fontsize="x-small")
+    ax.set_xlabel(xlabel or x)
+    ax.set_ylabel(ylabel or (y if component is None else f"{y}[{component}]"))
+    ax.grid(alpha=0.3)
+    return ax
+
+
+def _fmt(v):
+    v = np.asarray(v)
+    if v.ndim:
+        return "(" + ", ".join(_fmt(e) for e in v.ravel()) + ")"
+    try:
+        return f"{float(v):.4g}"
+    except (TypeError, ValueError):
+        return str(v)
 
 
 def sigma_vs_zeta(data: dict, ax=None, slope_labels: bool = True):

@@ -95,3 +95,22 @@ def test_shapes_and_tension_vs_load():
     fig, ax = plt.subplots()
     assert P.tension_vs_load(np.arange(4.0), np.ones((4, 2)), ax=ax) is ax and labelled(ax)
     assert len(ax.lines) == 2
+
+
+def test_sweep_lines():
+    rod = S.paper_rod_ivb()
+    base = tr.Scene(tr.Robot(rod, [tr.Tendon(offset=0.01)]), displacement=[0.0],
+                    loads=[tr.PointLoad(s=0.1, force=(0.0, 0.0, 0.0))])
+    EAs = [1e4, np.inf]
+    mags = [0.1, 0.2, 0.3]
+    res = tr.sweep(base, {"robot.tendons[0].EA": EAs, "loads[0].force": [(-f, 0.0, 0.0) for f in mags]},
+                   progress=False)
+    fig, ax = plt.subplots()
+    out = P.sweep_lines(res, "loads[0].force", "tip_position", component=0, ax=ax,
+                        xlabel="tip load [N]", ylabel="tip x [m]")
+    assert out is ax and labelled(ax) and len(ax.lines) == len(EAs)      # one line per EA
+    assert np.allclose(ax.lines[1].get_xdata(), mags, rtol=1e-15)           # |force| on x
+    assert np.array_equal(ax.lines[1].get_ydata(), res["tip_position"][1, :, 0])
+    assert "inf" in ax.lines[1].get_label()
+    with pytest.raises(ValueError, match="component"):
+        P.sweep_lines(res, "loads[0].force", "tip_position", ax=ax)
