@@ -181,7 +181,7 @@ class ComplianceMeasure:
 # --------------------------------------------------------------------------
 # the result
 # --------------------------------------------------------------------------
-@dataclass(frozen=True)
+@dataclass(frozen=True, repr=False)
 class SweepResult:
     """Tidy arrays of a sweep.  Indexing ``res[name]`` returns ``data[name]``
     or, for a varied parameter, its value at every point.
@@ -229,6 +229,11 @@ class SweepResult:
             return self.values[key]
         raise KeyError(f"{key!r}: not a recorded quantity ({', '.join(self.data)}) "
                        f"nor a varied parameter ({', '.join(self.values)})")
+
+    def __repr__(self) -> str:
+        ok = int(np.count_nonzero(self.status == STATUS_OK))
+        return (f"SweepResult(shape={self.shape}, names={list(self.names)}, {ok}/{self.status.size} "
+                f"converged, recorded={list(self.data)}, chunksize={self.chunksize})")
 
     def failures(self) -> list:
         """``[(index tuple, status, message), ...]`` for every point that did not converge."""
