@@ -276,3 +276,17 @@ def test_result_is_picklable_dataclass():
     res = tr.sweep(base_scene(), {"loads[0].force": FORCES[:2]}, grid=False, progress=False)
     back = pickle.loads(pickle.dumps(res))
     assert isinstance(back, SweepResult) and np.array_equal(back["tip_position"], res["tip_position"])
+
+
+def test_compliance_measure():
+    from tendonrod.sweep import ComplianceMeasure
+
+    sc = base_scene()
+    res = tr.sweep(sc, {"loads[0].force": FORCES[:3]}, grid=False, measure=ComplianceMeasure(s=(0.05, None)),
+                   chunksize=1, progress=False)
+    assert res["compliance"].shape == (3, 2, 6, 6)
+    for i, f in enumerate(FORCES[:3]):
+        scene = set_path(sc, "loads[0].force", f)
+        # same scene, same (cold) solve inside tr.compliance: bitwise equal
+        assert np.array_equal(res["compliance"][i, 1], tr.compliance(scene))
+        assert np.array_equal(res["compliance"][i, 0], tr.compliance(scene, s=0.05))
