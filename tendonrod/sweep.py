@@ -253,6 +253,14 @@ def _jsonable(value: Any) -> Any:
     return value
 
 
+@dataclass(frozen=True)
+class _BuildFailure:
+    """A point whose scene could not be built (its message; a plain string pickles
+    anywhere, unlike some exception objects)."""
+
+    message: str
+
+
 def _run_chunk(task: dict) -> dict:
     """Solve one chunk in order with warm starts; never raises for a point."""
     import tendonrod as tr
@@ -260,9 +268,9 @@ def _run_chunk(task: dict) -> dict:
     scenes, measure, options, warm = task["scenes"], task["measure"], task["options"], task["warm_start"]
     records, guess = [], None
     for index, scene in zip(task["indices"], scenes):
-        if isinstance(scene, Exception):      # build failed in the parent: record, go on
+        if isinstance(scene, _BuildFailure):  # build failed in the parent: record, go on
             records.append({"i": index, "status": STATUS_ERROR, "nit": -1,
-                            "message": f"{type(scene).__name__}: {scene}", "data": None})
+                            "message": scene.message, "data": None})
             continue
         try:
             if threading.current_thread() is threading.main_thread():
@@ -438,7 +446,7 @@ def sweep(base: Any, vary: Mapping[str, Iterable] | None = None, *, grid: bool =
                     scene = set_path(scene, n, v)
             scenes.append(scene)
         except Exception as exc:  # noqa: BLE001 - recorded as a failed point
-            scenes.append(exc)
+            scenes.append(_BuildFailure(f"{type(exc).__name__}: {exc}"))
 
     nchunks = math.ceil(npoints / chunksize)
     done: dict = {}
