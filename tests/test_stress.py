@@ -1,0 +1,74 @@
+"""Stress suite, fast subset (the cases marked quick in tendonrod.benchmarks).
+
+Each case runs in a child process with a timeout (a hang or a crash is a finding,
+not a frozen test run). A well-posed case must converge to a *verified* answer:
+finite, global force and moment balance to 1e-6, tip and tensions unchanged to
+1e-6 when the steps are doubled and when the adaptive integrator is used, and the
+case's independent check where one exists (exact circle, collocation for tensile
+loads, closed form for 1e-6 N loads, the exact elastica past Fig. 17's critical
+load). An ill-posed case (opposing inextensible tendons on a Kirchhoff backbone,
+Fig. 12's twist with inextensible tendons) must return success=False with a
+message that names the problem. The full suite is
+``python -m tendonrod bench stress --out DIR``.
+"""
+import math
+
+import numpy as np
+import pytest
+
+import tendonrod as tr
+from tendonrod import benchmarks as bm
+
+QUICK = [c for c in bm.stress_cases() if c.quick]
+#: Per-case limit [s]: the slowest quick case (a 25-step load ramp with verification)
+#: takes a few seconds; 120 s only catches hangs on a loaded 2-core machine.
+TIMEOUT = 120.0
+
+
+@pytest.fixture(scope="module")
+def stress_run(tmp_path_factory):
+    out = tmp_path_factory.mktemp("stress")
+    rows = bm.run_stress(str(out), quick=True, timeout=TIMEOUT, log=lambda *a: None)
+    return out, {r["case"]: r for r in rows}
+
+
+def test_stress_report_files(stress_run):
+    out, rows = stress_run
+    assert (out / "stress.png").stat().st_size > 5000
+    csvrows = bm.read_csv(out / "stress.csv")
+    assert len(csvrows) == len(QUICK)
+    for col in ("case", "converged", "verified", "iterations", "residual", "jacobian_cond", "seconds", "message"):
+        assert col in csvrows[0]
+
+
+@pytest.mark.parametrize("name", [c.name for c in QUICK])
+def test_stress_case(stress_run, name):
+    _, rows = stress_run
+    rec = rows[name]
+    assert rec["outcome"] not in ("exception", "crash", "timeout"), f"{name}: {rec['outcome']}: {rec.get('message')}"
+    assert rec["outcome"] in bm.GOOD, f"{name}: {rec['outcome']}: {rec.get('message')}"
+    if rec["outcome"] == "honest failure":
+        assert rec.get("message"), f"{name}: failed without a message"
+
+
+def test_verification_catches_a_wrong_answer():
+    """The verifier must be able to fail: a solution with a perturbed base force does
+    not balance, and a coarse rk4 solve does not survive step refinement."""
+    p = bm.FIG11
+    sc = bm._one_tendon_scene(p, math.pi / 2, F=(-bm.EI_of(p) / p["L"] ** 2, 0.0, 0.0))
+    good = bm._solve_quiet(sc, tr.Options())
+    assert good.success
+    assert bm.global_balance(good) < bm.BALANCE_TOL
+
+    class Fake:
+        pass
+
+    bad = Fake()
+    for k in ("scene", "s", "position", "rotation", "moment", "tension", "slack", "options", "formulation"):
+        setattr(bad, k, getattr(good, k))
+    bad.force = good.force + np.array([1e-3, 0.0, 0.0])
+    assert bm.global_balance(bad) > 1e-4
+    coarse = bm._solve_quiet(sc, tr.Options(integrator="rk4", steps=2))
+    if coarse.success:
+        v = bm.verify(coarse)
+        assert not v["verified"] and v["refine"] > bm.REFINE_TOL

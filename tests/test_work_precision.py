@@ -1,0 +1,175 @@
+"""Work-precision: the independent references, the integrators' observed orders of
+convergence, and the benchmark harness (quick setting, a subset of scenes).
+
+No timing is asserted anywhere: the benchmark records run times, the tests check
+errors, orders and the files written.
+"""
+import math
+import os
+
+import numpy as np
+import pytest
+
+import tendonrod as tr
+from tendonrod import benchmarks as bm
+from tendonrod import references as refs
+
+P11 = bm.FIG11
+L11, EI11 = P11["L"], bm.EI_of(P11)
+GJ11 = P11["G"] * math.pi * P11["d"] ** 4 / 32
+
+
+# --------------------------------------------------------------------------- references
+def test_elastica_elliptic_agrees_with_collocation_and_shooting():
+    """Three independent routes to the elastica under a transverse tip force: elliptic
+    integrals, collocation (solve_bvp) and the distal-balance shooting reference."""
+    F = 5.0 * EI11 / L11 ** 2
+    x, z, th = refs.elastica_tip_force(L11, EI11, F)
+    xb, zb, thb, _ = refs.planar_rod_bvp(L11, EI11, (F, 0.0), tol=1e-10, nodes=400)
+    r = refs.TendonRobotReference(L11, EI11, GJ11, [], F=(F, 0.0, 0.0)).solve(steps=2)
+    # collocation at tol 1e-10 (residual; the solution error is far smaller, ~1e-14) and DOP853 at rtol 1e-13: both ~1e-12 of L;
+    # 1e-10 leaves a factor 100 for round-off in the elliptic functions' root solve.
+    assert abs(xb - x) / L11 < 1e-10 and abs(zb - z) / L11 < 1e-10
+    assert np.linalg.norm(r.tip_position - [x, 0.0, z]) / L11 < 1e-10
+    assert abs(thb - th) < 1e-9  # radians; same reasoning
+
+
+def test_elastica_small_load_limit_is_linear_beam():
+    """For F L^2/EI -> 0 the elastica's deflection tends to F L^3/(3 EI), with a
+    relative correction c (F L^2/EI)^2: c must come out the same at two loads a decade
+    apart (an O(F) error would change it tenfold)."""
+    cs = []
+    for fl in (1e-2, 1e-3):
+        F = fl * EI11 / L11 ** 2
+        x, _, _ = refs.elastica_tip_force(L11, EI11, F)
+        lin = F * L11 ** 3 / (3 * EI11)
+        cs.append((lin - x) / lin / fl ** 2)
+    # c = 0.114 (measured); the next term, O(fl^4), changes it by ~1e-4 at fl = 1e-2, and
+    # round-off (1e-16 / 1e-6 = 1e-10 relative at fl = 1e-3) is negligible: 1 % is ample
+    assert 0.0 < cs[0] < 0.2
+    assert cs[1] == pytest.approx(cs[0], rel=1e-2)
+
+
+def test_compressive_elastica_and_critical_load():
+    """Fig. 17's critical load: the tendon goes slack when the free elastica's tip
+    angle reaches 90 deg; L sqrt(P/EI) = K(sin 45 deg) = 1.8541 (P = 3.4376 EI/L^2)."""
+    p = bm.FIG17
+    L, EI = p["L"], bm.EI_of(p)
+    GJ = p["G"] * math.pi * p["d"] ** 4 / 32
+    Pc = refs.critical_tip_angle_load(L, EI, math.pi / 2)
+    assert Pc * L ** 2 / EI == pytest.approx(1.854074677 ** 2, rel=1e-9)  # K(1/sqrt 2), tabulated
+    x, z, th = refs.elastica_compressive(L, EI, Pc)
+    assert th == pytest.approx(math.pi / 2, rel=1e-12)  # consistency of the two routes
+    # the shooting reference with the tendon locked at 90 deg: tension ~ 0 at P_c
+    ref = refs.TendonRobotReference(L, EI, GJ, [refs.RefTendon(b=p["r"], q=p["r"] * math.pi / 2)],
+                                    F=(0.0, 0.0, -0.98 * Pc)).solve(steps=3)
+    assert ref.tension[0] > 0.0 and ref.slack[0] == 0.0
+    ref = refs.TendonRobotReference(L, EI, GJ, [refs.RefTendon(b=p["r"], q=p["r"] * math.pi / 2)],
+                                    F=(0.0, 0.0, -1.02 * Pc)).solve(steps=3)
+    assert ref.tension[0] == 0.0 and ref.slack[0] > 0.0
+    x2, z2, _ = refs.elastica_compressive(L, EI, 1.02 * Pc)
+    # slack: the robot is the free elastica; both routes at ~1e-12 of L, 1e-9 for margin
+    assert np.hypot(ref.tip_position[0] - x2, ref.tip_position[2] - z2) / L < 1e-9
+
+
+def test_small_load_reference_matches_analytic_ufunc():
+    """The plain-NumPy eq. 26 in references agrees with the C ufunc (two codes)."""
+    if not hasattr(tr.analytic, "deflection"):
+        pytest.skip("tr.analytic.deflection not built")
+    rng = np.random.default_rng(1)
+    L = 0.2
+    s = rng.uniform(0, L, 50)
+    z = rng.uniform(0.01, L, 50)
+    b = rng.uniform(1e-3, 0.02, 50)
+    a = -b / L * rng.uniform(0, 1, 50)
+    k = np.where(rng.uniform(size=50) < 0.3, np.inf, rng.uniform(10, 1e5, 50))
+    mine = refs.small_load_deflection(s, 0.3, z, L, 4e-3, a, b, k)
+    theirs = tr.analytic.deflection(s, 0.3, z, L, 4e-3, a, b, k)
+    # same formula, different order of operations: agreement to a few ulps of the terms
+    np.testing.assert_allclose(theirs, mine, rtol=1e-10, atol=1e-16)
+
+
+# --------------------------------------------------------------------------- convergence order
+def _elastica_scene():
+    return [s for s in bm.wp_scenes() if s.name == "elastica"][0]
+
+
+@pytest.mark.parametrize("method,steps,order", [
+    ("rk4", [4, 6, 8, 12, 16, 24, 32, 48, 64], 4),
+    ("rk8", [1, 2, 3, 4, 5, 6, 8], 8),
+])
+def test_observed_convergence_order(method, steps, order):
+    """Error against the exact elastica falls like steps^-p with p the method's order.
+    The slope is a least-squares fit of log error on log steps over the asymptotic
+    range (errors in (1e-13, 1e-3): above the reference's and round-off's ~1e-14,
+    below the pre-asymptotic regime). Tolerance +-0.6 for RK4 and +-1.2 for RK8: the
+    fit spans 1-2 decades of steps, where the next term of the error expansion can
+    still move the slope by ~10-15 %; a method of the wrong order (3 or 5, 6 or 7
+    for a mislabelled pair) falls outside."""
+    sc = _elastica_scene()
+    ref = sc.reference()
+    errs = []
+    for n in steps:
+        sol = bm._solve_quiet(sc.scene, tr.Options(integrator=method, steps=n, tol=1e-13, tip_only=True))
+        assert sol.success, sol.message
+        assert sol.formulation.steps in (n, 0, -1) or sol.formulation.steps >= n
+        errs.append(bm.tip_error(sc, sol.tip_position, ref))
+    slope, used = bm.observed_order(steps, errs)
+    assert used >= 3, f"too few points in the asymptotic range: errors {errs}"
+    tol = 0.6 if order == 4 else 1.2
+    assert abs(slope - order) < tol, f"{method}: observed order {slope:.2f} from errors {errs}"
+
+
+def test_adaptive_integrator_meets_its_tolerance():
+    """The adaptive integrator's tip error on the exact elastica tracks rtol (within
+    a factor 100: a local-error control does not bound the global error exactly)."""
+    sc = _elastica_scene()
+    ref = sc.reference()
+    for rt in (1e-6, 1e-9, 1e-12):
+        sol = bm._solve_quiet(sc.scene, tr.Options(integrator="adaptive", rtol=rt, tol=1e-13, tip_only=True))
+        assert sol.success, sol.message
+        assert bm.tip_error(sc, sol.tip_position, ref) < 100 * rt + 1e-13
+
+
+def test_fig11a_core_matches_independent_reference():
+    """The core's formulation (A, B, G, H matrices) against the distal-balance form of
+    references.TendonRobotReference on Fig. 11a (90 deg, transverse 1 N)."""
+    sc = [s for s in bm.wp_scenes() if s.name == "fig11a"][0]
+    ref = refs.from_scene(sc.scene).solve(steps=3).tip_position
+    sol = bm._solve_quiet(sc.scene, tr.Options(integrator="rk8", steps=32, tol=1e-13))
+    assert sol.success, sol.message
+    # rk8 with 32 steps: truncation ~1e-13; reference ~1e-12: 1e-10 is two decades of margin
+    assert bm.tip_error(sc, sol.tip_position, ref) < 1e-10
+
+
+# --------------------------------------------------------------------------- harness
+def test_work_precision_command_quick(tmp_path):
+    """The quick benchmark writes the CSV (required columns, one row per scene x method
+    x setting x Jacobian) and the PNG; rk8 beats rk4 on the exact circle at equal steps."""
+    rows = bm.run_work_precision(str(tmp_path), quick=True, repeats=1, log=lambda *a: None,
+                                 scenes=["circle", "elastica", "fig17_slack"])
+    assert (tmp_path / "work_precision.png").stat().st_size > 10000
+    csvrows = bm.read_csv(tmp_path / "work_precision.csv")
+    for col in ("scene", "method", "setting", "error", "seconds", "nit", "nfev"):
+        assert col in csvrows[0]
+    n_set = len(bm.wp_settings(True))
+    n_jac = len(bm.jacobian_methods())
+    # fig17_slack also runs the paper's squared slack model; +1 default row per scene
+    assert len(csvrows) == n_jac * n_set * (1 + 1 + 2) + 3
+    ok = [r for r in rows if r["success"] and r["method"] != "default"]
+    assert ok, "no successful solve in the quick work-precision run"
+    assert all(np.isfinite(r["error"]) for r in ok)
+
+
+def test_model_choice_quick(tmp_path):
+    """The closed form is accurate for small loads (error O(F L^2/EI)^2 relative -> tiny)
+    and wrong for large ones; the chart and CSV are written."""
+    rows = bm.run_model_choice(str(tmp_path), quick=True, log=lambda *a: None)
+    assert (tmp_path / "model_choice.png").stat().st_size > 10000
+    for model in {r["model"] for r in rows}:
+        sub = sorted((r for r in rows if r["model"] == model), key=lambda r: r["load"])
+        assert all(r["cosserat_success"] for r in sub), model
+        # F L^2/EI = 1e-3: geometric nonlinearity ~1e-6 relative (plus solver error ~1e-9)
+        assert sub[0]["error"] < 1e-5, (model, sub[0])
+        # F L^2/EI = 100: the small-deflection formula is off by tens of percent or more
+        assert sub[-1]["error"] > 0.1, (model, sub[-1])
