@@ -13,8 +13,9 @@
 # that it really is the instrumented module that gets imported.
 #
 # Environment of the run:
-#   LD_PRELOAD=<libasan.so of the compiler>   CPython itself is not built with
-#       ASan, so the runtime must be loaded before anything else.
+#   LD_PRELOAD=<libasan.so of the compiler> <libstdc++.so>   CPython itself is
+#       not built with ASan, so the runtime must be loaded before anything
+#       else; libstdc++ next, for C++ extensions that throw (see below).
 #   ASAN_OPTIONS=detect_leaks=0               CPython keeps many allocations
 #       alive until exit on purpose (interned strings, type caches); LeakSanitizer
 #       would report them all.  Leaks of our code are checked by tests/test_leaks.py
@@ -52,7 +53,12 @@ echo "sanitize: building the instrumented extension ($SAN_CFLAGS)"
     "$VPY" setup.py -q build_ext --inplace >"$DEST/build.log" 2>&1) || {
     cat "$DEST/build.log" >&2; echo "sanitize: build failed" >&2; exit 2; }
 
-export LD_PRELOAD="$ASAN_RT"
+# libstdc++ is preloaded right after the ASan runtime: C++ extensions loaded
+# later (matplotlib's ft2font, SciPy) throw exceptions, and ASan's __cxa_throw
+# interceptor must find the real one at start-up ("CHECK failed:
+# asan_interceptors.cpp ... real___cxa_throw" otherwise).
+STDCXX="$($CC -print-file-name=libstdc++.so)"
+export LD_PRELOAD="$ASAN_RT${STDCXX:+ $STDCXX}"
 export ASAN_OPTIONS="detect_leaks=0:abort_on_error=1:allocator_may_return_null=1:strict_init_order=1"
 export UBSAN_OPTIONS="halt_on_error=1:print_stacktrace=1"
 export PYTHONPATH="$DEST${PYTHONPATH:+:$PYTHONPATH}"

@@ -30,6 +30,7 @@ import struct
 import subprocess
 import sys
 import tempfile
+import warnings
 
 import numpy as np
 import pytest
@@ -1473,3 +1474,60 @@ def test_raw_tendon_anchor_beyond_tip(worker, end):
         check_raw_result(rod, tend, loads, dist, out[1], where=f"end={end}")
     else:
         assert raised(out, ValueError) and "tendon" in out[2], (end, out)
+
+
+# --------------------------------------------------------------------------
+# tr.sweep: a hostile value at one point fails that point (recorded with its
+# message), never the sweep; hostile arguments are refused by name.
+# --------------------------------------------------------------------------
+
+def _sweep_base():
+    rob = tr.Robot(tr.Rod(**_ROD, kirchhoff=True), [tr.Tendon(offset=0.01)])
+    return tr.Scene(rob, displacement=[0.004], loads=[tr.PointLoad(s=0.2, force=(-0.1, 0, 0))])
+
+
+@pytest.mark.parametrize("path,values,bad", [
+    ("displacement[0]", [0.001, math.nan, 0.002], [1]),
+    ("displacement[0]", [0.001, "abc", -math.inf], [1, 2]),
+    ("robot.tendons[0].EA", [1e4, -1.0, math.inf, 0.0], [1, 3]),
+    ("loads[0].force", [(1, 0, 0), (math.nan, 0, 0), (0, 1e300, 0)], [1]),
+    ("robot.rod.length", [0.2, 0.0, -1.0, 0.1], [1, 2, 3]),    # 0.1 < the load's s = 0.2
+    ("displacement[0]", [0.5, 2.0, -0.5], []),                 # legal: the solver decides
+])
+def test_sweep_hostile_points(path, values, bad):
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        r = tr.sweep(_sweep_base(), vary={path: values}, max_workers=2)
+    status = np.asarray(r.status).ravel()
+    msgs = np.asarray(r.message).ravel()
+    assert status.shape == (len(values),)
+    for i in range(len(values)):
+        assert isinstance(msgs[i], str) and msgs[i], (i, msgs[i])
+        if i in bad:
+            assert status[i] != 0 and ("Error" in msgs[i] or "must" in msgs[i]), (i, msgs[i])
+
+
+@pytest.mark.parametrize("kw,word", [
+    (dict(vary=[1, 2]), "vary"), (dict(vary={"nonexistent.path": [1]}), "nonexistent"),
+    (dict(vary={"displacement[5]": [1]}), "displacement[5]"),
+    (dict(vary={"displacement[0]": [0.1]}, chunksize=0), "chunksize"),
+    (dict(vary={"displacement[0]": [0.1]}, max_workers=0), "max_workers"),
+    (dict(vary={"displacement[0]": []}), "displacement[0]"),
+    (dict(vary={"displacement[0]": [0.1, 0.2], "tension[0]": [1.0]}, grid=False), "grid"),
+])
+def test_sweep_bad_arguments(kw, word):
+    with pytest.raises((ValueError, TypeError)) as e:
+        tr.sweep(_sweep_base(), **kw)
+    assert word in str(e.value), str(e.value)
+
+
+@pytest.mark.xfail(strict=True, reason="finding F12 in bench/results/reliability_findings.md: "
+                   "sweep(chunksize=nan) and vary={name: scalar} raise without naming the argument")
+@pytest.mark.parametrize("kw,word", [
+    (dict(vary={"displacement[0]": [0.1]}, chunksize=math.nan), "chunksize"),
+    (dict(vary={"displacement[0]": 5}), "displacement[0]"),
+])
+def test_sweep_argument_names(kw, word):
+    with pytest.raises((ValueError, TypeError)) as e:
+        tr.sweep(_sweep_base(), **kw)
+    assert word in str(e.value), str(e.value)
