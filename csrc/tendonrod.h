@@ -83,7 +83,14 @@ typedef struct tr_options {
     int max_continuation; /* cap on continuation steps; default 64 */
     int force_spatial;    /* 1: solve planar scenes with the spatial formulation; default 0 */
     int tip_only;         /* 1: record the tip state only; default 0 */
+    int shooting_segments; /* multiple shooting: number of shooting segments M (interior
+                             nodes at j L / M carry full-state unknowns and continuity
+                             residuals); default 1 = single shooting.  Needed for tensile
+                             axial loads with L sqrt(T/EI) >~ 7 (growth e^(L sqrt(T/EI)/M)) */
 } tr_options;
+
+/* Largest number of shooting segments accepted. */
+#define TR_MAX_SHOOTING_SEGMENTS 64
 
 tr_options tr_default_options(void);
 
@@ -127,7 +134,10 @@ typedef struct tr_model {
     int *seg_act_start;         /* (nseg + 1) CSR offsets into seg_act */
     int *seg_act;               /* tendons active on each segment (t_i > bp[k]) */
     int ndisp;                  /* displacement-controlled tendons (= gamma unknowns) */
-    int n_unknowns;             /* shooting unknowns: 6 (3 planar) + ndisp */
+    int nshoot;                 /* shooting segments M (1: single shooting) */
+    int *bp_node;               /* (nseg + 1) shooting-node index 1..M-1 of each breakpoint, 0 if none */
+    int *bp_jump;               /* (nseg + 1) 1 if a load or an anchor sits at the breakpoint */
+    int n_unknowns;             /* shooting unknowns: 6 (3 planar) + ndisp + (M - 1) n_states */
     int n_base;                 /* base states: 18 spatial (p, R, n_b, m_b), 6 planar */
     int n_states;               /* shooting states: n_base + ndisp path lengths */
     int n_states_rec;           /* recording states: n_base + nt path lengths */
@@ -170,6 +180,7 @@ typedef struct tr_data {
     gsl_permutation *perm;      /* (k) */
     double fnorm;               /* max-norm of f */
     int have_J, J_fresh, J_refresh;
+    int steps_moved;            /* 1 once the step verification switched to doubled steps */
     /* evaluation context */
     double lam_act;             /* continuation: actuation (q, prescribed tau) scaled by it */
     double lam_load;            /* continuation: point and distributed loads scaled by it */
@@ -190,6 +201,7 @@ typedef struct tr_data {
     /* cold guess (small-deflection linear model) */
     double *lin;                /* (2 ndisp^2 + 3 ndisp) scratch */
     int *lin_act;               /* (2 ndisp) active set / index map */
+    double *bp_pose;            /* ((nseg + 1) x 12) p, R at each breakpoint (cold-start shape pass) */
     /* compliance */
     double *Yx;                 /* (6 x k) d(output)/d(unknowns) */
     double *Fp;                 /* (k x 6) d(residual)/d(probe load) */
@@ -213,7 +225,8 @@ typedef struct tr_data {
 } tr_data;
 
 /* Allocate a workspace.  nodes: if node_s is NULL, nnode uniform nodes over
- * [0, L] plus every interior breakpoint twice (state before and after the jump);
+ * [0, L] plus every interior load/anchor breakpoint twice (state before and after
+ * the jump) and every other interior breakpoint (shooting node) once;
  * otherwise the nnode sorted arc lengths node_s.  tip_only (opt) records only
  * the tip.  Returns NULL on failure (msg says why). */
 tr_data *tr_data_alloc(const tr_model *m, const tr_options *opt, int nnode,

@@ -33,6 +33,7 @@ void tr_data_free(tr_data *d)
     free(d->Yx);
     free(d->lin);
     free(d->lin_act);
+    free(d->bp_pose);
     free(d->s);
     free(d);
 }
@@ -94,7 +95,8 @@ tr_data *tr_data_alloc(const tr_model *m, const tr_options *opt, int nnode,
     d->Yx = (double *)calloc((size_t)12 * k, sizeof(double));
     d->lin = (double *)calloc((size_t)(2 * m->ndisp * m->ndisp + 3 * m->ndisp + 1), sizeof(double));
     d->lin_act = (int *)calloc((size_t)(2 * m->ndisp + 1), sizeof(int));
-    if (!d->lin || !d->lin_act || !d->x || !d->J || !d->LU || !d->perm || !d->tau || !d->y || !d->Yx)
+    d->bp_pose = (double *)calloc((size_t)12 * (m->nseg + 1), sizeof(double));
+    if (!d->bp_pose || !d->lin || !d->lin_act || !d->x || !d->J || !d->LU || !d->perm || !d->tau || !d->y || !d->Yx)
         goto nomem;
     d->f = d->x + k; d->xt = d->x + 2 * k; d->ft = d->x + 3 * k; d->dx = d->x + 4 * k;
     d->xs = d->x + 5 * k; d->xp = d->x + 6 * k; d->fs = d->x + 7 * k; d->work = d->x + 8 * k;
@@ -138,7 +140,7 @@ tr_data *tr_data_alloc(const tr_model *m, const tr_options *opt, int nnode,
     } else if (node_s) {
         nn = nnode;
     } else {
-        nn = nnode + 2 * (m->nseg - 1);
+        nn = nnode + 2 * (m->nseg - 1);   /* upper bound; the merge sets the count */
     }
     d->nnode = nn;
     d->s = (double *)calloc((size_t)nn * 19, sizeof(double));
@@ -149,14 +151,18 @@ tr_data *tr_data_alloc(const tr_model *m, const tr_options *opt, int nnode,
     } else if (node_s) {
         for (i = 0; i < nn; i++) d->s[i] = node_s[i] > m->L ? m->L : node_s[i];
     } else {
-        /* merge the uniform grid with each interior breakpoint (twice: before and
-         * after its jump) */
+        /* merge the uniform grid with each interior breakpoint: twice where a load or
+         * an anchor makes a jump (before and after it), once at a shooting node */
+
+
         int iu = 0, ib = 1, o = 0;
         while ((iu < nnode || ib < m->nseg) && o < nn) {
             const double su = iu < nnode ? (iu == nnode - 1 ? m->L : m->L * ((double)iu / (nnode - 1))) : INFINITY;
             const double sb = ib < m->nseg ? m->bp[ib] : INFINITY;
             if (ib < m->nseg && sb <= su && o + 2 <= nn) {
-                d->s[o++] = sb; d->s[o++] = sb; ib++;
+                d->s[o++] = sb;
+                if (m->bp_jump[ib]) d->s[o++] = sb;
+                ib++;
                 if (fabs(su - sb) <= 1e-12 * m->L) iu++;
             } else if (iu < nnode) {
                 d->s[o++] = su; iu++;

@@ -40,6 +40,7 @@ tr_options tr_default_options(void)
     o.max_continuation = 64;
     o.force_spatial = 0;
     o.tip_only = 0;
+    o.shooting_segments = 1;
     return o;
 }
 
@@ -64,6 +65,8 @@ void tr_model_free(tr_model *m)
     free(m->bpM);
     free(m->seg_act_start);
     free(m->seg_act);
+    free(m->bp_node);
+    free(m->bp_jump);
     free(m);
 }
 
@@ -400,10 +403,17 @@ int tr_model_alloc(tr_model **out, const double rod[6], const double *tendons, i
     m->has_dist = (dist[0] != 0.0 || dist[1] != 0.0 || dist[2] != 0.0);
 
     /* ---- breakpoints */
-    cand = (double *)malloc((size_t)(nt + nl + 2) * sizeof(double));
+    if (opt->shooting_segments < 1 || opt->shooting_segments > TR_MAX_SHOOTING_SEGMENTS) {
+        msgf(msg, msglen, "shooting_segments = %d must lie in [1, %d]", opt->shooting_segments,
+             TR_MAX_SHOOTING_SEGMENTS);
+        status = TR_EINVAL; goto fail;
+    }
+    m->nshoot = opt->shooting_segments;
+    cand = (double *)malloc((size_t)(nt + nl + 2 + m->nshoot) * sizeof(double));
     if (!cand) { status = TR_ENOMEM; goto fail; }
     cand[nc++] = 0.0;
     cand[nc++] = m->L;
+    for (i = 1; i < m->nshoot; i++) cand[nc++] = m->L * ((double)i / m->nshoot);
     for (i = 0; i < nt; i++) cand[nc++] = m->tendon[i].t;
     for (i = 0; i < nl; i++) {
         const double *row = m->load + 7 * i;
@@ -431,7 +441,14 @@ int tr_model_alloc(tr_model **out, const double rod[6], const double *tendons, i
     m->bpM = (double *)calloc((size_t)3 * (m->nseg + 1), sizeof(double));
     m->seg_act_start = (int *)calloc((size_t)m->nseg + 1, sizeof(int));
     m->seg_act = (int *)calloc((size_t)(nt > 0 ? nt * m->nseg : 1), sizeof(int));
-    if (!m->bpF || !m->bpM || !m->seg_act_start || !m->seg_act) { status = TR_ENOMEM; goto fail; }
+    m->bp_node = (int *)calloc((size_t)m->nseg + 1, sizeof(int));
+    if (!m->bpF || !m->bpM || !m->seg_act_start || !m->seg_act || !m->bp_node) { status = TR_ENOMEM; goto fail; }
+    for (i = 1; i < m->nshoot; i++)
+        m->bp_node[find_bp(m, m->L * ((double)i / m->nshoot))] = i;
+    m->bp_jump = (int *)calloc((size_t)m->nseg + 1, sizeof(int));
+    if (!m->bp_jump) { status = TR_ENOMEM; goto fail; }
+    for (i = 0; i < nt; i++) m->bp_jump[find_bp(m, m->tendon[i].t)] = 1;
+    for (i = 0; i < nl; i++) m->bp_jump[find_bp(m, m->load[7 * i])] = 1;
     for (i = 0; i < nt; i++) {
         m->tendon[i].end_bp = find_bp(m, m->tendon[i].t);
         m->tendon[i].t = m->bp[m->tendon[i].end_bp];
@@ -482,8 +499,8 @@ int tr_model_alloc(tr_model **out, const double rod[6], const double *tendons, i
     }
     m->ndisp = ndisp;
     m->n_base = m->planar ? 6 : 18;
-    m->n_unknowns = (m->planar ? 3 : 6) + ndisp;
     m->n_states = m->n_base + ndisp;
+    m->n_unknowns = (m->planar ? 3 : 6) + ndisp + (m->nshoot - 1) * m->n_states;
     m->n_states_rec = m->n_base + nt;
     m->n_stretch = 0;
     for (i = 0; i < nt; i++)

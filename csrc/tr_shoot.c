@@ -52,6 +52,8 @@
 /* Automatic step count: initial totals and the cap of the doubling. */
 #define TR_AUTO_RK8 4
 #define TR_AUTO_RK4 32
+/* ... and at least this many rk8 steps per unit of L sqrt(|F|/EI) (boundary layers) */
+#define TR_AUTO_PER_LAMBDA 2.0
 #define TR_STEP_CAP 65536
 /* Recording pass: RK4 steps of at most this fraction of the rk8 shooting step. */
 #define TR_RECORD_RK4_FRACTION 8.0
@@ -66,6 +68,7 @@
  * factor times tol (relative to max(1, |x|)). */
 #define TR_POLISH_STEPS 3
 #define TR_POLISH_XTOL_FACTOR 1e3
+#define TR_POLISH_RES_FACTOR 1e-2
 /* Iterations per continuation step: Newton from a near point converges in a few. */
 #define TR_CONT_ITER 15
 /* Newton iterations of the implicit jump at a breakpoint (converges in 2-4). */
@@ -304,6 +307,203 @@ static void tip_residual(const tr_model *m, tr_data *d, const double *y, double 
     }
 }
 
+/* ------------------------------------------------------ multiple shooting */
+/* Magnitude of all external loads, scaled by EI/L^2 (forces) and EI/L (moments). */
+static double tr_load_scale(const tr_model *m)
+{
+    double F = m->L * tru_norm3(m->dist) / m->F_s;
+    int b;
+    for (b = 1; b <= m->nseg; b++)
+        F += tru_norm3(m->bpF + 3 * b) / m->F_s + tru_norm3(m->bpM + 3 * b) / m->M_s;
+    return F;
+}
+
+/* Offset of shooting node j (1..M-1) in the unknowns and in the residuals. */
+static int node_off(const tr_model *m, int j)
+{
+    return n_force(m) + m->ndisp + (j - 1) * m->n_states;
+}
+
+static double node_scale(const tr_model *m, int c)
+{
+    return c < m->n_base ? m->xstate_scale[c] : m->len_s;
+}
+
+/* At shooting node j: continuity residual (integrated minus unknown, scaled) into f
+ * (if f != NULL), then restart from the unknown state. */
+static void node_restart(const tr_model *m, const double *x, int j, double *y, double *f)
+{
+    const int o = node_off(m, j), ns = m->n_states;
+    int c;
+    for (c = 0; c < ns; c++) {
+        const double sc = node_scale(m, c);
+        if (f)
+            f[o + c] = y[c] / sc - x[o + c];
+        y[c] = x[o + c] * sc;
+    }
+}
+
+/* Shape pass of a cold start: integrate the robot under its (guessed) tensions with
+ * the loads off, record the pose at every breakpoint, then
+ *  - set the base-reaction moment unknowns to the moment of the loads about the
+ *    base in that actuated shape (the straight-robot estimate misses e.g. a vertical
+ *    load on a bent robot), and
+ *  - with multiple shooting, set each node to the unloaded state plus the section
+ *    load (force and moment of the distal loads about the node, in that shape):
+ *    under tensile loads this keeps every segment near its linear regime.
+ * Where the pass does not stay finite, the straight robot stands in. */
+static void shape_guess(const tr_model *m, tr_data *d, double *x)
+{
+    const int ns = m->n_states, nf = n_force(m);
+    double *y = d->y, *pose = d->bp_pose;
+    const double lam_load = d->lam_load;
+    int b, c, ok = 1;
+    /* unloaded base state: base reaction zero */
+    for (c = 0; c < nf; c++) d->xt[c] = 0.0;
+    for (c = nf; c < d->k; c++) d->xt[c] = x[c];
+    d->rec = 0;
+    d->lam_load = 0.0;
+    set_tensions(m, d, d->xt);
+    init_state(m, d, d->xt, y, ns);
+    for (b = 0; b <= m->nseg; b++) {
+        if (b > 0) {
+            d->seg = b - 1;
+            if (ok && tr_integrate(m, d, m->bp[b - 1], m->bp[b], tr_segment_steps(m, d, b - 1), y) != TR_OK)
+                ok = 0;
+            if (ok && b < m->nseg)
+                apply_jump(m, d, b, y);
+        }
+        if (ok) {
+            double n_[3], mo[3];
+            tr_state_world(m, y, pose + 12 * b, pose + 12 * b + 3, n_, mo);
+            for (c = 0; c < 12 && ok; c++)
+                if (!isfinite(pose[12 * b + c])) ok = 0;
+        }
+        if (!ok) {
+            /* straight robot */
+            memset(pose + 12 * b, 0, 12 * sizeof(double));
+            pose[12 * b + 2] = m->bp[b];
+            pose[12 * b + 3] = pose[12 * b + 7] = pose[12 * b + 11] = 1.0;
+        }
+        if (b > 0 && b < m->nseg && m->bp_node[b] > 0) {
+            /* unloaded state, stored for the node (loads added below) */
+            const int o = node_off(m, m->bp_node[b]);
+            for (c = 0; c < ns; c++)
+                x[o + c] = ok ? y[c] : (c == (m->planar ? TR_YP_Z : TR_Y_P + 2) ? m->bp[b] : 0.0);
+            if (!ok && !m->planar)
+                x[o + TR_Y_R] = x[o + TR_Y_R + 4] = x[o + TR_Y_R + 8] = 1.0;
+        }
+    }
+    d->lam_load = lam_load;
+    /* loads about each section in that shape */
+    for (b = 0; b < m->nseg; b++) {
+        double F[3] = {0, 0, 0}, M[3] = {0, 0, 0}, arm[3], tmp[3];
+        const double *pb = pose + 12 * b;
+        int bb;
+        if (b > 0 && (b >= m->nseg || m->bp_node[b] == 0))
+            continue;
+        for (bb = b + 1; bb <= m->nseg; bb++) {
+            const double *Fb = m->bpF + 3 * bb;
+            for (c = 0; c < 3; c++) arm[c] = pose[12 * bb + c] - pb[c];
+            tru_cross3(tmp, arm, Fb);
+            for (c = 0; c < 3; c++) {
+                F[c] += lam_load * Fb[c];
+                M[c] += lam_load * (tmp[c] + m->bpM[3 * bb + c]);
+            }
+        }
+        if (m->has_dist) {
+            /* int_s^L (p - p_b) x f: trapezoid over the breakpoints */
+            for (bb = b + 1; bb <= m->nseg; bb++) {
+                const double h = m->bp[bb] - m->bp[bb - 1];
+                double mid[3];
+                for (c = 0; c < 3; c++)
+                    mid[c] = 0.5 * (pose[12 * bb + c] + pose[12 * (bb - 1) + c]) - pb[c];
+                tru_cross3(tmp, mid, m->dist);
+                for (c = 0; c < 3; c++) M[c] += lam_load * h * tmp[c];
+            }
+            for (c = 0; c < 3; c++) F[c] += lam_load * (m->L - m->bp[b]) * m->dist[c];
+        }
+        if (b == 0) {
+            /* base reaction (world = base frame) */
+            if (m->planar) {
+                x[0] = F[0] / m->F_s; x[1] = F[2] / m->F_s; x[2] = M[1] / m->M_s;
+            } else {
+                for (c = 0; c < 3; c++) { x[c] = F[c] / m->F_s; x[3 + c] = M[c] / m->M_s; }
+            }
+        } else {
+            const int o = node_off(m, m->bp_node[b]);
+            const double *R = pb + 3;
+            double Fb[3], Mb[3];
+            tru_mattvec3(Fb, R, F);
+            tru_mattvec3(Mb, R, M);
+            if (m->planar) {
+                x[o + TR_YP_N1] += Fb[0]; x[o + TR_YP_N3] += Fb[2]; x[o + TR_YP_M] += Mb[1];
+            } else {
+                for (c = 0; c < 3; c++) { x[o + TR_Y_N + c] += Fb[c]; x[o + TR_Y_M + c] += Mb[c]; }
+            }
+            for (c = 0; c < ns; c++)
+                x[o + c] /= node_scale(m, c);
+        }
+    }
+}
+
+static void cold_guess(const tr_model *m, tr_data *d, double *x);
+
+/* Cold start: the straight-robot base moment or the shape pass's, whichever has
+ * the smaller residual (a load on a bent robot wants the shape; a strong tensile
+ * load that straightens the robot wants the straight one); nodes from the shape. */
+static void cold_start(const tr_model *m, tr_data *d)
+{
+    const int nf = n_force(m), k = d->k;
+    double ra = INFINITY, rb = INFINITY;
+    int c;
+    cold_guess(m, d, d->x);
+    for (c = 0; c < nf; c++) d->fs[c] = d->x[c];
+    shape_guess(m, d, d->x);
+    if (tr_residual(m, d, d->x, d->ft) == TR_OK) rb = sumsq(d->ft, k);
+    for (c = 0; c < nf; c++) { d->xp[c] = d->x[c]; d->x[c] = d->fs[c]; }
+    if (tr_residual(m, d, d->x, d->ft) == TR_OK) ra = sumsq(d->ft, k);
+    if (!(ra <= rb))
+        for (c = 0; c < nf; c++) d->x[c] = d->xp[c];
+}
+
+/* Node unknowns from a given base state (warm start): integrate from it; if the
+ * trajectory runs away, fall back to the shape pass. */
+static void init_nodes(const tr_model *m, tr_data *d, double *x)
+{
+    const int ns = m->n_states;
+    double *y = d->y, tsum = 0.0;
+    int k, j, ok = 1, c;
+    if (m->nshoot <= 1)
+        return;
+    d->rec = 0;
+    set_tensions(m, d, x);
+    for (c = 0; c < m->nt; c++) tsum += d->tau[c] / m->F_s;
+    init_state(m, d, x, y, ns);
+    for (k = 0; k < m->nseg && ok; k++) {
+        const int b = k + 1;
+        d->seg = k;
+        if (tr_integrate(m, d, m->bp[k], m->bp[b], tr_segment_steps(m, d, k), y) != TR_OK)
+            ok = 0;
+        for (c = 0; c < m->n_base && ok; c++) {
+            /* run away: position beyond 2 L, force/moment beyond 1e3 of the loads' scale */
+            const double lim = (c < (m->planar ? 2 : 3)) ? 2.0 : 1e3 * (1.0 + tr_load_scale(m) + tsum);
+            if (!(fabs(y[c]) / node_scale(m, c) <= lim)) ok = 0;
+        }
+        if (ok && b < m->nseg)
+            apply_jump(m, d, b, y);
+        if (ok && b < m->nseg && (j = m->bp_node[b]) > 0)
+            for (c = 0; c < ns; c++)
+                x[node_off(m, j) + c] = y[c] / node_scale(m, c);
+    }
+    if (!ok) {
+        /* keep the given base unknowns */
+        for (c = 0; c < n_force(m); c++) d->ft[c] = x[c];
+        shape_guess(m, d, x);
+        for (c = 0; c < n_force(m); c++) x[c] = d->ft[c];
+    }
+}
+
 int tr_residual(const tr_model *m, tr_data *d, const double *x, double *f)
 {
     int k, status;
@@ -319,8 +519,11 @@ int tr_residual(const tr_model *m, tr_data *d, const double *x, double *f)
             return status;
         if (k + 1 == d->probe_bp)
             capture_probe(m, d, y);
-        if (k + 1 < m->nseg)
+        if (k + 1 < m->nseg) {
             apply_jump(m, d, k + 1, y);
+            if (m->bp_node[k + 1] > 0)
+                node_restart(m, x, m->bp_node[k + 1], y, f);
+        }
     }
     tip_residual(m, d, y, f);
     return isfinite(maxnorm(f, d->k)) ? TR_OK : TR_ENONFINITE;
@@ -613,8 +816,9 @@ int tr_solve_init(const tr_model *m, tr_data *d, const double *guess, const doub
                 tr_set_message(d, "guess contains a non-finite value");
                 return TR_EINVAL;
             }
+        init_nodes(m, d, d->x);
     } else {
-        cold_guess(m, d, d->x);
+        cold_start(m, d);
     }
     d->have_J = d->J_fresh = d->J_refresh = 0;
     if (jac) {
@@ -736,14 +940,14 @@ int tr_solve_iterate(const tr_model *m, tr_data *d)
             /* semismooth switch: a tendon that changed between taut and slack has a
              * new Jacobian column (dtau/dgamma jumps); refresh just that column */
             {
-                const int off = n_force(m);
+                const int off = n_force(m), gend = off + m->ndisp;
                 int nsw = 0;
-                for (j = off; j < k; j++)
+                for (j = off; j < gend; j++)
                     d->lin_act[j - off] = (d->x[j] > 0.0) != (d->xt[j] > 0.0);
                 memcpy(d->x, d->xt, (size_t)k * sizeof(double));
                 memcpy(d->f, d->ft, (size_t)k * sizeof(double));
                 if (d->opt.jacobian_method == TR_JAC_FD && !(ratio > TR_BROYDEN_RATIO))
-                    for (j = off; j < k; j++)
+                    for (j = off; j < gend; j++)
                         if (d->lin_act[j - off]) {
                             if (fd_column(m, d, j) != TR_OK) { d->J_refresh = 1; break; }
                             nsw++;
@@ -858,7 +1062,7 @@ static int continuation_run(const tr_model *m, tr_data *d)
     int status;
     d->lam_act = 0.0;
     d->lam_load = 0.0;
-    cold_guess(m, d, d->x);
+    cold_start(m, d);
     d->have_J = 0;
     status = tr_residual(m, d, d->x, d->f);
     d->fnorm = maxnorm(d->f, d->k);
@@ -929,8 +1133,15 @@ static int verify_steps(const tr_model *m, tr_data *d)
         d->steps = N;
         est = status == TR_OK ? maxnorm(d->ft, k) : INFINITY;
         d->truncation = est;
-        if (est <= d->opt.tol)
+        if (est <= d->opt.tol) {
+            /* keep the doubled steps: the residual there is known, and the polish
+             * step that follows brings the solution to their (~2^-p smaller) error */
+            d->steps = 2 * N;
+            memcpy(d->f, d->ft, (size_t)k * sizeof(double));
+            d->fnorm = est;
+            d->steps_moved = 1;
             return TR_OK;
+        }
         if (2 * N > TR_STEP_CAP) {
             tr_set_message(d, "converged, but the truncation estimate %.3g stayed above tol %.3g "
                            "at %d steps; use a higher-order integrator or a looser tol", est,
@@ -971,7 +1182,10 @@ static void polish(const tr_model *m, tr_data *d)
             if (r > big) big = r;
             d->xt[i] = d->x[i] - d->dx[i];
         }
-        if (!(big > TR_POLISH_XTOL_FACTOR * d->opt.tol))
+        /* after the step doubling moved to 2N steps the residual there (the truncation
+         * estimate) is polished away too */
+        if (!(big > TR_POLISH_XTOL_FACTOR * d->opt.tol) &&
+            !(d->steps_moved && d->fnorm > TR_POLISH_RES_FACTOR * d->opt.tol))
             return;
         if (tr_residual(m, d, d->xt, d->ft) != TR_OK)
             return;
@@ -984,17 +1198,34 @@ static void polish(const tr_model *m, tr_data *d)
     }
 }
 
+/* Automatic initial step count: the fixed minimum, or enough steps to resolve the
+ * boundary layers of width L / lambda that a load of magnitude F makes, lambda =
+ * L sqrt(F / EI) (TR_AUTO_PER_LAMBDA steps per unit lambda). */
+static int auto_steps(const tr_model *m, const tr_data *d)
+{
+    const int base = d->opt.integrator == TR_RK4 ? TR_AUTO_RK4 : TR_AUTO_RK8;
+    const double per = d->opt.integrator == TR_RK4 ? 4.0 * TR_AUTO_PER_LAMBDA : TR_AUTO_PER_LAMBDA;
+    double F = m->L * tru_norm3(m->dist), lam;
+    int b, n;
+    for (b = 1; b <= m->nseg; b++)
+        F += tru_norm3(m->bpF + 3 * b);
+    lam = m->L * sqrt(F / m->EI);
+    n = (int)ceil(per * lam);
+    if (n > TR_MAX_STEPS / 4) n = TR_MAX_STEPS / 4;
+    return n > base ? n : base;
+}
+
 int tr_solve(const tr_model *m, tr_data *d, const double *guess, const double *jac)
 {
     int status;
     d->nit = d->nfev = d->njev = d->cont_steps = 0;
+    d->steps_moved = 0;
     d->message[0] = '\0';
     d->lam_act = d->lam_load = 1.0;
     d->truncation = NAN;
     d->jacobian_cond = NAN;
     d->probe_bp = -1;
-    d->steps = d->opt.steps > 0 ? d->opt.steps
-             : (d->opt.integrator == TR_RK4 ? TR_AUTO_RK4 : TR_AUTO_RK8);
+    d->steps = d->opt.steps > 0 ? d->opt.steps : auto_steps(m, d);
     if (d->model != m) {
         tr_set_message(d, "workspace was allocated for a different model");
         return d->status = TR_EINVAL;
@@ -1107,6 +1338,22 @@ static int record_span(const tr_model *m, tr_data *d, double s0, double s1, int 
     return status;
 }
 
+/* Restart the recording at shooting node j from its unknowns; the recording
+ * layout has a path-length slot per tendon: those of displacement-controlled
+ * tendons come from the node, the others keep integrating (they are continuous). */
+static void rec_restart(const tr_model *m, tr_data *d, int j, double *y)
+{
+    const int o = node_off(m, j), lenbase = m->n_base;
+    int c, i;
+    for (c = 0; c < m->n_base; c++)
+        y[c] = d->x[o + c] * node_scale(m, c);
+    for (i = 0; i < m->nt; i++) {
+        const tr_tendon *t = &m->tendon[i];
+        if (t->len_index >= 0)
+            y[lenbase + i] = d->x[o + m->n_base + t->len_index] * m->len_s;
+    }
+}
+
 static int record_pass(const tr_model *m, tr_data *d, int allow_rk4, int *used)
 {
     const double eps = 1e-12 * m->L;
@@ -1123,6 +1370,7 @@ static int record_pass(const tr_model *m, tr_data *d, int allow_rk4, int *used)
             d->seg = k;
             status = record_span(m, d, scur, m->bp[k + 1], k, y, allow_rk4, &used_rk4);
             apply_jump(m, d, k + 1, y);
+            if (m->bp_node[k + 1] > 0) rec_restart(m, d, m->bp_node[k + 1], y);
             scur = m->bp[k + 1];
             k++;
         }
@@ -1134,6 +1382,7 @@ static int record_pass(const tr_model *m, tr_data *d, int allow_rk4, int *used)
             scur = m->bp[k + 1];
             if (!pre) {
                 apply_jump(m, d, k + 1, y);
+                if (m->bp_node[k + 1] > 0) rec_restart(m, d, m->bp_node[k + 1], y);
                 k++;
             }
         } else {
@@ -1149,8 +1398,10 @@ static int record_pass(const tr_model *m, tr_data *d, int allow_rk4, int *used)
         if (m->bp[k + 1] > scur)
             status = record_span(m, d, scur, m->bp[k + 1], k, y, allow_rk4, &used_rk4);
         scur = m->bp[k + 1];
-        if (k + 1 < m->nseg)
+        if (k + 1 < m->nseg) {
             apply_jump(m, d, k + 1, y);
+            if (m->bp_node[k + 1] > 0) rec_restart(m, d, m->bp_node[k + 1], y);
+        }
         k++;
     }
     d->nfev++;

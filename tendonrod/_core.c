@@ -501,7 +501,8 @@ solver_prepare(solver_args *a, PyObject *rod, PyObject *tendons, PyObject *loads
                PyObject *dist, PyObject *guess, PyObject *jacobian, const char *integrator,
                int steps, double rtol, double tol, int max_iter, int max_nfev,
                const char *jac_method, const char *slack_model, int continuation,
-               int max_continuation, PyObject *nodes, int force_spatial, int tip_only)
+               int max_continuation, PyObject *nodes, int force_spatial, int tip_only,
+               int shooting_segments)
 {
     int ig, jm, sm;
     memset(a, 0, sizeof *a);
@@ -540,6 +541,7 @@ solver_prepare(solver_args *a, PyObject *rod, PyObject *tendons, PyObject *loads
     a->opt.max_continuation = max_continuation;
     a->opt.force_spatial = force_spatial;
     a->opt.tip_only = tip_only;
+    a->opt.shooting_segments = shooting_segments;
 
     if (!(a->rod = solver_coerce(rod, "rod"))) return -1;
     if (PyArray_NDIM(a->rod) != 1 || PyArray_DIM(a->rod, 0) != 6) {
@@ -748,7 +750,8 @@ solver_result(const tr_model *m, const tr_data *d, int status)
         solver_set(form, "integrator", PyUnicode_FromString(solver_integrators[d->opt.integrator])) < 0 ||
         solver_set(form, "steps", PyLong_FromLong(d->opt.integrator == TR_ADAPTIVE ? 0 : d->steps)) < 0 ||
         solver_set(form, "slack_model", PyUnicode_FromString(solver_slack[d->opt.slack_model])) < 0 ||
-        solver_set(form, "jacobian_method", PyUnicode_FromString(solver_jacobians[d->opt.jacobian_method])) < 0)
+        solver_set(form, "jacobian_method", PyUnicode_FromString(solver_jacobians[d->opt.jacobian_method])) < 0 ||
+        solver_set(form, "shooting_segments", PyLong_FromLong(m->nshoot)) < 0)
         goto fail;
     if (solver_set(res, "formulation", form) < 0) { form = NULL; goto fail; }
     return res;
@@ -760,13 +763,13 @@ fail:
 
 #define SOLVER_KW_TAIL "guess", "jacobian", "integrator", "steps", "rtol", "tol", "max_iter", \
     "max_nfev", "jacobian_method", "slack_model", "continuation", "max_continuation", "nodes", \
-    "force_spatial", "tip_only"
+    "force_spatial", "tip_only", "shooting_segments"
 
 PyDoc_STRVAR(core_solve_doc,
 "solve(rod, tendons, loads, dist, *, guess=None, jacobian=None, integrator='rk8', steps=0,\n"
 "      rtol=1e-10, tol=1e-10, max_iter=50, max_nfev=20000, jacobian_method='fd',\n"
 "      slack_model='linear', continuation=True, max_continuation=64, nodes=101,\n"
-"      force_spatial=False, tip_only=False) -> dict\n\n"
+"      force_spatial=False, tip_only=False, shooting_segments=1) -> dict\n\n"
 "Raw entry point of the Cosserat-rod/tendon shooting solver (see csrc/README.md).\n\n"
 "rod (6,) [L, EI, GJ, EA, GA, kirchhoff]; tendons (nt, 8) [offset, angle, slope, EA (inf:\n"
 "inextensible), end, control (0 displacement / 1 tension), value (q [m], > 0 retracts, or\n"
@@ -782,7 +785,9 @@ PyDoc_STRVAR(core_solve_doc,
 "robot; at most max_continuation steps.  nodes: int (uniform nodes incl. 0 and L plus every\n"
 "interior breakpoint twice: the state before and after its jump) or a sorted 1-D array of\n"
 "arc lengths (a node at an interior breakpoint gives the state after the jump, unless the\n"
-"next node has the same s).  tip_only: only the tip (N = 1).\n\n"
+"next node has the same s).  tip_only: only the tip (N = 1).  shooting_segments: M > 1\n"
+"adds full-state unknowns and continuity residuals at j L / M (multiple shooting, for\n"
+"tensile axial loads with L sqrt(T/EI) >~ 7).\n\n"
 "Returns a dict: status (0 ok, > 0 caveat, < 0 failure; _core.strerror(status)), message,\n"
 "success (status >= 0), nit, nfev (integrations, incl. the recording pass), njev,\n"
 "residual_norm (scaled max-norm), s (N,), position (N,3) world [m], rotation (N,3,3)\n"
@@ -794,7 +799,7 @@ PyDoc_STRVAR(core_solve_doc,
 "doubled steps; NaN when steps were given or the integrator is adaptive),\n"
 "continuation_steps, formulation (dict: planar, kirchhoff, n_unknowns, n_states,\n"
 "n_segments, n_length_states, n_stretch_terms, distributed_load, tip_only, integrator,\n"
-"steps, slack_model, jacobian_method).\n");
+"steps, slack_model, jacobian_method, shooting_segments).\n");
 
 static PyObject *
 core_solve(PyObject *self, PyObject *args, PyObject *kwds)
@@ -805,6 +810,8 @@ core_solve(PyObject *self, PyObject *args, PyObject *kwds)
     int steps = 0, max_iter = 50, max_nfev = 20000, continuation = 1, max_continuation = 64;
     int force_spatial = 0, tip_only = 0, status;
     PyObject *o_steps = NULL, *o_max_iter = NULL, *o_max_nfev = NULL, *o_max_cont = NULL;
+    PyObject *o_shoot = NULL;
+    int shooting_segments = 1;
     double rtol = 1e-10, tol = 1e-10;
     solver_args a;
     tr_model *m = NULL;
@@ -813,20 +820,21 @@ core_solve(PyObject *self, PyObject *args, PyObject *kwds)
     const double *g = NULL, *jac = NULL;
 
     memset(&a, 0, sizeof a);
-    if (!PyArg_ParseTupleAndKeywords(args, kwds, "OOOO|$OOsOddOOsspOOpp", kwlist, &rod, &tendons,
+    if (!PyArg_ParseTupleAndKeywords(args, kwds, "OOOO|$OOsOddOOsspOOppO", kwlist, &rod, &tendons,
                                      &loads, &dist, &guess, &jacobian, &integrator, &o_steps, &rtol,
                                      &tol, &o_max_iter, &o_max_nfev, &jac_method, &slack_model,
                                      &continuation, &o_max_cont, &nodes, &force_spatial,
-                                     &tip_only))
+                                     &tip_only, &o_shoot))
         return NULL;
     if (solver_int(o_steps, "steps", 0, TR_MAX_STEPS, &steps) < 0 ||
         solver_int(o_max_iter, "max_iter", 0, 1000000, &max_iter) < 0 ||
         solver_int(o_max_nfev, "max_nfev", 1, 1000000000, &max_nfev) < 0 ||
-        solver_int(o_max_cont, "max_continuation", 0, 1000000, &max_continuation) < 0)
+        solver_int(o_max_cont, "max_continuation", 0, 1000000, &max_continuation) < 0 ||
+        solver_int(o_shoot, "shooting_segments", 1, TR_MAX_SHOOTING_SEGMENTS, &shooting_segments) < 0)
         return NULL;
     if (solver_prepare(&a, rod, tendons, loads, dist, guess, jacobian, integrator, steps, rtol,
                        tol, max_iter, max_nfev, jac_method, slack_model, continuation,
-                       max_continuation, nodes, force_spatial, tip_only) < 0)
+                       max_continuation, nodes, force_spatial, tip_only, shooting_segments) < 0)
         goto done;
     if (solver_build(&a, NULL, &m, &d) < 0)
         goto done;
@@ -863,6 +871,8 @@ core_compliance(PyObject *self, PyObject *args, PyObject *kwds)
     int steps = 0, max_iter = 50, max_nfev = 20000, continuation = 1, max_continuation = 64;
     int force_spatial = 0, tip_only = 0, status;
     PyObject *o_steps = NULL, *o_max_iter = NULL, *o_max_nfev = NULL, *o_max_cont = NULL;
+    PyObject *o_shoot = NULL;
+    int shooting_segments = 1;
     double rtol = 1e-10, tol = 1e-10, s = 0.0, extra[7] = {0, 0, 0, 0, 0, 0, 0};
     solver_args a;
     tr_model *m = NULL;
@@ -872,20 +882,21 @@ core_compliance(PyObject *self, PyObject *args, PyObject *kwds)
     double C[36];
 
     memset(&a, 0, sizeof a);
-    if (!PyArg_ParseTupleAndKeywords(args, kwds, "OOOOd|$OOsOddOOsspOOpp", kwlist, &rod,
+    if (!PyArg_ParseTupleAndKeywords(args, kwds, "OOOOd|$OOsOddOOsspOOppO", kwlist, &rod,
                                      &tendons, &loads, &dist, &s, &guess, &jacobian, &integrator,
                                      &o_steps, &rtol, &tol, &o_max_iter, &o_max_nfev, &jac_method,
                                      &slack_model, &continuation, &o_max_cont, &nodes,
-                                     &force_spatial, &tip_only))
+                                     &force_spatial, &tip_only, &o_shoot))
         return NULL;
     if (solver_int(o_steps, "steps", 0, TR_MAX_STEPS, &steps) < 0 ||
         solver_int(o_max_iter, "max_iter", 0, 1000000, &max_iter) < 0 ||
         solver_int(o_max_nfev, "max_nfev", 1, 1000000000, &max_nfev) < 0 ||
-        solver_int(o_max_cont, "max_continuation", 0, 1000000, &max_continuation) < 0)
+        solver_int(o_max_cont, "max_continuation", 0, 1000000, &max_continuation) < 0 ||
+        solver_int(o_shoot, "shooting_segments", 1, TR_MAX_SHOOTING_SEGMENTS, &shooting_segments) < 0)
         return NULL;
     if (solver_prepare(&a, rod, tendons, loads, dist, guess, Py_None, integrator, steps, rtol,
                        tol, max_iter, max_nfev, jac_method, slack_model, continuation,
-                       max_continuation, NULL, 1, 1) < 0)
+                       max_continuation, NULL, 1, 1, shooting_segments) < 0)
         goto done;
     {
         const double L = ((const double *)PyArray_DATA(a.rod))[0];

@@ -481,3 +481,31 @@ def test_gil_released_and_deterministic_across_threads():
         t.join()
     for o in out:
         np.testing.assert_array_equal(o["position"], ref["position"])   # bitwise
+
+
+# ------------------------------------------------------------------ multiple shooting
+def test_multiple_shooting_tensile_load():
+    """Tension T with a small lateral tip force F: the linear theory of a tie-beam
+    cantilever gives the tip deflection F L / T (1 - tanh(lam)/lam), lam = L sqrt(T/EI).
+    Single shooting amplifies errors like e^lam; with M segments, like e^(lam/M)."""
+    lam = 20.0
+    T = lam ** 2 * EI / L ** 2
+    F = 1e-4 * T
+    res = solve(KIRCH, loads=[load(F=(F, 0, T))], shooting_segments=4)
+    assert res["success"], res["message"]
+    f = res["formulation"]
+    assert f["shooting_segments"] == 4 and f["n_unknowns"] == 3 + 3 * 6 and f["planar"]
+    delta = F * L / T * (1 - math.tanh(lam) / lam)
+    # deflection 1e-4 L: the geometric nonlinearity is ~(delta/L)^2 ~ 1e-8 relative; the
+    # tie stretches nothing (Kirchhoff); 1e-6 leaves room for the integrator
+    assert abs(res["position"][-1, 0] / delta - 1) < 1e-6
+    # the same solution as single shooting where that still works (lam = 5)
+    T5 = 25 * EI / L ** 2
+    kw = dict(steps=40, tol=1e-12)
+    one = solve(KIRCH, [tendon(value=0.003)], [load(F=(0.01 * T5, 0, T5))], **kw)
+    four = solve(KIRCH, [tendon(value=0.003)], [load(F=(0.01 * T5, 0, T5))], shooting_segments=4, **kw)
+    assert one["success"] and four["success"], (one["message"], four["message"])
+    np.testing.assert_allclose(four["position"], one["position"], atol=1e-11 * L)   # same equations
+    np.testing.assert_allclose(four["tension"], one["tension"], rtol=1e-9)
+    with pytest.raises(ValueError, match="shooting_segments"):
+        solve(KIRCH, shooting_segments=0)
