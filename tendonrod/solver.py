@@ -104,6 +104,10 @@ class Options:
     tip_only : bool
         Fill only the tip state (``s``, ``position`` ... have one row, at s = L;
         default False). For sweeps that need tip quantities only.
+    shooting_segments : int
+        M > 1: multiple shooting with full-state unknowns and continuity residuals at
+        j L / M (default 1: single shooting is fastest and suffices unless a tensile axial
+        load has L sqrt(T/EI) >~ 7, where single shooting diverges).
     """
 
     integrator: str = "rk8"
@@ -119,6 +123,7 @@ class Options:
     nodes: Union[int, Sequence[float], np.ndarray] = 101
     force_spatial: bool = False
     tip_only: bool = False
+    shooting_segments: int = 1
 
     def __post_init__(self):
         own = "Options"
@@ -127,7 +132,8 @@ class Options:
             v = getattr(self, name)
             if not isinstance(v, str) or v not in allowed:
                 raise ValueError(f"{own}.{name} must be one of {allowed}, got {v!r}")
-        for name, lo in (("steps", 0), ("max_iter", 1), ("max_nfev", 1), ("max_continuation", 0)):
+        for name, lo in (("steps", 0), ("max_iter", 1), ("max_nfev", 1), ("max_continuation", 0),
+                         ("shooting_segments", 1)):
             v = getattr(self, name)
             if isinstance(v, (bool, np.bool_)) or not isinstance(v, (numbers.Integral, np.integer)) or v < lo:
                 raise ValueError(f"{own}.{name} must be an integer >= {lo}, got {v!r}")
@@ -213,6 +219,8 @@ class Formulation:
         Tension/slack parametrisation.
     jacobian_method : str
         How the shooting Jacobian was formed.
+    shooting_segments : int
+        Shooting segments (1: single shooting).
     """
 
     planar: bool
@@ -228,6 +236,7 @@ class Formulation:
     steps: int
     slack_model: str
     jacobian_method: str = ""
+    shooting_segments: int = 1
 
     @classmethod
     def from_dict(cls, d: dict) -> "Formulation":
@@ -237,7 +246,7 @@ class Formulation:
             if f.type in ("bool",):
                 v = bool(v)
             elif f.type in ("int",):
-                v = int(v) if v is not None else -1
+                v = int(v) if v is not None else (f.default if isinstance(f.default, int) else -1)
             else:
                 v = "" if v is None else (v.decode() if isinstance(v, bytes) else str(v))
             kw[f.name] = v
@@ -258,7 +267,9 @@ class Formulation:
         more = (", " + ", ".join(extra)) if extra else ""
         return (f"Formulation({geom} {rod}, {self.n_unknowns} unknowns, {self.n_states} states, "
                 f"{self.n_segments} segment(s){more}; {self.integrator} x {self.steps} steps, "
-                f"slack model {self.slack_model}, jacobian {self.jacobian_method})")
+                f"slack model {self.slack_model}, jacobian {self.jacobian_method}"
+                + (f", {self.shooting_segments} shooting segments" if self.shooting_segments > 1 else "")
+                + ")")
 
 
 # --------------------------------------------------------------------------- packing

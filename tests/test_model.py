@@ -176,6 +176,7 @@ def test_loads_validation_and_packing():
     (dict(nodes=1), "nodes"),
     (dict(nodes=[0.1, 0.05]), "nodes"),
     (dict(continuation="yes"), "continuation"),
+    (dict(shooting_segments=0), "shooting_segments"),
 ])
 def test_options_validation(kw, field):
     with pytest.raises(ValueError, match=f"Options.{field}"):
