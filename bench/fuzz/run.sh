@@ -16,6 +16,8 @@ CC="${CC:-clang}"
 CSRC="${CSRC:-$ROOT/csrc}"
 OUT="${FUZZ_DIR:-$ROOT/build/fuzz}"
 command -v "$CC" >/dev/null || { echo "fuzz: $CC not found (apt-get install -y clang)" >&2; exit 2; }
+# findings are per run (the corpus is kept and grows from run to run)
+rm -rf "$OUT/artifacts" "$OUT"/fuzz-*.log
 mkdir -p "$OUT/corpus" "$OUT/artifacts"
 
 GSL_CFLAGS="$(pkg-config --cflags gsl 2>/dev/null || gsl-config --cflags)"
