@@ -154,7 +154,6 @@ tr_data *tr_data_alloc(const tr_model *m, const tr_options *opt, int nnode,
         /* merge the uniform grid with each interior breakpoint: twice where a load or
          * an anchor makes a jump (before and after it), once at a shooting node */
 
-
         int iu = 0, ib = 1, o = 0;
         while ((iu < nnode || ib < m->nseg) && o < nn) {
             const double su = iu < nnode ? (iu == nnode - 1 ? m->L : m->L * ((double)iu / (nnode - 1))) : INFINITY;

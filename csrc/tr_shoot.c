@@ -54,7 +54,9 @@
 #define TR_AUTO_RK4 32
 /* ... and at least this many rk8 steps per unit of L sqrt(|F|/EI) (boundary layers) */
 #define TR_AUTO_PER_LAMBDA 2.0
-#define TR_STEP_CAP 65536
+#define TR_STEP_CAP 8192
+/* Cap of the initial automatic step count (huge loads: keep max_nfev a time bound). */
+#define TR_AUTO_MAX 256
 /* Recording pass: RK4 steps of at most this fraction of the rk8 shooting step. */
 #define TR_RECORD_RK4_FRACTION 8.0
 #define TR_RECORD_RK4_MIN_STEPS 100.0
@@ -1210,8 +1212,7 @@ static int auto_steps(const tr_model *m, const tr_data *d)
     for (b = 1; b <= m->nseg; b++)
         F += tru_norm3(m->bpF + 3 * b);
     lam = m->L * sqrt(F / m->EI);
-    n = (int)ceil(per * lam);
-    if (n > TR_MAX_STEPS / 4) n = TR_MAX_STEPS / 4;
+    n = (int)ceil(fmin(per * lam, (double)TR_AUTO_MAX));
     return n > base ? n : base;
 }
 
