@@ -497,7 +497,7 @@ class TendonRobotReference:
             return x, taut, False, None
 
         # adaptive continuation: a step is accepted when it converges and the tip moves
-        # by less than 0.05 L (a larger jump means the solve left the branch it was on:
+        # by less than 0.25 L (a larger jump means the solve left the branch it was on:
         # under large dead loads the rod has other, looped, unstable equilibria)
         lam_done = 0.0 if guess is None else 1.0 - 1e-300
         tip_prev = np.array([0.0, 0.0, L]) if guess is None else guess.tip_position
@@ -507,7 +507,7 @@ class TendonRobotReference:
         while lam_done < 1.0:
             lam = min(1.0, lam_done + dlam)
             x_new, taut_new, ok, tip = step_to(lam, x.copy(), taut)
-            if ok and (np.linalg.norm(tip - tip_prev) < 0.05 * L or (guess is not None and lam == 1.0 and dlam == 1.0)):
+            if ok and (np.linalg.norm(tip - tip_prev) < 0.25 * L or (guess is not None and lam == 1.0 and dlam == 1.0)):
                 x, taut, lam_done, tip_prev = x_new, taut_new, lam, tip
                 dlam = min(2.0 * dlam, 1.0 / steps) if guess is None else dlam
                 continue
