@@ -1129,11 +1129,20 @@ static int verify_steps(const tr_model *m, tr_data *d)
     for (round = 0; round < 16; round++) {
         const int N = d->steps;
         double est;
-        int status, Nn;
-        d->steps = 2 * N;
+        int status, Nn, c;
+        /* the tip state at N and 2N steps: a residual can be exact at any step count
+         * (a pure end moment) while the pose is not, so both are compared (scaled) */
         status = tr_residual(m, d, d->x, d->ft);
+        memcpy(d->k4, d->y, (size_t)m->n_base * sizeof(double));
+        d->steps = 2 * N;
+        if (status == TR_OK)
+            status = tr_residual(m, d, d->x, d->ft);
         d->steps = N;
         est = status == TR_OK ? maxnorm(d->ft, k) : INFINITY;
+        for (c = 0; c < m->n_base && status == TR_OK; c++) {
+            const double e = fabs(d->y[c] - d->k4[c]) / m->xstate_scale[c];
+            if (!(e <= est)) est = e;
+        }
         d->truncation = est;
         if (est <= d->opt.tol) {
             /* keep the doubled steps: the residual there is known, and the polish
@@ -1153,7 +1162,7 @@ static int verify_steps(const tr_model *m, tr_data *d)
         /* predicted factor (Richardson, order p), at least doubling */
         Nn = 2 * N;
         if (isfinite(est)) {
-            const double fac = pow(est / (0.25 * d->opt.tol), 1.0 / order);
+            const double fac = pow(est / d->opt.tol, 1.0 / order);
             while (Nn < fac * N && 2 * Nn <= TR_STEP_CAP) Nn *= 2;
         }
         d->steps = Nn;

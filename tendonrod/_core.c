@@ -606,15 +606,9 @@ solver_prepare(solver_args *a, PyObject *rod, PyObject *tendons, PyObject *loads
     }
     if (nodes == NULL || nodes == Py_None) {
         a->nnode = 101;
-    } else if (PyLong_Check(nodes)) {
-        long nn = PyLong_AsLong(nodes);
-        if (nn == -1 && PyErr_Occurred()) return -1;
-        if (nn < 2 || nn > 10000000) {
-            PyErr_Format(PyExc_ValueError, "nodes = %ld must be an int in [2, 10000000] or a 1-D "
-                         "array of arc lengths", nn);
+    } else if (PyLong_Check(nodes) && !PyBool_Check(nodes)) {
+        if (solver_int(nodes, "nodes", 2, 10000000, &a->nnode) < 0)
             return -1;
-        }
-        a->nnode = (int)nn;
     } else {
         const double *v;
         npy_intp i;
