@@ -36,6 +36,9 @@ enum tr_status {
                                 stayed above tol at the step cap */
     TR_ILLCONDITIONED = 2,   /* converged, but the final Jacobian is nearly singular
                                 (tensions may be poorly determined) */
+    TR_OFFPATH = 3,          /* converged by a direct solve after load continuation from
+                                the unloaded robot stalled: possibly not the equilibrium
+                                reached by loading */
     TR_CONTINUE = 100,       /* iteration in progress (tr_solve_iterate/test only) */
     TR_EINVAL = -1,          /* invalid model or option value */
     TR_ENOMEM = -2,          /* allocation failed */

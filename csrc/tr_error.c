@@ -7,6 +7,7 @@ const char *tr_strerror(int status)
     case TR_OK: return "success";
     case TR_TRUNCATION: return "converged; truncation estimate above tolerance at the step cap";
     case TR_ILLCONDITIONED: return "converged; final Jacobian nearly singular";
+    case TR_OFFPATH: return "converged off the load path (continuation stalled)";
     case TR_CONTINUE: return "iteration in progress";
     case TR_EINVAL: return "invalid model or option";
     case TR_ENOMEM: return "out of memory";

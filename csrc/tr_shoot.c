@@ -73,6 +73,10 @@
 #define TR_POLISH_RES_FACTOR 1e-2
 /* Iterations per continuation step: Newton from a near point converges in a few. */
 #define TR_CONT_ITER 15
+/* Cold starts with loads above this scaled magnitude (sum of |F| L^2/EI, |M| L/EI,
+ * |f| L^3/EI) go by continuation at once, in load steps of at most TR_RAMP_LOAD. */
+#define TR_DIRECT_LOAD_MAX 6.0
+#define TR_RAMP_LOAD 3.0
 /* Newton iterations of the implicit jump at a breakpoint (converges in 2-4). */
 #define TR_JUMP_ITER 20
 
@@ -995,14 +999,16 @@ static int newton_run(const tr_model *m, tr_data *d, int max_iter)
 
 /* Ramp *lamp (d->lam_act or d->lam_load) from its solved value to 1 with an
  * adaptive step (halve on failure, double on success) and a secant predictor. */
-static int ramp(const tr_model *m, tr_data *d, double *lamp, const char *what)
+static int ramp(const tr_model *m, tr_data *d, double *lamp, const char *what, double dmax)
 {
     const int k = d->k;
     const int iter_cap = d->opt.max_iter < TR_CONT_ITER ? d->opt.max_iter : TR_CONT_ITER;
-    double lam = *lamp, dlam = TR_CONT_DLAM0, dlam_prev = 0.0;
+    double lam = *lamp, dlam = TR_CONT_DLAM0 < dmax ? TR_CONT_DLAM0 : dmax, dlam_prev = 0.0;
     int have_prev = 0, status, i;
     while (lam < 1.0) {
-        const double lt = lam + dlam > 1.0 ? 1.0 : lam + dlam;
+        double lt;
+        if (dlam > dmax) dlam = dmax;
+        lt = lam + dlam > 1.0 ? 1.0 : lam + dlam;
         if (d->nfev >= d->opt.max_nfev) {
             tr_set_message(d, "function-evaluation limit (max_nfev = %d) reached during continuation "
                            "at %.4g of the %s; raise max_nfev", d->opt.max_nfev, lam, what);
@@ -1076,10 +1082,16 @@ static int continuation_run(const tr_model *m, tr_data *d)
         tr_set_message(d, "continuation could not solve the unloaded robot: %s", tr_strerror(status));
         return TR_ECONTINUATION;
     }
-    status = ramp(m, d, &d->lam_act, "actuation (tendon displacements and tensions, loads off)");
+    status = ramp(m, d, &d->lam_act, "actuation (tendon displacements and tensions, loads off)", 1.0);
     if (status != TR_OK)
         return status;
-    return ramp(m, d, &d->lam_load, "loads (at full actuation)");
+    /* load steps of at most TR_RAMP_LOAD (scaled F L^2/EI + M L/EI) keep the path on the
+     * branch that grows from the unloaded robot */
+    {
+        const double ls = tr_load_scale(m);
+        return ramp(m, d, &d->lam_load, "loads (at full actuation)",
+                    ls > TR_RAMP_LOAD ? TR_RAMP_LOAD / ls : 1.0);
+    }
 }
 
 /* Continuation steps use full Newton (fresh Jacobian every iteration): a
@@ -1227,7 +1239,7 @@ static int auto_steps(const tr_model *m, const tr_data *d)
 
 int tr_solve(const tr_model *m, tr_data *d, const double *guess, const double *jac)
 {
-    int status;
+    int status, forced = 0;
     d->nit = d->nfev = d->njev = d->cont_steps = 0;
     d->steps_moved = 0;
     d->message[0] = '\0';
@@ -1253,8 +1265,18 @@ int tr_solve(const tr_model *m, tr_data *d, const double *guess, const double *j
     status = tr_solve_init(m, d, guess, jac);
     if (status == TR_EINVAL)
         return d->status = status;
-    if (status == TR_OK)
+    if (status == TR_OK && !guess && d->opt.continuation && d->opt.max_continuation > 0 &&
+        tr_load_scale(m) > TR_DIRECT_LOAD_MAX) {
+        /* large loads from a cold start: a direct Newton iteration can land on a looped,
+         * unstable equilibrium (buckled-through elastica); follow the load path from
+         * the unloaded robot instead */
+        status = TR_ECONTINUATION;
+        forced = 1;
+        tr_set_message(d, "large loads (scaled %.3g > %g): solved by continuation",
+                       tr_load_scale(m), TR_DIRECT_LOAD_MAX);
+    } else if (status == TR_OK) {
         status = newton_run(m, d, d->opt.max_iter);
+    }
     if (status < 0 && status != TR_EMAXFEV && d->opt.continuation && d->opt.max_continuation > 0) {
         char first[TR_MSGLEN];
         int st2;
@@ -1267,10 +1289,32 @@ int tr_solve(const tr_model *m, tr_data *d, const double *guess, const double *j
             memcpy(second, d->message, TR_MSGLEN);
             tr_set_message(d, "%s; then %s", first, second);
             status = st2 == TR_EMAXFEV ? st2 : TR_ECONTINUATION;
+            if (forced && st2 != TR_EMAXFEV) {
+                /* the load path stalled (a limit point: snap-through): an equilibrium
+                 * may still exist off that path; a direct cold solve may find it */
+                int st3;
+                char both[TR_MSGLEN];
+                memcpy(both, d->message, TR_MSGLEN);
+                d->lam_act = d->lam_load = 1.0;
+                st3 = tr_solve_init(m, d, NULL, NULL);
+                if (st3 == TR_OK)
+                    st3 = newton_run(m, d, d->opt.max_iter);
+                if (st3 == TR_OK) {
+                    status = TR_OFFPATH;
+                    tr_set_message(d, "converged by a direct solve, but load continuation from the "
+                                   "unloaded robot stalled (%s): this equilibrium may not be the "
+                                   "one reached by loading the robot (a limit point / "
+                                   "snap-through lies on the path)", second);
+                } else {
+                    tr_set_message(d, "%s; a direct solve did not converge either", both);
+                }
+            }
         }
     }
-    if (status == TR_OK && d->opt.steps == 0 && d->opt.integrator != TR_ADAPTIVE)
-        status = verify_steps(m, d);
+    if (status >= 0 && d->opt.steps == 0 && d->opt.integrator != TR_ADAPTIVE) {
+        const int vs = verify_steps(m, d);
+        if (vs != TR_OK) status = vs;
+    }
     /* A cold solve returns a fresh finite-difference Jacobian at the solution (the
      * Broyden-updated one is accurate only along recent steps): it makes the
      * condition estimate meaningful and warm starts from it Newton-fast.  Warm
