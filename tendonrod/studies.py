@@ -580,7 +580,9 @@ def tip_compliance_vs_alpha(rod=None, offset: float = 0.01, theta: float = math.
     A tension-controlled tendon's stiffness does not change the unloaded shape, so each
     routing is actuated once (tension found by :func:`actuate`), then tr.sweep varies
     the tendon's EA and records the locked-actuator tip compliance.  Also returns the
-    closed-form straight-robot curves of Fig. 7 for comparison.
+    closed-form straight-robot curves of Fig. 7 for comparison (as the paper writes
+    them; the exact straight-robot limit of the converging tendon is eq. 32 at
+    alpha / c^3, c = sqrt(1 + a^2) -- see MODEL.md and tests/test_studies.py).
     """
     from .sweep import sweep
 
