@@ -77,6 +77,8 @@
  * |f| L^3/EI) go by continuation at once, in load steps of at most TR_RAMP_LOAD. */
 #define TR_DIRECT_LOAD_MAX 6.0
 #define TR_RAMP_LOAD 3.0
+/* A continuation stage may move the tip by at most this fraction of L. */
+#define TR_CONT_TIP_JUMP 0.2
 /* Newton iterations of the implicit jump at a breakpoint (converges in 2-4). */
 #define TR_JUMP_ITER 20
 
@@ -997,6 +999,17 @@ static int newton_run(const tr_model *m, tr_data *d, int max_iter)
     }
 }
 
+/* Tip position (world) of the state integrated from x (one evaluation). */
+static void tip_of(const tr_model *m, tr_data *d, const double *x, double p[3])
+{
+    double R[9], n[3], mo[3];
+    if (tr_residual(m, d, x, d->ft) != TR_OK) {
+        p[0] = p[1] = p[2] = NAN;
+        return;
+    }
+    tr_state_world(m, d->y, p, R, n, mo);
+}
+
 /* Ramp *lamp (d->lam_act or d->lam_load) from its solved value to 1 with an
  * adaptive step (halve on failure, double on success) and a secant predictor. */
 static int ramp(const tr_model *m, tr_data *d, double *lamp, const char *what, double dmax)
@@ -1004,7 +1017,13 @@ static int ramp(const tr_model *m, tr_data *d, double *lamp, const char *what, d
     const int k = d->k;
     const int iter_cap = d->opt.max_iter < TR_CONT_ITER ? d->opt.max_iter : TR_CONT_ITER;
     double lam = *lamp, dlam = TR_CONT_DLAM0 < dmax ? TR_CONT_DLAM0 : dmax, dlam_prev = 0.0;
+    double tip[3], tip_new[3];
     int have_prev = 0, status, i;
+    /* the tip of the solved start, to catch a load stage that jumps to another branch */
+    if (lamp == &d->lam_load)
+        tip_of(m, d, d->x, tip);
+    else
+        tip[0] = tip[1] = tip[2] = 0.0;
     while (lam < 1.0) {
         double lt;
         if (dlam > dmax) dlam = dmax;
@@ -1037,6 +1056,20 @@ static int ramp(const tr_model *m, tr_data *d, double *lamp, const char *what, d
         if (status == TR_EMAXFEV)
             return status;
         if (status == TR_OK) {
+            /* a stage whose tip jumps by more than TR_CONT_TIP_JUMP L left the branch it
+             * started on (exponentially sensitive shapes can do that in one Newton
+             * iteration): reject it and take a smaller step */
+            if (lamp == &d->lam_load)
+                tip_of(m, d, d->x, tip_new);
+            else
+                tip_new[0] = tip_new[1] = tip_new[2] = 0.0;
+            if (lamp == &d->lam_load &&
+                hypot(hypot(tip_new[0] - tip[0], tip_new[1] - tip[1]), tip_new[2] - tip[2])
+                > TR_CONT_TIP_JUMP * m->L && dlam > TR_CONT_DLAM_MIN * 4.0)
+                status = TR_ENOPROGRESS;
+        }
+        if (status == TR_OK) {
+            memcpy(tip, tip_new, sizeof tip);
             memcpy(d->xp, d->xs, (size_t)k * sizeof(double));
             dlam_prev = lt - lam;
             lam = lt;
