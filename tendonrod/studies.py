@@ -44,7 +44,7 @@ __all__ = [
     "closed_form_sigma_vs_zeta", "closed_form_tip_sigma_vs_alpha", "prototype_curves",
     "prototype_shapes", "actuation_tradeoff", "straight_load_sweep", "prescribed_comparison",
     "out_of_plane_comparison", "torsion_paradox", "compliance_map", "tip_compliance_vs_alpha",
-    "slack_study", "design_study", "figure_registry", "fast_mode",
+    "slack_study", "critical_slack_load", "design_study", "figure_registry", "fast_mode",
 ]
 
 G_ACCEL = 9.81
@@ -657,11 +657,55 @@ def slack_study(rod=None, offset: float = 0.01, theta: float = math.pi / 2, F_ma
             "tip_angle": masked(act.theta, res["tip_angle"]),
             "position": masked(act.solution.position, res["position"]), "success": ok,
         }
-    # critical load: first converged F where the (first) tendon's tension reaches 0
+    # critical load: bracketed by the first converged grid point where the (first)
+    # tendon's tension reaches 0, then refined to solver accuracy (not a grid value)
     tau = out["locked"]["tension"][:, 0]
     crit = np.nonzero(out["locked"]["success"] & (tau <= 0.0))[0]
-    out["F_slack"] = float(F[crit[0]]) if crit.size else math.nan
+    out["F_slack"] = math.nan
+    if crit.size and crit[0] > 0 and out["locked"]["success"][crit[0] - 1]:
+        out["F_slack"] = critical_slack_load(act.locked_scene, F[crit[0] - 1], F[crit[0]],
+                                             direction=(0.0, 0.0, -1.0), options=options)
     return out
+
+
+def critical_slack_load(scene, F_lo: float, F_hi: float, direction=(0.0, 0.0, -1.0),
+                        tendon: int = 0, xtol: float = 1e-12, options=None) -> float:
+    """Load magnitude [N] at which ``tendon`` of ``scene`` goes slack under a tip force
+    ``F * direction`` (world frame), bracketed by ``F_lo`` (taut) and ``F_hi`` (slack).
+
+    Bisection on the signed taut/slack indicator g(F) = tension [N] when taut and
+    -slack [m] when slack: both vanish at the switch, so g changes sign exactly there
+    (the solver's semismooth tension/slack variable makes g continuous).  Each solve is
+    warm-started from the nearer bracket end.  Stops when the bracket is below
+    ``xtol`` relative.  Raises RuntimeError when a solve fails or the bracket does not
+    straddle the switch."""
+    import tendonrod as tr
+
+    L = scene.robot.rod.length
+    d = np.asarray(direction, dtype=float)
+
+    def g(F, guess):
+        sc = dataclasses.replace(scene, loads=(tr.PointLoad(s=L, force=tuple(F * d)),))
+        sol = tr.solve(sc, guess=guess, options=options)
+        if not sol.success:
+            raise RuntimeError(f"critical_slack_load: solve at F = {F!r} N failed: {sol.message}")
+        tau, beta = float(sol.tension[tendon]), float(sol.slack[tendon])
+        return (tau if tau > 0.0 else -beta), sol
+
+    lo, hi = float(F_lo), float(F_hi)
+    g_lo, sol_lo = g(lo, None)
+    g_hi, sol_hi = g(hi, sol_lo)
+    if not (g_lo > 0.0 and g_hi <= 0.0):
+        raise RuntimeError(f"critical_slack_load: [{lo}, {hi}] N does not bracket the switch "
+                           f"(tension/-slack {g_lo!r} and {g_hi!r})")
+    while hi - lo > xtol * hi:
+        mid = 0.5 * (lo + hi)
+        g_mid, sol_mid = g(mid, sol_lo)
+        if g_mid > 0.0:
+            lo, sol_lo = mid, sol_mid
+        else:
+            hi, sol_hi = mid, sol_mid
+    return 0.5 * (lo + hi)
 
 
 def design_study(target_sigma: float = 1.0, rod=None, offset: float = 0.01, alphas=None,

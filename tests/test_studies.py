@@ -167,6 +167,23 @@ def test_slack_study_tip_angle_held_until_slack():
     assert np.allclose(held["tension"][:, 0], held["tension"][0, 0])  # tension-held stays put
 
 
+def test_critical_slack_load_is_the_elastica_load():
+    """At the critical load the locked tendon carries nothing, so the robot is a plain
+    cantilever under a downward tip force whose tip tangent is still horizontal (the
+    tendon length, hence the 90-degree tip angle, is unchanged at the switch): the
+    elastica with tip angle pi/2, P_c = K(1/sqrt 2)^2 EI / L^2 (K: complete elliptic
+    integral of the first kind, parameter m = k^2 = 1/2).  The paper's text says 3.6 N."""
+    from scipy.special import ellipk
+
+    d = S.slack_study(n=9, F_max=1.0)
+    rod = S.paper_rod_slack()
+    P_c = ellipk(0.5) ** 2 * rod.bending_stiffness / rod.length ** 2
+    # bisection to 1e-12 relative on a solver converged to ~1e-10 scaled residual with
+    # automatic step verification: 1e-8 relative leaves a wide margin for both
+    assert d["F_slack"] == pytest.approx(P_c, rel=1e-8)
+    assert 0.35 < d["F_slack"] < 0.36        # = 0.3577 N, a tenth of the paper's 3.6 N
+
+
 def test_torsion_slope_at_zero_is_the_rod_alone():
     d = S.torsion_paradox(alphas=(10.0, 1e4), n=41, twist_max=0.2)
     M = d["M_nd"]
