@@ -61,8 +61,9 @@
 #define TR_RECORD_RK4_FRACTION 8.0
 #define TR_RECORD_RK4_MIN_STEPS 100.0
 /* ... and is redone with rk8 if its tip differs from the shooting tip by more than
- * this many times tol (scaled states): 1e-8 at the default tol. */
-#define TR_RECORD_TOL_FACTOR 100.0
+ * this (scaled states): a guard against gross RK4 errors (unresolved boundary
+ * layers); otherwise the tip node takes the shooting tip. */
+#define TR_RECORD_GROSS 1e-6
 /* Continuation: first step and smallest step in lambda. */
 #define TR_CONT_DLAM0 0.25
 #define TR_CONT_DLAM_MIN 1e-4
@@ -1511,8 +1512,9 @@ static int record_pass(const tr_model *m, tr_data *d, int allow_rk4, int *used)
 }
 
 /* The recording pass; if it took RK4 shortcuts (dense nodes), its tip is checked
- * against the shooting integration's tip and the pass is redone at the shooting
- * steps when they differ by more than TR_RECORD_TOL_FACTOR x tol (scaled). */
+ * against the shooting integration's tip: redone at the shooting steps when they
+ * differ grossly (> TR_RECORD_GROSS, scaled), else the tip node is replaced by the
+ * shooting tip. */
 int tr_record(const tr_model *m, tr_data *d)
 {
     int used = 0, status = record_pass(m, d, 1, &used);
@@ -1527,8 +1529,12 @@ int tr_record(const tr_model *m, tr_data *d)
             const double e = fabs(d->k4[i] - d->y[i]) / m->xstate_scale[i];
             if (e > diff) diff = e;
         }
-        if (!(diff <= TR_RECORD_TOL_FACTOR * d->opt.tol))
-            status = record_pass(m, d, 0, &used);
+        if (!(diff <= TR_RECORD_GROSS))
+            return record_pass(m, d, 0, &used);
+        /* the tip node carries the shooting solution itself (the one the residual
+         * and the tolerance refer to); the RK4 nodes before it agree to ~1e-9 */
+        if (d->nnode > 0 && fabs(d->s[d->nnode - 1] - m->L) <= 1e-12 * m->L)
+            store_node(m, d, d->nnode - 1, d->y);
     }
     return status;
 }
