@@ -509,3 +509,20 @@ def test_multiple_shooting_tensile_load():
     np.testing.assert_allclose(four["tension"], one["tension"], rtol=1e-9)
     with pytest.raises(ValueError, match="shooting_segments"):
         solve(KIRCH, shooting_segments=0)
+
+
+# ------------------------------------------------------------------ large loads
+@pytest.mark.parametrize("fl", [4.0, 25.0, 100.0])
+def test_large_transverse_load_follows_the_loading_branch(fl):
+    """A plain cantilever under a transverse tip force F L^2/EI = fl has many equilibria
+    (looped ones too); the one reached by loading is the elastica of the references
+    module (elliptic integrals, no tendonrod inside). Cold starts above a scaled load
+    of 6 go by continuation from the unloaded robot, so they must land on it."""
+    from tendonrod.references import elastica_tip_force
+    F = fl * EI / L ** 2
+    res = solve(KIRCH, loads=[load(F=(F, 0, 0))])
+    assert res["success"], res["message"]
+    xL, zL, _ = elastica_tip_force(L, EI, F)
+    # auto steps verified to tol = 1e-10 (scaled), tip within 1e-8 L with margin
+    assert abs(res["position"][-1, 0] - xL) < 1e-8 * L and abs(res["position"][-1, 2] - zL) < 1e-8 * L
+    assert (res["continuation_steps"] > 0) == (fl > 6)
