@@ -24,6 +24,7 @@
 #include <gsl/gsl_matrix.h>
 #include <gsl/gsl_permutation.h>
 #include <gsl/gsl_odeiv2.h>
+#include <gsl/gsl_multiroots.h>
 
 #ifdef __cplusplus
 extern "C" {
@@ -62,7 +63,9 @@ enum tr_slack_model { TR_SLACK_LINEAR = 0, TR_SLACK_SQUARED = 1 };
 enum tr_jacobian_method {
     TR_JAC_FD = 0,       /* forward-difference Jacobian, then Broyden updates; refreshed
                             by finite differences when progress is poor */
-    TR_JAC_NEWTON = 1    /* fresh forward-difference Jacobian every iteration */
+    TR_JAC_NEWTON = 1,   /* fresh forward-difference Jacobian every iteration */
+    TR_JAC_HYBRID = 2    /* GSL's hybridsj (Powell dogleg trust region, scaled, rank-1
+                            updates) with the same forward-difference Jacobian */
 };
 enum tr_control { TR_DISPLACEMENT = 0, TR_TENSION = 1 };
 
@@ -205,6 +208,7 @@ typedef struct tr_data {
     double *lin;                /* (2 ndisp^2 + 3 ndisp) scratch */
     int *lin_act;               /* (2 ndisp) active set / index map */
     double *bp_pose;            /* ((nseg + 1) x 12) p, R at each breakpoint (cold-start shape pass) */
+    gsl_multiroot_fdfsolver *hyb; /* hybridsj workspace (jacobian_method = TR_JAC_HYBRID) */
     /* compliance */
     double *Yx;                 /* (6 x k) d(output)/d(unknowns) */
     double *Fp;                 /* (k x 6) d(residual)/d(probe load) */

@@ -34,6 +34,7 @@ void tr_data_free(tr_data *d)
     free(d->lin);
     free(d->lin_act);
     free(d->bp_pose);
+    if (d->hyb) gsl_multiroot_fdfsolver_free(d->hyb);
     free(d->s);
     free(d);
 }
@@ -58,7 +59,7 @@ tr_data *tr_data_alloc(const tr_model *m, const tr_options *opt, int nnode,
     if (!m || !opt) { dmsg(msg, msglen, "tr_data_alloc: NULL model or options"); return NULL; }
     if (opt->integrator < TR_RK4 || opt->integrator > TR_ADAPTIVE || opt->steps < 0 ||
         !(opt->tol > 0.0) || !(opt->rtol > 0.0) || opt->max_iter < 0 || opt->max_nfev < 1 ||
-        opt->max_continuation < 0 || opt->steps > TR_MAX_STEPS || (opt->jacobian_method != TR_JAC_FD && opt->jacobian_method != TR_JAC_NEWTON) ||
+        opt->max_continuation < 0 || opt->steps > TR_MAX_STEPS || (opt->jacobian_method < TR_JAC_FD || opt->jacobian_method > TR_JAC_HYBRID) ||
         (opt->slack_model != TR_SLACK_LINEAR && opt->slack_model != TR_SLACK_SQUARED)) {
         dmsg(msg, msglen, "invalid solver options (integrator %d, steps %d (max %d), tol %g, rtol %g, "
              "max_iter %d, max_nfev %d, max_continuation %d)", opt->integrator, opt->steps, TR_MAX_STEPS,
@@ -106,6 +107,10 @@ tr_data *tr_data_alloc(const tr_model *m, const tr_options *opt, int nnode,
     d->yt = d->y + 5 * nsr; d->yerr = d->y + 6 * nsr;
     d->Fp = d->Yx + 6 * k;
 
+    if (opt->jacobian_method == TR_JAC_HYBRID) {
+        d->hyb = gsl_multiroot_fdfsolver_alloc(gsl_multiroot_fdfsolver_hybridsj, (size_t)k);
+        if (!d->hyb) goto nomem;
+    }
     /* ODE systems and steppers (both layouts) */
     d->sys_shoot.function = tr_rhs; d->sys_shoot.jacobian = NULL;
     d->sys_shoot.dimension = (size_t)m->n_states; d->sys_shoot.params = d;

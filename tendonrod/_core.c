@@ -492,7 +492,7 @@ solver_int(PyObject *obj, const char *name, long long lo, long long hi, int *out
 }
 
 static const char *const solver_integrators[] = {"rk4", "rk8", "adaptive"};
-static const char *const solver_jacobians[] = {"fd", "newton"};
+static const char *const solver_jacobians[] = {"fd", "newton", "hybrid"};
 static const char *const solver_slack[] = {"linear", "squared"};
 
 /* Parse the shared part; returns 0 or -1 with an exception set. */
@@ -508,7 +508,7 @@ solver_prepare(solver_args *a, PyObject *rod, PyObject *tendons, PyObject *loads
     memset(a, 0, sizeof *a);
     a->opt = tr_default_options();
     if (solver_choice(integrator, "integrator", solver_integrators, 3, &ig) < 0 ||
-        solver_choice(jac_method, "jacobian_method", solver_jacobians, 2, &jm) < 0 ||
+        solver_choice(jac_method, "jacobian_method", solver_jacobians, 3, &jm) < 0 ||
         solver_choice(slack_model, "slack_model", solver_slack, 2, &sm) < 0)
         return -1;
     if (steps < 0) {
@@ -773,7 +773,8 @@ PyDoc_STRVAR(core_solve_doc,
 "integrator 'rk4' | 'rk8' (fixed steps; steps = total over [0, L], 0 = automatic with\n"
 "step-doubling verification) | 'adaptive' (GSL rk8pd with error control rtol).\n"
 "jacobian_method 'fd' (forward differences, then Broyden updates, refreshed on poor\n"
-"progress) | 'newton' (fresh forward differences every iteration).\n"
+"progress) | 'newton' (fresh forward differences every iteration) | 'hybrid' (GSL hybridsj:\n"
+"Powell dogleg trust region with the same finite-difference Jacobian).\n"
 "slack_model 'linear' (tau = tau_s max(g,0), slack = L max(-g,0)) | 'squared' (the paper's g^2).\n"
 "continuation: on failure ramp the actuation (loads off), then the loads, from the straight\n"
 "robot; at most max_continuation steps.  nodes: int (uniform nodes incl. 0 and L plus every\n"
@@ -941,6 +942,225 @@ core_strerror(PyObject *self, PyObject *arg)
     {"strerror", (PyCFunction)core_strerror, METH_O, core_strerror_doc},
 /* END solver functions (section 2) */
 
+/* BEGIN batch (section 2b: batch; owner: issue 7, tendonrod/batch.py) */
+#include "tr_batch.h"
+
+/* Optional per-point array of shape (n, *tail) (tail of length ntail); *n < 0 means
+ * "not known yet" and is set from the first array given.  0 or -1 with ValueError. */
+static int
+batch_points(PyObject *obj, const char *name, const npy_intp *tail, int ntail,
+             const char *what, PyArrayObject **out, npy_intp *n)
+{
+    int j, ok;
+    *out = NULL;
+    if (obj == NULL || obj == Py_None)
+        return 0;
+    if (!(*out = solver_coerce(obj, name)))
+        return -1;
+    ok = PyArray_NDIM(*out) == 1 + ntail;
+    for (j = 0; ok && j < ntail; j++)
+        ok = PyArray_DIM(*out, 1 + j) == tail[j];
+    if (ok && *n >= 0 && PyArray_DIM(*out, 0) != *n)
+        ok = 0;
+    if (!ok) {
+        char shp[96];
+        int o = snprintf(shp, sizeof shp, "(%s", *n >= 0 ? "" : "n");
+        if (*n >= 0) o += snprintf(shp + o, sizeof shp - o, "%ld", (long)*n);
+        for (j = 0; j < ntail && o < (int)sizeof shp; j++)
+            o += snprintf(shp + o, sizeof shp - o, ", %ld", (long)tail[j]);
+        if (o < (int)sizeof shp) snprintf(shp + o, sizeof shp - o, ")");
+        PyErr_Format(PyExc_ValueError, "%s must have shape %s: %s (got ndim %d)", name, shp, what,
+                     PyArray_NDIM(*out));
+        Py_CLEAR(*out);
+        return -1;
+    }
+    *n = PyArray_DIM(*out, 0);
+    return 0;
+}
+
+PyDoc_STRVAR(core_solve_batch_doc,
+"solve_batch(rod, tendons, loads, dist, *, values=None, point_loads=None, dists=None,\n"
+"            warm=True, retry_cold=False, integrator='rk8', steps=0, rtol=1e-10, tol=1e-10,\n"
+"            max_iter=50, max_nfev=20000, jacobian_method='fd', slack_model='linear',\n"
+"            continuation=True, max_continuation=64, force_spatial=False,\n"
+"            shooting_segments=1) -> dict\n\n"
+"n scenes of one robot design in one call (csrc/tr_batch.h), the GIL released around the\n"
+"whole batch.  rod, tendons, loads, dist as for solve() fix the design, the control modes,\n"
+"the load positions and the formulation; per point vary: values (n, nt) actuation values\n"
+"(q [m] or tau [N] per the control column), point_loads (n, nl, 6) [F (3), M (3)] world,\n"
+"dists (n, 3) N/m world (None: the base value at every point; at least one must be given).\n"
+"warm: warm-start each point from the previous converged one (guess + Jacobian, as\n"
+"solve(guess=previous) does); retry_cold: retry a failed warm start without a guess.\n"
+"Returns a dict of arrays over the n points: tip_position (n,3) [m], tip_rotation (n,3,3),\n"
+"tension, slack, displacement (n,nt), residual_norm (n,), status, nit, nfev, cold (n,)\n"
+"int32, message (list of n str; '' where status == 0), formulation (dict: planar,\n"
+"n_unknowns).\n");
+
+static PyObject *
+core_solve_batch(PyObject *self, PyObject *args, PyObject *kwds)
+{
+    static char *kwlist[] = {"rod", "tendons", "loads", "dist", "values", "point_loads", "dists",
+                             "warm", "retry_cold", "integrator", "steps", "rtol", "tol",
+                             "max_iter", "max_nfev", "jacobian_method", "slack_model",
+                             "continuation", "max_continuation", "force_spatial",
+                             "shooting_segments", NULL};
+    PyObject *rod, *tendons, *loads, *dist, *o_values = Py_None, *o_pl = Py_None, *o_dists = Py_None;
+    const char *integrator = "rk8", *jac_method = "fd", *slack_model = "linear";
+    int steps = 0, max_iter = 50, max_nfev = 20000, continuation = 1, max_continuation = 64;
+    int force_spatial = 0, warm = 1, retry_cold = 0, shooting_segments = 1, status = TR_OK;
+    PyObject *o_steps = NULL, *o_max_iter = NULL, *o_max_nfev = NULL, *o_max_cont = NULL;
+    PyObject *o_shoot = NULL;
+    double rtol = 1e-10, tol = 1e-10;
+    solver_args a;
+    tr_model *m = NULL;
+    PyArrayObject *values = NULL, *pl = NULL, *dists = NULL;
+    PyObject *pos = NULL, *rot = NULL, *ten = NULL, *sla = NULL, *dis = NULL, *res = NULL;
+    PyObject *sta = NULL, *nit = NULL, *nfe = NULL, *cld = NULL, *msgs = NULL, *result = NULL;
+    PyObject *form = NULL;
+    char *mbuf = NULL;
+    npy_intp n = -1, i;
+    char emsg[TR_MSGLEN];
+
+    memset(&a, 0, sizeof a);
+    if (!PyArg_ParseTupleAndKeywords(args, kwds, "OOOO|$OOOppsOddOOsspOpO", kwlist, &rod, &tendons,
+                                     &loads, &dist, &o_values, &o_pl, &o_dists, &warm, &retry_cold,
+                                     &integrator, &o_steps, &rtol, &tol, &o_max_iter, &o_max_nfev,
+                                     &jac_method, &slack_model, &continuation, &o_max_cont,
+                                     &force_spatial, &o_shoot))
+        return NULL;
+    if (solver_int(o_steps, "steps", 0, TR_MAX_STEPS, &steps) < 0 ||
+        solver_int(o_max_iter, "max_iter", 0, 1000000, &max_iter) < 0 ||
+        solver_int(o_max_nfev, "max_nfev", 1, 1000000000, &max_nfev) < 0 ||
+        solver_int(o_max_cont, "max_continuation", 0, 1000000, &max_continuation) < 0 ||
+        solver_int(o_shoot, "shooting_segments", 1, TR_MAX_SHOOTING_SEGMENTS, &shooting_segments) < 0)
+        return NULL;
+    if (solver_prepare(&a, rod, tendons, loads, dist, Py_None, Py_None, integrator, steps, rtol,
+                       tol, max_iter, max_nfev, jac_method, slack_model, continuation,
+                       max_continuation, NULL, force_spatial, 1, shooting_segments) < 0)
+        goto done;
+    {
+        npy_intp tv[1] = {a.nt}, tl[2] = {a.nl, 6}, td[1] = {3};
+        if (batch_points(o_values, "values", tv, 1, "an actuation value per point and tendon",
+                         &values, &n) < 0 ||
+            batch_points(o_pl, "point_loads", tl, 2, "[F (3), M (3)] per point and point load",
+                         &pl, &n) < 0 ||
+            batch_points(o_dists, "dists", td, 1, "a distributed force per point", &dists, &n) < 0)
+            goto done;
+    }
+    if (n < 0) {
+        PyErr_SetString(PyExc_ValueError, "solve_batch needs at least one of values, point_loads, "
+                        "dists (they set the number of points)");
+        goto done;
+    }
+    if (n > INT_MAX / 2) {
+        PyErr_Format(PyExc_ValueError, "solve_batch: n = %ld points is too many for one call",
+                     (long)n);
+        goto done;
+    }
+    status = tr_model_alloc(&m, (const double *)PyArray_DATA(a.rod),
+                            a.nt > 0 ? (const double *)PyArray_DATA(a.tendons) : NULL, a.nt,
+                            a.nl > 0 ? (const double *)PyArray_DATA(a.loads) : NULL, a.nl,
+                            (const double *)PyArray_DATA(a.dist), &a.opt, emsg, sizeof emsg);
+    if (status != TR_OK) {
+        if (status == TR_ENOMEM) PyErr_NoMemory();
+        else PyErr_SetString(PyExc_ValueError, emsg);
+        goto done;
+    }
+    {
+        npy_intp d2[2] = {n, 3}, d3[3] = {n, 3, 3}, dt[2] = {n, a.nt}, d1[1] = {n};
+        pos = PyArray_SimpleNew(2, d2, NPY_DOUBLE);
+        rot = PyArray_SimpleNew(3, d3, NPY_DOUBLE);
+        ten = PyArray_SimpleNew(2, dt, NPY_DOUBLE);
+        sla = PyArray_SimpleNew(2, dt, NPY_DOUBLE);
+        dis = PyArray_SimpleNew(2, dt, NPY_DOUBLE);
+        res = PyArray_SimpleNew(1, d1, NPY_DOUBLE);
+        sta = PyArray_SimpleNew(1, d1, NPY_INT);
+        nit = PyArray_SimpleNew(1, d1, NPY_INT);
+        nfe = PyArray_SimpleNew(1, d1, NPY_INT);
+        cld = PyArray_SimpleNew(1, d1, NPY_INT);
+        /* zeroed: pages of points that converged are never written, so never resident */
+        mbuf = (char *)calloc((size_t)(n > 0 ? n : 1), TR_MSGLEN);
+        if (!pos || !rot || !ten || !sla || !dis || !res || !sta || !nit || !nfe || !cld) goto done;
+        if (!mbuf) { PyErr_NoMemory(); goto done; }
+    }
+    {
+        tr_batch_in in;
+        tr_batch_out out;
+        in.n = (int)n;
+        in.value = values ? (const double *)PyArray_DATA(values) : NULL;
+        in.load = pl ? (const double *)PyArray_DATA(pl) : NULL;
+        in.dist = dists ? (const double *)PyArray_DATA(dists) : NULL;
+        in.warm = warm;
+        in.retry_cold = retry_cold;
+        out.tip_pos = (double *)PyArray_DATA((PyArrayObject *)pos);
+        out.tip_rot = (double *)PyArray_DATA((PyArrayObject *)rot);
+        out.tension = (double *)PyArray_DATA((PyArrayObject *)ten);
+        out.slack = (double *)PyArray_DATA((PyArrayObject *)sla);
+        out.displacement = (double *)PyArray_DATA((PyArrayObject *)dis);
+        out.residual = (double *)PyArray_DATA((PyArrayObject *)res);
+        out.status = (int *)PyArray_DATA((PyArrayObject *)sta);
+        out.nit = (int *)PyArray_DATA((PyArrayObject *)nit);
+        out.nfev = (int *)PyArray_DATA((PyArrayObject *)nfe);
+        out.cold = (int *)PyArray_DATA((PyArrayObject *)cld);
+        out.message = mbuf;
+        out.msglen = TR_MSGLEN;
+        Py_BEGIN_ALLOW_THREADS
+        status = tr_batch_solve(m, &a.opt, &in, &out, emsg, sizeof emsg);
+        Py_END_ALLOW_THREADS
+    }
+    if (status != TR_OK) {
+        if (status == TR_ENOMEM) PyErr_NoMemory();
+        else PyErr_SetString(PyExc_ValueError, emsg);
+        goto done;
+    }
+    if (!(msgs = PyList_New(n))) goto done;
+    for (i = 0; i < n; i++) {
+        const char *mi = mbuf + (size_t)i * TR_MSGLEN;
+        const char *end = (const char *)memchr(mi, '\0', TR_MSGLEN);
+        PyObject *s = PyUnicode_DecodeUTF8(mi, end ? (Py_ssize_t)(end - mi) : TR_MSGLEN, "replace");
+        if (!s) goto done;
+        PyList_SET_ITEM(msgs, i, s);
+    }
+    if (!(result = PyDict_New())) goto done;
+    form = PyDict_New();
+    if (!form ||
+        solver_set(form, "planar", PyBool_FromLong(m->planar)) < 0 ||
+        solver_set(form, "kirchhoff", PyBool_FromLong(m->kirchhoff)) < 0 ||
+        solver_set(form, "n_unknowns", PyLong_FromLong(m->n_unknowns)) < 0 ||
+        solver_set(form, "n_states", PyLong_FromLong(m->n_states)) < 0)
+        goto fail;
+    if (PyDict_SetItemString(result, "tip_position", pos) < 0 ||
+        PyDict_SetItemString(result, "tip_rotation", rot) < 0 ||
+        PyDict_SetItemString(result, "tension", ten) < 0 ||
+        PyDict_SetItemString(result, "slack", sla) < 0 ||
+        PyDict_SetItemString(result, "displacement", dis) < 0 ||
+        PyDict_SetItemString(result, "residual_norm", res) < 0 ||
+        PyDict_SetItemString(result, "status", sta) < 0 ||
+        PyDict_SetItemString(result, "nit", nit) < 0 ||
+        PyDict_SetItemString(result, "nfev", nfe) < 0 ||
+        PyDict_SetItemString(result, "cold", cld) < 0 ||
+        PyDict_SetItemString(result, "message", msgs) < 0 ||
+        PyDict_SetItemString(result, "formulation", form) < 0)
+        goto fail;
+    goto done;
+fail:
+    Py_CLEAR(result);
+done:
+    free(mbuf);
+    Py_XDECREF(form);
+    Py_XDECREF(pos); Py_XDECREF(rot); Py_XDECREF(ten); Py_XDECREF(sla); Py_XDECREF(dis);
+    Py_XDECREF(res); Py_XDECREF(sta); Py_XDECREF(nit); Py_XDECREF(nfe); Py_XDECREF(cld);
+    Py_XDECREF(msgs);
+    Py_XDECREF(values); Py_XDECREF(pl); Py_XDECREF(dists);
+    tr_model_free(m);
+    solver_args_clear(&a);
+    return result;
+}
+
+#define BATCH_METHODS \
+    {"solve_batch", (PyCFunction)(void (*)(void))core_solve_batch, METH_VARARGS | METH_KEYWORDS, core_solve_batch_doc},
+/* END batch (section 2b) */
+
 static int
 add_solver(PyObject *module)
 {
@@ -952,6 +1172,7 @@ add_solver(PyObject *module)
 static PyMethodDef core_methods[] = {
     /* BEGIN method table (section 2 adds its entries here) */
     SOLVER_METHODS
+    BATCH_METHODS  /* section 2b: batch */
     /* END method table */
     {NULL, NULL, 0, NULL}
 };

@@ -526,3 +526,16 @@ def test_large_transverse_load_follows_the_loading_branch(fl):
     # auto steps verified to tol = 1e-10 (scaled), tip within 1e-8 L with margin
     assert abs(res["position"][-1, 0] - xL) < 1e-8 * L and abs(res["position"][-1, 2] - zL) < 1e-8 * L
     assert (res["continuation_steps"] > 0) == (fl > 6)
+
+
+@pytest.mark.parametrize("method", ["fd", "newton", "hybrid"])
+def test_jacobian_methods_agree(method):
+    """The three iterations solve the same equations: same answer to the tolerance."""
+    tendons, loads, dist = _balance_scene()
+    ref = solve(COSS, tendons, loads, dist, steps=16, tol=1e-12)
+    res = solve(COSS, tendons, loads, dist, steps=16, tol=1e-12, jacobian_method=method)
+    assert res["success"], res["message"]
+    assert res["formulation"]["jacobian_method"] == method
+    # residual 1e-12 scaled; condition ~1e3-1e4: positions agree to ~1e-9 L or better
+    np.testing.assert_allclose(res["position"], ref["position"], atol=1e-9 * L)
+    np.testing.assert_allclose(res["tension"], ref["tension"], rtol=1e-8, atol=1e-10)
