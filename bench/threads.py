@@ -15,7 +15,12 @@ much of the scaling is lost to the Python layer.
 
 Writes bench/results/threads.csv (one row per configuration) and prints a
 table.  The machine's CPU count is recorded: on a 2-core machine the ideal
-speed-up is 2.
+speed-up is 2.  Also recorded: the process's CPU seconds per wall second
+(about 2 when both threads really ran at once) and the 1-minute load
+average when the configuration started -- on a shared machine other
+processes take cores, and these two columns say how much.  Solves per
+CPU-second stays the same from 1 to 2 threads when nothing serialises them
+(GIL released, no locks in the core).
 """
 import argparse
 import csv
@@ -43,7 +48,8 @@ def load_scenes():
 
 
 def run_batch(fn, items, threads):
-    t0 = time.perf_counter()
+    """Wall time and process CPU time of solving every item on `threads` threads."""
+    c0, t0 = time.process_time(), time.perf_counter()
     if threads == 1:
         for it in items:
             fn(it)
@@ -51,19 +57,22 @@ def run_batch(fn, items, threads):
         with ThreadPoolExecutor(max_workers=threads) as ex:
             for _ in ex.map(fn, items, chunksize=max(1, len(items) // (4 * threads))):
                 pass
-    return time.perf_counter() - t0
+    return time.perf_counter() - t0, time.process_time() - c0
 
 
 def measure(fn, base, threads, seconds, repeat):
     # size the batch so one batch takes about `seconds` on one thread
-    t1 = run_batch(fn, base, 1)
+    t1, _ = run_batch(fn, base, 1)
     reps = max(1, int(seconds / max(t1, 1e-6)))
     items = base * reps
-    rates = []
+    rates, cpu = [], []
     for _ in range(repeat):
-        dt = run_batch(fn, items, threads)
+        dt, ct = run_batch(fn, items, threads)
         rates.append(len(items) / dt)
-    return len(items), statistics.median(rates), min(rates), max(rates)
+        cpu.append(ct / dt)
+    # cpu: CPU seconds per wall second of this process (about `threads` when
+    # the threads really ran in parallel; less when other processes took cores)
+    return len(items), statistics.median(rates), min(rates), max(rates), statistics.median(cpu)
 
 
 def main(argv=None):
@@ -89,14 +98,18 @@ def main(argv=None):
     for name, fn, base in (("tr.solve", public, scenes), ("_core.solve", raw, packed)):
         ref = None
         for th in a.threads:
-            n, med, lo, hi = measure(fn, base, th, a.seconds, a.repeat)
+            load0 = os.getloadavg()[0]
+            n, med, lo, hi, cpu = measure(fn, base, th, a.seconds, a.repeat)
             ref = med if th == a.threads[0] else ref
             rows.append(dict(api=name, threads=th, solves=n, solves_per_s=round(med, 1),
                              min_per_s=round(lo, 1), max_per_s=round(hi, 1),
-                             speedup=round(med / ref, 3), cpus=os.cpu_count(),
+                             speedup=round(med / ref, 3), cpu_per_wall=round(cpu, 2),
+                             solves_per_cpu_s=round(med / cpu, 1),
+                             loadavg_1min=round(load0, 2), cpus=os.cpu_count(),
                              scenes=len(base), converged=ok))
             print(f"{name:12s} {th} thread(s): {med:9.1f} solves/s (min {lo:.1f}, max {hi:.1f}, "
-                  f"{n} solves per batch)  speed-up {med / ref:.2f}x")
+                  f"{n} solves per batch)  speed-up {med / ref:.2f}x  "
+                  f"CPU/wall {cpu:.2f}  {med / cpu:.0f} solves per CPU-s  load avg {load0:.2f}")
     os.makedirs(os.path.dirname(RESULTS), exist_ok=True)
     with open(RESULTS, "w", newline="") as f:
         w = csv.DictWriter(f, fieldnames=list(rows[0]))
