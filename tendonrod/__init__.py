@@ -38,7 +38,12 @@ def __getattr__(name):
     raise AttributeError(f"module 'tendonrod' has no attribute {name!r}")
 # END design studies
 
+# BEGIN batch solves (batch.py, issue 7)
+from .batch import BatchResult, solve_batch  # noqa: E402
+# END batch solves
+
 __all__ = ["analytic", "gsl_version", "__version__"]
 __all__ += ["Rod", "Tendon", "Robot", "Scene", "PointLoad", "DistributedLoad", "Options",
             "Solution", "solve", "compliance", "ConvergenceWarning", "ConvergenceError"]
 __all__ += ["sweep", "SweepResult"]
+__all__ += ["solve_batch", "BatchResult"]

@@ -1,0 +1,322 @@
+"""Batch solves: many scenes of one robot design in one call.
+
+>>> res = tr.solve_batch(scene, forces=F)          # F: (n, nloads, 3)   # doctest: +SKIP
+>>> res.tip_position, res.success, res.message                            # doctest: +SKIP
+
+Every point shares the scene's robot (rod, tendon routing), its control modes
+(which tendons are displacement- and which tension-controlled) and its load
+positions; what varies per point are values only: tendon displacements or
+tensions, point-load forces and moments, the distributed force.  The points are
+solved in C (``csrc/tr_batch.c``) with the GIL released, in contiguous chunks of
+``chunksize`` points; within a chunk each point is warm-started from the previous
+converged one (its unknowns and final Jacobian, as ``tr.solve(scene,
+guess=previous)`` does), each chunk starts cold.  Results depend on the order and
+the chunking only, never on the number of threads (bitwise).  Only tip quantities
+are returned.
+"""
+from __future__ import annotations
+
+import concurrent.futures as cf
+import math
+from dataclasses import dataclass
+from typing import Optional
+
+import numpy as np
+
+from . import _core
+from .model import Scene
+from .solver import Options, _check_options, _is_planar, pack_scene
+
+__all__ = ["solve_batch", "BatchResult", "DEFAULT_CHUNKSIZE"]
+
+DEFAULT_CHUNKSIZE = 1000
+"""Points per warm-started chunk when ``chunksize`` is not given (fixed, so that results
+do not depend on the machine or the number of threads)."""
+
+
+@dataclass(frozen=True, repr=False)
+class BatchResult:
+    """Tip quantities of ``n`` solved points (arrays over the points, in input order).
+
+    Attributes
+    ----------
+    tip_position : (n, 3) world frame [m]
+    tip_rotation : (n, 3, 3) tip body-to-world rotation
+    tension, slack, displacement : (n, ntendon) [N], [m], [m] (actuator displacement
+        consistent with the solution, as ``Solution.displacement``)
+    status : (n,) int, the core's status (0 ok, > 0 converged with a caveat, < 0 failed;
+        ``tendonrod._core.strerror``)
+    success : (n,) bool, ``status >= 0``
+    message : (n,) object array of str, the solver's message per point
+    nit, nfev : (n,) int, iterations and residual evaluations per point
+    residual_norm : (n,) final scaled residual max-norm
+    cold : (n,) bool, the point was solved without a warm start
+    formulation : dict, what was solved (planar, kirchhoff, n_unknowns, n_states)
+    chunksize : int, points per warm-started chunk
+    """
+
+    tip_position: np.ndarray
+    tip_rotation: np.ndarray
+    tension: np.ndarray
+    slack: np.ndarray
+    displacement: np.ndarray
+    status: np.ndarray
+    message: np.ndarray
+    nit: np.ndarray
+    nfev: np.ndarray
+    residual_norm: np.ndarray
+    cold: np.ndarray
+    formulation: dict
+    chunksize: int
+
+    @property
+    def success(self) -> np.ndarray:
+        return self.status >= 0
+
+    def __len__(self) -> int:
+        return int(self.status.shape[0])
+
+    def __repr__(self) -> str:
+        return (f"BatchResult(n={len(self)}, {int(np.count_nonzero(self.success))} converged, "
+                f"chunksize={self.chunksize}, formulation={self.formulation})")
+
+    def failures(self) -> list:
+        """``[(index, status, message), ...]`` for every point that did not converge."""
+        return [(int(i), int(self.status[i]), str(self.message[i]))
+                for i in np.flatnonzero(~self.success)]
+
+
+def _points(arr, name: str, tail: tuple, what: str, n: Optional[int]):
+    """float64 (n, *tail) array of a per-point argument; ValueError naming it."""
+    if arr is None:
+        return None, n
+    a = np.asarray(arr, dtype=float)
+    want = ("n" if n is None else str(n),) + tuple(str(t) for t in tail)
+    if a.ndim != 1 + len(tail) or a.shape[1:] != tuple(tail) or (n is not None and a.shape[0] != n):
+        raise ValueError(f"{name} must have shape ({', '.join(want)}) -- {what} -- got shape "
+                         f"{a.shape}")
+    if not np.all(np.isfinite(a)):
+        bad = tuple(int(i) for i in np.argwhere(~np.isfinite(a))[0])
+        raise ValueError(f"{name} must be finite; {name}[{', '.join(map(str, bad))}] = {a[bad]!r}")
+    return np.ascontiguousarray(a), a.shape[0]
+
+
+def solve_batch(scene: Scene, *, displacement=None, tension=None, forces=None, moments=None,
+                distributed=None, options: Optional[Options] = None, threads: int = 1,
+                chunksize: Optional[int] = None, warm_start: bool = True,
+                retry_cold: bool = True) -> BatchResult:
+    """Solve ``n`` variants of ``scene`` that differ only in actuation and load values.
+
+    Parameters
+    ----------
+    scene : tendonrod.Scene
+        The design: robot, control modes (which tendons have a displacement and which a
+        tension), load positions, and the values used for whatever is not varied.
+    displacement : array (n, n_displacement), optional
+        Per point, the displacement [m] (> 0 retracts) of every displacement-controlled
+        tendon of ``scene``, in tendon order.
+    tension : array (n, n_tension), optional
+        Per point, the tension [N] (>= 0) of every tension-controlled tendon, in order.
+    forces, moments : array (n, n_pointloads, 3), optional
+        Per point, the force [N] / moment [N m] (world frame) of every point load of
+        ``scene`` (in the order of ``scene.point_loads``; their positions stay).
+    distributed : array (n, 3), optional
+        Per point, the uniform distributed force [N/m], world frame (replaces the sum of
+        the scene's distributed loads).
+    options : tendonrod.Options, optional
+        As for :func:`tendonrod.solve`; ``tip_only`` is implied and ``nodes`` ignored.
+    threads : int
+        Worker threads (the C core runs with the GIL released); chunks are shared out.
+    chunksize : int, optional
+        Points per warm-started chunk (default :data:`DEFAULT_CHUNKSIZE`).
+    warm_start : bool
+        Warm-start each point from the previous converged point of its chunk.
+    retry_cold : bool
+        Retry a point whose warm-started solve failed from a cold start.
+
+    At least one of the per-point arrays must be given; they fix ``n``.
+
+    Returns
+    -------
+    BatchResult
+    """
+    if not isinstance(scene, Scene):
+        raise ValueError(f"scene must be a tendonrod.Scene, got {scene!r}")
+    options = _check_options(options)
+    if isinstance(threads, bool) or not isinstance(threads, (int, np.integer)) or threads < 1:
+        raise ValueError(f"threads must be an int >= 1, got {threads!r}")
+    if chunksize is None:
+        chunksize = DEFAULT_CHUNKSIZE
+    if isinstance(chunksize, bool) or not isinstance(chunksize, (int, np.integer)) or chunksize < 1:
+        raise ValueError(f"chunksize must be an int >= 1, got {chunksize!r}")
+    rod, tendons, loads, dist = pack_scene(scene)
+    controls = scene.displacement_controlled()
+    idisp = [i for i, c in enumerate(controls) if c]
+    iten = [i for i, c in enumerate(controls) if not c]
+    npl = loads.shape[0]
+    n = None
+    displacement, n = _points(displacement, "displacement", (len(idisp),),
+                              "one column per displacement-controlled tendon", n)
+    tension, n = _points(tension, "tension", (len(iten),),
+                         "one column per tension-controlled tendon", n)
+    forces, n = _points(forces, "forces", (npl, 3), "a force per point and point load", n)
+    moments, n = _points(moments, "moments", (npl, 3), "a moment per point and point load", n)
+    distributed, n = _points(distributed, "distributed", (3,), "a distributed force per point", n)
+    if n is None:
+        raise ValueError("solve_batch needs at least one of displacement, tension, forces, moments, "
+                         "distributed (they set the number of points)")
+    if tension is not None and np.any(tension < 0.0):
+        bad = tuple(int(i) for i in np.argwhere(tension < 0.0)[0])
+        raise ValueError(f"tension must be >= 0 (a tendon cannot push); tension[{bad[0]}, {bad[1]}] "
+                         f"= {tension[bad]!r}")
+
+    values = None
+    if displacement is not None or tension is not None:
+        values = np.repeat(tendons[None, :, 6], n, axis=0)
+        if displacement is not None:
+            values[:, idisp] = displacement
+        if tension is not None:
+            values[:, iten] = tension
+    point_loads = None
+    if forces is not None or moments is not None:
+        point_loads = np.repeat(loads[None, :, 1:7], n, axis=0)
+        if forces is not None:
+            point_loads[:, :, 0:3] = forces
+        if moments is not None:
+            point_loads[:, :, 3:6] = moments
+    force_spatial = bool(options.force_spatial)
+    if not force_spatial and _is_planar(scene):
+        # one formulation for the whole batch: spatial as soon as any point leaves the plane
+        out_of_plane = ((point_loads is not None and
+                         np.any((point_loads[:, :, 1] != 0) | (point_loads[:, :, 3] != 0)
+                                | (point_loads[:, :, 5] != 0)))
+                        or (distributed is not None and np.any(distributed[:, 1] != 0)))
+        force_spatial = bool(out_of_plane)
+
+    kw = dict(options._raw)
+    kw.pop("nodes", None)
+    kw.pop("tip_only", None)
+    kw["force_spatial"] = force_spatial
+
+    if displacement is not None and _value_dependent_scene(scene):
+        # whether such a scene has a unique equilibrium depends on the displacement values
+        # (checked when a model is compiled): solve point by point
+        return _fallback(scene, values, point_loads, distributed, options, chunksize,
+                         warm_start, retry_cold, n, force_spatial)
+
+    bounds = [(a, min(a + chunksize, n)) for a in range(0, n, chunksize)]
+
+    def run(b):
+        a, e = b
+        return _core.solve_batch(
+            rod, tendons, loads, dist,
+            values=None if values is None else values[a:e],
+            point_loads=None if point_loads is None else point_loads[a:e],
+            dists=None if distributed is None else distributed[a:e],
+            warm=bool(warm_start), retry_cold=bool(retry_cold), **kw)
+
+    if threads == 1 or len(bounds) == 1:
+        parts = [run(b) for b in bounds]
+    else:
+        with cf.ThreadPoolExecutor(max_workers=min(int(threads), len(bounds))) as ex:
+            parts = list(ex.map(run, bounds))
+    return _assemble(parts, n, chunksize, options)
+
+
+def _value_dependent_scene(scene: Scene) -> bool:
+    """Inextensible displacement-controlled tendons (two or more) on a Kirchhoff backbone:
+    the core's compile-time indeterminacy check depends on their displacement values."""
+    if not scene.robot.rod.kirchhoff:
+        return False
+    ctl = scene.displacement_controlled()
+    return sum(1 for t, c in zip(scene.robot.tendons, ctl) if c and math.isinf(t.EA)) >= 2
+
+
+def _ok_message(nit: int, res: float, tol: float) -> str:
+    # the core's own wording for a converged point (tr_shoot.c), which the batch does not copy
+    return f"converged in {nit} iterations (scaled residual {res:.3g} <= tol {tol:.3g})"
+
+
+def _assemble(parts, n, chunksize, options) -> BatchResult:
+    cat = {k: np.concatenate([p[k] for p in parts]) for k in
+           ("tip_position", "tip_rotation", "tension", "slack", "displacement", "residual_norm",
+            "status", "nit", "nfev", "cold")}
+    message = np.empty(n, dtype=object)
+    msgs = [m for p in parts for m in p["message"]]
+    tol = options.tol
+    for i, m in enumerate(msgs):
+        message[i] = m if cat["status"][i] != 0 else _ok_message(int(cat["nit"][i]),
+                                                                  float(cat["residual_norm"][i]), tol)
+    return BatchResult(tip_position=cat["tip_position"], tip_rotation=cat["tip_rotation"],
+                       tension=cat["tension"], slack=cat["slack"], displacement=cat["displacement"],
+                       status=cat["status"].astype(np.int64), message=message,
+                       nit=cat["nit"].astype(np.int64), nfev=cat["nfev"].astype(np.int64),
+                       residual_norm=cat["residual_norm"], cold=cat["cold"].astype(bool),
+                       formulation=dict(parts[0]["formulation"]), chunksize=int(chunksize))
+
+
+def _fallback(scene, values, point_loads, distributed, options, chunksize, warm_start,
+              retry_cold, n, force_spatial) -> BatchResult:
+    """Point-by-point tr.solve (same chunking and warm starts) for scenes whose
+    solvability depends on the varied values."""
+    import dataclasses
+    import warnings
+
+    from .model import DistributedLoad, PointLoad
+    from .solver import ConvergenceWarning, solve
+
+    opts = dataclasses.replace(options, tip_only=True, force_spatial=force_spatial)
+    nt = scene.robot.n_tendons
+    out = {"tip_position": np.full((n, 3), np.nan), "tip_rotation": np.full((n, 3, 3), np.nan),
+           "tension": np.full((n, nt), np.nan), "slack": np.full((n, nt), np.nan),
+           "displacement": np.full((n, nt), np.nan), "residual_norm": np.full(n, np.nan),
+           "status": np.zeros(n, dtype=np.int64), "nit": np.zeros(n, dtype=np.int64),
+           "nfev": np.zeros(n, dtype=np.int64), "cold": np.zeros(n, dtype=bool)}
+    message = np.empty(n, dtype=object)
+    ctl = scene.displacement_controlled()
+    form = None
+    guess = None
+    for p in range(n):
+        if p % chunksize == 0:
+            guess = None
+        sc = scene
+        if values is not None:
+            sc = dataclasses.replace(
+                sc, displacement=[float(values[p, i]) if ctl[i] else None for i in range(nt)],
+                tension=[None if ctl[i] else float(values[p, i]) for i in range(nt)])
+        if point_loads is not None or distributed is not None:
+            new, k = [], 0
+            for ld in sc.loads:
+                if isinstance(ld, PointLoad):
+                    if point_loads is not None:
+                        ld = dataclasses.replace(ld, force=tuple(point_loads[p, k, :3]),
+                                                 moment=tuple(point_loads[p, k, 3:]))
+                    k += 1
+                    new.append(ld)
+                elif distributed is None:
+                    new.append(ld)
+            if distributed is not None:
+                new.append(DistributedLoad(force=tuple(distributed[p])))
+            sc = dataclasses.replace(sc, loads=new)
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", ConvergenceWarning)
+            g = guess if warm_start else None
+            sol = solve(sc, guess=g, options=opts)
+            nit, nfev, cold = sol.nit, sol.nfev, g is None
+            if not sol.success and g is not None and retry_cold:
+                sol = solve(sc, options=opts)
+                nit, nfev, cold = nit + sol.nit, nfev + sol.nfev, True
+        out["tip_position"][p] = sol.tip_position
+        out["tip_rotation"][p] = sol.tip_rotation
+        out["tension"][p], out["slack"][p] = sol.tension, sol.slack
+        out["displacement"][p] = sol.displacement
+        out["residual_norm"][p] = sol.residual_norm
+        out["status"][p], out["nit"][p], out["nfev"][p], out["cold"][p] = sol.status, nit, nfev, cold
+        message[p] = str(sol.message)
+        form = form or {"planar": sol.formulation.planar, "kirchhoff": sol.formulation.kirchhoff,
+                        "n_unknowns": sol.formulation.n_unknowns,
+                        "n_states": sol.formulation.n_states}
+        if sol.success:
+            guess = sol
+    return BatchResult(message=message, formulation=dict(form or {}, pointwise=True),
+                       chunksize=int(chunksize), **out)
