@@ -1226,9 +1226,7 @@ def test_int_options_beyond_c_int(worker, name):
 
 @pytest.mark.parametrize("name,value", [
     ("steps", 2**31), ("max_iter", 2**40),
-    pytest.param("nodes", 2**63, marks=pytest.mark.xfail(
-        strict=True, reason="finding F8 (rest) in bench/results/reliability_findings.md: "
-        "nodes=2**63 raises OverflowError from PyLong_AsLong, no keyword named"))])
+    ("nodes", 2**63)])
 def test_raw_int_keywords_beyond_c_range(worker, name, value):
     rod, tend, loads, dist = BASES[0]
     out = worker.call("tendonrod._core.solve", rod, tend, loads, dist, **{name: value})
@@ -1445,10 +1443,6 @@ def test_solution_at_hostile(s):
         sol.at(s)
 
 
-@pytest.mark.xfail(strict=True, reason="finding F11 in bench/results/reliability_findings.md: "
-                   "automatic steps accept 4 RK8 steps for a 240 rad spatial bend under a pure "
-                   "tip moment (the residual is exact at any step count); tip 4.6e-5 L off, "
-                   "R off SO(3) by 2e-2, success=True")
 @pytest.mark.parametrize("M", [2.0, 5.0])
 def test_pure_tip_moment_spatial_accuracy(worker, M):
     """A plain rod under a tip moment about x bends into a circle of curvature
