@@ -40,6 +40,8 @@ typedef struct batch_ws {
                                   converged points */
     int np;                 /* number of varied values per point */
     tr_data *d;
+    double s_tip;           /* the workspace's tip node arc length (restored before every
+                               solve: a failed recording pass overwrites d->s with NaN) */
 } batch_ws;
 
 static void ws_free(batch_ws *w)
@@ -324,6 +326,7 @@ int tr_batch_solve(const tr_model *m, const tr_options *opt, const tr_batch_in *
         ws_free(&w);
         return TR_ENOMEM;
     }
+    w.s_tip = w.d->s[0];
 
     for (p = 0; p < in->n; p++) {
         tr_data *d = w.d;
@@ -344,6 +347,7 @@ int tr_batch_solve(const tr_model *m, const tr_options *opt, const tr_batch_in *
         }
         cold = !(in->warm && have_prev);
         gather(m, in, p, w.P);
+        d->s[0] = w.s_tip;
         {
             const double *g = w.guess;
             int fast = 0;
@@ -359,12 +363,14 @@ int tr_batch_solve(const tr_model *m, const tr_options *opt, const tr_batch_in *
                 nit = nfev = 0;
             }
             if (!fast) {
+                d->s[0] = w.s_tip;
                 st = tr_solve(&w.mc, d, cold ? NULL : g, cold ? NULL : w.J);
                 nit += d->nit;
                 nfev += d->nfev;
             }
         }
         if (st < 0 && !cold && in->retry_cold) {
+            d->s[0] = w.s_tip;
             st = tr_solve(&w.mc, d, NULL, NULL);
             nit += d->nit;
             nfev += d->nfev;
