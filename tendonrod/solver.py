@@ -45,7 +45,7 @@ class ConvergenceError(RuntimeError):
 
 # --------------------------------------------------------------------------- options
 _INTEGRATORS = ("rk8", "rk4", "adaptive")
-_JACOBIANS = ("fd", "newton")
+_JACOBIANS = ("fd", "newton", "hybrid")
 _SLACK_MODELS = ("linear", "squared")
 
 
@@ -81,7 +81,9 @@ class Options:
     jacobian_method : str
         ``"fd"`` (default: one forward-difference Jacobian in scaled unknowns, then Broyden
         updates, refreshed on poor progress: fewest integrations per solve) or ``"newton"``
-        (a fresh forward-difference Jacobian every iteration: more robust, slower).
+        (a fresh forward-difference Jacobian every iteration: more robust, slower) or
+        ``"hybrid"`` (GSL's hybridsj dogleg trust region on the same scaled residual; kept
+        for comparison in the work-precision benchmark, no general gain measured).
     slack_model : str
         ``"linear"`` (default: tension = max(gamma, 0), slack = max(-gamma, 0), whose
         Jacobian stays nonsingular at the taut/slack switch) or ``"squared"`` (the

@@ -783,7 +783,7 @@ def test_at_matches_a_solve_with_those_nodes():
 
 
 @pytest.mark.parametrize("kw", [dict(slack_model="squared"), dict(jacobian_method="newton"),
-                                dict(integrator="rk4", steps=200), dict(integrator="adaptive"),
+                                dict(jacobian_method="hybrid"), dict(integrator="rk4", steps=200), dict(integrator="adaptive"),
                                 dict(continuation=False)], ids=repr)
 @pytest.mark.parametrize("P", [0.2, 0.5], ids=["taut", "slack"])
 def test_numerical_options_do_not_change_the_answer(kw, P):
