@@ -97,6 +97,46 @@ static void guess_from_solution(const tr_model *m, const tr_data *d, double *g)
     }
 }
 
+/* The same guess computed the way tendonrod.Solution.base_state computes it from a
+ * tip-only solution (solver.py, _base_from_unknowns): tendon tangents from cos/sin of
+ * the routing angle and hypot(1, slope), the scales as EI/L^2 and EI/L.  Used in exact
+ * mode so that a batch reproduces a loop of tr.solve(scene, guess=previous) bit for bit
+ * (the core's own map, above, differs from it in the last bits). */
+static void guess_like_python(const tr_model *m, const tr_data *d, double *g)
+{
+    double tn[3] = {0, 0, 0}, tm[3] = {0, 0, 0};
+    const double Fs = m->EI / (m->L * m->L), Ms = m->EI / m->L;
+    int i, c;
+    for (i = 0; i < m->nt; i++) {
+        const tr_tendon *t = &m->tendon[i];
+        const double dv[3] = {cos(t->phi), sin(t->phi), 0.0};
+        const double h = hypot(1.0, t->a);
+        double t0[3], od[3], cr[3];
+        const double tau = d->tension[i] > 0.0 ? d->tension[i] : 0.0;
+        for (c = 0; c < 3; c++) t0[c] = (t->a * dv[c] + (c == 2 ? 1.0 : 0.0)) / h;
+        for (c = 0; c < 3; c++) od[c] = t->b * dv[c];
+        cr[0] = od[1] * t0[2] - od[2] * t0[1];
+        cr[1] = od[2] * t0[0] - od[0] * t0[2];
+        cr[2] = od[0] * t0[1] - od[1] * t0[0];
+        for (c = 0; c < 3; c++) {
+            tn[c] += tau * t0[c];
+            tm[c] += tau * cr[c];
+        }
+        g[6 + i] = d->tension[i];
+        g[6 + m->nt + i] = d->slack[i];
+    }
+    if (m->planar) {
+        const double N[3] = {d->x[0] * Fs, 0.0 * Fs, d->x[1] * Fs};
+        const double M[3] = {0.0 * Ms, d->x[2] * Ms, 0.0 * Ms};
+        for (c = 0; c < 3; c++) { g[c] = N[c] - tn[c]; g[3 + c] = M[c] - tm[c]; }
+    } else {
+        for (c = 0; c < 3; c++) {
+            g[c] = d->x[c] * Fs - tn[c];
+            g[3 + c] = d->x[3 + c] * Ms - tm[c];
+        }
+    }
+}
+
 /* Fill the model copy with the values of point p; 0 or a message for TR_EINVAL. */
 static int set_point(batch_ws *w, const tr_model *base, const tr_batch_in *in, int p,
                      char *msg, size_t msglen)
@@ -351,9 +391,10 @@ int tr_batch_solve(const tr_model *m, const tr_options *opt, const tr_batch_in *
         {
             const double *g = w.guess;
             int fast = 0;
-            if (!cold && have_prev >= 2 && in->predict && predict(&w, 6 + 2 * nt, have_prev))
+            if (!cold && !in->exact && have_prev >= 2 && in->predict &&
+                predict(&w, 6 + 2 * nt, have_prev))
                 g = w.gp;
-            if (!cold && d->opt.steps > 0 && d->opt.integrator != TR_ADAPTIVE) {
+            if (!cold && !in->exact && d->opt.steps > 0 && d->opt.integrator != TR_ADAPTIVE) {
                 st = fast_warm(&w.mc, d, g, w.J, d->opt.max_iter < TR_BATCH_FAST_ITER ?
                                d->opt.max_iter : TR_BATCH_FAST_ITER);
                 fast = st == TR_OK;
@@ -399,7 +440,10 @@ int tr_batch_solve(const tr_model *m, const tr_options *opt, const tr_batch_in *
                 memcpy(w.guess0, w.guess, (size_t)(6 + 2 * nt) * sizeof(double));
                 memcpy(w.P0, w.P1, (size_t)w.np * sizeof(double));
             }
-            guess_from_solution(&w.mc, d, w.guess);
+            if (in->exact)
+                guess_like_python(&w.mc, d, w.guess);
+            else
+                guess_from_solution(&w.mc, d, w.guess);
             memcpy(w.P1, w.P, (size_t)w.np * sizeof(double));
             memcpy(w.J, d->J, (size_t)k * k * sizeof(double));
             have_prev = have_prev < 3 ? have_prev + 1 : 3;

@@ -45,6 +45,9 @@ typedef struct tr_batch_in {
     int predict;            /* 1: when a point continues the line through the last two
                                converged points, start from the secant extrapolation of
                                their solutions instead of the last one */
+    int exact;              /* 1: reproduce a loop of tendonrod.solve(scene, guess=previous
+                               tip-only solution) bit for bit: the Python layer's guess map,
+                               no predictor, no lean loop (every point runs tr_solve) */
 } tr_batch_in;
 
 typedef struct tr_batch_out {

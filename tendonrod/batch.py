@@ -104,7 +104,7 @@ def _points(arr, name: str, tail: tuple, what: str, n: Optional[int]):
 def solve_batch(scene: Scene, *, displacement=None, tension=None, forces=None, moments=None,
                 distributed=None, options: Optional[Options] = None, threads: int = 1,
                 chunksize: Optional[int] = None, warm_start: bool = True,
-                retry_cold: bool = True) -> BatchResult:
+                retry_cold: bool = True, predict: bool = True, exact: bool = False) -> BatchResult:
     """Solve ``n`` variants of ``scene`` that differ only in actuation and load values.
 
     Parameters
@@ -133,6 +133,20 @@ def solve_batch(scene: Scene, *, displacement=None, tension=None, forces=None, m
         Warm-start each point from the previous converged point of its chunk.
     retry_cold : bool
         Retry a point whose warm-started solve failed from a cold start.
+    predict : bool
+        When a point continues the line through the previous converged points, start from
+        the (secant or quadratic) extrapolation of their solutions.
+    exact : bool
+        Reproduce, bit for bit, a loop of ``tr.solve(scene_p, guess=previous_solution,
+        options=Options(tip_only=True, ...))`` restarted cold at every chunk (what
+        :func:`tendonrod.sweep` does point by point): no predictor, no lean iteration,
+        no cold retry.  Slower than the default, which agrees with that loop to the
+        solver tolerance.
+
+    With ``options.steps > 0`` (a fixed step count) warm points first run a lean
+    Newton/Broyden loop (no step verification, no polish) and fall back to the full
+    solve if it does not converge within a few iterations; with automatic steps every
+    point runs the full solve, step verification included.
 
     At least one of the per-point arrays must be given; they fix ``n``.
 
@@ -145,6 +159,8 @@ def solve_batch(scene: Scene, *, displacement=None, tension=None, forces=None, m
     options = _check_options(options)
     if isinstance(threads, bool) or not isinstance(threads, (int, np.integer)) or threads < 1:
         raise ValueError(f"threads must be an int >= 1, got {threads!r}")
+    if not (isinstance(options, Options)):
+        raise ValueError(f"options must be a tendonrod.Options, got {options!r}")
     if chunksize is None:
         chunksize = DEFAULT_CHUNKSIZE
     if isinstance(chunksize, bool) or not isinstance(chunksize, (int, np.integer)) or chunksize < 1:
@@ -213,7 +229,8 @@ def solve_batch(scene: Scene, *, displacement=None, tension=None, forces=None, m
             values=None if values is None else values[a:e],
             point_loads=None if point_loads is None else point_loads[a:e],
             dists=None if distributed is None else distributed[a:e],
-            warm=bool(warm_start), retry_cold=bool(retry_cold), **kw)
+            warm=bool(warm_start), retry_cold=bool(retry_cold) and not exact,
+            predict=bool(predict) and not exact, exact=bool(exact), **kw)
 
     if threads == 1 or len(bounds) == 1:
         parts = [run(b) for b in bounds]
@@ -320,3 +337,81 @@ def _fallback(scene, values, point_loads, distributed, options, chunksize, warm_
             guess = sol
     return BatchResult(message=message, formulation=dict(form or {}, pointwise=True),
                        chunksize=int(chunksize), **out)
+
+
+# --------------------------------------------------------------------------- tr.sweep hook
+_BATCH_PATH = None
+
+
+def sweep_can_batch(base, names) -> bool:
+    """True if every varied path of a sweep of ``base`` is an actuation value
+    (``displacement[i]``, ``tension[i]``) or a point load's force/moment (or one
+    component of it): then the sweep's chunks can go through :func:`solve_batch`."""
+    global _BATCH_PATH
+    import re
+
+    from .model import PointLoad
+
+    if _BATCH_PATH is None:
+        _BATCH_PATH = re.compile(r"^(?:(displacement|tension)\[(\d+)\]|loads\[(\d+)\]\.(?:force|moment)"
+                                 r"(?:\[[0-2]\])?)$")
+    if not isinstance(base, Scene) or not names:
+        return False
+    for n in names:
+        mt = _BATCH_PATH.match(n)
+        if not mt:
+            return False
+        if mt.group(3) is not None:
+            j = int(mt.group(3))
+            if j >= len(base.loads) or not isinstance(base.loads[j], PointLoad):
+                return False
+    return True
+
+
+def _sweep_chunk(task: dict):
+    """The records of one tr.sweep chunk solved by :func:`solve_batch`, or None if the
+    chunk's scenes do not share one design (then the sweep solves it point by point)."""
+    from .model import PointLoad
+    from .sweep import STATUS_NOT_CONVERGED, STATUS_OK
+
+    scenes, options = task["scenes"], task["options"]
+    if not scenes or not all(isinstance(s, Scene) for s in scenes):
+        return None
+    if options is not None and not options.tip_only:
+        return None      # the per-point path warm-starts from recorded base states then
+    first = scenes[0]
+    planar = _is_planar(first)
+    if any(_is_planar(s) != planar for s in scenes):
+        return None      # the per-point path switches formulation within the chunk
+    ctl = first.displacement_controlled()
+    pos = [(type(ld), getattr(ld, "s", None)) for ld in first.loads]
+    for s in scenes:
+        if (s.robot is not first.robot and s.robot != first.robot) or s.displacement_controlled() != ctl \
+                or [(type(ld), getattr(ld, "s", None)) for ld in s.loads] != pos:
+            return None
+    idisp = [i for i, c in enumerate(ctl) if c]
+    iten = [i for i, c in enumerate(ctl) if not c]
+    n = len(scenes)
+    disp = np.array([[s.displacement[i] for i in idisp] for s in scenes], dtype=float).reshape(n, len(idisp))
+    ten = np.array([[s.tension[i] for i in iten] for s in scenes], dtype=float).reshape(n, len(iten))
+    pls = [[ld for ld in s.loads if isinstance(ld, PointLoad)] for s in scenes]
+    npl = len(pls[0])
+    forces = np.array([[p.force for p in pl] for pl in pls], dtype=float).reshape(n, npl, 3)
+    moments = np.array([[p.moment for p in pl] for pl in pls], dtype=float).reshape(n, npl, 3)
+    dist = np.array([s.distributed_force for s in scenes], dtype=float)
+    try:
+        res = solve_batch(first, displacement=disp if idisp else None, tension=ten if iten else None,
+                          forces=forces if npl else None, moments=moments if npl else None,
+                          distributed=dist, options=options, chunksize=n,
+                          warm_start=bool(task["warm_start"]), exact=True)
+    except ValueError:
+        return None
+    records = []
+    for k, index in enumerate(task["indices"]):
+        ok = bool(res.success[k])
+        data = {"tip_position": res.tip_position[k].tolist(), "tip_rotation": res.tip_rotation[k].tolist(),
+                "tension": res.tension[k].tolist(), "slack": res.slack[k].tolist(),
+                "displacement": res.displacement[k].tolist()}
+        records.append({"i": index, "status": STATUS_OK if ok else STATUS_NOT_CONVERGED,
+                        "nit": int(res.nit[k]), "message": str(res.message[k]), "data": data})
+    return {"chunk": task["chunk"], "records": records}

@@ -267,6 +267,14 @@ def _run_chunk(task: dict) -> dict:
 
     scenes, measure, options, warm = task["scenes"], task["measure"], task["options"], task["warm_start"]
     records, guess = [], None
+    if task.get("batch"):
+        # BEGIN batch path (issue 7, tendonrod/batch.py): the whole chunk in one C call
+        from .batch import _sweep_chunk
+
+        out = _sweep_chunk(task)
+        if out is not None:
+            return out
+        # END batch path (None: this chunk cannot be batched; solve point by point)
     for index, scene in zip(task["indices"], scenes):
         if isinstance(scene, _BuildFailure):  # build failed in the parent: record, go on
             records.append({"i": index, "status": STATUS_ERROR, "nit": -1,
@@ -466,6 +474,14 @@ def sweep(base: Any, vary: Mapping[str, Iterable] | None = None, *, grid: bool =
     tasks = [{"chunk": c, "indices": list(range(c * chunksize, min((c + 1) * chunksize, npoints))),
               "scenes": scenes[c * chunksize:(c + 1) * chunksize], "measure": measure,
               "options": options, "warm_start": warm_start} for c in todo]
+    # batch path (issue 7): only values of actuation and point loads vary and the record is
+    # the default tip measure -> each chunk is one tr.solve_batch call (same chunking and
+    # warm starts; equal to the per-point path to the solver tolerance)
+    from .batch import sweep_can_batch
+
+    if build is None and measure is tip_measure and sweep_can_batch(base, names):
+        for t in tasks:
+            t["batch"] = True
 
     bar = None
     if progress or progress is None:

@@ -233,3 +233,35 @@ def test_value_dependent_scene_is_solved_point_by_point():
     for p in (0, 3):
         sol = tr.solve(with_point(scene, displacement=q[p]), options=tr.Options(tip_only=True))
         np.testing.assert_allclose(res.tip_position[p], sol.tip_position, rtol=0, atol=TIP_TOL)
+
+
+def test_sweep_uses_the_batch_path_bitwise(monkeypatch):
+    """tr.sweep over load and actuation values goes through solve_batch in exact mode:
+    no per-point tr.solve runs, and the records equal the per-point loop bit for bit."""
+    import tendonrod.solver as solver_mod
+
+    scene = spatial_scene()
+    forces = [(fx, 0.02, 0.0) for fx in np.linspace(-0.05, 0.05, 5)]
+    qs = [R_OFF * math.pi / 2 * f for f in (0.95, 1.0)]
+    opts = tr.Options(tip_only=True)
+    # the reference: the per-point loop, warm-started within each chunk (one grid line)
+    ref = []
+    for q in qs:
+        guess = None
+        for f in forces:
+            sc = with_point(scene, forces=[f, (0, 0, 0)], displacement=[q])
+            sol = tr.solve(sc, guess=guess, options=opts)
+            ref.append(sol)
+            guess = sol if sol.success else guess
+    calls = []
+    real = solver_mod._core.solve
+    monkeypatch.setattr(solver_mod._core, "solve", lambda *a, **k: calls.append(1) or real(*a, **k))
+    res = tr.sweep(scene, {"displacement[0]": qs, "loads[0].force": forces}, progress=False,
+                   max_workers=2)
+    assert not calls                     # every chunk went through the batch
+    assert res.success.all()
+    tip = res["tip_position"].reshape(-1, 3)
+    ten = res["tension"].reshape(-1, 3)
+    for p, sol in enumerate(ref):
+        assert np.array_equal(tip[p], sol.tip_position)
+        assert np.array_equal(ten[p], sol.tension)
