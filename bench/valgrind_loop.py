@@ -12,7 +12,8 @@ Exercises every path of the glue and the core that a user reaches:
 - solves that fail (iteration cap, impossible displacement) and raise with
   strict=True;
 - the raw _core.solve with wrong shapes, dtypes and option values (the error
-  paths of the glue, where a missing free or Py_DECREF hides).
+  paths of the glue, where a missing free or Py_DECREF hides);
+- tr.solve_batch on two threads, with failing points among good ones.
 Every call's outcome is checked lightly (so a wrong turn is noticed), the
 point is what valgrind sees.
 """
@@ -98,6 +99,19 @@ def solve_loop(n):
                 pass
 
 
+def batch_loop(n):
+    """tr.solve_batch on 2 threads, with hopeless points among good ones."""
+    sc = scenes()[0]
+    q = np.array([[0.002], [0.5], [0.004], [0.006]])
+    for _ in range(n):
+        r = tr.solve_batch(sc, displacement=q, threads=2, chunksize=2)
+        assert r.status[0] >= 0 and r.status[1] < 0
+        try:
+            tr.solve_batch(sc, displacement=np.array([[np.nan]]))
+        except ValueError:
+            pass
+
+
 def raw_error_loop(n):
     rod, tend, loads, dist = pack_scene(scenes()[2])
     bad_calls = [
@@ -137,6 +151,7 @@ def main(argv=None):
     ufunc_loop(n_uf)
     solve_loop(n_solve)
     raw_error_loop(max(2, n_solve // 10))
+    batch_loop(max(2, n_solve // 10))
     print(f"valgrind_loop: {n_uf} ufunc rounds, {n_solve} solves, "
           f"{max(2, n_solve // 10)} rounds of raw error paths: done")
     return 0

@@ -1535,3 +1535,75 @@ def test_sweep_argument_names(kw, word):
     with pytest.raises((ValueError, TypeError)) as e:
         tr.sweep(_sweep_base(), **kw)
     assert word in str(e.value), str(e.value)
+
+
+# --------------------------------------------------------------------------
+# tr.solve_batch: hostile per-point arrays and arguments
+# --------------------------------------------------------------------------
+
+def _batch_scene():
+    rob = tr.Robot(tr.Rod(**_ROD, kirchhoff=True), [tr.Tendon(offset=0.01)])
+    return tr.Scene(rob, displacement=[0.004], loads=[tr.PointLoad(s=0.2, force=(-0.1, 0, 0))])
+
+
+@pytest.mark.parametrize("kw,word", [
+    (dict(displacement=np.array([[0.001], [math.nan]])), "displacement"),
+    (dict(displacement=np.array([[0.001], [-math.inf]])), "displacement"),
+    (dict(displacement=np.zeros((3, 2))), "displacement"),
+    (dict(displacement=np.zeros(3)), "displacement"),
+    (dict(tension=np.zeros((3, 1))), "tension"),
+    (dict(forces=np.zeros((2, 2, 3))), "forces"),
+    (dict(forces=np.full((2, 1, 3), math.nan)), "forces"),
+    (dict(moments=np.zeros((2, 1, 2))), "moments"),
+    (dict(distributed=np.full((2, 3), math.inf)), "distributed"),
+    (dict(displacement=np.zeros((3, 1)), forces=np.zeros((2, 1, 3))), "forces"),
+    (dict(displacement=np.zeros((3, 1)), threads=0), "threads"),
+    (dict(displacement=np.zeros((3, 1)), threads=-1), "threads"),
+    (dict(displacement=np.zeros((3, 1)), chunksize=0), "chunksize"),
+    (dict(displacement=np.zeros((3, 1)), chunksize=math.nan), "chunksize"),
+    (dict(), "displacement"),
+])
+def test_solve_batch_bad_arguments(kw, word):
+    with pytest.raises((ValueError, TypeError)) as e:
+        tr.solve_batch(_batch_scene(), **kw)
+    assert word in str(e.value), str(e.value)
+
+
+@pytest.mark.xfail(strict=True, reason="finding F15 in bench/results/reliability_findings.md: "
+                   "solve_batch with 0 points raises 'need at least one array to concatenate', "
+                   "a string array an unnamed ValueError, a complex array is accepted")
+@pytest.mark.parametrize("value", ["empty", "string", "complex"])
+def test_solve_batch_degenerate_arrays(value):
+    v = {"empty": np.zeros((0, 1)), "string": np.array([["abc"]]),
+         "complex": np.array([[0.001 + 0.5j]])}[value]
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        try:
+            r = tr.solve_batch(_batch_scene(), displacement=v)
+        except (ValueError, TypeError) as e:
+            assert "displacement" in str(e), str(e)
+            return
+    assert value == "empty" and len(r.status) == 0, r
+
+
+def test_solve_batch_hostile_points_fail_alone():
+    """Legal but hopeless points (pull past the length, 1e300 N) fail with a
+    status and message; the good points around them match tr.solve."""
+    sc = _batch_scene()
+    q = np.array([[0.002], [0.5], [0.004], [2.0], [0.006], [-1.0]])
+    F = np.array([[[-0.1, 0, 0]], [[-0.1, 0, 0]], [[1e300, 0, 0]], [[-0.1, 0, 0]],
+                  [[-0.1, 0, 0]], [[-0.1, 0, 0]]])
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        r = tr.solve_batch(sc, displacement=q, forces=F, threads=2, chunksize=2)
+        for i in range(len(q)):
+            assert isinstance(r.message[i], str) and r.message[i], i
+            if r.status[i] < 0:
+                continue
+            one = tr.solve(tr.Scene(sc.robot, displacement=[q[i, 0]],
+                                    loads=[tr.PointLoad(s=0.2, force=F[i, 0])]),
+                           options=tr.Options(tip_only=True))
+            assert one.success, (i, one.message)
+            # both converged to tol = 1e-10 (scaled): tips agree to 1e-8 L
+            assert np.abs(r.tip_position[i] - one.tip_position).max() < 1e-8 * 0.2, i
+    assert r.status[1] < 0 and r.status[3] < 0      # q = 2.5 L, 10 L: no equilibrium

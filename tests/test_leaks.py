@@ -254,3 +254,27 @@ def test_compliance_and_at_loops_do_not_leak():
 
     drss, dblocks, dt = measure(loop, 1_000, warm=50)
     assert_flat("compliance + at", 1_000, drss, dblocks, dt)
+
+
+def test_solve_batch_loop_does_not_leak():
+    """300 tr.solve_batch calls of 20 points on 2 threads (6000 solves, about
+    10 s), with a hopeless point among them, and 300 refused calls: a leak of
+    one object per call would show as +300 blocks, per point as +6000."""
+    sc = _scenes()[0]
+    q = np.linspace(0.0, 0.006, 20)[:, None]
+    q[7] = 0.5                                            # no equilibrium
+    bad = np.array([[np.nan]])
+
+    def loop(n):
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            for _ in range(n):
+                r = tr.solve_batch(sc, displacement=q, threads=2, chunksize=5)
+                try:
+                    tr.solve_batch(sc, displacement=bad)
+                except ValueError:
+                    pass
+        assert r.status[7] < 0 and r.status[0] >= 0
+
+    drss, dblocks, dt = measure(loop, 300, warm=20)
+    assert_flat("solve_batch", 300, drss, dblocks, dt)

@@ -232,3 +232,20 @@ def test_fingerprints_match_a_fresh_process(serial):
     assert out.returncode == 0, out.stderr[-3000:]
     theirs = out.stdout.split()
     assert theirs == [fingerprint(s) for s in sols]
+
+
+def test_solve_batch_threads_bitwise():
+    """tr.solve_batch: for a given chunking the result does not depend on the
+    number of threads (chunks are independent), bitwise."""
+    sc = scenes()[12]                                   # three tendons, spatial
+    n = 40
+    q = np.column_stack([np.linspace(0.0, 0.006, n), np.linspace(0.0, 0.002, n)])
+    t = np.linspace(0.0, 1.0, n)[:, None]
+    F = np.zeros((n, 2, 3))
+    F[:, 0, 1] = np.linspace(0.0, 0.2, n)
+    runs = [tr.solve_batch(sc, displacement=q, tension=t, forces=F, threads=th, chunksize=7)
+            for th in (1, 2, 4, 1)]
+    for r in runs[1:]:
+        for f in ("tip_position", "tip_rotation", "tension", "slack", "status", "nit", "nfev"):
+            assert np.asarray(getattr(r, f)).tobytes() == np.asarray(getattr(runs[0], f)).tobytes(), f
+    assert np.all(np.asarray(runs[0].status) >= 0)
