@@ -186,7 +186,7 @@ typedef struct tr_data {
     gsl_permutation *perm;      /* (k) */
     double fnorm;               /* max-norm of f */
     int have_J, J_fresh, J_refresh;
-    int steps_moved;            /* 1 once the step verification switched to doubled steps */
+    int steps_moved;            /* 1 once the step verification ran: polish the residual below tol */
     /* evaluation context */
     double lam_act;             /* continuation: actuation (q, prescribed tau) scaled by it */
     double lam_load;            /* continuation: point and distributed loads scaled by it */
@@ -194,11 +194,13 @@ typedef struct tr_data {
     int seg;                    /* segment being integrated */
     int rec;                    /* 1: recording layout (all path lengths) */
     int steps;                  /* current total fixed steps */
+    int steps_double;           /* 1: every segment takes twice its steps (step-doubling estimate) */
     int probe_bp;               /* breakpoint of the compliance probe, -1 none */
     double probe[6];            /* probe load (world F, M) added at probe_bp */
     double probe_state[12];     /* p (3), R (9) captured at probe_bp in the last evaluation */
     /* integrator workspaces */
     double *y, *k1, *k2, *k3, *k4, *yt, *yerr;   /* (n_states_rec) */
+    double *ysave;              /* (n_states_rec) a saved end state (step verification, recording check) */
     gsl_odeiv2_system sys_shoot, sys_rec;
     gsl_odeiv2_step *rk8_shoot, *rk8_rec;
     gsl_odeiv2_step *ad_step_shoot, *ad_step_rec;

@@ -92,7 +92,7 @@ tr_data *tr_data_alloc(const tr_model *m, const tr_options *opt, int nnode,
     d->LU = gsl_matrix_alloc(k, k);
     d->perm = gsl_permutation_alloc(k);
     d->tau = (double *)calloc((size_t)(2 * nt + 3 * nt + 1), sizeof(double));
-    d->y = (double *)calloc((size_t)7 * nsr, sizeof(double));
+    d->y = (double *)calloc((size_t)8 * nsr, sizeof(double));
     d->Yx = (double *)calloc((size_t)12 * k, sizeof(double));
     d->lin = (double *)calloc((size_t)(2 * m->ndisp * m->ndisp + 3 * m->ndisp + 1), sizeof(double));
     d->lin_act = (int *)calloc((size_t)(2 * m->ndisp + 1), sizeof(int));
@@ -104,7 +104,7 @@ tr_data *tr_data_alloc(const tr_model *m, const tr_options *opt, int nnode,
     d->beta = d->tau + nt;
     d->tension = d->tau + 2 * nt; d->slack = d->tau + 3 * nt; d->displacement = d->tau + 4 * nt;
     d->k1 = d->y + nsr; d->k2 = d->y + 2 * nsr; d->k3 = d->y + 3 * nsr; d->k4 = d->y + 4 * nsr;
-    d->yt = d->y + 5 * nsr; d->yerr = d->y + 6 * nsr;
+    d->yt = d->y + 5 * nsr; d->yerr = d->y + 6 * nsr; d->ysave = d->y + 7 * nsr;
     d->Fp = d->Yx + 6 * k;
 
     if (opt->jacobian_method == TR_JAC_HYBRID) {

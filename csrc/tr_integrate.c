@@ -19,7 +19,7 @@ int tr_segment_steps(const tr_model *m, const tr_data *d, int seg)
 {
     const double len = m->bp[seg + 1] - m->bp[seg];
     const double nk = floor(d->steps * len / m->L + 0.5);
-    return nk < 1.0 ? 1 : (int)nk;
+    return (nk < 1.0 ? 1 : (int)nk) * (d->steps_double ? 2 : 1);
 }
 
 static int all_finite(const double *y, int n)

@@ -50,11 +50,13 @@
 /* Condition number (1-norm, scaled) above which the Jacobian counts as singular. */
 #define TR_COND_SINGULAR 1e12
 /* Automatic step count: initial totals and the cap of the doubling. */
-#define TR_AUTO_RK8 4
-#define TR_AUTO_RK4 32
+#define TR_AUTO_RK8 2
+#define TR_AUTO_RK4 16
 /* ... and at least this many rk8 steps per unit of L sqrt(|F|/EI) (boundary layers) */
 #define TR_AUTO_PER_LAMBDA 2.0
 #define TR_STEP_CAP 8192
+/* Step refinement aims the Richardson-predicted truncation at this fraction of tol. */
+#define TR_REFINE_SAFETY 0.5
 /* Cap of the initial automatic step count (huge loads: keep max_nfev a time bound). */
 #define TR_AUTO_MAX 256
 /* Recording pass: RK4 steps of at most this fraction of the rk8 shooting step. */
@@ -1266,51 +1268,61 @@ static double jac_cond(tr_data *d)
     return nJ * nI;
 }
 
-/* Verify the step count by doubling (steps = 0): the residual at the solution
- * with twice the steps estimates the truncation error; refine while too big. */
+/* Verify the step count by doubling (steps = 0).  With every segment's steps
+ * doubled, the change of the residual and of the tip state (scaled) is (1 - 2^-p)
+ * of the truncation error at N steps (order p): that estimate of the error at N
+ * is what is compared with tol.  While it is too big, the count is raised to the
+ * Richardson prediction for TR_REFINE_SAFETY tol (at least N + 1 steps) and the
+ * Newton iteration continues from the current point at the new count. */
 static int verify_steps(const tr_model *m, tr_data *d)
 {
     const int k = d->k;
     const double order = d->opt.integrator == TR_RK4 ? 4.0 : 8.0;
+    const double gain = 1.0 - pow(2.0, -order);
     int round;
     for (round = 0; round < 16; round++) {
         const int N = d->steps;
-        double est;
+        double est = 0.0;
         int status, Nn, c;
-        /* the tip state at N and 2N steps: a residual can be exact at any step count
-         * (a pure end moment) while the pose is not, so both are compared (scaled) */
-        status = tr_residual(m, d, d->x, d->ft);
-        memcpy(d->k4, d->y, (size_t)m->n_base * sizeof(double));
-        d->steps = 2 * N;
+        /* the residual and tip state at N and 2N steps: a residual can be exact at
+         * any step count (a pure end moment) while the pose is not, so both count */
+        status = tr_residual(m, d, d->x, d->f);
+        d->fnorm = status == TR_OK ? maxnorm(d->f, k) : INFINITY;
+        memcpy(d->ysave, d->y, (size_t)m->n_base * sizeof(double));
+        d->steps_double = 1;
         if (status == TR_OK)
             status = tr_residual(m, d, d->x, d->ft);
-        d->steps = N;
-        est = status == TR_OK ? maxnorm(d->ft, k) : INFINITY;
-        for (c = 0; c < m->n_base && status == TR_OK; c++) {
-            const double e = fabs(d->y[c] - d->k4[c]) / m->xstate_scale[c];
+        d->steps_double = 0;
+        if (status != TR_OK) est = INFINITY;
+        for (c = 0; c < k && status == TR_OK; c++) {
+            const double e = fabs(d->ft[c] - d->f[c]);
             if (!(e <= est)) est = e;
         }
+        for (c = 0; c < m->n_base && status == TR_OK; c++) {
+            const double e = fabs(d->y[c] - d->ysave[c]) / m->xstate_scale[c];
+            if (!(e <= est)) est = e;
+        }
+        est /= gain;
         d->truncation = est;
         if (est <= d->opt.tol) {
-            /* keep the doubled steps: the residual there is known, and the polish
-             * step that follows brings the solution to their (~2^-p smaller) error */
-            d->steps = 2 * N;
-            memcpy(d->f, d->ft, (size_t)k * sizeof(double));
-            d->fnorm = est;
+            /* N steps verified; the polish that follows may still reduce the
+             * residual at N (a converged residual near tol is not polished yet) */
             d->steps_moved = 1;
             return TR_OK;
         }
-        if (2 * N > TR_STEP_CAP) {
+        if (N >= TR_STEP_CAP) {
             tr_set_message(d, "converged, but the truncation estimate %.3g stayed above tol %.3g "
                            "at %d steps; use a higher-order integrator or a looser tol", est,
                            d->opt.tol, N);
             return TR_TRUNCATION;
         }
-        /* predicted factor (Richardson, order p), at least doubling */
-        Nn = 2 * N;
+        /* Richardson: the error at Nn is est (N / Nn)^p */
+        Nn = N + 1;
         if (isfinite(est)) {
-            const double fac = pow(est / d->opt.tol, 1.0 / order);
-            while (Nn < fac * N && 2 * Nn <= TR_STEP_CAP) Nn *= 2;
+            const double want = ceil(N * pow(est / (TR_REFINE_SAFETY * d->opt.tol), 1.0 / order));
+            if (want > Nn) Nn = want < (double)TR_STEP_CAP ? (int)want : TR_STEP_CAP;
+        } else {
+            Nn = 2 * N < TR_STEP_CAP ? 2 * N : TR_STEP_CAP;
         }
         d->steps = Nn;
         status = tr_residual(m, d, d->x, d->f);
@@ -1377,6 +1389,7 @@ int tr_solve(const tr_model *m, tr_data *d, const double *guess, const double *j
     int status, forced = 0;
     d->nit = d->nfev = d->njev = d->cont_steps = 0;
     d->steps_moved = 0;
+    d->steps_double = 0;
     d->message[0] = '\0';
     d->lam_act = d->lam_load = 1.0;
     d->truncation = NAN;
@@ -1622,12 +1635,12 @@ int tr_record(const tr_model *m, tr_data *d)
     if (status == TR_OK && used) {
         double diff = 0.0;
         int i;
-        memcpy(d->k4, d->y, (size_t)m->n_base * sizeof(double));
+        memcpy(d->ysave, d->y, (size_t)m->n_base * sizeof(double));
         status = tr_residual(m, d, d->x, d->ft);
         if (status != TR_OK)
             return record_pass(m, d, 0, &used);
         for (i = 0; i < m->n_base; i++) {
-            const double e = fabs(d->k4[i] - d->y[i]) / m->xstate_scale[i];
+            const double e = fabs(d->ysave[i] - d->y[i]) / m->xstate_scale[i];
             if (e > diff) diff = e;
         }
         if (!(diff <= TR_RECORD_GROSS))
