@@ -14,6 +14,7 @@
 #include <string.h>
 
 #include "tr_batch.h"
+#include "tr_internal.h"   /* tr_state_world: pose of a shooting state (see lean_newton) */
 
 static void bmsg(char *msg, size_t msglen, const char *fmt, ...)
 {
@@ -39,6 +40,12 @@ typedef struct batch_ws {
     double *P, *P1, *P0, *P00; /* (np) varied values of this point and of the last three
                                   converged points */
     int np;                 /* number of varied values per point */
+    double *X1, *X0, *X00;  /* (k) scaled unknowns of the last three converged points */
+    double *lx, *lf, *lxt, *lft, *ldx, *lLU; /* (k), (k x k): lean Newton loop */
+    double *xp;             /* (k) start of the lean loop (last or predicted unknowns) */
+    double *Jsave;          /* (k x k) w->J before a lean attempt (restored if it fails) */
+    int *lpiv;              /* (k) pivots */
+    int lean_J;             /* 1: J was maintained by the lean loop (not copied from d->J) */
     tr_data *d;
     double s_tip;           /* the workspace's tip node arc length (restored before every
                                solve: a failed recording pass overwrites d->s with NaN) */
@@ -51,6 +58,8 @@ static void ws_free(batch_ws *w)
     free(w->load_bp); free(w->guess); free(w->J);
     free(w->guess0); free(w->guess00); free(w->gp); free(w->P); free(w->P1); free(w->P0);
     free(w->P00);
+    free(w->X1); free(w->X0); free(w->X00); free(w->lx); free(w->lf); free(w->lxt);
+    free(w->lft); free(w->ldx); free(w->lLU); free(w->lpiv); free(w->xp); free(w->Jsave);
 }
 
 /* Nearest breakpoint to s (loads were snapped to a breakpoint within the merge
@@ -240,41 +249,109 @@ static double collinear(const double *b1, const double *b0, const double *a1, co
 }
 
 /* Predictor along a line of points: if this point continues the line through the last
- * converged points, extrapolate their guesses (Lagrange in the line parameter):
+ * converged points, extrapolate their solutions (Lagrange in the line parameter):
  * quadratic through three points (start error O(h^3)), else the secant through two
- * (O(h^2)).  have = number of consecutive converged points on record (<= 3).  Returns
- * the order used (0: none, gp unset). */
-static int predict(const batch_ws *w, int ng, int have)
+ * (O(h^2)).  have = number of consecutive converged points on record (<= 3).  Sets the
+ * weights of (last, the one before, the one before that) and returns the order used
+ * (0: none). */
+static int predict_weights(const batch_ws *w, int have, double wt[3])
 {
     const double c = have >= 2 ? collinear(w->P, w->P1, w->P1, w->P0, w->np) : 0.0;
     double c2 = 0.0;
-    int i;
     if (c == 0.0)
         return 0;
     if (have >= 3)
         c2 = collinear(w->P1, w->P0, w->P0, w->P00, w->np);
     if (c2 >= 0.5) {
-        /* nodes t = 0 (g1), -1 (g0), -(1 + 1/c2) (g00); target t = c */
+        /* nodes t = 0 (last), -1, -(1 + 1/c2); target t = c */
         const double ta = 0.0, tb = -1.0, tc = -(1.0 + 1.0 / c2), T = c;
-        const double wa = (T - tb) * (T - tc) / ((ta - tb) * (ta - tc));
-        const double wb = (T - ta) * (T - tc) / ((tb - ta) * (tb - tc));
-        const double wc = (T - ta) * (T - tb) / ((tc - ta) * (tc - tb));
-        for (i = 0; i < ng; i++)
-            w->gp[i] = wa * w->guess[i] + wb * w->guess0[i] + wc * w->guess00[i];
+        wt[0] = (T - tb) * (T - tc) / ((ta - tb) * (ta - tc));
+        wt[1] = (T - ta) * (T - tc) / ((tb - ta) * (tb - tc));
+        wt[2] = (T - ta) * (T - tb) / ((tc - ta) * (tc - tb));
         return 2;
     }
-    for (i = 0; i < ng; i++)
-        w->gp[i] = w->guess[i] + c * (w->guess[i] - w->guess0[i]);
+    wt[0] = 1.0 + c;
+    wt[1] = -c;
+    wt[2] = 0.0;
     return 1;
 }
 
-/* Warm solve at fixed steps through the public step API: init from the guess and the
- * previous Jacobian, damped Newton/Broyden iterations to tol, then the tip recording.
- * No step verification (the step count is fixed), no continuation, no polish; at most
- * max_iter iterations (the caller falls back to tr_solve on any failure). */
-static int fast_warm(tr_model *mc, tr_data *d, const double *guess, const double *J, int max_iter)
+static void extrapolate(const double wt[3], const double *a, const double *b, const double *c,
+                        double *out, int n)
 {
-    int st;
+    int i;
+    for (i = 0; i < n; i++)
+        out[i] = wt[0] * a[i] + wt[1] * b[i] + (wt[2] != 0.0 ? wt[2] * c[i] : 0.0);
+}
+
+static double maxabs(const double *v, int n)
+{
+    double r = 0.0;
+    int i;
+    for (i = 0; i < n; i++) {
+        const double a = fabs(v[i]);
+        if (!(a <= r)) r = a;   /* NaN propagates */
+    }
+    return r;
+}
+
+/* LU with partial pivoting of the n x n row-major A in place; 0, or -1 if singular. */
+static int lu_factor(double *A, int *piv, int n)
+{
+    int i, j, c;
+    for (c = 0; c < n; c++) {
+        int pr = c;
+        double best = fabs(A[c * n + c]);
+        for (i = c + 1; i < n; i++)
+            if (fabs(A[i * n + c]) > best) { best = fabs(A[i * n + c]); pr = i; }
+        if (!(best > 0.0))
+            return -1;
+        piv[c] = pr;
+        if (pr != c)
+            for (j = 0; j < n; j++) {
+                const double t = A[c * n + j];
+                A[c * n + j] = A[pr * n + j];
+                A[pr * n + j] = t;
+            }
+        for (i = c + 1; i < n; i++) {
+            const double l = A[i * n + c] / A[c * n + c];
+            A[i * n + c] = l;
+            for (j = c + 1; j < n; j++) A[i * n + j] -= l * A[c * n + j];
+        }
+    }
+    return 0;
+}
+
+static void lu_apply(const double *A, const int *piv, int n, double *b)
+{
+    int i, j;
+    for (i = 0; i < n; i++) {
+        if (piv[i] != i) { const double t = b[i]; b[i] = b[piv[i]]; b[piv[i]] = t; }
+        for (j = 0; j < i; j++) b[i] -= A[i * n + j] * b[j];
+    }
+    for (i = n - 1; i >= 0; i--) {
+        for (j = i + 1; j < n; j++) b[i] -= A[i * n + j] * b[j];
+        b[i] /= A[i * n + i];
+    }
+}
+
+/* Smallest step (scaled max-norm) that updates the Jacobian: below it the secant
+ * (f(x + dx) - f(x)) / dx is dominated by the integration's round-off (~1e-14) and
+ * a Broyden update would spoil a Jacobian that later points reuse. */
+#define TR_BATCH_BROYDEN_MIN_STEP 1e-10
+
+/* Lean warm solve at fixed steps through the public residual: Newton steps with the
+ * carried Jacobian w->J from the (predicted) unknowns x0, good-Broyden updates guarded
+ * against round-off, no line search (a step that does not reduce the residual
+ * max-norm ends the attempt), then the tip recording.  Any failure returns < 0 and the
+ * caller runs tr_solve. */
+static int lean_newton(batch_ws *w, tr_model *mc, tr_data *d, const double *x0, int max_iter,
+                       int record)
+{
+    const int k = d->k;
+    double *x = w->lx, *f = w->lf, *xt = w->lxt, *ft = w->lft, *dx = w->ldx, *J = w->J;
+    double fn, fnt;
+    int i, j, st;
     d->nit = d->nfev = d->njev = d->cont_steps = 0;
     d->steps_moved = 0;
     d->message[0] = '\0';
@@ -285,20 +362,62 @@ static int fast_warm(tr_model *mc, tr_data *d, const double *guess, const double
     d->steps = d->opt.steps;
     if (mc->scene_status != TR_OK)
         return mc->scene_status;
-    st = tr_solve_init(mc, d, guess, J);
-    if (st != TR_OK)
-        return st < 0 ? st : TR_ENONFINITE;
-    while ((st = tr_solve_test(mc, d)) == TR_CONTINUE) {
-        if (d->nit >= max_iter)
+    memcpy(x, x0, (size_t)k * sizeof(double));
+    if (tr_residual(mc, d, x, f) != TR_OK)
+        return TR_ENONFINITE;
+    fn = maxabs(f, k);
+    while (!(fn <= d->opt.tol)) {
+        double ss = 0.0;
+        if (d->nit >= max_iter || d->nfev >= d->opt.max_nfev)
             return TR_EMAXITER;
-        st = tr_solve_iterate(mc, d);
-        if (st != TR_CONTINUE)
-            return st < 0 ? st : TR_ENOPROGRESS;
+        memcpy(w->lLU, J, (size_t)k * k * sizeof(double));
+        if (lu_factor(w->lLU, w->lpiv, k) != 0)
+            return TR_ESINGULAR;
+        for (i = 0; i < k; i++) dx[i] = -f[i];
+        lu_apply(w->lLU, w->lpiv, k, dx);
+        for (i = 0; i < k; i++) xt[i] = x[i] + dx[i];
+        st = tr_residual(mc, d, xt, ft);
+        fnt = st == TR_OK ? maxabs(ft, k) : INFINITY;
+        if (!(fnt < fn))
+            return TR_ENOPROGRESS;
+        for (i = 0; i < k; i++) ss += dx[i] * dx[i];
+        if (maxabs(dx, k) > TR_BATCH_BROYDEN_MIN_STEP) {
+            /* J += (ft - f - J dx) dx^T / (dx^T dx) */
+            for (i = 0; i < k; i++) {
+                double r = ft[i] - f[i];
+                for (j = 0; j < k; j++) r -= J[i * k + j] * dx[j];
+                r /= ss;
+                for (j = 0; j < k; j++) J[i * k + j] += r * dx[j];
+            }
+        }
+        memcpy(x, xt, (size_t)k * sizeof(double));
+        memcpy(f, ft, (size_t)k * sizeof(double));
+        fn = fnt;
+        d->nit++;
     }
-    d->residual_norm = d->fnorm;
-    st = tr_record(mc, d);
-    if (st != TR_OK)
-        return st;
+    memcpy(d->x, x, (size_t)k * sizeof(double));
+    memcpy(d->f, f, (size_t)k * sizeof(double));
+    d->fnorm = d->residual_norm = fn;
+    if (record) {
+        st = tr_record(mc, d);
+        if (st != TR_OK)
+            return st;
+    } else {
+        /* The last residual evaluation was at the converged x (every accepted step is
+         * the last evaluation), so d->y holds its tip state and d->tau, d->beta its
+         * tensions and slacks; the recording pass would reproduce exactly this tip (it
+         * replaces its tip node by the shooting tip).  Only the actuator displacement
+         * of a tension-controlled tendon needs the recording pass (its path length is
+         * not a shooting state): NaN here. */
+        double nw[3], mw[3];
+        int i;
+        tr_state_world(mc, d->y, d->pos, d->rot, nw, mw);
+        for (i = 0; i < mc->nt; i++) {
+            d->tension[i] = d->tau[i];
+            d->slack[i] = d->beta[i];
+            d->displacement[i] = mc->tendon[i].control == TR_DISPLACEMENT ? mc->tendon[i].value : NAN;
+        }
+    }
     return d->status = TR_OK;
 }
 
@@ -310,7 +429,7 @@ int tr_batch_solve(const tr_model *m, const tr_options *opt, const tr_batch_in *
 {
     batch_ws w;
     tr_options o;
-    int p, i, k, nt, have_prev = 0;
+    int p, i, k, nt, have_prev = 0, record = 1;
     if (!m || !opt || !in || !out) {
         bmsg(msg, msglen, "tr_batch_solve: NULL argument");
         return TR_EINVAL;
@@ -344,7 +463,23 @@ int tr_batch_solve(const tr_model *m, const tr_options *opt, const tr_batch_in *
     w.P = (double *)malloc((size_t)(w.np > 0 ? w.np : 1) * sizeof(double));
     w.P1 = (double *)malloc((size_t)(w.np > 0 ? w.np : 1) * sizeof(double));
     w.P0 = (double *)malloc((size_t)(w.np > 0 ? w.np : 1) * sizeof(double));
-    if (!w.tendon || !w.load || !w.bpF || !w.bpM || !w.load_bp || !w.guess || !w.J ||
+    {
+        const size_t kk = (size_t)(k > 0 ? k : 1);
+        w.X1 = (double *)malloc(kk * sizeof(double));
+        w.X0 = (double *)malloc(kk * sizeof(double));
+        w.X00 = (double *)malloc(kk * sizeof(double));
+        w.lx = (double *)malloc(kk * sizeof(double));
+        w.lf = (double *)malloc(kk * sizeof(double));
+        w.lxt = (double *)malloc(kk * sizeof(double));
+        w.lft = (double *)malloc(kk * sizeof(double));
+        w.ldx = (double *)malloc(kk * sizeof(double));
+        w.lLU = (double *)malloc(kk * kk * sizeof(double));
+        w.lpiv = (int *)malloc(kk * sizeof(int));
+        w.xp = (double *)malloc(kk * sizeof(double));
+        w.Jsave = (double *)malloc(kk * kk * sizeof(double));
+    }
+    if (!w.X1 || !w.X0 || !w.X00 || !w.lx || !w.lf || !w.lxt || !w.lft || !w.ldx || !w.lLU ||
+        !w.lpiv || !w.xp || !w.Jsave || !w.tendon || !w.load || !w.bpF || !w.bpM || !w.load_bp || !w.guess || !w.J ||
         !w.guess0 || !w.guess00 || !w.gp || !w.P || !w.P1 || !w.P0 || !w.P00) {
         ws_free(&w);
         bmsg(msg, msglen, "out of memory while setting up the batch");
@@ -368,9 +503,16 @@ int tr_batch_solve(const tr_model *m, const tr_options *opt, const tr_batch_in *
     }
     w.s_tip = w.d->s[0];
 
+    {
+        int nten = 0;
+        for (i = 0; i < nt; i++) nten += m->tendon[i].control == TR_TENSION;
+        /* the recording pass adds nothing unless a tension-controlled tendon's
+         * displacement is wanted */
+        record = nten > 0 && !in->skip_tension_displacement;
+    }
     for (p = 0; p < in->n; p++) {
         tr_data *d = w.d;
-        int st, nit, nfev, cold;
+        int st, nit, nfev, cold, lean;
         char pmsg[TR_MSGLEN];
         st = set_point(&w, m, in, p, pmsg, sizeof pmsg);
         if (st != TR_OK) {
@@ -388,16 +530,26 @@ int tr_batch_solve(const tr_model *m, const tr_options *opt, const tr_batch_in *
         cold = !(in->warm && have_prev);
         gather(m, in, p, w.P);
         d->s[0] = w.s_tip;
+        lean = 0;
         {
             const double *g = w.guess;
+            double wt[3];
             int fast = 0;
+            if (have_prev >= 1)
+                memcpy(w.xp, w.X1, (size_t)k * sizeof(double));
             if (!cold && !in->exact && have_prev >= 2 && in->predict &&
-                predict(&w, 6 + 2 * nt, have_prev))
+                predict_weights(&w, have_prev, wt) > 0) {
+                extrapolate(wt, w.guess, w.guess0, w.guess00, w.gp, 6 + 2 * nt);
+                extrapolate(wt, w.X1, w.X0, w.X00, w.xp, k);
                 g = w.gp;
+            }
             if (!cold && !in->exact && d->opt.steps > 0 && d->opt.integrator != TR_ADAPTIVE) {
-                st = fast_warm(&w.mc, d, g, w.J, d->opt.max_iter < TR_BATCH_FAST_ITER ?
-                               d->opt.max_iter : TR_BATCH_FAST_ITER);
-                fast = st == TR_OK;
+                memcpy(w.Jsave, w.J, (size_t)k * k * sizeof(double));   /* restored on failure */
+                st = lean_newton(&w, &w.mc, d, w.xp, d->opt.max_iter < TR_BATCH_FAST_ITER ?
+                                 d->opt.max_iter : TR_BATCH_FAST_ITER, record);
+                fast = lean = st == TR_OK;
+                if (!fast)
+                    memcpy(w.J, w.Jsave, (size_t)k * k * sizeof(double));
                 nit = d->nit;
                 nfev = d->nfev;
             } else {
@@ -445,7 +597,11 @@ int tr_batch_solve(const tr_model *m, const tr_options *opt, const tr_batch_in *
             else
                 guess_from_solution(&w.mc, d, w.guess);
             memcpy(w.P1, w.P, (size_t)w.np * sizeof(double));
-            memcpy(w.J, d->J, (size_t)k * k * sizeof(double));
+            if (have_prev >= 2) memcpy(w.X00, w.X0, (size_t)k * sizeof(double));
+            if (have_prev >= 1) memcpy(w.X0, w.X1, (size_t)k * sizeof(double));
+            memcpy(w.X1, d->x, (size_t)k * sizeof(double));
+            if (!lean)      /* the lean loop kept its own (guarded) updates in w.J */
+                memcpy(w.J, d->J, (size_t)k * k * sizeof(double));
             have_prev = have_prev < 3 ? have_prev + 1 : 3;
         } else {
             have_prev = have_prev > 0 ? 1 : 0;   /* no extrapolation across a failed point */

@@ -11,9 +11,11 @@
  * Points are solved in order with tr_solve(); each is warm-started from the previous
  * converged point (its unknowns mapped to a physical guess and its final Jacobian),
  * as tendonrod.solve(scene, guess=previous_solution) does (optionally from a secant
- * prediction).  With a fixed step count (opt->steps > 0) a warm point first runs a
- * lean Newton/Broyden loop through tr_solve_init/iterate/test + tr_record (no
- * verification, no polish) and goes to the full tr_solve only if that fails; with
+ * or quadratic prediction along a line of points).  With a fixed step count
+ * (opt->steps > 0) a warm point first runs a lean Newton/Broyden loop on tr_residual
+ * (the carried Jacobian, no step verification, no polish; the tip read from the last
+ * residual evaluation unless the recording pass is needed) and goes to the full
+ * tr_solve only if that fails; with
  * automatic steps every point runs tr_solve (step verification included).  Only tip
  * quantities are recorded.  One call uses one workspace: everything is allocated
  * once at the start of tr_batch_solve and freed at its end, nothing per point.  Call
@@ -48,6 +50,10 @@ typedef struct tr_batch_in {
     int exact;              /* 1: reproduce a loop of tendonrod.solve(scene, guess=previous
                                tip-only solution) bit for bit: the Python layer's guess map,
                                no predictor, no lean loop (every point runs tr_solve) */
+    int skip_tension_displacement; /* 1: the lean loop skips the recording pass; the
+                               displacement of tension-controlled tendons is then NaN at
+                               the points it solved (scenes whose tendons are all
+                               displacement-controlled never need that pass) */
 } tr_batch_in;
 
 typedef struct tr_batch_out {

@@ -980,7 +980,8 @@ batch_points(PyObject *obj, const char *name, const npy_intp *tail, int ntail,
 
 PyDoc_STRVAR(core_solve_batch_doc,
 "solve_batch(rod, tendons, loads, dist, *, values=None, point_loads=None, dists=None,\n"
-"            warm=True, retry_cold=False, predict=True, exact=False, integrator='rk8', steps=0, rtol=1e-10, tol=1e-10,\n"
+"            warm=True, retry_cold=False, predict=True, exact=False,\n"
+"            skip_tension_displacement=False, integrator='rk8', steps=0, rtol=1e-10, tol=1e-10,\n"
 "            max_iter=50, max_nfev=20000, jacobian_method='fd', slack_model='linear',\n"
 "            continuation=True, max_continuation=64, force_spatial=False,\n"
 "            shooting_segments=1) -> dict\n\n"
@@ -995,7 +996,9 @@ PyDoc_STRVAR(core_solve_batch_doc,
 "point continues their line.  steps > 0: warm points run a lean Newton/Broyden loop first\n"
 "(no step verification, no polish), falling back to the full solve on failure.\n"
 "exact: reproduce a loop of solve(guess=previous tip-only solution) bit for bit (the\n"
-"Python layer's guess map; no predictor, no lean loop).\n"
+"Python layer's guess map; no predictor, no lean loop).  skip_tension_displacement: the\n"
+"lean loop reads the tip from its last residual evaluation and skips the recording pass;\n"
+"the displacement of tension-controlled tendons is then NaN at those points.\n"
 "Returns a dict of arrays over the n points: tip_position (n,3) [m], tip_rotation (n,3,3),\n"
 "tension, slack, displacement (n,nt), residual_norm (n,), status, nit, nfev, cold (n,)\n"
 "int32, message (list of n str; '' where status == 0), formulation (dict: planar,\n"
@@ -1005,7 +1008,7 @@ static PyObject *
 core_solve_batch(PyObject *self, PyObject *args, PyObject *kwds)
 {
     static char *kwlist[] = {"rod", "tendons", "loads", "dist", "values", "point_loads", "dists",
-                             "warm", "retry_cold", "predict", "exact", "integrator", "steps", "rtol", "tol",
+                             "warm", "retry_cold", "predict", "exact", "skip_tension_displacement", "integrator", "steps", "rtol", "tol",
                              "max_iter", "max_nfev", "jacobian_method", "slack_model",
                              "continuation", "max_continuation", "force_spatial",
                              "shooting_segments", NULL};
@@ -1013,6 +1016,7 @@ core_solve_batch(PyObject *self, PyObject *args, PyObject *kwds)
     const char *integrator = "rk8", *jac_method = "fd", *slack_model = "linear";
     int steps = 0, max_iter = 50, max_nfev = 20000, continuation = 1, max_continuation = 64;
     int force_spatial = 0, warm = 1, retry_cold = 0, predict = 1, exact = 0, shooting_segments = 1;
+    int skip_td = 0;
     int status = TR_OK;
     PyObject *o_steps = NULL, *o_max_iter = NULL, *o_max_nfev = NULL, *o_max_cont = NULL;
     PyObject *o_shoot = NULL;
@@ -1028,9 +1032,9 @@ core_solve_batch(PyObject *self, PyObject *args, PyObject *kwds)
     char emsg[TR_MSGLEN];
 
     memset(&a, 0, sizeof a);
-    if (!PyArg_ParseTupleAndKeywords(args, kwds, "OOOO|$OOOppppsOddOOsspOpO", kwlist, &rod, &tendons,
+    if (!PyArg_ParseTupleAndKeywords(args, kwds, "OOOO|$OOOpppppsOddOOsspOpO", kwlist, &rod, &tendons,
                                      &loads, &dist, &o_values, &o_pl, &o_dists, &warm, &retry_cold,
-                                     &predict, &exact,
+                                     &predict, &exact, &skip_td,
                                      &integrator, &o_steps, &rtol, &tol, &o_max_iter, &o_max_nfev,
                                      &jac_method, &slack_model, &continuation, &o_max_cont,
                                      &force_spatial, &o_shoot))
@@ -1101,6 +1105,7 @@ core_solve_batch(PyObject *self, PyObject *args, PyObject *kwds)
         in.retry_cold = retry_cold;
         in.predict = predict;
         in.exact = exact;
+        in.skip_tension_displacement = skip_td;
         out.tip_pos = (double *)PyArray_DATA((PyArrayObject *)pos);
         out.tip_rot = (double *)PyArray_DATA((PyArrayObject *)rot);
         out.tension = (double *)PyArray_DATA((PyArrayObject *)ten);

@@ -265,3 +265,46 @@ def test_sweep_uses_the_batch_path_bitwise(monkeypatch):
     for p, sol in enumerate(ref):
         assert np.array_equal(tip[p], sol.tip_position)
         assert np.array_equal(ten[p], sol.tension)
+
+
+def test_lean_loop_without_recording_pass():
+    """Fixed steps: the lean loop's tip read from its last residual evaluation equals the
+    recorded tip (the recording pass replaces its tip by the shooting tip, so up to
+    round-off; 1e-12 L); only the displacement of tension-controlled tendons is lost (NaN
+    where the lean loop solved), and it saves one integration per point."""
+    scene = spatial_scene()
+    n = 30
+    F = np.zeros((n, 2, 3))
+    F[:, 0, 0] = np.linspace(-0.05, 0.05, n)
+    F[:, 0, 1] = 0.01
+    opts = tr.Options(steps=4, tol=3e-9)
+    a = tr.solve_batch(scene, forces=F, options=opts)
+    b = tr.solve_batch(scene, forces=F, options=opts, tension_tendon_displacement=False)
+    assert a.success.all() and b.success.all()
+    np.testing.assert_allclose(b.tip_position, a.tip_position, rtol=0, atol=1e-12 * L)
+    np.testing.assert_allclose(b.tension, a.tension, rtol=0, atol=1e-12 * EI / (R_OFF * L))
+    lean = ~b.cold
+    assert lean.sum() >= n - 2
+    assert np.isnan(b.displacement[lean][:, 1:]).all()
+    assert np.array_equal(b.displacement[:, 0], a.displacement[:, 0])   # prescribed q
+    assert b.nfev[lean].sum() < a.nfev[lean].sum()
+    # the lean loop reaches the tolerance it was given (scaled residual max-norm)
+    assert np.all(b.residual_norm <= 3e-9)
+    # and agrees with individual fixed-step solves to that tolerance (tip within ~tol L)
+    for p in (1, 15, 29):
+        sol = tr.solve(with_point(scene, forces=F[p]), options=dataclasses.replace(opts, tip_only=True))
+        np.testing.assert_allclose(b.tip_position[p], sol.tip_position, rtol=0, atol=TIP_TOL)
+
+
+def test_all_displacement_controlled_scene_keeps_displacements():
+    """With every tendon displacement-controlled nothing needs the recording pass: the
+    lean loop skips it and the displacements are the prescribed ones."""
+    scene = planar_scene()
+    q = np.linspace(0.002, 0.006, 20)[:, None]
+    res = tr.solve_batch(scene, displacement=q, options=tr.Options(steps=6))
+    assert res.success.all()
+    assert np.array_equal(res.displacement, q)
+    for p in (3, 19):
+        sol = tr.solve(with_point(scene, displacement=q[p]),
+                       options=tr.Options(steps=6, tip_only=True))
+        np.testing.assert_allclose(res.tip_position[p], sol.tip_position, rtol=0, atol=TIP_TOL)
