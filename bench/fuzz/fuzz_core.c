@@ -20,8 +20,9 @@
  *   C2 a failed tr_model_alloc returns NULL and a message; a successful one a model;
  *   C3 messages are NUL-terminated inside their buffers;
  *   C4 a solve that reports success (status >= 0) has finite outputs, tensions
- *      and slacks >= 0, an orthonormal rotation at every node, and a scaled
- *      residual <= tol (no "success" that is a lie);
+ *      and slacks >= 0, a scaled residual <= tol, and -- where the core picks
+ *      the step count (automatic or adaptive) -- an orthonormal rotation at
+ *      every node (no "success" that is a lie);
  *   C5 work is bounded by the options: nfev <= max_nfev + one Jacobian and
  *      one recording/verification allowance (TR_FUZZ_NFEV_SLACK below);
  *   C6 a compliance matrix reported OK is finite;
@@ -376,7 +377,10 @@ static void fuzz_solve(reader *r)
         for (i = 0; i < nt; i++)
             if (d->tension[i] < 0.0 || d->slack[i] < 0.0)
                 FAIL("C4 tendon %d: tension %g, slack %g", i, d->tension[i], d->slack[i]);
-        for (j = 0; j < nn; j++) {
+        /* with a fixed step count the user chose the truncation error (one RK4
+         * step over the rod is legal and inaccurate); R is held to SO(3) only
+         * where the core chooses the steps (automatic or adaptive) */
+        for (j = 0; j < nn && (o.steps == 0 || o.integrator == TR_ADAPTIVE); j++) {
             const double *R = d->rot + 9 * j;
             for (int a = 0; a < 3; a++)
                 for (int b = 0; b < 3; b++) {
