@@ -90,7 +90,16 @@ def _points(arr, name: str, tail: tuple, what: str, n: Optional[int]):
     """float64 (n, *tail) array of a per-point argument; ValueError naming it."""
     if arr is None:
         return None, n
-    a = np.asarray(arr, dtype=float)
+    a = np.asarray(arr)
+    if a.dtype.kind not in "biuf":
+        try:
+            if a.dtype.kind in "cUSV":
+                raise TypeError
+            a = a.astype(float)
+        except (TypeError, ValueError):
+            raise ValueError(f"{name} must be an array of real numbers, got dtype {a.dtype} "
+                             f"({np.asarray(arr).ravel()[:3]!r}...)") from None
+    a = a.astype(float, copy=False)
     want = ("n" if n is None else str(n),) + tuple(str(t) for t in tail)
     if a.ndim != 1 + len(tail) or a.shape[1:] != tuple(tail) or (n is not None and a.shape[0] != n):
         raise ValueError(f"{name} must have shape ({', '.join(want)}) -- {what} -- got shape "
@@ -229,7 +238,7 @@ def solve_batch(scene: Scene, *, displacement=None, tension=None, forces=None, m
         return _fallback(scene, values, point_loads, distributed, options, chunksize,
                          warm_start, retry_cold, n, force_spatial)
 
-    bounds = [(a, min(a + chunksize, n)) for a in range(0, n, chunksize)]
+    bounds = [(a, min(a + chunksize, n)) for a in range(0, n, chunksize)] or [(0, 0)]
 
     def run(b):
         a, e = b

@@ -308,3 +308,12 @@ def test_all_displacement_controlled_scene_keeps_displacements():
         sol = tr.solve(with_point(scene, displacement=q[p]),
                        options=tr.Options(steps=6, tip_only=True))
         np.testing.assert_allclose(res.tip_position[p], sol.tip_position, rtol=0, atol=TIP_TOL)
+
+
+def test_degenerate_arrays():
+    """No points: an empty result; strings and complex numbers: refused by name."""
+    res = tr.solve_batch(planar_scene(), displacement=np.zeros((0, 1)))
+    assert len(res) == 0 and res.tip_position.shape == (0, 3) and res.message.shape == (0,)
+    for bad in (np.array([["abc"]]), np.array([[0.001 + 0.5j]])):
+        with pytest.raises(ValueError, match="displacement must be an array of real numbers"):
+            tr.solve_batch(planar_scene(), displacement=bad)
