@@ -145,7 +145,8 @@ def solve_batch(scene: Scene, *, displacement=None, tension=None, forces=None, m
         Retry a point whose warm-started solve failed from a cold start.
     predict : bool
         When a point continues the line through the previous converged points, start from
-        the (secant or quadratic) extrapolation of their solutions.
+        the (secant, quadratic or, for equally spaced points, cubic) extrapolation of
+        their solutions.
     exact : bool
         Reproduce, bit for bit, a loop of ``tr.solve(scene_p, guess=previous_solution,
         options=Options(tip_only=True, ...))`` restarted cold at every chunk (what
@@ -161,7 +162,7 @@ def solve_batch(scene: Scene, *, displacement=None, tension=None, forces=None, m
         pass anyway).
 
     With ``options.steps > 0`` (a fixed step count) warm points first run a lean
-    Newton/Broyden loop on the core's residual (the carried Jacobian, quadratic
+    Newton/Broyden loop on the core's residual (the carried Jacobian, cubic
     predictor, no step verification, no polish) and fall back to the full solve if it
     does not converge within a few iterations; with automatic steps every point runs
     the full solve, step verification included.
