@@ -441,7 +441,12 @@ class TendonRobotReference:
 
         def residual(x, act, lam):
             h0, tau = unpack(x, act, lam)
-            sol = self.integrate(h0, tau)
+            try:
+                sol = self.integrate(h0, tau)
+            except RuntimeError:
+                # a trial point of the root finder far from any equilibrium: report a large
+                # residual so that it backs off (continuation then halves its step)
+                return np.full(3 + len(act), 1e6)
             yL = sol.y[:, -1]
             res = [(yL[12:15] - self.M) / mscale]
             for i in act:

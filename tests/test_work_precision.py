@@ -173,8 +173,15 @@ def test_model_choice_quick(tmp_path):
     assert (tmp_path / "model_choice.png").stat().st_size > 10000
     for model in {r["model"] for r in rows}:
         sub = sorted((r for r in rows if r["model"] == model), key=lambda r: r["load"])
-        assert all(r["cosserat_success"] for r in sub), model
+        # up to F L^2/EI = 40 every path solve converges and stays on the loading path; at
+        # 100 the warm-started solve may leave it (stress finding S7) or stall (S1): the
+        # benchmark then drops the point rather than plot a wrong reference
+        assert all(r["cosserat_success"] for r in sub if r["load"] <= 40.0), model
+        sub = [r for r in sub if r["cosserat_success"]]
         # F L^2/EI = 1e-3: geometric nonlinearity ~1e-6 relative (plus solver error ~1e-9)
         assert sub[0]["error"] < 1e-5, (model, sub[0])
-        # F L^2/EI = 100: the small-deflection formula is off by tens of percent or more
-        assert sub[-1]["error"] > 0.1, (model, sub[-1])
+        # F L^2/EI >= 30: the small-deflection formula is off by a factor of two or more
+        assert sub[-1]["load"] >= 30.0 and sub[-1]["error"] > 1.0, (model, sub[-1])
+        # no tendon: the answer of record is the exact elastica (path following works)
+        if model == "no tendon":
+            assert max(r["cosserat_vs_exact"] for r in sub) < 1e-9
