@@ -318,9 +318,15 @@ def load_references(scenes, out, log=print):
     ODE references take 10-70 s each in pure Python."""
     cache_path = os.path.join(out, "references.json")
     cache = {}
-    if os.path.exists(cache_path):
-        with open(cache_path) as fh:
-            cache = json.load(fh)
+    # the committed cache (bench/results/references.json of a source checkout) first,
+    # then the output directory's own; keys include the scene's repr, so an entry is
+    # only used for exactly the scene it was computed for
+    committed = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "bench", "results",
+                             "references.json")
+    for path in (committed, cache_path):
+        if os.path.exists(path):
+            with open(path) as fh:
+                cache.update(json.load(fh))
     res = {}
     for sc in scenes:
         key = sc.name + ":" + repr(sc.scene)
