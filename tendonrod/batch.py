@@ -419,11 +419,15 @@ def _sweep_chunk(task: dict):
     forces = np.array([[p.force for p in pl] for pl in pls], dtype=float).reshape(n, npl, 3)
     moments = np.array([[p.moment for p in pl] for pl in pls], dtype=float).reshape(n, npl, 3)
     dist = np.array([s.distributed_force for s in scenes], dtype=float)
+    # automatic steps: exact mode, bit for bit the per-point loop (each point verifies its
+    # steps); a fixed step count: the lean loop with the predictor (equal to the loop to
+    # the solver tolerance, several times faster)
+    exact = options is None or options.steps == 0 or options.integrator == "adaptive"
     try:
         res = solve_batch(first, displacement=disp if idisp else None, tension=ten if iten else None,
                           forces=forces if npl else None, moments=moments if npl else None,
                           distributed=dist, options=options, chunksize=n,
-                          warm_start=bool(task["warm_start"]), exact=True)
+                          warm_start=bool(task["warm_start"]), exact=exact, retry_cold=False)
     except ValueError:
         return None
     records = []

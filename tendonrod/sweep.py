@@ -476,7 +476,8 @@ def sweep(base: Any, vary: Mapping[str, Iterable] | None = None, *, grid: bool =
               "options": options, "warm_start": warm_start} for c in todo]
     # batch path (issue 7): only values of actuation and point loads vary and the record is
     # the default tip measure -> each chunk is one tr.solve_batch call (same chunking and
-    # warm starts; equal to the per-point path to the solver tolerance)
+    # warm starts; with automatic steps bit for bit the per-point path, with a fixed step
+    # count the batch's lean loop, equal to it to the solver tolerance)
     from .batch import sweep_can_batch
 
     if build is None and measure is tip_measure and sweep_can_batch(base, names):
