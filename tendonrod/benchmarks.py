@@ -774,8 +774,20 @@ def stress_cases() -> List[StressCase]:
     #    stiffness growing without bound (inextensible: no equilibrium with M != 0).
     for a in [1.0, 1e2, 1e4, 1e6, 1e8, 1e12, math.inf]:
         nm = f"fig12/twist/alpha={a:g}"
+        chk12 = None
+        if not math.isinf(a):
+            def chk12(sol, a=a):
+                rod = sol.scene.robot.rod
+                EA = a * EI / r ** 2
+                Mz = sol.scene.point_loads[0].moment[2]
+                psi, T = refs.twist_with_tendons(L, rod.torsional_stiffness, EA, r, 3, Mz)
+                Rt = sol.tip_rotation
+                psi_sol = math.atan2(Rt[1, 0], Rt[0, 0])
+                e = max(abs(psi_sol - psi) / psi, float(np.max(np.abs(sol.tension - T))) / T)
+                # exact solution; 1e-6 relative is the verification threshold used throughout
+                return e, e < 1e-6, "twist and tension vs the exact helix solution"
         cases.append(StressCase(nm, "Fig. 12 twist", (lambda a=a: (_fig12(p, a), _stress_opts())),
-                                well_posed=not math.isinf(a),
+                                well_posed=not math.isinf(a), check=chk12,
                                 expect_words=("equilibrium", "indetermin", "singular", "twist"),
                                 quick=(a in (1e12, math.inf))))
     # 8. slenderness L/d from 10 to 1e4 (Cosserat backbone: shear and extension matter at 10).

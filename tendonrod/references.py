@@ -19,6 +19,7 @@ elastica_tip_force       exact (elliptic integrals): Kirchhoff cantilever under 
                          tip force perpendicular to the undeformed axis.
 elastica_compressive     exact (elliptic integrals): first buckled mode of a
                          Kirchhoff cantilever under an axial compressive tip force.
+twist_with_tendons       exact: paper Fig. 12 (three tendons, pure twisting moment).
 small_load_deflection    the paper's eqs. 22-26 in plain NumPy (independent of the
                          ufuncs in tendonrod.analytic).
 planar_rod_bvp           plain planar rod (Kirchhoff or Cosserat) under a tip force
@@ -148,6 +149,32 @@ def critical_tip_angle_load(L, EI, theta_L):
 
     k = math.sin(theta_L / 2.0)
     return EI * (ellipk(k * k) / L) ** 2
+
+
+def twist_with_tendons(L, GJ, EA, r, n, M):
+    """Paper Fig. 12, exactly: a straight Kirchhoff rod with ``n`` equally spaced
+    parallel tendons at offset ``r`` (axial rigidity ``EA`` [N] each, displacement 0,
+    no pretension) under a pure twisting tip moment ``M`` [N m].
+
+    By symmetry the rod stays straight and twists uniformly by psi; each tendon
+    becomes a helix of length L sqrt(1 + s^2), s = r psi / L, so its tension is
+    T = EA (sqrt(1 + s^2) - 1) and it adds the moment r T s / sqrt(1 + s^2) about the
+    axis: M = GJ psi / L + n r T s / sqrt(1 + s^2). Returns ``(psi [rad], T [N])``.
+    The tendon term is cubic in psi, so the slope at zero is GJ/L whatever EA (the
+    paper's observation), and psi -> 0 as EA -> inf (no equilibrium in the limit)."""
+    from scipy.optimize import brentq
+
+    def tension(psi):
+        s = r * psi / L
+        return EA * (math.sqrt(1.0 + s * s) - 1.0) if s * s > 1e-8 else EA * (0.5 * s * s - 0.125 * s ** 4)
+
+    def g(psi):
+        s = r * psi / L
+        return GJ * psi / L + n * r * tension(psi) * s / math.sqrt(1.0 + s * s) - M
+
+    hi = M * L / GJ  # the tendons only reduce the twist
+    psi = brentq(g, 0.0, hi, xtol=1e-300, rtol=4 * np.finfo(float).eps, maxiter=500) if M > 0 else 0.0
+    return psi, tension(psi)
 
 
 def small_load_deflection(s, F, z, L, EI, a, b, k):

@@ -77,6 +77,23 @@ def test_compressive_elastica_and_critical_load():
     assert np.hypot(above.tip_position[0] - x2, above.tip_position[2] - z2) / L < 1e-10
 
 
+def test_twist_with_tendons_limits():
+    """Fig. 12 exact solution: without tendon stiffness the twist is M L/GJ; with very
+    stiff tendons it follows the cubic law 3 EA r^4 psi^3 / (2 L^3) = M (the tendons
+    carry the moment), so psi ~ EA^(-1/3)."""
+    GJ = 2.0 * EI11 / 1.3125
+    M = 0.5 * GJ / L11
+    psi, T = refs.twist_with_tendons(L11, GJ, 1e-12, 0.01, 3, M)
+    assert psi == pytest.approx(M * L11 / GJ, rel=1e-12)  # tendons carry ~1e-20 of the moment
+    EA = 1e12 * EI11 / 0.01 ** 2
+    psi, T = refs.twist_with_tendons(L11, GJ, EA, 0.01, 3, M)
+    cubic = (2.0 * M * L11 ** 3 / (3.0 * EA * 0.01 ** 4)) ** (1.0 / 3.0)
+    # the rod's own GJ psi / L is 6e-4 of M here, the helix's higher-order terms
+    # (r psi / L)^2 ~ 1e-9: 1e-3 bounds both
+    assert psi == pytest.approx(cubic, rel=1e-3)
+    assert T == pytest.approx(EA * 0.5 * (0.01 * psi / L11) ** 2, rel=1e-3)
+
+
 def test_small_load_reference_matches_analytic_ufunc():
     """The plain-NumPy eq. 26 in references agrees with the C ufunc (two codes)."""
     if not hasattr(tr.analytic, "deflection"):
