@@ -775,6 +775,9 @@ def stress_cases() -> List[StressCase]:
     cases.append(StressCase("ramp/fig17/taut-slack-taut/squared", "slack switch", None,
                             ramp=lambda: _ramp_fig17(slack_model="squared")))
     cases.append(StressCase("ramp/fig17/cold-each", "slack switch", None, ramp=lambda: _ramp_fig17(warm=False)))
+    # 5b. a warm-started sweep of a large transverse load on the plain rod (exact elastica)
+    cases.append(StressCase("ramp/plain-rod/FL2EI=31.6->100/warm-10%", "loads", None, ramp=_ramp_large_load,
+                            quick=True))
     # 6. opposing inextensible tendons on a Kirchhoff backbone (statically indeterminate or
     #    without equilibrium) and the well-posed neighbours.
     for q, wp, words in ((0.0, False, ("indetermin",)), (1e-3, False, ("equilibrium", "indetermin")),
@@ -960,6 +963,43 @@ def _ramp_fig17(slack_model="linear", warm=True, n=13):
                                                 default=math.nan)),
                 refine=float(max((v["refine"] for _, _, v in recs if np.isfinite(v["refine"])), default=math.nan)),
                 check_error=e_ela, message=msg, continuation_steps=int(sum(s.continuation_steps for _, s, _ in recs)))
+
+
+def _ramp_large_load(n=13):
+    """Plain Kirchhoff rod (Fig. 17 section), transverse tip load (-x) swept from
+    F L^2/EI = 31.6 to 100 in 10 % steps, each solve warm started from the previous
+    one (what a design sweep does). Every step must converge on the exact elastica
+    (elliptic integrals): a warm start that jumps to another equilibrium is a wrong
+    answer (finding S7)."""
+    tr = _tr()
+    p = FIG17
+    L, EI = p["L"], EI_of(p)
+    robot = tr.Robot(rod_of(p), [])
+    prev = None
+    errs, recs = [], []
+    t0 = time.perf_counter()
+    for fl in np.geomspace(10 ** 1.5, 100.0, n):
+        F = fl * EI / L ** 2
+        sol = _solve_quiet(tr.Scene(robot, loads=[tr.PointLoad(s=L, force=(-F, 0.0, 0.0))]), tr.Options(),
+                           guess=prev)
+        recs.append(sol)
+        if not sol.success:
+            errs.append(math.nan)
+            break
+        x, z, _ = refs.elastica_tip_force(L, EI, F)
+        errs.append(float(np.hypot(sol.tip_position[0] + x, sol.tip_position[2] - z) / L))
+        prev = sol
+    secs = time.perf_counter() - t0
+    ok = all(s.success for s in recs) and len(recs) == n
+    worst = max((e for e in errs if np.isfinite(e)), default=math.nan)
+    bad = [f"{fl:.3g}" for fl, e in zip(np.geomspace(10 ** 1.5, 100.0, n), errs) if not (e < 1e-6)]
+    msg = (f"{len(recs)} warm-started steps; worst tip error vs the exact elastica {worst:.2e} L"
+           + (f"; wrong or failed at F L^2/EI = {', '.join(bad)}" if bad else "")
+           + ("" if ok else f"; last message: {recs[-1].message}"))
+    return dict(converged=ok, verified=ok and not bad, iterations=int(sum(s.nit for s in recs)),
+                nfev=int(sum(s.nfev for s in recs)), residual=float(max(s.residual_norm for s in recs)),
+                jacobian_cond=float(recs[-1].jacobian_cond), seconds=secs, balance=math.nan, refine=math.nan,
+                check_error=worst, message=msg, continuation_steps=int(sum(s.continuation_steps for s in recs)))
 
 
 # --------------------------------------------------------------------------- verification
