@@ -76,6 +76,16 @@
 #define TR_POLISH_RES_FACTOR 1e-2
 /* Iterations per continuation step: Newton from a near point converges in a few. */
 #define TR_CONT_ITER 15
+/* A direct Newton run whose residual fell by less than 1/TR_STALL_RATIO over the
+ * last TR_STALL_ITERS iterations is abandoned as stagnating (creeping damped steps:
+ * measured on Fig. 11c with stiff tendons under twist, the residual stays at ~2e-3
+ * for 50+ iterations; a creep that ends in the Newton basin, as at r^2kL/3EI = 500,
+ * halves the residual in ~8 iterations and is kept) ... */
+#define TR_STALL_ITERS 8
+#define TR_STALL_RATIO 0.8
+/* ... and a continuation stage (a near start converges fast; else halve the step) */
+#define TR_CONT_STALL_ITERS 4
+#define TR_CONT_STALL_RATIO 0.5
 /* Cold starts with loads above this scaled magnitude (sum of |F| L^2/EI, |M| L/EI,
  * |f| L^3/EI) go by continuation at once, in load steps of at most TR_RAMP_LOAD. */
 #define TR_DIRECT_LOAD_MAX 6.0
@@ -1075,16 +1085,29 @@ static int hybrid_run(const tr_model *m, tr_data *d, int max_iter)
     return status;
 }
 
-/* Iterate from the current point until converged or a cap. */
-static int newton_run(const tr_model *m, tr_data *d, int max_iter)
+/* Iterate from the current point until converged, a cap, or stagnation (the
+ * residual fell by less than 1/ratio over the last `stall` <= TR_STALL_ITERS
+ * iterations). */
+static int newton_run_stall(const tr_model *m, tr_data *d, int max_iter, int stall, double ratio)
 {
     int it = 0;
+    double hist[TR_STALL_ITERS];   /* residual norms of the last TR_STALL_ITERS iterations */
     if (d->opt.jacobian_method == TR_JAC_HYBRID && d->hyb)
         return hybrid_run(m, d, max_iter);
     for (;;) {
         int status;
         if (tr_solve_test(m, d) == TR_OK)
             return TR_OK;
+        /* creeping (tiny damped steps along a curved valley, e.g. the common-mode
+         * tension of stiff tendons under twist): give up early, so that the caller's
+         * continuation starts before max_iter evaluations are spent */
+        if (it >= stall && d->fnorm > ratio * hist[(it - stall) % TR_STALL_ITERS]) {
+            tr_set_message(d, "stagnated: the scaled residual fell by less than %g x over %d "
+                           "iterations (now %.3g > tol %.3g); give a guess from a nearby solved "
+                           "scene", 1.0 / ratio, stall, d->fnorm, d->opt.tol);
+            return TR_EMAXITER;
+        }
+        hist[it % TR_STALL_ITERS] = d->fnorm;
         if (d->nfev >= d->opt.max_nfev) {
             tr_set_message(d, "function-evaluation limit (max_nfev = %d) reached (scaled residual "
                            "%.3g > tol %.3g); raise max_nfev", d->opt.max_nfev, d->fnorm, d->opt.tol);
@@ -1101,6 +1124,11 @@ static int newton_run(const tr_model *m, tr_data *d, int max_iter)
         if (status < 0)
             return status;
     }
+}
+
+static int newton_run(const tr_model *m, tr_data *d, int max_iter)
+{
+    return newton_run_stall(m, d, max_iter, TR_STALL_ITERS, TR_STALL_RATIO);
 }
 
 /* Tip position (world) of the state integrated from x (one evaluation). */
@@ -1155,7 +1183,7 @@ static int ramp(const tr_model *m, tr_data *d, double *lamp, const char *what, d
         status = tr_residual(m, d, d->x, d->f);
         d->fnorm = maxnorm(d->f, k);
         if (status == TR_OK)
-            status = newton_run(m, d, iter_cap);
+            status = newton_run_stall(m, d, iter_cap, TR_CONT_STALL_ITERS, TR_CONT_STALL_RATIO);
         d->cont_steps++;
         if (status == TR_EMAXFEV)
             return status;
@@ -1268,6 +1296,51 @@ static double jac_cond(tr_data *d)
     return nJ * nI;
 }
 
+/* Step-doubling estimate of the truncation error at the current steps N and x:
+ * the change of the residual (into d->f at N, d->ft at 2N) and of the scaled tip
+ * state when every segment's steps are doubled, divided by (1 - 2^-p).  Returns
+ * INFINITY if an integration fails. */
+static double doubling_estimate(const tr_model *m, tr_data *d)
+{
+    const int k = d->k;
+    const double order = d->opt.integrator == TR_RK4 ? 4.0 : 8.0;
+    double est = 0.0;
+    int status, c;
+    status = tr_residual(m, d, d->x, d->f);
+    d->fnorm = status == TR_OK ? maxnorm(d->f, k) : INFINITY;
+    memcpy(d->ysave, d->y, (size_t)m->n_base * sizeof(double));
+    d->steps_double = 1;
+    if (status == TR_OK)
+        status = tr_residual(m, d, d->x, d->ft);
+    d->steps_double = 0;
+    if (status != TR_OK)
+        return INFINITY;
+    for (c = 0; c < k; c++) {
+        const double e = fabs(d->ft[c] - d->f[c]);
+        if (!(e <= est)) est = e;
+    }
+    for (c = 0; c < m->n_base; c++) {
+        const double e = fabs(d->y[c] - d->ysave[c]) / m->xstate_scale[c];
+        if (!(e <= est)) est = e;
+    }
+    return est / (1.0 - pow(2.0, -order));
+}
+
+/* Richardson: the step count whose truncation error est (N / Nn)^p is
+ * TR_REFINE_SAFETY tol, at least N + 1 (2N when est is not finite), capped. */
+static int refined_steps(const tr_data *d, int N, double est)
+{
+    const double order = d->opt.integrator == TR_RK4 ? 4.0 : 8.0;
+    int Nn = N + 1;
+    if (isfinite(est)) {
+        const double want = ceil(N * pow(est / (TR_REFINE_SAFETY * d->opt.tol), 1.0 / order));
+        if (want > Nn) Nn = want < (double)TR_STEP_CAP ? (int)want : TR_STEP_CAP;
+    } else {
+        Nn = 2 * N;
+    }
+    return Nn < TR_STEP_CAP ? Nn : TR_STEP_CAP;
+}
+
 /* Verify the step count by doubling (steps = 0).  With every segment's steps
  * doubled, the change of the residual and of the tip state (scaled) is (1 - 2^-p)
  * of the truncation error at N steps (order p): that estimate of the error at N
@@ -1277,32 +1350,11 @@ static double jac_cond(tr_data *d)
 static int verify_steps(const tr_model *m, tr_data *d)
 {
     const int k = d->k;
-    const double order = d->opt.integrator == TR_RK4 ? 4.0 : 8.0;
-    const double gain = 1.0 - pow(2.0, -order);
     int round;
     for (round = 0; round < 16; round++) {
         const int N = d->steps;
-        double est = 0.0;
-        int status, Nn, c;
-        /* the residual and tip state at N and 2N steps: a residual can be exact at
-         * any step count (a pure end moment) while the pose is not, so both count */
-        status = tr_residual(m, d, d->x, d->f);
-        d->fnorm = status == TR_OK ? maxnorm(d->f, k) : INFINITY;
-        memcpy(d->ysave, d->y, (size_t)m->n_base * sizeof(double));
-        d->steps_double = 1;
-        if (status == TR_OK)
-            status = tr_residual(m, d, d->x, d->ft);
-        d->steps_double = 0;
-        if (status != TR_OK) est = INFINITY;
-        for (c = 0; c < k && status == TR_OK; c++) {
-            const double e = fabs(d->ft[c] - d->f[c]);
-            if (!(e <= est)) est = e;
-        }
-        for (c = 0; c < m->n_base && status == TR_OK; c++) {
-            const double e = fabs(d->y[c] - d->ysave[c]) / m->xstate_scale[c];
-            if (!(e <= est)) est = e;
-        }
-        est /= gain;
+        const double est = doubling_estimate(m, d);
+        int status;
         d->truncation = est;
         if (est <= d->opt.tol) {
             /* N steps verified; the polish that follows may still reduce the
@@ -1316,19 +1368,12 @@ static int verify_steps(const tr_model *m, tr_data *d)
                            d->opt.tol, N);
             return TR_TRUNCATION;
         }
-        /* Richardson: the error at Nn is est (N / Nn)^p */
-        Nn = N + 1;
-        if (isfinite(est)) {
-            const double want = ceil(N * pow(est / (TR_REFINE_SAFETY * d->opt.tol), 1.0 / order));
-            if (want > Nn) Nn = want < (double)TR_STEP_CAP ? (int)want : TR_STEP_CAP;
-        } else {
-            Nn = 2 * N < TR_STEP_CAP ? 2 * N : TR_STEP_CAP;
-        }
-        d->steps = Nn;
+        d->steps = refined_steps(d, N, est);
         status = tr_residual(m, d, d->x, d->f);
         d->fnorm = maxnorm(d->f, k);
+        /* (no stagnation test: the point is converged at N steps already) */
         if (status == TR_OK)
-            status = newton_run(m, d, d->opt.max_iter);
+            status = newton_run_stall(m, d, d->opt.max_iter, TR_STALL_ITERS, INFINITY);
         if (status != TR_OK)
             return status;
     }
