@@ -1,11 +1,18 @@
 /*
  * tr_batch.c -- batch solves of one robot design (see tr_batch.h).
  *
- * Works through the public solver API only: a private shallow copy of the base
- * model owns the value-carrying arrays (tendons, loads, breakpoint load sums) and
- * is refilled per point; everything else (breakpoints, routing, formulation,
- * scales) is shared read-only with the base model.  The workspace is allocated for
- * the copy once, so tr_solve sees a model whose address never changes.
+ * Works through the solver's public API (tr_solve, tr_residual, tr_record and the
+ * tr_model / tr_data structs): a private shallow copy of the base model owns the
+ * value-carrying arrays (tendons, loads, breakpoint load sums) and is refilled per
+ * point; everything else (breakpoints, routing, formulation, scales) is shared
+ * read-only with the base model.  The workspace is allocated for the copy once, so
+ * tr_solve sees a model whose address never changes.  Two dependencies go beyond the
+ * public header and must follow the core if it changes: which model fields tr_solve
+ * reads for loads and actuation (tendon[].value, bpF, bpM, dist, has_dist; load is
+ * kept in step), and, when the recording pass is skipped, that d->y holds the tip
+ * state of the last tr_residual evaluation, converted by tr_state_world
+ * (tr_internal.h).  A public tr_model_set_values() and tr_tip_state() in the core
+ * would remove both.
  */
 #include <math.h>
 #include <stdarg.h>
