@@ -17,7 +17,11 @@
  * residual evaluation unless the recording pass is needed) and goes to the full
  * tr_solve only if that fails; with
  * automatic steps every point runs tr_solve (step verification included).  Only tip
- * quantities are recorded.  One call uses one workspace: everything is allocated
+ * quantities are recorded.  The base model's scene_status (compile-time indeterminacy
+ * check) holds for all points, which is exact unless the displacements of two or more
+ * inextensible displacement-controlled tendons on a Kirchhoff backbone vary (then the
+ * check depends on them: tendonrod.solve_batch solves such batches point by point).
+ * One call uses one workspace: everything is allocated
  * once at the start of tr_batch_solve and freed at its end, nothing per point.  Call
  * it from several threads on disjoint ranges of points for parallelism (the base
  * model is read-only and may be shared).
