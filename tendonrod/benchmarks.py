@@ -1320,7 +1320,9 @@ def main(argv=None) -> int:
     w.add_argument("--repeats", type=int, default=None, help="solves per timing (median); default 7 (quick: 3)")
     w.add_argument("--skip-model-choice", action="store_true", help="only the work-precision chart")
     w.add_argument("--scenes", default="", help="comma-separated scene names (default: all)")
-    s = sub.add_parser("stress", help="stress suite: every case converges verified or fails honestly")
+    s = sub.add_parser("stress", help="stress suite: every case converges verified or fails honestly",
+                       epilog="Exit status: 0 if every case is verified or an honest failure, 1 otherwise "
+                              "(the report is written either way).")
     s.add_argument("--out", required=True, help="output directory")
     s.add_argument("--quick", action="store_true", help="the fast subset (the one the tests run)")
     s.add_argument("--timeout", type=float, default=60.0, help="seconds per case before it counts as a hang")
