@@ -82,6 +82,9 @@
  * for 50+ iterations; a creep that ends in the Newton basin, as at r^2kL/3EI = 500,
  * halves the residual in ~8 iterations and is kept) ... */
 #define TR_STALL_ITERS 8
+/* A failed solve with displacement-controlled tendons stiffer than this (r^2 EA/EI)
+ * says so in its message (Fig. 12 twist fails from ~1e10, converges at 1e8). */
+#define TR_STIFF_HINT 1e6
 #define TR_STALL_RATIO 0.8
 /* ... and a continuation stage over TR_CONT_STALL_ITERS iterations (then the step is
  * halved).  A stricter test (2x over 4) made Fig. 12 at r^2kL/EI = 1e8 stall at the
@@ -1104,9 +1107,9 @@ static int newton_run_stall(const tr_model *m, tr_data *d, int max_iter, int sta
          * tension of stiff tendons under twist): give up early, so that the caller's
          * continuation starts before max_iter evaluations are spent */
         if (it >= stall && d->fnorm > ratio * hist[(it - stall) % TR_STALL_ITERS]) {
-            tr_set_message(d, "stagnated: the scaled residual fell by less than %g x over %d "
-                           "iterations (now %.3g > tol %.3g); give a guess from a nearby solved "
-                           "scene", 1.0 / ratio, stall, d->fnorm, d->opt.tol);
+            tr_set_message(d, "stagnated (scaled residual %.3g > tol %.3g, down by less than "
+                           "%gx in %d iterations); give a guess from a nearby solved scene",
+                           d->fnorm, d->opt.tol, 1.0 / ratio, stall);
             return TR_EMAXITER;
         }
         hist[it % TR_STALL_ITERS] = d->fnorm;
@@ -1535,6 +1538,26 @@ int tr_solve(const tr_model *m, tr_data *d, const double *guess, const double *j
         tr_set_message(d, "%s; the Jacobian is nearly singular (condition %.3g): the tendon "
                        "tensions may be statically indeterminate (give the tendons a finite EA "
                        "or the backbone an extension stiffness)", first, d->jacobian_cond);
+    }
+    if (status < 0 && status != TR_EMAXFEV && m->ndisp >= 2) {
+        /* stiff tendons sharing a tension level (S4/S5): that level is fixed only by
+         * their stretch, a near-null direction of the Jacobian (singular value ~
+         * EI/(r^2 EA)) along which second-order shape terms spoil the Newton step */
+        double stiff = 0.0;
+        int i;
+        for (i = 0; i < m->nt; i++) {
+            const tr_tendon *t = m->tendon + i;
+            const double ratio = t->b * t->b * t->EA / m->EI;
+            if (t->control == TR_DISPLACEMENT && isfinite(t->EA) && ratio > stiff) stiff = ratio;
+        }
+        if (stiff > TR_STIFF_HINT) {
+            char first[TR_MSGLEN];
+            memcpy(first, d->message, TR_MSGLEN);
+            tr_set_message(d, "nearly inextensible tendons (r^2 EA/EI up to %.3g: the tension "
+                           "level they share is set only by their stretch, poorly resolved by "
+                           "Newton; try a softer EA, or a guess solved with softer tendons): %s",
+                           stiff, first);
+        }
     }
     d->residual_norm = d->fnorm;
     d->lam_act = d->lam_load = 1.0;
