@@ -539,3 +539,67 @@ def test_jacobian_methods_agree(method):
     # residual 1e-12 scaled; condition ~1e3-1e4: positions agree to ~1e-9 L or better
     np.testing.assert_allclose(res["position"], ref["position"], atol=1e-9 * L)
     np.testing.assert_allclose(res["tension"], ref["tension"], rtol=1e-8, atol=1e-10)
+
+
+# ------------------------------------------------------- automatic step selection
+def _smallest_fixed_rk8(scene, ref_tip, rel):
+    for n in range(1, 65):
+        r = solve(*scene, integrator="rk8", steps=n, tip_only=True)
+        if r["success"] and np.abs(r["position"][-1] - ref_tip).max() <= rel * L:
+            return n
+    return None
+
+
+@pytest.mark.parametrize("integrator", ["rk8", "rk4"])
+@pytest.mark.parametrize("P", [0.2, 0.5], ids=["taut", "slack"])
+def test_automatic_steps_verified_and_not_over_resolved(integrator, P):
+    """steps = 0: the step-doubling estimate of the truncation error at the chosen count
+    is <= tol, the tip agrees with an adaptive rtol 1e-13 reference, and (rk8) the
+    count is close to the smallest fixed count reaching 1e-10 L (finding C4: the old
+    rule kept 2x the verified count, 16-40 steps where 6-10 suffice). rk4 once ran to
+    the 8192-step cap with a clobbered saved tip (status TR_TRUNCATION)."""
+    scene = (KIRCH, [tendon(value=R_OFF * math.pi / 2)], [load(F=(0, 0, -P))])
+    ref = solve(*scene, integrator="adaptive", rtol=1e-13, tol=1e-13)["position"][-1]
+    res = solve(*scene, integrator=integrator)
+    assert res["status"] == 0, res["message"]
+    tol = 1e-10                                   # the default scaled tolerance
+    assert res["truncation_estimate"] <= tol
+    # scaled tip state error <= tol (truncation) + tol (residual), scale ~L: 1e-9 L leaves
+    # a factor 5 for the conversion between scaled residual and tip position
+    assert np.abs(res["position"][-1] - ref).max() <= 1e-9 * L
+    n = res["formulation"]["steps"]
+    if integrator == "rk8":
+        n_min = _smallest_fixed_rk8(scene, ref, 1e-10)
+        # Richardson refinement aims at 0.5 tol from a doubling estimate: at most ~2x
+        assert n_min is not None and n <= 2 * n_min, (n, n_min)
+    else:
+        assert n < 2048, n                        # far from the 8192 cap
+
+
+def test_stiff_tendons_under_twist_converge_cold_and_agree_with_a_warm_path():
+    """Fig. 11c robot (three tendons, r^2 k L/(3 EI) = 5e4, one at the 90 deg actuation,
+    two locked at zero tension) under an out-of-plane tip load: the cold solve (direct
+    Newton stagnates, continuation finishes) gives the same equilibrium as a warm path
+    of small load steps from the unloaded robot, each a plain Newton solve (continuation
+    off), i.e. an independent route."""
+    Lr, d, Er, Gr, r = 0.1, 1.04e-3, 210e9, 80e9, 0.01
+    A, I = math.pi * d ** 2 / 4, math.pi * d ** 4 / 64
+    rod = np.array([Lr, Er * I, Gr * 2 * I, Er * A, Gr * A, 1.0])
+    EIr = Er * I
+    EAt = 5e4 * 3 * EIr / r ** 2
+    tau90 = EIr * (math.pi / 2) / (r * Lr)
+    tt = [[r, 2 * math.pi * i / 3, 0, EAt, Lr, 1, tau90 if i == 0 else 0.0, 0] for i in range(3)]
+    free = solve(rod, tt)
+    td = [[r, 2 * math.pi * i / 3, 0, EAt, Lr, 0, free["displacement"][i], 0] for i in range(3)]
+    cold = solve(rod, td, [[Lr, 0, 0.5, 0, 0, 0, 0]])
+    assert cold["success"], cold["message"]
+    prev = solve(rod, td)
+    for f in np.geomspace(0.002, 0.5, 25):   # the tension grows fastest at small loads
+        g = np.concatenate([prev["force"][0], prev["moment"][0], prev["tension"], prev["slack"]])
+        prev = solve(rod, td, [[Lr, 0, f, 0, 0, 0, 0]], guess=g, jacobian=prev["jacobian"],
+                     continuation=False)
+        assert prev["success"], (f, prev["message"])
+    # both at residual <= 1e-10 with a condition ~1e5-1e6 (common-mode tension): tensions
+    # (100+ N) agree to ~1e-5 relative, the tip to 1e-8 L
+    np.testing.assert_allclose(cold["tension"], prev["tension"], rtol=1e-5)
+    np.testing.assert_allclose(cold["position"][-1], prev["position"][-1], atol=1e-8 * Lr)
