@@ -1607,3 +1607,21 @@ def test_solve_batch_hostile_points_fail_alone():
             # both converged to tol = 1e-10 (scaled): tips agree to 1e-8 L
             assert np.abs(r.tip_position[i] - one.tip_position).max() < 1e-8 * 0.2, i
     assert r.status[1] < 0 and r.status[3] < 0      # q = 2.5 L, 10 L: no equilibrium
+
+
+@pytest.mark.xfail(strict=True, reason="finding F16 in bench/results/reliability_findings.md: "
+                   "a subnormal tendon EA is accepted and a tension-controlled tendon then "
+                   "reports displacement = inf with success=True")
+def test_tiny_tendon_EA(worker):
+    rod = tr.Rod(length=0.05, EI=0.00105, GJ=0.00084, EA=81601.4, GA=43873.0)
+    try:
+        scene = tr.Scene(tr.Robot(rod, [tr.Tendon(offset=0.0054, slope=-0.1067, EA=1e-320)]),
+                         tension=[0.25])
+    except ValueError as e:
+        assert "EA" in str(e)
+        return
+    out = worker.call("tendonrod.solve", scene)
+    if out[0] == "raise":
+        assert raised(out, ValueError) and "EA" in out[2], out
+        return
+    check_public_solution(scene, out[1])
