@@ -55,8 +55,6 @@ typedef struct batch_ws {
     int *lpiv;              /* (k) pivots */
     int lean_J;             /* 1: J was maintained by the lean loop (not copied from d->J) */
     tr_data *d;
-    double s_tip;           /* the workspace's tip node arc length (restored before every
-                               solve: a failed recording pass overwrites d->s with NaN) */
 } batch_ws;
 
 static void ws_free(batch_ws *w)
@@ -523,7 +521,6 @@ int tr_batch_solve(const tr_model *m, const tr_options *opt, const tr_batch_in *
         ws_free(&w);
         return TR_ENOMEM;
     }
-    w.s_tip = w.d->s[0];
 
     {
         int nten = 0;
@@ -551,7 +548,6 @@ int tr_batch_solve(const tr_model *m, const tr_options *opt, const tr_batch_in *
         }
         cold = !(in->warm && have_prev);
         gather(m, in, p, w.P);
-        d->s[0] = w.s_tip;
         lean = 0;
         {
             const double *g = w.guess;
@@ -578,14 +574,12 @@ int tr_batch_solve(const tr_model *m, const tr_options *opt, const tr_batch_in *
                 nit = nfev = 0;
             }
             if (!fast) {
-                d->s[0] = w.s_tip;
                 st = tr_solve(&w.mc, d, cold ? NULL : g, cold ? NULL : w.J);
                 nit += d->nit;
                 nfev += d->nfev;
             }
         }
         if (st < 0 && !cold && in->retry_cold) {
-            d->s[0] = w.s_tip;
             st = tr_solve(&w.mc, d, NULL, NULL);
             nit += d->nit;
             nfev += d->nfev;

@@ -1690,7 +1690,10 @@ static int record_pass(const tr_model *m, tr_data *d, int allow_rk4, int *used)
     }
     *used = used_rk4;
     if (status != TR_OK) {
-        for (j = 0; j < 19 * nn; j++) d->s[j] = NAN;
+        /* nothing stale is handed back: the recorded states (pos, rot, force, moment:
+         * 18 per node, contiguous after s in one block, see tr_data_alloc) become NaN;
+         * the node arc lengths d->s are inputs of the next recording pass and stay */
+        for (j = 0; j < 18 * nn; j++) d->pos[j] = NAN;
     }
     return status;
 }
