@@ -1569,9 +1569,6 @@ def test_solve_batch_bad_arguments(kw, word):
     assert word in str(e.value), str(e.value)
 
 
-@pytest.mark.xfail(strict=True, reason="finding F15 in bench/results/reliability_findings.md: "
-                   "solve_batch with 0 points raises 'need at least one array to concatenate', "
-                   "a string array an unnamed ValueError, a complex array is accepted")
 @pytest.mark.parametrize("value", ["empty", "string", "complex"])
 def test_solve_batch_degenerate_arrays(value):
     v = {"empty": np.zeros((0, 1)), "string": np.array([["abc"]]),
