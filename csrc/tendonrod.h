@@ -38,8 +38,9 @@ enum tr_status {
     TR_ILLCONDITIONED = 2,   /* converged, but the final Jacobian is nearly singular
                                 (tensions may be poorly determined) */
     TR_OFFPATH = 3,          /* converged by a direct solve after load continuation from
-                                the unloaded robot stalled: possibly not the equilibrium
-                                reached by loading */
+                                the unloaded robot stalled: an equilibrium, but possibly not
+                                the one reached by loading (e.g. a looped rod under a large
+                                tensile load); NOT counted as success (TR_SUCCEEDED) */
     TR_CONTINUE = 100,       /* iteration in progress (tr_solve_iterate/test only) */
     TR_EINVAL = -1,          /* invalid model or option value */
     TR_ENOMEM = -2,          /* allocation failed */
@@ -56,6 +57,12 @@ enum tr_status {
 };
 
 const char *tr_strerror(int status);
+
+/* A status whose solution can be reported as the answer: converged, with at most a
+ * caveat about accuracy or conditioning.  TR_OFFPATH is excluded: its equilibrium is
+ * real but may not be the one the loading reaches, so it is handed back as data with
+ * success = false (and its message), never as a success. */
+#define TR_SUCCEEDED(status) ((status) >= 0 && (status) != TR_OFFPATH && (status) != TR_CONTINUE)
 
 /* --------------------------------------------------------------- options */
 enum tr_integrator { TR_RK4 = 0, TR_RK8 = 1, TR_ADAPTIVE = 2 };

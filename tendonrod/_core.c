@@ -703,7 +703,7 @@ solver_result(const tr_model *m, const tr_data *d, int status)
     if (!res) return NULL;
     if (solver_set(res, "status", PyLong_FromLong(status)) < 0 ||
         solver_set(res, "message", PyUnicode_FromString(d->message)) < 0 ||
-        solver_set(res, "success", PyBool_FromLong(status >= 0)) < 0 ||
+        solver_set(res, "success", PyBool_FromLong(TR_SUCCEEDED(status))) < 0 ||
         solver_set(res, "nit", PyLong_FromLong(d->nit)) < 0 ||
         solver_set(res, "nfev", PyLong_FromLong(d->nfev)) < 0 ||
         solver_set(res, "njev", PyLong_FromLong(d->njev)) < 0 ||
@@ -784,7 +784,7 @@ PyDoc_STRVAR(core_solve_doc,
 "adds full-state unknowns and continuity residuals at j L / M (multiple shooting, for\n"
 "tensile axial loads with L sqrt(T/EI) >~ 7).\n\n"
 "Returns a dict: status (0 ok, > 0 caveat, < 0 failure; _core.strerror(status)), message,\n"
-"success (status >= 0), nit, nfev (integrations, incl. the recording pass), njev,\n"
+"success (converged: status >= 0 except 3, off the load path), nit, nfev (integrations, incl. the recording pass), njev,\n"
 "residual_norm (scaled max-norm), s (N,), position (N,3) world [m], rotation (N,3,3)\n"
 "body-to-world, force (N,3) and moment (N,3) internal backbone force/moment, world [N, N m],\n"
 "tension (nt,) [N], slack (nt,) [m], displacement (nt,) [m] (input q for displacement-\n"
@@ -906,8 +906,10 @@ core_compliance(PyObject *self, PyObject *args, PyObject *kwds)
     g = a.guess ? (const double *)PyArray_DATA(a.guess) : NULL;
     Py_BEGIN_ALLOW_THREADS
     status = tr_solve(m, d, g, NULL);
-    if (status >= 0)
+    if (TR_SUCCEEDED(status))
         status = tr_compliance(m, d, s, C);
+    else if (status >= 0)
+        status = TR_ECONTINUATION;   /* linearising about an unvouched equilibrium: refuse */
     Py_END_ALLOW_THREADS
     if (status < 0) {
         solver_err(PyExc_RuntimeError, "compliance: %s (status %d: %s)", d->message, status,
@@ -1179,6 +1181,9 @@ static int
 add_solver(PyObject *module)
 {
     /* BEGIN solver (section 2) */
+    /* the one caveat status that is not a success (see TR_SUCCEEDED) */
+    if (PyModule_AddIntConstant(module, "STATUS_OFFPATH", TR_OFFPATH) < 0)
+        return -1;
     return 0;
     /* END solver (section 2) */
 }

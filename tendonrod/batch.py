@@ -46,7 +46,8 @@ class BatchResult:
         consistent with the solution, as ``Solution.displacement``)
     status : (n,) int, the core's status (0 ok, > 0 converged with a caveat, < 0 failed;
         ``tendonrod._core.strerror``)
-    success : (n,) bool, ``status >= 0``
+    success : (n,) bool, ``status >= 0`` except status 3 (an equilibrium found off the
+        load path, which may not be the one the loading reaches: see ``message``)
     message : (n,) object array of str, the solver's message per point
     nit, nfev : (n,) int, iterations and residual evaluations per point
     residual_norm : (n,) final scaled residual max-norm
@@ -71,7 +72,7 @@ class BatchResult:
 
     @property
     def success(self) -> np.ndarray:
-        return self.status >= 0
+        return (self.status >= 0) & (self.status != _core.STATUS_OFFPATH)
 
     def __len__(self) -> int:
         return int(self.status.shape[0])

@@ -409,7 +409,10 @@ class Solution:
     Attributes
     ----------
     success : bool
-        The residual fell below ``options.tol``.
+        The residual fell below ``options.tol`` on an equilibrium the solver vouches for:
+        status >= 0, except status 3 (found by a direct solve after load continuation
+        stalled), which counts only when a cold solve with another shooting formulation
+        reaches the same equilibrium (the message says which).
     status : int
         Core status: 0 ok, > 0 finished with a caveat, < 0 failure.
     message : str
@@ -623,6 +626,8 @@ def solve(scene: Scene, guess=None, options: Optional[Options] = None, strict: b
     if nodes is not kw["nodes"]:
         kw = dict(kw, nodes=nodes)
     raw = _core.solve(rod, tendons, loads, dist, guess=gvec, jacobian=jac, **kw)
+    if raw["status"] == _core.STATUS_OFFPATH:
+        raw = _cross_check_off_path(raw, (rod, tendons, loads, dist), kw)
     sol = Solution(raw, scene, options)
     if not sol.success:
         msg = (f"tendonrod.solve did not converge: {sol.message} (status {sol.status}, "
@@ -631,6 +636,49 @@ def solve(scene: Scene, guess=None, options: Optional[Options] = None, strict: b
             raise ConvergenceError(msg, sol)
         warnings.warn(msg, ConvergenceWarning, stacklevel=2)
     return sol
+
+
+# Cross-check of an equilibrium found off the load path: single shooting amplifies
+# errors like exp(2 L sqrt(T/EI)) under tension, so a direct solve can land on a looped
+# equilibrium; 8 segments (or twice as many as used) cut that to exp(2 L sqrt(T/EI)/8)
+# and have basins of their own.
+_OFFPATH_CHECK_SEGMENTS = 8
+# Tips of two solves of the same equilibrium agree to the solver tolerance (~1e-8 L);
+# distinct equilibria found so far differ by >= 1e-2 L.  1e-6 L separates them.
+_OFFPATH_AGREE = 1e-6
+
+
+def _cross_check_off_path(raw: dict, packed: tuple, kw: dict) -> dict:
+    """The core returned status 3 (TR_OFFPATH): load continuation from the unloaded robot
+    stalled and a direct solve converged to an equilibrium that may not be the one the
+    loading reaches (the core reports it with success = False).  Solve again, cold, with
+    another shooting formulation; only if both reach the same equilibrium (tips within
+    1e-6 L, tensions within 1e-6 relative) is the answer reported as a success, with a
+    message saying how it was confirmed.  Otherwise it stays success = False."""
+    rod, tendons, loads, dist = packed
+    L = float(rod[0])
+    M = int(kw.get("shooting_segments", 1))
+    M2 = 2 * M if M >= _OFFPATH_CHECK_SEGMENTS else _OFFPATH_CHECK_SEGMENTS
+    other = _core.solve(rod, tendons, loads, dist, guess=None, jacobian=None,
+                        **dict(kw, shooting_segments=M2))
+    raw = dict(raw)
+    if not (other["status"] >= 0):
+        raw["message"] += (f"; not confirmed: a cold solve with {M2} shooting segments failed "
+                           f"({other['message']})")
+        return raw
+    dtip = float(np.max(np.abs(np.asarray(raw["position"])[-1] - np.asarray(other["position"])[-1])))
+    t1, t2 = np.asarray(raw["tension"]), np.asarray(other["tension"])
+    dten = float(np.max(np.abs(t1 - t2), initial=0.0))
+    tscale = max(float(np.max(np.abs(t1), initial=0.0)), 1e-300)
+    if dtip <= _OFFPATH_AGREE * L and dten <= _OFFPATH_AGREE * tscale:
+        raw["success"] = True
+        raw["message"] += (f"; confirmed: a cold solve with {M2} shooting segments reaches the "
+                           f"same equilibrium (tips {dtip / L:.1e} L apart)")
+    else:
+        raw["message"] += (f"; not confirmed: a cold solve with {M2} shooting segments reaches "
+                           f"a different equilibrium (tips {dtip / L:.2g} L apart), so this one "
+                           f"is not reported as the answer")
+    return raw
 
 
 def compliance(scene: Scene, s: Optional[float] = None, guess=None,

@@ -12,6 +12,7 @@ Raw rows: rod [L, EI, GJ, EA, GA, kirchhoff]; tendon [b, phi, a, EA, t, control,
 value, pretension]; load [s, Fx, Fy, Fz, Mx, My, Mz].
 """
 import math
+import warnings
 import threading
 
 import numpy as np
@@ -492,7 +493,10 @@ def test_multiple_shooting_tensile_load():
     T = lam ** 2 * EI / L ** 2
     F = 1e-4 * T
     res = solve(KIRCH, loads=[load(F=(F, 0, T))], shooting_segments=4)
-    assert res["success"], res["message"]
+    # the load path stalls here and a direct solve converges: status 3, which the raw
+    # layer never calls a success (tr.solve confirms it with another formulation); the
+    # answer itself is verified against the tie-beam theory just below
+    assert res["status"] >= 0, res["message"]
     f = res["formulation"]
     assert f["shooting_segments"] == 4 and f["n_unknowns"] == 3 + 3 * 6 and f["planar"]
     delta = F * L / T * (1 - math.tanh(lam) / lam)
@@ -603,3 +607,35 @@ def test_stiff_tendons_under_twist_converge_cold_and_agree_with_a_warm_path():
     # (100+ N) agree to ~1e-5 relative, the tip to 1e-8 L
     np.testing.assert_allclose(cold["tension"], prev["tension"], rtol=1e-5)
     np.testing.assert_allclose(cold["position"][-1], prev["position"][-1], atol=1e-8 * Lr)
+
+
+# --------------------------------------------------------------- honesty off the load path
+@pytest.mark.parametrize("lam", [15.0, 20.0])
+def test_off_path_equilibrium_is_never_reported_as_success(lam):
+    """Plain Kirchhoff rod under a tensile tip load T (L sqrt(T/EI) = lam) plus a
+    transverse EI/L^2: single shooting amplifies errors by ~exp(2 lam), load
+    continuation stalls, and a direct solve may land on a looped equilibrium (at
+    lam = 20 the tip ends 0.2 L short).  Whatever the solver returns, a success must be
+    the stretched rod that independent collocation (scipy solve_bvp, stable under
+    tension) finds; an equilibrium found off the load path (status 3) is data with
+    success = False, never a success."""
+    import tendonrod as tr
+    from tendonrod.references import planar_rod_bvp
+
+    L, d, E, G = 0.1, 1.04e-3, 210e9, 80e9
+    rod = tr.Rod(length=L, diameter=d, E=E, G=G, kirchhoff=True)
+    EI = rod.bending_stiffness
+    fs = EI / L**2
+    F = (fs, lam**2 * fs)
+    xL, zL, _, _ = planar_rod_bvp(L, EI, F)
+    for M in (1, 8):
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", tr.ConvergenceWarning)
+            sol = tr.solve(tr.Scene(tr.Robot(rod, []), loads=[tr.PointLoad(s=L, force=(F[0], 0, F[1]))]),
+                           options=tr.Options(shooting_segments=M))
+        if sol.status == tr._core.STATUS_OFFPATH:
+            # success only when a second formulation confirmed the equilibrium
+            assert ("; confirmed:" in sol.message) == sol.success, sol.message
+        if sol.success:
+            # collocation at tol 1e-10 on 400+ nodes: 1e-6 L covers both discretisations
+            assert abs(sol.tip_position[0] - xL) < 1e-6 * L and abs(sol.tip_position[2] - zL) < 1e-6 * L
