@@ -12,11 +12,12 @@
 # loader and CPython; bench/valgrind_check.py then fails on any error with a
 # frame in our code (tendonrod/_core*.so, csrc/), on any definite leak with a
 # frame in our code, and on any unsuppressed invalid access anywhere.
-# Output: bench/results/valgrind.xml (the raw report) and a summary on stdout.
+# Output: build/valgrind.xml (the raw report; VALGRIND_XML=... to move it) and
+# a summary on stdout.
 set -euo pipefail
 ROOT="$(cd "$(dirname "$0")/.." && pwd)"
 VPY="${VPY:-$ROOT/.venv/bin/python}"
-OUT="${VALGRIND_XML:-$ROOT/bench/results/valgrind.xml}"
+OUT="${VALGRIND_XML:-$ROOT/build/valgrind.xml}"
 command -v valgrind >/dev/null || { echo "valgrind: not installed (apt-get install -y valgrind)" >&2; exit 2; }
 mkdir -p "$(dirname "$OUT")"
 cd "$ROOT"
