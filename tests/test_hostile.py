@@ -1622,3 +1622,18 @@ def test_tiny_tendon_EA(worker):
         assert raised(out, ValueError) and "EA" in out[2], out
         return
     check_public_solution(scene, out[1])
+
+
+UNDER_SANITIZER = "libasan" in os.environ.get("LD_PRELOAD", "")
+
+
+@pytest.mark.xfail(UNDER_SANITIZER, strict=True,
+                   reason="finding F17 in bench/results/reliability_findings.md: (int)row[5] on "
+                   "a control value outside the int range is undefined behaviour; UBSan aborts")
+@pytest.mark.parametrize("control", [1e100, -1e300, 3e9, 2.5, -1.0])
+def test_raw_control_column_out_of_int_range(worker, control):
+    rod, tend, loads, dist = BASES[0]
+    tend = tend.copy()
+    tend[0, 5] = control
+    out = worker.call("tendonrod._core.solve", rod, tend, loads, dist)
+    assert raised(out, ValueError) and "control" in out[2], out
