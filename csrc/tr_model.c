@@ -339,7 +339,7 @@ int tr_model_alloc(tr_model **out, const double rod[6], const double *tendons, i
                 status = TR_EINVAL; goto fail;
             }
         t->b = row[0]; t->phi = row[1]; t->a = row[2]; t->EA = row[3]; t->t = row[4];
-        t->control = (int)row[5]; t->value = row[6]; t->pretension = row[7];
+        t->value = row[6]; t->pretension = row[7];   /* control: set once validated below */
         if (!(t->EA > 0.0)) {
             msgf(msg, msglen, "tendons[%d] EA = %g must be > 0 (inf: inextensible)", i, t->EA);
             status = TR_EINVAL; goto fail;
@@ -349,10 +349,13 @@ int tr_model_alloc(tr_model **out, const double rod[6], const double *tendons, i
             status = TR_EINVAL; goto fail;
         }
         if (t->t > m->L) t->t = m->L;
+        /* compared as a double first: converting an out-of-range double to int is
+         * undefined behaviour (finding F17) */
         if (row[5] != 0.0 && row[5] != 1.0) {
             msgf(msg, msglen, "tendons[%d] control = %g must be 0 (displacement) or 1 (tension)", i, row[5]);
             status = TR_EINVAL; goto fail;
         }
+        t->control = row[5] == 1.0 ? TR_TENSION : TR_DISPLACEMENT;
         if (t->control == TR_TENSION && t->value < 0.0) {
             msgf(msg, msglen, "tendons[%d] tension = %g N must be >= 0 (a tendon cannot push)", i, t->value);
             status = TR_EINVAL; goto fail;

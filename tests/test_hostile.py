@@ -1624,18 +1624,9 @@ def test_tiny_tendon_EA(worker):
     check_public_solution(scene, out[1])
 
 
-UNDER_SANITIZER = "libasan" in os.environ.get("LD_PRELOAD", "")
-
-
-_F17 = pytest.mark.xfail(UNDER_SANITIZER, strict=True,
-                         reason="finding F17 in bench/results/reliability_findings.md: (int)row[5] "
-                         "on a control value outside the int range is undefined behaviour; UBSan "
-                         "aborts")
-
-
-@pytest.mark.parametrize("control", [pytest.param(1e100, marks=_F17),
-                                     pytest.param(-1e300, marks=_F17),
-                                     pytest.param(3e9, marks=_F17), 2.5, -1.0])
+# Finding F17 (fixed): the control value was cast to int before it was checked, which
+# is undefined behaviour out of the int range (UBSan aborted under make sanitize).
+@pytest.mark.parametrize("control", [1e100, -1e300, 3e9, 2.5, -1.0])
 def test_raw_control_column_out_of_int_range(worker, control):
     rod, tend, loads, dist = BASES[0]
     tend = tend.copy()
