@@ -628,6 +628,8 @@ def solve(scene: Scene, guess=None, options: Optional[Options] = None, strict: b
     raw = _core.solve(rod, tendons, loads, dist, guess=gvec, jacobian=jac, **kw)
     if raw["status"] == _core.STATUS_OFFPATH:
         raw = _cross_check_off_path(raw, (rod, tendons, loads, dist), kw)
+    if not raw["success"]:
+        raw = dict(raw, message=raw["message"] + _tendon_curvature_diagnosis(raw, scene))
     sol = Solution(raw, scene, options)
     if not sol.success:
         msg = (f"tendonrod.solve did not converge: {sol.message} (status {sol.status}, "
@@ -636,6 +638,39 @@ def solve(scene: Scene, guess=None, options: Optional[Options] = None, strict: b
             raise ConvergenceError(msg, sol)
         warnings.warn(msg, ConvergenceWarning, stacklevel=2)
     return sol
+
+
+# A tendon of offset r pulling with tension tau bends the backbone at a moment-free end
+# to curvature tau r / EI; at tau = EI / r^2 that is 1/r, where the tendon's path-length
+# rate 1 - kappa r vanishes and the tendon would pass the centre of curvature.  Failed
+# solves whose last iterate carries 90 % of that say so (the stress suite's S1 cases
+# stall at 0.96-0.99).
+_TENDON_CURVATURE_FRACTION = 0.9
+
+
+def _tendon_curvature_diagnosis(raw: dict, scene: Scene) -> str:
+    """Text appended to a failed solve's message when its last iterate loads a tendon
+    near EI / r^2 (r its largest offset): the likely reason no equilibrium was found."""
+    EI = scene.robot.rod.bending_stiffness
+    L = scene.robot.rod.length
+    tension = np.asarray(raw.get("tension", ()), dtype=float)
+    for i, t in enumerate(scene.robot.tendons):
+        if i >= tension.size or not np.isfinite(tension[i]) or tension[i] <= 0.0:
+            continue
+        end = L if t.end is None else t.end
+        r = max(t.offset, t.offset + t.slope * end)
+        if r <= 0.0:
+            continue
+        limit = EI / r**2
+        if tension[i] >= _TENDON_CURVATURE_FRACTION * limit:
+            return (f"; the last iterate loads tendon {i} with {tension[i]:.4g} N = "
+                    f"{tension[i] / limit:.2f} EI/r^2 (EI/r^2 = {limit:.4g} N): near that tension "
+                    f"the backbone curvature tau r/EI at a "
+                    f"moment-free end approaches 1/r, where the tendon would pass the centre of "
+                    f"curvature, so no valid equilibrium lies past that point on this load path "
+                    f"(reduce the load or the actuation, or route the tendon closer to the "
+                    f"centre line)")
+    return ""
 
 
 # Cross-check of an equilibrium found off the load path: single shooting amplifies

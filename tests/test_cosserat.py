@@ -875,3 +875,25 @@ def test_random_scenes_converge_and_balance():
         assert np.all(sol.tension >= 0) and np.all(sol.slack >= 0) and np.all(sol.tension * sol.slack == 0)
 
     check()
+
+
+def test_failure_near_tendon_curvature_limit_says_so():
+    """Fig. 11 robot (one inextensible tendon, 90 deg) under a transverse tip force of
+    100 EI/L^2 toward the tendon side: the loading path needs a tension beyond EI/r^2,
+    where the tip curvature tau r/EI reaches 1/r and the tendon would pass the centre of
+    curvature (stress finding S1).  The solve fails, and its message names that limit.
+    A solve whose last iterate stays far below the limit says nothing of it."""
+    import math as _m
+    L11, d11, r11 = 0.1, 1.04e-3, 0.01
+    rod = tr.Rod(length=L11, diameter=d11, E=210e9, G=80e9, kirchhoff=True)
+    fs = rod.bending_stiffness / L11**2
+    one = tr.Robot(rod, [tr.Tendon(offset=r11)])
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", tr.ConvergenceWarning)
+        bad = tr.solve(tr.Scene(one, displacement=[r11 * _m.pi / 2],
+                                loads=[tr.PointLoad(s=L11, force=(-100 * fs, 0, 0))]))
+    assert not bad.success
+    assert "EI/r^2" in bad.message and "centre of curvature" in bad.message
+    ok = tr.solve(tr.Scene(one, displacement=[r11 * _m.pi / 2],
+                           loads=[tr.PointLoad(s=L11, force=(-1 * fs, 0, 0))]))
+    assert ok.success and "EI/r^2" not in ok.message
