@@ -80,6 +80,15 @@ enum tr_control { TR_DISPLACEMENT = 0, TR_TENSION = 1 };
  * thousand steps on [0, L]; the cap keeps max_nfev a bound on the work. */
 #define TR_MAX_STEPS 100000
 
+/* Smallest adaptive-integrator tolerance accepted: ~50 ulp; a tighter one cannot be
+ * met in double precision and only shrinks the step to underflow. */
+#define TR_RTOL_MIN 1e-14
+
+/* Range of a finite tendon axial rigidity EA [N]: as for the rod's rigidities; a
+ * subnormal EA made tau/EA overflow (finding F16). */
+#define TR_TENDON_EA_MIN 1e-100
+#define TR_TENDON_EA_MAX 1e150
+
 typedef struct tr_options {
     int integrator;       /* tr_integrator; default TR_RK8 (3-8 steps reach 1e-8 on a 90 deg bend) */
     int steps;            /* total fixed steps over [0, L]; 0 = automatic (start small, verify by

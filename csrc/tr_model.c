@@ -340,8 +340,9 @@ int tr_model_alloc(tr_model **out, const double rod[6], const double *tendons, i
             }
         t->b = row[0]; t->phi = row[1]; t->a = row[2]; t->EA = row[3]; t->t = row[4];
         t->value = row[6]; t->pretension = row[7];   /* control: set once validated below */
-        if (!(t->EA > 0.0)) {
-            msgf(msg, msglen, "tendons[%d] EA = %g must be > 0 (inf: inextensible)", i, t->EA);
+        if (!(t->EA > 0.0) || (isfinite(t->EA) && (t->EA < TR_TENDON_EA_MIN || t->EA > TR_TENDON_EA_MAX))) {
+            msgf(msg, msglen, "tendons[%d] EA = %g must lie in [%g, %g] N, or be inf (inextensible)",
+                 i, t->EA, TR_TENDON_EA_MIN, TR_TENDON_EA_MAX);
             status = TR_EINVAL; goto fail;
         }
         if (!(t->t > 0.0) || t->t > m->L * (1.0 + TR_BP_MERGE)) {

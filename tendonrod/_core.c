@@ -515,8 +515,11 @@ solver_prepare(solver_args *a, PyObject *rod, PyObject *tendons, PyObject *loads
         PyErr_Format(PyExc_ValueError, "steps = %d must be >= 0 (0: automatic)", steps);
         return -1;
     }
-    if (!(rtol > 0.0) || !isfinite(rtol)) {
-        solver_err(PyExc_ValueError, "rtol = %g must be finite and > 0", rtol);
+    /* below ~1e-14 no double-precision step can meet the tolerance: the adaptive
+     * integrator would shrink its step to underflow (seconds per evaluation) */
+    if (!(rtol >= TR_RTOL_MIN) || !(rtol < 1.0)) {
+        solver_err(PyExc_ValueError, "rtol = %g must lie in [%g, 1) (double precision cannot "
+                   "deliver less)", rtol, TR_RTOL_MIN);
         return -1;
     }
     if (!(tol > 0.0) || !isfinite(tol)) {

@@ -50,6 +50,10 @@ def _real(owner: str, name: str, value, *, allow_inf: bool = False) -> float:
     return x
 
 
+# Range of a finite tendon EA [N] (TR_TENDON_EA_MIN/MAX in csrc/tendonrod.h).
+_TENDON_EA_MIN, _TENDON_EA_MAX = 1e-100, 1e150
+
+
 def _positive(owner: str, name: str, value, *, allow_inf: bool = False) -> float:
     x = _real(owner, name, value, allow_inf=allow_inf)
     if not x > 0.0:
@@ -243,7 +247,12 @@ class Tendon:
         object.__setattr__(self, "offset", _nonnegative(own, "offset", self.offset))
         object.__setattr__(self, "angle", _real(own, "angle", self.angle))
         object.__setattr__(self, "slope", _real(own, "slope", self.slope))
-        object.__setattr__(self, "EA", _positive(own, "EA", self.EA, allow_inf=True))
+        EA = _positive(own, "EA", self.EA, allow_inf=True)
+        if math.isfinite(EA) and not (_TENDON_EA_MIN <= EA <= _TENDON_EA_MAX):
+            # a subnormal EA made tau/EA overflow (finding F16); same range as the core
+            raise ValueError(f"{own}.EA must lie in [{_TENDON_EA_MIN:g}, {_TENDON_EA_MAX:g}] N "
+                             f"or be inf (inextensible), got {self.EA!r}")
+        object.__setattr__(self, "EA", EA)
         if self.end is not None:
             object.__setattr__(self, "end", _positive(own, "end", self.end))
         object.__setattr__(self, "pretension", _nonnegative(own, "pretension", self.pretension))

@@ -46,6 +46,9 @@ class ConvergenceError(RuntimeError):
 # --------------------------------------------------------------------------- options
 _INTEGRATORS = ("rk8", "rk4", "adaptive")
 _JACOBIANS = ("fd", "newton", "hybrid")
+# Adaptive-integrator tolerances below ~50 ulp cannot be met in double precision (the
+# step shrinks to underflow, seconds per evaluation): refused (TR_RTOL_MIN in the core).
+_RTOL_MIN = 1e-14
 _SLACK_MODELS = ("linear", "squared")
 
 
@@ -140,11 +143,12 @@ class Options:
             if isinstance(v, (bool, np.bool_)) or not isinstance(v, (numbers.Integral, np.integer)) or v < lo:
                 raise ValueError(f"{own}.{name} must be an integer >= {lo}, got {v!r}")
             object.__setattr__(self, name, int(v))
-        for name in ("rtol", "tol"):
+        for name, lo in (("rtol", _RTOL_MIN), ("tol", 0.0)):
             v = getattr(self, name)
             ok = isinstance(v, (numbers.Real, np.floating)) and not isinstance(v, bool)
-            if not ok or not (math.isfinite(float(v)) and 0.0 < float(v) < 1.0):
-                raise ValueError(f"{own}.{name} must be a real number in (0, 1), got {v!r}")
+            if not ok or not (math.isfinite(float(v)) and lo < float(v) < 1.0 or float(v) == lo > 0.0):
+                rng = f"[{lo:g}, 1)" if lo > 0.0 else "(0, 1)"
+                raise ValueError(f"{own}.{name} must be a real number in {rng}, got {v!r}")
             object.__setattr__(self, name, float(v))
         for name in ("continuation", "force_spatial", "tip_only"):
             v = getattr(self, name)

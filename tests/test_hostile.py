@@ -694,7 +694,8 @@ REAL_FIELDS = {
     "Tendon": {"offset": (False, lambda x: FIN(x) and x >= 0),
                "angle": (False, FIN),
                "slope": (False, FIN),
-               "EA": (False, lambda x: x > 0),        # inf: inextensible
+               # inf: inextensible; finite values in [1e-100, 1e150] N (finding F16)
+               "EA": (False, lambda x: x == math.inf or 1e-100 <= x <= 1e150),
                "end": (True, lambda x: FIN(x) and x > 0),
                "pretension": (False, lambda x: FIN(x) and x >= 0)},
     "PointLoad": {"s": (False, lambda x: FIN(x) and x >= 0)},
@@ -913,7 +914,7 @@ def test_scene_robot_hostile():
 
 
 INT_FIELDS = {"steps": 0, "max_iter": 1, "max_nfev": 1, "max_continuation": 0}
-STR_FIELDS = {"integrator": ("rk8", "rk4", "adaptive"), "jacobian_method": ("fd", "sensitivity"),
+STR_FIELDS = {"integrator": ("rk8", "rk4", "adaptive"), "jacobian_method": ("fd", "newton", "hybrid"),
               "slack_model": ("linear", "squared")}
 BOOL_FIELDS = ("continuation", "force_spatial", "tip_only")
 
@@ -931,7 +932,8 @@ def test_options_hostile(field, value):
                 and not isinstance(value, (bool, np.bool_)) and value >= INT_FIELDS[field])
     elif field in ("rtol", "tol"):
         x = _as_real(value)
-        want = x is not None and 0 < x < 1
+        # rtol below 1e-14 cannot be met in double precision (finding F14)
+        want = x is not None and (1e-14 if field == "rtol" else 0) <= x < 1 and x > 0
         if isinstance(value, np.ndarray) or isinstance(value, Decimal):
             want = "maybe"
     elif field in STR_FIELDS:
@@ -1606,9 +1608,8 @@ def test_solve_batch_hostile_points_fail_alone():
     assert r.status[1] < 0 and r.status[3] < 0      # q = 2.5 L, 10 L: no equilibrium
 
 
-@pytest.mark.xfail(strict=True, reason="finding F16 in bench/results/reliability_findings.md: "
-                   "a subnormal tendon EA is accepted and a tension-controlled tendon then "
-                   "reports displacement = inf with success=True")
+# Finding F16 (fixed): a subnormal tendon EA was accepted and a tension-controlled tendon
+# then reported displacement = inf with success=True; EA is now range-checked.
 def test_tiny_tendon_EA(worker):
     rod = tr.Rod(length=0.05, EI=0.00105, GJ=0.00084, EA=81601.4, GA=43873.0)
     try:
@@ -1633,3 +1634,24 @@ def test_raw_control_column_out_of_int_range(worker, control):
     tend[0, 5] = control
     out = worker.call("tendonrod._core.solve", rod, tend, loads, dist)
     assert raised(out, ValueError) and "control" in out[2], out
+
+
+@pytest.mark.parametrize("EA", [1e-320, 1e-200, 1e200])
+def test_raw_tendon_EA_out_of_range_is_refused(worker, EA):
+    """F16 at the raw entry: the core refuses a finite tendon EA outside [1e-100, 1e150] N."""
+    rod, tend, loads, dist = BASES[0]
+    tend = tend.copy()
+    tend[0, 3] = EA
+    out = worker.call("tendonrod._core.solve", rod, tend, loads, dist)
+    assert raised(out, ValueError) and "EA" in out[2], out
+
+
+@pytest.mark.parametrize("rtol", [1e-15, 1e-40, 1e-300])
+def test_rtol_below_double_precision_is_refused(worker, rtol):
+    """F14: an adaptive tolerance no double can meet was accepted and cost seconds per
+    evaluation; now refused by tr.Options and by the raw entry, naming rtol."""
+    with pytest.raises(ValueError, match="rtol"):
+        tr.Options(integrator="adaptive", rtol=rtol)
+    rod, tend, loads, dist = BASES[0]
+    out = worker.call("tendonrod._core.solve", rod, tend, loads, dist, integrator="adaptive", rtol=rtol)
+    assert raised(out, ValueError) and "rtol" in out[2], out
