@@ -49,7 +49,6 @@ def test_stress_report_files(stress_run):
 #: not turn the suite red) and this table should shrink.
 KNOWN_FAILURES = {
     "ramp/plain-rod/FL2EI=31.6->100/warm-10%": "S7: a warm start (10 % load step) lands on another equilibrium",
-    "load/90deg/transverse-x/FL2EI=100": "S1: beyond the model (tension > EI/r^2), message does not say so",
     "tension/plain/Lsqrt(T/EI)=20": "S3: large tension, single shooting (now fails honestly)",
     "tension/actuated45/Lsqrt(T/EI)=20": "S1: beyond the model (tension > EI/r^2), message does not say so",
     "fig12/twist/alpha=1e+12": "S5: pure twist with r^2 k L/EI = 1e12",
