@@ -6,6 +6,7 @@ Metadata lives in pyproject.toml.  GSL is found, in this order:
   3. gsl-config.
 If none works the build stops with one message naming what was tried.
 """
+
 import os
 import shlex
 import shutil
@@ -36,12 +37,18 @@ def find_gsl():
     cflags, libs = os.environ.get("GSL_CFLAGS"), os.environ.get("GSL_LIBS")
     prefix = os.environ.get("GSL_PREFIX")
     if cflags is not None or libs is not None:
-        return shlex.split(cflags or ""), shlex.split(libs or "-lgsl -lgslcblas -lm"), "GSL_CFLAGS/GSL_LIBS"
+        return (
+            shlex.split(cflags or ""),
+            shlex.split(libs or "-lgsl -lgslcblas -lm"),
+            "GSL_CFLAGS/GSL_LIBS",
+        )
     tried.append("GSL_CFLAGS/GSL_LIBS (unset)")
     if prefix:
-        return ([f"-I{prefix}/include"],
-                [f"-L{prefix}/lib", f"-Wl,-rpath,{prefix}/lib", "-lgsl", "-lgslcblas", "-lm"],
-                "GSL_PREFIX")
+        return (
+            [f"-I{prefix}/include"],
+            [f"-L{prefix}/lib", f"-Wl,-rpath,{prefix}/lib", "-lgsl", "-lgslcblas", "-lm"],
+            "GSL_PREFIX",
+        )
     tried.append("GSL_PREFIX (unset)")
     if shutil.which("pkg-config"):
         c, l = _run(["pkg-config", "--cflags", "gsl"]), _run(["pkg-config", "--libs", "gsl"])
@@ -57,9 +64,14 @@ def find_gsl():
         tried.append("gsl-config (failed)")
     else:
         tried.append("gsl-config (not installed)")
-    sys.exit("tendonrod needs the GNU Scientific Library (GSL >= 2.5) to build.\n"
-             "Tried: " + "; ".join(tried) + ".\nInstall it with one of:\n" + INSTALL_HINT +
-             "or point GSL_PREFIX (or GSL_CFLAGS and GSL_LIBS) at an existing installation.")
+    sys.exit(
+        "tendonrod needs the GNU Scientific Library (GSL >= 2.5) to build.\n"
+        "Tried: "
+        + "; ".join(tried)
+        + ".\nInstall it with one of:\n"
+        + INSTALL_HINT
+        + "or point GSL_PREFIX (or GSL_CFLAGS and GSL_LIBS) at an existing installation."
+    )
 
 
 def split_flags(cflags, libs):
@@ -86,10 +98,19 @@ ext = Extension(
     library_dirs=libdirs,
     libraries=libnames,
     # NumPy >= 2.0 is the runtime floor (pyproject.toml); pin the C-API target to it.
-    define_macros=[("NPY_NO_DEPRECATED_API", "NPY_2_0_API_VERSION"),
-                   ("NPY_TARGET_VERSION", "NPY_2_0_API_VERSION")],
-    extra_compile_args=["-std=c99", "-O2", "-Wall", "-Wextra", "-Wno-unused-parameter",
-                        "-fno-strict-aliasing"] + extra_c,
+    define_macros=[
+        ("NPY_NO_DEPRECATED_API", "NPY_2_0_API_VERSION"),
+        ("NPY_TARGET_VERSION", "NPY_2_0_API_VERSION"),
+    ],
+    extra_compile_args=[
+        "-std=c99",
+        "-O2",
+        "-Wall",
+        "-Wextra",
+        "-Wno-unused-parameter",
+        "-fno-strict-aliasing",
+    ]
+    + extra_c,
     extra_link_args=extra_l,
 )
 

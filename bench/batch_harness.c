@@ -31,12 +31,22 @@ int main(int argc, char **argv)
     const int m = argc > 1 ? atoi(argv[1]) : 100, steps = argc > 2 ? atoi(argv[2]) : 4;
     const double tol = argc > 3 ? atof(argv[3]) : 3e-9;
     const int pred = argc > 4 ? atoi(argv[4]) : 1, skip = argc > 5 ? atoi(argv[5]) : 1;
-    const double dia = 0.8e-3, A = M_PI * dia * dia / 4, I = M_PI * pow(dia, 4) / 64, L = 0.2, r = 0.01;
+    const double dia = 0.8e-3, A = M_PI * dia * dia / 4, I = M_PI * pow(dia, 4) / 64, L = 0.2,
+                 r = 0.01;
     const double rod[6] = {L, 207e9 * I, 79.6e9 * 2 * I, 207e9 * A, 79.6e9 * A, 0};
     const double q = r * M_PI / 2;
-    const double ten[24] = {r, 0, 0, INFINITY, L, 0, q, 0,
-                            r, 2 * M_PI / 3, 0, INFINITY, L, 1, 0, 0,
-                            r, 4 * M_PI / 3, 0, INFINITY, L, 1, 0, 0};
+    const double ten[24] = {r, 0,
+                            0, INFINITY,
+                            L, 0,
+                            q, 0,
+                            r, 2 * M_PI / 3,
+                            0, INFINITY,
+                            L, 1,
+                            0, 0,
+                            r, 4 * M_PI / 3,
+                            0, INFINITY,
+                            L, 1,
+                            0, 0};
     const double load[7] = {L, 0, 0, 0, 0, 0, 0}, dist[3] = {0, 0, 0};
     const int n = m * m;
     tr_options o = tr_default_options();
@@ -53,11 +63,16 @@ int main(int argc, char **argv)
         return 1;
     }
     F = calloc((size_t)n * 6, sizeof(double));
-    pos = malloc((size_t)n * 3 * sizeof(double)); rot = malloc((size_t)n * 9 * sizeof(double));
-    t = malloc((size_t)n * 3 * sizeof(double)); s = malloc((size_t)n * 3 * sizeof(double));
-    dd = malloc((size_t)n * 3 * sizeof(double)); res = malloc((size_t)n * sizeof(double));
-    st = malloc((size_t)n * sizeof(int)); nit = malloc((size_t)n * sizeof(int));
-    nfev = malloc((size_t)n * sizeof(int)); cold = malloc((size_t)n * sizeof(int));
+    pos = malloc((size_t)n * 3 * sizeof(double));
+    rot = malloc((size_t)n * 9 * sizeof(double));
+    t = malloc((size_t)n * 3 * sizeof(double));
+    s = malloc((size_t)n * 3 * sizeof(double));
+    dd = malloc((size_t)n * 3 * sizeof(double));
+    res = malloc((size_t)n * sizeof(double));
+    st = malloc((size_t)n * sizeof(int));
+    nit = malloc((size_t)n * sizeof(int));
+    nfev = malloc((size_t)n * sizeof(int));
+    cold = malloc((size_t)n * sizeof(int));
     for (i = 0; i < m; i++)
         for (j = 0; j < m; j++) {
             F[6 * (i * m + j)] = -0.1 + 0.2 * i / (m - 1);
@@ -67,8 +82,8 @@ int main(int argc, char **argv)
     for (c = 0; c < m; c++) {
         tr_batch_in in = {m, NULL, F + 6 * c * m, NULL, 1, 1, pred, 0, skip};
         tr_batch_out oc = {pos + 3 * c * m, rot + 9 * c * m, t + 3 * c * m, s + 3 * c * m,
-                           dd + 3 * c * m, res + c * m, st + c * m, nit + c * m, nfev + c * m,
-                           cold + c * m, NULL, 0};
+                           dd + 3 * c * m,  res + c * m,     st + c * m,    nit + c * m,
+                           nfev + c * m,    cold + c * m,    NULL,          0};
         if (tr_batch_solve(mod, &o, &in, &oc, msg, sizeof msg) != TR_OK) {
             puts(msg);
             return 1;
@@ -81,10 +96,20 @@ int main(int argc, char **argv)
         bad += st[i] < 0;
     }
     printf("%d points, rk8 x %d steps, tol %g, predict %d, skip_record %d: %.1f us CPU per solve "
-           "(%.0f solves per CPU-second), nit %.2f, nfev %.2f, failed %d\n", n, steps, tol, pred,
-           skip, (t1 - t0) / n * 1e6, n / (t1 - t0), (double)sn / n, (double)sf / n, bad);
+           "(%.0f solves per CPU-second), nit %.2f, nfev %.2f, failed %d\n",
+           n, steps, tol, pred, skip, (t1 - t0) / n * 1e6, n / (t1 - t0), (double)sn / n,
+           (double)sf / n, bad);
     tr_model_free(mod);
-    free(F); free(pos); free(rot); free(t); free(s); free(dd); free(res);
-    free(st); free(nit); free(nfev); free(cold);
+    free(F);
+    free(pos);
+    free(rot);
+    free(t);
+    free(s);
+    free(dd);
+    free(res);
+    free(st);
+    free(nit);
+    free(nfev);
+    free(cold);
     return bad != 0;
 }

@@ -22,6 +22,7 @@ processes take cores, and these two columns say how much.  Solves per
 CPU-second stays the same from 1 to 2 threads when nothing serialises them
 (GIL released, no locks in the core).
 """
+
 import argparse
 import csv
 import importlib.util
@@ -101,15 +102,28 @@ def main(argv=None):
             load0 = os.getloadavg()[0]
             n, med, lo, hi, cpu = measure(fn, base, th, a.seconds, a.repeat)
             ref = med if th == a.threads[0] else ref
-            rows.append(dict(api=name, threads=th, solves=n, solves_per_s=round(med, 1),
-                             min_per_s=round(lo, 1), max_per_s=round(hi, 1),
-                             speedup=round(med / ref, 3), cpu_per_wall=round(cpu, 2),
-                             solves_per_cpu_s=round(med / cpu, 1),
-                             loadavg_1min=round(load0, 2), cpus=os.cpu_count(),
-                             scenes=len(base), converged=ok))
-            print(f"{name:12s} {th} thread(s): {med:9.1f} solves/s (min {lo:.1f}, max {hi:.1f}, "
-                  f"{n} solves per batch)  speed-up {med / ref:.2f}x  "
-                  f"CPU/wall {cpu:.2f}  {med / cpu:.0f} solves per CPU-s  load avg {load0:.2f}")
+            rows.append(
+                dict(
+                    api=name,
+                    threads=th,
+                    solves=n,
+                    solves_per_s=round(med, 1),
+                    min_per_s=round(lo, 1),
+                    max_per_s=round(hi, 1),
+                    speedup=round(med / ref, 3),
+                    cpu_per_wall=round(cpu, 2),
+                    solves_per_cpu_s=round(med / cpu, 1),
+                    loadavg_1min=round(load0, 2),
+                    cpus=os.cpu_count(),
+                    scenes=len(base),
+                    converged=ok,
+                )
+            )
+            print(
+                f"{name:12s} {th} thread(s): {med:9.1f} solves/s (min {lo:.1f}, max {hi:.1f}, "
+                f"{n} solves per batch)  speed-up {med / ref:.2f}x  "
+                f"CPU/wall {cpu:.2f}  {med / cpu:.0f} solves per CPU-s  load avg {load0:.2f}"
+            )
     os.makedirs(os.path.dirname(RESULTS), exist_ok=True)
     with open(RESULTS, "w", newline="") as f:
         w = csv.DictWriter(f, fieldnames=list(rows[0]))

@@ -18,22 +18,36 @@ do not fail: CPython 3.11 has a known uninitialised-read false positive in
 maybe_small_long that cascades through the interpreter, and NumPy/CPython
 keep some objects alive for the life of the process by design.
 """
+
 import argparse
 import collections
 import sys
 import xml.etree.ElementTree as ET
 
-INVALID = {"InvalidRead", "InvalidWrite", "InvalidFree", "MismatchedFree",
-           "InvalidJump", "InvalidMemPool", "Overlap", "FishyValue"}
+INVALID = {
+    "InvalidRead",
+    "InvalidWrite",
+    "InvalidFree",
+    "MismatchedFree",
+    "InvalidJump",
+    "InvalidMemPool",
+    "Overlap",
+    "FishyValue",
+}
 
 
 def frames(err):
     out = []
     for st in err.findall("stack"):
         for f in st.iter("frame"):
-            out.append((f.findtext("fn") or "?", f.findtext("obj") or "?",
-                        (f.findtext("dir") or "") + "/" + (f.findtext("file") or ""),
-                        f.findtext("line") or ""))
+            out.append(
+                (
+                    f.findtext("fn") or "?",
+                    f.findtext("obj") or "?",
+                    (f.findtext("dir") or "") + "/" + (f.findtext("file") or ""),
+                    f.findtext("line") or "",
+                )
+            )
     return out
 
 
@@ -45,8 +59,9 @@ def is_ours(fr, ours):
 def main(argv=None):
     ap = argparse.ArgumentParser()
     ap.add_argument("report")
-    ap.add_argument("--ours", action="append",
-                    default=["tendonrod/_core", "/csrc/", "/tendonrod/_core.c"])
+    ap.add_argument(
+        "--ours", action="append", default=["tendonrod/_core", "/csrc/", "/tendonrod/_core.c"]
+    )
     a = ap.parse_args(argv)
     root = ET.parse(a.report).getroot()
     counts = collections.Counter()
@@ -57,11 +72,11 @@ def main(argv=None):
         ours = any(is_ours(f, a.ours) for f in fr)
         counts[(kind, "ours" if ours else "foreign")] += 1
         if ours or kind in INVALID:
-            what = err.findtext("what") or (err.find("xwhat").findtext("text")
-                                             if err.find("xwhat") is not None else "")
+            what = err.findtext("what") or (
+                err.find("xwhat").findtext("text") if err.find("xwhat") is not None else ""
+            )
             bad.append((kind, what, fr[:12]))
-    supp = sum(int(p.findtext("count")) for p in root.iter("pair")
-               if p.find("count") is not None)
+    supp = sum(int(p.findtext("count")) for p in root.iter("pair") if p.find("count") is not None)
     print("valgrind report:", a.report)
     if not counts:
         print("  no errors reported")

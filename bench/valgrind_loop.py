@@ -17,6 +17,7 @@ Exercises every path of the glue and the core that a user reaches:
 Every call's outcome is checked lightly (so a wrong turn is noticed), the
 point is what valgrind sees.
 """
+
 import argparse
 import math
 import sys
@@ -36,16 +37,30 @@ def scenes():
     c = tr.Rod(**ROD)
     three = [tr.Tendon(offset=0.01, angle=2 * math.pi * i / 3, EA=2e4) for i in range(3)]
     return [
-        tr.Scene(tr.Robot(k, [tr.Tendon(offset=0.01)]), displacement=[0.005],
-                 loads=[tr.PointLoad(s=L, force=(-0.2, 0, 0))]),
-        tr.Scene(tr.Robot(c, [tr.Tendon.converging(offset=0.01, length=L)]), tension=[1.0],
-                 loads=[tr.DistributedLoad(force=(0, 0, -0.3))]),
-        tr.Scene(tr.Robot(c, three), displacement=[0.004, 0.0, None], tension=[None, None, 0.3],
-                 loads=[tr.PointLoad(s=L, force=(0.05, 0.1, 0), moment=(0, 0, 0.001)),
-                        tr.PointLoad(s=0.12, force=(0, -0.05, 0))]),
-        tr.Scene(tr.Robot(k, [tr.Tendon(offset=0.008, end=0.1),
-                              tr.Tendon(offset=0.008, angle=math.pi)]),
-                 displacement=[0.004, -0.002], loads=[tr.PointLoad(s=L, force=(0.3, 0, 0))]),
+        tr.Scene(
+            tr.Robot(k, [tr.Tendon(offset=0.01)]),
+            displacement=[0.005],
+            loads=[tr.PointLoad(s=L, force=(-0.2, 0, 0))],
+        ),
+        tr.Scene(
+            tr.Robot(c, [tr.Tendon.converging(offset=0.01, length=L)]),
+            tension=[1.0],
+            loads=[tr.DistributedLoad(force=(0, 0, -0.3))],
+        ),
+        tr.Scene(
+            tr.Robot(c, three),
+            displacement=[0.004, 0.0, None],
+            tension=[None, None, 0.3],
+            loads=[
+                tr.PointLoad(s=L, force=(0.05, 0.1, 0), moment=(0, 0, 0.001)),
+                tr.PointLoad(s=0.12, force=(0, -0.05, 0)),
+            ],
+        ),
+        tr.Scene(
+            tr.Robot(k, [tr.Tendon(offset=0.008, end=0.1), tr.Tendon(offset=0.008, angle=math.pi)]),
+            displacement=[0.004, -0.002],
+            loads=[tr.PointLoad(s=L, force=(0.3, 0, 0))],
+        ),
         tr.Scene(tr.Robot(k, [])),
     ]
 
@@ -83,8 +98,12 @@ def solve_loop(n):
         prev[i] = sol if it % 3 else None
         if it % 7 == 0:
             tr.solve(sc[i], options=tr.Options(tip_only=True))
-            tr.solve(sc[i], options=tr.Options(nodes=np.array([0.0, 0.05, 0.2]),
-                                               integrator=("rk4", "rk8", "adaptive")[it % 3]))
+            tr.solve(
+                sc[i],
+                options=tr.Options(
+                    nodes=np.array([0.0, 0.05, 0.2]), integrator=("rk4", "rk8", "adaptive")[it % 3]
+                ),
+            )
             sol.at(0.07)
             if sc[i].robot.n_tendons:
                 tr.compliance(sc[i])
@@ -152,8 +171,10 @@ def main(argv=None):
     solve_loop(n_solve)
     raw_error_loop(max(2, n_solve // 10))
     batch_loop(max(2, n_solve // 10))
-    print(f"valgrind_loop: {n_uf} ufunc rounds, {n_solve} solves, "
-          f"{max(2, n_solve // 10)} rounds of raw error paths: done")
+    print(
+        f"valgrind_loop: {n_uf} ufunc rounds, {n_solve} solves, "
+        f"{max(2, n_solve // 10)} rounds of raw error paths: done"
+    )
     return 0
 
 

@@ -33,27 +33,27 @@ extern "C" {
 /* ---------------------------------------------------------------- status */
 enum tr_status {
     TR_OK = 0,
-    TR_TRUNCATION = 1,       /* converged, but the step-doubling truncation estimate
+    TR_TRUNCATION = 1,      /* converged, but the step-doubling truncation estimate
                                 stayed above tol at the step cap */
-    TR_ILLCONDITIONED = 2,   /* converged, but the final Jacobian is nearly singular
+    TR_ILLCONDITIONED = 2,  /* converged, but the final Jacobian is nearly singular
                                 (tensions may be poorly determined) */
-    TR_OFFPATH = 3,          /* converged by a direct solve after load continuation from
+    TR_OFFPATH = 3,         /* converged by a direct solve after load continuation from
                                 the unloaded robot stalled: an equilibrium, but possibly not
                                 the one reached by loading (e.g. a looped rod under a large
                                 tensile load); NOT counted as success (TR_SUCCEEDED) */
-    TR_CONTINUE = 100,       /* iteration in progress (tr_solve_iterate/test only) */
-    TR_EINVAL = -1,          /* invalid model or option value */
-    TR_ENOMEM = -2,          /* allocation failed */
-    TR_EMAXITER = -3,        /* iteration cap reached */
-    TR_EMAXFEV = -4,         /* function-evaluation cap reached */
-    TR_ENOPROGRESS = -5,     /* line search found no decrease of the residual */
-    TR_ENONFINITE = -6,      /* integration produced Inf/NaN */
-    TR_ESINGULAR = -7,       /* singular Jacobian */
-    TR_EINDETERMINATE = -8,  /* statically indeterminate tendon set */
-    TR_ENOEQUILIBRIUM = -9,  /* the prescribed displacements admit no equilibrium */
-    TR_EPRETENSION = -10,    /* pretension not meaningful for this tendon set */
-    TR_EINTEGRATOR = -11,    /* adaptive integrator failed (step underflow / cap) */
-    TR_ECONTINUATION = -12   /* continuation could not reach the full load */
+    TR_CONTINUE = 100,      /* iteration in progress (tr_solve_iterate/test only) */
+    TR_EINVAL = -1,         /* invalid model or option value */
+    TR_ENOMEM = -2,         /* allocation failed */
+    TR_EMAXITER = -3,       /* iteration cap reached */
+    TR_EMAXFEV = -4,        /* function-evaluation cap reached */
+    TR_ENOPROGRESS = -5,    /* line search found no decrease of the residual */
+    TR_ENONFINITE = -6,     /* integration produced Inf/NaN */
+    TR_ESINGULAR = -7,      /* singular Jacobian */
+    TR_EINDETERMINATE = -8, /* statically indeterminate tendon set */
+    TR_ENOEQUILIBRIUM = -9, /* the prescribed displacements admit no equilibrium */
+    TR_EPRETENSION = -10,   /* pretension not meaningful for this tendon set */
+    TR_EINTEGRATOR = -11,   /* adaptive integrator failed (step underflow / cap) */
+    TR_ECONTINUATION = -12  /* continuation could not reach the full load */
 };
 
 const char *tr_strerror(int status);
@@ -68,10 +68,10 @@ const char *tr_strerror(int status);
 enum tr_integrator { TR_RK4 = 0, TR_RK8 = 1, TR_ADAPTIVE = 2 };
 enum tr_slack_model { TR_SLACK_LINEAR = 0, TR_SLACK_SQUARED = 1 };
 enum tr_jacobian_method {
-    TR_JAC_FD = 0,       /* forward-difference Jacobian, then Broyden updates; refreshed
+    TR_JAC_FD = 0,     /* forward-difference Jacobian, then Broyden updates; refreshed
                             by finite differences when progress is poor */
-    TR_JAC_NEWTON = 1,   /* fresh forward-difference Jacobian every iteration */
-    TR_JAC_HYBRID = 2    /* GSL's hybridsj (Powell dogleg trust region, scaled, rank-1
+    TR_JAC_NEWTON = 1, /* fresh forward-difference Jacobian every iteration */
+    TR_JAC_HYBRID = 2  /* GSL's hybridsj (Powell dogleg trust region, scaled, rank-1
                             updates) with the same forward-difference Jacobian */
 };
 enum tr_control { TR_DISPLACEMENT = 0, TR_TENSION = 1 };
@@ -90,21 +90,21 @@ enum tr_control { TR_DISPLACEMENT = 0, TR_TENSION = 1 };
 #define TR_TENDON_EA_MAX 1e150
 
 typedef struct tr_options {
-    int integrator;       /* tr_integrator; default TR_RK8 (3-8 steps reach 1e-8 on a 90 deg bend) */
-    int steps;            /* total fixed steps over [0, L]; 0 = automatic (start small, verify by
+    int integrator;      /* tr_integrator; default TR_RK8 (3-8 steps reach 1e-8 on a 90 deg bend) */
+    int steps;           /* total fixed steps over [0, L]; 0 = automatic (start small, verify by
                              step doubling, refine while the estimate exceeds tol) */
-    double rtol;          /* relative/absolute (scaled) tolerance of the adaptive integrator;
+    double rtol;         /* relative/absolute (scaled) tolerance of the adaptive integrator;
                              default 1e-10 (reference solutions) */
-    double tol;           /* convergence: scaled residual max-norm; default 1e-10
+    double tol;          /* convergence: scaled residual max-norm; default 1e-10
                              (about 1e-10 relative tip accuracy, far below model error) */
-    int max_iter;         /* Newton/Broyden iterations per solve; default 50 */
-    int max_nfev;         /* residual evaluations (integrations) in total; default 20000 */
-    int jacobian_method;  /* tr_jacobian_method; default TR_JAC_FD */
-    int slack_model;      /* tr_slack_model; default TR_SLACK_LINEAR (nonsingular at the switch) */
-    int continuation;     /* 1: ramp loads and actuation when a solve fails; default 1 */
-    int max_continuation; /* cap on continuation steps; default 64 */
-    int force_spatial;    /* 1: solve planar scenes with the spatial formulation; default 0 */
-    int tip_only;         /* 1: record the tip state only; default 0 */
+    int max_iter;        /* Newton/Broyden iterations per solve; default 50 */
+    int max_nfev;        /* residual evaluations (integrations) in total; default 20000 */
+    int jacobian_method; /* tr_jacobian_method; default TR_JAC_FD */
+    int slack_model;     /* tr_slack_model; default TR_SLACK_LINEAR (nonsingular at the switch) */
+    int continuation;    /* 1: ramp loads and actuation when a solve fails; default 1 */
+    int max_continuation;  /* cap on continuation steps; default 64 */
+    int force_spatial;     /* 1: solve planar scenes with the spatial formulation; default 0 */
+    int tip_only;          /* 1: record the tip state only; default 0 */
     int shooting_segments; /* multiple shooting: number of shooting segments M (interior
                              nodes at j L / M carry full-state unknowns and continuity
                              residuals); default 1 = single shooting.  Needed for tensile
@@ -140,38 +140,38 @@ typedef struct tr_tendon {
 } tr_tendon;
 
 typedef struct tr_model {
-    double L, EI, GJ, EA, GA;   /* length [m]; bending, torsional [N m^2]; axial, shear [N] */
-    int kirchhoff;              /* 1: v = e3 (unshearable, inextensible backbone) */
-    int planar;                 /* 1: solved with the planar x-z formulation */
-    int nt;                     /* number of tendons */
-    tr_tendon *tendon;          /* (nt) */
-    int nl;                     /* number of point loads */
-    double *load;               /* (nl x 7) [s, F (3) world N, M (3) world N m] as given */
-    double dist[3];             /* uniform distributed force, world [N/m] */
-    int has_dist;               /* 1 if dist != 0 */
-    int nseg;                   /* number of integration segments */
-    double *bp;                 /* (nseg + 1) breakpoints, bp[0] = 0, bp[nseg] = L [m] */
-    double *bpF, *bpM;          /* (nseg + 1) x 3 point force [N] / moment [N m] sums at each
+    double L, EI, GJ, EA, GA; /* length [m]; bending, torsional [N m^2]; axial, shear [N] */
+    int kirchhoff;            /* 1: v = e3 (unshearable, inextensible backbone) */
+    int planar;               /* 1: solved with the planar x-z formulation */
+    int nt;                   /* number of tendons */
+    tr_tendon *tendon;        /* (nt) */
+    int nl;                   /* number of point loads */
+    double *load;             /* (nl x 7) [s, F (3) world N, M (3) world N m] as given */
+    double dist[3];           /* uniform distributed force, world [N/m] */
+    int has_dist;             /* 1 if dist != 0 */
+    int nseg;                 /* number of integration segments */
+    double *bp;               /* (nseg + 1) breakpoints, bp[0] = 0, bp[nseg] = L [m] */
+    double *bpF, *bpM;        /* (nseg + 1) x 3 point force [N] / moment [N m] sums at each
                                    breakpoint, world frame (bp 0: carried by the base, unused) */
-    int *seg_act_start;         /* (nseg + 1) CSR offsets into seg_act */
-    int *seg_act;               /* tendons active on each segment (t_i > bp[k]) */
-    int ndisp;                  /* displacement-controlled tendons (= gamma unknowns) */
-    int nshoot;                 /* shooting segments M (1: single shooting) */
-    int *bp_node;               /* (nseg + 1) shooting-node index 1..M-1 of each breakpoint, 0 if none */
-    int *bp_jump;               /* (nseg + 1) 1 if a load or an anchor sits at the breakpoint */
-    int n_unknowns;             /* shooting unknowns: 6 (3 planar) + ndisp + (M - 1) n_states */
-    int n_base;                 /* base states: 18 spatial (p, R, n_b, m_b), 6 planar */
-    int n_states;               /* shooting states: n_base + ndisp path lengths */
-    int n_states_rec;           /* recording states: n_base + nt path lengths */
-    int n_stretch;              /* displacement-controlled tendons with finite EA */
-    double F_s, M_s, tau_s;     /* scales: force EI/L^2 [N], moment EI/L [N m],
+    int *seg_act_start;       /* (nseg + 1) CSR offsets into seg_act */
+    int *seg_act;             /* tendons active on each segment (t_i > bp[k]) */
+    int ndisp;                /* displacement-controlled tendons (= gamma unknowns) */
+    int nshoot;               /* shooting segments M (1: single shooting) */
+    int *bp_node;     /* (nseg + 1) shooting-node index 1..M-1 of each breakpoint, 0 if none */
+    int *bp_jump;     /* (nseg + 1) 1 if a load or an anchor sits at the breakpoint */
+    int n_unknowns;   /* shooting unknowns: 6 (3 planar) + ndisp + (M - 1) n_states */
+    int n_base;       /* base states: 18 spatial (p, R, n_b, m_b), 6 planar */
+    int n_states;     /* shooting states: n_base + ndisp path lengths */
+    int n_states_rec; /* recording states: n_base + nt path lengths */
+    int n_stretch;    /* displacement-controlled tendons with finite EA */
+    double F_s, M_s, tau_s;  /* scales: force EI/L^2 [N], moment EI/L [N m],
                                    tension EI/(r_max L) [N] */
-    double len_s;               /* scale of slack and length residuals: r_max (L if 0) [m] */
-    double xstate_scale[18];    /* absolute scale of each base state (adaptive control) */
-    int scene_status;           /* 0, or why this (well-formed) scene has no unique solution:
+    double len_s;            /* scale of slack and length residuals: r_max (L if 0) [m] */
+    double xstate_scale[18]; /* absolute scale of each base state (adaptive control) */
+    int scene_status;        /* 0, or why this (well-formed) scene has no unique solution:
                                    TR_EINDETERMINATE, TR_ENOEQUILIBRIUM, TR_EPRETENSION;
                                    tr_solve then fails at once with scene_message */
-    char scene_message[512];    /* the message for scene_status */
+    char scene_message[512]; /* the message for scene_status */
 } tr_model;
 
 /* Compile a scene.  rod = [L, EI, GJ, EA, GA, kirchhoff]; tendons (nt x 8) rows
@@ -181,72 +181,72 @@ typedef struct tr_model {
  * scene without a unique equilibrium (statically indeterminate tendons, no
  * equilibrium, meaningless pretension) compiles, with m->scene_status set. */
 int tr_model_alloc(tr_model **out, const double rod[6], const double *tendons, int nt,
-                   const double *loads, int nl, const double dist[3],
-                   const tr_options *opt, char *msg, size_t msglen);
+                   const double *loads, int nl, const double dist[3], const tr_options *opt,
+                   char *msg, size_t msglen);
 void tr_model_free(tr_model *m);
 
 /* ------------------------------------------------------------------ data */
 #define TR_MSGLEN 512
 
 typedef struct tr_data {
-    const tr_model *model;      /* the model this workspace was allocated for */
-    tr_options opt;             /* options of this workspace */
-    int k;                      /* number of unknowns */
+    const tr_model *model; /* the model this workspace was allocated for */
+    tr_options opt;        /* options of this workspace */
+    int k;                 /* number of unknowns */
     /* iteration */
-    double *x, *f;              /* (k) scaled unknowns / residual */
-    double *xt, *ft, *dx;       /* (k) trial point, trial residual, step */
-    double *xs, *xp, *fs;       /* (k) saved / previous (continuation) unknowns, saved residual */
-    double *J;                  /* (k x k) scaled Jacobian, row-major */
-    double *work;               /* (k) scratch */
-    gsl_matrix *LU;             /* (k x k) LU factors */
-    gsl_permutation *perm;      /* (k) */
-    double fnorm;               /* max-norm of f */
+    double *x, *f;         /* (k) scaled unknowns / residual */
+    double *xt, *ft, *dx;  /* (k) trial point, trial residual, step */
+    double *xs, *xp, *fs;  /* (k) saved / previous (continuation) unknowns, saved residual */
+    double *J;             /* (k x k) scaled Jacobian, row-major */
+    double *work;          /* (k) scratch */
+    gsl_matrix *LU;        /* (k x k) LU factors */
+    gsl_permutation *perm; /* (k) */
+    double fnorm;          /* max-norm of f */
     int have_J, J_fresh, J_refresh;
-    int steps_moved;            /* 1 once the step verification ran: polish the residual below tol */
+    int steps_moved; /* 1 once the step verification ran: polish the residual below tol */
     /* evaluation context */
-    double lam_act;             /* continuation: actuation (q, prescribed tau) scaled by it */
-    double lam_load;            /* continuation: point and distributed loads scaled by it */
-    double *tau, *beta;         /* (nt) current tension [N] / slack [m] */
-    int seg;                    /* segment being integrated */
-    int rec;                    /* 1: recording layout (all path lengths) */
-    int steps;                  /* current total fixed steps */
-    int steps_double;           /* 1: every segment takes twice its steps (step-doubling estimate) */
-    int probe_bp;               /* breakpoint of the compliance probe, -1 none */
-    double probe[6];            /* probe load (world F, M) added at probe_bp */
-    double probe_state[12];     /* p (3), R (9) captured at probe_bp in the last evaluation */
+    double lam_act;         /* continuation: actuation (q, prescribed tau) scaled by it */
+    double lam_load;        /* continuation: point and distributed loads scaled by it */
+    double *tau, *beta;     /* (nt) current tension [N] / slack [m] */
+    int seg;                /* segment being integrated */
+    int rec;                /* 1: recording layout (all path lengths) */
+    int steps;              /* current total fixed steps */
+    int steps_double;       /* 1: every segment takes twice its steps (step-doubling estimate) */
+    int probe_bp;           /* breakpoint of the compliance probe, -1 none */
+    double probe[6];        /* probe load (world F, M) added at probe_bp */
+    double probe_state[12]; /* p (3), R (9) captured at probe_bp in the last evaluation */
     /* integrator workspaces */
-    double *y, *k1, *k2, *k3, *k4, *yt, *yerr;   /* (n_states_rec) */
-    double *ysave;              /* (n_states_rec) a saved end state (step verification, recording check) */
+    double *y, *k1, *k2, *k3, *k4, *yt, *yerr; /* (n_states_rec) */
+    double *ysave; /* (n_states_rec) a saved end state (step verification, recording check) */
     gsl_odeiv2_system sys_shoot, sys_rec;
     gsl_odeiv2_step *rk8_shoot, *rk8_rec;
     gsl_odeiv2_step *ad_step_shoot, *ad_step_rec;
     gsl_odeiv2_control *ad_ctl_shoot, *ad_ctl_rec;
     gsl_odeiv2_evolve *ad_ev_shoot, *ad_ev_rec;
     /* cold guess (small-deflection linear model) */
-    double *lin;                /* (2 ndisp^2 + 3 ndisp) scratch */
-    int *lin_act;               /* (2 ndisp) active set / index map */
-    double *bp_pose;            /* ((nseg + 1) x 12) p, R at each breakpoint (cold-start shape pass) */
+    double *lin;     /* (2 ndisp^2 + 3 ndisp) scratch */
+    int *lin_act;    /* (2 ndisp) active set / index map */
+    double *bp_pose; /* ((nseg + 1) x 12) p, R at each breakpoint (cold-start shape pass) */
     gsl_multiroot_fdfsolver *hyb; /* hybridsj workspace (jacobian_method = TR_JAC_HYBRID) */
     /* compliance */
-    double *Yx;                 /* (6 x k) d(output)/d(unknowns) */
-    double *Fp;                 /* (k x 6) d(residual)/d(probe load) */
+    double *Yx; /* (6 x k) d(output)/d(unknowns) */
+    double *Fp; /* (k x 6) d(residual)/d(probe load) */
     /* counters and results */
     int nit, nfev, njev, cont_steps;
     int status;
     char message[TR_MSGLEN];
-    double residual_norm;       /* final scaled residual max-norm */
-    double jacobian_cond;       /* 1-norm condition number of the final Jacobian */
-    double truncation;          /* step-doubling estimate (scaled residual), NaN if not estimated */
+    double residual_norm; /* final scaled residual max-norm */
+    double jacobian_cond; /* 1-norm condition number of the final Jacobian */
+    double truncation;    /* step-doubling estimate (scaled residual), NaN if not estimated */
     /* output (recording pass) */
-    int nnode;                  /* number of output nodes (1 when tip_only) */
-    double *s;                  /* (nnode) arc length [m] */
-    double *pos;                /* (nnode x 3) position, world [m] */
-    double *rot;                /* (nnode x 9) rotation body-to-world, row-major */
-    double *force;              /* (nnode x 3) internal force, world [N] */
-    double *moment;             /* (nnode x 3) internal moment, world [N m] */
-    double *tension;            /* (nt) tension [N] */
-    double *slack;              /* (nt) slack [m] */
-    double *displacement;       /* (nt) actuator displacement [m] */
+    int nnode;            /* number of output nodes (1 when tip_only) */
+    double *s;            /* (nnode) arc length [m] */
+    double *pos;          /* (nnode x 3) position, world [m] */
+    double *rot;          /* (nnode x 9) rotation body-to-world, row-major */
+    double *force;        /* (nnode x 3) internal force, world [N] */
+    double *moment;       /* (nnode x 3) internal moment, world [N m] */
+    double *tension;      /* (nt) tension [N] */
+    double *slack;        /* (nt) slack [m] */
+    double *displacement; /* (nt) actuator displacement [m] */
 } tr_data;
 
 /* Allocate a workspace.  nodes: if node_s is NULL, nnode uniform nodes over
@@ -254,8 +254,8 @@ typedef struct tr_data {
  * the jump) and every other interior breakpoint (shooting node) once;
  * otherwise the nnode sorted arc lengths node_s.  tip_only (opt) records only
  * the tip.  Returns NULL on failure (msg says why). */
-tr_data *tr_data_alloc(const tr_model *m, const tr_options *opt, int nnode,
-                       const double *node_s, char *msg, size_t msglen);
+tr_data *tr_data_alloc(const tr_model *m, const tr_options *opt, int nnode, const double *node_s,
+                       char *msg, size_t msglen);
 void tr_data_free(tr_data *d);
 
 /* ---------------------------------------------------------------- solver */

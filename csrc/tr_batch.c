@@ -21,7 +21,7 @@
 #include <string.h>
 
 #include "tr_batch.h"
-#include "tr_internal.h"   /* tr_state_world: pose of a shooting state (see lean_newton) */
+#include "tr_internal.h" /* tr_state_world: pose of a shooting state (see lean_newton) */
 
 static void bmsg(char *msg, size_t msglen, const char *fmt, ...)
 {
@@ -34,38 +34,61 @@ static void bmsg(char *msg, size_t msglen, const char *fmt, ...)
 
 /* Workspace of one batch call: the private model copy and warm-start buffers. */
 typedef struct batch_ws {
-    tr_model mc;            /* shallow copy of the base model; owns the arrays below */
-    tr_tendon *tendon;      /* (nt) */
-    double *load;           /* (nl x 7) */
-    double *bpF, *bpM;      /* (nseg + 1) x 3 */
-    int *load_bp;           /* (nl) breakpoint index of each point load */
-    double *guess;          /* (6 + 2 nt) physical guess from the last converged point */
-    double *J;              /* (k x k) its final scaled Jacobian */
-    double *guess0;         /* (6 + 2 nt) guess from the converged point before that */
-    double *guess00;        /* (6 + 2 nt) ... and the one before that */
-    double *gp;             /* (6 + 2 nt) predicted guess */
+    tr_model mc;                      /* shallow copy of the base model; owns the arrays below */
+    tr_tendon *tendon;                /* (nt) */
+    double *load;                     /* (nl x 7) */
+    double *bpF, *bpM;                /* (nseg + 1) x 3 */
+    int *load_bp;                     /* (nl) breakpoint index of each point load */
+    double *guess;                    /* (6 + 2 nt) physical guess from the last converged point */
+    double *J;                        /* (k x k) its final scaled Jacobian */
+    double *guess0;                   /* (6 + 2 nt) guess from the converged point before that */
+    double *guess00;                  /* (6 + 2 nt) ... and the one before that */
+    double *gp;                       /* (6 + 2 nt) predicted guess */
     double *P, *P1, *P0, *P00, *P000; /* (np) varied values of this point and of the last
                                   four converged points */
-    double *guess000;       /* (6 + 2 nt) guess of the fourth-last converged point */
-    int np;                 /* number of varied values per point */
-    double *X1, *X0, *X00, *X000; /* (k) scaled unknowns of the last four converged points */
+    double *guess000;                 /* (6 + 2 nt) guess of the fourth-last converged point */
+    int np;                           /* number of varied values per point */
+    double *X1, *X0, *X00, *X000;     /* (k) scaled unknowns of the last four converged points */
     double *lx, *lf, *lxt, *lft, *ldx, *lLU; /* (k), (k x k): lean Newton loop */
-    double *xp;             /* (k) start of the lean loop (last or predicted unknowns) */
-    double *Jsave;          /* (k x k) w->J before a lean attempt (restored if it fails) */
-    int *lpiv;              /* (k) pivots */
-    int lean_J;             /* 1: J was maintained by the lean loop (not copied from d->J) */
+    double *xp;    /* (k) start of the lean loop (last or predicted unknowns) */
+    double *Jsave; /* (k x k) w->J before a lean attempt (restored if it fails) */
+    int *lpiv;     /* (k) pivots */
+    int lean_J;    /* 1: J was maintained by the lean loop (not copied from d->J) */
     tr_data *d;
 } batch_ws;
 
 static void ws_free(batch_ws *w)
 {
     tr_data_free(w->d);
-    free(w->tendon); free(w->load); free(w->bpF); free(w->bpM);
-    free(w->load_bp); free(w->guess); free(w->J);
-    free(w->guess0); free(w->guess00); free(w->gp); free(w->P); free(w->P1); free(w->P0);
+    free(w->tendon);
+    free(w->load);
+    free(w->bpF);
+    free(w->bpM);
+    free(w->load_bp);
+    free(w->guess);
+    free(w->J);
+    free(w->guess0);
+    free(w->guess00);
+    free(w->gp);
+    free(w->P);
+    free(w->P1);
+    free(w->P0);
     free(w->P00);
-    free(w->X1); free(w->X0); free(w->X00); free(w->X000); free(w->P000); free(w->guess000); free(w->lx); free(w->lf); free(w->lxt);
-    free(w->lft); free(w->ldx); free(w->lLU); free(w->lpiv); free(w->xp); free(w->Jsave);
+    free(w->X1);
+    free(w->X0);
+    free(w->X00);
+    free(w->X000);
+    free(w->P000);
+    free(w->guess000);
+    free(w->lx);
+    free(w->lf);
+    free(w->lxt);
+    free(w->lft);
+    free(w->ldx);
+    free(w->lLU);
+    free(w->lpiv);
+    free(w->xp);
+    free(w->Jsave);
 }
 
 /* Nearest breakpoint to s (loads were snapped to a breakpoint within the merge
@@ -76,7 +99,10 @@ static int nearest_bp(const tr_model *m, double s)
     double dmin = INFINITY;
     for (b = 0; b <= m->nseg; b++) {
         const double dd = fabs(m->bp[b] - s);
-        if (dd < dmin) { dmin = dd; best = b; }
+        if (dd < dmin) {
+            dmin = dd;
+            best = b;
+        }
     }
     return best;
 }
@@ -143,7 +169,10 @@ static void guess_like_python(const tr_model *m, const tr_data *d, double *g)
     if (m->planar) {
         const double N[3] = {d->x[0] * Fs, 0.0 * Fs, d->x[1] * Fs};
         const double M[3] = {0.0 * Ms, d->x[2] * Ms, 0.0 * Ms};
-        for (c = 0; c < 3; c++) { g[c] = N[c] - tn[c]; g[3 + c] = M[c] - tm[c]; }
+        for (c = 0; c < 3; c++) {
+            g[c] = N[c] - tn[c];
+            g[3 + c] = M[c] - tm[c];
+        }
     } else {
         for (c = 0; c < 3; c++) {
             g[c] = d->x[c] * Fs - tn[c];
@@ -153,8 +182,8 @@ static void guess_like_python(const tr_model *m, const tr_data *d, double *g)
 }
 
 /* Fill the model copy with the values of point p; 0 or a message for TR_EINVAL. */
-static int set_point(batch_ws *w, const tr_model *base, const tr_batch_in *in, int p,
-                     char *msg, size_t msglen)
+static int set_point(batch_ws *w, const tr_model *base, const tr_batch_in *in, int p, char *msg,
+                     size_t msglen)
 {
     tr_model *mc = &w->mc;
     const int nt = base->nt, nl = base->nl, nb = base->nseg + 1;
@@ -167,8 +196,10 @@ static int set_point(batch_ws *w, const tr_model *base, const tr_batch_in *in, i
                 return TR_EINVAL;
             }
             if (base->tendon[i].control == TR_TENSION && v[i] < 0.0) {
-                bmsg(msg, msglen, "point %d: tendon %d tension = %g N must be >= 0 (a tendon "
-                     "cannot push)", p, i, v[i]);
+                bmsg(msg, msglen,
+                     "point %d: tendon %d tension = %g N must be >= 0 (a tendon "
+                     "cannot push)",
+                     p, i, v[i]);
                 return TR_EINVAL;
             }
             w->tendon[i].value = v[i];
@@ -185,9 +216,12 @@ static int set_point(batch_ws *w, const tr_model *base, const tr_batch_in *in, i
                 }
                 w->load[7 * i + 1 + c] = l[6 * i + c];
             }
-            if (base->planar && (l[6 * i + 1] != 0.0 || l[6 * i + 3] != 0.0 || l[6 * i + 5] != 0.0)) {
-                bmsg(msg, msglen, "point %d: load %d leaves the x-z plane (Fy, Mx or Mz nonzero) but "
-                     "the batch was compiled planar; compile it with force_spatial", p, i);
+            if (base->planar &&
+                (l[6 * i + 1] != 0.0 || l[6 * i + 3] != 0.0 || l[6 * i + 5] != 0.0)) {
+                bmsg(msg, msglen,
+                     "point %d: load %d leaves the x-z plane (Fy, Mx or Mz nonzero) but "
+                     "the batch was compiled planar; compile it with force_spatial",
+                     p, i);
                 return TR_EINVAL;
             }
         }
@@ -209,8 +243,10 @@ static int set_point(batch_ws *w, const tr_model *base, const tr_batch_in *in, i
                 return TR_EINVAL;
             }
         if (base->planar && dd[1] != 0.0) {
-            bmsg(msg, msglen, "point %d: distributed load has a y component %g but the batch was "
-                 "compiled planar; compile it with force_spatial", p, dd[1]);
+            bmsg(msg, msglen,
+                 "point %d: distributed load has a y component %g but the batch was "
+                 "compiled planar; compile it with force_spatial",
+                 p, dd[1]);
             return TR_EINVAL;
         }
         memcpy(mc->dist, dd, 3 * sizeof(double));
@@ -232,7 +268,8 @@ static void gather(const tr_model *m, const tr_batch_in *in, int p, double *P)
 }
 
 /* c with b = c a (to 1e-9 relative), 0 < c <= 2; 0 if b is not such a multiple of a. */
-static double collinear(const double *b1, const double *b0, const double *a1, const double *a0, int np)
+static double collinear(const double *b1, const double *b0, const double *a1, const double *a0,
+                        int np)
 {
     double dd = 0.0, dp = 0.0, pp = 0.0, rr = 0.0, c;
     int i;
@@ -242,11 +279,9 @@ static double collinear(const double *b1, const double *b0, const double *a1, co
         dp += a * b;
         pp += b * b;
     }
-    if (!(dd > 0.0) || !(pp > 0.0))
-        return 0.0;
+    if (!(dd > 0.0) || !(pp > 0.0)) return 0.0;
     c = dp / dd;
-    if (!(c > 0.0 && c <= 2.0))
-        return 0.0;
+    if (!(c > 0.0 && c <= 2.0)) return 0.0;
     for (i = 0; i < np; i++) {
         const double e = (b1[i] - b0[i]) - c * (a1[i] - a0[i]);
         rr += e * e;
@@ -268,14 +303,15 @@ static int predict_weights(const batch_ws *w, int have, double wt[4])
     const double c = have >= 2 ? collinear(w->P, w->P1, w->P1, w->P0, w->np) : 0.0;
     double c2 = 0.0;
     wt[3] = 0.0;
-    if (c == 0.0)
-        return 0;
-    if (have >= 3)
-        c2 = collinear(w->P1, w->P0, w->P0, w->P00, w->np);
+    if (c == 0.0) return 0;
+    if (have >= 3) c2 = collinear(w->P1, w->P0, w->P0, w->P00, w->np);
     if (have >= 4 && fabs(c - 1.0) <= 1e-9 && fabs(c2 - 1.0) <= 1e-9 &&
         fabs(collinear(w->P0, w->P00, w->P00, w->P000, w->np) - 1.0) <= 1e-9) {
         /* equally spaced: cubic through four points, start error O(h^4) */
-        wt[0] = 4.0; wt[1] = -6.0; wt[2] = 4.0; wt[3] = -1.0;
+        wt[0] = 4.0;
+        wt[1] = -6.0;
+        wt[2] = 4.0;
+        wt[3] = -1.0;
         return 3;
     }
     if (c2 >= 0.5) {
@@ -297,8 +333,8 @@ static void extrapolate(const double wt[4], const double *a, const double *b, co
 {
     int i;
     for (i = 0; i < n; i++)
-        out[i] = wt[0] * a[i] + wt[1] * b[i] + (wt[2] != 0.0 ? wt[2] * c[i] : 0.0)
-                 + (wt[3] != 0.0 ? wt[3] * e[i] : 0.0);
+        out[i] = wt[0] * a[i] + wt[1] * b[i] + (wt[2] != 0.0 ? wt[2] * c[i] : 0.0) +
+                 (wt[3] != 0.0 ? wt[3] * e[i] : 0.0);
 }
 
 static double maxabs(const double *v, int n)
@@ -307,7 +343,7 @@ static double maxabs(const double *v, int n)
     int i;
     for (i = 0; i < n; i++) {
         const double a = fabs(v[i]);
-        if (!(a <= r)) r = a;   /* NaN propagates */
+        if (!(a <= r)) r = a; /* NaN propagates */
     }
     return r;
 }
@@ -320,9 +356,11 @@ static int lu_factor(double *A, int *piv, int n)
         int pr = c;
         double best = fabs(A[c * n + c]);
         for (i = c + 1; i < n; i++)
-            if (fabs(A[i * n + c]) > best) { best = fabs(A[i * n + c]); pr = i; }
-        if (!(best > 0.0))
-            return -1;
+            if (fabs(A[i * n + c]) > best) {
+                best = fabs(A[i * n + c]);
+                pr = i;
+            }
+        if (!(best > 0.0)) return -1;
         piv[c] = pr;
         if (pr != c)
             for (j = 0; j < n; j++) {
@@ -343,7 +381,11 @@ static void lu_apply(const double *A, const int *piv, int n, double *b)
 {
     int i, j;
     for (i = 0; i < n; i++) {
-        if (piv[i] != i) { const double t = b[i]; b[i] = b[piv[i]]; b[piv[i]] = t; }
+        if (piv[i] != i) {
+            const double t = b[i];
+            b[i] = b[piv[i]];
+            b[piv[i]] = t;
+        }
         for (j = 0; j < i; j++) b[i] -= A[i * n + j] * b[j];
     }
     for (i = n - 1; i >= 0; i--) {
@@ -377,26 +419,21 @@ static int lean_newton(batch_ws *w, tr_model *mc, tr_data *d, const double *x0, 
     d->jacobian_cond = NAN;
     d->probe_bp = -1;
     d->steps = d->opt.steps;
-    if (mc->scene_status != TR_OK)
-        return mc->scene_status;
+    if (mc->scene_status != TR_OK) return mc->scene_status;
     memcpy(x, x0, (size_t)k * sizeof(double));
-    if (tr_residual(mc, d, x, f) != TR_OK)
-        return TR_ENONFINITE;
+    if (tr_residual(mc, d, x, f) != TR_OK) return TR_ENONFINITE;
     fn = maxabs(f, k);
     while (!(fn <= d->opt.tol)) {
         double ss = 0.0;
-        if (d->nit >= max_iter || d->nfev >= d->opt.max_nfev)
-            return TR_EMAXITER;
+        if (d->nit >= max_iter || d->nfev >= d->opt.max_nfev) return TR_EMAXITER;
         memcpy(w->lLU, J, (size_t)k * k * sizeof(double));
-        if (lu_factor(w->lLU, w->lpiv, k) != 0)
-            return TR_ESINGULAR;
+        if (lu_factor(w->lLU, w->lpiv, k) != 0) return TR_ESINGULAR;
         for (i = 0; i < k; i++) dx[i] = -f[i];
         lu_apply(w->lLU, w->lpiv, k, dx);
         for (i = 0; i < k; i++) xt[i] = x[i] + dx[i];
         st = tr_residual(mc, d, xt, ft);
         fnt = st == TR_OK ? maxabs(ft, k) : INFINITY;
-        if (!(fnt < fn))
-            return TR_ENOPROGRESS;
+        if (!(fnt < fn)) return TR_ENOPROGRESS;
         for (i = 0; i < k; i++) ss += dx[i] * dx[i];
         if (maxabs(dx, k) > TR_BATCH_BROYDEN_MIN_STEP) {
             /* J += (ft - f - J dx) dx^T / (dx^T dx) */
@@ -417,8 +454,7 @@ static int lean_newton(batch_ws *w, tr_model *mc, tr_data *d, const double *x0, 
     d->fnorm = d->residual_norm = fn;
     if (record) {
         st = tr_record(mc, d);
-        if (st != TR_OK)
-            return st;
+        if (st != TR_OK) return st;
     } else {
         /* The last residual evaluation was at the converged x (every accepted step is
          * the last evaluation), so d->y holds its tip state and d->tau, d->beta its
@@ -432,7 +468,8 @@ static int lean_newton(batch_ws *w, tr_model *mc, tr_data *d, const double *x0, 
         for (i = 0; i < mc->nt; i++) {
             d->tension[i] = d->tau[i];
             d->slack[i] = d->beta[i];
-            d->displacement[i] = mc->tendon[i].control == TR_DISPLACEMENT ? mc->tendon[i].value : NAN;
+            d->displacement[i] =
+                mc->tendon[i].control == TR_DISPLACEMENT ? mc->tendon[i].value : NAN;
         }
     }
     return d->status = TR_OK;
@@ -498,9 +535,10 @@ int tr_batch_solve(const tr_model *m, const tr_options *opt, const tr_batch_in *
         w.xp = (double *)malloc(kk * sizeof(double));
         w.Jsave = (double *)malloc(kk * kk * sizeof(double));
     }
-    if (!w.X1 || !w.X0 || !w.X00 || !w.X000 || !w.P000 || !w.guess000 || !w.lx || !w.lf || !w.lxt || !w.lft || !w.ldx || !w.lLU ||
-        !w.lpiv || !w.xp || !w.Jsave || !w.tendon || !w.load || !w.bpF || !w.bpM || !w.load_bp || !w.guess || !w.J ||
-        !w.guess0 || !w.guess00 || !w.gp || !w.P || !w.P1 || !w.P0 || !w.P00) {
+    if (!w.X1 || !w.X0 || !w.X00 || !w.X000 || !w.P000 || !w.guess000 || !w.lx || !w.lf || !w.lxt ||
+        !w.lft || !w.ldx || !w.lLU || !w.lpiv || !w.xp || !w.Jsave || !w.tendon || !w.load ||
+        !w.bpF || !w.bpM || !w.load_bp || !w.guess || !w.J || !w.guess0 || !w.guess00 || !w.gp ||
+        !w.P || !w.P1 || !w.P0 || !w.P00) {
         ws_free(&w);
         bmsg(msg, msglen, "out of memory while setting up the batch");
         return TR_ENOMEM;
@@ -538,7 +576,8 @@ int tr_batch_solve(const tr_model *m, const tr_options *opt, const tr_batch_in *
             for (i = 0; i < 3; i++) out->tip_pos[3 * p + i] = NAN;
             for (i = 0; i < 9; i++) out->tip_rot[9 * p + i] = NAN;
             for (i = 0; i < nt; i++)
-                out->tension[nt * p + i] = out->slack[nt * p + i] = out->displacement[nt * p + i] = NAN;
+                out->tension[nt * p + i] = out->slack[nt * p + i] = out->displacement[nt * p + i] =
+                    NAN;
             out->residual[p] = NAN;
             out->status[p] = st;
             out->nit[p] = out->nfev[p] = 0;
@@ -553,8 +592,7 @@ int tr_batch_solve(const tr_model *m, const tr_options *opt, const tr_batch_in *
             const double *g = w.guess;
             double wt[4];
             int fast = 0;
-            if (have_prev >= 1)
-                memcpy(w.xp, w.X1, (size_t)k * sizeof(double));
+            if (have_prev >= 1) memcpy(w.xp, w.X1, (size_t)k * sizeof(double));
             if (!cold && !in->exact && have_prev >= 2 && in->predict &&
                 predict_weights(&w, have_prev, wt) > 0) {
                 extrapolate(wt, w.guess, w.guess0, w.guess00, w.guess000, w.gp, 6 + 2 * nt);
@@ -562,12 +600,13 @@ int tr_batch_solve(const tr_model *m, const tr_options *opt, const tr_batch_in *
                 g = w.gp;
             }
             if (!cold && !in->exact && d->opt.steps > 0 && d->opt.integrator != TR_ADAPTIVE) {
-                memcpy(w.Jsave, w.J, (size_t)k * k * sizeof(double));   /* restored on failure */
-                st = lean_newton(&w, &w.mc, d, w.xp, d->opt.max_iter < TR_BATCH_FAST_ITER ?
-                                 d->opt.max_iter : TR_BATCH_FAST_ITER, record);
+                memcpy(w.Jsave, w.J, (size_t)k * k * sizeof(double)); /* restored on failure */
+                st = lean_newton(&w, &w.mc, d, w.xp,
+                                 d->opt.max_iter < TR_BATCH_FAST_ITER ? d->opt.max_iter
+                                                                      : TR_BATCH_FAST_ITER,
+                                 record);
                 fast = lean = st == TR_OK;
-                if (!fast)
-                    memcpy(w.J, w.Jsave, (size_t)k * k * sizeof(double));
+                if (!fast) memcpy(w.J, w.Jsave, (size_t)k * k * sizeof(double));
                 nit = d->nit;
                 nfev = d->nfev;
             } else {
@@ -590,7 +629,8 @@ int tr_batch_solve(const tr_model *m, const tr_options *opt, const tr_batch_in *
         if (nt > 0) {
             memcpy(out->tension + (size_t)nt * p, d->tension, (size_t)nt * sizeof(double));
             memcpy(out->slack + (size_t)nt * p, d->slack, (size_t)nt * sizeof(double));
-            memcpy(out->displacement + (size_t)nt * p, d->displacement, (size_t)nt * sizeof(double));
+            memcpy(out->displacement + (size_t)nt * p, d->displacement,
+                   (size_t)nt * sizeof(double));
         }
         out->residual[p] = d->residual_norm;
         out->status[p] = st;
@@ -621,11 +661,11 @@ int tr_batch_solve(const tr_model *m, const tr_options *opt, const tr_batch_in *
             if (have_prev >= 2) memcpy(w.X00, w.X0, (size_t)k * sizeof(double));
             if (have_prev >= 1) memcpy(w.X0, w.X1, (size_t)k * sizeof(double));
             memcpy(w.X1, d->x, (size_t)k * sizeof(double));
-            if (!lean)      /* the lean loop kept its own (guarded) updates in w.J */
+            if (!lean) /* the lean loop kept its own (guarded) updates in w.J */
                 memcpy(w.J, d->J, (size_t)k * k * sizeof(double));
             have_prev = have_prev < 4 ? have_prev + 1 : 4;
         } else {
-            have_prev = have_prev > 0 ? 1 : 0;   /* no extrapolation across a failed point */
+            have_prev = have_prev > 0 ? 1 : 0; /* no extrapolation across a failed point */
         }
     }
     ws_free(&w);

@@ -37,21 +37,21 @@ extern "C" {
 #endif
 
 typedef struct tr_batch_in {
-    int n;                  /* number of points */
-    const double *value;    /* (n x nt) actuation value per tendon: q [m] (> 0 retracts) or
+    int n;                         /* number of points */
+    const double *value;           /* (n x nt) actuation value per tendon: q [m] (> 0 retracts) or
                                tau [N] (>= 0), per the base model's control modes; NULL: the
                                base model's values at every point */
-    const double *load;     /* (n x nl x 6) [F (3) N, M (3) N m], world frame, of every point
+    const double *load;            /* (n x nl x 6) [F (3) N, M (3) N m], world frame, of every point
                                load of the base model (positions stay the base model's);
                                NULL: the base model's loads */
-    const double *dist;     /* (n x 3) uniform distributed force, world frame [N/m]; NULL:
+    const double *dist;            /* (n x 3) uniform distributed force, world frame [N/m]; NULL:
                                the base model's */
-    int warm;               /* 1: warm-start each point from the previous converged one */
-    int retry_cold;         /* 1: a warm start that fails is retried cold (no guess) */
-    int predict;            /* 1: when a point continues the line through the last two
+    int warm;                      /* 1: warm-start each point from the previous converged one */
+    int retry_cold;                /* 1: a warm start that fails is retried cold (no guess) */
+    int predict;                   /* 1: when a point continues the line through the last two
                                converged points, start from the secant extrapolation of
                                their solutions instead of the last one */
-    int exact;              /* 1: reproduce a loop of tendonrod.solve(scene, guess=previous
+    int exact;                     /* 1: reproduce a loop of tendonrod.solve(scene, guess=previous
                                tip-only solution) bit for bit: the Python layer's guess map,
                                no predictor, no lean loop (every point runs tr_solve) */
     int skip_tension_displacement; /* 1: the lean loop skips the recording pass; the
@@ -61,17 +61,17 @@ typedef struct tr_batch_in {
 } tr_batch_in;
 
 typedef struct tr_batch_out {
-    double *tip_pos;        /* (n x 3) tip position, world [m] */
-    double *tip_rot;        /* (n x 9) tip rotation body-to-world, row-major */
-    double *tension;        /* (n x nt) tendon tension [N] */
-    double *slack;          /* (n x nt) tendon slack [m] */
-    double *displacement;   /* (n x nt) actuator displacement [m] */
-    double *residual;       /* (n) final scaled residual max-norm */
-    int *status;            /* (n) tr_solve status of the point (0 ok, > 0 caveat, < 0 failure) */
-    int *nit;               /* (n) iterations */
-    int *nfev;              /* (n) residual evaluations (integrations) */
-    int *cold;              /* (n) 1 if the point was solved without a guess; may be NULL */
-    char *message;          /* (n x msglen) the solver's message for every point whose status
+    double *tip_pos;      /* (n x 3) tip position, world [m] */
+    double *tip_rot;      /* (n x 9) tip rotation body-to-world, row-major */
+    double *tension;      /* (n x nt) tendon tension [N] */
+    double *slack;        /* (n x nt) tendon slack [m] */
+    double *displacement; /* (n x nt) actuator displacement [m] */
+    double *residual;     /* (n) final scaled residual max-norm */
+    int *status;          /* (n) tr_solve status of the point (0 ok, > 0 caveat, < 0 failure) */
+    int *nit;             /* (n) iterations */
+    int *nfev;            /* (n) residual evaluations (integrations) */
+    int *cold;            /* (n) 1 if the point was solved without a guess; may be NULL */
+    char *message;        /* (n x msglen) the solver's message for every point whose status
                                is not TR_OK (left untouched for TR_OK points); may be NULL */
     size_t msglen;
 } tr_batch_out;

@@ -12,19 +12,19 @@
 #include "tr_closed.h"
 
 extern inline int tr_closed_beam_ok(double L, double EI);
-extern inline double tr_closed_tension(double F, double z, double L, double EI,
-                                       double a, double b, double k);
-extern inline double tr_closed_angle_tau(double s, double F, double z, double L,
-                                         double EI, double a, double b, double tau);
-extern inline double tr_closed_deflection_tau(double s, double F, double z, double L,
-                                              double EI, double a, double b, double tau);
-extern inline double tr_closed_angle(double s, double F, double z, double L, double EI,
-                                     double a, double b, double k);
+extern inline double tr_closed_tension(double F, double z, double L, double EI, double a, double b,
+                                       double k);
+extern inline double tr_closed_angle_tau(double s, double F, double z, double L, double EI,
+                                         double a, double b, double tau);
+extern inline double tr_closed_deflection_tau(double s, double F, double z, double L, double EI,
+                                              double a, double b, double tau);
+extern inline double tr_closed_angle(double s, double F, double z, double L, double EI, double a,
+                                     double b, double k);
 extern inline double tr_closed_deflection(double s, double F, double z, double L, double EI,
                                           double a, double b, double k);
 extern inline double tr_closed_equivalent_stiffness(double k, double k_B);
 extern inline double tr_closed_pattern_factor(double n);
-extern inline double tr_closed_actuation_tension_for_angle(double theta_L, double L,
-                                                           double EI, double a, double b);
-extern inline double tr_closed_actuation_tension_for_deflection(double delta_L, double L,
-                                                                double EI, double a, double b);
+extern inline double tr_closed_actuation_tension_for_angle(double theta_L, double L, double EI,
+                                                           double a, double b);
+extern inline double tr_closed_actuation_tension_for_deflection(double delta_L, double L, double EI,
+                                                                double a, double b);

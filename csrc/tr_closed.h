@@ -51,8 +51,7 @@
 /* ---------------------------------------------------------------------- */
 
 /* 1 when (L, EI) is a valid beam: finite and positive (NaN fails). */
-inline int
-tr_closed_beam_ok(double L, double EI)
+inline int tr_closed_beam_ok(double L, double EI)
 {
     return L > 0.0 && L < INFINITY && EI > 0.0 && EI < INFINITY;
 }
@@ -74,22 +73,20 @@ tr_closed_beam_ok(double L, double EI)
  * Inputs: F [N], z [m] in [0, L], L [m], EI [N m^2], a [-], b [m],
  * k [N/m] in [0, inf].  Returns NaN outside the domain.
  */
-inline double
-tr_closed_tension(double F, double z, double L, double EI,
-                  double a, double b, double k)
+inline double tr_closed_tension(double F, double z, double L, double EI, double a, double b,
+                                double k)
 {
-    if (!(tr_closed_beam_ok(L, EI) && z >= 0.0 && z <= L && k >= 0.0)
-        || isnan(F) || isnan(a) || isnan(b))
+    if (!(tr_closed_beam_ok(L, EI) && z >= 0.0 && z <= L && k >= 0.0) || isnan(F) || isnan(a) ||
+        isnan(b))
         return NAN;
     {
         const double aL = a * L;
         const double h = aL + 1.5 * b;
-        const double Q = 2.0 * h * h + 1.5 * b * b;      /* [m^2] */
-        if (k == 0.0 || Q == 0.0)
-            return 0.0;                 /* no tendon stiffness, or no arm */
+        const double Q = 2.0 * h * h + 1.5 * b * b; /* [m^2] */
+        if (k == 0.0 || Q == 0.0) return 0.0;       /* no tendon stiffness, or no arm */
         {
-            const double N = z * z * (a * z + 3.0 * b);  /* [m^3] */
-            const double D = 6.0 * EI / k + L * Q;       /* [m^3]; k = inf: L Q */
+            const double N = z * z * (a * z + 3.0 * b); /* [m^3] */
+            const double D = 6.0 * EI / k + L * Q;      /* [m^3]; k = inf: L Q */
             return F * N / D;
         }
     }
@@ -110,12 +107,10 @@ tr_closed_tension(double F, double z, double L, double EI,
  * Checks only s in [0, L]; the caller has checked the rest (a NaN tau, as
  * tr_closed_tension returns outside its domain, propagates).
  */
-inline double
-tr_closed_angle_tau(double s, double F, double z, double L, double EI,
-                    double a, double b, double tau)
+inline double tr_closed_angle_tau(double s, double F, double z, double L, double EI, double a,
+                                  double b, double tau)
 {
-    if (!(s >= 0.0 && s <= L))
-        return NAN;
+    if (!(s >= 0.0 && s <= L)) return NAN;
     {
         const double m = s < z ? s : z;
         return (F * m * (2.0 * z - m) - tau * s * (a * s + 2.0 * b)) / (2.0 * EI);
@@ -134,20 +129,18 @@ tr_closed_angle_tau(double s, double F, double z, double L, double EI,
  *  s >= z: -(1/6 a tau s^3 + 1/2 b tau s^2 - 1/2 F z^2 s + 1/6 F z^3)/EI.)
  * Checks only s in [0, L], as tr_closed_angle_tau.
  */
-inline double
-tr_closed_deflection_tau(double s, double F, double z, double L, double EI,
-                         double a, double b, double tau)
+inline double tr_closed_deflection_tau(double s, double F, double z, double L, double EI, double a,
+                                       double b, double tau)
 {
-    if (!(s >= 0.0 && s <= L))
-        return NAN;
+    if (!(s >= 0.0 && s <= L)) return NAN;
     {
         /* 3M - m = 2m + 3|s - z|: one select (minsd) and a fabs instead of
          * a branch on s < z, which compilers emit for a min/max pair and
          * which is mispredicted half the time for unordered s.  Same
          * value to a rounding of |s - z|. */
         const double m = s < z ? s : z;
-        return (F * m * m * (2.0 * m + 3.0 * fabs(s - z)) - tau * s * s * (a * s + 3.0 * b))
-               / (6.0 * EI);
+        return (F * m * m * (2.0 * m + 3.0 * fabs(s - z)) - tau * s * s * (a * s + 3.0 * b)) /
+               (6.0 * EI);
     }
 }
 
@@ -156,18 +149,16 @@ tr_closed_deflection_tau(double s, double F, double z, double L, double EI,
 /* ---------------------------------------------------------------------- */
 
 /* theta(s) [rad], eq. 22 with tau from eq. 25.  NaN outside the domain. */
-inline double
-tr_closed_angle(double s, double F, double z, double L, double EI,
-                double a, double b, double k)
+inline double tr_closed_angle(double s, double F, double z, double L, double EI, double a, double b,
+                              double k)
 {
     const double tau = tr_closed_tension(F, z, L, EI, a, b, k);
     return tr_closed_angle_tau(s, F, z, L, EI, a, b, tau);
 }
 
 /* delta(s) [m], eq. 26 with tau from eq. 25.  NaN outside the domain. */
-inline double
-tr_closed_deflection(double s, double F, double z, double L, double EI,
-                     double a, double b, double k)
+inline double tr_closed_deflection(double s, double F, double z, double L, double EI, double a,
+                                   double b, double k)
 {
     const double tau = tr_closed_tension(F, z, L, EI, a, b, k);
     return tr_closed_deflection_tau(s, F, z, L, EI, a, b, tau);
@@ -186,14 +177,12 @@ tr_closed_deflection(double s, double F, double z, double L, double EI,
  * k = inf -> k_B, either 0 -> 0, both inf -> inf.
  * Domain: k, k_B in [0, inf]; else NaN.
  */
-inline double
-tr_closed_equivalent_stiffness(double k, double k_B)
+inline double tr_closed_equivalent_stiffness(double k, double k_B)
 {
-    if (!(k >= 0.0 && k_B >= 0.0))
-        return NAN;
+    if (!(k >= 0.0 && k_B >= 0.0)) return NAN;
     if (k < 1e150 && k_B < 1e150) {
         const double sum = k_B + k;
-        return sum > 0.0 ? k_B * k / sum : 0.0;     /* both 0: 0 */
+        return sum > 0.0 ? k_B * k / sum : 0.0; /* both 0: 0 */
     }
     {
         /* lo / (1 + lo/hi); where lo/hi < 2^-53 that rounds to lo, and
@@ -201,8 +190,7 @@ tr_closed_equivalent_stiffness(double k, double k_B)
          * hi = inf (and lo = hi = inf) exactly. */
         const double lo = k < k_B ? k : k_B;
         const double hi = k < k_B ? k_B : k;
-        if (lo <= hi * 0x1p-53)
-            return lo;
+        if (lo <= hi * 0x1p-53) return lo;
         return lo / (1.0 + lo / hi);
     }
 }
@@ -218,16 +206,13 @@ tr_closed_equivalent_stiffness(double k, double k_B)
  * bending plane), 1 for n = 1.  For n >= 3 the value does not depend on the
  * load direction.  Domain: n a positive integer (as a double); else NaN.
  */
-inline double
-tr_closed_pattern_factor(double n)
+inline double tr_closed_pattern_factor(double n)
 {
     /* Every double >= 2^52 is an integer; below it the round trip through a
      * 64-bit integer tests integrality without a libm call (floor). */
     const double two52 = 4503599627370496.0;
-    if (!(n >= 1.0 && n < INFINITY))
-        return NAN;
-    if (n < two52 && n != (double)(long long)n)
-        return NAN;
+    if (!(n >= 1.0 && n < INFINITY)) return NAN;
+    if (n < two52 && n != (double)(long long)n) return NAN;
     return n >= 3.0 ? 0.5 * n : n;
 }
 
@@ -247,16 +232,13 @@ tr_closed_pattern_factor(double n)
  * no tension bends the tip and the result is NaN (as outside the domain).
  * Domain: L, EI finite positive, theta_L, a, b not NaN.
  */
-inline double
-tr_closed_actuation_tension_for_angle(double theta_L, double L, double EI,
-                                      double a, double b)
+inline double tr_closed_actuation_tension_for_angle(double theta_L, double L, double EI, double a,
+                                                    double b)
 {
-    if (!tr_closed_beam_ok(L, EI) || isnan(theta_L))
-        return NAN;
+    if (!tr_closed_beam_ok(L, EI) || isnan(theta_L)) return NAN;
     {
-        const double arm = b + 0.5 * a * L;       /* [m] */
-        if (!(arm != 0.0))
-            return NAN;
+        const double arm = b + 0.5 * a * L; /* [m] */
+        if (!(arm != 0.0)) return NAN;
         return EI * theta_L / (L * arm);
     }
 }
@@ -271,16 +253,13 @@ tr_closed_actuation_tension_for_angle(double theta_L, double L, double EI,
  * eq. 40).  Where b/2 + a L/6 = 0 (a = -3b/L: the path crosses the centre
  * line at s = L/3) the result is NaN.  Domain as above.
  */
-inline double
-tr_closed_actuation_tension_for_deflection(double delta_L, double L, double EI,
-                                           double a, double b)
+inline double tr_closed_actuation_tension_for_deflection(double delta_L, double L, double EI,
+                                                         double a, double b)
 {
-    if (!tr_closed_beam_ok(L, EI) || isnan(delta_L))
-        return NAN;
+    if (!tr_closed_beam_ok(L, EI) || isnan(delta_L)) return NAN;
     {
-        const double arm = 0.5 * b + (1.0 / 6.0) * a * L;  /* [m] */
-        if (!(arm != 0.0))
-            return NAN;
+        const double arm = 0.5 * b + (1.0 / 6.0) * a * L; /* [m] */
+        if (!(arm != 0.0)) return NAN;
         return EI * delta_L / (L * L * arm);
     }
 }

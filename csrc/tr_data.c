@@ -14,8 +14,7 @@
 
 void tr_data_free(tr_data *d)
 {
-    if (!d)
-        return;
+    if (!d) return;
     free(d->x);
     free(d->J);
     if (d->LU) gsl_matrix_free(d->LU);
@@ -48,22 +47,28 @@ static void dmsg(char *msg, size_t len, const char *fmt, ...)
     va_end(ap);
 }
 
-tr_data *tr_data_alloc(const tr_model *m, const tr_options *opt, int nnode,
-                       const double *node_s, char *msg, size_t msglen)
+tr_data *tr_data_alloc(const tr_model *m, const tr_options *opt, int nnode, const double *node_s,
+                       char *msg, size_t msglen)
 {
     tr_data *d;
     int k, nsr, nt, i, nn;
     double *scale = NULL;
 
     if (msg && msglen) msg[0] = '\0';
-    if (!m || !opt) { dmsg(msg, msglen, "tr_data_alloc: NULL model or options"); return NULL; }
+    if (!m || !opt) {
+        dmsg(msg, msglen, "tr_data_alloc: NULL model or options");
+        return NULL;
+    }
     if (opt->integrator < TR_RK4 || opt->integrator > TR_ADAPTIVE || opt->steps < 0 ||
         !(opt->tol > 0.0) || !(opt->rtol > 0.0) || opt->max_iter < 0 || opt->max_nfev < 1 ||
-        opt->max_continuation < 0 || opt->steps > TR_MAX_STEPS || (opt->jacobian_method < TR_JAC_FD || opt->jacobian_method > TR_JAC_HYBRID) ||
+        opt->max_continuation < 0 || opt->steps > TR_MAX_STEPS ||
+        (opt->jacobian_method < TR_JAC_FD || opt->jacobian_method > TR_JAC_HYBRID) ||
         (opt->slack_model != TR_SLACK_LINEAR && opt->slack_model != TR_SLACK_SQUARED)) {
-        dmsg(msg, msglen, "invalid solver options (integrator %d, steps %d (max %d), tol %g, rtol %g, "
-             "max_iter %d, max_nfev %d, max_continuation %d)", opt->integrator, opt->steps, TR_MAX_STEPS,
-             opt->tol, opt->rtol, opt->max_iter, opt->max_nfev, opt->max_continuation);
+        dmsg(msg, msglen,
+             "invalid solver options (integrator %d, steps %d (max %d), tol %g, rtol %g, "
+             "max_iter %d, max_nfev %d, max_continuation %d)",
+             opt->integrator, opt->steps, TR_MAX_STEPS, opt->tol, opt->rtol, opt->max_iter,
+             opt->max_nfev, opt->max_continuation);
         return NULL;
     }
     if (!node_s && !opt->tip_only && nnode < 2) {
@@ -71,16 +76,23 @@ tr_data *tr_data_alloc(const tr_model *m, const tr_options *opt, int nnode,
         return NULL;
     }
     if (node_s) {
-        if (nnode < 1) { dmsg(msg, msglen, "nodes must not be empty"); return NULL; }
+        if (nnode < 1) {
+            dmsg(msg, msglen, "nodes must not be empty");
+            return NULL;
+        }
         for (i = 0; i < nnode; i++)
             if (!(node_s[i] >= 0.0 && node_s[i] <= m->L * (1.0 + 1e-12)) ||
                 (i > 0 && node_s[i] < node_s[i - 1])) {
-                dmsg(msg, msglen, "nodes[%d] = %g must be sorted and within [0, L = %g]", i, node_s[i], m->L);
+                dmsg(msg, msglen, "nodes[%d] = %g must be sorted and within [0, L = %g]", i,
+                     node_s[i], m->L);
                 return NULL;
             }
     }
     d = (tr_data *)calloc(1, sizeof *d);
-    if (!d) { dmsg(msg, msglen, "out of memory"); return NULL; }
+    if (!d) {
+        dmsg(msg, msglen, "out of memory");
+        return NULL;
+    }
     d->model = m;
     d->opt = *opt;
     k = d->k = m->n_unknowns;
@@ -97,14 +109,28 @@ tr_data *tr_data_alloc(const tr_model *m, const tr_options *opt, int nnode,
     d->lin = (double *)calloc((size_t)(2 * m->ndisp * m->ndisp + 3 * m->ndisp + 1), sizeof(double));
     d->lin_act = (int *)calloc((size_t)(2 * m->ndisp + 1), sizeof(int));
     d->bp_pose = (double *)calloc((size_t)12 * (m->nseg + 1), sizeof(double));
-    if (!d->bp_pose || !d->lin || !d->lin_act || !d->x || !d->J || !d->LU || !d->perm || !d->tau || !d->y || !d->Yx)
+    if (!d->bp_pose || !d->lin || !d->lin_act || !d->x || !d->J || !d->LU || !d->perm || !d->tau ||
+        !d->y || !d->Yx)
         goto nomem;
-    d->f = d->x + k; d->xt = d->x + 2 * k; d->ft = d->x + 3 * k; d->dx = d->x + 4 * k;
-    d->xs = d->x + 5 * k; d->xp = d->x + 6 * k; d->fs = d->x + 7 * k; d->work = d->x + 8 * k;
+    d->f = d->x + k;
+    d->xt = d->x + 2 * k;
+    d->ft = d->x + 3 * k;
+    d->dx = d->x + 4 * k;
+    d->xs = d->x + 5 * k;
+    d->xp = d->x + 6 * k;
+    d->fs = d->x + 7 * k;
+    d->work = d->x + 8 * k;
     d->beta = d->tau + nt;
-    d->tension = d->tau + 2 * nt; d->slack = d->tau + 3 * nt; d->displacement = d->tau + 4 * nt;
-    d->k1 = d->y + nsr; d->k2 = d->y + 2 * nsr; d->k3 = d->y + 3 * nsr; d->k4 = d->y + 4 * nsr;
-    d->yt = d->y + 5 * nsr; d->yerr = d->y + 6 * nsr; d->ysave = d->y + 7 * nsr;
+    d->tension = d->tau + 2 * nt;
+    d->slack = d->tau + 3 * nt;
+    d->displacement = d->tau + 4 * nt;
+    d->k1 = d->y + nsr;
+    d->k2 = d->y + 2 * nsr;
+    d->k3 = d->y + 3 * nsr;
+    d->k4 = d->y + 4 * nsr;
+    d->yt = d->y + 5 * nsr;
+    d->yerr = d->y + 6 * nsr;
+    d->ysave = d->y + 7 * nsr;
     d->Fp = d->Yx + 6 * k;
 
     if (opt->jacobian_method == TR_JAC_HYBRID) {
@@ -112,23 +138,24 @@ tr_data *tr_data_alloc(const tr_model *m, const tr_options *opt, int nnode,
         if (!d->hyb) goto nomem;
     }
     /* ODE systems and steppers (both layouts) */
-    d->sys_shoot.function = tr_rhs; d->sys_shoot.jacobian = NULL;
-    d->sys_shoot.dimension = (size_t)m->n_states; d->sys_shoot.params = d;
+    d->sys_shoot.function = tr_rhs;
+    d->sys_shoot.jacobian = NULL;
+    d->sys_shoot.dimension = (size_t)m->n_states;
+    d->sys_shoot.params = d;
     d->sys_rec = d->sys_shoot;
     d->sys_rec.dimension = (size_t)nsr;
     d->rk8_shoot = gsl_odeiv2_step_alloc(gsl_odeiv2_step_rk8pd, m->n_states);
     d->rk8_rec = gsl_odeiv2_step_alloc(gsl_odeiv2_step_rk8pd, nsr);
-    if (!d->rk8_shoot || !d->rk8_rec)
-        goto nomem;
+    if (!d->rk8_shoot || !d->rk8_rec) goto nomem;
     if (opt->integrator == TR_ADAPTIVE) {
         scale = (double *)malloc((size_t)nsr * sizeof(double));
         if (!scale) goto nomem;
-        for (i = 0; i < nsr; i++)
-            scale[i] = i < m->n_base ? m->xstate_scale[i] : m->L;
+        for (i = 0; i < nsr; i++) scale[i] = i < m->n_base ? m->xstate_scale[i] : m->L;
         d->ad_step_shoot = gsl_odeiv2_step_alloc(gsl_odeiv2_step_rk8pd, m->n_states);
         d->ad_step_rec = gsl_odeiv2_step_alloc(gsl_odeiv2_step_rk8pd, nsr);
         /* error per component <= rtol * (scale_i + |y_i|) */
-        d->ad_ctl_shoot = gsl_odeiv2_control_scaled_new(opt->rtol, opt->rtol, 1.0, 0.0, scale, m->n_states);
+        d->ad_ctl_shoot =
+            gsl_odeiv2_control_scaled_new(opt->rtol, opt->rtol, 1.0, 0.0, scale, m->n_states);
         d->ad_ctl_rec = gsl_odeiv2_control_scaled_new(opt->rtol, opt->rtol, 1.0, 0.0, scale, nsr);
         d->ad_ev_shoot = gsl_odeiv2_evolve_alloc(m->n_states);
         d->ad_ev_rec = gsl_odeiv2_evolve_alloc(nsr);
@@ -145,12 +172,15 @@ tr_data *tr_data_alloc(const tr_model *m, const tr_options *opt, int nnode,
     } else if (node_s) {
         nn = nnode;
     } else {
-        nn = nnode + 2 * (m->nseg - 1);   /* upper bound; the merge sets the count */
+        nn = nnode + 2 * (m->nseg - 1); /* upper bound; the merge sets the count */
     }
     d->nnode = nn;
     d->s = (double *)calloc((size_t)nn * 19, sizeof(double));
     if (!d->s) goto nomem;
-    d->pos = d->s + nn; d->rot = d->s + 4 * nn; d->force = d->s + 13 * nn; d->moment = d->s + 16 * nn;
+    d->pos = d->s + nn;
+    d->rot = d->s + 4 * nn;
+    d->force = d->s + 13 * nn;
+    d->moment = d->s + 16 * nn;
     if (opt->tip_only) {
         d->s[0] = m->L;
     } else if (node_s) {
@@ -161,7 +191,9 @@ tr_data *tr_data_alloc(const tr_model *m, const tr_options *opt, int nnode,
 
         int iu = 0, ib = 1, o = 0;
         while ((iu < nnode || ib < m->nseg) && o < nn) {
-            const double su = iu < nnode ? (iu == nnode - 1 ? m->L : m->L * ((double)iu / (nnode - 1))) : INFINITY;
+            const double su = iu < nnode
+                                  ? (iu == nnode - 1 ? m->L : m->L * ((double)iu / (nnode - 1)))
+                                  : INFINITY;
             const double sb = ib < m->nseg ? m->bp[ib] : INFINITY;
             if (ib < m->nseg && sb <= su && o + 2 <= nn) {
                 d->s[o++] = sb;
@@ -169,7 +201,8 @@ tr_data *tr_data_alloc(const tr_model *m, const tr_options *opt, int nnode,
                 ib++;
                 if (fabs(su - sb) <= 1e-12 * m->L) iu++;
             } else if (iu < nnode) {
-                d->s[o++] = su; iu++;
+                d->s[o++] = su;
+                iu++;
             } else {
                 break;
             }

@@ -26,8 +26,7 @@ static int all_finite(const double *y, int n)
 {
     int i;
     for (i = 0; i < n; i++)
-        if (!isfinite(y[i]))
-            return 0;
+        if (!isfinite(y[i])) return 0;
     return 1;
 }
 
@@ -45,8 +44,7 @@ static int rk4(const tr_model *m, tr_data *d, double s0, double s1, int n, doubl
         if (tr_rhs(s + 0.5 * h, yt, k3, d) != GSL_SUCCESS) return TR_ENONFINITE;
         for (j = 0; j < dim; j++) yt[j] = y[j] + h * k3[j];
         if (tr_rhs(s + h, yt, k4, d) != GSL_SUCCESS) return TR_ENONFINITE;
-        for (j = 0; j < dim; j++)
-            y[j] += h / 6.0 * (k1[j] + 2.0 * (k2[j] + k3[j]) + k4[j]);
+        for (j = 0; j < dim; j++) y[j] += h / 6.0 * (k1[j] + 2.0 * (k2[j] + k3[j]) + k4[j]);
     }
     return TR_OK;
 }
@@ -55,12 +53,9 @@ int tr_integrate(const tr_model *m, tr_data *d, double s0, double s1, int nsteps
 {
     const int dim = d->rec ? m->n_states_rec : m->n_states;
     int status = TR_OK;
-    if (!(s1 > s0))
-        return TR_OK;
+    if (!(s1 > s0)) return TR_OK;
     switch (d->opt.integrator) {
-    case TR_RK4:
-        status = rk4(m, d, s0, s1, nsteps, y, dim);
-        break;
+    case TR_RK4: status = rk4(m, d, s0, s1, nsteps, y, dim); break;
     case TR_RK8: {
         gsl_odeiv2_step *st = d->rec ? d->rk8_rec : d->rk8_shoot;
         const gsl_odeiv2_system *sys = d->rec ? &d->sys_rec : &d->sys_shoot;
@@ -88,15 +83,19 @@ int tr_integrate(const tr_model *m, tr_data *d, double s0, double s1, int nsteps
         gsl_odeiv2_step_reset(st);
         while (s < s1) {
             const int gs = gsl_odeiv2_evolve_apply(ev, ctl, st, sys, &s, s1, &h, y);
-            if (gs != GSL_SUCCESS) { status = TR_EINTEGRATOR; break; }
-            if (++count > max_steps) { status = TR_EINTEGRATOR; break; }
+            if (gs != GSL_SUCCESS) {
+                status = TR_EINTEGRATOR;
+                break;
+            }
+            if (++count > max_steps) {
+                status = TR_EINTEGRATOR;
+                break;
+            }
         }
         break;
     }
-    default:
-        status = TR_EINVAL;
+    default: status = TR_EINVAL;
     }
-    if (status == TR_OK && !all_finite(y, dim))
-        status = TR_ENONFINITE;
+    if (status == TR_OK && !all_finite(y, dim)) status = TR_ENONFINITE;
     return status;
 }

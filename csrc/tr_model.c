@@ -47,8 +47,7 @@ tr_options tr_default_options(void)
 static void msgf(char *msg, size_t len, const char *fmt, ...)
 {
     va_list ap;
-    if (!msg || len == 0)
-        return;
+    if (!msg || len == 0) return;
     va_start(ap, fmt);
     vsnprintf(msg, len, fmt, ap);
     va_end(ap);
@@ -56,8 +55,7 @@ static void msgf(char *msg, size_t len, const char *fmt, ...)
 
 void tr_model_free(tr_model *m)
 {
-    if (!m)
-        return;
+    if (!m) return;
     free(m->tendon);
     free(m->load);
     free(m->bp);
@@ -82,7 +80,10 @@ static int find_bp(const tr_model *m, double s)
     double dmin = INFINITY;
     for (k = 0; k <= m->nseg; k++) {
         const double dd = fabs(m->bp[k] - s);
-        if (dd < dmin) { dmin = dd; best = k; }
+        if (dd < dmin) {
+            dmin = dd;
+            best = k;
+        }
     }
     return best;
 }
@@ -97,11 +98,9 @@ static int set_rest_lengths(tr_model *m, char *msg, size_t msglen)
         t->sref = t->t * sqrt(1.0 + t->a * t->a);
         t->rest = t->sref;
         t->rest_dev = 0.0;
-        if (t->pretension != 0.0)
-            any = 1;
+        if (t->pretension != 0.0) any = 1;
     }
-    if (!any)
-        return TR_OK;
+    if (!any) return TR_OK;
     /* balance on every segment (checked at both ends: r is linear in s) */
     for (k = 0; k < m->nseg; k++) {
         int e;
@@ -120,7 +119,8 @@ static int set_rest_lengths(tr_model *m, char *msg, size_t msglen)
                 msgf(msg, msglen,
                      "pretension is not balanced: sum of pretension*r(s) = (%.6g, %.6g) N m at "
                      "s = %.6g m; pretension is only meaningful for a balanced set of tendons "
-                     "(e.g. equal pretension on equally spaced tendons)", sx, sy, s);
+                     "(e.g. equal pretension on equally spaced tendons)",
+                     sx, sy, s);
                 return TR_EPRETENSION;
             }
         }
@@ -129,8 +129,7 @@ static int set_rest_lengths(tr_model *m, char *msg, size_t msglen)
         int compliant = !m->kirchhoff;
         for (i = 0; i < m->nt; i++) {
             const tr_tendon *t = &m->tendon[i];
-            if (t->pretension != 0.0 && isfinite(t->EA))
-                compliant = 1;
+            if (t->pretension != 0.0 && isfinite(t->EA)) compliant = 1;
         }
         if (!compliant) {
             msgf(msg, msglen,
@@ -145,14 +144,14 @@ static int set_rest_lengths(tr_model *m, char *msg, size_t msglen)
         tr_tendon *t = &m->tendon[i];
         double len = 0.0;
         if (t->pretension < 0.0) {
-            msgf(msg, msglen, "tendon %d: pretension = %g N must be >= 0 (a tendon cannot push)",
-                 i, t->pretension);
+            msgf(msg, msglen, "tendon %d: pretension = %g N must be >= 0 (a tendon cannot push)", i,
+                 t->pretension);
             return TR_EINVAL;
         }
         /* len - sref accumulated without cancellation: per segment
          * sqrt(a^2 + v3^2) - c = (v3^2 - 1) / (sqrt(a^2 + v3^2) + c), v3^2 - 1 = e (2 + e) */
         for (k = 0; k < t->end_bp; k++) {
-            double e = 0.0;   /* v3 - 1 */
+            double e = 0.0; /* v3 - 1 */
             const double c = sqrt(1.0 + t->a * t->a);
             if (!m->kirchhoff) {
                 /* straight state: n3 = -sum tau_p v3 / |w|, |w| = sqrt(a^2 + v3^2);
@@ -163,15 +162,19 @@ static int set_rest_lengths(tr_model *m, char *msg, size_t msglen)
                     int cc;
                     for (cc = m->seg_act_start[k]; cc < m->seg_act_start[k + 1]; cc++) {
                         const tr_tendon *tc = &m->tendon[m->seg_act[cc]];
-                        n3 -= tc->pretension * (1.0 + e) / sqrt(tc->a * tc->a + (1.0 + e) * (1.0 + e));
+                        n3 -= tc->pretension * (1.0 + e) /
+                              sqrt(tc->a * tc->a + (1.0 + e) * (1.0 + e));
                     }
                     en = n3 / m->EA;
-                    if (fabs(en - e) <= 1e-18) { e = en; break; }
+                    if (fabs(en - e) <= 1e-18) {
+                        e = en;
+                        break;
+                    }
                     e = en;
                 }
             }
-            len += (m->bp[k + 1] - m->bp[k]) * e * (2.0 + e)
-                   / (sqrt(t->a * t->a + (1.0 + e) * (1.0 + e)) + c);
+            len += (m->bp[k + 1] - m->bp[k]) * e * (2.0 + e) /
+                   (sqrt(t->a * t->a + (1.0 + e) * (1.0 + e)) + c);
         }
         /* rest = (sref + len) / (1 + tau_p/EA);  rest - sref = (len - sref tau_p/EA) / (1 + tau_p/EA) */
         {
@@ -191,44 +194,52 @@ static int check_indeterminate(const tr_model *m, char *msg, size_t msglen)
 {
     int i, j, l, n = 0;
     int idx[64];
-    if (!m->kirchhoff)
-        return TR_OK;
+    if (!m->kirchhoff) return TR_OK;
     for (i = 0; i < m->nt && n < 64; i++) {
         const tr_tendon *t = &m->tendon[i];
-        if (t->control == TR_DISPLACEMENT && !isfinite(t->EA))
-            idx[n++] = i;
+        if (t->control == TR_DISPLACEMENT && !isfinite(t->EA)) idx[n++] = i;
     }
     for (i = 0; i < n; i++)
         for (j = i + 1; j < n; j++) {
             const tr_tendon *ti = &m->tendon[idx[i]], *tj = &m->tendon[idx[j]];
-            const double gi[4] = {ti->b * ti->cphi, ti->b * ti->sphi, ti->a * ti->cphi, ti->a * ti->sphi};
-            const double gj[4] = {tj->b * tj->cphi, tj->b * tj->sphi, tj->a * tj->cphi, tj->a * tj->sphi};
+            const double gi[4] = {ti->b * ti->cphi, ti->b * ti->sphi, ti->a * ti->cphi,
+                                  ti->a * ti->sphi};
+            const double gj[4] = {tj->b * tj->cphi, tj->b * tj->sphi, tj->a * tj->cphi,
+                                  tj->a * tj->sphi};
             double gg = 0, gij = 0, ni = 0, res = 0, mu, ncomb;
             int q;
             double c[3] = {1.0, 0.0, 0.0};
             int found = 0, third = -1;
-            if (ti->end_bp != tj->end_bp)
-                continue;
-            for (q = 0; q < 4; q++) { gg += gj[q] * gj[q]; gij += gi[q] * gj[q]; ni += gi[q] * gi[q]; }
+            if (ti->end_bp != tj->end_bp) continue;
+            for (q = 0; q < 4; q++) {
+                gg += gj[q] * gj[q];
+                gij += gi[q] * gj[q];
+                ni += gi[q] * gi[q];
+            }
             if (gg > 0.0) {
                 mu = -gij / gg;
                 for (q = 0; q < 4; q++) res += (gi[q] + mu * gj[q]) * (gi[q] + mu * gj[q]);
-                if (mu > 0.0 && res <= 1e-20 * ni) { found = 1; c[1] = mu; }
+                if (mu > 0.0 && res <= 1e-20 * ni) {
+                    found = 1;
+                    c[1] = mu;
+                }
             }
             for (l = j + 1; l < n && !found; l++) {
                 /* gi + c1 gj + c2 gl = 0 with c1, c2 > 0 (least squares, 2x2 normal eqs) */
                 const tr_tendon *tl = &m->tendon[idx[l]];
-                const double gl[4] = {tl->b * tl->cphi, tl->b * tl->sphi, tl->a * tl->cphi, tl->a * tl->sphi};
+                const double gl[4] = {tl->b * tl->cphi, tl->b * tl->sphi, tl->a * tl->cphi,
+                                      tl->a * tl->sphi};
                 double a11 = 0, a12 = 0, a22 = 0, r1 = 0, r2 = 0, det, c1, c2, rr = 0;
-                if (tl->end_bp != ti->end_bp)
-                    continue;
+                if (tl->end_bp != ti->end_bp) continue;
                 for (q = 0; q < 4; q++) {
-                    a11 += gj[q] * gj[q]; a12 += gj[q] * gl[q]; a22 += gl[q] * gl[q];
-                    r1 -= gj[q] * gi[q]; r2 -= gl[q] * gi[q];
+                    a11 += gj[q] * gj[q];
+                    a12 += gj[q] * gl[q];
+                    a22 += gl[q] * gl[q];
+                    r1 -= gj[q] * gi[q];
+                    r2 -= gl[q] * gi[q];
                 }
                 det = a11 * a22 - a12 * a12;
-                if (!(fabs(det) > 1e-30 * (a11 * a22 + 1e-300)))
-                    continue;
+                if (!(fabs(det) > 1e-30 * (a11 * a22 + 1e-300))) continue;
                 c1 = (a22 * r1 - a12 * r2) / det;
                 c2 = (a11 * r2 - a12 * r1) / det;
                 for (q = 0; q < 4; q++) {
@@ -236,11 +247,13 @@ static int check_indeterminate(const tr_model *m, char *msg, size_t msglen)
                     rr += e * e;
                 }
                 if (c1 > 0.0 && c2 > 0.0 && rr <= 1e-20 * ni) {
-                    found = 1; c[1] = c1; c[2] = c2; third = l;
+                    found = 1;
+                    c[1] = c1;
+                    c[2] = c2;
+                    third = l;
                 }
             }
-            if (!found)
-                continue;
+            if (!found) continue;
             {
                 double Q = c[0] * ti->value + c[1] * tj->value, csum = c[0] + c[1];
                 char names[64];
@@ -258,14 +271,16 @@ static int check_indeterminate(const tr_model *m, char *msg, size_t msglen)
                          "backbone and their displacements retract them together (weighted sum "
                          "%.6g m > 0), which would need the backbone to shorten; release one of "
                          "them, or give the tendons a finite EA or the backbone an extension "
-                         "stiffness", names, Q / csum);
+                         "stiffness",
+                         names, Q / csum);
                     return TR_ENOEQUILIBRIUM;
                 }
                 if (Q >= -ncomb) {
                     msgf(msg, msglen,
                          "statically indeterminate: opposing inextensible tendons on an "
                          "inextensible backbone (%s; their common tension level is free); give "
-                         "the tendons a finite EA or the backbone an extension stiffness", names);
+                         "the tendons a finite EA or the backbone an extension stiffness",
+                         names);
                     return TR_EINDETERMINATE;
                 }
             }
@@ -274,8 +289,8 @@ static int check_indeterminate(const tr_model *m, char *msg, size_t msglen)
 }
 
 int tr_model_alloc(tr_model **out, const double rod[6], const double *tendons, int nt,
-                   const double *loads, int nl, const double dist[3],
-                   const tr_options *opt, char *msg, size_t msglen)
+                   const double *loads, int nl, const double dist[3], const tr_options *opt,
+                   char *msg, size_t msglen)
 {
     tr_model *m = NULL;
     double *cand = NULL;
@@ -289,7 +304,8 @@ int tr_model_alloc(tr_model **out, const double rod[6], const double *tendons, i
         return TR_EINVAL;
     }
     {
-        const char *names[6] = {"rod length L", "rod EI", "rod GJ", "rod EA", "rod GA", "rod kirchhoff"};
+        const char *names[6] = {"rod length L", "rod EI", "rod GJ",
+                                "rod EA",       "rod GA", "rod kirchhoff"};
         for (i = 0; i < 5; i++) {
             /* EA, GA may be inf for a Kirchhoff rod only */
             const int may_inf = (i >= 3 && rod[5] != 0.0);
@@ -300,11 +316,14 @@ int tr_model_alloc(tr_model **out, const double rod[6], const double *tendons, i
         }
         /* scales EI/L^2, EI/L and the stiffness ratios must stay normal doubles */
         if (rod[0] > 1e100 || rod[0] < 1e-100 || rod[1] > 1e100 || rod[1] < 1e-100 ||
-            rod[2] > 1e100 || rod[2] < 1e-100 || (isfinite(rod[3]) && (rod[3] > 1e150 || rod[3] < 1e-100)) ||
+            rod[2] > 1e100 || rod[2] < 1e-100 ||
+            (isfinite(rod[3]) && (rod[3] > 1e150 || rod[3] < 1e-100)) ||
             (isfinite(rod[4]) && (rod[4] > 1e150 || rod[4] < 1e-100))) {
-            msgf(msg, msglen, "rod values out of range: L = %g m, EI = %g, GJ = %g N m^2, EA = %g, GA = %g N "
+            msgf(msg, msglen,
+                 "rod values out of range: L = %g m, EI = %g, GJ = %g N m^2, EA = %g, GA = %g N "
                  "(L, EI, GJ within [1e-100, 1e100]; EA, GA within [1e-100, 1e150] or inf for a "
-                 "Kirchhoff rod)", rod[0], rod[1], rod[2], rod[3], rod[4]);
+                 "Kirchhoff rod)",
+                 rod[0], rod[1], rod[2], rod[3], rod[4]);
             return TR_EINVAL;
         }
         if (rod[5] != 0.0 && rod[5] != 1.0) {
@@ -319,51 +338,77 @@ int tr_model_alloc(tr_model **out, const double rod[6], const double *tendons, i
         }
 
     m = (tr_model *)calloc(1, sizeof *m);
-    if (!m) { status = TR_ENOMEM; goto fail; }
-    m->L = rod[0]; m->EI = rod[1]; m->GJ = rod[2]; m->EA = rod[3]; m->GA = rod[4];
+    if (!m) {
+        status = TR_ENOMEM;
+        goto fail;
+    }
+    m->L = rod[0];
+    m->EI = rod[1];
+    m->GJ = rod[2];
+    m->EA = rod[3];
+    m->GA = rod[4];
     m->kirchhoff = rod[5] != 0.0;
     m->nt = nt;
     m->nl = nl;
     m->tendon = (tr_tendon *)calloc(nt > 0 ? nt : 1, sizeof(tr_tendon));
     m->load = (double *)calloc(nl > 0 ? 7 * nl : 1, sizeof(double));
-    if (!m->tendon || !m->load) { status = TR_ENOMEM; goto fail; }
+    if (!m->tendon || !m->load) {
+        status = TR_ENOMEM;
+        goto fail;
+    }
 
     for (i = 0; i < nt; i++) {
         const double *row = tendons + 8 * i;
         tr_tendon *t = &m->tendon[i];
-        static const char *col[8] = {"offset", "angle", "slope", "EA", "end", "control", "value", "pretension"};
+        static const char *col[8] = {"offset", "angle",   "slope", "EA",
+                                     "end",    "control", "value", "pretension"};
         int c;
         for (c = 0; c < 8; c++)
             if (isnan(row[c]) || (c != 3 && !isfinite(row[c]))) {
                 msgf(msg, msglen, "tendons[%d] %s = %g must be finite", i, col[c], row[c]);
-                status = TR_EINVAL; goto fail;
+                status = TR_EINVAL;
+                goto fail;
             }
-        t->b = row[0]; t->phi = row[1]; t->a = row[2]; t->EA = row[3]; t->t = row[4];
-        t->value = row[6]; t->pretension = row[7];   /* control: set once validated below */
-        if (!(t->EA > 0.0) || (isfinite(t->EA) && (t->EA < TR_TENDON_EA_MIN || t->EA > TR_TENDON_EA_MAX))) {
-            msgf(msg, msglen, "tendons[%d] EA = %g must lie in [%g, %g] N, or be inf (inextensible)",
-                 i, t->EA, TR_TENDON_EA_MIN, TR_TENDON_EA_MAX);
-            status = TR_EINVAL; goto fail;
+        t->b = row[0];
+        t->phi = row[1];
+        t->a = row[2];
+        t->EA = row[3];
+        t->t = row[4];
+        t->value = row[6];
+        t->pretension = row[7]; /* control: set once validated below */
+        if (!(t->EA > 0.0) ||
+            (isfinite(t->EA) && (t->EA < TR_TENDON_EA_MIN || t->EA > TR_TENDON_EA_MAX))) {
+            msgf(msg, msglen,
+                 "tendons[%d] EA = %g must lie in [%g, %g] N, or be inf (inextensible)", i, t->EA,
+                 TR_TENDON_EA_MIN, TR_TENDON_EA_MAX);
+            status = TR_EINVAL;
+            goto fail;
         }
         if (!(t->t > 0.0) || t->t > m->L * (1.0 + TR_BP_MERGE)) {
             msgf(msg, msglen, "tendons[%d] end = %g m must lie in (0, L = %g]", i, t->t, m->L);
-            status = TR_EINVAL; goto fail;
+            status = TR_EINVAL;
+            goto fail;
         }
         if (t->t > m->L) t->t = m->L;
         /* compared as a double first: converting an out-of-range double to int is
          * undefined behaviour (finding F17) */
         if (row[5] != 0.0 && row[5] != 1.0) {
-            msgf(msg, msglen, "tendons[%d] control = %g must be 0 (displacement) or 1 (tension)", i, row[5]);
-            status = TR_EINVAL; goto fail;
+            msgf(msg, msglen, "tendons[%d] control = %g must be 0 (displacement) or 1 (tension)", i,
+                 row[5]);
+            status = TR_EINVAL;
+            goto fail;
         }
         t->control = row[5] == 1.0 ? TR_TENSION : TR_DISPLACEMENT;
         if (t->control == TR_TENSION && t->value < 0.0) {
-            msgf(msg, msglen, "tendons[%d] tension = %g N must be >= 0 (a tendon cannot push)", i, t->value);
-            status = TR_EINVAL; goto fail;
+            msgf(msg, msglen, "tendons[%d] tension = %g N must be >= 0 (a tendon cannot push)", i,
+                 t->value);
+            status = TR_EINVAL;
+            goto fail;
         }
         if (t->pretension < 0.0) {
             msgf(msg, msglen, "tendons[%d] pretension = %g N must be >= 0", i, t->pretension);
-            status = TR_EINVAL; goto fail;
+            status = TR_EINVAL;
+            goto fail;
         }
         {
             const double rb = fabs(t->b), re = fabs(t->a * t->t + t->b);
@@ -376,8 +421,12 @@ int tr_model_alloc(tr_model **out, const double rod[6], const double *tendons, i
         t->sphi = sin(t->phi);
         {
             const double h = sqrt(1.0 + t->a * t->a);
-            t->t0[0] = t->a * t->cphi / h; t->t0[1] = t->a * t->sphi / h; t->t0[2] = 1.0 / h;
-            t->rt0[0] = t->b * t->sphi / h; t->rt0[1] = -t->b * t->cphi / h; t->rt0[2] = 0.0;
+            t->t0[0] = t->a * t->cphi / h;
+            t->t0[1] = t->a * t->sphi / h;
+            t->t0[2] = 1.0 / h;
+            t->rt0[0] = t->b * t->sphi / h;
+            t->rt0[1] = -t->b * t->cphi / h;
+            t->rt0[2] = 0.0;
         }
         if (t->control == TR_DISPLACEMENT) {
             t->gamma_index = ndisp;
@@ -394,11 +443,13 @@ int tr_model_alloc(tr_model **out, const double rod[6], const double *tendons, i
         for (c = 0; c < 7; c++)
             if (!isfinite(row[c])) {
                 msgf(msg, msglen, "loads[%d][%d] = %g must be finite", i, c, row[c]);
-                status = TR_EINVAL; goto fail;
+                status = TR_EINVAL;
+                goto fail;
             }
         if (row[0] < 0.0 || row[0] > m->L * (1.0 + TR_BP_MERGE)) {
             msgf(msg, msglen, "loads[%d] s = %g m must lie in [0, L = %g]", i, row[0], m->L);
-            status = TR_EINVAL; goto fail;
+            status = TR_EINVAL;
+            goto fail;
         }
         memcpy(m->load + 7 * i, row, 7 * sizeof(double));
         if (m->load[7 * i] > m->L) m->load[7 * i] = m->L;
@@ -410,11 +461,15 @@ int tr_model_alloc(tr_model **out, const double rod[6], const double *tendons, i
     if (opt->shooting_segments < 1 || opt->shooting_segments > TR_MAX_SHOOTING_SEGMENTS) {
         msgf(msg, msglen, "shooting_segments = %d must lie in [1, %d]", opt->shooting_segments,
              TR_MAX_SHOOTING_SEGMENTS);
-        status = TR_EINVAL; goto fail;
+        status = TR_EINVAL;
+        goto fail;
     }
     m->nshoot = opt->shooting_segments;
     cand = (double *)malloc((size_t)(nt + nl + 2 + m->nshoot) * sizeof(double));
-    if (!cand) { status = TR_ENOMEM; goto fail; }
+    if (!cand) {
+        status = TR_ENOMEM;
+        goto fail;
+    }
     cand[nc++] = 0.0;
     cand[nc++] = m->L;
     for (i = 1; i < m->nshoot; i++) cand[nc++] = m->L * ((double)i / m->nshoot);
@@ -429,12 +484,14 @@ int tr_model_alloc(tr_model **out, const double rod[6], const double *tendons, i
     }
     qsort(cand, nc, sizeof(double), cmp_double);
     m->bp = (double *)malloc((size_t)nc * sizeof(double));
-    if (!m->bp) { status = TR_ENOMEM; goto fail; }
+    if (!m->bp) {
+        status = TR_ENOMEM;
+        goto fail;
+    }
     {
         int nb = 0;
         for (i = 0; i < nc; i++) {
-            if (nb > 0 && cand[i] - m->bp[nb - 1] <= TR_BP_MERGE * m->L)
-                continue;
+            if (nb > 0 && cand[i] - m->bp[nb - 1] <= TR_BP_MERGE * m->L) continue;
             m->bp[nb++] = cand[i];
         }
         /* snap the last to L exactly */
@@ -446,11 +503,16 @@ int tr_model_alloc(tr_model **out, const double rod[6], const double *tendons, i
     m->seg_act_start = (int *)calloc((size_t)m->nseg + 1, sizeof(int));
     m->seg_act = (int *)calloc((size_t)(nt > 0 ? nt * m->nseg : 1), sizeof(int));
     m->bp_node = (int *)calloc((size_t)m->nseg + 1, sizeof(int));
-    if (!m->bpF || !m->bpM || !m->seg_act_start || !m->seg_act || !m->bp_node) { status = TR_ENOMEM; goto fail; }
-    for (i = 1; i < m->nshoot; i++)
-        m->bp_node[find_bp(m, m->L * ((double)i / m->nshoot))] = i;
+    if (!m->bpF || !m->bpM || !m->seg_act_start || !m->seg_act || !m->bp_node) {
+        status = TR_ENOMEM;
+        goto fail;
+    }
+    for (i = 1; i < m->nshoot; i++) m->bp_node[find_bp(m, m->L * ((double)i / m->nshoot))] = i;
     m->bp_jump = (int *)calloc((size_t)m->nseg + 1, sizeof(int));
-    if (!m->bp_jump) { status = TR_ENOMEM; goto fail; }
+    if (!m->bp_jump) {
+        status = TR_ENOMEM;
+        goto fail;
+    }
     for (i = 0; i < nt; i++) m->bp_jump[find_bp(m, m->tendon[i].t)] = 1;
     for (i = 0; i < nl; i++) m->bp_jump[find_bp(m, m->load[7 * i])] = 1;
     for (i = 0; i < nt; i++) {
@@ -471,8 +533,7 @@ int tr_model_alloc(tr_model **out, const double rod[6], const double *tendons, i
         for (k = 0; k < m->nseg; k++) {
             m->seg_act_start[k] = nact;
             for (i = 0; i < nt; i++)
-                if (m->tendon[i].end_bp > k)
-                    m->seg_act[nact++] = i;
+                if (m->tendon[i].end_bp > k) m->seg_act[nact++] = i;
         }
         m->seg_act_start[m->nseg] = nact;
     }
@@ -481,15 +542,12 @@ int tr_model_alloc(tr_model **out, const double rod[6], const double *tendons, i
     {
         int planar = !opt->force_spatial;
         for (i = 0; i < nt && planar; i++)
-            if (fabs(m->tendon[i].sphi) > TR_PLANAR_SIN)
-                planar = 0;
+            if (fabs(m->tendon[i].sphi) > TR_PLANAR_SIN) planar = 0;
         for (i = 0; i < nl && planar; i++) {
             const double *row = m->load + 7 * i;
-            if (row[2] != 0.0 || row[4] != 0.0 || row[6] != 0.0)
-                planar = 0;
+            if (row[2] != 0.0 || row[4] != 0.0 || row[6] != 0.0) planar = 0;
         }
-        if (dist[1] != 0.0)
-            planar = 0;
+        if (dist[1] != 0.0) planar = 0;
         m->planar = planar;
         if (planar)
             for (i = 0; i < nt; i++) {
@@ -497,8 +555,12 @@ int tr_model_alloc(tr_model **out, const double rod[6], const double *tendons, i
                 const double h = sqrt(1.0 + t->a * t->a);
                 t->cphi = t->cphi > 0.0 ? 1.0 : -1.0;
                 t->sphi = 0.0;
-                t->t0[0] = t->a * t->cphi / h; t->t0[1] = 0.0; t->t0[2] = 1.0 / h;
-                t->rt0[0] = 0.0; t->rt0[1] = -t->b * t->cphi / h; t->rt0[2] = 0.0;
+                t->t0[0] = t->a * t->cphi / h;
+                t->t0[1] = 0.0;
+                t->t0[2] = 1.0 / h;
+                t->rt0[0] = 0.0;
+                t->rt0[1] = -t->b * t->cphi / h;
+                t->rt0[2] = 0.0;
             }
     }
     m->ndisp = ndisp;
@@ -508,8 +570,7 @@ int tr_model_alloc(tr_model **out, const double rod[6], const double *tendons, i
     m->n_states_rec = m->n_base + nt;
     m->n_stretch = 0;
     for (i = 0; i < nt; i++)
-        if (m->tendon[i].control == TR_DISPLACEMENT && isfinite(m->tendon[i].EA))
-            m->n_stretch++;
+        if (m->tendon[i].control == TR_DISPLACEMENT && isfinite(m->tendon[i].EA)) m->n_stretch++;
     m->F_s = m->EI / (m->L * m->L);
     m->M_s = m->EI / m->L;
     m->tau_s = rmax > 0.0 ? m->EI / (rmax * m->L) : m->F_s;
@@ -528,8 +589,7 @@ int tr_model_alloc(tr_model **out, const double rod[6], const double *tendons, i
     }
 
     status = set_rest_lengths(m, m->scene_message, sizeof m->scene_message);
-    if (status == TR_OK)
-        status = check_indeterminate(m, m->scene_message, sizeof m->scene_message);
+    if (status == TR_OK) status = check_indeterminate(m, m->scene_message, sizeof m->scene_message);
     if (status == TR_EINVAL || status == TR_ENOMEM) {
         msgf(msg, msglen, "%s", m->scene_message);
         goto fail;
@@ -541,8 +601,7 @@ int tr_model_alloc(tr_model **out, const double rod[6], const double *tendons, i
     *out = m;
     return TR_OK;
 fail:
-    if (status == TR_ENOMEM)
-        msgf(msg, msglen, "out of memory while compiling the model");
+    if (status == TR_ENOMEM) msgf(msg, msglen, "out of memory while compiling the model");
     free(cand);
     tr_model_free(m);
     return status;

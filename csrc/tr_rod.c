@@ -30,8 +30,7 @@
  *   r^ A_i r^ = c_t (r r^T - |r|^2 I + q q^T),  H = -sum r^ A_i r^
  * so the loop accumulates a few scalars and outer products, and the matrices are
  * assembled once. */
-static int rhs_spatial(const tr_model *m, const tr_data *d, double s, const double *y,
-                       double *dy)
+static int rhs_spatial(const tr_model *m, const tr_data *d, double s, const double *y, double *dy)
 {
     const double *R = y + TR_Y_R, *nb = y + TR_Y_N, *mb = y + TR_Y_M;
     const double EI = m->EI, GJ = m->GJ;
@@ -46,15 +45,14 @@ static int rhs_spatial(const tr_model *m, const tr_data *d, double s, const doub
     const int nlen = d->rec ? m->nt : m->ndisp;
     const int a0 = m->seg_act_start[d->seg], a1 = m->seg_act_start[d->seg + 1];
 
-    double ev3 = 0.0;   /* v3 - 1 */
+    double ev3 = 0.0; /* v3 - 1 */
     if (!kirch) {
         v[0] = nb[0] / m->GA;
         v[1] = nb[1] / m->GA;
         ev3 = nb[2] / m->EA;
         v[2] = 1.0 + ev3;
     }
-    for (j = 0; j < nlen; j++)
-        dy[TR_Y_LEN + j] = 0.0;
+    for (j = 0; j < nlen; j++) dy[TR_Y_LEN + j] = 0.0;
 
     for (c = a0; c < a1; c++) {
         const int i = m->seg_act[c];
@@ -76,13 +74,14 @@ static int rhs_spatial(const tr_model *m, const tr_data *d, double s, const doub
             const double c = sqrt(1.0 + td->a * td->a);
             const double d0 = v[0] - u[2] * r1, d1 = v[1] + u[2] * r0;
             const double d2 = ev3 + u[0] * r1 - u[1] * r0;
-            dy[TR_Y_LEN + slot] = (2.0 * (rp0 * d0 + rp1 * d1 + d2) + d0 * d0 + d1 * d1 + d2 * d2)
-                                  / (nw + c);
+            dy[TR_Y_LEN + slot] =
+                (2.0 * (rp0 * d0 + rp1 * d1 + d2) + d0 * d0 + d1 * d1 + d2 * d2) / (nw + c);
         }
-        if (!(tau > 0.0))
-            continue;
+        if (!(tau > 0.0)) continue;
         coupled = 1;
-        t[0] = w0 / nw; t[1] = w1 / nw; t[2] = w2 / nw;
+        t[0] = w0 / nw;
+        t[1] = w1 / nw;
+        t[2] = w2 / nw;
         ct = tau / nw;
         /* q = r x t */
         q[0] = r1 * t[2];
@@ -99,15 +98,20 @@ static int rhs_spatial(const tr_model *m, const tr_data *d, double s, const doub
         ai[0] = ct * (cv[0] - t[0] * tc);
         ai[1] = ct * (cv[1] - t[1] * tc);
         ai[2] = ct * (cv[2] - t[2] * tc);
-        asum[0] += ai[0]; asum[1] += ai[1]; asum[2] += ai[2];
+        asum[0] += ai[0];
+        asum[1] += ai[1];
+        asum[2] += ai[2];
         /* b_i = r x a_i */
         bsum[0] += r1 * ai[2];
         bsum[1] += -r0 * ai[2];
         bsum[2] += r0 * ai[1] - r1 * ai[0];
         sc += ct;
-        sr[0] += ct * r0; sr[1] += ct * r1;
+        sr[0] += ct * r0;
+        sr[1] += ct * r1;
         sr2 += ct * (r0 * r0 + r1 * r1);
-        RR[0] += ct * r0 * r0; RR[1] += ct * r0 * r1; RR[4] += ct * r1 * r1;
+        RR[0] += ct * r0 * r0;
+        RR[1] += ct * r0 * r1;
+        RR[4] += ct * r1 * r1;
         {
             int p_, k_;
             for (p_ = 0; p_ < 3; p_++) {
@@ -130,7 +134,9 @@ static int rhs_spatial(const tr_model *m, const tr_data *d, double s, const doub
         const double lam = d->lam_load;
         const double fw[3] = {lam * m->dist[0], lam * m->dist[1], lam * m->dist[2]};
         tru_mattvec3(tmp, R, fw);
-        rhs[0] -= tmp[0]; rhs[1] -= tmp[1]; rhs[2] -= tmp[2];
+        rhs[0] -= tmp[0];
+        rhs[1] -= tmp[1];
+        rhs[2] -= tmp[2];
     }
     tru_cross3(tmp, u, mb);
     tru_cross3(tmp2, v, nb);
@@ -150,7 +156,9 @@ static int rhs_spatial(const tr_model *m, const tr_data *d, double s, const doub
             Gm[r_] = -(Sr[r_] + TQ[r_]);
             Hm[r_] = -RR[r_] - QQ[r_];
         }
-        Hm[0] += sr2; Hm[4] += sr2; Hm[8] += sr2;
+        Hm[0] += sr2;
+        Hm[4] += sr2;
+        Hm[8] += sr2;
         if (kirch) {
             /* (I + H K_bt^-1) m' = rhs2 (Cramer), n' = rhs1 - G K_bt^-1 m' */
             double M3[9], x[3], det;
@@ -162,14 +170,16 @@ static int rhs_spatial(const tr_model *m, const tr_data *d, double s, const doub
                 const double c01 = M3[5] * M3[6] - M3[3] * M3[8];
                 const double c02 = M3[3] * M3[7] - M3[4] * M3[6];
                 det = M3[0] * c00 + M3[1] * c01 + M3[2] * c02;
-                if (!(fabs(det) > 0.0))
-                    return GSL_EBADFUNC;
-                x[0] = (c00 * rhs[3] + (M3[2] * M3[7] - M3[1] * M3[8]) * rhs[4]
-                        + (M3[1] * M3[5] - M3[2] * M3[4]) * rhs[5]) / det;
-                x[1] = (c01 * rhs[3] + (M3[0] * M3[8] - M3[2] * M3[6]) * rhs[4]
-                        + (M3[2] * M3[3] - M3[0] * M3[5]) * rhs[5]) / det;
-                x[2] = (c02 * rhs[3] + (M3[1] * M3[6] - M3[0] * M3[7]) * rhs[4]
-                        + (M3[0] * M3[4] - M3[1] * M3[3]) * rhs[5]) / det;
+                if (!(fabs(det) > 0.0)) return GSL_EBADFUNC;
+                x[0] = (c00 * rhs[3] + (M3[2] * M3[7] - M3[1] * M3[8]) * rhs[4] +
+                        (M3[1] * M3[5] - M3[2] * M3[4]) * rhs[5]) /
+                       det;
+                x[1] = (c01 * rhs[3] + (M3[0] * M3[8] - M3[2] * M3[6]) * rhs[4] +
+                        (M3[2] * M3[3] - M3[0] * M3[5]) * rhs[5]) /
+                       det;
+                x[2] = (c02 * rhs[3] + (M3[1] * M3[6] - M3[0] * M3[7]) * rhs[4] +
+                        (M3[0] * M3[4] - M3[1] * M3[3]) * rhs[5]) /
+                       det;
             }
             {
                 const double up[3] = {x[0] * kb[0], x[1] * kb[1], x[2] * kb[2]};
@@ -195,24 +205,21 @@ static int rhs_spatial(const tr_model *m, const tr_data *d, double s, const doub
                     M6[6 * (r_ + 3) + c_] = Brc * ks[c_];
                     M6[6 * (r_ + 3) + c_ + 3] = id + Hm[3 * r_ + c_] * kb[c_];
                 }
-            if (tru_solve_dense(6, M6, rhs) != 0)
-                return GSL_EBADFUNC;
+            if (tru_solve_dense(6, M6, rhs) != 0) return GSL_EBADFUNC;
             memcpy(dy + TR_Y_N, rhs, 6 * sizeof(double));
         }
     }
 
     /* kinematics: p' = R v, R' = R u^  (row j of R u^ = R_j x u) */
     tru_matvec3(dy + TR_Y_P, R, v);
-    for (j = 0; j < 3; j++)
-        tru_cross3(dy + TR_Y_R + 3 * j, R + 3 * j, u);
+    for (j = 0; j < 3; j++) tru_cross3(dy + TR_Y_R + 3 * j, R + 3 * j, u);
     return GSL_SUCCESS;
 }
 
 /* -------------------------------------------------------------- planar */
 /* x-z plane, rotation about +y by theta: R = [[c,0,s],[0,1,0],[-s,0,c]].
  * Body vectors (x, z) components, moments about y; tendon offset rho e_x. */
-static int rhs_planar(const tr_model *m, const tr_data *d, double s, const double *y,
-                      double *dy)
+static int rhs_planar(const tr_model *m, const tr_data *d, double s, const double *y, double *dy)
 {
     const double th = y[TR_YP_TH], n1 = y[TR_YP_N1], n3 = y[TR_YP_N3], m2 = y[TR_YP_M];
     const double EI = m->EI;
@@ -227,14 +234,13 @@ static int rhs_planar(const tr_model *m, const tr_data *d, double s, const doubl
     const int c0 = m->seg_act_start[d->seg], c1 = m->seg_act_start[d->seg + 1];
     double r1, r3, r2;
 
-    double ev3 = 0.0;   /* v3 - 1 */
+    double ev3 = 0.0; /* v3 - 1 */
     if (!kirch) {
         v1 = n1 / m->GA;
         ev3 = n3 / m->EA;
         v3 = 1.0 + ev3;
     }
-    for (j = 0; j < nlen; j++)
-        dy[TR_YP_LEN + j] = 0.0;
+    for (j = 0; j < nlen; j++) dy[TR_YP_LEN + j] = 0.0;
 
     for (c = c0; c < c1; c++) {
         const int i = m->seg_act[c];
@@ -250,8 +256,7 @@ static int rhs_planar(const tr_model *m, const tr_data *d, double s, const doubl
             const double c = sqrt(1.0 + rp * rp), d1 = v1, d3 = ev3 - kap * rho;
             dy[TR_YP_LEN + slot] = (2.0 * (rp * d1 + d3) + d1 * d1 + d3 * d3) / (nw + c);
         }
-        if (!(tau > 0.0))
-            continue;
+        if (!(tau > 0.0)) continue;
         coupled = 1;
         {
             const double cf = tau / (nw * nw * nw);
@@ -266,7 +271,9 @@ static int rhs_planar(const tr_model *m, const tr_data *d, double s, const doubl
             G3 += -rho * a33;
             H += rho * rho * a33;
             if (!kirch) {
-                A11 += a11; A13 += a13; A33 += a33;
+                A11 += a11;
+                A13 += a13;
+                A33 += a33;
                 B1 += -rho * a13;
                 B3 += -rho * a33;
             }
@@ -294,12 +301,10 @@ static int rhs_planar(const tr_model *m, const tr_data *d, double s, const doubl
         dy[TR_YP_N3] = r3 - G3 * mp / EI;
     } else {
         const double ks1 = 1.0 / m->GA, ks3 = 1.0 / m->EA, kb = 1.0 / EI;
-        double M3[9] = {1.0 + A11 * ks1, A13 * ks3, G1 * kb,
-                        A13 * ks1, 1.0 + A33 * ks3, G3 * kb,
-                        B1 * ks1, B3 * ks3, 1.0 + H * kb};
+        double M3[9] = {1.0 + A11 * ks1, A13 * ks3, G1 * kb,  A13 * ks1,   1.0 + A33 * ks3,
+                        G3 * kb,         B1 * ks1,  B3 * ks3, 1.0 + H * kb};
         double x[3] = {r1, r3, r2};
-        if (tru_solve_dense(3, M3, x) != 0)
-            return GSL_EBADFUNC;
+        if (tru_solve_dense(3, M3, x) != 0) return GSL_EBADFUNC;
         dy[TR_YP_N1] = x[0];
         dy[TR_YP_N3] = x[1];
         dy[TR_YP_M] = x[2];
@@ -317,8 +322,8 @@ int tr_rhs(double s, const double y[], double dyds[], void *params)
     return m->planar ? rhs_planar(m, d, s, y, dyds) : rhs_spatial(m, d, s, y, dyds);
 }
 
-void tr_tendon_tangent(const tr_model *m, int i, double s, const double *y,
-                       double that[3], double r[3])
+void tr_tendon_tangent(const tr_model *m, int i, double s, const double *y, double that[3],
+                       double r[3])
 {
     const tr_tendon *td = &m->tendon[i];
     double w[3], nw;
@@ -333,7 +338,9 @@ void tr_tendon_tangent(const tr_model *m, int i, double s, const double *y,
         w[0] = v1 + td->cphi * td->a;
         w[1] = 0.0;
         w[2] = v3 - kap * rho;
-        r[0] = rho; r[1] = 0.0; r[2] = 0.0;
+        r[0] = rho;
+        r[1] = 0.0;
+        r[2] = 0.0;
     } else {
         const double *nb = y + TR_Y_N, *mb = y + TR_Y_M;
         const double u[3] = {mb[0] / m->EI, mb[1] / m->EI, mb[2] / m->GJ};
@@ -344,7 +351,9 @@ void tr_tendon_tangent(const tr_model *m, int i, double s, const double *y,
             v[1] = nb[1] / m->GA;
             v[2] = 1.0 + nb[2] / m->EA;
         }
-        r[0] = rho * td->cphi; r[1] = rho * td->sphi; r[2] = 0.0;
+        r[0] = rho * td->cphi;
+        r[1] = rho * td->sphi;
+        r[2] = 0.0;
         tru_cross3(w, u, r);
         w[0] += v[0] + td->a * td->cphi;
         w[1] += v[1] + td->a * td->sphi;
@@ -356,18 +365,30 @@ void tr_tendon_tangent(const tr_model *m, int i, double s, const double *y,
     that[2] = w[2] / nw;
 }
 
-void tr_state_world(const tr_model *m, const double *y, double p[3], double R[9],
-                    double n[3], double mom[3])
+void tr_state_world(const tr_model *m, const double *y, double p[3], double R[9], double n[3],
+                    double mom[3])
 {
     if (m->planar) {
         const double th = y[TR_YP_TH], c = cos(th), s = sin(th);
         const double n1 = y[TR_YP_N1], n3 = y[TR_YP_N3];
-        p[0] = y[TR_YP_X]; p[1] = 0.0; p[2] = y[TR_YP_Z];
-        R[0] = c;  R[1] = 0.0; R[2] = s;
-        R[3] = 0.0; R[4] = 1.0; R[5] = 0.0;
-        R[6] = -s; R[7] = 0.0; R[8] = c;
-        n[0] = c * n1 + s * n3; n[1] = 0.0; n[2] = -s * n1 + c * n3;
-        mom[0] = 0.0; mom[1] = y[TR_YP_M]; mom[2] = 0.0;
+        p[0] = y[TR_YP_X];
+        p[1] = 0.0;
+        p[2] = y[TR_YP_Z];
+        R[0] = c;
+        R[1] = 0.0;
+        R[2] = s;
+        R[3] = 0.0;
+        R[4] = 1.0;
+        R[5] = 0.0;
+        R[6] = -s;
+        R[7] = 0.0;
+        R[8] = c;
+        n[0] = c * n1 + s * n3;
+        n[1] = 0.0;
+        n[2] = -s * n1 + c * n3;
+        mom[0] = 0.0;
+        mom[1] = y[TR_YP_M];
+        mom[2] = 0.0;
     } else {
         memcpy(p, y + TR_Y_P, 3 * sizeof(double));
         memcpy(R, y + TR_Y_R, 9 * sizeof(double));
@@ -380,9 +401,8 @@ void tr_state_world(const tr_model *m, const double *y, double p[3], double R[9]
  * nb and moment mb (3-vectors; planar scenes embed as (n1, 0, n3), (0, m2, 0)):
  * fn = sum tau t^, fm = sum tau r x t^.  If J6 != NULL it receives the 6x6
  * derivative of (fn, fm) with respect to (nb, mb), row-major. */
-void tr_section_pulls(const tr_model *m, const tr_data *d, int seg, double s,
-                      const double nb[3], const double mb[3], double fn[3], double fm[3],
-                      double *J6)
+void tr_section_pulls(const tr_model *m, const tr_data *d, int seg, double s, const double nb[3],
+                      const double mb[3], double fn[3], double fm[3], double *J6)
 {
     const double kb[3] = {1.0 / m->EI, 1.0 / m->EI, 1.0 / m->GJ};
     const double ks[3] = {m->kirchhoff ? 0.0 : 1.0 / m->GA, m->kirchhoff ? 0.0 : 1.0 / m->GA,
@@ -391,8 +411,7 @@ void tr_section_pulls(const tr_model *m, const tr_data *d, int seg, double s,
     const double v[3] = {nb[0] * ks[0], nb[1] * ks[1], 1.0 + nb[2] * ks[2]};
     int c, q, r_, c_;
     fn[0] = fn[1] = fn[2] = fm[0] = fm[1] = fm[2] = 0.0;
-    if (J6)
-        memset(J6, 0, 36 * sizeof(double));
+    if (J6) memset(J6, 0, 36 * sizeof(double));
     for (c = m->seg_act_start[seg]; c < m->seg_act_start[seg + 1]; c++) {
         const int i = m->seg_act[c];
         const tr_tendon *td = &m->tendon[i];
@@ -400,8 +419,7 @@ void tr_section_pulls(const tr_model *m, const tr_data *d, int seg, double s,
         const double rho = td->a * s + td->b;
         const double r[3] = {rho * td->cphi, rho * td->sphi, 0.0};
         double w[3], nw, th[3], rt[3];
-        if (!(tau > 0.0))
-            continue;
+        if (!(tau > 0.0)) continue;
         tru_cross3(w, u, r);
         w[0] += v[0] + td->a * td->cphi;
         w[1] += v[1] + td->a * td->sphi;
@@ -409,7 +427,10 @@ void tr_section_pulls(const tr_model *m, const tr_data *d, int seg, double s,
         nw = tru_norm3(w);
         for (q = 0; q < 3; q++) th[q] = w[q] / nw;
         tru_cross3(rt, r, th);
-        for (q = 0; q < 3; q++) { fn[q] += tau * th[q]; fm[q] += tau * rt[q]; }
+        for (q = 0; q < 3; q++) {
+            fn[q] += tau * th[q];
+            fm[q] += tau * rt[q];
+        }
         if (J6) {
             /* A = tau (I - t t^T)/|w|;  d(tau t)/dnb = A Kse^-1, d(tau t)/dmb = -A r^ Kbt^-1;
              * the moment rows are r^ times the force rows */

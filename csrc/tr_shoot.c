@@ -54,26 +54,26 @@
 #define TR_AUTO_RK4 16
 /* ... and at least this many rk8 steps per unit of L sqrt(|F|/EI) (boundary layers) */
 #define TR_AUTO_PER_LAMBDA 2.0
-#define TR_STEP_CAP 8192
+#define TR_STEP_CAP        8192
 /* Step refinement aims the Richardson-predicted truncation at this fraction of tol. */
 #define TR_REFINE_SAFETY 0.5
 /* Cap of the initial automatic step count (huge loads: keep max_nfev a time bound). */
 #define TR_AUTO_MAX 256
 /* Recording pass: RK4 steps of at most this fraction of the rk8 shooting step. */
-#define TR_RECORD_RK4_FRACTION 8.0
+#define TR_RECORD_RK4_FRACTION  8.0
 #define TR_RECORD_RK4_MIN_STEPS 100.0
 /* ... and is redone with rk8 if its tip differs from the shooting tip by more than
  * this (scaled states): a guard against gross RK4 errors (unresolved boundary
  * layers); otherwise the tip node takes the shooting tip. */
 #define TR_RECORD_GROSS 1e-6
 /* Continuation: first step and smallest step in lambda. */
-#define TR_CONT_DLAM0 0.25
+#define TR_CONT_DLAM0    0.25
 #define TR_CONT_DLAM_MIN 1e-4
 /* Polish: at most this many extra Newton steps, taken while the step exceeds this
  * factor times tol (relative to max(1, |x|)). */
-#define TR_POLISH_STEPS 3
+#define TR_POLISH_STEPS       3
 #define TR_POLISH_XTOL_FACTOR 1e3
-#define TR_POLISH_RES_FACTOR 1e-2
+#define TR_POLISH_RES_FACTOR  1e-2
 /* Iterations per continuation step: Newton from a near point converges in a few. */
 #define TR_CONT_ITER 15
 /* A direct Newton run whose residual fell by less than 1/TR_STALL_RATIO over the
@@ -84,7 +84,7 @@
 #define TR_STALL_ITERS 8
 /* A failed solve with displacement-controlled tendons stiffer than this (r^2 EA/EI)
  * says so in its message (Fig. 12 twist fails from ~1e10, converges at 1e8). */
-#define TR_STIFF_HINT 1e6
+#define TR_STIFF_HINT  1e6
 #define TR_STALL_RATIO 0.8
 /* ... and a continuation stage over TR_CONT_STALL_ITERS iterations (then the step is
  * halved).  A stricter test (2x over 4) made Fig. 12 at r^2kL/EI = 1e8 stall at the
@@ -94,7 +94,7 @@
 /* Cold starts with loads above this scaled magnitude (sum of |F| L^2/EI, |M| L/EI,
  * |f| L^3/EI) go by continuation at once, in load steps of at most TR_RAMP_LOAD. */
 #define TR_DIRECT_LOAD_MAX 6.0
-#define TR_RAMP_LOAD 3.0
+#define TR_RAMP_LOAD       3.0
 /* A continuation stage may move the tip by at most this fraction of L. */
 #define TR_CONT_TIP_JUMP 0.2
 /* Newton iterations of the implicit jump at a breakpoint (converges in 2-4). */
@@ -114,7 +114,7 @@ static double maxnorm(const double *v, int n)
     int i;
     for (i = 0; i < n; i++) {
         const double a = fabs(v[i]);
-        if (!(a <= r)) r = a;   /* propagates NaN */
+        if (!(a <= r)) r = a; /* propagates NaN */
     }
     return r;
 }
@@ -127,7 +127,10 @@ static double sumsq(const double *v, int n)
     return r;
 }
 
-static int n_force(const tr_model *m) { return m->planar ? 3 : 6; }
+static int n_force(const tr_model *m)
+{
+    return m->planar ? 3 : 6;
+}
 
 static void set_tensions(const tr_model *m, tr_data *d, const double *x)
 {
@@ -196,8 +199,8 @@ static void bp_load(const tr_model *m, const tr_data *d, int b, double F[3], dou
 
 /* Sum of the anchor pulls of the tendons anchored at breakpoint b, body frame:
  * force sum tau t^, moment sum tau r x t^ (state just proximal of b). */
-static void anchor_sum(const tr_model *m, const tr_data *d, int b, const double *y,
-                       double fn[3], double fm[3])
+static void anchor_sum(const tr_model *m, const tr_data *d, int b, const double *y, double fn[3],
+                       double fm[3])
 {
     const double s = m->bp[b];
     int i;
@@ -205,12 +208,15 @@ static void anchor_sum(const tr_model *m, const tr_data *d, int b, const double 
     for (i = 0; i < m->nt; i++) {
         double th[3], r[3], rt[3];
         const double tau = d->tau[i];
-        if (m->tendon[i].end_bp != b || !(tau > 0.0))
-            continue;
+        if (m->tendon[i].end_bp != b || !(tau > 0.0)) continue;
         tr_tendon_tangent(m, i, s, y, th, r);
         tru_cross3(rt, r, th);
-        fn[0] += tau * th[0]; fn[1] += tau * th[1]; fn[2] += tau * th[2];
-        fm[0] += tau * rt[0]; fm[1] += tau * rt[1]; fm[2] += tau * rt[2];
+        fn[0] += tau * th[0];
+        fn[1] += tau * th[1];
+        fn[2] += tau * th[2];
+        fm[0] += tau * rt[0];
+        fm[1] += tau * rt[1];
+        fm[2] += tau * rt[2];
     }
 }
 
@@ -231,10 +237,18 @@ static void apply_jump(const tr_model *m, const tr_data *d, int b, double *y)
     bp_load(m, d, b, F, M);
     if (m->planar) {
         const double ct = cos(y[TR_YP_TH]), st = sin(y[TR_YP_TH]);
-        Fb[0] = ct * F[0] - st * F[2]; Fb[1] = 0.0; Fb[2] = st * F[0] + ct * F[2];
-        Mb[0] = 0.0; Mb[1] = M[1]; Mb[2] = 0.0;
-        nb[0] = y[TR_YP_N1]; nb[1] = 0.0; nb[2] = y[TR_YP_N3];
-        mb[0] = 0.0; mb[1] = y[TR_YP_M]; mb[2] = 0.0;
+        Fb[0] = ct * F[0] - st * F[2];
+        Fb[1] = 0.0;
+        Fb[2] = st * F[0] + ct * F[2];
+        Mb[0] = 0.0;
+        Mb[1] = M[1];
+        Mb[2] = 0.0;
+        nb[0] = y[TR_YP_N1];
+        nb[1] = 0.0;
+        nb[2] = y[TR_YP_N3];
+        mb[0] = 0.0;
+        mb[1] = y[TR_YP_M];
+        mb[2] = 0.0;
     } else {
         tru_mattvec3(Fb, y + TR_Y_R, F);
         tru_mattvec3(Mb, y + TR_Y_R, M);
@@ -262,8 +276,7 @@ static void apply_jump(const tr_model *m, const tr_data *d, int b, double *y)
         }
         for (c = 0; c < 6; c++)
             if (fabs(g[c]) > gmax) gmax = fabs(g[c]);
-        if (gmax <= 1e-15 * (1.0 + scale))
-            break;
+        if (gmax <= 1e-15 * (1.0 + scale)) break;
         /* (I + J6) dx = g in scaled units: columns of J6 times the unknowns' scales */
         {
             double Mx[36];
@@ -273,8 +286,7 @@ static void apply_jump(const tr_model *m, const tr_data *d, int b, double *y)
                     const double rs = r_ < 3 ? m->F_s : m->M_s, cs = c_ < 3 ? m->F_s : m->M_s;
                     Mx[6 * r_ + c_] = (r_ == c_) + J6[6 * r_ + c_] * cs / rs;
                 }
-            if (tru_solve_dense(6, Mx, g) != 0)
-                break;
+            if (tru_solve_dense(6, Mx, g) != 0) break;
         }
         for (c = 0; c < 3; c++) {
             nb[c] += g[c] * m->F_s;
@@ -324,11 +336,10 @@ static void tip_residual(const tr_model *m, tr_data *d, const double *y, double 
     for (i = 0; i < m->nt; i++) {
         const tr_tendon *t = &m->tendon[i];
         double E;
-        if (t->control != TR_DISPLACEMENT)
-            continue;
+        if (t->control != TR_DISPLACEMENT) continue;
         /* s_i - (1 + tau/EA) rest with s_i = sref + excess, rest = sref + rest_dev */
-        E = y[lenbase + (d->rec ? i : t->len_index)] + d->lam_act * t->value + d->beta[i]
-            - t->rest_dev - (isfinite(t->EA) ? d->tau[i] / t->EA : 0.0) * t->rest;
+        E = y[lenbase + (d->rec ? i : t->len_index)] + d->lam_act * t->value + d->beta[i] -
+            t->rest_dev - (isfinite(t->EA) ? d->tau[i] / t->EA : 0.0) * t->rest;
         f[off + t->gamma_index] = E / m->len_s;
     }
 }
@@ -363,8 +374,7 @@ static void node_restart(const tr_model *m, const double *x, int j, double *y, d
     int c;
     for (c = 0; c < ns; c++) {
         const double sc = node_scale(m, c);
-        if (f)
-            f[o + c] = y[c] / sc - x[o + c];
+        if (f) f[o + c] = y[c] / sc - x[o + c];
         y[c] = x[o + c] * sc;
     }
 }
@@ -394,10 +404,10 @@ static void shape_guess(const tr_model *m, tr_data *d, double *x)
     for (b = 0; b <= m->nseg; b++) {
         if (b > 0) {
             d->seg = b - 1;
-            if (ok && tr_integrate(m, d, m->bp[b - 1], m->bp[b], tr_segment_steps(m, d, b - 1), y) != TR_OK)
+            if (ok && tr_integrate(m, d, m->bp[b - 1], m->bp[b], tr_segment_steps(m, d, b - 1),
+                                   y) != TR_OK)
                 ok = 0;
-            if (ok && b < m->nseg)
-                apply_jump(m, d, b, y);
+            if (ok && b < m->nseg) apply_jump(m, d, b, y);
         }
         if (ok) {
             double n_[3], mo[3];
@@ -416,8 +426,7 @@ static void shape_guess(const tr_model *m, tr_data *d, double *x)
             const int o = node_off(m, m->bp_node[b]);
             for (c = 0; c < ns; c++)
                 x[o + c] = ok ? y[c] : (c == (m->planar ? TR_YP_Z : TR_Y_P + 2) ? m->bp[b] : 0.0);
-            if (!ok && !m->planar)
-                x[o + TR_Y_R] = x[o + TR_Y_R + 4] = x[o + TR_Y_R + 8] = 1.0;
+            if (!ok && !m->planar) x[o + TR_Y_R] = x[o + TR_Y_R + 4] = x[o + TR_Y_R + 8] = 1.0;
         }
     }
     d->lam_load = lam_load;
@@ -426,8 +435,7 @@ static void shape_guess(const tr_model *m, tr_data *d, double *x)
         double F[3] = {0, 0, 0}, M[3] = {0, 0, 0}, arm[3], tmp[3];
         const double *pb = pose + 12 * b;
         int bb;
-        if (b > 0 && (b >= m->nseg || m->bp_node[b] == 0))
-            continue;
+        if (b > 0 && (b >= m->nseg || m->bp_node[b] == 0)) continue;
         for (bb = b + 1; bb <= m->nseg; bb++) {
             const double *Fb = m->bpF + 3 * bb;
             for (c = 0; c < 3; c++) arm[c] = pose[12 * bb + c] - pb[c];
@@ -452,9 +460,14 @@ static void shape_guess(const tr_model *m, tr_data *d, double *x)
         if (b == 0) {
             /* base reaction (world = base frame) */
             if (m->planar) {
-                x[0] = F[0] / m->F_s; x[1] = F[2] / m->F_s; x[2] = M[1] / m->M_s;
+                x[0] = F[0] / m->F_s;
+                x[1] = F[2] / m->F_s;
+                x[2] = M[1] / m->M_s;
             } else {
-                for (c = 0; c < 3; c++) { x[c] = F[c] / m->F_s; x[3 + c] = M[c] / m->M_s; }
+                for (c = 0; c < 3; c++) {
+                    x[c] = F[c] / m->F_s;
+                    x[3 + c] = M[c] / m->M_s;
+                }
             }
         } else {
             const int o = node_off(m, m->bp_node[b]);
@@ -463,12 +476,16 @@ static void shape_guess(const tr_model *m, tr_data *d, double *x)
             tru_mattvec3(Fb, R, F);
             tru_mattvec3(Mb, R, M);
             if (m->planar) {
-                x[o + TR_YP_N1] += Fb[0]; x[o + TR_YP_N3] += Fb[2]; x[o + TR_YP_M] += Mb[1];
+                x[o + TR_YP_N1] += Fb[0];
+                x[o + TR_YP_N3] += Fb[2];
+                x[o + TR_YP_M] += Mb[1];
             } else {
-                for (c = 0; c < 3; c++) { x[o + TR_Y_N + c] += Fb[c]; x[o + TR_Y_M + c] += Mb[c]; }
+                for (c = 0; c < 3; c++) {
+                    x[o + TR_Y_N + c] += Fb[c];
+                    x[o + TR_Y_M + c] += Mb[c];
+                }
             }
-            for (c = 0; c < ns; c++)
-                x[o + c] /= node_scale(m, c);
+            for (c = 0; c < ns; c++) x[o + c] /= node_scale(m, c);
         }
     }
 }
@@ -487,7 +504,10 @@ static void cold_start(const tr_model *m, tr_data *d)
     for (c = 0; c < nf; c++) d->fs[c] = d->x[c];
     shape_guess(m, d, d->x);
     if (tr_residual(m, d, d->x, d->ft) == TR_OK) rb = sumsq(d->ft, k);
-    for (c = 0; c < nf; c++) { d->xp[c] = d->x[c]; d->x[c] = d->fs[c]; }
+    for (c = 0; c < nf; c++) {
+        d->xp[c] = d->x[c];
+        d->x[c] = d->fs[c];
+    }
     if (tr_residual(m, d, d->x, d->ft) == TR_OK) ra = sumsq(d->ft, k);
     if (!(ra <= rb))
         for (c = 0; c < nf; c++) d->x[c] = d->xp[c];
@@ -500,8 +520,7 @@ static void init_nodes(const tr_model *m, tr_data *d, double *x)
     const int ns = m->n_states;
     double *y = d->y, tsum = 0.0;
     int k, j, ok = 1, c;
-    if (m->nshoot <= 1)
-        return;
+    if (m->nshoot <= 1) return;
     d->rec = 0;
     set_tensions(m, d, x);
     for (c = 0; c < m->nt; c++) tsum += d->tau[c] / m->F_s;
@@ -509,18 +528,16 @@ static void init_nodes(const tr_model *m, tr_data *d, double *x)
     for (k = 0; k < m->nseg && ok; k++) {
         const int b = k + 1;
         d->seg = k;
-        if (tr_integrate(m, d, m->bp[k], m->bp[b], tr_segment_steps(m, d, k), y) != TR_OK)
-            ok = 0;
+        if (tr_integrate(m, d, m->bp[k], m->bp[b], tr_segment_steps(m, d, k), y) != TR_OK) ok = 0;
         for (c = 0; c < m->n_base && ok; c++) {
             /* run away: position beyond 2 L, force/moment beyond 1e3 of the loads' scale */
-            const double lim = (c < (m->planar ? 2 : 3)) ? 2.0 : 1e3 * (1.0 + tr_load_scale(m) + tsum);
+            const double lim =
+                (c < (m->planar ? 2 : 3)) ? 2.0 : 1e3 * (1.0 + tr_load_scale(m) + tsum);
             if (!(fabs(y[c]) / node_scale(m, c) <= lim)) ok = 0;
         }
-        if (ok && b < m->nseg)
-            apply_jump(m, d, b, y);
+        if (ok && b < m->nseg) apply_jump(m, d, b, y);
         if (ok && b < m->nseg && (j = m->bp_node[b]) > 0)
-            for (c = 0; c < ns; c++)
-                x[node_off(m, j) + c] = y[c] / node_scale(m, c);
+            for (c = 0; c < ns; c++) x[node_off(m, j) + c] = y[c] / node_scale(m, c);
     }
     if (!ok) {
         /* keep the given base unknowns */
@@ -541,14 +558,11 @@ int tr_residual(const tr_model *m, tr_data *d, const double *x, double *f)
     for (k = 0; k < m->nseg; k++) {
         d->seg = k;
         status = tr_integrate(m, d, m->bp[k], m->bp[k + 1], tr_segment_steps(m, d, k), y);
-        if (status != TR_OK)
-            return status;
-        if (k + 1 == d->probe_bp)
-            capture_probe(m, d, y);
+        if (status != TR_OK) return status;
+        if (k + 1 == d->probe_bp) capture_probe(m, d, y);
         if (k + 1 < m->nseg) {
             apply_jump(m, d, k + 1, y);
-            if (m->bp_node[k + 1] > 0)
-                node_restart(m, x, m->bp_node[k + 1], y, f);
+            if (m->bp_node[k + 1] > 0) node_restart(m, x, m->bp_node[k + 1], y, f);
         }
     }
     tip_residual(m, d, y, f);
@@ -560,8 +574,8 @@ int tr_residual(const tr_model *m, tr_data *d, const double *x, double *f)
 static double rr_integral(const tr_tendon *ti, const tr_tendon *tj, double T)
 {
     const double cdp = ti->cphi * tj->cphi + ti->sphi * tj->sphi;
-    return cdp * (ti->a * tj->a * T * T * T / 3.0 + 0.5 * (ti->a * tj->b + tj->a * ti->b) * T * T
-                  + ti->b * tj->b * T);
+    return cdp * (ti->a * tj->a * T * T * T / 3.0 + 0.5 * (ti->a * tj->b + tj->a * ti->b) * T * T +
+                  ti->b * tj->b * T);
 }
 
 /* int_0^T (m1 r_i2 - m2 r_i1) ds, m = moment of the loads distal of s about the
@@ -576,8 +590,7 @@ static double load_path_integral(const tr_model *m, const tr_data *d, const tr_t
     for (b = 1; b <= m->nseg; b++) {
         const double z = m->bp[b], top = z < T ? z : T;
         const double *F = m->bpF + 3 * b, *M = m->bpM + 3 * b;
-        if (F[0] == 0.0 && F[1] == 0.0 && M[0] == 0.0 && M[1] == 0.0)
-            continue;
+        if (F[0] == 0.0 && F[1] == 0.0 && M[0] == 0.0 && M[1] == 0.0) continue;
         for (g = 0; g < 2; g++) {
             const double s = gx[g] * top, rho = ti->a * s + ti->b;
             const double m1 = -(z - s) * F[1] + M[0], m2 = (z - s) * F[0] + M[1];
@@ -623,7 +636,10 @@ static void cold_guess(const tr_model *m, tr_data *d, double *x)
     for (c = 0; c < 3; c++) F[c] += m->L * m->dist[c];
     M[0] += -0.5 * m->L * m->L * m->dist[1];
     M[1] += 0.5 * m->L * m->L * m->dist[0];
-    for (c = 0; c < 3; c++) { F[c] *= d->lam_load; M[c] *= d->lam_load; }
+    for (c = 0; c < 3; c++) {
+        F[c] *= d->lam_load;
+        M[c] *= d->lam_load;
+    }
     if (m->planar) {
         x[0] = F[0] / m->F_s;
         x[1] = F[2] / m->F_s;
@@ -634,21 +650,18 @@ static void cold_guess(const tr_model *m, tr_data *d, double *x)
             x[3 + c] = M[c] / m->M_s;
         }
     }
-    if (nd == 0)
-        return;
+    if (nd == 0) return;
     /* the linear system over displacement-controlled tendons */
     for (i = 0; i < m->nt; i++) {
         const tr_tendon *ti = &m->tendon[i];
         int ii = ti->gamma_index;
-        if (ti->control != TR_DISPLACEMENT)
-            continue;
+        if (ti->control != TR_DISPLACEMENT) continue;
         rhs[ii] = d->lam_act * ti->value + load_path_integral(m, d, ti, ti->t) / m->EI;
         for (j = 0; j < m->nt; j++) {
             const tr_tendon *tj = &m->tendon[j];
             const double T = ti->t < tj->t ? ti->t : tj->t;
             double cij = rr_integral(ti, tj, T) / m->EI + (m->kirchhoff ? 0.0 : T / m->EA);
-            if (i == j && isfinite(ti->EA))
-                cij += ti->t / ti->EA;
+            if (i == j && isfinite(ti->EA)) cij += ti->t / ti->EA;
             if (tj->control == TR_DISPLACEMENT)
                 C[ii * nd + tj->gamma_index] = cij;
             else
@@ -662,8 +675,7 @@ static void cold_guess(const tr_model *m, tr_data *d, double *x)
         for (i = 0; i < nd; i++)
             if (act[i]) map[na++] = i;
         for (i = 0; i < na; i++) {
-            for (j = 0; j < na; j++)
-                A[i * na + j] = C[map[i] * nd + map[j]];
+            for (j = 0; j < na; j++) A[i * na + j] = C[map[i] * nd + map[j]];
             sol[i] = rhs[map[i]];
         }
         ok = na == 0 || tru_solve_dense(na, A, sol) == 0;
@@ -687,22 +699,26 @@ static void cold_guess(const tr_model *m, tr_data *d, double *x)
             int wi = -1;
             for (i = 0; i < na; i++) {
                 const double tau_i = d->lin[2 * nd * nd + 2 * nd + map[i]] + sol[i];
-                if (tau_i < worst) { worst = tau_i; wi = map[i]; }
+                if (tau_i < worst) {
+                    worst = tau_i;
+                    wi = map[i];
+                }
             }
-            if (wi >= 0) { act[wi] = 0; neg = 1; }
+            if (wi >= 0) {
+                act[wi] = 0;
+                neg = 1;
+            }
             for (i = 0; i < nd; i++) A[i] = 0.0;
             for (i = 0; i < na; i++) A[map[i]] = sol[i];
             for (i = 0; i < nd; i++) sol[i] = A[i];
         }
-        if (!neg)
-            break;
+        if (!neg) break;
     }
     for (i = 0; i < m->nt; i++) {
         const tr_tendon *t = &m->tendon[i];
         const int ii = t->gamma_index;
         double tau, g;
-        if (t->control != TR_DISPLACEMENT)
-            continue;
+        if (t->control != TR_DISPLACEMENT) continue;
         tau = t->pretension + (act[ii] ? sol[ii] : 0.0);
         if (tau > 0.0) {
             g = tau / m->tau_s;
@@ -728,10 +744,8 @@ static int fd_column(const tr_model *m, tr_data *d, int j)
     d->xt[j] += h;
     h = d->xt[j] - d->x[j];
     status = tr_residual(m, d, d->xt, d->ft);
-    if (status != TR_OK)
-        return status;
-    for (i = 0; i < k; i++)
-        d->J[i * k + j] = (d->ft[i] - d->f[i]) / h;
+    if (status != TR_OK) return status;
+    for (i = 0; i < k; i++) d->J[i * k + j] = (d->ft[i] - d->f[i]) / h;
     return TR_OK;
 }
 
@@ -740,8 +754,10 @@ static int fd_jacobian(const tr_model *m, tr_data *d)
     const int k = d->k;
     int i, j, status;
     if (d->nfev + k > d->opt.max_nfev) {
-        tr_set_message(d, "function-evaluation limit (max_nfev = %d) reached: a Jacobian needs %d "
-                       "more evaluations; raise max_nfev", d->opt.max_nfev, k);
+        tr_set_message(d,
+                       "function-evaluation limit (max_nfev = %d) reached: a Jacobian needs %d "
+                       "more evaluations; raise max_nfev",
+                       d->opt.max_nfev, k);
         return TR_EMAXFEV;
     }
     for (j = 0; j < k; j++) {
@@ -754,12 +770,10 @@ static int fd_jacobian(const tr_model *m, tr_data *d)
             /* try the other side */
             d->xt[j] = d->x[j] - h;
             status = tr_residual(m, d, d->xt, d->ft);
-            if (status != TR_OK)
-                return status;
+            if (status != TR_OK) return status;
             h = -h;
         }
-        for (i = 0; i < k; i++)
-            d->J[i * k + j] = (d->ft[i] - d->f[i]) / h;
+        for (i = 0; i < k; i++) d->J[i * k + j] = (d->ft[i] - d->f[i]) / h;
     }
     d->njev++;
     d->have_J = 1;
@@ -774,17 +788,14 @@ static int factor(tr_data *d)
     const int k = d->k;
     int i, signum;
     double dmax = 0.0, dmin = INFINITY;
-    for (i = 0; i < k * k; i++)
-        d->LU->data[(i / k) * d->LU->tda + i % k] = d->J[i];
-    if (gsl_linalg_LU_decomp(d->LU, d->perm, &signum) != GSL_SUCCESS)
-        return -1;
+    for (i = 0; i < k * k; i++) d->LU->data[(i / k) * d->LU->tda + i % k] = d->J[i];
+    if (gsl_linalg_LU_decomp(d->LU, d->perm, &signum) != GSL_SUCCESS) return -1;
     for (i = 0; i < k; i++) {
         const double a = fabs(gsl_matrix_get(d->LU, i, i));
         if (a > dmax) dmax = a;
         if (a < dmin) dmin = a;
     }
-    if (!(dmin > 1e-300) || !(dmin > 1e-15 * dmax) || !isfinite(dmax))
-        return -1;
+    if (!(dmin > 1e-300) || !(dmin > 1e-15 * dmax) || !isfinite(dmax)) return -1;
     return 0;
 }
 
@@ -829,8 +840,7 @@ int tr_solve_init(const tr_model *m, tr_data *d, const double *guess, const doub
             const tr_tendon *t = &m->tendon[i];
             const double tau = guess[6 + i], sl = guess[6 + m->nt + i];
             double g = 0.0;
-            if (t->control != TR_DISPLACEMENT)
-                continue;
+            if (t->control != TR_DISPLACEMENT) continue;
             if (tau > 0.0)
                 g = d->opt.slack_model == TR_SLACK_SQUARED ? sqrt(tau / m->tau_s) : tau / m->tau_s;
             else if (sl > 0.0)
@@ -857,7 +867,7 @@ int tr_solve_init(const tr_model *m, tr_data *d, const double *guess, const doub
     d->fnorm = maxnorm(d->f, k);
     if (status != TR_OK)
         tr_set_message(d, "the residual at the initial guess is not finite (the guess is far "
-                       "from any equilibrium); try no guess, or a guess from a nearby scene");
+                          "from any equilibrium); try no guess, or a guess from a nearby scene");
     return status;
 }
 
@@ -884,8 +894,12 @@ int tr_solve_iterate(const tr_model *m, tr_data *d)
             }
         }
         if (factor(d) != 0 || lu_solve(d, d->f, d->dx) != 0) {
-            if (!d->J_fresh) { d->J_refresh = 1; continue; }
-            tr_set_message(d, "singular Jacobian at iteration %d (scaled residual %.3g): the "
+            if (!d->J_fresh) {
+                d->J_refresh = 1;
+                continue;
+            }
+            tr_set_message(d,
+                           "singular Jacobian at iteration %d (scaled residual %.3g): the "
                            "unknowns are not determined by the boundary conditions (statically "
                            "indeterminate tendons, or a tendon whose tension cannot act)",
                            d->nit, d->fnorm);
@@ -900,7 +914,8 @@ int tr_solve_iterate(const tr_model *m, tr_data *d)
         for (;;) {
             double phi;
             if (d->nfev >= d->opt.max_nfev) {
-                tr_set_message(d, "function-evaluation limit (max_nfev = %d) reached at iteration %d "
+                tr_set_message(d,
+                               "function-evaluation limit (max_nfev = %d) reached at iteration %d "
                                "(scaled residual %.3g > tol %.3g); raise max_nfev",
                                d->opt.max_nfev, d->nit, d->fnorm, d->opt.tol);
                 return TR_EMAXFEV;
@@ -927,21 +942,22 @@ int tr_solve_iterate(const tr_model *m, tr_data *d)
             }
             if (alpha < TR_ALPHA_MIN) {
                 if (d->fnorm < TR_ROUNDOFF_HINT)
-                    tr_set_message(d, "no progress at iteration %d: the scaled residual stalled at "
+                    tr_set_message(d,
+                                   "no progress at iteration %d: the scaled residual stalled at "
                                    "%.3g > tol %.3g, near the round-off level of this scene (large "
-                                   "tensions or stiffness ratios); loosen tol", d->nit, d->fnorm,
-                                   d->opt.tol);
+                                   "tensions or stiffness ratios); loosen tol",
+                                   d->nit, d->fnorm, d->opt.tol);
                 else
-                    tr_set_message(d, "no progress at iteration %d: the line search found no "
+                    tr_set_message(d,
+                                   "no progress at iteration %d: the line search found no "
                                    "decrease of the scaled residual (%.3g) along the Newton "
                                    "direction; the scene may have no equilibrium nearby (e.g. past "
-                                   "a buckling or slack limit), or the guess is poor", d->nit,
-                                   d->fnorm);
+                                   "a buckling or slack limit), or the guess is poor",
+                                   d->nit, d->fnorm);
                 return TR_ENOPROGRESS;
             }
         }
-        if (!accepted)
-            continue;   /* stale Jacobian rejected: retry with a fresh one */
+        if (!accepted) continue; /* stale Jacobian rejected: retry with a fresh one */
         /* accept */
         {
             const double ratio = sqrt(sumsq(d->ft, k) / (phi0 > 0.0 ? phi0 : 1.0));
@@ -959,8 +975,7 @@ int tr_solve_iterate(const tr_model *m, tr_data *d)
                         d->work[i] = r / ss;
                     }
                     for (i = 0; i < k; i++)
-                        for (j = 0; j < k; j++)
-                            d->J[i * k + j] += d->work[i] * d->xs[j];
+                        for (j = 0; j < k; j++) d->J[i * k + j] += d->work[i] * d->xs[j];
                 }
             }
             /* semismooth switch: a tendon that changed between taut and slack has a
@@ -975,7 +990,10 @@ int tr_solve_iterate(const tr_model *m, tr_data *d)
                 if (d->opt.jacobian_method == TR_JAC_FD && !(ratio > TR_BROYDEN_RATIO))
                     for (j = off; j < gend; j++)
                         if (d->lin_act[j - off]) {
-                            if (fd_column(m, d, j) != TR_OK) { d->J_refresh = 1; break; }
+                            if (fd_column(m, d, j) != TR_OK) {
+                                d->J_refresh = 1;
+                                break;
+                            }
                             nsw++;
                         }
                 (void)nsw;
@@ -1003,17 +1021,14 @@ static int hyb_jac(tr_data *d, const double *x, const double *f0, gsl_matrix *J)
     const tr_model *m = d->model;
     const int k = d->k;
     int i, j;
-    if (d->nfev + k > d->opt.max_nfev)
-        return GSL_EMAXITER;
+    if (d->nfev + k > d->opt.max_nfev) return GSL_EMAXITER;
     memcpy(d->xt, x, (size_t)k * sizeof(double));
     for (j = 0; j < k; j++) {
         double h = TR_FD_H * (fabs(x[j]) > 1.0 ? fabs(x[j]) : 1.0);
         d->xt[j] = x[j] + h;
         h = d->xt[j] - x[j];
-        if (tr_residual(m, d, d->xt, d->ft) != TR_OK)
-            return GSL_EBADFUNC;
-        for (i = 0; i < k; i++)
-            gsl_matrix_set(J, i, j, (d->ft[i] - f0[i]) / h);
+        if (tr_residual(m, d, d->xt, d->ft) != TR_OK) return GSL_EBADFUNC;
+        for (i = 0; i < k; i++) gsl_matrix_set(J, i, j, (d->ft[i] - f0[i]) / h);
         d->xt[j] = x[j];
     }
     d->njev++;
@@ -1023,16 +1038,14 @@ static int hyb_jac(tr_data *d, const double *x, const double *f0, gsl_matrix *J)
 static int hyb_df(const gsl_vector *x, void *params, gsl_matrix *J)
 {
     tr_data *d = (tr_data *)params;
-    if (tr_residual(d->model, d, x->data, d->dx) != TR_OK)
-        return GSL_EBADFUNC;
+    if (tr_residual(d->model, d, x->data, d->dx) != TR_OK) return GSL_EBADFUNC;
     return hyb_jac(d, x->data, d->dx, J);
 }
 
 static int hyb_fdf(const gsl_vector *x, void *params, gsl_vector *f, gsl_matrix *J)
 {
     tr_data *d = (tr_data *)params;
-    if (tr_residual(d->model, d, x->data, f->data) != TR_OK)
-        return GSL_EBADFUNC;
+    if (tr_residual(d->model, d, x->data, f->data) != TR_OK) return GSL_EBADFUNC;
     return hyb_jac(d, x->data, f->data, J);
 }
 
@@ -1043,27 +1056,41 @@ static int hybrid_run(const tr_model *m, tr_data *d, int max_iter)
     gsl_vector_view xv = gsl_vector_view_array(d->x, (size_t)k);
     gsl_multiroot_fdfsolver *s = d->hyb;
     int it = 0, st, i, j, status = TR_CONTINUE;
-    F.f = hyb_f; F.df = hyb_df; F.fdf = hyb_fdf; F.n = (size_t)k; F.params = d;
+    F.f = hyb_f;
+    F.df = hyb_df;
+    F.fdf = hyb_fdf;
+    F.n = (size_t)k;
+    F.params = d;
     st = gsl_multiroot_fdfsolver_set(s, &F, &xv.vector);
-    if (st != GSL_SUCCESS)
-        status = st == GSL_EMAXITER ? TR_EMAXFEV : TR_ENONFINITE;
+    if (st != GSL_SUCCESS) status = st == GSL_EMAXITER ? TR_EMAXFEV : TR_ENONFINITE;
     while (status == TR_CONTINUE) {
         double fn = maxnorm(s->f->data, k);
-        if (fn <= d->opt.tol) { status = TR_OK; break; }
-        if (it >= max_iter) { status = TR_EMAXITER; break; }
-        if (d->nfev >= d->opt.max_nfev) { status = TR_EMAXFEV; break; }
+        if (fn <= d->opt.tol) {
+            status = TR_OK;
+            break;
+        }
+        if (it >= max_iter) {
+            status = TR_EMAXITER;
+            break;
+        }
+        if (d->nfev >= d->opt.max_nfev) {
+            status = TR_EMAXFEV;
+            break;
+        }
         st = gsl_multiroot_fdfsolver_iterate(s);
         it++;
-        if (st == GSL_EMAXITER) status = TR_EMAXFEV;
-        else if (st == GSL_EBADFUNC) status = TR_ENONFINITE;
-        else if (st != GSL_SUCCESS) status = TR_ENOPROGRESS;
+        if (st == GSL_EMAXITER)
+            status = TR_EMAXFEV;
+        else if (st == GSL_EBADFUNC)
+            status = TR_ENONFINITE;
+        else if (st != GSL_SUCCESS)
+            status = TR_ENOPROGRESS;
     }
     if (st != GSL_EBADFUNC || it > 0) {
         memcpy(d->x, s->x->data, (size_t)k * sizeof(double));
         memcpy(d->f, s->f->data, (size_t)k * sizeof(double));
         for (i = 0; i < k; i++)
-            for (j = 0; j < k; j++)
-                d->J[i * k + j] = gsl_matrix_get(s->J, i, j);
+            for (j = 0; j < k; j++) d->J[i * k + j] = gsl_matrix_get(s->J, i, j);
         d->have_J = 1;
         d->J_fresh = 0;
     }
@@ -1072,20 +1099,25 @@ static int hybrid_run(const tr_model *m, tr_data *d, int max_iter)
     switch (status) {
     case TR_OK: break;
     case TR_EMAXITER:
-        tr_set_message(d, "did not converge in %d iterations (hybrid; scaled residual %.3g > tol "
-                       "%.3g); raise max_iter", max_iter, d->fnorm, d->opt.tol);
+        tr_set_message(d,
+                       "did not converge in %d iterations (hybrid; scaled residual %.3g > tol "
+                       "%.3g); raise max_iter",
+                       max_iter, d->fnorm, d->opt.tol);
         break;
     case TR_EMAXFEV:
-        tr_set_message(d, "function-evaluation limit (max_nfev = %d) reached (hybrid; scaled "
-                       "residual %.3g); raise max_nfev", d->opt.max_nfev, d->fnorm);
+        tr_set_message(d,
+                       "function-evaluation limit (max_nfev = %d) reached (hybrid; scaled "
+                       "residual %.3g); raise max_nfev",
+                       d->opt.max_nfev, d->fnorm);
         break;
     case TR_ENONFINITE:
         tr_set_message(d, "the residual became non-finite in the hybrid iteration");
         break;
     default:
-        tr_set_message(d, "the hybrid (dogleg) iteration made no progress at scaled residual %.3g "
-                       "(GSL: %s); the scene may have no equilibrium nearby", d->fnorm,
-                       gsl_strerror(st));
+        tr_set_message(d,
+                       "the hybrid (dogleg) iteration made no progress at scaled residual %.3g "
+                       "(GSL: %s); the scene may have no equilibrium nearby",
+                       d->fnorm, gsl_strerror(st));
     }
     return status;
 }
@@ -1096,38 +1128,39 @@ static int hybrid_run(const tr_model *m, tr_data *d, int max_iter)
 static int newton_run_stall(const tr_model *m, tr_data *d, int max_iter, int stall, double ratio)
 {
     int it = 0;
-    double hist[TR_STALL_ITERS];   /* residual norms of the last TR_STALL_ITERS iterations */
-    if (d->opt.jacobian_method == TR_JAC_HYBRID && d->hyb)
-        return hybrid_run(m, d, max_iter);
+    double hist[TR_STALL_ITERS]; /* residual norms of the last TR_STALL_ITERS iterations */
+    if (d->opt.jacobian_method == TR_JAC_HYBRID && d->hyb) return hybrid_run(m, d, max_iter);
     for (;;) {
         int status;
-        if (tr_solve_test(m, d) == TR_OK)
-            return TR_OK;
+        if (tr_solve_test(m, d) == TR_OK) return TR_OK;
         /* creeping (tiny damped steps along a curved valley, e.g. the common-mode
          * tension of stiff tendons under twist): give up early, so that the caller's
          * continuation starts before max_iter evaluations are spent */
         if (it >= stall && d->fnorm > ratio * hist[(it - stall) % TR_STALL_ITERS]) {
-            tr_set_message(d, "stagnated (scaled residual %.3g > tol %.3g, down by less than "
+            tr_set_message(d,
+                           "stagnated (scaled residual %.3g > tol %.3g, down by less than "
                            "%gx in %d iterations); give a guess from a nearby solved scene",
                            d->fnorm, d->opt.tol, 1.0 / ratio, stall);
             return TR_EMAXITER;
         }
         hist[it % TR_STALL_ITERS] = d->fnorm;
         if (d->nfev >= d->opt.max_nfev) {
-            tr_set_message(d, "function-evaluation limit (max_nfev = %d) reached (scaled residual "
-                           "%.3g > tol %.3g); raise max_nfev", d->opt.max_nfev, d->fnorm, d->opt.tol);
+            tr_set_message(d,
+                           "function-evaluation limit (max_nfev = %d) reached (scaled residual "
+                           "%.3g > tol %.3g); raise max_nfev",
+                           d->opt.max_nfev, d->fnorm, d->opt.tol);
             return TR_EMAXFEV;
         }
         if (it >= max_iter) {
-            tr_set_message(d, "did not converge in %d iterations (scaled residual %.3g > tol %.3g); "
+            tr_set_message(d,
+                           "did not converge in %d iterations (scaled residual %.3g > tol %.3g); "
                            "raise max_iter, or give a guess from a nearby solved scene",
                            max_iter, d->fnorm, d->opt.tol);
             return TR_EMAXITER;
         }
         status = tr_solve_iterate(m, d);
         it++;
-        if (status < 0)
-            return status;
+        if (status < 0) return status;
     }
 }
 
@@ -1166,13 +1199,16 @@ static int ramp(const tr_model *m, tr_data *d, double *lamp, const char *what, d
         if (dlam > dmax) dlam = dmax;
         lt = lam + dlam > 1.0 ? 1.0 : lam + dlam;
         if (d->nfev >= d->opt.max_nfev) {
-            tr_set_message(d, "function-evaluation limit (max_nfev = %d) reached during continuation "
-                           "at %.4g of the %s; raise max_nfev", d->opt.max_nfev, lam, what);
+            tr_set_message(d,
+                           "function-evaluation limit (max_nfev = %d) reached during continuation "
+                           "at %.4g of the %s; raise max_nfev",
+                           d->opt.max_nfev, lam, what);
             *lamp = lam;
             return TR_EMAXFEV;
         }
         if (d->cont_steps >= d->opt.max_continuation) {
-            tr_set_message(d, "continuation reached only %.4g of the %s in max_continuation = %d "
+            tr_set_message(d,
+                           "continuation reached only %.4g of the %s in max_continuation = %d "
                            "steps; raise max_continuation, or the scene may have no equilibrium on "
                            "this path (e.g. buckling, or a tendon that cannot hold the load)",
                            lam, what, d->opt.max_continuation);
@@ -1182,16 +1218,14 @@ static int ramp(const tr_model *m, tr_data *d, double *lamp, const char *what, d
         memcpy(d->xs, d->x, (size_t)k * sizeof(double));
         memcpy(d->fs, d->f, (size_t)k * sizeof(double));
         if (have_prev)
-            for (i = 0; i < k; i++)
-                d->x[i] += (d->x[i] - d->xp[i]) * (lt - lam) / dlam_prev;
+            for (i = 0; i < k; i++) d->x[i] += (d->x[i] - d->xp[i]) * (lt - lam) / dlam_prev;
         *lamp = lt;
         status = tr_residual(m, d, d->x, d->f);
         d->fnorm = maxnorm(d->f, k);
         if (status == TR_OK)
             status = newton_run_stall(m, d, iter_cap, TR_CONT_STALL_ITERS, TR_CONT_STALL_RATIO);
         d->cont_steps++;
-        if (status == TR_EMAXFEV)
-            return status;
+        if (status == TR_EMAXFEV) return status;
         if (status == TR_OK) {
             /* a stage whose tip jumps by more than TR_CONT_TIP_JUMP L left the branch it
              * started on (exponentially sensitive shapes can do that in one Newton
@@ -1201,8 +1235,9 @@ static int ramp(const tr_model *m, tr_data *d, double *lamp, const char *what, d
             else
                 tip_new[0] = tip_new[1] = tip_new[2] = 0.0;
             if (lamp == &d->lam_load &&
-                hypot(hypot(tip_new[0] - tip[0], tip_new[1] - tip[1]), tip_new[2] - tip[2])
-                > TR_CONT_TIP_JUMP * m->L && dlam > TR_CONT_DLAM_MIN * 4.0)
+                hypot(hypot(tip_new[0] - tip[0], tip_new[1] - tip[1]), tip_new[2] - tip[2]) >
+                    TR_CONT_TIP_JUMP * m->L &&
+                dlam > TR_CONT_DLAM_MIN * 4.0)
                 status = TR_ENOPROGRESS;
         }
         if (status == TR_OK) {
@@ -1218,13 +1253,15 @@ static int ramp(const tr_model *m, tr_data *d, double *lamp, const char *what, d
             d->fnorm = maxnorm(d->f, k);
             *lamp = lam;
             d->have_J = 0;
-            have_prev = 0;   /* the secant may point across a switch: predict constant */
+            have_prev = 0; /* the secant may point across a switch: predict constant */
             dlam *= 0.5;
             if (dlam < TR_CONT_DLAM_MIN) {
-                tr_set_message(d, "continuation stalled at %.4g of the %s (step below %g): the "
+                tr_set_message(d,
+                               "continuation stalled at %.4g of the %s (step below %g): the "
                                "scene may have no equilibrium on this path (a limit point, "
                                "buckling, a tendon that cannot hold the load, or an impossible "
-                               "actuation)", lam, what, TR_CONT_DLAM_MIN);
+                               "actuation)",
+                               lam, what, TR_CONT_DLAM_MIN);
                 return TR_ECONTINUATION;
             }
         }
@@ -1244,17 +1281,16 @@ static int continuation_run(const tr_model *m, tr_data *d)
     d->have_J = 0;
     status = tr_residual(m, d, d->x, d->f);
     d->fnorm = maxnorm(d->f, d->k);
-    if (status == TR_OK)
-        status = newton_run(m, d, d->opt.max_iter);
-    if (status == TR_EMAXFEV)
-        return status;
+    if (status == TR_OK) status = newton_run(m, d, d->opt.max_iter);
+    if (status == TR_EMAXFEV) return status;
     if (status != TR_OK) {
-        tr_set_message(d, "continuation could not solve the unloaded robot: %s", tr_strerror(status));
+        tr_set_message(d, "continuation could not solve the unloaded robot: %s",
+                       tr_strerror(status));
         return TR_ECONTINUATION;
     }
-    status = ramp(m, d, &d->lam_act, "actuation (tendon displacements and tensions, loads off)", 1.0);
-    if (status != TR_OK)
-        return status;
+    status =
+        ramp(m, d, &d->lam_act, "actuation (tendon displacements and tensions, loads off)", 1.0);
+    if (status != TR_OK) return status;
     /* load steps of at most TR_RAMP_LOAD (scaled F L^2/EI + M L/EI) keep the path on the
      * branch that grows from the unloaded robot */
     {
@@ -1288,13 +1324,11 @@ static double jac_cond(tr_data *d)
         for (i = 0; i < k; i++) c += fabs(d->J[i * k + j]);
         if (c > nJ) nJ = c;
     }
-    if (factor(d) != 0)
-        return INFINITY;
+    if (factor(d) != 0) return INFINITY;
     for (j = 0; j < k; j++) {
         double c = 0.0;
         for (i = 0; i < k; i++) d->work[i] = (i == j);
-        if (lu_solve(d, d->work, d->ft) != 0)
-            return INFINITY;
+        if (lu_solve(d, d->work, d->ft) != 0) return INFINITY;
         for (i = 0; i < k; i++) c += fabs(d->ft[i]);
         if (c > nI) nI = c;
     }
@@ -1315,11 +1349,9 @@ static double doubling_estimate(const tr_model *m, tr_data *d)
     d->fnorm = status == TR_OK ? maxnorm(d->f, k) : INFINITY;
     memcpy(d->ysave, d->y, (size_t)m->n_base * sizeof(double));
     d->steps_double = 1;
-    if (status == TR_OK)
-        status = tr_residual(m, d, d->x, d->ft);
+    if (status == TR_OK) status = tr_residual(m, d, d->x, d->ft);
     d->steps_double = 0;
-    if (status != TR_OK)
-        return INFINITY;
+    if (status != TR_OK) return INFINITY;
     for (c = 0; c < k; c++) {
         const double e = fabs(d->ft[c] - d->f[c]);
         if (!(e <= est)) est = e;
@@ -1368,9 +1400,10 @@ static int verify_steps(const tr_model *m, tr_data *d)
             return TR_OK;
         }
         if (N >= TR_STEP_CAP) {
-            tr_set_message(d, "converged, but the truncation estimate %.3g stayed above tol %.3g "
-                           "at %d steps; use a higher-order integrator or a looser tol", est,
-                           d->opt.tol, N);
+            tr_set_message(d,
+                           "converged, but the truncation estimate %.3g stayed above tol %.3g "
+                           "at %d steps; use a higher-order integrator or a looser tol",
+                           est, d->opt.tol, N);
             return TR_TRUNCATION;
         }
         d->steps = refined_steps(d, N, est);
@@ -1379,8 +1412,7 @@ static int verify_steps(const tr_model *m, tr_data *d)
         /* (no stagnation test: the point is converged at N steps already) */
         if (status == TR_OK)
             status = newton_run_stall(m, d, d->opt.max_iter, TR_STALL_ITERS, INFINITY);
-        if (status != TR_OK)
-            return status;
+        if (status != TR_OK) return status;
     }
     return TR_TRUNCATION;
 }
@@ -1395,8 +1427,7 @@ static void polish(const tr_model *m, tr_data *d)
     int p, i;
     for (p = 0; p < TR_POLISH_STEPS; p++) {
         double big = 0.0;
-        if (factor(d) != 0 || lu_solve(d, d->f, d->dx) != 0)
-            return;
+        if (factor(d) != 0 || lu_solve(d, d->f, d->dx) != 0) return;
         for (i = 0; i < k; i++) {
             const double r = fabs(d->dx[i]) / (fabs(d->x[i]) > 1.0 ? fabs(d->x[i]) : 1.0);
             if (r > big) big = r;
@@ -1407,10 +1438,8 @@ static void polish(const tr_model *m, tr_data *d)
         if (!(big > TR_POLISH_XTOL_FACTOR * d->opt.tol) &&
             !(d->steps_moved && d->fnorm > TR_POLISH_RES_FACTOR * d->opt.tol))
             return;
-        if (tr_residual(m, d, d->xt, d->ft) != TR_OK)
-            return;
-        if (!(maxnorm(d->ft, k) <= (d->fnorm > d->opt.tol ? d->fnorm : d->opt.tol)))
-            return;
+        if (tr_residual(m, d, d->xt, d->ft) != TR_OK) return;
+        if (!(maxnorm(d->ft, k) <= (d->fnorm > d->opt.tol ? d->fnorm : d->opt.tol))) return;
         memcpy(d->x, d->xt, (size_t)k * sizeof(double));
         memcpy(d->f, d->ft, (size_t)k * sizeof(double));
         d->fnorm = maxnorm(d->f, k);
@@ -1427,8 +1456,7 @@ static int auto_steps(const tr_model *m, const tr_data *d)
     const double per = d->opt.integrator == TR_RK4 ? 4.0 * TR_AUTO_PER_LAMBDA : TR_AUTO_PER_LAMBDA;
     double F = m->L * tru_norm3(m->dist), lam;
     int b, n;
-    for (b = 1; b <= m->nseg; b++)
-        F += tru_norm3(m->bpF + 3 * b);
+    for (b = 1; b <= m->nseg; b++) F += tru_norm3(m->bpF + 3 * b);
     lam = m->L * sqrt(F / m->EI);
     n = (int)ceil(fmin(per * lam, (double)TR_AUTO_MAX));
     return n > base ? n : base;
@@ -1461,8 +1489,7 @@ int tr_solve(const tr_model *m, tr_data *d, const double *guess, const double *j
         return d->status = m->scene_status;
     }
     status = tr_solve_init(m, d, guess, jac);
-    if (status == TR_EINVAL)
-        return d->status = status;
+    if (status == TR_EINVAL) return d->status = status;
     if (status == TR_OK && !guess && d->opt.continuation && d->opt.max_continuation > 0 &&
         tr_load_scale(m) > TR_DIRECT_LOAD_MAX) {
         /* large loads from a cold start: a direct Newton iteration can land on a looped,
@@ -1495,14 +1522,15 @@ int tr_solve(const tr_model *m, tr_data *d, const double *guess, const double *j
                 memcpy(both, d->message, TR_MSGLEN);
                 d->lam_act = d->lam_load = 1.0;
                 st3 = tr_solve_init(m, d, NULL, NULL);
-                if (st3 == TR_OK)
-                    st3 = newton_run(m, d, d->opt.max_iter);
+                if (st3 == TR_OK) st3 = newton_run(m, d, d->opt.max_iter);
                 if (st3 == TR_OK) {
                     status = TR_OFFPATH;
-                    tr_set_message(d, "converged by a direct solve, but load continuation from the "
+                    tr_set_message(d,
+                                   "converged by a direct solve, but load continuation from the "
                                    "unloaded robot stalled (%s): this equilibrium may not be the "
                                    "one reached by loading the robot (a limit point / "
-                                   "snap-through lies on the path)", second);
+                                   "snap-through lies on the path)",
+                                   second);
                 } else {
                     tr_set_message(d, "%s; a direct solve did not converge either", both);
                 }
@@ -1522,12 +1550,12 @@ int tr_solve(const tr_model *m, tr_data *d, const double *guess, const double *j
         if (fs != TR_OK) d->have_J = 0;
     }
 
-    if (status >= 0 && d->have_J)
-        polish(m, d);
+    if (status >= 0 && d->have_J) polish(m, d);
     d->jacobian_cond = d->have_J ? jac_cond(d) : NAN;
     if (status >= 0 && d->jacobian_cond > TR_COND_SINGULAR) {
         status = TR_ILLCONDITIONED;
-        tr_set_message(d, "converged, but the Jacobian is nearly singular (condition %.3g): the "
+        tr_set_message(d,
+                       "converged, but the Jacobian is nearly singular (condition %.3g): the "
                        "tendon tensions are poorly determined; if opposing inextensible tendons "
                        "act on an inextensible backbone the problem is statically indeterminate: "
                        "give the tendons a finite EA or the backbone an extension stiffness",
@@ -1535,9 +1563,11 @@ int tr_solve(const tr_model *m, tr_data *d, const double *guess, const double *j
     } else if (status < 0 && d->jacobian_cond > TR_COND_SINGULAR && m->ndisp >= 2) {
         char first[TR_MSGLEN];
         memcpy(first, d->message, TR_MSGLEN);
-        tr_set_message(d, "%s; the Jacobian is nearly singular (condition %.3g): the tendon "
+        tr_set_message(d,
+                       "%s; the Jacobian is nearly singular (condition %.3g): the tendon "
                        "tensions may be statically indeterminate (give the tendons a finite EA "
-                       "or the backbone an extension stiffness)", first, d->jacobian_cond);
+                       "or the backbone an extension stiffness)",
+                       first, d->jacobian_cond);
     }
     if (status < 0 && status != TR_EMAXFEV && m->ndisp >= 2) {
         /* stiff tendons sharing a tension level (S4/S5): that level is fixed only by
@@ -1553,7 +1583,8 @@ int tr_solve(const tr_model *m, tr_data *d, const double *guess, const double *j
         if (stiff > TR_STIFF_HINT) {
             char first[TR_MSGLEN];
             memcpy(first, d->message, TR_MSGLEN);
-            tr_set_message(d, "nearly inextensible tendons (r^2 EA/EI up to %.3g: the tension "
+            tr_set_message(d,
+                           "nearly inextensible tendons (r^2 EA/EI up to %.3g: the tension "
                            "level they share is set only by their stretch, poorly resolved by "
                            "Newton; try a softer EA, or a guess solved with softer tendons): %s",
                            stiff, first);
@@ -1569,8 +1600,8 @@ int tr_solve(const tr_model *m, tr_data *d, const double *guess, const double *j
         }
     }
     if (status == TR_OK)
-        tr_set_message(d, "converged in %d iterations (scaled residual %.3g <= tol %.3g)",
-                       d->nit, d->residual_norm, d->opt.tol);
+        tr_set_message(d, "converged in %d iterations (scaled residual %.3g <= tol %.3g)", d->nit,
+                       d->residual_norm, d->opt.tol);
     else if (status == TR_TRUNCATION && d->message[0] == '\0')
         tr_set_message(d, "%s", tr_strerror(status));
     return d->status = status;
@@ -1593,16 +1624,13 @@ static int record_span(const tr_model *m, tr_data *d, double s0, double s1, int 
     const double len = s1 - s0;
     const double h = (m->bp[k + 1] - m->bp[k]) / tr_segment_steps(m, d, k);
     int n8, n4, status;
-    if (!(len > 0.0))
-        return TR_OK;
+    if (!(len > 0.0)) return TR_OK;
     n8 = (int)ceil(len / h - 1e-9);
     if (n8 < 1) n8 = 1;
-    if (d->opt.integrator != TR_RK8)
-        return tr_integrate(m, d, s0, s1, n8, y);
+    if (d->opt.integrator != TR_RK8) return tr_integrate(m, d, s0, s1, n8, y);
     n4 = (int)ceil(len / fmin(h / TR_RECORD_RK4_FRACTION, m->L / TR_RECORD_RK4_MIN_STEPS) - 1e-9);
     if (n4 < 1) n4 = 1;
-    if (!allow_rk4 || 4 * n4 >= 13 * n8)
-        return tr_integrate(m, d, s0, s1, n8, y);
+    if (!allow_rk4 || 4 * n4 >= 13 * n8) return tr_integrate(m, d, s0, s1, n8, y);
     *used_rk4 = 1;
     d->opt.integrator = TR_RK4;
     status = tr_integrate(m, d, s0, s1, n4, y);
@@ -1617,12 +1645,10 @@ static void rec_restart(const tr_model *m, tr_data *d, int j, double *y)
 {
     const int o = node_off(m, j), lenbase = m->n_base;
     int c, i;
-    for (c = 0; c < m->n_base; c++)
-        y[c] = d->x[o + c] * node_scale(m, c);
+    for (c = 0; c < m->n_base; c++) y[c] = d->x[o + c] * node_scale(m, c);
     for (i = 0; i < m->nt; i++) {
         const tr_tendon *t = &m->tendon[i];
-        if (t->len_index >= 0)
-            y[lenbase + i] = d->x[o + m->n_base + t->len_index] * m->len_s;
+        if (t->len_index >= 0) y[lenbase + i] = d->x[o + m->n_base + t->len_index] * m->len_s;
     }
 }
 
@@ -1659,8 +1685,7 @@ static int record_pass(const tr_model *m, tr_data *d, int allow_rk4, int *used)
             }
         } else {
             const double se = sj > m->bp[k + 1] ? m->bp[k + 1] : sj;
-            if (se > scur)
-                status = record_span(m, d, scur, se, k, y, allow_rk4, &used_rk4);
+            if (se > scur) status = record_span(m, d, scur, se, k, y, allow_rk4, &used_rk4);
             if (se > scur) scur = se;
         }
         store_node(m, d, j, y);
@@ -1685,8 +1710,9 @@ static int record_pass(const tr_model *m, tr_data *d, int allow_rk4, int *used)
         if (t->control == TR_DISPLACEMENT)
             d->displacement[i] = t->value;
         else
-            d->displacement[i] = t->rest_dev + (isfinite(t->EA) ? d->tau[i] / t->EA : 0.0) * t->rest
-                                 - y[lenbase + i];
+            d->displacement[i] = t->rest_dev +
+                                 (isfinite(t->EA) ? d->tau[i] / t->EA : 0.0) * t->rest -
+                                 y[lenbase + i];
     }
     *used = used_rk4;
     if (status != TR_OK) {
@@ -1710,14 +1736,12 @@ int tr_record(const tr_model *m, tr_data *d)
         int i;
         memcpy(d->ysave, d->y, (size_t)m->n_base * sizeof(double));
         status = tr_residual(m, d, d->x, d->ft);
-        if (status != TR_OK)
-            return record_pass(m, d, 0, &used);
+        if (status != TR_OK) return record_pass(m, d, 0, &used);
         for (i = 0; i < m->n_base; i++) {
             const double e = fabs(d->ysave[i] - d->y[i]) / m->xstate_scale[i];
             if (e > diff) diff = e;
         }
-        if (!(diff <= TR_RECORD_GROSS))
-            return record_pass(m, d, 0, &used);
+        if (!(diff <= TR_RECORD_GROSS)) return record_pass(m, d, 0, &used);
         /* the tip node carries the shooting solution itself (the one the residual
          * and the tolerance refer to); the RK4 nodes before it agree to ~1e-9 */
         if (d->nnode > 0 && fabs(d->s[d->nnode - 1] - m->L) <= 1e-12 * m->L)
@@ -1736,8 +1760,10 @@ int tr_compliance(const tr_model *m, tr_data *d, double s_probe, double C[36])
     for (b = 1; b <= m->nseg; b++)
         if (fabs(m->bp[b] - s_probe) <= 1e-12 * m->L) pb = b;
     if (pb < 0) {
-        tr_set_message(d, "compliance: s = %g m is not a breakpoint of the model (add a zero "
-                       "point load there)", s_probe);
+        tr_set_message(d,
+                       "compliance: s = %g m is not a breakpoint of the model (add a zero "
+                       "point load there)",
+                       s_probe);
         return TR_EINVAL;
     }
     if (m->planar) {
@@ -1765,13 +1791,13 @@ int tr_compliance(const tr_model *m, tr_data *d, double s_probe, double C[36])
         for (i = 0; i < k; i++) d->J[i * k + j] = (d->work[i] - d->ft[i]) / (2.0 * hx);
         {
             double dR[9], W[9];
-            for (i = 0; i < 3; i++)
-                d->Yx[i * k + j] = (Yp[i] - d->probe_state[i]) / (2.0 * hx);
+            for (i = 0; i < 3; i++) d->Yx[i * k + j] = (Yp[i] - d->probe_state[i]) / (2.0 * hx);
             for (i = 0; i < 9; i++) dR[i] = (Yp[3 + i] - d->probe_state[3 + i]) / (2.0 * hx);
             /* W = dR R0^T (skew): dtheta = vee(W) */
             for (i = 0; i < 3; i++)
                 for (q = 0; q < 3; q++)
-                    W[3 * i + q] = dR[3 * i] * R0[3 * q] + dR[3 * i + 1] * R0[3 * q + 1] + dR[3 * i + 2] * R0[3 * q + 2];
+                    W[3 * i + q] = dR[3 * i] * R0[3 * q] + dR[3 * i + 1] * R0[3 * q + 1] +
+                                   dR[3 * i + 2] * R0[3 * q + 2];
             d->Yx[3 * k + j] = 0.5 * (W[7] - W[5]);
             d->Yx[4 * k + j] = 0.5 * (W[2] - W[6]);
             d->Yx[5 * k + j] = 0.5 * (W[3] - W[1]);
@@ -1800,7 +1826,10 @@ int tr_compliance(const tr_model *m, tr_data *d, double s_probe, double C[36])
     /* du/dp = -J^-1 Fp; C = Yx du/dp */
     for (q = 0; q < 6; q++) {
         for (i = 0; i < k; i++) d->work[i] = -d->Fp[i * 6 + q];
-        if (lu_solve(d, d->work, d->ft) != 0) { status = TR_ESINGULAR; goto done; }
+        if (lu_solve(d, d->work, d->ft) != 0) {
+            status = TR_ESINGULAR;
+            goto done;
+        }
         for (i = 0; i < 6; i++) {
             double c = 0.0;
             for (j = 0; j < k; j++) c += d->Yx[i * k + j] * d->ft[j];

@@ -12,7 +12,9 @@ static inline void tru_cross3(double res[3], const double a[3], const double b[3
     const double r0 = a[1] * b[2] - a[2] * b[1];
     const double r1 = a[2] * b[0] - a[0] * b[2];
     const double r2 = a[0] * b[1] - a[1] * b[0];
-    res[0] = r0; res[1] = r1; res[2] = r2;
+    res[0] = r0;
+    res[1] = r1;
+    res[2] = r2;
 }
 
 static inline double tru_dot3(const double a[3], const double b[3])
@@ -31,7 +33,9 @@ static inline void tru_matvec3(double res[3], const double M[9], const double x[
     const double r0 = M[0] * x[0] + M[1] * x[1] + M[2] * x[2];
     const double r1 = M[3] * x[0] + M[4] * x[1] + M[5] * x[2];
     const double r2 = M[6] * x[0] + M[7] * x[1] + M[8] * x[2];
-    res[0] = r0; res[1] = r1; res[2] = r2;
+    res[0] = r0;
+    res[1] = r1;
+    res[2] = r2;
 }
 
 /* res = M^T x */
@@ -40,7 +44,9 @@ static inline void tru_mattvec3(double res[3], const double M[9], const double x
     const double r0 = M[0] * x[0] + M[3] * x[1] + M[6] * x[2];
     const double r1 = M[1] * x[0] + M[4] * x[1] + M[7] * x[2];
     const double r2 = M[2] * x[0] + M[5] * x[1] + M[8] * x[2];
-    res[0] = r0; res[1] = r1; res[2] = r2;
+    res[0] = r0;
+    res[1] = r1;
+    res[2] = r2;
 }
 
 /* res = A B (res may not alias A or B) */
@@ -55,9 +61,15 @@ static inline void tru_matmul3(double res[9], const double A[9], const double B[
 /* skew matrix: S x = a x x */
 static inline void tru_skew3(double S[9], const double a[3])
 {
-    S[0] = 0.0;   S[1] = -a[2]; S[2] = a[1];
-    S[3] = a[2];  S[4] = 0.0;   S[5] = -a[0];
-    S[6] = -a[1]; S[7] = a[0];  S[8] = 0.0;
+    S[0] = 0.0;
+    S[1] = -a[2];
+    S[2] = a[1];
+    S[3] = a[2];
+    S[4] = 0.0;
+    S[5] = -a[0];
+    S[6] = -a[1];
+    S[7] = a[0];
+    S[8] = 0.0;
 }
 
 /* Solve A x = b in place (A n x n row-major, destroyed; b overwritten by x) by
@@ -70,31 +82,35 @@ static inline int tru_solve_dense(int n, double *A, double *b)
         double amax = fabs(A[c * n + c]);
         for (i = c + 1; i < n; i++) {
             const double ai = fabs(A[i * n + c]);
-            if (ai > amax) { amax = ai; piv = i; }
+            if (ai > amax) {
+                amax = ai;
+                piv = i;
+            }
         }
-        if (!(amax > 0.0))
-            return -1;
+        if (!(amax > 0.0)) return -1;
         if (piv != c) {
             for (j = c; j < n; j++) {
                 const double tmp = A[c * n + j];
                 A[c * n + j] = A[piv * n + j];
                 A[piv * n + j] = tmp;
             }
-            { const double tmp = b[c]; b[c] = b[piv]; b[piv] = tmp; }
+            {
+                const double tmp = b[c];
+                b[c] = b[piv];
+                b[piv] = tmp;
+            }
         }
         for (i = c + 1; i < n; i++) {
             const double l = A[i * n + c] / A[c * n + c];
             if (l != 0.0) {
-                for (j = c + 1; j < n; j++)
-                    A[i * n + j] -= l * A[c * n + j];
+                for (j = c + 1; j < n; j++) A[i * n + j] -= l * A[c * n + j];
                 b[i] -= l * b[c];
             }
         }
     }
     for (i = n - 1; i >= 0; i--) {
         double sum = b[i];
-        for (j = i + 1; j < n; j++)
-            sum -= A[i * n + j] * b[j];
+        for (j = i + 1; j < n; j++) sum -= A[i * n + j] * b[j];
         b[i] = sum / A[i * n + i];
     }
     return 0;

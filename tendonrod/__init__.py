@@ -8,6 +8,7 @@ with prescribed tendon displacements (or tensions).
 
 SI units everywhere, angles in radians.
 """
+
 from . import _core
 
 gsl_version: str = _core.gsl_version
@@ -18,10 +19,22 @@ __version__ = "0.1.0"
 from . import analytic  # noqa: E402
 
 # BEGIN Cosserat solver API (model.py, solver.py)
-from .model import (DistributedLoad, PointLoad, Robot, Rod, Scene,  # noqa: E402
-                    Tendon)
-from .solver import (ConvergenceError, ConvergenceWarning, Options,  # noqa: E402
-                     Solution, compliance, solve)
+from .model import (
+    DistributedLoad,
+    PointLoad,
+    Robot,
+    Rod,
+    Scene,  # noqa: E402
+    Tendon,
+)
+from .solver import (
+    ConvergenceError,
+    ConvergenceWarning,
+    Options,  # noqa: E402
+    Solution,
+    compliance,
+    solve,
+)
 # END Cosserat solver API
 
 # BEGIN design studies (sweep.py; plot, studies and scenefile are imported on first use)
@@ -36,6 +49,8 @@ def __getattr__(name):
 
         return importlib.import_module(f".{name}", __name__)
     raise AttributeError(f"module 'tendonrod' has no attribute {name!r}")
+
+
 # END design studies
 
 # BEGIN batch solves (batch.py, issue 7)
@@ -43,7 +58,19 @@ from .batch import BatchResult, solve_batch  # noqa: E402
 # END batch solves
 
 __all__ = ["analytic", "gsl_version", "__version__"]
-__all__ += ["Rod", "Tendon", "Robot", "Scene", "PointLoad", "DistributedLoad", "Options",
-            "Solution", "solve", "compliance", "ConvergenceWarning", "ConvergenceError"]
+__all__ += [
+    "Rod",
+    "Tendon",
+    "Robot",
+    "Scene",
+    "PointLoad",
+    "DistributedLoad",
+    "Options",
+    "Solution",
+    "solve",
+    "compliance",
+    "ConvergenceWarning",
+    "ConvergenceError",
+]
 __all__ += ["sweep", "SweepResult"]
 __all__ += ["solve_batch", "BatchResult"]

@@ -3,6 +3,7 @@
 Exit codes: 0 success; 1 a solve did not converge (or a figure failed); 2 bad
 input (malformed scene file, unknown option, unreadable file).
 """
+
 from __future__ import annotations
 
 import argparse
@@ -32,7 +33,7 @@ def _jsonable(x):
         return _jsonable(x.tolist())
     if isinstance(x, (np.floating, float)):
         v = float(x)
-        return v if np.isfinite(v) else repr(v)   # JSON has no inf/nan: write "inf", "nan"
+        return v if np.isfinite(v) else repr(v)  # JSON has no inf/nan: write "inf", "nan"
     if isinstance(x, (np.integer,)):
         return int(x)
     if isinstance(x, (np.bool_,)):
@@ -55,8 +56,10 @@ def _cmd_solve(args) -> int:
         print(f"tendonrod solve: error: {exc}", file=sys.stderr)
         return EXIT_BAD_INPUT
     except OSError as exc:
-        print(f"tendonrod solve: error: cannot read scene file {args.scene!r}: {exc.strerror or exc}",
-              file=sys.stderr)
+        print(
+            f"tendonrod solve: error: cannot read scene file {args.scene!r}: {exc.strerror or exc}",
+            file=sys.stderr,
+        )
         return EXIT_BAD_INPUT
     t0 = time.perf_counter()
     try:
@@ -88,15 +91,23 @@ def _cmd_solve(args) -> int:
         "displacement_m": sol.displacement,
         "units": {"length": "m", "force": "N", "moment": "N m", "angle": "rad"},
         "arrays": "solution.npz: s (N,) [m], position (N,3) [m] world, rotation (N,3,3) body-to-world, "
-                  "force (N,3) [N] world, moment (N,3) [N m] world, tension (nt,) [N], "
-                  "slack (nt,) [m], displacement (nt,) [m]",
+        "force (N,3) [N] world, moment (N,3) [N m] world, tension (nt,) [N], "
+        "slack (nt,) [m], displacement (nt,) [m]",
     }
     with open(os.path.join(args.out, "solution.json"), "w", encoding="utf-8") as fh:
         json.dump(_jsonable(summary), fh, indent=2)
         fh.write("\n")
-    np.savez(os.path.join(args.out, "solution.npz"), s=sol.s, position=sol.position,
-             rotation=sol.rotation, force=sol.force, moment=sol.moment, tension=sol.tension,
-             slack=sol.slack, displacement=sol.displacement)
+    np.savez(
+        os.path.join(args.out, "solution.npz"),
+        s=sol.s,
+        position=sol.position,
+        rotation=sol.rotation,
+        force=sol.force,
+        moment=sol.moment,
+        tension=sol.tension,
+        slack=sol.slack,
+        displacement=sol.displacement,
+    )
     written = ["solution.json", "solution.npz"]
     if args.plot:
         import matplotlib
@@ -114,14 +125,18 @@ def _cmd_solve(args) -> int:
         trplot.robot(sol, spec.scene, ax=ax)
         import textwrap
 
-        ax.set_title(textwrap.fill(spec.title or os.path.basename(args.scene), 60), fontsize="small")
+        ax.set_title(
+            textwrap.fill(spec.title or os.path.basename(args.scene), 60), fontsize="small"
+        )
         fig.tight_layout()
         fig.savefig(os.path.join(args.out, "solution.png"), dpi=120)
         plt.close(fig)
         written.append("solution.png")
     status = "converged" if sol.success else "DID NOT CONVERGE"
-    print(f"{args.scene}: {status} ({sol.message}); tip at {np.round(sol.tip_position, 6).tolist()} m; "
-          f"wrote {', '.join(written)} to {args.out}")
+    print(
+        f"{args.scene}: {status} ({sol.message}); tip at {np.round(sol.tip_position, 6).tolist()} m; "
+        f"wrote {', '.join(written)} to {args.out}"
+    )
     return EXIT_OK if sol.success else EXIT_NOT_CONVERGED
 
 
@@ -134,15 +149,18 @@ def _cmd_figures(args) -> int:
 
     from tendonrod import studies
 
-    args.fast = bool(args.fast or studies.fast_mode())     # --fast or TENDONROD_FAST=1
+    args.fast = bool(args.fast or studies.fast_mode())  # --fast or TENDONROD_FAST=1
     registry = studies.figure_registry()
     keys = list(registry)
     if args.only:
         wanted = [k.strip() for k in args.only.split(",") if k.strip()]
         unknown = [k for k in wanted if k not in registry]
         if unknown:
-            print(f"tendonrod figures: error: --only: unknown figure(s) {', '.join(unknown)}; "
-                  f"known: {', '.join(keys)}", file=sys.stderr)
+            print(
+                f"tendonrod figures: error: --only: unknown figure(s) {', '.join(unknown)}; "
+                f"known: {', '.join(keys)}",
+                file=sys.stderr,
+            )
             return EXIT_BAD_INPUT
         keys = wanted
     if args.list:
@@ -150,11 +168,15 @@ def _cmd_figures(args) -> int:
             print(f"{k}: {registry[k].caption}")
         return EXIT_OK
     os.makedirs(args.out, exist_ok=True)
-    lines = ["# tendonrod: the paper's figures, regenerated", "",
-             f"Command: `python -m tendonrod figures --out {args.out}{' --fast' if args.fast else ''}`  ",
-             "Paper: *Continuum Robot Deflection under External Loads and Prescribed Tendon "
-             "Displacements*.  Nondimensional compliance sigma = 12 EI delta / (F L^3) (the "
-             "paper's definition) unless a label says otherwise.", ""]
+    lines = [
+        "# tendonrod: the paper's figures, regenerated",
+        "",
+        f"Command: `python -m tendonrod figures --out {args.out}{' --fast' if args.fast else ''}`  ",
+        "Paper: *Continuum Robot Deflection under External Loads and Prescribed Tendon "
+        "Displacements*.  Nondimensional compliance sigma = 12 EI delta / (F L^3) (the "
+        "paper's definition) unless a label says otherwise.",
+        "",
+    ]
     failed = []
     t_all = time.perf_counter()
     for k in keys:
@@ -178,12 +200,16 @@ def _cmd_figures(args) -> int:
         notes = getattr(fig, "_tendonrod_notes", None)
         if notes:
             lines += [notes, ""]
-    lines.append(f"_{len(keys) - len(failed)} figures in {time.perf_counter() - t_all:.0f} s"
-                 f"{' (fast setting)' if args.fast else ''}._")
+    lines.append(
+        f"_{len(keys) - len(failed)} figures in {time.perf_counter() - t_all:.0f} s"
+        f"{' (fast setting)' if args.fast else ''}._"
+    )
     with open(os.path.join(args.out, "index.md"), "w", encoding="utf-8") as fh:
         fh.write("\n".join(lines) + "\n")
-    print(f"wrote {len(keys) - len(failed)} figures and index.md to {args.out}"
-          + (f"; FAILED: {', '.join(failed)}" if failed else ""))
+    print(
+        f"wrote {len(keys) - len(failed)} figures and index.md to {args.out}"
+        + (f"; FAILED: {', '.join(failed)}" if failed else "")
+    )
     return EXIT_OK if not failed else EXIT_NOT_CONVERGED
 
 
@@ -196,55 +222,75 @@ def _bench(argv) -> int:
     try:
         from tendonrod import benchmarks
     except ImportError as exc:
-        print(f"tendonrod bench: error: the benchmarks module is not available ({exc})", file=sys.stderr)
+        print(
+            f"tendonrod bench: error: the benchmarks module is not available ({exc})",
+            file=sys.stderr,
+        )
         return EXIT_BAD_INPUT
     try:
         rc = benchmarks.main(list(argv))
-    except SystemExit as exc:          # its argparse: --help (0), usage errors (2)
+    except SystemExit as exc:  # its argparse: --help (0), usage errors (2)
         rc = exc.code
     return int(rc or 0)
 
 
 # --------------------------------------------------------------------------- parser
 def build_parser() -> argparse.ArgumentParser:
-    p = _Parser(prog="python -m tendonrod",
-                description="tendonrod: deflection of tendon-driven continuum robots under loads "
-                            "with prescribed tendon displacements or tensions.",
-                epilog="Exit codes: 0 ok, 1 did not converge / a figure failed, 2 bad input.")
+    p = _Parser(
+        prog="python -m tendonrod",
+        description="tendonrod: deflection of tendon-driven continuum robots under loads "
+        "with prescribed tendon displacements or tensions.",
+        epilog="Exit codes: 0 ok, 1 did not converge / a figure failed, 2 bad input.",
+    )
     sub = p.add_subparsers(dest="command", metavar="{solve,figures,bench}")
     sub.required = True
 
-    ps = sub.add_parser("solve", help="solve a scene file (TOML) and write the solution",
-                        description="Solve a scene file and write solution.json (summary), "
-                                    "solution.npz (arrays) and, with --plot, solution.png. The scene "
-                                    "file format is documented in examples/README.md.",
-                        epilog="Exit codes: 0 converged, 1 did not converge (files still written), "
-                               "2 bad input (the message names the key; the file is not modified).")
+    ps = sub.add_parser(
+        "solve",
+        help="solve a scene file (TOML) and write the solution",
+        description="Solve a scene file and write solution.json (summary), "
+        "solution.npz (arrays) and, with --plot, solution.png. The scene "
+        "file format is documented in examples/README.md.",
+        epilog="Exit codes: 0 converged, 1 did not converge (files still written), "
+        "2 bad input (the message names the key; the file is not modified).",
+    )
     ps.add_argument("scene", help="scene file (TOML)")
     ps.add_argument("--out", required=True, help="output directory (created if missing)")
     ps.add_argument("--plot", action="store_true", help="also write solution.png")
     ps.set_defaults(func=_cmd_solve)
 
-    pf = sub.add_parser("figures", help="regenerate the paper's figures as PNG plus index.md",
-                        description="Regenerate the paper's figures (1, 3, 6-8, 10-18, 20-23) as PNG "
-                                    "files with an index.md listing files and captions.")
+    pf = sub.add_parser(
+        "figures",
+        help="regenerate the paper's figures as PNG plus index.md",
+        description="Regenerate the paper's figures (1, 3, 6-8, 10-18, 20-23) as PNG "
+        "files with an index.md listing files and captions.",
+    )
     pf.add_argument("--out", required=True, help="output directory (created if missing)")
-    pf.add_argument("--fast", action="store_true",
-                    help="coarse grids (for CI); same figures (also: environment TENDONROD_FAST=1)")
+    pf.add_argument(
+        "--fast",
+        action="store_true",
+        help="coarse grids (for CI); same figures (also: environment TENDONROD_FAST=1)",
+    )
     pf.add_argument("--only", default="", help="comma-separated figure keys (see --list)")
     pf.add_argument("--list", action="store_true", help="list figure keys and captions, then exit")
     pf.add_argument("--dpi", type=int, default=110, help="PNG resolution (default 110)")
     pf.add_argument("-v", "--verbose", action="store_true", help="print tracebacks of failures")
     pf.set_defaults(func=_cmd_figures)
 
-    pb = sub.add_parser("bench", help="benchmarks: work-precision | stress (see 'bench --help')",
-                        description="Benchmarks, implemented in tendonrod.benchmarks: "
-                                    "'bench work-precision --out DIR [--quick]' and "
-                                    "'bench stress --out DIR [--quick]'. Arguments after 'bench' "
-                                    "are passed to tendonrod.benchmarks.main.",
-                        add_help=False)
-    pb.add_argument("bench_args", nargs=argparse.REMAINDER,
-                    help="arguments for tendonrod.benchmarks.main (e.g. work-precision --out DIR)")
+    pb = sub.add_parser(
+        "bench",
+        help="benchmarks: work-precision | stress (see 'bench --help')",
+        description="Benchmarks, implemented in tendonrod.benchmarks: "
+        "'bench work-precision --out DIR [--quick]' and "
+        "'bench stress --out DIR [--quick]'. Arguments after 'bench' "
+        "are passed to tendonrod.benchmarks.main.",
+        add_help=False,
+    )
+    pb.add_argument(
+        "bench_args",
+        nargs=argparse.REMAINDER,
+        help="arguments for tendonrod.benchmarks.main (e.g. work-precision --out DIR)",
+    )
     pb.set_defaults(func=_cmd_bench)
     return p
 

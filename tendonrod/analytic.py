@@ -90,6 +90,7 @@ Example
 >>> round(float(d1 / d0), 12)                              # eq. 12
 0.25
 """
+
 from __future__ import annotations
 
 import operator
@@ -166,19 +167,20 @@ def planar_shape(s, F, z, L, EI, a, b, k, *, nodes=16):
     except TypeError:
         raise TypeError(f"planar_shape: nodes must be an integer, got {nodes!r}") from None
     if not 1 <= nodes <= _MAX_NODES:
-        raise ValueError(f"planar_shape: nodes must be an integer in [1, {_MAX_NODES}], "
-                         f"got {nodes!r}")
+        raise ValueError(
+            f"planar_shape: nodes must be an integer in [1, {_MAX_NODES}], got {nodes!r}"
+        )
     arrays = []
     for name, v in zip(("s", "F", "z", "L", "EI", "a", "b", "k"), (s, F, z, L, EI, a, b, k)):
         arr = np.asarray(v)
-        if arr.dtype.kind not in "biuf":          # as the ufuncs: real numbers only
+        if arr.dtype.kind not in "biuf":  # as the ufuncs: real numbers only
             raise TypeError(f"planar_shape: {name} must be real numbers, got {v!r}")
         arrays.append(arr.astype(float, copy=False))
     args = np.broadcast_arrays(*arrays)
     s_, F_, z_, L_, EI_, a_, b_, k_ = (v[..., np.newaxis] for v in args)
     x, w = np.polynomial.legendre.leggauss(nodes)
-    t = 0.5 * (x + 1.0)                       # nodes on [0, 1]
-    m = np.minimum(s_, z_)                    # end of the loaded piece
+    t = 0.5 * (x + 1.0)  # nodes on [0, 1]
+    m = np.minimum(s_, z_)  # end of the loaded piece
     out = np.zeros(args[0].shape + (2,))
     # piece 1: [0, m] (load ahead of u), piece 2: [m, s] (empty when s <= z)
     for lo, hi in ((np.zeros_like(m), m), (m, s_)):

@@ -14,6 +14,7 @@ guess=previous)`` does), each chunk starts cold.  Results depend on the order an
 the chunking only, never on the number of threads (bitwise).  Only tip quantities
 are returned.
 """
+
 from __future__ import annotations
 
 import concurrent.futures as cf
@@ -78,13 +79,17 @@ class BatchResult:
         return int(self.status.shape[0])
 
     def __repr__(self) -> str:
-        return (f"BatchResult(n={len(self)}, {int(np.count_nonzero(self.success))} converged, "
-                f"chunksize={self.chunksize}, formulation={self.formulation})")
+        return (
+            f"BatchResult(n={len(self)}, {int(np.count_nonzero(self.success))} converged, "
+            f"chunksize={self.chunksize}, formulation={self.formulation})"
+        )
 
     def failures(self) -> list:
         """``[(index, status, message), ...]`` for every point that did not converge."""
-        return [(int(i), int(self.status[i]), str(self.message[i]))
-                for i in np.flatnonzero(~self.success)]
+        return [
+            (int(i), int(self.status[i]), str(self.message[i]))
+            for i in np.flatnonzero(~self.success)
+        ]
 
 
 def _points(arr, name: str, tail: tuple, what: str, n: Optional[int]):
@@ -98,24 +103,39 @@ def _points(arr, name: str, tail: tuple, what: str, n: Optional[int]):
                 raise TypeError
             a = a.astype(float)
         except (TypeError, ValueError):
-            raise ValueError(f"{name} must be an array of real numbers, got dtype {a.dtype} "
-                             f"({np.asarray(arr).ravel()[:3]!r}...)") from None
+            raise ValueError(
+                f"{name} must be an array of real numbers, got dtype {a.dtype} "
+                f"({np.asarray(arr).ravel()[:3]!r}...)"
+            ) from None
     a = a.astype(float, copy=False)
     want = ("n" if n is None else str(n),) + tuple(str(t) for t in tail)
     if a.ndim != 1 + len(tail) or a.shape[1:] != tuple(tail) or (n is not None and a.shape[0] != n):
-        raise ValueError(f"{name} must have shape ({', '.join(want)}) -- {what} -- got shape "
-                         f"{a.shape}")
+        raise ValueError(
+            f"{name} must have shape ({', '.join(want)}) -- {what} -- got shape {a.shape}"
+        )
     if not np.all(np.isfinite(a)):
         bad = tuple(int(i) for i in np.argwhere(~np.isfinite(a))[0])
         raise ValueError(f"{name} must be finite; {name}[{', '.join(map(str, bad))}] = {a[bad]!r}")
     return np.ascontiguousarray(a), a.shape[0]
 
 
-def solve_batch(scene: Scene, *, displacement=None, tension=None, forces=None, moments=None,
-                distributed=None, options: Optional[Options] = None, threads: int = 1,
-                chunksize: Optional[int] = None, warm_start: bool = True,
-                retry_cold: bool = True, predict: bool = True, exact: bool = False,
-                tension_tendon_displacement: bool = True) -> BatchResult:
+def solve_batch(
+    scene: Scene,
+    *,
+    displacement=None,
+    tension=None,
+    forces=None,
+    moments=None,
+    distributed=None,
+    options: Optional[Options] = None,
+    threads: int = 1,
+    chunksize: Optional[int] = None,
+    warm_start: bool = True,
+    retry_cold: bool = True,
+    predict: bool = True,
+    exact: bool = False,
+    tension_tendon_displacement: bool = True,
+) -> BatchResult:
     """Solve ``n`` variants of ``scene`` that differ only in actuation and load values.
 
     Parameters
@@ -191,20 +211,30 @@ def solve_batch(scene: Scene, *, displacement=None, tension=None, forces=None, m
     iten = [i for i, c in enumerate(controls) if not c]
     npl = loads.shape[0]
     n = None
-    displacement, n = _points(displacement, "displacement", (len(idisp),),
-                              "one column per displacement-controlled tendon", n)
-    tension, n = _points(tension, "tension", (len(iten),),
-                         "one column per tension-controlled tendon", n)
+    displacement, n = _points(
+        displacement,
+        "displacement",
+        (len(idisp),),
+        "one column per displacement-controlled tendon",
+        n,
+    )
+    tension, n = _points(
+        tension, "tension", (len(iten),), "one column per tension-controlled tendon", n
+    )
     forces, n = _points(forces, "forces", (npl, 3), "a force per point and point load", n)
     moments, n = _points(moments, "moments", (npl, 3), "a moment per point and point load", n)
     distributed, n = _points(distributed, "distributed", (3,), "a distributed force per point", n)
     if n is None:
-        raise ValueError("solve_batch needs at least one of displacement, tension, forces, moments, "
-                         "distributed (they set the number of points)")
+        raise ValueError(
+            "solve_batch needs at least one of displacement, tension, forces, moments, "
+            "distributed (they set the number of points)"
+        )
     if tension is not None and np.any(tension < 0.0):
         bad = tuple(int(i) for i in np.argwhere(tension < 0.0)[0])
-        raise ValueError(f"tension must be >= 0 (a tendon cannot push); tension[{bad[0]}, {bad[1]}] "
-                         f"= {tension[bad]!r}")
+        raise ValueError(
+            f"tension must be >= 0 (a tendon cannot push); tension[{bad[0]}, {bad[1]}] "
+            f"= {tension[bad]!r}"
+        )
 
     values = None
     if displacement is not None or tension is not None:
@@ -223,10 +253,14 @@ def solve_batch(scene: Scene, *, displacement=None, tension=None, forces=None, m
     force_spatial = bool(options.force_spatial)
     if not force_spatial and _is_planar(scene):
         # one formulation for the whole batch: spatial as soon as any point leaves the plane
-        out_of_plane = ((point_loads is not None and
-                         np.any((point_loads[:, :, 1] != 0) | (point_loads[:, :, 3] != 0)
-                                | (point_loads[:, :, 5] != 0)))
-                        or (distributed is not None and np.any(distributed[:, 1] != 0)))
+        out_of_plane = (
+            point_loads is not None
+            and np.any(
+                (point_loads[:, :, 1] != 0)
+                | (point_loads[:, :, 3] != 0)
+                | (point_loads[:, :, 5] != 0)
+            )
+        ) or (distributed is not None and np.any(distributed[:, 1] != 0))
         force_spatial = bool(out_of_plane)
 
     kw = dict(options._raw)
@@ -237,21 +271,38 @@ def solve_batch(scene: Scene, *, displacement=None, tension=None, forces=None, m
     if displacement is not None and _value_dependent_scene(scene):
         # whether such a scene has a unique equilibrium depends on the displacement values
         # (checked when a model is compiled): solve point by point
-        return _fallback(scene, values, point_loads, distributed, options, chunksize,
-                         warm_start, retry_cold, n, force_spatial)
+        return _fallback(
+            scene,
+            values,
+            point_loads,
+            distributed,
+            options,
+            chunksize,
+            warm_start,
+            retry_cold,
+            n,
+            force_spatial,
+        )
 
     bounds = [(a, min(a + chunksize, n)) for a in range(0, n, chunksize)] or [(0, 0)]
 
     def run(b):
         a, e = b
         return _core.solve_batch(
-            rod, tendons, loads, dist,
+            rod,
+            tendons,
+            loads,
+            dist,
             values=None if values is None else values[a:e],
             point_loads=None if point_loads is None else point_loads[a:e],
             dists=None if distributed is None else distributed[a:e],
-            warm=bool(warm_start), retry_cold=bool(retry_cold) and not exact,
-            predict=bool(predict) and not exact, exact=bool(exact),
-            skip_tension_displacement=not tension_tendon_displacement, **kw)
+            warm=bool(warm_start),
+            retry_cold=bool(retry_cold) and not exact,
+            predict=bool(predict) and not exact,
+            exact=bool(exact),
+            skip_tension_displacement=not tension_tendon_displacement,
+            **kw,
+        )
 
     if threads == 1 or len(bounds) == 1:
         parts = [run(b) for b in bounds]
@@ -276,25 +327,59 @@ def _ok_message(nit: int, res: float, tol: float) -> str:
 
 
 def _assemble(parts, n, chunksize, options) -> BatchResult:
-    cat = {k: np.concatenate([p[k] for p in parts]) for k in
-           ("tip_position", "tip_rotation", "tension", "slack", "displacement", "residual_norm",
-            "status", "nit", "nfev", "cold")}
+    cat = {
+        k: np.concatenate([p[k] for p in parts])
+        for k in (
+            "tip_position",
+            "tip_rotation",
+            "tension",
+            "slack",
+            "displacement",
+            "residual_norm",
+            "status",
+            "nit",
+            "nfev",
+            "cold",
+        )
+    }
     message = np.empty(n, dtype=object)
     msgs = [m for p in parts for m in p["message"]]
     tol = options.tol
     for i, m in enumerate(msgs):
-        message[i] = m if cat["status"][i] != 0 else _ok_message(int(cat["nit"][i]),
-                                                                  float(cat["residual_norm"][i]), tol)
-    return BatchResult(tip_position=cat["tip_position"], tip_rotation=cat["tip_rotation"],
-                       tension=cat["tension"], slack=cat["slack"], displacement=cat["displacement"],
-                       status=cat["status"].astype(np.int64), message=message,
-                       nit=cat["nit"].astype(np.int64), nfev=cat["nfev"].astype(np.int64),
-                       residual_norm=cat["residual_norm"], cold=cat["cold"].astype(bool),
-                       formulation=dict(parts[0]["formulation"]), chunksize=int(chunksize))
+        message[i] = (
+            m
+            if cat["status"][i] != 0
+            else _ok_message(int(cat["nit"][i]), float(cat["residual_norm"][i]), tol)
+        )
+    return BatchResult(
+        tip_position=cat["tip_position"],
+        tip_rotation=cat["tip_rotation"],
+        tension=cat["tension"],
+        slack=cat["slack"],
+        displacement=cat["displacement"],
+        status=cat["status"].astype(np.int64),
+        message=message,
+        nit=cat["nit"].astype(np.int64),
+        nfev=cat["nfev"].astype(np.int64),
+        residual_norm=cat["residual_norm"],
+        cold=cat["cold"].astype(bool),
+        formulation=dict(parts[0]["formulation"]),
+        chunksize=int(chunksize),
+    )
 
 
-def _fallback(scene, values, point_loads, distributed, options, chunksize, warm_start,
-              retry_cold, n, force_spatial) -> BatchResult:
+def _fallback(
+    scene,
+    values,
+    point_loads,
+    distributed,
+    options,
+    chunksize,
+    warm_start,
+    retry_cold,
+    n,
+    force_spatial,
+) -> BatchResult:
     """Point-by-point tr.solve (same chunking and warm starts) for scenes whose
     solvability depends on the varied values."""
     import dataclasses
@@ -305,11 +390,18 @@ def _fallback(scene, values, point_loads, distributed, options, chunksize, warm_
 
     opts = dataclasses.replace(options, tip_only=True, force_spatial=force_spatial)
     nt = scene.robot.n_tendons
-    out = {"tip_position": np.full((n, 3), np.nan), "tip_rotation": np.full((n, 3, 3), np.nan),
-           "tension": np.full((n, nt), np.nan), "slack": np.full((n, nt), np.nan),
-           "displacement": np.full((n, nt), np.nan), "residual_norm": np.full(n, np.nan),
-           "status": np.zeros(n, dtype=np.int64), "nit": np.zeros(n, dtype=np.int64),
-           "nfev": np.zeros(n, dtype=np.int64), "cold": np.zeros(n, dtype=bool)}
+    out = {
+        "tip_position": np.full((n, 3), np.nan),
+        "tip_rotation": np.full((n, 3, 3), np.nan),
+        "tension": np.full((n, nt), np.nan),
+        "slack": np.full((n, nt), np.nan),
+        "displacement": np.full((n, nt), np.nan),
+        "residual_norm": np.full(n, np.nan),
+        "status": np.zeros(n, dtype=np.int64),
+        "nit": np.zeros(n, dtype=np.int64),
+        "nfev": np.zeros(n, dtype=np.int64),
+        "cold": np.zeros(n, dtype=bool),
+    }
     message = np.empty(n, dtype=object)
     ctl = scene.displacement_controlled()
     form = None
@@ -320,15 +412,20 @@ def _fallback(scene, values, point_loads, distributed, options, chunksize, warm_
         sc = scene
         if values is not None:
             sc = dataclasses.replace(
-                sc, displacement=[float(values[p, i]) if ctl[i] else None for i in range(nt)],
-                tension=[None if ctl[i] else float(values[p, i]) for i in range(nt)])
+                sc,
+                displacement=[float(values[p, i]) if ctl[i] else None for i in range(nt)],
+                tension=[None if ctl[i] else float(values[p, i]) for i in range(nt)],
+            )
         if point_loads is not None or distributed is not None:
             new, k = [], 0
             for ld in sc.loads:
                 if isinstance(ld, PointLoad):
                     if point_loads is not None:
-                        ld = dataclasses.replace(ld, force=tuple(point_loads[p, k, :3]),
-                                                 moment=tuple(point_loads[p, k, 3:]))
+                        ld = dataclasses.replace(
+                            ld,
+                            force=tuple(point_loads[p, k, :3]),
+                            moment=tuple(point_loads[p, k, 3:]),
+                        )
                     k += 1
                     new.append(ld)
                 elif distributed is None:
@@ -349,15 +446,27 @@ def _fallback(scene, values, point_loads, distributed, options, chunksize, warm_
         out["tension"][p], out["slack"][p] = sol.tension, sol.slack
         out["displacement"][p] = sol.displacement
         out["residual_norm"][p] = sol.residual_norm
-        out["status"][p], out["nit"][p], out["nfev"][p], out["cold"][p] = sol.status, nit, nfev, cold
+        out["status"][p], out["nit"][p], out["nfev"][p], out["cold"][p] = (
+            sol.status,
+            nit,
+            nfev,
+            cold,
+        )
         message[p] = str(sol.message)
-        form = form or {"planar": sol.formulation.planar, "kirchhoff": sol.formulation.kirchhoff,
-                        "n_unknowns": sol.formulation.n_unknowns,
-                        "n_states": sol.formulation.n_states}
+        form = form or {
+            "planar": sol.formulation.planar,
+            "kirchhoff": sol.formulation.kirchhoff,
+            "n_unknowns": sol.formulation.n_unknowns,
+            "n_states": sol.formulation.n_states,
+        }
         if sol.success:
             guess = sol
-    return BatchResult(message=message, formulation=dict(form or {}, pointwise=True),
-                       chunksize=int(chunksize), **out)
+    return BatchResult(
+        message=message,
+        formulation=dict(form or {}, pointwise=True),
+        chunksize=int(chunksize),
+        **out,
+    )
 
 
 # --------------------------------------------------------------------------- tr.sweep hook
@@ -374,8 +483,10 @@ def sweep_can_batch(base, names) -> bool:
     from .model import PointLoad
 
     if _BATCH_PATH is None:
-        _BATCH_PATH = re.compile(r"^(?:(displacement|tension)\[(\d+)\]|loads\[(\d+)\]\.(?:force|moment)"
-                                 r"(?:\[[0-2]\])?)$")
+        _BATCH_PATH = re.compile(
+            r"^(?:(displacement|tension)\[(\d+)\]|loads\[(\d+)\]\.(?:force|moment)"
+            r"(?:\[[0-2]\])?)$"
+        )
     if not isinstance(base, Scene) or not names:
         return False
     for n in names:
@@ -399,22 +510,29 @@ def _sweep_chunk(task: dict):
     if not scenes or not all(isinstance(s, Scene) for s in scenes):
         return None
     if options is not None and not options.tip_only:
-        return None      # the per-point path warm-starts from recorded base states then
+        return None  # the per-point path warm-starts from recorded base states then
     first = scenes[0]
     planar = _is_planar(first)
     if any(_is_planar(s) != planar for s in scenes):
-        return None      # the per-point path switches formulation within the chunk
+        return None  # the per-point path switches formulation within the chunk
     ctl = first.displacement_controlled()
     pos = [(type(ld), getattr(ld, "s", None)) for ld in first.loads]
     for s in scenes:
-        if (s.robot is not first.robot and s.robot != first.robot) or s.displacement_controlled() != ctl \
-                or [(type(ld), getattr(ld, "s", None)) for ld in s.loads] != pos:
+        if (
+            (s.robot is not first.robot and s.robot != first.robot)
+            or s.displacement_controlled() != ctl
+            or [(type(ld), getattr(ld, "s", None)) for ld in s.loads] != pos
+        ):
             return None
     idisp = [i for i, c in enumerate(ctl) if c]
     iten = [i for i, c in enumerate(ctl) if not c]
     n = len(scenes)
-    disp = np.array([[s.displacement[i] for i in idisp] for s in scenes], dtype=float).reshape(n, len(idisp))
-    ten = np.array([[s.tension[i] for i in iten] for s in scenes], dtype=float).reshape(n, len(iten))
+    disp = np.array([[s.displacement[i] for i in idisp] for s in scenes], dtype=float).reshape(
+        n, len(idisp)
+    )
+    ten = np.array([[s.tension[i] for i in iten] for s in scenes], dtype=float).reshape(
+        n, len(iten)
+    )
     pls = [[ld for ld in s.loads if isinstance(ld, PointLoad)] for s in scenes]
     npl = len(pls[0])
     forces = np.array([[p.force for p in pl] for pl in pls], dtype=float).reshape(n, npl, 3)
@@ -425,18 +543,38 @@ def _sweep_chunk(task: dict):
     # the solver tolerance, several times faster)
     exact = options is None or options.steps == 0 or options.integrator == "adaptive"
     try:
-        res = solve_batch(first, displacement=disp if idisp else None, tension=ten if iten else None,
-                          forces=forces if npl else None, moments=moments if npl else None,
-                          distributed=dist, options=options, chunksize=n,
-                          warm_start=bool(task["warm_start"]), exact=exact, retry_cold=False)
+        res = solve_batch(
+            first,
+            displacement=disp if idisp else None,
+            tension=ten if iten else None,
+            forces=forces if npl else None,
+            moments=moments if npl else None,
+            distributed=dist,
+            options=options,
+            chunksize=n,
+            warm_start=bool(task["warm_start"]),
+            exact=exact,
+            retry_cold=False,
+        )
     except ValueError:
         return None
     records = []
     for k, index in enumerate(task["indices"]):
         ok = bool(res.success[k])
-        data = {"tip_position": res.tip_position[k].tolist(), "tip_rotation": res.tip_rotation[k].tolist(),
-                "tension": res.tension[k].tolist(), "slack": res.slack[k].tolist(),
-                "displacement": res.displacement[k].tolist()}
-        records.append({"i": index, "status": STATUS_OK if ok else STATUS_NOT_CONVERGED,
-                        "nit": int(res.nit[k]), "message": str(res.message[k]), "data": data})
+        data = {
+            "tip_position": res.tip_position[k].tolist(),
+            "tip_rotation": res.tip_rotation[k].tolist(),
+            "tension": res.tension[k].tolist(),
+            "slack": res.slack[k].tolist(),
+            "displacement": res.displacement[k].tolist(),
+        }
+        records.append(
+            {
+                "i": index,
+                "status": STATUS_OK if ok else STATUS_NOT_CONVERGED,
+                "nit": int(res.nit[k]),
+                "message": str(res.message[k]),
+                "data": data,
+            }
+        )
     return {"chunk": task["chunk"], "records": records}

@@ -29,6 +29,7 @@ stress
 Nothing here is timed inside the test suite; the tests import the scene
 builders and the verification functions and run small subsets.
 """
+
 from __future__ import annotations
 
 import argparse
@@ -57,6 +58,7 @@ FIG17 = dict(L=0.2, d=0.8e-3, E=207e9, G=79.6e9, r=0.01)
 
 def _tr():
     import tendonrod as tr
+
     return tr
 
 
@@ -91,10 +93,10 @@ class WPScene:
     name: str
     title: str
     scene: object
-    reference: Callable[[], np.ndarray]   # -> reference tip position (3,) [m]
-    ref_kind: str                         # "exact", "closed form", "independent ODE"
+    reference: Callable[[], np.ndarray]  # -> reference tip position (3,) [m]
+    ref_kind: str  # "exact", "closed form", "independent ODE"
     scale: Callable[[np.ndarray], float]  # reference tip -> error normaliser [m]
-    components: tuple = (0, 1, 2)         # which tip components enter the error
+    components: tuple = (0, 1, 2)  # which tip components enter the error
     slack_models: tuple = ("linear",)
 
 
@@ -111,59 +113,124 @@ def wp_scenes() -> List[WPScene]:
     L, EI = p["L"], EI_of(p)
     M = (0.0, math.pi * EI / L, 0.0)  # a half circle
     sc = tr.Scene(tr.Robot(rod_of(p, kirchhoff=False), []), loads=[tr.PointLoad(s=L, moment=M)])
-    out.append(WPScene("circle", "circle: end moment, half turn (exact)", sc,
-                       lambda L=L, EI=EI, M=M: refs.circle_end_moment(L, EI, M)[0][0], "exact", _tip_scale))
+    out.append(
+        WPScene(
+            "circle",
+            "circle: end moment, half turn (exact)",
+            sc,
+            lambda L=L, EI=EI, M=M: refs.circle_end_moment(L, EI, M)[0][0],
+            "exact",
+            _tip_scale,
+        )
+    )
     # 2. elastica: Kirchhoff cantilever, transverse tip force F L^2/EI = 5 (tip angle 70 deg).
-    F = 5.0 * EI / L ** 2
-    sc = tr.Scene(tr.Robot(rod_of(p, kirchhoff=True), []), loads=[tr.PointLoad(s=L, force=(F, 0.0, 0.0))])
+    F = 5.0 * EI / L**2
+    sc = tr.Scene(
+        tr.Robot(rod_of(p, kirchhoff=True), []), loads=[tr.PointLoad(s=L, force=(F, 0.0, 0.0))]
+    )
 
     def ela(L=L, EI=EI, F=F):
         x, z, _ = refs.elastica_tip_force(L, EI, F)
         return np.array([x, 0.0, z])
-    out.append(WPScene("elastica", "elastica: tip force FL²/EI = 5 (exact)", sc, ela, "exact", _tip_scale))
+
+    out.append(
+        WPScene("elastica", "elastica: tip force FL²/EI = 5 (exact)", sc, ela, "exact", _tip_scale)
+    )
     # 3. small load on the straight robot (Fig. 17 robot, one inextensible parallel
     #    tendon at q = 0): F L^2/EI = 1e-6, so the closed form's own (nonlinear) error is
     #    O((F L^2/EI)^2) = 1e-12 of the deflection. The error is normalised by the
     #    deflection (the tip moves 1e-7 L), transverse components only.
     p = FIG17
     L, EI, r = p["L"], EI_of(p), p["r"]
-    F = 1e-6 * EI / L ** 2
-    sc = tr.Scene(tr.Robot(rod_of(p), [tr.Tendon(offset=r)]), displacement=[0.0],
-                  loads=[tr.PointLoad(s=L, force=(-F, 0.0, 0.0))])
+    F = 1e-6 * EI / L**2
+    sc = tr.Scene(
+        tr.Robot(rod_of(p), [tr.Tendon(offset=r)]),
+        displacement=[0.0],
+        loads=[tr.PointLoad(s=L, force=(-F, 0.0, 0.0))],
+    )
 
     def small(L=L, EI=EI, F=F, r=r):
         d = float(refs.small_load_deflection(L, F, L, L, EI, 0.0, r, np.inf))
         return np.array([-d, 0.0, L])
-    out.append(WPScene("small_load", "small load FL²/EI = 1e-6, straight robot (closed form)", sc, small,
-                       "closed form", lambda ref: abs(ref[0]), components=(0, 1)))
+
+    out.append(
+        WPScene(
+            "small_load",
+            "small load FL²/EI = 1e-6, straight robot (closed form)",
+            sc,
+            small,
+            "closed form",
+            lambda ref: abs(ref[0]),
+            components=(0, 1),
+        )
+    )
     # 4-6. Fig. 11 a-c: actuated by displacement to a 90 deg tip angle.
     p = FIG11
     L, EI, r = p["L"], EI_of(p), p["r"]
     q90 = r * math.pi / 2  # inextensible tendon on a Kirchhoff rod: theta_L = q / r exactly
     one = tr.Robot(rod_of(p), [tr.Tendon(offset=r)])
     sc = tr.Scene(one, displacement=[q90], loads=[tr.PointLoad(s=L, force=(-1.0, 0.0, 0.0))])
-    out.append(WPScene("fig11a", "Fig. 11a: 90° + transverse 1 N", sc, _ref_from_scene(sc), "independent ODE",
-                       _tip_scale))
+    out.append(
+        WPScene(
+            "fig11a",
+            "Fig. 11a: 90° + transverse 1 N",
+            sc,
+            _ref_from_scene(sc),
+            "independent ODE",
+            _tip_scale,
+        )
+    )
     sc = tr.Scene(one, displacement=[q90], loads=[tr.PointLoad(s=L, force=(0.0, 0.0, -1.0))])
-    out.append(WPScene("fig11b", "Fig. 11b: 90° + axial 1 N", sc, _ref_from_scene(sc), "independent ODE",
-                       _tip_scale))
-    out.append(_three_tendon_scene("fig11c", "Fig. 11c: 3 tendons r²kL/(3EI)=50, out-of-plane 0.5 N",
-                                   p, alpha=150.0, Fy=0.5))
+    out.append(
+        WPScene(
+            "fig11b",
+            "Fig. 11b: 90° + axial 1 N",
+            sc,
+            _ref_from_scene(sc),
+            "independent ODE",
+            _tip_scale,
+        )
+    )
+    out.append(
+        _three_tendon_scene(
+            "fig11c",
+            "Fig. 11c: 3 tendons r²kL/(3EI)=50, out-of-plane 0.5 N",
+            p,
+            alpha=150.0,
+            Fy=0.5,
+        )
+    )
     # 7. Fig. 17 past the critical load: the tendon is slack, the tip is a free elastica.
     p = FIG17
     L, EI, r = p["L"], EI_of(p), p["r"]
-    P = 0.5   # critical load is refs.critical_tip_angle_load(L, EI, pi/2) = 0.358 N
-    sc = tr.Scene(tr.Robot(rod_of(p), [tr.Tendon(offset=r)]), displacement=[r * math.pi / 2],
-                  loads=[tr.PointLoad(s=L, force=(0.0, 0.0, -P))])
+    P = 0.5  # critical load is refs.critical_tip_angle_load(L, EI, pi/2) = 0.358 N
+    sc = tr.Scene(
+        tr.Robot(rod_of(p), [tr.Tendon(offset=r)]),
+        displacement=[r * math.pi / 2],
+        loads=[tr.PointLoad(s=L, force=(0.0, 0.0, -P))],
+    )
 
     def slack(L=L, EI=EI, P=P):
         x, z, _ = refs.elastica_compressive(L, EI, P)
         return np.array([x, 0.0, z])
-    out.append(WPScene("fig17_slack", "Fig. 17: 90°, axial 0.5 N > 0.358 N critical (slack, exact)", sc, slack,
-                       "exact", _tip_scale, slack_models=("linear", "squared")))
+
+    out.append(
+        WPScene(
+            "fig17_slack",
+            "Fig. 17: 90°, axial 0.5 N > 0.358 N critical (slack, exact)",
+            sc,
+            slack,
+            "exact",
+            _tip_scale,
+            slack_models=("linear", "squared"),
+        )
+    )
     # 8. three very stiff tendons (r^2 k L / EI = 1e8), out-of-plane load.
-    out.append(_three_tendon_scene("stiff3", "3 tendons r²kL/EI = 1e8, out-of-plane 0.5 N", FIG11,
-                                   alpha=1e8, Fy=0.5))
+    out.append(
+        _three_tendon_scene(
+            "stiff3", "3 tendons r²kL/EI = 1e8, out-of-plane 0.5 N", FIG11, alpha=1e8, Fy=0.5
+        )
+    )
     return out
 
 
@@ -177,16 +244,22 @@ def _three_tendon_scene(name, title, p, alpha, Fy, theta=math.pi / 2):
     L, EI, r = p["L"], EI_of(p), p["r"]
     EA = alpha * EI / (r * r)
     tp = 2.0 * EI * theta / (3.0 * r * L)
-    tendons = [tr.Tendon(offset=r, angle=2 * math.pi * i / 3, EA=EA, pretension=tp) for i in range(3)]
+    tendons = [
+        tr.Tendon(offset=r, angle=2 * math.pi * i / 3, EA=EA, pretension=tp) for i in range(3)
+    ]
     q = three_tendon_actuation(EI, L, r, EA, tp, theta)
-    sc = tr.Scene(tr.Robot(rod_of(p), tendons), displacement=q,
-                  loads=[tr.PointLoad(s=L, force=(0.0, Fy, 0.0))])
+    sc = tr.Scene(
+        tr.Robot(rod_of(p), tendons),
+        displacement=q,
+        loads=[tr.PointLoad(s=L, force=(0.0, Fy, 0.0))],
+    )
     return WPScene(name, title, sc, _ref_from_scene(sc), "independent ODE", _tip_scale)
 
 
 def _ref_from_scene(sc):
     def f():
         return refs.from_scene(sc).solve().tip_position
+
     return f
 
 
@@ -238,6 +311,7 @@ def jacobian_methods():
     tr = _tr()
     try:
         from .solver import _JACOBIANS
+
         return list(_JACOBIANS)
     except ImportError:  # pragma: no cover
         return ["fd"]
@@ -248,8 +322,13 @@ def tip_error(sc: WPScene, tip, ref):
     return float(np.linalg.norm(np.asarray(tip)[c] - ref[c]) / sc.scale(ref))
 
 
-def run_work_precision(out: str, quick: bool = False, repeats: Optional[int] = None, log=print,
-                       scenes: Optional[List[str]] = None):
+def run_work_precision(
+    out: str,
+    quick: bool = False,
+    repeats: Optional[int] = None,
+    log=print,
+    scenes: Optional[List[str]] = None,
+):
     tr = _tr()
     os.makedirs(out, exist_ok=True)
     repeats = repeats or (3 if quick else 7)
@@ -257,52 +336,134 @@ def run_work_precision(out: str, quick: bool = False, repeats: Optional[int] = N
     if scenes:
         unknown = set(scenes) - {s.name for s in allsc}
         if unknown:
-            raise ValueError(f"unknown work-precision scene(s) {sorted(unknown)}; known: {[s.name for s in allsc]}")
+            raise ValueError(
+                f"unknown work-precision scene(s) {sorted(unknown)}; known: {[s.name for s in allsc]}"
+            )
     scenes = [s for s in allsc if not scenes or s.name in scenes]
     refs_ = load_references(scenes, out, log)
     rows = []
     for sc in scenes:
         ref = refs_[sc.name]
         # cross-check: the core's own adaptive integrator at its tightest setting
-        xs = _solve_quiet(sc.scene, tr.Options(integrator="adaptive", rtol=1e-13, tol=WP_TOL, tip_only=True))
+        xs = _solve_quiet(
+            sc.scene, tr.Options(integrator="adaptive", rtol=1e-13, tol=WP_TOL, tip_only=True)
+        )
         xerr = tip_error(sc, xs.tip_position, ref) if xs.success else math.nan
-        log(f"[{sc.name}] reference ({sc.ref_kind}) tip {np.array2string(ref, precision=9)}; "
-            f"core adaptive 1e-13 differs by {xerr:.2e} (success={xs.success})")
+        log(
+            f"[{sc.name}] reference ({sc.ref_kind}) tip {np.array2string(ref, precision=9)}; "
+            f"core adaptive 1e-13 differs by {xerr:.2e} (success={xs.success})"
+        )
         for jm in jacobian_methods():
             for slack_model in sc.slack_models:
                 for method, kw, setting in wp_settings(quick):
                     # the adaptive integrator's residual is only smooth in the unknowns to about
                     # its rtol (its step sequence changes with them), so its shooting tolerance
                     # follows rtol; fixed-step residuals are smooth to round-off
-                    tol = WP_TOL if method != "adaptive" else max(WP_TOL, min(1e-10, 1e-3 * setting))
+                    tol = (
+                        WP_TOL if method != "adaptive" else max(WP_TOL, min(1e-10, 1e-3 * setting))
+                    )
                     try:
-                        opts = tr.Options(tol=tol, jacobian_method=jm, slack_model=slack_model,
-                                          tip_only=True, **kw)
+                        opts = tr.Options(
+                            tol=tol,
+                            jacobian_method=jm,
+                            slack_model=slack_model,
+                            tip_only=True,
+                            **kw,
+                        )
                         secs, sol = time_solve(sc.scene, opts, repeats)
                     except Exception as exc:  # noqa: BLE001 - record, never abort the table
-                        rows.append(dict(scene=sc.name, method=method, jacobian=jm, slack_model=slack_model,
-                                         setting=setting, tol=tol, error=math.nan, seconds=math.nan, nit=-1, nfev=-1,
-                                         success=False, steps_used=-1, residual=math.nan, reference=sc.ref_kind,
-                                         ref_check=xerr, message=f"{type(exc).__name__}: {exc}"))
+                        rows.append(
+                            dict(
+                                scene=sc.name,
+                                method=method,
+                                jacobian=jm,
+                                slack_model=slack_model,
+                                setting=setting,
+                                tol=tol,
+                                error=math.nan,
+                                seconds=math.nan,
+                                nit=-1,
+                                nfev=-1,
+                                success=False,
+                                steps_used=-1,
+                                residual=math.nan,
+                                reference=sc.ref_kind,
+                                ref_check=xerr,
+                                message=f"{type(exc).__name__}: {exc}",
+                            )
+                        )
                         continue
-                    err = tip_error(sc, sol.tip_position, ref) if np.all(np.isfinite(sol.tip_position)) else math.nan
-                    rows.append(dict(scene=sc.name, method=method, jacobian=jm, slack_model=slack_model,
-                                     setting=setting, tol=tol, error=err, seconds=secs, nit=sol.nit, nfev=sol.nfev,
-                                     success=bool(sol.success), steps_used=sol.formulation.steps,
-                                     residual=sol.residual_norm, reference=sc.ref_kind, ref_check=xerr,
-                                     message=sol.message))
-                    log(f"  {sc.name:12s} {method:8s} {jm:11s} {slack_model:7s} {setting:>8g}: err {err:9.2e} "
-                        f"t {secs * 1e3:8.3f} ms nit {sol.nit:3d} nfev {sol.nfev:5d} ok={sol.success}")
+                    err = (
+                        tip_error(sc, sol.tip_position, ref)
+                        if np.all(np.isfinite(sol.tip_position))
+                        else math.nan
+                    )
+                    rows.append(
+                        dict(
+                            scene=sc.name,
+                            method=method,
+                            jacobian=jm,
+                            slack_model=slack_model,
+                            setting=setting,
+                            tol=tol,
+                            error=err,
+                            seconds=secs,
+                            nit=sol.nit,
+                            nfev=sol.nfev,
+                            success=bool(sol.success),
+                            steps_used=sol.formulation.steps,
+                            residual=sol.residual_norm,
+                            reference=sc.ref_kind,
+                            ref_check=xerr,
+                            message=sol.message,
+                        )
+                    )
+                    log(
+                        f"  {sc.name:12s} {method:8s} {jm:11s} {slack_model:7s} {setting:>8g}: err {err:9.2e} "
+                        f"t {secs * 1e3:8.3f} ms nit {sol.nit:3d} nfev {sol.nfev:5d} ok={sol.success}"
+                    )
         # what a user gets: default options
         secs, sol = time_solve(sc.scene, tr.Options(), repeats)
         err = tip_error(sc, sol.tip_position, ref)
-        rows.append(dict(scene=sc.name, method="default", jacobian=tr.Options().jacobian_method,
-                         slack_model=tr.Options().slack_model, setting=0, tol=tr.Options().tol, error=err, seconds=secs, nit=sol.nit,
-                         nfev=sol.nfev, success=bool(sol.success), steps_used=sol.formulation.steps,
-                         residual=sol.residual_norm, reference=sc.ref_kind, ref_check=xerr, message=sol.message))
+        rows.append(
+            dict(
+                scene=sc.name,
+                method="default",
+                jacobian=tr.Options().jacobian_method,
+                slack_model=tr.Options().slack_model,
+                setting=0,
+                tol=tr.Options().tol,
+                error=err,
+                seconds=secs,
+                nit=sol.nit,
+                nfev=sol.nfev,
+                success=bool(sol.success),
+                steps_used=sol.formulation.steps,
+                residual=sol.residual_norm,
+                reference=sc.ref_kind,
+                ref_check=xerr,
+                message=sol.message,
+            )
+        )
         log(f"  {sc.name:12s} default Options(): err {err:.2e} t {secs * 1e3:.3f} ms")
-    cols = ["scene", "method", "jacobian", "slack_model", "setting", "tol", "error", "seconds", "nit", "nfev", "success",
-            "steps_used", "residual", "reference", "ref_check", "message"]
+    cols = [
+        "scene",
+        "method",
+        "jacobian",
+        "slack_model",
+        "setting",
+        "tol",
+        "error",
+        "seconds",
+        "nit",
+        "nfev",
+        "success",
+        "steps_used",
+        "residual",
+        "reference",
+        "ref_check",
+        "message",
+    ]
     _write_csv(os.path.join(out, "work_precision.csv"), rows, cols)
     plot_work_precision(rows, scenes, os.path.join(out, "work_precision.png"))
     summary = summarize_work_precision(rows)
@@ -321,8 +482,12 @@ def load_references(scenes, out, log=print):
     # the committed cache (bench/results/references.json of a source checkout) first,
     # then the output directory's own; keys include the scene's repr, so an entry is
     # only used for exactly the scene it was computed for
-    committed = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "bench", "results",
-                             "references.json")
+    committed = os.path.join(
+        os.path.dirname(os.path.dirname(os.path.abspath(__file__))),
+        "bench",
+        "results",
+        "references.json",
+    )
     for path in (committed, cache_path):
         if os.path.exists(path):
             with open(path) as fh:
@@ -333,8 +498,14 @@ def load_references(scenes, out, log=print):
         if key not in cache:
             t0 = time.perf_counter()
             ref = np.asarray(sc.reference(), dtype=float)
-            cache[key] = {"tip": ref.tolist(), "kind": sc.ref_kind, "seconds": time.perf_counter() - t0}
-            log(f"[{sc.name}] reference ({sc.ref_kind}) computed in {time.perf_counter() - t0:.1f} s")
+            cache[key] = {
+                "tip": ref.tolist(),
+                "kind": sc.ref_kind,
+                "seconds": time.perf_counter() - t0,
+            }
+            log(
+                f"[{sc.name}] reference ({sc.ref_kind}) computed in {time.perf_counter() - t0:.1f} s"
+            )
             with open(cache_path, "w") as fh:
                 json.dump(cache, fh, indent=1)
         res[sc.name] = np.array(cache[key]["tip"], dtype=float)
@@ -354,12 +525,17 @@ def read_csv(path):
         return list(csv.DictReader(fh))
 
 
-_STYLE = {"rk4": ("tab:blue", "o"), "rk8": ("tab:red", "s"), "adaptive": ("tab:green", "^"),
-          "default": ("k", "*")}
+_STYLE = {
+    "rk4": ("tab:blue", "o"),
+    "rk8": ("tab:red", "s"),
+    "adaptive": ("tab:green", "^"),
+    "default": ("k", "*"),
+}
 
 
 def plot_work_precision(rows, scenes, path):
     import matplotlib
+
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
@@ -376,26 +552,55 @@ def plot_work_precision(rows, scenes, path):
             if k not in keys:
                 keys.append(k)
         for k in keys:
-            pts = [r for r in sub if (r["method"], r["jacobian"], r["slack_model"]) == k
-                   and r["success"] and np.isfinite(r["error"]) and np.isfinite(r["seconds"])]
-            fails = [r for r in sub if (r["method"], r["jacobian"], r["slack_model"]) == k and not r["success"]
-                     and np.isfinite(r["seconds"])]
+            pts = [
+                r
+                for r in sub
+                if (r["method"], r["jacobian"], r["slack_model"]) == k
+                and r["success"]
+                and np.isfinite(r["error"])
+                and np.isfinite(r["seconds"])
+            ]
+            fails = [
+                r
+                for r in sub
+                if (r["method"], r["jacobian"], r["slack_model"]) == k
+                and not r["success"]
+                and np.isfinite(r["seconds"])
+            ]
             color, marker = _STYLE.get(k[0], ("gray", "x"))
             ls = {"fd": "-", "newton": "--", "hybrid": "-."}.get(k[1], (0, (1, 3)))
             if k[2] != "linear":
                 ls = ":"
-            label = k[0] if k[0] == "default" else f"{k[0]} ({k[1]}{', ' + k[2] if k[2] != 'linear' else ''})"
+            label = (
+                k[0]
+                if k[0] == "default"
+                else f"{k[0]} ({k[1]}{', ' + k[2] if k[2] != 'linear' else ''})"
+            )
             if pts:
                 # in the order of increasing work (steps up, rtol down), so timing noise
                 # shows as a wiggle, not as a reordering of the line
-                pts.sort(key=lambda r: float(r["setting"]) * (-1 if r["method"] == "adaptive" else 1))
-                ax.loglog([r["seconds"] * 1e3 for r in pts], [max(r["error"], floor) for r in pts],
-                          ls=ls if k[0] != "default" else "none", marker=marker, color=color, ms=4,
-                          label=label, alpha=0.85)
+                pts.sort(
+                    key=lambda r: float(r["setting"]) * (-1 if r["method"] == "adaptive" else 1)
+                )
+                ax.loglog(
+                    [r["seconds"] * 1e3 for r in pts],
+                    [max(r["error"], floor) for r in pts],
+                    ls=ls if k[0] != "default" else "none",
+                    marker=marker,
+                    color=color,
+                    ms=4,
+                    label=label,
+                    alpha=0.85,
+                )
             if fails:
-                ax.loglog([r["seconds"] * 1e3 for r in fails],
-                          [max(r["error"], floor) if np.isfinite(r["error"]) else 1.0 for r in fails],
-                          ls="none", marker="x", color=color, ms=6)
+                ax.loglog(
+                    [r["seconds"] * 1e3 for r in fails],
+                    [max(r["error"], floor) if np.isfinite(r["error"]) else 1.0 for r in fails],
+                    ls="none",
+                    marker="x",
+                    color=color,
+                    ms=6,
+                )
         ax.set_ylim(3e-17, 3.0)
         ax.set_title(sc.title, fontsize=8.5)
         ax.set_xlabel("median run time per cold solve [ms]", fontsize=8)
@@ -412,8 +617,10 @@ def plot_work_precision(rows, scenes, path):
                 h.append(a)
                 lab.append(b)
     fig.legend(h, lab, loc="lower center", ncol=min(6, len(lab)), fontsize=8)
-    fig.suptitle("tendonrod work-precision: relative tip error vs run time (x: solve reported failure)",
-                 fontsize=11)
+    fig.suptitle(
+        "tendonrod work-precision: relative tip error vs run time (x: solve reported failure)",
+        fontsize=11,
+    )
     fig.tight_layout(rect=(0, 0.11, 1, 0.96))
     fig.savefig(path, dpi=110)
     plt.close(fig)
@@ -442,8 +649,12 @@ def summarize_work_precision(rows, targets=(1e-4, 1e-6, 1e-8, 1e-10)):
     for r in rows:
         if r["scene"] not in scenes:
             scenes.append(r["scene"])
-    lines = ["| scene | " + " | ".join(f"fastest to {t:.0e}" for t in targets) + " | default Options() |",
-             "|---|" + "---|" * (len(targets) + 1)]
+    lines = [
+        "| scene | "
+        + " | ".join(f"fastest to {t:.0e}" for t in targets)
+        + " | default Options() |",
+        "|---|" + "---|" * (len(targets) + 1),
+    ]
     for s in scenes:
         sub = [r for r in rows if r["scene"] == s and r["success"] and np.isfinite(r["error"])]
         cells = []
@@ -453,11 +664,16 @@ def summarize_work_precision(rows, targets=(1e-4, 1e-6, 1e-8, 1e-10)):
                 cells.append("—")
                 continue
             b = min(ok, key=lambda r: r["seconds"])
-            cells.append(f"{b['method']} {_fmt_setting(b)} ({b['jacobian']}): {b['seconds'] * 1e3:.3g} ms")
+            cells.append(
+                f"{b['method']} {_fmt_setting(b)} ({b['jacobian']}): {b['seconds'] * 1e3:.3g} ms"
+            )
         d = [r for r in rows if r["scene"] == s and r["method"] == "default"]
         if d:
             d = d[0]
-            cells.append(f"err {d['error']:.1e}, {d['seconds'] * 1e3:.3g} ms" + ("" if d["success"] else " FAILED"))
+            cells.append(
+                f"err {d['error']:.1e}, {d['seconds'] * 1e3:.3g} ms"
+                + ("" if d["success"] else " FAILED")
+            )
         else:
             cells.append("")
         lines.append(f"| {s} | " + " | ".join(cells) + " |")
@@ -497,7 +713,9 @@ def run_model_choice(out: str, quick: bool = False, log=print):
     variants = [("no tendon", None), ("tendon r²kL/EI = 1", 1.0), ("inextensible tendon", math.inf)]
     ref_opts = tr.Options(integrator="rk8", steps=256, tol=1e-11)  # fine enough at F L^2/EI = 100
     deflection = getattr(getattr(tr, "analytic", None), "deflection", None)
-    cf_name = "tr.analytic.deflection" if deflection is not None else "references.small_load_deflection"
+    cf_name = (
+        "tr.analytic.deflection" if deflection is not None else "references.small_load_deflection"
+    )
     if deflection is None:
         deflection = refs.small_load_deflection
     rows = []
@@ -506,12 +724,12 @@ def run_model_choice(out: str, quick: bool = False, log=print):
             robot = tr.Robot(rod_of(p), [])
             k = 0.0
         else:
-            EA = math.inf if math.isinf(alpha) else alpha * EI / r ** 2
+            EA = math.inf if math.isinf(alpha) else alpha * EI / r**2
             k = EA / L
             robot = tr.Robot(rod_of(p), [tr.Tendon(offset=r, EA=EA)])
         prev = None
         for fl in loads:
-            F = fl * EI / L ** 2
+            F = fl * EI / L**2
             disp = None if alpha is None else [0.0]
             sc = tr.Scene(robot, displacement=disp, loads=[tr.PointLoad(s=L, force=(-F, 0.0, 0.0))])
             # closed form: scalar call timing (median of many) and vectorised per point
@@ -541,7 +759,9 @@ def run_model_choice(out: str, quick: bool = False, log=print):
                 ref = prev
                 off_path = False
                 for Fk in np.geomspace(f_prev, F, nsub + 1)[1:]:
-                    sck = tr.Scene(robot, displacement=disp, loads=[tr.PointLoad(s=L, force=(-Fk, 0.0, 0.0))])
+                    sck = tr.Scene(
+                        robot, displacement=disp, loads=[tr.PointLoad(s=L, force=(-Fk, 0.0, 0.0))]
+                    )
                     last = ref
                     ref = _solve_quiet(sck, ref_opts, guess=ref)
                     if not ref.success:
@@ -552,12 +772,26 @@ def run_model_choice(out: str, quick: bool = False, log=print):
                         off_path = True
                         break
                 if off_path:
-                    log(f"  {name}: F L^2/EI = {fl:.3g}: warm-started solve left the loading path; dropped")
-                    rows.append(dict(model=name, load=fl, force=F, closed_form=d_cf, cosserat=math.nan,
-                                     error=math.nan, cosserat_vs_exact=math.nan, seconds_closed_scalar=t_cf,
-                                     seconds_closed_vector=t_vec, seconds_cosserat_cold=t_cold,
-                                     seconds_cosserat_warm=math.nan, cosserat_success=False,
-                                     default_error=math.nan))
+                    log(
+                        f"  {name}: F L^2/EI = {fl:.3g}: warm-started solve left the loading path; dropped"
+                    )
+                    rows.append(
+                        dict(
+                            model=name,
+                            load=fl,
+                            force=F,
+                            closed_form=d_cf,
+                            cosserat=math.nan,
+                            error=math.nan,
+                            cosserat_vs_exact=math.nan,
+                            seconds_closed_scalar=t_cf,
+                            seconds_closed_vector=t_vec,
+                            seconds_cosserat_cold=t_cold,
+                            seconds_cosserat_warm=math.nan,
+                            cosserat_success=False,
+                            default_error=math.nan,
+                        )
+                    )
                     continue
             if ref.success:
                 prev = ref
@@ -567,17 +801,46 @@ def run_model_choice(out: str, quick: bool = False, log=print):
             if alpha is None:  # no tendon: the exact elastica checks the answer of record
                 xe, ze, _ = refs.elastica_tip_force(L, EI, F)
                 exact = float(np.hypot(ref.tip_position[0] + xe, ref.tip_position[2] - ze) / L)
-            rows.append(dict(model=name, load=fl, force=F, closed_form=d_cf, cosserat=x, error=err,
-                             cosserat_vs_exact=exact,
-                             seconds_closed_scalar=t_cf, seconds_closed_vector=t_vec, seconds_cosserat_cold=t_cold,
-                             seconds_cosserat_warm=t_warm, cosserat_success=bool(ref.success),
-                             default_error=(float(np.linalg.norm(sol.tip_position - ref.tip_position)) / L
-                                            if sol.success else math.nan)))
-            log(f"  {name:22s} FL²/EI={fl:8.3g}: closed-form error {err:.2e}; closed {t_cf * 1e6:.2f} µs, "
-                f"Cosserat cold {t_cold * 1e3:.3f} ms warm {t_warm * 1e3:.3f} ms")
-    cols = ["model", "load", "force", "closed_form", "cosserat", "error", "seconds_closed_scalar",
-            "seconds_closed_vector", "seconds_cosserat_cold", "seconds_cosserat_warm", "cosserat_success",
-            "default_error", "cosserat_vs_exact"]
+            rows.append(
+                dict(
+                    model=name,
+                    load=fl,
+                    force=F,
+                    closed_form=d_cf,
+                    cosserat=x,
+                    error=err,
+                    cosserat_vs_exact=exact,
+                    seconds_closed_scalar=t_cf,
+                    seconds_closed_vector=t_vec,
+                    seconds_cosserat_cold=t_cold,
+                    seconds_cosserat_warm=t_warm,
+                    cosserat_success=bool(ref.success),
+                    default_error=(
+                        float(np.linalg.norm(sol.tip_position - ref.tip_position)) / L
+                        if sol.success
+                        else math.nan
+                    ),
+                )
+            )
+            log(
+                f"  {name:22s} FL²/EI={fl:8.3g}: closed-form error {err:.2e}; closed {t_cf * 1e6:.2f} µs, "
+                f"Cosserat cold {t_cold * 1e3:.3f} ms warm {t_warm * 1e3:.3f} ms"
+            )
+    cols = [
+        "model",
+        "load",
+        "force",
+        "closed_form",
+        "cosserat",
+        "error",
+        "seconds_closed_scalar",
+        "seconds_closed_vector",
+        "seconds_cosserat_cold",
+        "seconds_cosserat_warm",
+        "cosserat_success",
+        "default_error",
+        "cosserat_vs_exact",
+    ]
     _write_csv(os.path.join(out, "model_choice.csv"), rows, cols)
     plot_model_choice(rows, os.path.join(out, "model_choice.png"), cf_name)
     return rows
@@ -585,6 +848,7 @@ def run_model_choice(out: str, quick: bool = False, log=print):
 
 def plot_model_choice(rows, path, cf_name):
     import matplotlib
+
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
@@ -596,7 +860,14 @@ def plot_model_choice(rows, path, cf_name):
     colors = ["tab:gray", "tab:blue", "tab:red"]
     for m, c in zip(models, colors):
         sub = [r for r in rows if r["model"] == m]
-        a1.loglog([r["load"] for r in sub], [max(r["error"], 1e-17) for r in sub], "o-", color=c, ms=3, label=m)
+        a1.loglog(
+            [r["load"] for r in sub],
+            [max(r["error"], 1e-17) for r in sub],
+            "o-",
+            color=c,
+            ms=3,
+            label=m,
+        )
     for lvl, txt in ((0.01, "1 %"), (0.1, "10 %")):
         a1.axhline(lvl, color="k", lw=0.6, ls=":")
         a1.text(1.2e-3, lvl * 1.15, txt, fontsize=8)
@@ -607,13 +878,35 @@ def plot_model_choice(rows, path, cf_name):
     a1.grid(True, alpha=0.3)
     sub = [r for r in rows if r["model"] == models[-1]]
     ld = [r["load"] for r in sub]
-    a2.loglog(ld, [r["seconds_closed_scalar"] * 1e6 for r in sub], "s-", color="tab:green", ms=3,
-              label=f"closed form, one scalar call")
-    a2.loglog(ld, [r["seconds_closed_vector"] * 1e6 for r in sub], "s--", color="tab:green", ms=3,
-              label="closed form, per point of a 10⁴ array")
-    a2.loglog(ld, [r["seconds_cosserat_cold"] * 1e6 for r in sub], "o-", color="tab:red", ms=3,
-              label="Cosserat, cold solve (default Options)")
-    warm = [(r["load"], r["seconds_cosserat_warm"] * 1e6) for r in sub if np.isfinite(r["seconds_cosserat_warm"])]
+    a2.loglog(
+        ld,
+        [r["seconds_closed_scalar"] * 1e6 for r in sub],
+        "s-",
+        color="tab:green",
+        ms=3,
+        label=f"closed form, one scalar call",
+    )
+    a2.loglog(
+        ld,
+        [r["seconds_closed_vector"] * 1e6 for r in sub],
+        "s--",
+        color="tab:green",
+        ms=3,
+        label="closed form, per point of a 10⁴ array",
+    )
+    a2.loglog(
+        ld,
+        [r["seconds_cosserat_cold"] * 1e6 for r in sub],
+        "o-",
+        color="tab:red",
+        ms=3,
+        label="Cosserat, cold solve (default Options)",
+    )
+    warm = [
+        (r["load"], r["seconds_cosserat_warm"] * 1e6)
+        for r in sub
+        if np.isfinite(r["seconds_cosserat_warm"])
+    ]
     if warm:
         a2.loglog(*zip(*warm), "o--", color="tab:red", ms=3, label="Cosserat, warm start (sweep)")
     a2.set_xlabel("tip load  F L² / EI")
@@ -649,8 +942,9 @@ def _stress_opts(**kw):
     return tr.Options(**kw)
 
 
-def _one_tendon_scene(p, theta, alpha=math.inf, F=(0.0, 0.0, 0.0), kirchhoff=True, r=None, EI_override=None,
-                      slope=0.0):
+def _one_tendon_scene(
+    p, theta, alpha=math.inf, F=(0.0, 0.0, 0.0), kirchhoff=True, r=None, EI_override=None, slope=0.0
+):
     """One parallel tendon at +x on robot ``p`` displaced to bend an (unloaded)
     backbone to ``theta``: q = r theta (1 + 1/alpha) (exact for a Kirchhoff rod),
     with tip force F (world)."""
@@ -681,16 +975,21 @@ def stress_cases() -> List[StressCase]:
     cases: List[StressCase] = []
     p = FIG11
     L, EI, r = p["L"], EI_of(p), p["r"]
-    fs = EI / L ** 2  # force scale [N]
+    fs = EI / L**2  # force scale [N]
 
     # 1. tendon stiffness r^2 k L / EI from 1e-2 to 1e12, and inextensible; bent to 90 deg,
     #    with an in-plane and an out-of-plane tip load F L^2/EI = 1.
     for a in [1e-2, 1e-1, 1.0, 1e1, 1e2, 1e3, 1e4, 1e6, 1e8, 1e10, 1e12, math.inf]:
         for lab, F in (("inplane", (-fs, 0.0, 0.0)), ("outofplane", (0.0, fs, 0.0))):
             nm = f"stiffness/alpha={a:g}/{lab}"
-            cases.append(StressCase(nm, "tendon stiffness", (lambda a=a, F=F: (_one_tendon_scene(p, math.pi / 2, a, F),
-                                                                              _stress_opts())),
-                                    quick=(a in (1e-2, 1e12, math.inf) and lab == "inplane")))
+            cases.append(
+                StressCase(
+                    nm,
+                    "tendon stiffness",
+                    (lambda a=a, F=F: (_one_tendon_scene(p, math.pi / 2, a, F), _stress_opts())),
+                    quick=(a in (1e-2, 1e12, math.inf) and lab == "inplane"),
+                )
+            )
     # 2. actuation from straight to a 270 deg curl, unloaded (exact: a circle) and loaded.
     for deg in [0, 45, 90, 180, 270]:
         th = math.radians(deg)
@@ -704,17 +1003,44 @@ def stress_cases() -> List[StressCase]:
                 pos, _ = refs.circle_end_moment(L, EI, (0.0, max(th, 1e-300) * EI / L, 0.0))
                 e = float(np.linalg.norm(sol.tip_position - pos[0]) / L)
                 return e, e < 1e-6, "vs exact circle"
-            cases.append(StressCase(nm, "actuation", (lambda th=th, kirch=kirch: (
-                _one_tendon_scene(p, th, kirchhoff=kirch), _stress_opts())), check=chk,
-                quick=(deg == 270 and kirch)))
+
+            cases.append(
+                StressCase(
+                    nm,
+                    "actuation",
+                    (
+                        lambda th=th, kirch=kirch: (
+                            _one_tendon_scene(p, th, kirchhoff=kirch),
+                            _stress_opts(),
+                        )
+                    ),
+                    check=chk,
+                    quick=(deg == 270 and kirch),
+                )
+            )
             nm = f"actuation/{deg}deg/{'kirchhoff' if kirch else 'cosserat'}/loaded-outofplane"
-            cases.append(StressCase(nm, "actuation", (lambda th=th, kirch=kirch: (
-                _one_tendon_scene(p, th, F=(0.0, fs, 0.0), kirchhoff=kirch), _stress_opts()))))
+            cases.append(
+                StressCase(
+                    nm,
+                    "actuation",
+                    (
+                        lambda th=th, kirch=kirch: (
+                            _one_tendon_scene(p, th, F=(0.0, fs, 0.0), kirchhoff=kirch),
+                            _stress_opts(),
+                        )
+                    ),
+                )
+            )
     # 3. loads up to F L^2/EI = 100, in-plane transverse, axial (both signs), out-of-plane,
     #    on the 90 deg actuated robot and on the straight robot.
     for mag in [1.0, 10.0, 30.0, 100.0]:
-        for lab, d in (("transverse-x", (-1, 0, 0)), ("transverse+x", (1, 0, 0)), ("axial-z", (0, 0, -1)),
-                       ("axial+z", (0, 0, 1)), ("outofplane", (0, 1, 0))):
+        for lab, d in (
+            ("transverse-x", (-1, 0, 0)),
+            ("transverse+x", (1, 0, 0)),
+            ("axial-z", (0, 0, -1)),
+            ("axial+z", (0, 0, 1)),
+            ("outofplane", (0, 1, 0)),
+        ):
             F = tuple(mag * fs * c for c in d)
             for th, tl in ((math.pi / 2, "90deg"), (0.0, "straight")):
                 nm = f"load/{tl}/{lab}/FL2EI={mag:g}"
@@ -731,80 +1057,175 @@ def stress_cases() -> List[StressCase]:
                         ref[2] = z
                         e = float(np.linalg.norm(sol.tip_position - ref) / L)
                         return e, e < 1e-6, "vs exact elastica"
+
                 wp, words = True, ()
-                if (mag == 100.0 and (tl, lab) in KAPPA_R_LIMIT) or (mag == 30.0 and (tl, lab) == ("90deg",
-                                                                                                  "transverse-x")):
+                if (mag == 100.0 and (tl, lab) in KAPPA_R_LIMIT) or (
+                    mag == 30.0 and (tl, lab) == ("90deg", "transverse-x")
+                ):
                     # (the 90 deg robot under -x reaches tau = EI/r^2 at F L^2/EI ~ 26 on its path)
                     wp, words = False, KAPPA_R_WORDS
                 elif mag == 100.0 and (tl, lab) == ("90deg", "transverse+x"):
                     # the tendon goes nearly slack and the path snaps at F L^2/EI ~ 58
                     # (limit point); no continuous loading path reaches 100
                     wp, words = False, ("limit point", "snap")
-                cases.append(StressCase(nm, "loads", (lambda th=th, F=F: (_one_tendon_scene(p, th, F=F),
-                                                                          _stress_opts())), check=chk,
-                                        well_posed=wp, expect_words=words,
-                                        quick=(mag == 100.0 and tl == "90deg" and lab in ("transverse-x",
-                                                                                           "outofplane"))))
+                cases.append(
+                    StressCase(
+                        nm,
+                        "loads",
+                        (lambda th=th, F=F: (_one_tendon_scene(p, th, F=F), _stress_opts())),
+                        check=chk,
+                        well_posed=wp,
+                        expect_words=words,
+                        quick=(
+                            mag == 100.0 and tl == "90deg" and lab in ("transverse-x", "outofplane")
+                        ),
+                    )
+                )
     # 3b. the plain cantilever (no tendon) under a transverse tip force: exact elastica.
     for mag in [5.0, 10.0, 12.0, 30.0, 100.0]:
+
         def chk_ela(sol, mag=mag):
             x, z, _ = refs.elastica_tip_force(L, EI, mag * fs)
             e = float(np.linalg.norm(sol.tip_position - np.array([x, 0.0, z])) / L)
             return e, e < 1e-6, "vs exact elastica"
-        cases.append(StressCase(f"load/plain-rod/transverse/FL2EI={mag:g}", "loads", (lambda mag=mag: (
-            tr.Scene(tr.Robot(rod_of(p), []), loads=[tr.PointLoad(s=L, force=(mag * fs, 0.0, 0.0))]),
-            _stress_opts())), check=chk_ela, quick=(mag == 30.0)))
+
+        cases.append(
+            StressCase(
+                f"load/plain-rod/transverse/FL2EI={mag:g}",
+                "loads",
+                (
+                    lambda mag=mag: (
+                        tr.Scene(
+                            tr.Robot(rod_of(p), []),
+                            loads=[tr.PointLoad(s=L, force=(mag * fs, 0.0, 0.0))],
+                        ),
+                        _stress_opts(),
+                    )
+                ),
+                check=chk_ela,
+                quick=(mag == 30.0),
+            )
+        )
     # 4. tensile axial tip loads, L sqrt(T/EI) up to 20, on a plain rod with a transverse
     #    tip force (exact reference by collocation) and on the 45 deg actuated robot.
     for lam in [1.0, 3.0, 5.0, 7.0, 10.0, 15.0, 20.0]:
-        T = lam ** 2 * fs
+        T = lam**2 * fs
         nm = f"tension/plain/Lsqrt(T/EI)={lam:g}"
 
         def chk_bvp(sol, T=T):
             x, z, th, _ = refs.planar_rod_bvp(L, EI, (fs, T), tol=1e-11, nodes=800)
             e = float(np.hypot(sol.tip_position[0] - x, sol.tip_position[2] - z) / L)
             return e, e < 1e-6, "vs collocation (solve_bvp)"
-        cases.append(StressCase(nm, "tensile load", (lambda T=T: (
-            tr.Scene(tr.Robot(rod_of(p), []), loads=[tr.PointLoad(s=L, force=(fs, 0.0, T))]), _stress_opts())),
-            check=chk_bvp, quick=(lam in (7.0, 20.0))))
+
+        cases.append(
+            StressCase(
+                nm,
+                "tensile load",
+                (
+                    lambda T=T: (
+                        tr.Scene(
+                            tr.Robot(rod_of(p), []), loads=[tr.PointLoad(s=L, force=(fs, 0.0, T))]
+                        ),
+                        _stress_opts(),
+                    )
+                ),
+                check=chk_bvp,
+                quick=(lam in (7.0, 20.0)),
+            )
+        )
         nm = f"tension/actuated45/Lsqrt(T/EI)={lam:g}"
         # from L sqrt(T/EI) ~ 12 the tendon would need more than EI/r^2 (see KAPPA_R_LIMIT)
-        cases.append(StressCase(nm, "tensile load", (lambda T=T: (
-            _one_tendon_scene(p, math.pi / 4, F=(0.0, 0.0, T)), _stress_opts())), quick=(lam == 20.0),
-            well_posed=lam < 15.0, expect_words=KAPPA_R_WORDS))
+        cases.append(
+            StressCase(
+                nm,
+                "tensile load",
+                (lambda T=T: (_one_tendon_scene(p, math.pi / 4, F=(0.0, 0.0, T)), _stress_opts())),
+                quick=(lam == 20.0),
+                well_posed=lam < 15.0,
+                expect_words=KAPPA_R_WORDS,
+            )
+        )
     # 5. load ramps across the taut/slack switch and back (Fig. 17 robot), warm started.
-    cases.append(StressCase("ramp/fig17/taut-slack-taut", "slack switch", None, ramp=_ramp_fig17, quick=True))
-    cases.append(StressCase("ramp/fig17/taut-slack-taut/squared", "slack switch", None,
-                            ramp=lambda: _ramp_fig17(slack_model="squared")))
-    cases.append(StressCase("ramp/fig17/cold-each", "slack switch", None, ramp=lambda: _ramp_fig17(warm=False)))
+    cases.append(
+        StressCase("ramp/fig17/taut-slack-taut", "slack switch", None, ramp=_ramp_fig17, quick=True)
+    )
+    cases.append(
+        StressCase(
+            "ramp/fig17/taut-slack-taut/squared",
+            "slack switch",
+            None,
+            ramp=lambda: _ramp_fig17(slack_model="squared"),
+        )
+    )
+    cases.append(
+        StressCase(
+            "ramp/fig17/cold-each", "slack switch", None, ramp=lambda: _ramp_fig17(warm=False)
+        )
+    )
     # 5b. a warm-started sweep of a large transverse load on the plain rod (exact elastica)
-    cases.append(StressCase("ramp/plain-rod/FL2EI=31.6->100/warm-10%", "loads", None, ramp=_ramp_large_load,
-                            quick=True))
+    cases.append(
+        StressCase(
+            "ramp/plain-rod/FL2EI=31.6->100/warm-10%",
+            "loads",
+            None,
+            ramp=_ramp_large_load,
+            quick=True,
+        )
+    )
     # 6. opposing inextensible tendons on a Kirchhoff backbone (statically indeterminate or
     #    without equilibrium) and the well-posed neighbours.
-    for q, wp, words in ((0.0, False, ("indetermin",)), (1e-3, False, ("equilibrium", "indetermin")),
-                         (-1e-3, True, ())):
+    for q, wp, words in (
+        (0.0, False, ("indetermin",)),
+        (1e-3, False, ("equilibrium", "indetermin")),
+        (-1e-3, True, ()),
+    ):
         nm = f"opposing/kirchhoff-inextensible/q1=q2={q:g}"
-        cases.append(StressCase(nm, "opposing tendons", (lambda q=q: (_opposing(p, q, q), _stress_opts())),
-                                well_posed=wp, expect_words=words, quick=(q == 0.0)))
+        cases.append(
+            StressCase(
+                nm,
+                "opposing tendons",
+                (lambda q=q: (_opposing(p, q, q), _stress_opts())),
+                well_posed=wp,
+                expect_words=words,
+                quick=(q == 0.0),
+            )
+        )
     # loaded: one tendon tightens and locks the tip angle at 0, so the other keeps its
     # length exactly; the difference of the tensions is fixed, their common level is not
-    cases.append(StressCase("opposing/kirchhoff-inextensible/q1=q2=0/loaded", "opposing tendons",
-                            lambda: (_opposing(p, 0.0, 0.0, F=(fs, 0.0, 0.0)), _stress_opts()), well_posed=False,
-                            expect_words=("indetermin",), quick=True))
-    cases.append(StressCase("opposing/cosserat-inextensible/q1=q2=1mm", "opposing tendons",
-                            lambda: (_opposing(p, 1e-3, 1e-3, kirchhoff=False), _stress_opts())))
-    cases.append(StressCase("opposing/kirchhoff-EA-finite/q1=q2=1mm", "opposing tendons",
-                            lambda: (_opposing(p, 1e-3, 1e-3, EA=1e4 * EI / r ** 2), _stress_opts())))
+    cases.append(
+        StressCase(
+            "opposing/kirchhoff-inextensible/q1=q2=0/loaded",
+            "opposing tendons",
+            lambda: (_opposing(p, 0.0, 0.0, F=(fs, 0.0, 0.0)), _stress_opts()),
+            well_posed=False,
+            expect_words=("indetermin",),
+            quick=True,
+        )
+    )
+    cases.append(
+        StressCase(
+            "opposing/cosserat-inextensible/q1=q2=1mm",
+            "opposing tendons",
+            lambda: (_opposing(p, 1e-3, 1e-3, kirchhoff=False), _stress_opts()),
+        )
+    )
+    cases.append(
+        StressCase(
+            "opposing/kirchhoff-EA-finite/q1=q2=1mm",
+            "opposing tendons",
+            lambda: (_opposing(p, 1e-3, 1e-3, EA=1e4 * EI / r**2), _stress_opts()),
+        )
+    )
     # 7. Fig. 12: straight robot, three tendons at q = 0, pure twisting moment, tendon
     #    stiffness growing without bound (inextensible: no equilibrium with M != 0).
     for a in [1.0, 1e2, 1e4, 1e6, 1e8, 1e12, math.inf]:
         nm = f"fig12/twist/alpha={a:g}"
         chk12 = None
         if not math.isinf(a):
+
             def chk12(sol, a=a):
                 rod = sol.scene.robot.rod
-                EA = a * EI / r ** 2
+                EA = a * EI / r**2
                 Mz = sol.scene.point_loads[0].moment[2]
                 psi, T = refs.twist_with_tendons(L, rod.torsional_stiffness, EA, r, 3, Mz)
                 Rt = sol.tip_rotation
@@ -812,57 +1233,119 @@ def stress_cases() -> List[StressCase]:
                 e = max(abs(psi_sol - psi) / psi, float(np.max(np.abs(sol.tension - T))) / T)
                 # exact solution; 1e-6 relative is the verification threshold used throughout
                 return e, e < 1e-6, "twist and tension vs the exact helix solution"
-        cases.append(StressCase(nm, "Fig. 12 twist", (lambda a=a: (_fig12(p, a), _stress_opts())),
-                                well_posed=not math.isinf(a), check=chk12,
-                                expect_words=("equilibrium", "indetermin", "singular", "twist"),
-                                quick=(a in (1e12, math.inf))))
+
+        cases.append(
+            StressCase(
+                nm,
+                "Fig. 12 twist",
+                (lambda a=a: (_fig12(p, a), _stress_opts())),
+                well_posed=not math.isinf(a),
+                check=chk12,
+                expect_words=("equilibrium", "indetermin", "singular", "twist"),
+                quick=(a in (1e12, math.inf)),
+            )
+        )
     # 8. slenderness L/d from 10 to 1e4 (Cosserat backbone: shear and extension matter at 10).
     for sl in [10, 30, 100, 1e3, 1e4]:
         pp = dict(p)
         pp["d"] = p["L"] / sl
         pp["r"] = max(p["r"], 0.6 * pp["d"])  # channel outside the section
-        fsl = EI_of(pp) / L ** 2
+        fsl = EI_of(pp) / L**2
         for lab, F in (("inplane", (-fsl, 0.0, 0.0)), ("outofplane", (0.0, fsl, 0.0))):
             nm = f"slenderness/L/d={sl:g}/{lab}"
-            cases.append(StressCase(nm, "slenderness", (lambda pp=pp, F=F: (
-                _one_tendon_scene(pp, math.pi / 2, F=F, kirchhoff=False), _stress_opts())),
-                quick=(sl in (10, 1e4) and lab == "outofplane")))
+            cases.append(
+                StressCase(
+                    nm,
+                    "slenderness",
+                    (
+                        lambda pp=pp, F=F: (
+                            _one_tendon_scene(pp, math.pi / 2, F=F, kirchhoff=False),
+                            _stress_opts(),
+                        )
+                    ),
+                    quick=(sl in (10, 1e4) and lab == "outofplane"),
+                )
+            )
     # 9. tendon offsets from 1e-4 L to 0.3 L (90 deg, F L^2/EI = 1 in-plane), Kirchhoff and Cosserat.
     for rr in [1e-4, 1e-3, 1e-2, 0.1, 0.3]:
         for kirch in (True, False):
             nm = f"offset/r={rr:g}L/{'kirchhoff' if kirch else 'cosserat'}"
-            cases.append(StressCase(nm, "tendon offset", (lambda rr=rr, kirch=kirch: (
-                _one_tendon_scene(p, math.pi / 2, F=(-fs, 0.0, 0.0), r=rr * L, kirchhoff=kirch), _stress_opts())),
-                quick=(rr in (1e-4, 0.3) and kirch)))
+            cases.append(
+                StressCase(
+                    nm,
+                    "tendon offset",
+                    (
+                        lambda rr=rr, kirch=kirch: (
+                            _one_tendon_scene(
+                                p, math.pi / 2, F=(-fs, 0.0, 0.0), r=rr * L, kirchhoff=kirch
+                            ),
+                            _stress_opts(),
+                        )
+                    ),
+                    quick=(rr in (1e-4, 0.3) and kirch),
+                )
+            )
     # 10. loads of 1e-6 N on the straight robot (closed form known) and on the 90 deg robot.
-    for lab, F in (("transverse", (-1e-6, 0.0, 0.0)), ("outofplane", (0.0, 1e-6, 0.0)),
-                   ("axial", (0.0, 0.0, -1e-6))):
+    for lab, F in (
+        ("transverse", (-1e-6, 0.0, 0.0)),
+        ("outofplane", (0.0, 1e-6, 0.0)),
+        ("axial", (0.0, 0.0, -1e-6)),
+    ):
         nm = f"tiny/straight/{lab}/1e-6N"
         if lab == "outofplane":
+
             def chk(sol):
                 # bending about x leaves the tendon at +x on the neutral axis (its length does
                 # not change to first order), so the tip moves F L^3/(3 EI) like a plain rod
-                d = 1e-6 * L ** 3 / (3 * EI)
+                d = 1e-6 * L**3 / (3 * EI)
                 e = abs(sol.tip_position[1] - d) / d
                 return e, e < 1e-6, "deflection vs F L^3/(3 EI)"
         elif lab == "axial":
+
             def chk(sol):
                 # a compressive load far below Euler's leaves the Kirchhoff rod straight
-                e = float(np.hypot(sol.tip_position[0], sol.tip_position[1]) / L + abs(sol.tip_position[2] - L) / L)
+                e = float(
+                    np.hypot(sol.tip_position[0], sol.tip_position[1]) / L
+                    + abs(sol.tip_position[2] - L) / L
+                )
                 return e, e < 1e-12, "straight under axial load"
+
         if lab == "transverse":
+
             def chk(sol):
                 d = float(refs.small_load_deflection(L, 1e-6, L, L, EI, 0.0, r, np.inf))
                 e = abs(-sol.tip_position[0] - d) / d
                 # F L^2/EI = 8e-7: the closed form is exact to ~1e-12 of the deflection;
                 # 1e-6 allows the solver's scaled stopping test, not an unscaled one.
                 return e, e < 1e-6, "deflection vs closed form eq. 12"
-        cases.append(StressCase(nm, "tiny loads", (lambda F=F: (tr.Scene(
-            tr.Robot(rod_of(p), [tr.Tendon(offset=r)]), displacement=[0.0],
-            loads=[tr.PointLoad(s=L, force=F)]), _stress_opts())), check=chk, quick=(lab == "transverse")))
+
+        cases.append(
+            StressCase(
+                nm,
+                "tiny loads",
+                (
+                    lambda F=F: (
+                        tr.Scene(
+                            tr.Robot(rod_of(p), [tr.Tendon(offset=r)]),
+                            displacement=[0.0],
+                            loads=[tr.PointLoad(s=L, force=F)],
+                        ),
+                        _stress_opts(),
+                    )
+                ),
+                check=chk,
+                quick=(lab == "transverse"),
+            )
+        )
         nm = f"tiny/90deg/{lab}/1e-6N"
-        cases.append(StressCase(nm, "tiny loads", (lambda F=F: (_one_tendon_scene(p, math.pi / 2, F=F),
-                                                                _stress_opts())), check=_tiny_vs_unloaded(F)))
+        cases.append(
+            StressCase(
+                nm,
+                "tiny loads",
+                (lambda F=F: (_one_tendon_scene(p, math.pi / 2, F=F), _stress_opts())),
+                check=_tiny_vs_unloaded(F),
+            )
+        )
     return cases
 
 
@@ -870,6 +1353,7 @@ def _tiny_vs_unloaded(F):
     """A 1e-6 N load on the 90 deg robot: compare the tip displacement with the one
     the compliance predicts (dx = C F). Catches solvers that stop before a tiny load
     has moved the tip."""
+
     def chk(sol):
         tr = _tr()
         sc0 = tr.Scene(sol.scene.robot, displacement=sol.scene.displacement)
@@ -882,14 +1366,17 @@ def _tiny_vs_unloaded(F):
         # the load is 1e-6 of EI/L^2, so the linearisation error is ~1e-6 relative;
         # 1e-3 catches a solver that leaves the tip where the unloaded robot had it.
         return e, e < 1e-3, "tip displacement vs compliance x load"
+
     return chk
 
 
 def _opposing(p, q1, q2, F=(0.0, 0.0, 0.0), kirchhoff=True, EA=math.inf):
     tr = _tr()
     L, r = p["L"], p["r"]
-    robot = tr.Robot(rod_of(p, kirchhoff=kirchhoff), [tr.Tendon(offset=r, angle=0.0, EA=EA),
-                                                      tr.Tendon(offset=r, angle=math.pi, EA=EA)])
+    robot = tr.Robot(
+        rod_of(p, kirchhoff=kirchhoff),
+        [tr.Tendon(offset=r, angle=0.0, EA=EA), tr.Tendon(offset=r, angle=math.pi, EA=EA)],
+    )
     return tr.Scene(robot, displacement=[q1, q2], loads=[tr.PointLoad(s=L, force=F)])
 
 
@@ -899,11 +1386,14 @@ def _fig12(p, alpha, Mz_scale=0.5):
     tr = _tr()
     L, r, EI = p["L"], p["r"], EI_of(p)
     rod = rod_of(p)
-    EA = math.inf if math.isinf(alpha) else alpha * EI / r ** 2
+    EA = math.inf if math.isinf(alpha) else alpha * EI / r**2
     tendons = [tr.Tendon(offset=r, angle=2 * math.pi * i / 3, EA=EA) for i in range(3)]
     Mz = Mz_scale * rod.torsional_stiffness / L
-    return tr.Scene(tr.Robot(rod, tendons), displacement=[0.0, 0.0, 0.0],
-                    loads=[tr.PointLoad(s=L, moment=(0.0, 0.0, Mz))])
+    return tr.Scene(
+        tr.Robot(rod, tendons),
+        displacement=[0.0, 0.0, 0.0],
+        loads=[tr.PointLoad(s=L, moment=(0.0, 0.0, Mz))],
+    )
 
 
 def _ramp_fig17(slack_model="linear", warm=True, n=13):
@@ -922,9 +1412,15 @@ def _ramp_fig17(slack_model="linear", warm=True, n=13):
     opts = tr.Options(slack_model=slack_model)
     t0 = time.perf_counter()
     for P in path:
-        sc = tr.Scene(robot, displacement=[r * math.pi / 2], loads=[tr.PointLoad(s=L, force=(0.0, 0.0, -P))])
+        sc = tr.Scene(
+            robot, displacement=[r * math.pi / 2], loads=[tr.PointLoad(s=L, force=(0.0, 0.0, -P))]
+        )
         sol = _solve_quiet(sc, opts, guess=prev if warm else None)
-        v = verify(sol) if sol.success else dict(verified=False, balance=math.nan, refine=math.nan, note="")
+        v = (
+            verify(sol)
+            if sol.success
+            else dict(verified=False, balance=math.nan, refine=math.nan, note="")
+        )
         recs.append((P, sol, v))
         if sol.success:
             prev = sol
@@ -933,14 +1429,21 @@ def _ramp_fig17(slack_model="linear", warm=True, n=13):
     ver = all(v["verified"] for _, _, v in recs)
     notes = []
     # tension sign pattern against the critical load (independent, elliptic integrals)
-    bad_t = [P for P, s, _ in recs if s.success and ((P < 0.98 * Pc and s.tension[0] <= 0.0) or
-                                                      (P > 1.02 * Pc and s.tension[0] > 1e-9))]
+    bad_t = [
+        P
+        for P, s, _ in recs
+        if s.success
+        and ((P < 0.98 * Pc and s.tension[0] <= 0.0) or (P > 1.02 * Pc and s.tension[0] > 1e-9))
+    ]
     if bad_t:
         notes.append(f"tension wrong side of P_c={Pc:.4f} N at P={bad_t}")
     # up and down agree
     m = len(up)
-    back = [float(np.linalg.norm(recs[i][1].tip_position - recs[len(path) - 1 - i][1].tip_position) / L)
-            for i in range(m) if recs[i][1].success and recs[len(path) - 1 - i][1].success]
+    back = [
+        float(np.linalg.norm(recs[i][1].tip_position - recs[len(path) - 1 - i][1].tip_position) / L)
+        for i in range(m)
+        if recs[i][1].success and recs[len(path) - 1 - i][1].success
+    ]
     hyst = max(back) if back else math.nan
     if not (hyst < 1e-6):
         notes.append(f"ramp up and down differ by {hyst:.2e} L")
@@ -955,16 +1458,33 @@ def _ramp_fig17(slack_model="linear", warm=True, n=13):
         notes.append(f"slack tip differs from the exact elastica by {e_ela:.2e} L")
     verified = ok and ver and not notes
     fails = [f"P={P:.3f}: {s.message}" for P, s, _ in recs if not s.success]
-    msg = "; ".join(fails[:3] + notes) or f"{len(path)} steps 0 -> {2 * Pc:.3f} N -> 0 (P_c={Pc:.4f} N)"
-    return dict(converged=ok, verified=verified, iterations=int(sum(s.nit for _, s, _ in recs)),
-                nfev=int(sum(s.nfev for _, s, _ in recs)),
-                residual=float(max((s.residual_norm for _, s, _ in recs), default=math.nan)),
-                jacobian_cond=float(max((s.jacobian_cond for _, s, _ in recs if np.isfinite(s.jacobian_cond)),
-                                        default=math.nan)),
-                seconds=secs, balance=float(max((v["balance"] for _, _, v in recs if np.isfinite(v["balance"])),
-                                                default=math.nan)),
-                refine=float(max((v["refine"] for _, _, v in recs if np.isfinite(v["refine"])), default=math.nan)),
-                check_error=e_ela, message=msg, continuation_steps=int(sum(s.continuation_steps for _, s, _ in recs)))
+    msg = (
+        "; ".join(fails[:3] + notes)
+        or f"{len(path)} steps 0 -> {2 * Pc:.3f} N -> 0 (P_c={Pc:.4f} N)"
+    )
+    return dict(
+        converged=ok,
+        verified=verified,
+        iterations=int(sum(s.nit for _, s, _ in recs)),
+        nfev=int(sum(s.nfev for _, s, _ in recs)),
+        residual=float(max((s.residual_norm for _, s, _ in recs), default=math.nan)),
+        jacobian_cond=float(
+            max(
+                (s.jacobian_cond for _, s, _ in recs if np.isfinite(s.jacobian_cond)),
+                default=math.nan,
+            )
+        ),
+        seconds=secs,
+        balance=float(
+            max((v["balance"] for _, _, v in recs if np.isfinite(v["balance"])), default=math.nan)
+        ),
+        refine=float(
+            max((v["refine"] for _, _, v in recs if np.isfinite(v["refine"])), default=math.nan)
+        ),
+        check_error=e_ela,
+        message=msg,
+        continuation_steps=int(sum(s.continuation_steps for _, s, _ in recs)),
+    )
 
 
 def _ramp_large_load(n=13):
@@ -980,10 +1500,13 @@ def _ramp_large_load(n=13):
     prev = None
     errs, recs = [], []
     t0 = time.perf_counter()
-    for fl in np.geomspace(10 ** 1.5, 100.0, n):
-        F = fl * EI / L ** 2
-        sol = _solve_quiet(tr.Scene(robot, loads=[tr.PointLoad(s=L, force=(-F, 0.0, 0.0))]), tr.Options(),
-                           guess=prev)
+    for fl in np.geomspace(10**1.5, 100.0, n):
+        F = fl * EI / L**2
+        sol = _solve_quiet(
+            tr.Scene(robot, loads=[tr.PointLoad(s=L, force=(-F, 0.0, 0.0))]),
+            tr.Options(),
+            guess=prev,
+        )
         recs.append(sol)
         if not sol.success:
             errs.append(math.nan)
@@ -994,14 +1517,26 @@ def _ramp_large_load(n=13):
     secs = time.perf_counter() - t0
     ok = all(s.success for s in recs) and len(recs) == n
     worst = max((e for e in errs if np.isfinite(e)), default=math.nan)
-    bad = [f"{fl:.3g}" for fl, e in zip(np.geomspace(10 ** 1.5, 100.0, n), errs) if not (e < 1e-6)]
-    msg = (f"{len(recs)} warm-started steps; worst tip error vs the exact elastica {worst:.2e} L"
-           + (f"; wrong or failed at F L^2/EI = {', '.join(bad)}" if bad else "")
-           + ("" if ok else f"; last message: {recs[-1].message}"))
-    return dict(converged=ok, verified=ok and not bad, iterations=int(sum(s.nit for s in recs)),
-                nfev=int(sum(s.nfev for s in recs)), residual=float(max(s.residual_norm for s in recs)),
-                jacobian_cond=float(recs[-1].jacobian_cond), seconds=secs, balance=math.nan, refine=math.nan,
-                check_error=worst, message=msg, continuation_steps=int(sum(s.continuation_steps for s in recs)))
+    bad = [f"{fl:.3g}" for fl, e in zip(np.geomspace(10**1.5, 100.0, n), errs) if not (e < 1e-6)]
+    msg = (
+        f"{len(recs)} warm-started steps; worst tip error vs the exact elastica {worst:.2e} L"
+        + (f"; wrong or failed at F L^2/EI = {', '.join(bad)}" if bad else "")
+        + ("" if ok else f"; last message: {recs[-1].message}")
+    )
+    return dict(
+        converged=ok,
+        verified=ok and not bad,
+        iterations=int(sum(s.nit for s in recs)),
+        nfev=int(sum(s.nfev for s in recs)),
+        residual=float(max(s.residual_norm for s in recs)),
+        jacobian_cond=float(recs[-1].jacobian_cond),
+        seconds=secs,
+        balance=math.nan,
+        refine=math.nan,
+        check_error=worst,
+        message=msg,
+        continuation_steps=int(sum(s.continuation_steps for s in recs)),
+    )
 
 
 # --------------------------------------------------------------------------- verification
@@ -1017,7 +1552,9 @@ def _tendon_tangents(sol, s_index=0):
     if rod.kirchhoff:
         v = np.array([0.0, 0.0, 1.0])
     else:
-        inv = np.array([1.0 / rod.shear_stiffness, 1.0 / rod.shear_stiffness, 1.0 / rod.axial_stiffness])
+        inv = np.array(
+            [1.0 / rod.shear_stiffness, 1.0 / rod.shear_stiffness, 1.0 / rod.axial_stiffness]
+        )
         v = np.array([0.0, 0.0, 1.0]) + inv * n_b
     s = sol.s[s_index]
     out = []
@@ -1059,11 +1596,12 @@ def global_balance(sol):
     f = sc.distributed_force
     if np.any(f != 0.0):
         from scipy.integrate import simpson
+
         Fsum += f * L
         Msum += np.cross(simpson(sol.position, x=sol.s, axis=0), f)
         fmax = max(fmax, float(np.linalg.norm(f)) * L)
     if fmax == 0.0:  # nothing loads the robot: compare with its natural force scale
-        fmax = EI / L ** 2
+        fmax = EI / L**2
     return float(max(np.linalg.norm(Fsum) / fmax, np.linalg.norm(Msum) / (fmax * L)))
 
 
@@ -1095,8 +1633,10 @@ def verify(sol, check=None):
     diffs = []
     steps = max(int(sol.formulation.steps), 1)
     o = sol.options
-    for kw in (dict(integrator=o.integrator if o.integrator != "adaptive" else "rk8", steps=2 * steps),
-               dict(integrator="adaptive", rtol=1e-10)):
+    for kw in (
+        dict(integrator=o.integrator if o.integrator != "adaptive" else "rk8", steps=2 * steps),
+        dict(integrator="adaptive", rtol=1e-10),
+    ):
         kk = o.raw()
         kk.update(kw)
         # the comparison is at 1e-6: 1e-8 is tight enough, and the adaptive integrator's
@@ -1124,7 +1664,11 @@ def verify(sol, check=None):
     if orth > 1e-6:
         ok = False
         notes.append(f"rotation not orthonormal ({orth:.1e})")
-    if np.any(sol.tension < 0) or np.any(sol.slack < 0) or np.any((sol.tension > 0) & (sol.slack > 0)):
+    if (
+        np.any(sol.tension < 0)
+        or np.any(sol.slack < 0)
+        or np.any((sol.tension > 0) & (sol.slack > 0))
+    ):
         ok = False
         notes.append("tension/slack complementarity violated")
     if check is not None:
@@ -1144,7 +1688,7 @@ def verify(sol, check=None):
 
 def EI_scale(scene):
     rod = scene.robot.rod
-    return rod.bending_stiffness / rod.length ** 2
+    return rod.bending_stiffness / rod.length**2
 
 
 def run_case(case: StressCase) -> dict:
@@ -1160,14 +1704,25 @@ def run_case(case: StressCase) -> dict:
             sol = _solve_quiet(scene, opts)
             rec["seconds"] = time.perf_counter() - t0
             finite = all(np.all(np.isfinite(a)) for a in (sol.position, sol.tension))
-            rec.update(converged=bool(sol.success), iterations=sol.nit, nfev=sol.nfev,
-                       residual=sol.residual_norm, jacobian_cond=sol.jacobian_cond,
-                       continuation_steps=sol.continuation_steps, message=sol.message,
-                       status=sol.status, formulation=repr(sol.formulation))
+            rec.update(
+                converged=bool(sol.success),
+                iterations=sol.nit,
+                nfev=sol.nfev,
+                residual=sol.residual_norm,
+                jacobian_cond=sol.jacobian_cond,
+                continuation_steps=sol.continuation_steps,
+                message=sol.message,
+                status=sol.status,
+                formulation=repr(sol.formulation),
+            )
             if sol.success:
                 v = verify(sol, case.check)
-                rec.update(verified=v["verified"], balance=v["balance"], refine=v["refine"],
-                           check_error=v["check_error"])
+                rec.update(
+                    verified=v["verified"],
+                    balance=v["balance"],
+                    refine=v["refine"],
+                    check_error=v["check_error"],
+                )
                 if v["note"]:
                     rec["message"] = f"{sol.message} | {v['note']}"
             else:
@@ -1176,11 +1731,20 @@ def run_case(case: StressCase) -> dict:
     except ValueError as exc:
         # the API rejects the scene before any C runs: honest for an ill-posed scene
         # (the message must then name the problem), a finding for a well-posed one
-        rec.update(converged=False, verified=False, message=f"ValueError before solving: {exc}",
-                   outcome="honest failure" if not case.well_posed else "REJECTED")
+        rec.update(
+            converged=False,
+            verified=False,
+            message=f"ValueError before solving: {exc}",
+            outcome="honest failure" if not case.well_posed else "REJECTED",
+        )
     except Exception as exc:  # noqa: BLE001 - an exception is itself a finding
-        rec.update(converged=False, verified=False, outcome="exception",
-                   message=f"{type(exc).__name__}: {exc}", traceback=traceback.format_exc())
+        rec.update(
+            converged=False,
+            verified=False,
+            outcome="exception",
+            message=f"{type(exc).__name__}: {exc}",
+            traceback=traceback.format_exc(),
+        )
     rec["outcome"] = rec.get("outcome") or classify(rec)
     return rec
 
@@ -1213,8 +1777,16 @@ def _child(case_name, conn, quick):
                 rec["outcome"] = "VAGUE FAILURE"
         conn.send(rec)
     except BaseException as exc:  # noqa: BLE001
-        conn.send(dict(case=case_name, outcome="exception", converged=False, verified=False,
-                       message=f"{type(exc).__name__}: {exc}", traceback=traceback.format_exc()))
+        conn.send(
+            dict(
+                case=case_name,
+                outcome="exception",
+                converged=False,
+                verified=False,
+                message=f"{type(exc).__name__}: {exc}",
+                traceback=traceback.format_exc(),
+            )
+        )
     finally:
         conn.close()
 
@@ -1254,9 +1826,25 @@ def run_case_isolated(case: StressCase, timeout: float) -> dict:
     return rec
 
 
-STRESS_COLS = ["case", "group", "well_posed", "outcome", "converged", "verified", "iterations", "nfev", "residual",
-               "jacobian_cond", "seconds", "wall_seconds", "continuation_steps", "balance", "refine", "check_error",
-               "message"]
+STRESS_COLS = [
+    "case",
+    "group",
+    "well_posed",
+    "outcome",
+    "converged",
+    "verified",
+    "iterations",
+    "nfev",
+    "residual",
+    "jacobian_cond",
+    "seconds",
+    "wall_seconds",
+    "continuation_steps",
+    "balance",
+    "refine",
+    "check_error",
+    "message",
+]
 
 GOOD = ("verified", "honest failure")
 
@@ -1269,37 +1857,63 @@ def run_stress(out: str, quick: bool = False, timeout: float = 60.0, only: str =
         rec = run_case_isolated(c, timeout)
         rows.append(rec)
         flag = "  " if rec["outcome"] in GOOD else "!!"
-        log(f"{flag} {c.name:55s} {rec['outcome']:15s} nit {rec.get('iterations', '-')!s:>4} "
-            f"t {rec.get('seconds', math.nan) * 1e3:9.2f} ms  {str(rec.get('message', ''))[:140]}")
+        log(
+            f"{flag} {c.name:55s} {rec['outcome']:15s} nit {rec.get('iterations', '-')!s:>4} "
+            f"t {rec.get('seconds', math.nan) * 1e3:9.2f} ms  {str(rec.get('message', ''))[:140]}"
+        )
     _write_csv(os.path.join(out, "stress.csv"), rows, STRESS_COLS)
     plot_stress(rows, os.path.join(out, "stress.png"))
     bad = [r for r in rows if r["outcome"] not in GOOD]
-    log(f"{len(rows)} cases: {len(rows) - len(bad)} good (verified or honest failure), {len(bad)} not")
+    log(
+        f"{len(rows)} cases: {len(rows) - len(bad)} good (verified or honest failure), {len(bad)} not"
+    )
     return rows
 
 
 def plot_stress(rows, path):
     import matplotlib
+
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    colors = {"verified": "tab:green", "honest failure": "tab:olive", "UNVERIFIED": "tab:orange",
-              "FAILED": "tab:red", "WRONG SUCCESS": "tab:purple", "VAGUE FAILURE": "gold",
-              "exception": "black", "timeout": "tab:brown", "crash": "black", "REJECTED": "tab:pink"}
+    colors = {
+        "verified": "tab:green",
+        "honest failure": "tab:olive",
+        "UNVERIFIED": "tab:orange",
+        "FAILED": "tab:red",
+        "WRONG SUCCESS": "tab:purple",
+        "VAGUE FAILURE": "gold",
+        "exception": "black",
+        "timeout": "tab:brown",
+        "crash": "black",
+        "REJECTED": "tab:pink",
+    }
     n = len(rows)
     fig, ax = plt.subplots(figsize=(10, max(4.0, 0.13 * n + 1.2)))
     y = np.arange(n)[::-1]
-    secs = [max(float(r.get("seconds", math.nan) if r.get("seconds") not in (None, "") else math.nan), 1e-6)
-            if np.isfinite(float(r.get("seconds", math.nan) if r.get("seconds") not in (None, "") else math.nan))
-            else float(r.get("wall_seconds", 1.0)) for r in rows]
+    secs = [
+        max(
+            float(r.get("seconds", math.nan) if r.get("seconds") not in (None, "") else math.nan),
+            1e-6,
+        )
+        if np.isfinite(
+            float(r.get("seconds", math.nan) if r.get("seconds") not in (None, "") else math.nan)
+        )
+        else float(r.get("wall_seconds", 1.0))
+        for r in rows
+    ]
     ax.barh(y, secs, color=[colors.get(r["outcome"], "gray") for r in rows], height=0.8)
     ax.set_xscale("log")
     ax.set_yticks(y)
     ax.set_yticklabels([r["case"] for r in rows], fontsize=6)
     ax.set_xlabel("solve time [s] (log)")
     from matplotlib.patches import Patch
-    handles = [Patch(color=c, label=f"{k} ({sum(1 for r in rows if r['outcome'] == k)})")
-               for k, c in colors.items() if any(r["outcome"] == k for r in rows)]
+
+    handles = [
+        Patch(color=c, label=f"{k} ({sum(1 for r in rows if r['outcome'] == k)})")
+        for k, c in colors.items()
+        if any(r["outcome"] == k for r in rows)
+    ]
     ax.legend(handles=handles, loc="lower right", fontsize=8)
     ax.set_ylim(-1, n)
     ax.set_title("tendonrod stress suite: outcome and time per case", fontsize=10)
@@ -1311,23 +1925,34 @@ def plot_stress(rows, path):
 
 # --------------------------------------------------------------------------- CLI
 def main(argv=None) -> int:
-    ap = argparse.ArgumentParser(prog="python -m tendonrod bench",
-                                 description="tendonrod benchmarks: work-precision (error vs run time, and "
-                                             "the choice of model) and the stress suite.")
+    ap = argparse.ArgumentParser(
+        prog="python -m tendonrod bench",
+        description="tendonrod benchmarks: work-precision (error vs run time, and "
+        "the choice of model) and the stress suite.",
+    )
     sub = ap.add_subparsers(dest="which", metavar="{work-precision,stress}")
     sub.required = True
-    w = sub.add_parser("work-precision", help="error vs run time per scene, method and setting; model choice")
+    w = sub.add_parser(
+        "work-precision", help="error vs run time per scene, method and setting; model choice"
+    )
     w.add_argument("--out", required=True, help="output directory")
     w.add_argument("--quick", action="store_true", help="few settings and repeats (CI)")
-    w.add_argument("--repeats", type=int, default=None, help="solves per timing (median); default 7 (quick: 3)")
+    w.add_argument(
+        "--repeats", type=int, default=None, help="solves per timing (median); default 7 (quick: 3)"
+    )
     w.add_argument("--skip-model-choice", action="store_true", help="only the work-precision chart")
     w.add_argument("--scenes", default="", help="comma-separated scene names (default: all)")
-    s = sub.add_parser("stress", help="stress suite: every case converges verified or fails honestly",
-                       epilog="Exit status: 0 if every case is verified or an honest failure, 1 otherwise "
-                              "(the report is written either way).")
+    s = sub.add_parser(
+        "stress",
+        help="stress suite: every case converges verified or fails honestly",
+        epilog="Exit status: 0 if every case is verified or an honest failure, 1 otherwise "
+        "(the report is written either way).",
+    )
     s.add_argument("--out", required=True, help="output directory")
     s.add_argument("--quick", action="store_true", help="the fast subset (the one the tests run)")
-    s.add_argument("--timeout", type=float, default=60.0, help="seconds per case before it counts as a hang")
+    s.add_argument(
+        "--timeout", type=float, default=60.0, help="seconds per case before it counts as a hang"
+    )
     s.add_argument("--only", default="", help="run only cases whose name contains this string")
     args = ap.parse_args(argv)
     if args.which == "work-precision":

@@ -14,6 +14,7 @@ packs it into the flat arrays of the C core. Conventions (see ``MODEL.md``):
 Every class validates itself on construction and raises :class:`ValueError` naming
 the field and its value, so bad input never reaches the C core.
 """
+
 from __future__ import annotations
 
 import math
@@ -31,7 +32,9 @@ Vec3 = Tuple[float, float, float]
 # --------------------------------------------------------------------------- helpers
 def _real(owner: str, name: str, value, *, allow_inf: bool = False) -> float:
     """``value`` as a float, or ValueError naming ``owner.name`` and the value."""
-    if isinstance(value, (bool, np.bool_)) or not isinstance(value, (numbers.Real, np.floating, np.integer)):
+    if isinstance(value, (bool, np.bool_)) or not isinstance(
+        value, (numbers.Real, np.floating, np.integer)
+    ):
         try:
             arr = np.asarray(value)
         except Exception:  # pragma: no cover - exotic objects
@@ -77,7 +80,9 @@ def _vec3(owner: str, name: str, value) -> Vec3:
     except OverflowError:
         raise ValueError(f"{owner}.{name} must be finite, got {value!r}") from None
     except (TypeError, ValueError):
-        raise ValueError(f"{owner}.{name} must be a 3-vector of real numbers, got {value!r}") from None
+        raise ValueError(
+            f"{owner}.{name} must be a 3-vector of real numbers, got {value!r}"
+        ) from None
     if arr.shape != (3,):
         raise ValueError(f"{owner}.{name} must be a 3-vector (shape (3,)), got {value!r}")
     if not np.all(np.isfinite(arr)):
@@ -154,11 +159,13 @@ class Rod:
             if v is None:
                 raise ValueError(
                     f"Rod.{name} is missing: give {name}=... or both diameter and {src} "
-                    f"(diameter={self.diameter!r}, {src}={getattr(self, src)!r})")
+                    f"(diameter={self.diameter!r}, {src}={getattr(self, src)!r})"
+                )
             if getattr(self, name) is None and not (math.isfinite(v) and v > 0.0):
                 raise ValueError(
                     f"Rod.{name} from diameter={self.diameter!r} and {src}={getattr(self, src)!r} "
-                    f"is {v!r}: the section's rigidity must be finite and > 0")
+                    f"is {v!r}: the section's rigidity must be finite and > 0"
+                )
 
     def _effective(self, name: str) -> Optional[float]:
         explicit = getattr(self, name)
@@ -167,7 +174,7 @@ class Rod:
         d = self.diameter
         if d is None:
             return None
-        d2 = d * d                      # floats: overflow gives inf, never OverflowError
+        d2 = d * d  # floats: overflow gives inf, never OverflowError
         A = math.pi * d2 / 4.0
         I = math.pi * (d2 * d2) / 64.0
         if name == "EI":
@@ -250,25 +257,40 @@ class Tendon:
         EA = _positive(own, "EA", self.EA, allow_inf=True)
         if math.isfinite(EA) and not (_TENDON_EA_MIN <= EA <= _TENDON_EA_MAX):
             # a subnormal EA made tau/EA overflow (finding F16); same range as the core
-            raise ValueError(f"{own}.EA must lie in [{_TENDON_EA_MIN:g}, {_TENDON_EA_MAX:g}] N "
-                             f"or be inf (inextensible), got {self.EA!r}")
+            raise ValueError(
+                f"{own}.EA must lie in [{_TENDON_EA_MIN:g}, {_TENDON_EA_MAX:g}] N "
+                f"or be inf (inextensible), got {self.EA!r}"
+            )
         object.__setattr__(self, "EA", EA)
         if self.end is not None:
             object.__setattr__(self, "end", _positive(own, "end", self.end))
         object.__setattr__(self, "pretension", _nonnegative(own, "pretension", self.pretension))
 
     @classmethod
-    def converging(cls, offset: float, angle: float = 0.0, length: Optional[float] = None, *,
-                   EA: float = math.inf, end: Optional[float] = None,
-                   pretension: float = 0.0) -> "Tendon":
+    def converging(
+        cls,
+        offset: float,
+        angle: float = 0.0,
+        length: Optional[float] = None,
+        *,
+        EA: float = math.inf,
+        end: Optional[float] = None,
+        pretension: float = 0.0,
+    ) -> "Tendon":
         """A tendon converging from ``offset`` at the base to the centre line at
         arc length ``length`` [m] (normally the rod length): ``slope = -offset/length``."""
         if length is None:
             raise TypeError("Tendon.converging() missing required argument 'length'")
         length = _positive("Tendon.converging", "length", length)
         offset = _nonnegative("Tendon", "offset", offset)
-        return cls(offset=offset, angle=angle, slope=-offset / length, EA=EA, end=end,
-                   pretension=pretension)
+        return cls(
+            offset=offset,
+            angle=angle,
+            slope=-offset / length,
+            EA=EA,
+            end=end,
+            pretension=pretension,
+        )
 
     def radius(self, s) -> np.ndarray:
         """Channel radius ``slope*s + offset`` [m] at arc length(s) ``s``."""
@@ -304,7 +326,9 @@ class Robot:
         try:
             tendons = tuple(self.tendons)
         except TypeError:
-            raise ValueError(f"Robot.tendons must be a sequence of Tendon, got {self.tendons!r}") from None
+            raise ValueError(
+                f"Robot.tendons must be a sequence of Tendon, got {self.tendons!r}"
+            ) from None
         for i, t in enumerate(tendons):
             if not isinstance(t, Tendon):
                 raise ValueError(f"Robot.tendons[{i}] must be a tendonrod.Tendon, got {t!r}")
@@ -312,7 +336,9 @@ class Robot:
         L = self.rod.length
         for i, t in enumerate(tendons):
             if t.end is not None and t.end > L * (1.0 + _GEOM_RTOL):
-                raise ValueError(f"Robot.tendons[{i}].end must be <= rod length {L!r}, got {t.end!r}")
+                raise ValueError(
+                    f"Robot.tendons[{i}].end must be <= rod length {L!r}, got {t.end!r}"
+                )
             end = self.tendon_end(i)
             r_end = t.slope * end + t.offset
             scale = max(t.offset, abs(t.slope) * end)
@@ -320,7 +346,8 @@ class Robot:
                 raise ValueError(
                     f"Robot.tendons[{i}]: routing radius slope*s + offset = {r_end!r} < 0 at "
                     f"s = end = {end!r} (slope={t.slope!r}, offset={t.offset!r}); a tendon "
-                    f"cannot cross the centre line")
+                    f"cannot cross the centre line"
+                )
         self._check_pretension()
 
     @property
@@ -358,7 +385,8 @@ class Robot:
                     f"Robot.tendons pretension {vals} is not balanced on s in [{start:g}, {e:g}] m: "
                     f"sum of pretension * r_i(s) must vanish there (moment "
                     f"{mb.tolist()} N m from offsets, {ma.tolist()} N m from slopes), otherwise "
-                    f"the 'unloaded' robot is not straight and pretension is not defined")
+                    f"the 'unloaded' robot is not straight and pretension is not defined"
+                )
             start = e
         if self.rod.kirchhoff:
             rigid = [i for i in pre if math.isinf(self.tendons[i].EA)]
@@ -367,7 +395,8 @@ class Robot:
                     f"Robot.tendons[{rigid[0]}].pretension={self.tendons[rigid[0]].pretension!r} "
                     f"needs axial compliance: an inextensible tendon (EA=inf) on a Kirchhoff "
                     f"(inextensible) backbone cannot hold a defined pretension; give the tendon "
-                    f"a finite EA or use a Cosserat backbone (kirchhoff=False)")
+                    f"a finite EA or use a Cosserat backbone (kirchhoff=False)"
+                )
 
 
 # --------------------------------------------------------------------------- loads
@@ -409,11 +438,14 @@ def _actuation(name: str, values, n: int) -> Tuple[Optional[float], ...]:
     try:
         vals = list(values)
     except TypeError:
-        raise ValueError(f"Scene.{name} must be a sequence of length {n} (one entry per "
-                         f"tendon, None where not prescribed), got {values!r}") from None
+        raise ValueError(
+            f"Scene.{name} must be a sequence of length {n} (one entry per "
+            f"tendon, None where not prescribed), got {values!r}"
+        ) from None
     if len(vals) != n:
-        raise ValueError(f"Scene.{name} must have one entry per tendon ({n}), got "
-                         f"{len(vals)}: {values!r}")
+        raise ValueError(
+            f"Scene.{name} must have one entry per tendon ({n}), got {len(vals)}: {values!r}"
+        )
     out = []
     for i, v in enumerate(vals):
         if v is None:
@@ -453,20 +485,28 @@ class Scene:
             if disp[i] is None and tens[i] is None:
                 raise ValueError(
                     f"Scene: tendon {i} has neither a displacement nor a tension "
-                    f"(displacement[{i}] = tension[{i}] = None); give exactly one")
+                    f"(displacement[{i}] = tension[{i}] = None); give exactly one"
+                )
             if disp[i] is not None and tens[i] is not None:
                 raise ValueError(
                     f"Scene: tendon {i} has both displacement[{i}]={disp[i]!r} and "
-                    f"tension[{i}]={tens[i]!r}; give exactly one, None in the other list")
+                    f"tension[{i}]={tens[i]!r}; give exactly one, None in the other list"
+                )
         rod = self.robot.rod
         for i, t in enumerate(self.robot.tendons):
-            if disp[i] is not None and t.offset == 0.0 and t.slope == 0.0 and \
-                    rod.kirchhoff and math.isinf(t.EA):
+            if (
+                disp[i] is not None
+                and t.offset == 0.0
+                and t.slope == 0.0
+                and rod.kirchhoff
+                and math.isinf(t.EA)
+            ):
                 raise ValueError(
                     f"Scene.displacement[{i}]={disp[i]!r}: tendon {i} runs on the centre line "
                     f"(offset=0, slope=0) of an inextensible backbone and is inextensible, so its "
                     f"path length is always its rest length: a displacement cannot act (its tension "
-                    f"is indeterminate at 0, impossible otherwise); prescribe its tension instead")
+                    f"is indeterminate at 0, impossible otherwise); prescribe its tension instead"
+                )
         object.__setattr__(self, "displacement", disp)
         object.__setattr__(self, "tension", tens)
         loads = self.loads
@@ -475,15 +515,18 @@ class Scene:
         try:
             loads = tuple(loads)
         except TypeError:
-            raise ValueError(f"Scene.loads must be a sequence of PointLoad/DistributedLoad, "
-                             f"got {self.loads!r}") from None
+            raise ValueError(
+                f"Scene.loads must be a sequence of PointLoad/DistributedLoad, got {self.loads!r}"
+            ) from None
         L = self.robot.rod.length
         for k, ld in enumerate(loads):
             if isinstance(ld, PointLoad):
                 if ld.s > L * (1.0 + _GEOM_RTOL):
                     raise ValueError(f"Scene.loads[{k}].s must be in [0, L={L!r}], got {ld.s!r}")
             elif not isinstance(ld, DistributedLoad):
-                raise ValueError(f"Scene.loads[{k}] must be a PointLoad or DistributedLoad, got {ld!r}")
+                raise ValueError(
+                    f"Scene.loads[{k}] must be a PointLoad or DistributedLoad, got {ld!r}"
+                )
         object.__setattr__(self, "loads", loads)
 
     @property

@@ -17,15 +17,30 @@ nondimensional group, and returns the Axes.  Nothing here calls
   :func:`prototype_tension`, :func:`prototype_shapes` (Figs. 20-23).
 - :func:`paper_figures` -- the list the ``figures`` command renders.
 """
+
 from __future__ import annotations
 
 import math
 
 import numpy as np
 
-__all__ = ["is_planar", "robot", "shapes", "sweep_lines", "sigma_vs_zeta", "tip_sigma_vs_alpha", "compliance_map",
-           "tip_compliance_vs_alpha", "tension_vs_load", "torsion", "straight_load",
-           "prototype_deflection", "prototype_tension", "prototype_shapes", "paper_figures"]
+__all__ = [
+    "is_planar",
+    "robot",
+    "shapes",
+    "sweep_lines",
+    "sigma_vs_zeta",
+    "tip_sigma_vs_alpha",
+    "compliance_map",
+    "tip_compliance_vs_alpha",
+    "tension_vs_load",
+    "torsion",
+    "straight_load",
+    "prototype_deflection",
+    "prototype_tension",
+    "prototype_shapes",
+    "paper_figures",
+]
 
 SIGMA_LABEL = r"$\sigma = 12\,EI\,\delta\,/\,(F L^3)$"
 ZETA_LABEL = r"$\zeta = z / L$"
@@ -72,8 +87,20 @@ def _state_at(sol, s):
     return P, u @ vt
 
 
-def robot(sol, scene=None, ax=None, planar=None, disks: int = 8, disk_radius=None, tendons: bool = True,
-          loads: bool = True, load_scale=None, color="k", label=None, alpha: float = 1.0):
+def robot(
+    sol,
+    scene=None,
+    ax=None,
+    planar=None,
+    disks: int = 8,
+    disk_radius=None,
+    tendons: bool = True,
+    loads: bool = True,
+    load_scale=None,
+    color="k",
+    label=None,
+    alpha: float = 1.0,
+):
     """Draw a solved robot.
 
     Parameters
@@ -115,15 +142,26 @@ def robot(sol, scene=None, ax=None, planar=None, disks: int = 8, disk_radius=Non
 
     draw(P, color=color, lw=2.0, label=label, alpha=alpha)
     offsets = [t.offset for t in scene.robot.tendons]
-    rad = disk_radius if disk_radius is not None else (1.3 * max(offsets) if offsets and max(offsets) > 0 else L / 30)
+    rad = (
+        disk_radius
+        if disk_radius is not None
+        else (1.3 * max(offsets) if offsets and max(offsets) > 0 else L / 30)
+    )
     tcolors = ["tab:red", "tab:blue", "tab:green", "tab:orange", "tab:purple", "tab:brown"]
     if tendons:
         for i, t in enumerate(scene.robot.tendons):
             end = scene.robot.tendon_end(i)
             s = np.linspace(0.0, end, 60)
             Ps, Rs = _state_at(sol, s)
-            r = (t.slope * s + t.offset)[:, None] * np.array([math.cos(t.angle), math.sin(t.angle), 0.0])
-            draw(Ps + np.einsum("kij,kj->ki", Rs, r), color=tcolors[i % len(tcolors)], lw=1.0, alpha=alpha)
+            r = (t.slope * s + t.offset)[:, None] * np.array(
+                [math.cos(t.angle), math.sin(t.angle), 0.0]
+            )
+            draw(
+                Ps + np.einsum("kij,kj->ki", Rs, r),
+                color=tcolors[i % len(tcolors)],
+                lw=1.0,
+                alpha=alpha,
+            )
     if disks:
         sd = np.linspace(0.0, L, disks + 1)[1:]
         Ps, Rs = _state_at(sol, sd)
@@ -147,10 +185,16 @@ def robot(sol, scene=None, ax=None, planar=None, disks: int = 8, disk_radius=Non
             p = p[0]
             v = f * scale
             if planar:
-                ax.annotate("", xy=(p[0], p[2]), xytext=(p[0] - v[0], p[2] - v[2]),
-                            arrowprops=dict(arrowstyle="->", color="tab:purple", lw=1.5))
+                ax.annotate(
+                    "",
+                    xy=(p[0], p[2]),
+                    xytext=(p[0] - v[0], p[2] - v[2]),
+                    arrowprops=dict(arrowstyle="->", color="tab:purple", lw=1.5),
+                )
             else:
-                ax.quiver(p[0] - v[0], p[1] - v[1], p[2] - v[2], v[0], v[1], v[2], color="tab:purple")
+                ax.quiver(
+                    p[0] - v[0], p[1] - v[1], p[2] - v[2], v[0], v[1], v[2], color="tab:purple"
+                )
     if planar:
         ax.set_xlabel("x [m]")
         ax.set_ylabel("z [m]")
@@ -171,8 +215,14 @@ def _equal_3d(ax, P, L):
     ax.set_zlim(c[2] - h, c[2] + h)
 
 
-def shapes(curves: dict, ax=None, plane: str = "xz", styles: dict | None = None, scale: float = 1.0,
-           unit: str = "m"):
+def shapes(
+    curves: dict,
+    ax=None,
+    plane: str = "xz",
+    styles: dict | None = None,
+    scale: float = 1.0,
+    unit: str = "m",
+):
     """Backbones ``{label: (N, 3) positions [m]}`` projected on ``plane`` ('xz', 'yz'
     or 'xy'); ``scale`` multiplies coordinates (1e3 with unit='mm')."""
     ax = _ax(ax)
@@ -222,7 +272,9 @@ def sweep_lines(res, x: str, y: str, component=None, ax=None, xlabel=None, ylabe
             idx[k] = c
         sl = list(idx)
         sl[axis] = slice(None)
-        lab = ", ".join(f"{names[k]} = {_fmt(np.asarray(res[names[k]])[tuple(idx)])}" for k in others)
+        lab = ", ".join(
+            f"{names[k]} = {_fmt(np.asarray(res[names[k]])[tuple(idx)])}" for k in others
+        )
         ax.plot(xv[tuple(sl)], ys[tuple(sl)], label=lab or None, **kwargs)
     if others:
         ax.legend(fontsize="x-small")
@@ -253,8 +305,17 @@ def sigma_vs_zeta(data: dict, ax=None, slope_labels: bool = True):
     slopes = [k for k in data if not isinstance(k, str)]
     cmap = mpl.colormaps["winter"]
     for a in slopes:
-        lab = ("parallel, inextensible" if a == 0 else
-               "converging ($a=-b/L$)" if a == -1 else f"$aL/b = {a:g}$") if slope_labels else None
+        lab = (
+            (
+                "parallel, inextensible"
+                if a == 0
+                else "converging ($a=-b/L$)"
+                if a == -1
+                else f"$aL/b = {a:g}$"
+            )
+            if slope_labels
+            else None
+        )
         ax.plot(z, data[a], color="b" if len(slopes) == 1 else cmap(min(-a, 1.0)), label=lab)
     ax.set_xlabel(ZETA_LABEL)
     ax.set_ylabel(SIGMA_LABEL + " at the loaded point")
@@ -293,8 +354,15 @@ def compliance_map(data: dict, direction: str, ax=None):
         if not (isinstance(key, tuple) and len(key) == 3 and key[2] == direction):
             continue
         routing, held, _ = key
-        ax.plot(z, y, color=_ROUTE_COLOR.get(routing), ls="-" if held == "displacement held" else "--",
-                marker="o" if held == "displacement held" else None, ms=3, label=f"{routing}, {held}")
+        ax.plot(
+            z,
+            y,
+            color=_ROUTE_COLOR.get(routing),
+            ls="-" if held == "displacement held" else "--",
+            marker="o" if held == "displacement held" else None,
+            ms=3,
+            label=f"{routing}, {held}",
+        )
     ax.set_xlabel(ZETA_LABEL)
     ax.set_ylabel(SIGMA_LABEL + f" ({direction})")
     ax.set_xlim(0, 1)
@@ -313,8 +381,14 @@ def tip_compliance_vs_alpha(data: dict, ax=None, closed: bool = True):
     for routing in ("parallel", "converging"):
         for d, ls in _DIR_STYLE.items():
             if (routing, d) in data:
-                ax.loglog(a, data[(routing, d)], color=_ROUTE_COLOR[routing], ls=ls, marker=".",
-                          label=f"{routing}, {d}")
+                ax.loglog(
+                    a,
+                    data[(routing, d)],
+                    color=_ROUTE_COLOR[routing],
+                    ls=ls,
+                    marker=".",
+                    label=f"{routing}, {d}",
+                )
     if closed and "closed" in data:
         c = data["closed"]
         ax.loglog(c["alpha"], c["parallel"], "k:", lw=1, label="closed form, straight (Fig. 7)")
@@ -367,7 +441,7 @@ def straight_load(data: dict, ax=None):
         d = data[name]
         ax.plot(F, d["closed"], color=c, ls="--", label=f"{name}, closed form")
         cos = np.where(d["success"], d["cosserat"], np.nan)
-        ax.plot(F[-len(cos):], cos, color=c, marker="o", ms=3, ls="-", label=f"{name}, Cosserat")
+        ax.plot(F[-len(cos) :], cos, color=c, marker="o", ms=3, ls="-", label=f"{name}, Cosserat")
     ax.set_xlabel(r"tip load $F L^2 / EI$")
     ax.set_ylabel(r"tip deflection $\delta / L$")
     ax.grid(alpha=0.3)
@@ -390,8 +464,11 @@ def prototype_deflection(data: dict, ax=None):
         ax.plot(zl, 1e3 * data[("delta_loads", m)], "o", color=c, mfc="none", ms=5)
     ax.set_xlabel("load location z [mm]")
     ax.set_ylabel(r"deflection at the load $\delta(z)$ [mm]")
-    ax.set_title(f"{data['routing']}: EI = {data['EI'] * 1e6:.3g} N mm$^2$, k = {data['k'] * 1e-3:.3g} N/mm, "
-                 f"$r^2kL/EI$ = {data['alpha']:.2f}", fontsize="small")
+    ax.set_title(
+        f"{data['routing']}: EI = {data['EI'] * 1e6:.3g} N mm$^2$, k = {data['k'] * 1e-3:.3g} N/mm, "
+        f"$r^2kL/EI$ = {data['alpha']:.2f}",
+        fontsize="small",
+    )
     ax.grid(alpha=0.3)
     ax.legend(fontsize="small")
     return ax
@@ -404,9 +481,16 @@ def prototype_tension(datas, ax=None):
     for data, c in zip(datas, ("tab:blue", "tab:green")):
         masses = sorted({k[1] for k in data if isinstance(k, tuple)})
         for m, ls in zip(masses, ("--", "-")):
-            ax.plot(1e3 * data["z"], data[("tension", m)], color=c, ls=ls,
-                    label=f"{data['routing']}, {1e3 * m:.0f} g")
-            ax.plot(1e3 * data["z_loads"], data[("tension_loads", m)], "o", color=c, mfc="none", ms=4)
+            ax.plot(
+                1e3 * data["z"],
+                data[("tension", m)],
+                color=c,
+                ls=ls,
+                label=f"{data['routing']}, {1e3 * m:.0f} g",
+            )
+            ax.plot(
+                1e3 * data["z_loads"], data[("tension_loads", m)], "o", color=c, mfc="none", ms=4
+            )
     ax.set_xlabel("load location z [mm]")
     ax.set_ylabel(r"tendon tension $\tau$ [N]")
     ax.grid(alpha=0.3)
@@ -449,17 +533,27 @@ def paper_figures():
         d = S.prescribed_comparison(theta=0.0, force=(-0.5, 0.0, 0.0))
         fig = _figure()
         ax = fig.add_subplot()
-        shapes({"unloaded": d["unloaded"], "tension held (tau = 0)": d["tension held"],
-                "displacement held (q = 0)": d["displacement held"]}, ax=ax,
-               styles={"unloaded": {"color": "0.6", "ls": ":"}})
-        ax.set_title("0.5 N tip load, Sec. IV-B robot, one inextensible parallel tendon", fontsize="small")
+        shapes(
+            {
+                "unloaded": d["unloaded"],
+                "tension held (tau = 0)": d["tension held"],
+                "displacement held (q = 0)": d["displacement held"],
+            },
+            ax=ax,
+            styles={"unloaded": {"color": "0.6", "ls": ":"}},
+        )
+        ax.set_title(
+            "0.5 N tip load, Sec. IV-B robot, one inextensible parallel tendon", fontsize="small"
+        )
         tip_t = -d["tension held"][-1, 0]
         tip_d = -d["displacement held"][-1, 0]
-        fig._tendonrod_notes = (f"Tip deflection: tension held {1e3 * tip_t:.2f} mm (closed form FL^3/3EI "
-                                f"{1e3 * d['closed tension held']:.2f} mm), displacement held "
-                                f"{1e3 * tip_d:.2f} mm (closed form FL^3/12EI "
-                                f"{1e3 * d['closed displacement held']:.2f} mm); tendon tension "
-                                f"{d['displacement held tension']:.2f} N.")
+        fig._tendonrod_notes = (
+            f"Tip deflection: tension held {1e3 * tip_t:.2f} mm (closed form FL^3/3EI "
+            f"{1e3 * d['closed tension held']:.2f} mm), displacement held "
+            f"{1e3 * tip_d:.2f} mm (closed form FL^3/12EI "
+            f"{1e3 * d['closed displacement held']:.2f} mm); tendon tension "
+            f"{d['displacement held tension']:.2f} N."
+        )
         return fig
 
     def fig03(fast=False):
@@ -469,7 +563,10 @@ def paper_figures():
 
     def fig06(fast=False):
         fig = _figure()
-        sigma_vs_zeta(S.closed_form_sigma_vs_zeta(slopes=(0.0, -0.25, -0.5, -0.75, -1.0)), ax=fig.add_subplot())
+        sigma_vs_zeta(
+            S.closed_form_sigma_vs_zeta(slopes=(0.0, -0.25, -0.5, -0.75, -1.0)),
+            ax=fig.add_subplot(),
+        )
         return fig
 
     def fig07(fast=False):
@@ -481,19 +578,33 @@ def paper_figures():
         d = S.actuation_tradeoff()
         fig = _figure(10, 4.8)
         a1, a2 = fig.subplots(1, 2)
-        shapes({f"parallel: tau = {d['parallel']['tension']:.1f} N, q = {100 * d['parallel']['q_over_L']:.1f}% L":
-                d["parallel"]["shape"],
-                f"converging: tau = {d['converging']['tension']:.1f} N, q = {100 * d['converging']['q_over_L']:.1f}% L":
-                d["converging"]["shape"]}, ax=a1, scale=1e3, unit="mm")
+        shapes(
+            {
+                f"parallel: tau = {d['parallel']['tension']:.1f} N, q = {100 * d['parallel']['q_over_L']:.1f}% L": d[
+                    "parallel"
+                ]["shape"],
+                f"converging: tau = {d['converging']['tension']:.1f} N, q = {100 * d['converging']['q_over_L']:.1f}% L": d[
+                    "converging"
+                ]["shape"],
+            },
+            ax=a1,
+            scale=1e3,
+            unit="mm",
+        )
         a1.set_title("actuated to 90 deg, no load", fontsize="small")
-        cur = {f"{r}, q = {1e3 * d[r]['q_loaded']:.1f} mm": d[r]["shape_loaded"]
-               for r in ("parallel", "converging") if d[r]["shape_loaded"] is not None}
+        cur = {
+            f"{r}, q = {1e3 * d[r]['q_loaded']:.1f} mm": d[r]["shape_loaded"]
+            for r in ("parallel", "converging")
+            if d[r]["shape_loaded"] is not None
+        }
         if cur:
             shapes(cur, ax=a2, scale=1e3, unit="mm")
         a2.set_title(f"{d['load']} N tip load, actuated back to the base axis", fontsize="small")
         fig._tendonrod_notes = "; ".join(
             f"{r}: tension {d[r]['tension']:.2f} N (closed form eqs. 37-38: {d[r]['tension_closed_form']:.2f} N), "
-            f"displacement {100 * d[r]['q_over_L']:.2f}% of L" for r in ("parallel", "converging"))
+            f"displacement {100 * d[r]['q_over_L']:.2f}% of L"
+            for r in ("parallel", "converging")
+        )
         return fig
 
     def fig10(fast=False):
@@ -501,11 +612,15 @@ def paper_figures():
         fig = _figure()
         straight_load(d, ax=fig.add_subplot())
         c = d["converging"]
-        fig._tendonrod_notes = (f"At F L^2/EI = {d['F_nd'][-1]:g}: Cosserat tip deflection / L = "
-                                + ", ".join(f"{k} {d[k]['cosserat'][-1]:.4g} (closed form {d[k]['closed'][-1]:.4g})"
-                                            for k in ("no tendon", "parallel", "converging"))
-                                + f"; with the inextensible converging tendon the tip stays put even at "
-                                  f"large loads (largest |deflection| {np.nanmax(np.abs(c['cosserat'])):.1e} L).")
+        fig._tendonrod_notes = (
+            f"At F L^2/EI = {d['F_nd'][-1]:g}: Cosserat tip deflection / L = "
+            + ", ".join(
+                f"{k} {d[k]['cosserat'][-1]:.4g} (closed form {d[k]['closed'][-1]:.4g})"
+                for k in ("no tendon", "parallel", "converging")
+            )
+            + f"; with the inextensible converging tendon the tip stays put even at "
+            f"large loads (largest |deflection| {np.nanmax(np.abs(c['cosserat'])):.1e} L)."
+        )
         return fig
 
     def fig11(fast=False):
@@ -514,21 +629,41 @@ def paper_figures():
         a2 = fig.add_subplot(1, 3, 2)
         a3 = fig.add_subplot(1, 3, 3)
         notes = []
-        for ax, f, name in ((a1, (-0.5, 0.0, 0.0), "transverse"), (a2, (0.0, 0.0, -0.5), "vertical")):
+        for ax, f, name in (
+            (a1, (-0.5, 0.0, 0.0), "transverse"),
+            (a2, (0.0, 0.0, -0.5), "vertical"),
+        ):
             d = S.prescribed_comparison(theta=math.pi / 2, force=f)
-            shapes({"unloaded": d["unloaded"], "tension held": d["tension held"],
-                    "displacement held": d["displacement held"]}, ax=ax,
-                   styles={"unloaded": {"color": "0.6", "ls": ":"}})
+            shapes(
+                {
+                    "unloaded": d["unloaded"],
+                    "tension held": d["tension held"],
+                    "displacement held": d["displacement held"],
+                },
+                ax=ax,
+                styles={"unloaded": {"color": "0.6", "ls": ":"}},
+            )
             ax.set_title(f"({'ab'[name == 'vertical']}) {name} 0.5 N tip load", fontsize="small")
-            notes.append(f"{name}: tension with displacement held {d['displacement held tension']:.2f} N")
+            notes.append(
+                f"{name}: tension with displacement held {d['displacement held tension']:.2f} N"
+            )
         d = S.out_of_plane_comparison()
         cur = {"unloaded": d["unloaded"], "tension held": d["tension held"]}
         for key, P_ in d.items():
             if isinstance(key, tuple) and key[0] == "displacement held":
                 cur[f"displacement held, $r^2kL/3EI$ = {key[1]:g}"] = P_
-                notes.append(f"out-of-plane, r^2kL/3EI = {key[1]:g}: tip y = {1e3 * P_[-1, 1]:.2f} mm")
+                notes.append(
+                    f"out-of-plane, r^2kL/3EI = {key[1]:g}: tip y = {1e3 * P_[-1, 1]:.2f} mm"
+                )
         notes.append(f"out-of-plane, tension held: tip y = {1e3 * d['tension held'][-1, 1]:.2f} mm")
-        shapes(cur, ax=a3, plane="xy", scale=1e3, unit="mm", styles={"unloaded": {"color": "0.6", "ls": ":"}})
+        shapes(
+            cur,
+            ax=a3,
+            plane="xy",
+            scale=1e3,
+            unit="mm",
+            styles={"unloaded": {"color": "0.6", "ls": ":"}},
+        )
         a3.set_aspect("auto")
         a3.set_title("(c) three tendons, out-of-plane 0.5 N (top view)", fontsize="small")
         fig._tendonrod_notes = "; ".join(notes)
@@ -538,9 +673,11 @@ def paper_figures():
         d = S.torsion_paradox(n=9 if fast else 21)
         fig = _figure()
         torsion(d, ax=fig.add_subplot())
-        fig._tendonrod_notes = "Twist at M L/GJ = 0.5: " + ", ".join(
-            f"alpha = {a:g}: {np.degrees(d[a][-1]):.2f} deg" for a in d["alphas"]) + \
-            f" (rod alone {np.degrees(d['M_nd'][-1]):.2f} deg)."
+        fig._tendonrod_notes = (
+            "Twist at M L/GJ = 0.5: "
+            + ", ".join(f"alpha = {a:g}: {np.degrees(d[a][-1]):.2f} deg" for a in d["alphas"])
+            + f" (rod alone {np.degrees(d['M_nd'][-1]):.2f} deg)."
+        )
         return fig
 
     def make_map(direction):
@@ -553,11 +690,20 @@ def paper_figures():
             fig = _figure()
             d = cache[fast]
             compliance_map(d, direction, ax=fig.add_subplot())
-            fig.axes[0].set_title(f"actuated to 90 deg, {ALPHA_LABEL} = {S.ALPHA_PAPER:.3g}", fontsize="small")
-            fig._tendonrod_notes = "Tip sigma: " + "; ".join(
-                f"{k[0]}, {k[1]}: {v[-1]:.4g}" for k, v in d.items()
-                if isinstance(k, tuple) and len(k) == 3 and k[2] == direction) + "."
+            fig.axes[0].set_title(
+                f"actuated to 90 deg, {ALPHA_LABEL} = {S.ALPHA_PAPER:.3g}", fontsize="small"
+            )
+            fig._tendonrod_notes = (
+                "Tip sigma: "
+                + "; ".join(
+                    f"{k[0]}, {k[1]}: {v[-1]:.4g}"
+                    for k, v in d.items()
+                    if isinstance(k, tuple) and len(k) == 3 and k[2] == direction
+                )
+                + "."
+            )
             return fig
+
         return f
 
     def fig16(fast=False):
@@ -568,10 +714,19 @@ def paper_figures():
         notes = []
         for dname in S.DIRECTIONS:
             better = d[("converging", dname)] < d[("parallel", dname)]
-            notes.append(f"{dname}: converging stiffer " + (
-                "at every alpha on the grid" if better.all() else
-                f"from alpha = {d['alpha'][np.argmax(better)]:.3g} on the grid" if better.any() else "nowhere"))
-        fig._tendonrod_notes = "; ".join(notes) + " (the paper: transverse always, axial above about 15)."
+            notes.append(
+                f"{dname}: converging stiffer "
+                + (
+                    "at every alpha on the grid"
+                    if better.all()
+                    else f"from alpha = {d['alpha'][np.argmax(better)]:.3g} on the grid"
+                    if better.any()
+                    else "nowhere"
+                )
+            )
+        fig._tendonrod_notes = (
+            "; ".join(notes) + " (the paper: transverse always, axial above about 15)."
+        )
         return fig
 
     def make_slack(opposing):
@@ -580,26 +735,45 @@ def paper_figures():
             fig = _figure(10, 4.4)
             a1, a2 = fig.subplots(1, 2)
             labels = ["tendon at +x", "tendon at -x"]
-            tension_vs_load(d["F"], d["locked"]["tension"], ax=a1, labels=labels[:d["locked"]["tension"].shape[1]])
+            tension_vs_load(
+                d["F"],
+                d["locked"]["tension"],
+                ax=a1,
+                labels=labels[: d["locked"]["tension"].shape[1]],
+            )
             a1.set_title("displacement held", fontsize="small")
             for key, ls in (("locked", "-"), ("held", "--")):
                 td = d[key]["tip_displacement"]
-                a2.plot(d["F"], 1e3 * np.linalg.norm(td, axis=1), ls=ls, marker=".",
-                        label=f"|tip displacement|, {'displacement' if key == 'locked' else 'tension'} held")
+                a2.plot(
+                    d["F"],
+                    1e3 * np.linalg.norm(td, axis=1),
+                    ls=ls,
+                    marker=".",
+                    label=f"|tip displacement|, {'displacement' if key == 'locked' else 'tension'} held",
+                )
             ax3 = a2.twinx()
-            ax3.plot(d["F"], np.degrees(d["locked"]["tip_angle"]), "k:", label="tip angle (displacement held)")
+            ax3.plot(
+                d["F"],
+                np.degrees(d["locked"]["tip_angle"]),
+                "k:",
+                label="tip angle (displacement held)",
+            )
             ax3.set_ylabel("tip angle [deg]")
             lo, hi = ax3.get_ylim()
-            if hi - lo < 10.0:                  # a held angle: do not magnify round-off
+            if hi - lo < 10.0:  # a held angle: do not magnify round-off
                 mid = 0.5 * (hi + lo)
                 ax3.set_ylim(mid - 5.0, mid + 5.0)
             a2.set_xlabel("tip load F [N] (vertical, downwards)")
             a2.set_ylabel("tip displacement [mm]")
             a2.legend(fontsize="x-small", loc="upper left")
             ax3.legend(fontsize="x-small", loc="lower right")
-            fig._tendonrod_notes = (f"Load at which the first tendon goes slack: {d['F_slack']:.3g} N."
-                                    if math.isfinite(d["F_slack"]) else "No tendon went slack in the load range.")
+            fig._tendonrod_notes = (
+                f"Load at which the first tendon goes slack: {d['F_slack']:.3g} N."
+                if math.isfinite(d["F_slack"])
+                else "No tendon went slack in the load range."
+            )
             return fig
+
         return f
 
     def make_proto(routing):
@@ -607,11 +781,14 @@ def paper_figures():
             fig = _figure()
             prototype_deflection(S.prototype_curves(routing), ax=fig.add_subplot())
             return fig
+
         return f
 
     def fig22(fast=False):
         fig = _figure()
-        prototype_tension([S.prototype_curves("parallel"), S.prototype_curves("converging")], ax=fig.add_subplot())
+        prototype_tension(
+            [S.prototype_curves("parallel"), S.prototype_curves("converging")], ax=fig.add_subplot()
+        )
         return fig
 
     def fig23(fast=False):
@@ -622,55 +799,115 @@ def paper_figures():
         return fig
 
     return [
-        ("fig01", "Fig. 1: prescribed displacement vs prescribed tension. Straight robot of Sec. IV-B "
-                  "(Kirchhoff, L = 0.1 m, d = 1.04 mm, one inextensible parallel tendon at 10 mm), 0.5 N "
-                  "transverse tip load: with the tension held (here 0) the robot deflects as a plain "
-                  "cantilever, with the tendon displacement held it deflects about a quarter as much "
-                  "(eq. 12). Cosserat model.", fig01),
-        ("fig03", "Fig. 3: nondimensional compliance at the loaded point against load location, "
-                  "no tendon (eq. 10 with k = 0) and one inextensible parallel tendon (eq. 11). Closed form.",
-         fig03),
-        ("fig06", "Fig. 6: the same for sloped inextensible tendons, a L / b from 0 (parallel) to -1 "
-                  "(converging, zero tip compliance, eqs. 29, 33). Closed form.", fig06),
-        ("fig07", "Fig. 7: tip compliance against nondimensional tendon stiffness for parallel (eq. 9) "
-                  "and converging (eq. 32) routing. Closed form.", fig07),
-        ("fig08", "Fig. 8: actuation trade-off on the Sec. V prototypes (calibrated EI, k): shapes at a "
-                  "90 deg tip angle (constant vs linearly varying curvature) with the tension and tendon "
-                  "displacement needed, and the shapes under a 0.9 N tip load actuated back until the tip "
-                  "is on the base axis. Cosserat model.", fig08),
-        ("fig10", "Fig. 10: closed forms against the Cosserat model for the initially straight robot "
-                  "(Sec. IV-B) under a growing transverse tip load, tendon locked at q = 0.", fig10),
-        ("fig11", "Fig. 11: robot of Sec. IV-B actuated to 90 deg, prescribed displacement vs prescribed "
-                  "tension: (a) transverse and (b) vertical in-plane 0.5 N tip loads, one inextensible "
-                  "tendon; (c) three stretchable tendons, out-of-plane 0.5 N tip load, r^2kL/3EI = 50 and "
-                  "5e4. Cosserat model.", fig11),
-        ("fig12", "Fig. 12: torsion paradox. Straight robot of Sec. IV-B, three parallel tendons locked "
-                  "at q = 0, pure twisting moment at the tip; the curve stiffens with tendon stiffness but "
-                  "its slope at zero stays GJ/L. Cosserat model.", fig12),
-        ("fig13", "Fig. 13: compliance at a loaded point for transverse (horizontal, in-plane) loads, "
-                  "robot of Sec. IV-B actuated to 90 deg, one tendon, r^2kL/EI = 8.29e6; displacement "
-                  "held (solid) and tension held (dashed). Cosserat model, linearised (small loads).",
-         make_map("transverse")),
+        (
+            "fig01",
+            "Fig. 1: prescribed displacement vs prescribed tension. Straight robot of Sec. IV-B "
+            "(Kirchhoff, L = 0.1 m, d = 1.04 mm, one inextensible parallel tendon at 10 mm), 0.5 N "
+            "transverse tip load: with the tension held (here 0) the robot deflects as a plain "
+            "cantilever, with the tendon displacement held it deflects about a quarter as much "
+            "(eq. 12). Cosserat model.",
+            fig01,
+        ),
+        (
+            "fig03",
+            "Fig. 3: nondimensional compliance at the loaded point against load location, "
+            "no tendon (eq. 10 with k = 0) and one inextensible parallel tendon (eq. 11). Closed form.",
+            fig03,
+        ),
+        (
+            "fig06",
+            "Fig. 6: the same for sloped inextensible tendons, a L / b from 0 (parallel) to -1 "
+            "(converging, zero tip compliance, eqs. 29, 33). Closed form.",
+            fig06,
+        ),
+        (
+            "fig07",
+            "Fig. 7: tip compliance against nondimensional tendon stiffness for parallel (eq. 9) "
+            "and converging (eq. 32) routing. Closed form.",
+            fig07,
+        ),
+        (
+            "fig08",
+            "Fig. 8: actuation trade-off on the Sec. V prototypes (calibrated EI, k): shapes at a "
+            "90 deg tip angle (constant vs linearly varying curvature) with the tension and tendon "
+            "displacement needed, and the shapes under a 0.9 N tip load actuated back until the tip "
+            "is on the base axis. Cosserat model.",
+            fig08,
+        ),
+        (
+            "fig10",
+            "Fig. 10: closed forms against the Cosserat model for the initially straight robot "
+            "(Sec. IV-B) under a growing transverse tip load, tendon locked at q = 0.",
+            fig10,
+        ),
+        (
+            "fig11",
+            "Fig. 11: robot of Sec. IV-B actuated to 90 deg, prescribed displacement vs prescribed "
+            "tension: (a) transverse and (b) vertical in-plane 0.5 N tip loads, one inextensible "
+            "tendon; (c) three stretchable tendons, out-of-plane 0.5 N tip load, r^2kL/3EI = 50 and "
+            "5e4. Cosserat model.",
+            fig11,
+        ),
+        (
+            "fig12",
+            "Fig. 12: torsion paradox. Straight robot of Sec. IV-B, three parallel tendons locked "
+            "at q = 0, pure twisting moment at the tip; the curve stiffens with tendon stiffness but "
+            "its slope at zero stays GJ/L. Cosserat model.",
+            fig12,
+        ),
+        (
+            "fig13",
+            "Fig. 13: compliance at a loaded point for transverse (horizontal, in-plane) loads, "
+            "robot of Sec. IV-B actuated to 90 deg, one tendon, r^2kL/EI = 8.29e6; displacement "
+            "held (solid) and tension held (dashed). Cosserat model, linearised (small loads).",
+            make_map("transverse"),
+        ),
         ("fig14", "Fig. 14: the same for axial (vertical, in-plane) loads.", make_map("axial")),
         ("fig15", "Fig. 15: the same for out-of-plane loads.", make_map("out-of-plane")),
-        ("fig16", "Fig. 16: tip compliance against nondimensional tendon stiffness, actuated to 90 deg, "
-                  "parallel and converging, three load directions (Cosserat, locked actuator), with the "
-                  "straight-robot closed forms of Fig. 7 dotted.", fig16),
-        ("fig17", "Fig. 17: robot of Figs. 17-18 (L = 0.2 m, d = 0.8 mm) with one inextensible tendon, "
-                  "actuated to 90 deg and locked, under a growing downward tip load: the tension falls to "
-                  "zero, the tendon goes slack, and the tip then rotates. Cosserat model.",
-         make_slack(False)),
-        ("fig18", "Fig. 18: the same with an opposing tendon; both pretensioned (5 N before locking; "
-                  "r^2kL/EI = 1e5: an opposing pair needs some stretch for a defined tension level) so "
-                  "neither goes slack and the tip keeps its orientation.",
-         make_slack(True)),
-        ("fig20", "Fig. 20: parallel prototype, deflection at the loaded point against load location "
-                  "(eq. 8 with the calibrated EI = 11.2e3 N mm^2, k = 4.5 N/mm, L = 201 mm, r = 8 mm). "
-                  "Formulas only: the measured points are not available.", make_proto("parallel")),
-        ("fig21", "Fig. 21: converging prototype (offset 8 -> 1.875 mm), eq. 27 with EI = 11.3e3 N mm^2, "
-                  "k = 8.55 N/mm. Formulas only.", make_proto("converging")),
-        ("fig22", "Fig. 22: tendon tension against load location for 20 g and 50 g weights, both "
-                  "prototypes (eqs. 6 and 25). Formulas only.", fig22),
-        ("fig23", "Fig. 23: loaded shapes of both prototypes for the last four load locations at 0.2 N "
-                  "and 0.5 N (closed-form tangent angle integrated). Formulas only.", fig23),
+        (
+            "fig16",
+            "Fig. 16: tip compliance against nondimensional tendon stiffness, actuated to 90 deg, "
+            "parallel and converging, three load directions (Cosserat, locked actuator), with the "
+            "straight-robot closed forms of Fig. 7 dotted.",
+            fig16,
+        ),
+        (
+            "fig17",
+            "Fig. 17: robot of Figs. 17-18 (L = 0.2 m, d = 0.8 mm) with one inextensible tendon, "
+            "actuated to 90 deg and locked, under a growing downward tip load: the tension falls to "
+            "zero, the tendon goes slack, and the tip then rotates. Cosserat model.",
+            make_slack(False),
+        ),
+        (
+            "fig18",
+            "Fig. 18: the same with an opposing tendon; both pretensioned (5 N before locking; "
+            "r^2kL/EI = 1e5: an opposing pair needs some stretch for a defined tension level) so "
+            "neither goes slack and the tip keeps its orientation.",
+            make_slack(True),
+        ),
+        (
+            "fig20",
+            "Fig. 20: parallel prototype, deflection at the loaded point against load location "
+            "(eq. 8 with the calibrated EI = 11.2e3 N mm^2, k = 4.5 N/mm, L = 201 mm, r = 8 mm). "
+            "Formulas only: the measured points are not available.",
+            make_proto("parallel"),
+        ),
+        (
+            "fig21",
+            "Fig. 21: converging prototype (offset 8 -> 1.875 mm), eq. 27 with EI = 11.3e3 N mm^2, "
+            "k = 8.55 N/mm. Formulas only.",
+            make_proto("converging"),
+        ),
+        (
+            "fig22",
+            "Fig. 22: tendon tension against load location for 20 g and 50 g weights, both "
+            "prototypes (eqs. 6 and 25). Formulas only.",
+            fig22,
+        ),
+        (
+            "fig23",
+            "Fig. 23: loaded shapes of both prototypes for the last four load locations at 0.2 N "
+            "and 0.5 N (closed-form tangent angle integrated). Formulas only.",
+            fig23,
+        ),
     ]

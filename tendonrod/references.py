@@ -30,6 +30,7 @@ TendonRobotReference     spatial Kirchhoff/Cosserat rod with tip-anchored tendon
                          slack by an active set) under tip loads, by single shooting
                          on the distal-balance form with DOP853.
 """
+
 from __future__ import annotations
 
 import math
@@ -81,7 +82,11 @@ def circle_end_moment(L, EI, moment, s=None):
     th = kappa * s
     pos = (np.sin(th)[:, None] * _E3 + (1.0 - np.cos(th))[:, None] * side) / kappa
     K = _hat(ax)
-    rot = np.eye(3)[None] + np.sin(th)[:, None, None] * K + (1.0 - np.cos(th))[:, None, None] * (K @ K)
+    rot = (
+        np.eye(3)[None]
+        + np.sin(th)[:, None, None] * K
+        + (1.0 - np.cos(th))[:, None, None] * (K @ K)
+    )
     return pos, rot
 
 
@@ -131,10 +136,18 @@ def elastica_compressive(L, EI, P):
     lam = math.sqrt(P / EI)
     target = L * lam
     if not target > math.pi / 2:
-        raise ValueError(f"elastica_compressive: P={P!r} is below Euler's load "
-                         f"{math.pi ** 2 * EI / (4 * L * L)!r}; the straight rod is the only solution")
-    k = brentq(lambda k: ellipk(k * k) - target, 1e-300, 1.0 - 1e-16, xtol=1e-16,
-               rtol=4 * np.finfo(float).eps, maxiter=500)
+        raise ValueError(
+            f"elastica_compressive: P={P!r} is below Euler's load "
+            f"{math.pi**2 * EI / (4 * L * L)!r}; the straight rod is the only solution"
+        )
+    k = brentq(
+        lambda k: ellipk(k * k) - target,
+        1e-300,
+        1.0 - 1e-16,
+        xtol=1e-16,
+        rtol=4 * np.finfo(float).eps,
+        maxiter=500,
+    )
     m = k * k
     return 2.0 * k / lam, (2.0 * ellipe(m) - ellipk(m)) / lam, 2.0 * math.asin(k)
 
@@ -166,14 +179,20 @@ def twist_with_tendons(L, GJ, EA, r, n, M):
 
     def tension(psi):
         s = r * psi / L
-        return EA * (math.sqrt(1.0 + s * s) - 1.0) if s * s > 1e-8 else EA * (0.5 * s * s - 0.125 * s ** 4)
+        return (
+            EA * (math.sqrt(1.0 + s * s) - 1.0)
+            if s * s > 1e-8
+            else EA * (0.5 * s * s - 0.125 * s**4)
+        )
 
     def g(psi):
         s = r * psi / L
         return GJ * psi / L + n * r * tension(psi) * s / math.sqrt(1.0 + s * s) - M
 
     hi = M * L / GJ  # the tendons only reduce the twist
-    psi = brentq(g, 0.0, hi, xtol=1e-300, rtol=4 * np.finfo(float).eps, maxiter=500) if M > 0 else 0.0
+    psi = (
+        brentq(g, 0.0, hi, xtol=1e-300, rtol=4 * np.finfo(float).eps, maxiter=500) if M > 0 else 0.0
+    )
     return psi, tension(psi)
 
 
@@ -183,13 +202,15 @@ def small_load_deflection(s, F, z, L, EI, a, b, k):
     constant ``k`` [N/m], ``np.inf`` = inextensible) under a transverse force ``F``
     [N] at ``z``; positive in the direction of F (F pushes away from the tendon).
     Independent of the C ufuncs in :mod:`tendonrod.analytic`."""
-    s, F, z, L, EI, a, b, k = np.broadcast_arrays(*[np.asarray(x, dtype=float) for x in (s, F, z, L, EI, a, b, k)])
+    s, F, z, L, EI, a, b, k = np.broadcast_arrays(
+        *[np.asarray(x, dtype=float) for x in (s, F, z, L, EI, a, b, k)]
+    )
     with np.errstate(divide="ignore", invalid="ignore"):
-        num = F * (a * z ** 3 + 3 * b * z ** 2)
+        num = F * (a * z**3 + 3 * b * z**2)
         den_inf = L * (2 * a * a * L * L + 6 * a * b * L + 6 * b * b)
         tau = np.where(np.isinf(k), num / den_inf, k * num / (6 * EI + k * den_inf))
-    below = (F + a * tau) * s ** 3 / 6 + (b * tau - F * z) * s ** 2 / 2
-    above = a * tau * s ** 3 / 6 + b * tau * s ** 2 / 2 - F * z * z * s / 2 + F * z ** 3 / 6
+    below = (F + a * tau) * s**3 / 6 + (b * tau - F * z) * s**2 / 2
+    above = a * tau * s**3 / 6 + b * tau * s**2 / 2 - F * z * z * s / 2 + F * z**3 / 6
     return -np.where(s < z, below, above) / EI
 
 
@@ -311,13 +332,31 @@ class TendonRobotReference:
     ~1e-12 relative. Not fast (pure Python): seconds per solve.
     """
 
-    def __init__(self, L, EI, GJ, tendons: Sequence[RefTendon] = (), *, EA=np.inf, GA=np.inf,
-                 kirchhoff=True, EI2=None, F=(0, 0, 0), M=(0, 0, 0), rtol=1e-13):
+    def __init__(
+        self,
+        L,
+        EI,
+        GJ,
+        tendons: Sequence[RefTendon] = (),
+        *,
+        EA=np.inf,
+        GA=np.inf,
+        kirchhoff=True,
+        EI2=None,
+        F=(0, 0, 0),
+        M=(0, 0, 0),
+        rtol=1e-13,
+    ):
         self.L = float(L)
         self.Kbt = np.diag([EI, EI if EI2 is None else EI2, GJ]).astype(float)
         self.kirchhoff = bool(kirchhoff) or (np.isinf(EA) and np.isinf(GA))
-        self.Cse = np.diag([0.0 if np.isinf(GA) else 1.0 / GA, 0.0 if np.isinf(GA) else 1.0 / GA,
-                            0.0 if np.isinf(EA) else 1.0 / EA])
+        self.Cse = np.diag(
+            [
+                0.0 if np.isinf(GA) else 1.0 / GA,
+                0.0 if np.isinf(GA) else 1.0 / GA,
+                0.0 if np.isinf(EA) else 1.0 / EA,
+            ]
+        )
         self.tendons = list(tendons)
         for i, t in enumerate(self.tendons):
             if (t.q is None) == (t.tau is None):
@@ -372,7 +411,9 @@ class TendonRobotReference:
                 d = np.linalg.solve(J, -np.concatenate([G1, G2]))
                 v = v + d[:3]
                 u = u + d[3:]
-                step = max(np.linalg.norm(d[3:]) / max(np.linalg.norm(u), scale_u), np.linalg.norm(d[:3]))
+                step = max(
+                    np.linalg.norm(d[3:]) / max(np.linalg.norm(u), scale_u), np.linalg.norm(d[:3])
+                )
             # converged: the update is at round-off, or it stopped shrinking there
             if step <= 1e-15 or (step <= 1e-11 and step >= 0.5 * last):
                 break
@@ -410,10 +451,23 @@ class TendonRobotReference:
 
         nt = len(self.tendons)
         y0 = np.concatenate([np.zeros(3), np.eye(3).ravel(), h0, np.zeros(nt)])
-        atol = np.concatenate([np.full(3, 1e-16 * self.L), np.full(9, 1e-16),
-                               np.full(3, 1e-16 * self.EI / self.L), np.full(nt, 1e-16 * self.L)])
-        sol = solve_ivp(self._rhs_factory(np.asarray(tau, dtype=float)), (0.0, self.L), y0,
-                        method="DOP853", rtol=self.rtol, atol=atol, dense_output=dense)
+        atol = np.concatenate(
+            [
+                np.full(3, 1e-16 * self.L),
+                np.full(9, 1e-16),
+                np.full(3, 1e-16 * self.EI / self.L),
+                np.full(nt, 1e-16 * self.L),
+            ]
+        )
+        sol = solve_ivp(
+            self._rhs_factory(np.asarray(tau, dtype=float)),
+            (0.0, self.L),
+            y0,
+            method="DOP853",
+            rtol=self.rtol,
+            atol=atol,
+            dense_output=dense,
+        )
         if not sol.success:
             raise RuntimeError(f"TendonRobotReference: integration failed: {sol.message}")
         return sol
@@ -431,7 +485,7 @@ class TendonRobotReference:
                 sol = self.integrate(np.zeros(3), tp)
             finally:
                 self.F, self.M = F, M
-            l0 = sol.y[15:15 + nt, -1]
+            l0 = sol.y[15 : 15 + nt, -1]
             EA = np.array([t.EA for t in self.tendons])
             self._rest = l0 / (1.0 + tp / EA)
         return self._rest
@@ -448,7 +502,7 @@ class TendonRobotReference:
         rest = self.rest_lengths()
         disp = [i for i, t in enumerate(self.tendons) if t.q is not None]
         taut = set(disp)
-        fscale = EI / L ** 2
+        fscale = EI / L**2
         mscale = EI / L
         F_full, M_full = self.F.copy(), self.M.copy()
         q_full = np.array([t.q if t.q is not None else 0.0 for t in self.tendons])
@@ -483,7 +537,8 @@ class TendonRobotReference:
 
         if guess is not None:
             h0g = guess.base_moment + sum(
-                guess.tension[i] * np.cross(self.tendons[i].r(0.0), _E3) for i in range(nt))
+                guess.tension[i] * np.cross(self.tendons[i].r(0.0), _E3) for i in range(nt)
+            )
             x = np.concatenate([h0g / mscale] + [[guess.tension[i] / fscale] for i in sorted(taut)])
             lams = [1.0]
             act = sorted(taut)
@@ -496,14 +551,20 @@ class TendonRobotReference:
             lams = np.linspace(1.0 / steps, 1.0, steps)
             act = sorted(taut)
             x = np.concatenate([np.zeros(3)] + [[tp[i] / fscale] for i in act])
+
         def step_to(lam, x, taut):
             """Active-set solve at ``lam`` from ``x``; returns (x, taut, ok, tip)."""
             taut = set(taut)
             self.F, self.M = lam * F_full, lam * M_full
             for _ in range(max_active_set):
                 act = sorted(taut)
-                r = root(residual, x, args=(act, lam), method="hybr",
-                         options={"xtol": 1e-14, "maxfev": 400})
+                r = root(
+                    residual,
+                    x,
+                    args=(act, lam),
+                    method="hybr",
+                    options={"xtol": 1e-14, "maxfev": 400},
+                )
                 x = r.x
                 h0, tau = unpack(x, act, lam)
                 neg = [i for i in act if tau[i] < 0.0]
@@ -516,8 +577,11 @@ class TendonRobotReference:
                 # slack tendons must be shorter than their free length (beta >= 0)
                 sol = self.integrate(h0, tau)
                 yL = sol.y[:, -1]
-                back = [i for i in disp if i not in taut
-                        and rest[i] - yL[15 + i] - lam * q_full[i] < 0.0]
+                back = [
+                    i
+                    for i in disp
+                    if i not in taut and rest[i] - yL[15 + i] - lam * q_full[i] < 0.0
+                ]
                 if back:
                     i = back[0]
                     taut.add(i)
@@ -539,13 +603,18 @@ class TendonRobotReference:
         while lam_done < 1.0:
             lam = min(1.0, lam_done + dlam)
             x_new, taut_new, ok, tip = step_to(lam, x.copy(), taut)
-            if ok and (np.linalg.norm(tip - tip_prev) < 0.25 * L or (guess is not None and lam == 1.0 and dlam == 1.0)):
+            if ok and (
+                np.linalg.norm(tip - tip_prev) < 0.25 * L
+                or (guess is not None and lam == 1.0 and dlam == 1.0)
+            ):
                 x, taut, lam_done, tip_prev = x_new, taut_new, lam, tip
                 dlam = min(2.0 * dlam, 1.0 / steps) if guess is None else dlam
                 continue
             dlam *= 0.5
             if dlam < 1e-5:
-                raise RuntimeError(f"TendonRobotReference: continuation stalled at {lam_done:.4g} of the load")
+                raise RuntimeError(
+                    f"TendonRobotReference: continuation stalled at {lam_done:.4g} of the load"
+                )
         self.F, self.M = F_full, M_full
         act = sorted(taut)
         res = residual(x, act, 1.0)
@@ -584,10 +653,18 @@ class TendonRobotReference:
             t = w / np.linalg.norm(w)
             n0 = n0 - tau[i] * t
             m0 = m0 - tau[i] * np.cross(rs[i], t)
-        return RefResult(tip_position=yL[:3].copy(), tip_rotation=yL[3:12].reshape(3, 3).copy(),
-                         tension=tau, slack=slack, residual=float(np.max(np.abs(res), initial=0.0)),
-                         s=sol.t, position=sol.y[:3].T.copy(), base_force=n0, base_moment=m0,
-                         nfev=self.nfev)
+        return RefResult(
+            tip_position=yL[:3].copy(),
+            tip_rotation=yL[3:12].reshape(3, 3).copy(),
+            tension=tau,
+            slack=slack,
+            residual=float(np.max(np.abs(res), initial=0.0)),
+            s=sol.t,
+            position=sol.y[:3].T.copy(),
+            base_force=n0,
+            base_moment=m0,
+            nfev=self.nfev,
+        )
 
 
 def from_scene(scene, rtol=1e-13):
@@ -611,9 +688,26 @@ def from_scene(scene, rtol=1e-13):
     for i, t in enumerate(robot.tendons):
         if t.end is not None and abs(t.end - L) > 1e-12 * L:
             raise ValueError("from_scene: only tip-anchored tendons are supported")
-        tendons.append(RefTendon(b=t.offset, phi=t.angle, a=t.slope, EA=t.EA,
-                                 q=scene.displacement[i], tau=scene.tension[i],
-                                 pretension=t.pretension))
-    return TendonRobotReference(L, rod.bending_stiffness, rod.torsional_stiffness, tendons,
-                                EA=rod.axial_stiffness, GA=rod.shear_stiffness,
-                                kirchhoff=rod.kirchhoff, F=F, M=M, rtol=rtol)
+        tendons.append(
+            RefTendon(
+                b=t.offset,
+                phi=t.angle,
+                a=t.slope,
+                EA=t.EA,
+                q=scene.displacement[i],
+                tau=scene.tension[i],
+                pretension=t.pretension,
+            )
+        )
+    return TendonRobotReference(
+        L,
+        rod.bending_stiffness,
+        rod.torsional_stiffness,
+        tendons,
+        EA=rod.axial_stiffness,
+        GA=rod.shear_stiffness,
+        kirchhoff=rod.kirchhoff,
+        F=F,
+        M=M,
+        rtol=rtol,
+    )

@@ -39,6 +39,7 @@ Functions: :func:`load_scene` (path -> :class:`SceneSpec`), :func:`parse_scene`
 (dict -> :class:`SceneSpec`).  Errors are :class:`SceneFileError` (a
 ``ValueError``) with ``.key`` and ``.problem``.
 """
+
 from __future__ import annotations
 
 import dataclasses
@@ -145,7 +146,8 @@ def _unknown(table: Mapping, allowed, key: str) -> None:
         if name not in allowed:
             raise SceneFileError(
                 f"{key}.{name}" if key else name,
-                "unknown key; allowed keys are " + ", ".join(sorted(allowed)))
+                "unknown key; allowed keys are " + ", ".join(sorted(allowed)),
+            )
 
 
 def _build(cls, kwargs: dict, key: str):
@@ -186,7 +188,9 @@ def _parse_tendon(tr, raw: Any, j: int, length: float):
             values[name] = _number(value, f"{key}.{name}")
         elif name in _TENDON_STRINGS:
             if not isinstance(value, str):
-                raise SceneFileError(f"{key}.{name}", f"expected a string, got {value!r} ({_kind(value)})")
+                raise SceneFileError(
+                    f"{key}.{name}", f"expected a string, got {value!r} ({_kind(value)})"
+                )
             values[name] = value
         else:
             values[name] = value
@@ -195,18 +199,25 @@ def _parse_tendon(tr, raw: Any, j: int, length: float):
     has_q, has_tau = "displacement" in values, "tension" in values
     if has_q == has_tau:
         raise SceneFileError(
-            key, "give exactly one of 'displacement' [m] or 'tension' [N]"
-            + (" (both given)" if has_q else " (neither given)"))
+            key,
+            "give exactly one of 'displacement' [m] or 'tension' [N]"
+            + (" (both given)" if has_q else " (neither given)"),
+        )
     routing = values.pop("routing", None)
     if routing is not None:
         if routing not in _ROUTINGS:
-            raise SceneFileError(f"{key}.routing", f"expected one of {', '.join(map(repr, _ROUTINGS))}, got {routing!r}")
+            raise SceneFileError(
+                f"{key}.routing",
+                f"expected one of {', '.join(map(repr, _ROUTINGS))}, got {routing!r}",
+            )
         if "slope" in values:
             raise SceneFileError(f"{key}.routing", "give either routing or slope, not both")
         if routing == "converging":
             end = values.get("end", length)
             if not end > 0:
-                raise SceneFileError(f"{key}.end", f"must be > 0 for a converging tendon, got {end!r}")
+                raise SceneFileError(
+                    f"{key}.end", f"must be > 0 for a converging tendon, got {end!r}"
+                )
             values["slope"] = -values["offset"] / end
     q = values.pop("displacement", None)
     tau = values.pop("tension", None)
@@ -232,8 +243,10 @@ def _parse_load(tr, raw: Any, j: int, length: float):
     if "force" not in kwargs and "moment" not in kwargs:
         raise SceneFileError(key, "give a force and/or a moment")
     if not 0.0 <= kwargs["s"] <= length:
-        raise SceneFileError(f"{key}.s", f"must lie on the rod, 0 <= s <= rod.length = {length!r}; "
-                                         f"got {kwargs['s']!r}")
+        raise SceneFileError(
+            f"{key}.s",
+            f"must lie on the rod, 0 <= s <= rod.length = {length!r}; got {kwargs['s']!r}",
+        )
     return _build(tr.PointLoad, kwargs, key)
 
 
@@ -290,8 +303,9 @@ def parse_scene(data: Mapping[str, Any], source: str | None = None) -> SceneSpec
         if "distributed" in data:
             loads.append(_parse_distributed(tr, data["distributed"]))
         robot = _build(tr.Robot, {"rod": rod, "tendons": tendons}, "tendon")
-        scene = _build(tr.Scene, {"robot": robot, "displacement": qs, "tension": taus, "loads": loads},
-                       "scene")
+        scene = _build(
+            tr.Scene, {"robot": robot, "displacement": qs, "tension": taus, "loads": loads}, "scene"
+        )
         options = _parse_options(tr, data["options"]) if "options" in data else None
     except SceneFileError as exc:
         if source is not None and exc.path is None:

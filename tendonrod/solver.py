@@ -11,6 +11,7 @@ raised with ``strict=True``).
 Frames and units: SI, radians; base at the origin, base frame = world frame, the
 undeformed rod along +z; all vectors in the world frame unless said otherwise.
 """
+
 from __future__ import annotations
 
 import math
@@ -24,8 +25,17 @@ import numpy as np
 from . import _core
 from .model import DistributedLoad, PointLoad, Robot, Scene
 
-__all__ = ["Options", "Formulation", "Solution", "RodState", "solve", "compliance",
-           "ConvergenceWarning", "ConvergenceError", "pack_scene"]
+__all__ = [
+    "Options",
+    "Formulation",
+    "Solution",
+    "RodState",
+    "solve",
+    "compliance",
+    "ConvergenceWarning",
+    "ConvergenceError",
+    "pack_scene",
+]
 
 
 class ConvergenceWarning(RuntimeWarning):
@@ -132,21 +142,35 @@ class Options:
 
     def __post_init__(self):
         own = "Options"
-        for name, allowed in (("integrator", _INTEGRATORS), ("jacobian_method", _JACOBIANS),
-                              ("slack_model", _SLACK_MODELS)):
+        for name, allowed in (
+            ("integrator", _INTEGRATORS),
+            ("jacobian_method", _JACOBIANS),
+            ("slack_model", _SLACK_MODELS),
+        ):
             v = getattr(self, name)
             if not isinstance(v, str) or v not in allowed:
                 raise ValueError(f"{own}.{name} must be one of {allowed}, got {v!r}")
-        for name, lo in (("steps", 0), ("max_iter", 1), ("max_nfev", 1), ("max_continuation", 0),
-                         ("shooting_segments", 1)):
+        for name, lo in (
+            ("steps", 0),
+            ("max_iter", 1),
+            ("max_nfev", 1),
+            ("max_continuation", 0),
+            ("shooting_segments", 1),
+        ):
             v = getattr(self, name)
-            if isinstance(v, (bool, np.bool_)) or not isinstance(v, (numbers.Integral, np.integer)) or v < lo:
+            if (
+                isinstance(v, (bool, np.bool_))
+                or not isinstance(v, (numbers.Integral, np.integer))
+                or v < lo
+            ):
                 raise ValueError(f"{own}.{name} must be an integer >= {lo}, got {v!r}")
             object.__setattr__(self, name, int(v))
         for name, lo in (("rtol", _RTOL_MIN), ("tol", 0.0)):
             v = getattr(self, name)
             ok = isinstance(v, (numbers.Real, np.floating)) and not isinstance(v, bool)
-            if not ok or not (math.isfinite(float(v)) and lo < float(v) < 1.0 or float(v) == lo > 0.0):
+            if not ok or not (
+                math.isfinite(float(v)) and lo < float(v) < 1.0 or float(v) == lo > 0.0
+            ):
                 rng = f"[{lo:g}, 1)" if lo > 0.0 else "(0, 1)"
                 raise ValueError(f"{own}.{name} must be a real number in {rng}, got {v!r}")
             object.__setattr__(self, name, float(v))
@@ -156,18 +180,31 @@ class Options:
                 raise ValueError(f"{own}.{name} must be True or False, got {v!r}")
             object.__setattr__(self, name, bool(v))
         nodes = self.nodes
-        if isinstance(nodes, (numbers.Integral, np.integer)) and not isinstance(nodes, (bool, np.bool_)):
+        if isinstance(nodes, (numbers.Integral, np.integer)) and not isinstance(
+            nodes, (bool, np.bool_)
+        ):
             if nodes < 2:
-                raise ValueError(f"{own}.nodes must be >= 2 (or an array of arc lengths), got {nodes!r}")
+                raise ValueError(
+                    f"{own}.nodes must be >= 2 (or an array of arc lengths), got {nodes!r}"
+                )
             object.__setattr__(self, "nodes", int(nodes))
         else:
             try:
                 arr = np.array(nodes, dtype=float).ravel()
             except (TypeError, ValueError):
-                raise ValueError(f"{own}.nodes must be an int or an array of arc lengths, got {nodes!r}") from None
-            if arr.size < 1 or not np.all(np.isfinite(arr)) or np.any(np.diff(arr) < 0) or arr[0] < 0:
-                raise ValueError(f"{own}.nodes must be a non-empty, non-decreasing array of finite "
-                                 f"arc lengths >= 0, got {nodes!r}")
+                raise ValueError(
+                    f"{own}.nodes must be an int or an array of arc lengths, got {nodes!r}"
+                ) from None
+            if (
+                arr.size < 1
+                or not np.all(np.isfinite(arr))
+                or np.any(np.diff(arr) < 0)
+                or arr[0] < 0
+            ):
+                raise ValueError(
+                    f"{own}.nodes must be a non-empty, non-decreasing array of finite "
+                    f"arc lengths >= 0, got {nodes!r}"
+                )
             arr.setflags(write=False)
             object.__setattr__(self, "nodes", arr)
         # the raw keyword arguments, built once (solve() is called in tight loops)
@@ -179,9 +216,13 @@ class Options:
     def __eq__(self, other):
         if not isinstance(other, Options):
             return NotImplemented
-        return all(np.array_equal(getattr(self, f.name), getattr(other, f.name))
-                   if isinstance(getattr(self, f.name), np.ndarray) or isinstance(getattr(other, f.name), np.ndarray)
-                   else getattr(self, f.name) == getattr(other, f.name) for f in fields(self))
+        return all(
+            np.array_equal(getattr(self, f.name), getattr(other, f.name))
+            if isinstance(getattr(self, f.name), np.ndarray)
+            or isinstance(getattr(other, f.name), np.ndarray)
+            else getattr(self, f.name) == getattr(other, f.name)
+            for f in fields(self)
+        )
 
     @staticmethod
     def _key(v):
@@ -271,11 +312,17 @@ class Formulation:
         if self.tip_only:
             extra.append("tip only")
         more = (", " + ", ".join(extra)) if extra else ""
-        return (f"Formulation({geom} {rod}, {self.n_unknowns} unknowns, {self.n_states} states, "
-                f"{self.n_segments} segment(s){more}; {self.integrator} x {self.steps} steps, "
-                f"slack model {self.slack_model}, jacobian {self.jacobian_method}"
-                + (f", {self.shooting_segments} shooting segments" if self.shooting_segments > 1 else "")
-                + ")")
+        return (
+            f"Formulation({geom} {rod}, {self.n_unknowns} unknowns, {self.n_states} states, "
+            f"{self.n_segments} segment(s){more}; {self.integrator} x {self.steps} steps, "
+            f"slack model {self.slack_model}, jacobian {self.jacobian_method}"
+            + (
+                f", {self.shooting_segments} shooting segments"
+                if self.shooting_segments > 1
+                else ""
+            )
+            + ")"
+        )
 
 
 # --------------------------------------------------------------------------- packing
@@ -289,16 +336,32 @@ def pack_scene(scene: Scene):
         return cached
     robot = scene.robot
     r = robot.rod
-    rod = np.array([r.length, r.bending_stiffness, r.torsional_stiffness,
-                    r.axial_stiffness, r.shear_stiffness, 1.0 if r.kirchhoff else 0.0])
+    rod = np.array(
+        [
+            r.length,
+            r.bending_stiffness,
+            r.torsional_stiffness,
+            r.axial_stiffness,
+            r.shear_stiffness,
+            1.0 if r.kirchhoff else 0.0,
+        ]
+    )
     nt = robot.n_tendons
     tendons = np.empty((nt, 8))
     for i, t in enumerate(robot.tendons):
         disp = scene.displacement[i]
         control = 0.0 if disp is not None else 1.0
         value = disp if disp is not None else scene.tension[i]
-        tendons[i] = (t.offset, t.angle, t.slope, t.EA, robot.tendon_end(i), control, value,
-                      t.pretension)
+        tendons[i] = (
+            t.offset,
+            t.angle,
+            t.slope,
+            t.EA,
+            robot.tendon_end(i),
+            control,
+            value,
+            t.pretension,
+        )
     pls = scene.point_loads
     loads = np.empty((len(pls), 7))
     for k, p in enumerate(pls):
@@ -328,8 +391,13 @@ def _structure_key(scene: Scene, options: Options):
     key = scene.__dict__.get("_structure")
     if key is None:
         rob = scene.robot
-        key = (rob.n_tendons, scene.displacement_controlled(), rob.rod.kirchhoff,
-               tuple(math.isinf(t.EA) for t in rob.tendons), _is_planar(scene))
+        key = (
+            rob.n_tendons,
+            scene.displacement_controlled(),
+            rob.rod.kirchhoff,
+            tuple(math.isinf(t.EA) for t in rob.tendons),
+            _is_planar(scene),
+        )
         object.__setattr__(scene, "_structure", key)
     return key + (options.force_spatial, options.slack_model)
 
@@ -357,12 +425,17 @@ def _guess_vector(guess, scene: Scene, options: Options):
         return None, None
     if isinstance(guess, Solution):
         if guess.tension.shape != (nt,):
-            raise ValueError(f"guess: a Solution with {guess.tension.shape[0]} tendons cannot "
-                             f"start a scene with {nt} tendons")
+            raise ValueError(
+                f"guess: a Solution with {guess.tension.shape[0]} tendons cannot "
+                f"start a scene with {nt} tendons"
+            )
         vec = guess.base_state
         jac = None
-        if guess.jacobian is not None and guess.scene is not None and \
-                _structure_key(guess.scene, guess.options) == _structure_key(scene, options):
+        if (
+            guess.jacobian is not None
+            and guess.scene is not None
+            and _structure_key(guess.scene, guess.options) == _structure_key(scene, options)
+        ):
             jac = guess.jacobian
         if not np.all(np.isfinite(vec)):
             return None, None
@@ -370,11 +443,14 @@ def _guess_vector(guess, scene: Scene, options: Options):
     try:
         vec = np.array(guess, dtype=float).ravel()
     except (TypeError, ValueError):
-        raise ValueError(f"guess must be None, a Solution or an array of shape ({6 + 2 * nt},), "
-                         f"got {guess!r}") from None
+        raise ValueError(
+            f"guess must be None, a Solution or an array of shape ({6 + 2 * nt},), got {guess!r}"
+        ) from None
     if vec.shape != (6 + 2 * nt,) or not np.all(np.isfinite(vec)):
-        raise ValueError(f"guess must be a finite array of shape ({6 + 2 * nt},) "
-                         f"[n(0), m(0), tension, slack], got {guess!r}")
+        raise ValueError(
+            f"guess must be a finite array of shape ({6 + 2 * nt},) "
+            f"[n(0), m(0), tension, slack], got {guess!r}"
+        )
     return vec, None
 
 
@@ -541,10 +617,10 @@ class Solution:
             tn += tau * t0
             tm += tau * np.cross(t.offset * d, t0)
         if self.formulation.planar:
-            N = np.array([x[0], 0.0, x[1]]) * (EI / L ** 2)
+            N = np.array([x[0], 0.0, x[1]]) * (EI / L**2)
             M = np.array([0.0, x[2], 0.0]) * (EI / L)
         else:
-            N, M = x[0:3] * (EI / L ** 2), x[3:6] * (EI / L)
+            N, M = x[0:3] * (EI / L**2), x[3:6] * (EI / L)
         return N - tn, M - tm
 
     def at(self, s) -> RodState:
@@ -556,7 +632,12 @@ class Solution:
         L = self.scene.robot.rod.length
         scalar = np.ndim(s) == 0
         ss = np.atleast_1d(np.asarray(s, dtype=float)).ravel()
-        if ss.size == 0 or not np.all(np.isfinite(ss)) or np.any(ss < 0) or np.any(ss > L * (1 + 1e-12)):
+        if (
+            ss.size == 0
+            or not np.all(np.isfinite(ss))
+            or np.any(ss < 0)
+            or np.any(ss > L * (1 + 1e-12))
+        ):
             raise ValueError(f"s must be arc lengths in [0, L={L!r}], got {s!r}")
         order = np.argsort(ss, kind="stable")
         opts = _replace(self.options, nodes=np.minimum(ss[order], L), tip_only=False)
@@ -572,12 +653,19 @@ class Solution:
     def __repr__(self):
         head = "converged" if self.success else "NOT converged"
         tip = np.array2string(np.asarray(self.tip_position), precision=6, separator=", ")
-        lines = [f"Solution({head}: {self.message!r}, status {self.status}, nit {self.nit}, "
-                 f"nfev {self.nfev}, residual {self.residual_norm:.2e}",
-                 f"  tip_position {tip} m"]
+        lines = [
+            f"Solution({head}: {self.message!r}, status {self.status}, nit {self.nit}, "
+            f"nfev {self.nfev}, residual {self.residual_norm:.2e}",
+            f"  tip_position {tip} m",
+        ]
         if self.tension.size:
-            lines.append("  tension " + np.array2string(self.tension, precision=6, separator=", ")
-                         + " N, slack " + np.array2string(self.slack, precision=3, separator=", ") + " m")
+            lines.append(
+                "  tension "
+                + np.array2string(self.tension, precision=6, separator=", ")
+                + " N, slack "
+                + np.array2string(self.slack, precision=3, separator=", ")
+                + " m"
+            )
         lines.append(f"  {self.formulation!r}, {self.s.size} nodes)")
         return "\n".join(lines)
 
@@ -602,7 +690,9 @@ def _check_options(options) -> Options:
     return options
 
 
-def solve(scene: Scene, guess=None, options: Optional[Options] = None, strict: bool = False) -> Solution:
+def solve(
+    scene: Scene, guess=None, options: Optional[Options] = None, strict: bool = False
+) -> Solution:
     """Solve ``scene``: the static equilibrium of the robot under its actuation and loads.
 
     Parameters
@@ -636,8 +726,10 @@ def solve(scene: Scene, guess=None, options: Optional[Options] = None, strict: b
         raw = dict(raw, message=raw["message"] + _tendon_curvature_diagnosis(raw, scene))
     sol = Solution(raw, scene, options)
     if not sol.success:
-        msg = (f"tendonrod.solve did not converge: {sol.message} (status {sol.status}, "
-               f"nit {sol.nit}, nfev {sol.nfev}, residual {sol.residual_norm:.3g})")
+        msg = (
+            f"tendonrod.solve did not converge: {sol.message} (status {sol.status}, "
+            f"nit {sol.nit}, nfev {sol.nfev}, residual {sol.residual_norm:.3g})"
+        )
         if strict:
             raise ConvergenceError(msg, sol)
         warnings.warn(msg, ConvergenceWarning, stacklevel=2)
@@ -667,13 +759,15 @@ def _tendon_curvature_diagnosis(raw: dict, scene: Scene) -> str:
             continue
         limit = EI / r**2
         if tension[i] >= _TENDON_CURVATURE_FRACTION * limit:
-            return (f"; the last iterate loads tendon {i} with {tension[i]:.4g} N = "
-                    f"{tension[i] / limit:.2f} EI/r^2 (EI/r^2 = {limit:.4g} N): near that tension "
-                    f"the backbone curvature tau r/EI at a "
-                    f"moment-free end approaches 1/r, where the tendon would pass the centre of "
-                    f"curvature, so no valid equilibrium lies past that point on this load path "
-                    f"(reduce the load or the actuation, or route the tendon closer to the "
-                    f"centre line)")
+            return (
+                f"; the last iterate loads tendon {i} with {tension[i]:.4g} N = "
+                f"{tension[i] / limit:.2f} EI/r^2 (EI/r^2 = {limit:.4g} N): near that tension "
+                f"the backbone curvature tau r/EI at a "
+                f"moment-free end approaches 1/r, where the tendon would pass the centre of "
+                f"curvature, so no valid equilibrium lies past that point on this load path "
+                f"(reduce the load or the actuation, or route the tendon closer to the "
+                f"centre line)"
+            )
     return ""
 
 
@@ -698,30 +792,39 @@ def _cross_check_off_path(raw: dict, packed: tuple, kw: dict) -> dict:
     L = float(rod[0])
     M = int(kw.get("shooting_segments", 1))
     M2 = 2 * M if M >= _OFFPATH_CHECK_SEGMENTS else _OFFPATH_CHECK_SEGMENTS
-    other = _core.solve(rod, tendons, loads, dist, guess=None, jacobian=None,
-                        **dict(kw, shooting_segments=M2))
+    other = _core.solve(
+        rod, tendons, loads, dist, guess=None, jacobian=None, **dict(kw, shooting_segments=M2)
+    )
     raw = dict(raw)
     if not (other["status"] >= 0):
-        raw["message"] += (f"; not confirmed: a cold solve with {M2} shooting segments failed "
-                           f"({other['message']})")
+        raw["message"] += (
+            f"; not confirmed: a cold solve with {M2} shooting segments failed ({other['message']})"
+        )
         return raw
-    dtip = float(np.max(np.abs(np.asarray(raw["position"])[-1] - np.asarray(other["position"])[-1])))
+    dtip = float(
+        np.max(np.abs(np.asarray(raw["position"])[-1] - np.asarray(other["position"])[-1]))
+    )
     t1, t2 = np.asarray(raw["tension"]), np.asarray(other["tension"])
     dten = float(np.max(np.abs(t1 - t2), initial=0.0))
     tscale = max(float(np.max(np.abs(t1), initial=0.0)), 1e-300)
     if dtip <= _OFFPATH_AGREE * L and dten <= _OFFPATH_AGREE * tscale:
         raw["success"] = True
-        raw["message"] += (f"; confirmed: a cold solve with {M2} shooting segments reaches the "
-                           f"same equilibrium (tips {dtip / L:.1e} L apart)")
+        raw["message"] += (
+            f"; confirmed: a cold solve with {M2} shooting segments reaches the "
+            f"same equilibrium (tips {dtip / L:.1e} L apart)"
+        )
     else:
-        raw["message"] += (f"; not confirmed: a cold solve with {M2} shooting segments reaches "
-                           f"a different equilibrium (tips {dtip / L:.2g} L apart), so this one "
-                           f"is not reported as the answer")
+        raw["message"] += (
+            f"; not confirmed: a cold solve with {M2} shooting segments reaches "
+            f"a different equilibrium (tips {dtip / L:.2g} L apart), so this one "
+            f"is not reported as the answer"
+        )
     return raw
 
 
-def compliance(scene: Scene, s: Optional[float] = None, guess=None,
-               options: Optional[Options] = None) -> np.ndarray:
+def compliance(
+    scene: Scene, s: Optional[float] = None, guess=None, options: Optional[Options] = None
+) -> np.ndarray:
     """Compliance matrix (6, 6) at arc length ``s`` [m] (default: the tip).
 
     Column j is the derivative of ``[dx (3) [m], dtheta (3) [rad]]`` (position and small

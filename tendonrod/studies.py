@@ -28,6 +28,7 @@ Conventions used throughout
 - Closed-form sign convention (as :mod:`tendonrod.analytic`): F > 0 points
   away from the tendon side; delta > 0 along F.
 """
+
 from __future__ import annotations
 
 import dataclasses
@@ -39,21 +40,44 @@ from typing import Callable, Sequence
 import numpy as np
 
 __all__ = [
-    "G_ACCEL", "ALPHA_PAPER", "PROTOTYPE", "paper_rod_ivb", "paper_rod_slack", "tendon_EA",
-    "single_tendon_robot", "tip_angle", "Actuation", "actuate", "sigma_from_compliance",
-    "closed_form_sigma_vs_zeta", "closed_form_tip_sigma_vs_alpha", "prototype_curves",
-    "prototype_shapes", "actuation_tradeoff", "straight_load_sweep", "prescribed_comparison",
-    "out_of_plane_comparison", "torsion_paradox", "compliance_map", "tip_compliance_vs_alpha",
-    "slack_study", "critical_slack_load", "design_study", "figure_registry", "fast_mode",
+    "G_ACCEL",
+    "ALPHA_PAPER",
+    "PROTOTYPE",
+    "paper_rod_ivb",
+    "paper_rod_slack",
+    "tendon_EA",
+    "single_tendon_robot",
+    "tip_angle",
+    "Actuation",
+    "actuate",
+    "sigma_from_compliance",
+    "closed_form_sigma_vs_zeta",
+    "closed_form_tip_sigma_vs_alpha",
+    "prototype_curves",
+    "prototype_shapes",
+    "actuation_tradeoff",
+    "straight_load_sweep",
+    "prescribed_comparison",
+    "out_of_plane_comparison",
+    "torsion_paradox",
+    "compliance_map",
+    "tip_compliance_vs_alpha",
+    "slack_study",
+    "critical_slack_load",
+    "design_study",
+    "figure_registry",
+    "fast_mode",
 ]
 
 G_ACCEL = 9.81
 """Standard gravity [m/s^2], to turn the paper's 20 g / 50 g weights into forces."""
 ALPHA_PAPER = 8.29e6
 """The dimensionless tendon stiffness r^2 k L / EI the paper used for Figs. 13-15."""
-DIRECTIONS = {"transverse": np.array([1.0, 0.0, 0.0]),
-              "axial": np.array([0.0, 0.0, 1.0]),
-              "out-of-plane": np.array([0.0, 1.0, 0.0])}
+DIRECTIONS = {
+    "transverse": np.array([1.0, 0.0, 0.0]),
+    "axial": np.array([0.0, 0.0, 1.0]),
+    "out-of-plane": np.array([0.0, 1.0, 0.0]),
+}
 """World directions of the paper's load cases for the robot actuated in the x-z plane."""
 
 
@@ -100,8 +124,13 @@ class Prototype:
         if routing == "parallel":
             return dict(EI=self.EI_parallel, k=self.k_parallel, a=0.0, b=self.r, L=self.L)
         if routing == "converging":
-            return dict(EI=self.EI_converging, k=self.k_converging, a=self.slope_converging,
-                        b=self.r, L=self.L)
+            return dict(
+                EI=self.EI_converging,
+                k=self.k_converging,
+                a=self.slope_converging,
+                b=self.r,
+                L=self.L,
+            )
         raise ValueError(f"routing must be 'parallel' or 'converging', got {routing!r}")
 
 
@@ -131,11 +160,16 @@ def paper_rod_slack(**overrides):
 def tendon_EA(alpha: float, EI: float, r: float) -> float:
     """Tendon axial rigidity EA [N] for a dimensionless stiffness alpha = r^2 k L / EI,
     k = EA / L (np.inf stays np.inf)."""
-    return math.inf if math.isinf(alpha) else alpha * EI / r ** 2
+    return math.inf if math.isinf(alpha) else alpha * EI / r**2
 
 
-def single_tendon_robot(rod, routing: str = "parallel", offset: float = 0.01,
-                        alpha: float = math.inf, angle: float = 0.0):
+def single_tendon_robot(
+    rod,
+    routing: str = "parallel",
+    offset: float = 0.01,
+    alpha: float = math.inf,
+    angle: float = 0.0,
+):
     """A robot with one tendon at ``offset`` [m], parallel or converging to the tip,
     stiffness alpha = r^2 k L / EI (np.inf: inextensible)."""
     import tendonrod as tr
@@ -160,7 +194,7 @@ def sigma_from_compliance(C, direction, EI: float, L: float) -> float:
     """sigma = 12 EI/L^3 * d^T C_ff d for the unit world direction d (C: (6, 6) compliance)."""
     d = np.asarray(direction, dtype=float)
     d = d / np.linalg.norm(d)
-    return 12.0 * EI / L ** 3 * float(d @ np.asarray(C)[:3, :3] @ d)
+    return 12.0 * EI / L**3 * float(d @ np.asarray(C)[:3, :3] @ d)
 
 
 # --------------------------------------------------------------------------- actuation
@@ -188,8 +222,15 @@ class Actuation:
         return dataclasses.replace(base, loads=tuple(loads))
 
 
-def actuate(robot, theta: float, tendon: int = 0, tensions: Sequence[float] | None = None,
-            options=None, tol: float = 1e-11, max_iter: int = 60) -> Actuation:
+def actuate(
+    robot,
+    theta: float,
+    tendon: int = 0,
+    tensions: Sequence[float] | None = None,
+    options=None,
+    tol: float = 1e-11,
+    max_iter: int = 60,
+) -> Actuation:
     """Pull ``tendon`` until the unloaded tip angle (x-z plane, towards +x) is ``theta``.
 
     The other tendons keep ``tensions`` (default 0 N).  Solves by the secant
@@ -206,9 +247,13 @@ def actuate(robot, theta: float, tendon: int = 0, tensions: Sequence[float] | No
     t = robot.tendons[tendon]
     EI, L = robot.rod.bending_stiffness, robot.rod.length
     arm = t.offset * math.cos(t.angle)
-    tau0 = float(tr.analytic.actuation_tension_for_angle(theta, L, EI, t.slope * math.cos(t.angle), arm))
+    tau0 = float(
+        tr.analytic.actuation_tension_for_angle(theta, L, EI, t.slope * math.cos(t.angle), arm)
+    )
     if not math.isfinite(tau0):
-        raise ValueError(f"tendon {tendon} has no moment arm in the x-z plane; cannot reach theta={theta!r}")
+        raise ValueError(
+            f"tendon {tendon} has no moment arm in the x-z plane; cannot reach theta={theta!r}"
+        )
 
     def scene_for(tau):
         taus = base.copy()
@@ -233,19 +278,29 @@ def actuate(robot, theta: float, tendon: int = 0, tensions: Sequence[float] | No
             if abs(f1) <= tol:
                 break
             if f1 == f0:
-                raise RuntimeError(f"actuate: secant stalled at tension {x1!r} N (tip angle error {f1!r} rad)")
+                raise RuntimeError(
+                    f"actuate: secant stalled at tension {x1!r} N (tip angle error {f1!r} rad)"
+                )
             x0, x1, f0 = x1, x1 - f1 * (x1 - x0) / (f1 - f0), f1
             f1, s1 = f(x1)
         else:
-            raise RuntimeError(f"actuate: no tension reaching theta={theta!r} rad in {max_iter} "
-                               f"iterations (last error {f1!r} rad)")
+            raise RuntimeError(
+                f"actuate: no tension reaching theta={theta!r} rad in {max_iter} "
+                f"iterations (last error {f1!r} rad)"
+            )
     sol = s1
     taus = base.copy()
     taus[tendon] += x1
     q = np.array(sol.displacement, dtype=float)
     locked = tr.Scene(robot, displacement=list(q))
-    return Actuation(tension_scene=scene_for(x1), locked_scene=locked, solution=sol,
-                     tensions=taus, displacements=q, theta=tip_angle(sol))
+    return Actuation(
+        tension_scene=scene_for(x1),
+        locked_scene=locked,
+        solution=sol,
+        tensions=taus,
+        displacements=q,
+        theta=tip_angle(sol),
+    )
 
 
 def _load_path(scene, forces, s=None, moments=None, options=None):
@@ -257,12 +312,25 @@ def _load_path(scene, forces, s=None, moments=None, options=None):
     L = scene.robot.rod.length
     s = L if s is None else s
     forces = np.asarray(forces, dtype=float).reshape(-1, 3)
-    moments = np.zeros_like(forces) if moments is None else np.asarray(moments, dtype=float).reshape(-1, 3)
+    moments = (
+        np.zeros_like(forces)
+        if moments is None
+        else np.asarray(moments, dtype=float).reshape(-1, 3)
+    )
     base = dataclasses.replace(scene, loads=(tr.PointLoad(s=s, force=(0.0, 0.0, 0.0)),))
-    res = sweep(base, {"loads[0].force": list(forces), "loads[0].moment": list(moments)}, grid=False,
-                chunksize=len(forces), measure=_shape_measure, options=options, progress=False)
+    res = sweep(
+        base,
+        {"loads[0].force": list(forces), "loads[0].moment": list(moments)},
+        grid=False,
+        chunksize=len(forces),
+        measure=_shape_measure,
+        options=options,
+        progress=False,
+    )
     if not res.data:
-        raise RuntimeError(f"load path: all {len(forces)} points failed; first: {res.message.flat[0]}")
+        raise RuntimeError(
+            f"load path: all {len(forces)} points failed; first: {res.message.flat[0]}"
+        )
     return res
 
 
@@ -286,7 +354,10 @@ def closed_form_sigma_vs_zeta(zeta=None, slopes=(0.0,), alpha: float = math.inf)
     import tendonrod as tr
 
     zeta = np.linspace(0.0, 1.0, 101) if zeta is None else np.asarray(zeta, dtype=float)
-    out = {"zeta": zeta, "no tendon": 12.0 * tr.analytic.deflection(zeta, 1.0, zeta, 1.0, 1.0, 0.0, 1.0, 0.0)}
+    out = {
+        "zeta": zeta,
+        "no tendon": 12.0 * tr.analytic.deflection(zeta, 1.0, zeta, 1.0, 1.0, 0.0, 1.0, 0.0),
+    }
     for a in slopes:
         out[a] = 12.0 * tr.analytic.deflection(zeta, 1.0, zeta, 1.0, 1.0, a, 1.0, alpha)
     return out
@@ -298,9 +369,11 @@ def closed_form_tip_sigma_vs_alpha(alpha=None) -> dict:
     import tendonrod as tr
 
     alpha = np.logspace(-2, 4, 121) if alpha is None else np.asarray(alpha, dtype=float)
-    return {"alpha": alpha,
-            "parallel": 12.0 * tr.analytic.deflection(1.0, 1.0, 1.0, 1.0, 1.0, 0.0, 1.0, alpha),
-            "converging": 12.0 * tr.analytic.deflection(1.0, 1.0, 1.0, 1.0, 1.0, -1.0, 1.0, alpha)}
+    return {
+        "alpha": alpha,
+        "parallel": 12.0 * tr.analytic.deflection(1.0, 1.0, 1.0, 1.0, 1.0, 0.0, 1.0, alpha),
+        "converging": 12.0 * tr.analytic.deflection(1.0, 1.0, 1.0, 1.0, 1.0, -1.0, 1.0, alpha),
+    }
 
 
 def prototype_curves(routing: str, proto: Prototype = PROTOTYPE, n: int = 101) -> dict:
@@ -321,14 +394,22 @@ def prototype_curves(routing: str, proto: Prototype = PROTOTYPE, n: int = 101) -
     for m in proto.masses:
         F = m * G_ACCEL
         for tag, zz in (("", z), ("_loads", proto.z_loads)):
-            out[("delta" + tag, m)] = tr.analytic.deflection(zz, F, zz, d["L"], d["EI"], d["a"], d["b"], d["k"])
-            out[("delta_free" + tag, m)] = tr.analytic.deflection(zz, F, zz, d["L"], d["EI"], 0.0, d["b"], 0.0)
-            out[("tension" + tag, m)] = tr.analytic.tension(F, zz, d["L"], d["EI"], d["a"], d["b"], d["k"])
+            out[("delta" + tag, m)] = tr.analytic.deflection(
+                zz, F, zz, d["L"], d["EI"], d["a"], d["b"], d["k"]
+            )
+            out[("delta_free" + tag, m)] = tr.analytic.deflection(
+                zz, F, zz, d["L"], d["EI"], 0.0, d["b"], 0.0
+            )
+            out[("tension" + tag, m)] = tr.analytic.tension(
+                F, zz, d["L"], d["EI"], d["a"], d["b"], d["k"]
+            )
     out["alpha"] = d["b"] ** 2 * d["k"] * d["L"] / d["EI"]
     return out
 
 
-def prototype_shapes(routing: str, proto: Prototype = PROTOTYPE, forces=(0.2, 0.5), n: int = 61) -> dict:
+def prototype_shapes(
+    routing: str, proto: Prototype = PROTOTYPE, forces=(0.2, 0.5), n: int = 61
+) -> dict:
     """Fig. 23: loaded shapes (integrated closed-form tangent angle, eq. 22) for the last
     four load locations and forces 0.2 N and 0.5 N.  Keys (F, z) -> (n, 2) array of
     (axial, lateral) [m], lateral positive along F (downwards in the experiment)."""
@@ -340,7 +421,9 @@ def prototype_shapes(routing: str, proto: Prototype = PROTOTYPE, forces=(0.2, 0.
     for F in forces:
         for z in proto.z_loads[-4:]:
             out[(F, z)] = tr.analytic.planar_shape(s, F, z, d["L"], d["EI"], d["a"], d["b"], d["k"])
-            out[("point", F, z)] = tr.analytic.planar_shape(z, F, z, d["L"], d["EI"], d["a"], d["b"], d["k"])
+            out[("point", F, z)] = tr.analytic.planar_shape(
+                z, F, z, d["L"], d["EI"], d["a"], d["b"], d["k"]
+            )
     return out
 
 
@@ -357,8 +440,9 @@ def _prototype_robot(routing: str, proto: Prototype = PROTOTYPE):
     return tr.Robot(rod, [t])
 
 
-def actuation_tradeoff(proto: Prototype = PROTOTYPE, theta: float = math.pi / 2, load: float = 0.9,
-                       options=None) -> dict:
+def actuation_tradeoff(
+    proto: Prototype = PROTOTYPE, theta: float = math.pi / 2, load: float = 0.9, options=None
+) -> dict:
     """Fig. 8: parallel vs converging prototypes actuated to ``theta`` (top) and, under a
     ``load`` [N] tip load pushing away from the tendon, actuated back until the tip is on
     the base axis again (bottom).
@@ -374,10 +458,16 @@ def actuation_tradeoff(proto: Prototype = PROTOTYPE, theta: float = math.pi / 2,
         robot = _prototype_robot(routing, proto)
         act = actuate(robot, theta, options=options)
         d = proto.design(routing)
-        rec = {"shape": np.asarray(act.solution.position), "tension": float(act.tensions[0]),
-               "q_over_L": float(act.displacements[0] / d["L"]),
-               "tension_closed_form": float(tr.analytic.actuation_tension_for_angle(theta, d["L"], d["EI"], d["a"], d["b"])),
-               "shape_loaded": None, "q_loaded": None}
+        rec = {
+            "shape": np.asarray(act.solution.position),
+            "tension": float(act.tensions[0]),
+            "q_over_L": float(act.displacements[0] / d["L"]),
+            "tension_closed_form": float(
+                tr.analytic.actuation_tension_for_angle(theta, d["L"], d["EI"], d["a"], d["b"])
+            ),
+            "shape_loaded": None,
+            "q_loaded": None,
+        }
         # bottom panel: tip load -load e_x; find q with tip x = 0 (secant from q = 0)
         load_ = tr.PointLoad(s=d["L"], force=(-load, 0.0, 0.0))
         guess = None
@@ -421,22 +511,28 @@ def straight_load_sweep(rod=None, offset: float = 0.01, loads=None, options=None
     rod = paper_rod_ivb() if rod is None else rod
     EI, L = rod.bending_stiffness, rod.length
     F_nd = np.linspace(0.0, 3.0, 31) if loads is None else np.asarray(loads, dtype=float)
-    F = F_nd * EI / L ** 2
+    F = F_nd * EI / L**2
     out = {"F_nd": F_nd}
-    cases = {"no tendon": (tr.Robot(rod, []), 0.0, 0.0),
-             "parallel": (single_tendon_robot(rod, "parallel", offset), 0.0, math.inf),
-             "converging": (single_tendon_robot(rod, "converging", offset), -offset / L, math.inf)}
+    cases = {
+        "no tendon": (tr.Robot(rod, []), 0.0, 0.0),
+        "parallel": (single_tendon_robot(rod, "parallel", offset), 0.0, math.inf),
+        "converging": (single_tendon_robot(rod, "converging", offset), -offset / L, math.inf),
+    }
     for name, (robot, a, k) in cases.items():
         scene = tr.Scene(robot, displacement=[0.0] * robot.n_tendons)
         res = _load_path(scene, np.outer(F, [-1.0, 0.0, 0.0]), options=options)
-        out[name] = {"cosserat": -res["tip_position"][:, 0] / L, "success": res.success,
-                     "tension": res["tension"],
-                     "closed": tr.analytic.deflection(L, F, L, L, EI, a, offset, k) / L}
+        out[name] = {
+            "cosserat": -res["tip_position"][:, 0] / L,
+            "success": res.success,
+            "tension": res["tension"],
+            "closed": tr.analytic.deflection(L, F, L, L, EI, a, offset, k) / L,
+        }
     return out
 
 
-def prescribed_comparison(rod=None, offset: float = 0.01, theta: float = math.pi / 2,
-                          force=(-0.5, 0.0, 0.0), options=None) -> dict:
+def prescribed_comparison(
+    rod=None, offset: float = 0.01, theta: float = math.pi / 2, force=(-0.5, 0.0, 0.0), options=None
+) -> dict:
     """Figs. 1 and 11(a, b): the same robot and load with the tendon's displacement held
     (actuator locked) or its tension held.
 
@@ -458,7 +554,11 @@ def prescribed_comparison(rod=None, offset: float = 0.01, theta: float = math.pi
         act = actuate(robot, theta, options=options)
         unloaded, locked, held = act.solution, act.locked_scene, act.tension_scene
     forces = np.outer(np.linspace(0.0, 1.0, 11)[1:], force)
-    out = {"force": np.asarray(force, dtype=float), "theta": theta, "unloaded": np.asarray(unloaded.position)}
+    out = {
+        "force": np.asarray(force, dtype=float),
+        "theta": theta,
+        "unloaded": np.asarray(unloaded.position),
+    }
     for name, sc in (("displacement held", locked), ("tension held", held)):
         res = _load_path(sc, forces, options=options)
         out[name] = res["position"][-1]
@@ -466,13 +566,21 @@ def prescribed_comparison(rod=None, offset: float = 0.01, theta: float = math.pi
         out[name + " success"] = bool(res.success[-1])
     if theta == 0.0:
         EI, F = rod.bending_stiffness, -float(force[0])
-        out["closed displacement held"] = float(tr.analytic.deflection(L, F, L, L, EI, 0.0, offset, math.inf))
+        out["closed displacement held"] = float(
+            tr.analytic.deflection(L, F, L, L, EI, 0.0, offset, math.inf)
+        )
         out["closed tension held"] = float(tr.analytic.deflection(L, F, L, L, EI, 0.0, offset, 0.0))
     return out
 
 
-def out_of_plane_comparison(rod=None, offset: float = 0.01, theta: float = math.pi / 2,
-                            force=(0.0, 0.5, 0.0), alphas3=(50.0, 50e3), options=None) -> dict:
+def out_of_plane_comparison(
+    rod=None,
+    offset: float = 0.01,
+    theta: float = math.pi / 2,
+    force=(0.0, 0.5, 0.0),
+    alphas3=(50.0, 50e3),
+    options=None,
+) -> dict:
     """Fig. 11(c): three equally spaced stretchable tendons, actuated to ``theta`` by the
     tendon at +x, loaded out of plane at the tip; displacement held for each
     r^2 k L / (3 EI) in ``alphas3`` and tension held.  Returns backbones (N, 3) [m]."""
@@ -484,7 +592,9 @@ def out_of_plane_comparison(rod=None, offset: float = 0.01, theta: float = math.
     forces = np.outer(np.linspace(0.0, 1.0, 11)[1:], force)
     for a3 in alphas3:
         EA = tendon_EA(3.0 * a3, EI, offset)
-        robot = tr.Robot(rod, [tr.Tendon(offset=offset, angle=2 * math.pi * i / 3, EA=EA) for i in range(3)])
+        robot = tr.Robot(
+            rod, [tr.Tendon(offset=offset, angle=2 * math.pi * i / 3, EA=EA) for i in range(3)]
+        )
         act = actuate(robot, theta, options=options)
         out["unloaded"] = np.asarray(act.solution.position)
         res = _load_path(act.locked_scene, forces, options=options)
@@ -497,8 +607,14 @@ def out_of_plane_comparison(rod=None, offset: float = 0.01, theta: float = math.
     return out
 
 
-def torsion_paradox(rod=None, offset: float = 0.01, alphas=(10.0, 1e2, 1e3, 1e4), n: int = 21,
-                    twist_max: float = 0.5, options=None) -> dict:
+def torsion_paradox(
+    rod=None,
+    offset: float = 0.01,
+    alphas=(10.0, 1e2, 1e3, 1e4),
+    n: int = 21,
+    twist_max: float = 0.5,
+    options=None,
+) -> dict:
     """Fig. 12: a straight robot with three parallel tendons locked at q = 0 under a pure
     twisting moment M_z at the tip, for growing tendon stiffness alpha = r^2 k L / EI.
 
@@ -515,10 +631,14 @@ def torsion_paradox(rod=None, offset: float = 0.01, alphas=(10.0, 1e2, 1e3, 1e4)
     out = {"M_nd": M_nd, "no tendon": M_nd.copy(), "alphas": tuple(alphas)}
     for alpha in alphas:
         EA = tendon_EA(alpha, EI, offset)
-        robot = tr.Robot(rod, [tr.Tendon(offset=offset, angle=2 * math.pi * i / 3, EA=EA) for i in range(3)])
+        robot = tr.Robot(
+            rod, [tr.Tendon(offset=offset, angle=2 * math.pi * i / 3, EA=EA) for i in range(3)]
+        )
         scene = tr.Scene(robot, displacement=[0.0] * 3)
         M = M_nd[1:] * GJ / L
-        res = _load_path(scene, np.zeros((len(M), 3)), moments=np.outer(M, [0.0, 0.0, 1.0]), options=options)
+        res = _load_path(
+            scene, np.zeros((len(M), 3)), moments=np.outer(M, [0.0, 0.0, 1.0]), options=options
+        )
         R = res["tip_rotation"]
         phi = np.arctan2(R[:, 1, 0], R[:, 0, 0])
         out[alpha] = np.concatenate([[0.0], np.where(res.success, phi, np.nan)])
@@ -526,9 +646,16 @@ def torsion_paradox(rod=None, offset: float = 0.01, alphas=(10.0, 1e2, 1e3, 1e4)
     return out
 
 
-def compliance_map(rod=None, offset: float = 0.01, routings=("parallel", "converging"),
-                   theta: float = math.pi / 2, alpha: float = ALPHA_PAPER, zeta=None,
-                   tension_held: bool = True, options=None) -> dict:
+def compliance_map(
+    rod=None,
+    offset: float = 0.01,
+    routings=("parallel", "converging"),
+    theta: float = math.pi / 2,
+    alpha: float = ALPHA_PAPER,
+    zeta=None,
+    tension_held: bool = True,
+    options=None,
+) -> dict:
     """Figs. 13-15: sigma(zeta) at a loaded point z = zeta L of the robot actuated to
     ``theta``, for loads in the transverse, axial and out-of-plane directions.
 
@@ -566,14 +693,24 @@ class _LockedTipCompliance:
     def __call__(self, scene, sol):
         import tendonrod as tr
 
-        locked = dataclasses.replace(scene, displacement=list(sol.displacement),
-                                     tension=[None] * scene.robot.n_tendons)
-        return {"compliance": tr.compliance(locked, guess=sol), "tension": np.asarray(sol.tension),
-                "displacement": np.asarray(sol.displacement)}
+        locked = dataclasses.replace(
+            scene, displacement=list(sol.displacement), tension=[None] * scene.robot.n_tendons
+        )
+        return {
+            "compliance": tr.compliance(locked, guess=sol),
+            "tension": np.asarray(sol.tension),
+            "displacement": np.asarray(sol.displacement),
+        }
 
 
-def tip_compliance_vs_alpha(rod=None, offset: float = 0.01, theta: float = math.pi / 2, alphas=None,
-                            options=None, executor=None) -> dict:
+def tip_compliance_vs_alpha(
+    rod=None,
+    offset: float = 0.01,
+    theta: float = math.pi / 2,
+    alphas=None,
+    options=None,
+    executor=None,
+) -> dict:
     """Fig. 16: tip sigma against alpha = r^2 k L / EI (b^2 k L / EI converging) for the
     robot actuated to ``theta``, parallel and converging, three load directions.
 
@@ -593,19 +730,38 @@ def tip_compliance_vs_alpha(rod=None, offset: float = 0.01, theta: float = math.
     for routing in ("parallel", "converging"):
         act = actuate(single_tendon_robot(rod, routing, offset, math.inf), theta, options=options)
         EAs = [tendon_EA(a, EI, offset) for a in alphas]
-        res = sweep(act.tension_scene, {"robot.tendons[0].EA": EAs}, measure=_LockedTipCompliance(),
-                    options=options, executor=executor, chunksize=1, progress=False)
+        res = sweep(
+            act.tension_scene,
+            {"robot.tendons[0].EA": EAs},
+            measure=_LockedTipCompliance(),
+            options=options,
+            executor=executor,
+            chunksize=1,
+            progress=False,
+        )
         C = res["compliance"]
         for dname, dvec in DIRECTIONS.items():
-            out[(routing, dname)] = np.array([sigma_from_compliance(c, dvec, EI, L) if ok else np.nan
-                                              for c, ok in zip(C, res.success)])
+            out[(routing, dname)] = np.array(
+                [
+                    sigma_from_compliance(c, dvec, EI, L) if ok else np.nan
+                    for c, ok in zip(C, res.success)
+                ]
+            )
         out[(routing, "failures")] = res.failures()
     return out
 
 
-def slack_study(rod=None, offset: float = 0.01, theta: float = math.pi / 2, F_max: float = 1.0,
-                n: int = 41, opposing: bool = False, pretension: float = 5.0,
-                alpha: float = 1e5, options=None) -> dict:
+def slack_study(
+    rod=None,
+    offset: float = 0.01,
+    theta: float = math.pi / 2,
+    F_max: float = 1.0,
+    n: int = 41,
+    opposing: bool = False,
+    pretension: float = 5.0,
+    alpha: float = 1e5,
+    options=None,
+) -> dict:
     """Figs. 17 (single tendon) and 18 (``opposing``: a second tendon at -x held at
     ``pretension`` [N] before locking; finite stiffness ``alpha`` so that the opposing pair
     has a defined tension level): the robot of Figs. 17-18 actuated to ``theta``, actuators
@@ -631,22 +787,34 @@ def slack_study(rod=None, offset: float = 0.01, theta: float = math.pi / 2, F_ma
     EI = rod.bending_stiffness
     if opposing:
         EA = tendon_EA(alpha, EI, offset)
-        robot = tr.Robot(rod, [tr.Tendon(offset=offset, angle=0.0, EA=EA),
-                               tr.Tendon(offset=offset, angle=math.pi, EA=EA)])
+        robot = tr.Robot(
+            rod,
+            [
+                tr.Tendon(offset=offset, angle=0.0, EA=EA),
+                tr.Tendon(offset=offset, angle=math.pi, EA=EA),
+            ],
+        )
         act = actuate(robot, theta, tensions=[pretension, pretension], options=options)
     else:
         robot = single_tendon_robot(rod, "parallel", offset, math.inf)
         act = actuate(robot, theta, options=options)
     F = np.linspace(0.0, F_max, n)
     tip0 = np.asarray(act.solution.tip_position)
-    out = {"F": F, "theta": theta, "opposing": opposing, "unloaded": np.asarray(act.solution.position),
-           "tension0": act.tensions}
+    out = {
+        "F": F,
+        "theta": theta,
+        "opposing": opposing,
+        "unloaded": np.asarray(act.solution.position),
+        "tension0": act.tensions,
+    }
     for key, sc in (("locked", act.locked_scene), ("held", act.tension_scene)):
         res = _load_path(sc, np.outer(F[1:], [0.0, 0.0, -1.0]), options=options)
         ok = np.concatenate([[True], res.success])
 
         def masked(first, rest):
-            arr = np.concatenate([np.asarray(first, dtype=float)[None], np.asarray(rest, dtype=float)])
+            arr = np.concatenate(
+                [np.asarray(first, dtype=float)[None], np.asarray(rest, dtype=float)]
+            )
             arr[~ok] = np.nan
             return arr
 
@@ -655,7 +823,8 @@ def slack_study(rod=None, offset: float = 0.01, theta: float = math.pi / 2, F_ma
             "slack": masked(np.zeros_like(act.tensions), res["slack"]),
             "tip_displacement": masked(np.zeros(3), res["tip_position"] - tip0),
             "tip_angle": masked(act.theta, res["tip_angle"]),
-            "position": masked(act.solution.position, res["position"]), "success": ok,
+            "position": masked(act.solution.position, res["position"]),
+            "success": ok,
         }
     # critical load: bracketed by the first converged grid point where the (first)
     # tendon's tension reaches 0, then refined to solver accuracy (not a grid value)
@@ -663,13 +832,25 @@ def slack_study(rod=None, offset: float = 0.01, theta: float = math.pi / 2, F_ma
     crit = np.nonzero(out["locked"]["success"] & (tau <= 0.0))[0]
     out["F_slack"] = math.nan
     if crit.size and crit[0] > 0 and out["locked"]["success"][crit[0] - 1]:
-        out["F_slack"] = critical_slack_load(act.locked_scene, F[crit[0] - 1], F[crit[0]],
-                                             direction=(0.0, 0.0, -1.0), options=options)
+        out["F_slack"] = critical_slack_load(
+            act.locked_scene,
+            F[crit[0] - 1],
+            F[crit[0]],
+            direction=(0.0, 0.0, -1.0),
+            options=options,
+        )
     return out
 
 
-def critical_slack_load(scene, F_lo: float, F_hi: float, direction=(0.0, 0.0, -1.0),
-                        tendon: int = 0, xtol: float = 1e-12, options=None) -> float:
+def critical_slack_load(
+    scene,
+    F_lo: float,
+    F_hi: float,
+    direction=(0.0, 0.0, -1.0),
+    tendon: int = 0,
+    xtol: float = 1e-12,
+    options=None,
+) -> float:
     """Load magnitude [N] at which ``tendon`` of ``scene`` goes slack under a tip force
     ``F * direction`` (world frame), bracketed by ``F_lo`` (taut) and ``F_hi`` (slack).
 
@@ -696,8 +877,10 @@ def critical_slack_load(scene, F_lo: float, F_hi: float, direction=(0.0, 0.0, -1
     g_lo, sol_lo = g(lo, None)
     g_hi, sol_hi = g(hi, sol_lo)
     if not (g_lo > 0.0 and g_hi <= 0.0):
-        raise RuntimeError(f"critical_slack_load: [{lo}, {hi}] N does not bracket the switch "
-                           f"(tension/-slack {g_lo!r} and {g_hi!r})")
+        raise RuntimeError(
+            f"critical_slack_load: [{lo}, {hi}] N does not bracket the switch "
+            f"(tension/-slack {g_lo!r} and {g_hi!r})"
+        )
     while hi - lo > xtol * hi:
         mid = 0.5 * (lo + hi)
         g_mid, sol_mid = g(mid, sol_lo)
@@ -708,8 +891,9 @@ def critical_slack_load(scene, F_lo: float, F_hi: float, direction=(0.0, 0.0, -1
     return 0.5 * (lo + hi)
 
 
-def design_study(target_sigma: float = 1.0, rod=None, offset: float = 0.01, alphas=None,
-                 theta: float = 0.0) -> dict:
+def design_study(
+    target_sigma: float = 1.0, rod=None, offset: float = 0.01, alphas=None, theta: float = 0.0
+) -> dict:
     """Notebook 07: which routing and tendon stiffness reach a target tip stiffness?
 
     Closed forms (theta = 0, straight robot): tip sigma(alpha) for parallel (eq. 10) and
@@ -723,19 +907,31 @@ def design_study(target_sigma: float = 1.0, rod=None, offset: float = 0.01, alph
     EI, L = rod.bending_stiffness, rod.length
     alphas = np.logspace(-1, 5, 241) if alphas is None else np.asarray(alphas, dtype=float)
     cf = closed_form_tip_sigma_vs_alpha(alphas)
-    out = {"alpha": alphas, "target": target_sigma, "parallel": cf["parallel"], "converging": cf["converging"]}
+    out = {
+        "alpha": alphas,
+        "target": target_sigma,
+        "parallel": cf["parallel"],
+        "converging": cf["converging"],
+    }
     for routing, a in (("parallel", 0.0), ("converging", -offset / L)):
         # sigma is decreasing in alpha: invert the closed form exactly where possible
         if routing == "parallel":
             # 4 - 3 alpha/(1+alpha) = s  ->  alpha = (4 - s)/(s - 1)
-            need = (4.0 - target_sigma) / (target_sigma - 1.0) if 1.0 < target_sigma < 4.0 else (
-                0.0 if target_sigma >= 4.0 else math.inf)
+            need = (
+                (4.0 - target_sigma) / (target_sigma - 1.0)
+                if 1.0 < target_sigma < 4.0
+                else (0.0 if target_sigma >= 4.0 else math.inf)
+            )
         else:
             # 12/(3+alpha) = s  ->  alpha = 12/s - 3
             need = max(12.0 / target_sigma - 3.0, 0.0) if target_sigma > 0 else math.inf
         out[(routing, "alpha_needed")] = need
-        out[(routing, "EA_needed")] = tendon_EA(need, EI, offset) if math.isfinite(need) else math.inf
-        out[(routing, "tension_per_rad")] = float(tr.analytic.actuation_tension_for_angle(1.0, L, EI, a, offset))
+        out[(routing, "EA_needed")] = (
+            tendon_EA(need, EI, offset) if math.isfinite(need) else math.inf
+        )
+        out[(routing, "tension_per_rad")] = float(
+            tr.analytic.actuation_tension_for_angle(1.0, L, EI, a, offset)
+        )
     return out
 
 

@@ -45,6 +45,7 @@ Failures
     raises (bad input made by the sweep, say) is recorded with ``status`` 2 and
     the exception's message and NaN values.  Neither stops the sweep.
 """
+
 from __future__ import annotations
 
 import concurrent.futures as cf
@@ -62,8 +63,18 @@ from typing import Any, Callable, Iterable, Mapping, Sequence
 
 import numpy as np
 
-__all__ = ["sweep", "SweepResult", "set_path", "get_path", "tip_measure", "ComplianceMeasure",
-           "STATUS_OK", "STATUS_NOT_CONVERGED", "STATUS_ERROR", "STATUS_NOT_RUN"]
+__all__ = [
+    "sweep",
+    "SweepResult",
+    "set_path",
+    "get_path",
+    "tip_measure",
+    "ComplianceMeasure",
+    "STATUS_OK",
+    "STATUS_NOT_CONVERGED",
+    "STATUS_ERROR",
+    "STATUS_NOT_RUN",
+]
 
 STATUS_OK = 0
 """The solve converged."""
@@ -88,8 +99,10 @@ def _parse_path(path: str) -> list:
     while pos < len(path):
         m = _TOKEN.match(path, pos)
         if m is None or (pos == 0 and path.startswith(".")):
-            raise ValueError(f"path {path!r}: cannot parse at position {pos} ({path[pos:]!r}); "
-                             "use names and [index], e.g. 'robot.tendons[0].EA'")
+            raise ValueError(
+                f"path {path!r}: cannot parse at position {pos} ({path[pos:]!r}); "
+                "use names and [index], e.g. 'robot.tendons[0].EA'"
+            )
         tokens.append(m.group(1) if m.group(1) is not None else int(m.group(2)))
         pos = m.end()
     if not tokens:
@@ -100,13 +113,18 @@ def _parse_path(path: str) -> list:
 def get_path(obj: Any, path: str) -> Any:
     """The value at ``path`` (e.g. ``"robot.tendons[0].offset"``) inside ``obj``."""
     for tok in _parse_path(path):
-        if isinstance(tok, str) and dataclasses.is_dataclass(obj) and \
-                tok not in {f.name for f in dataclasses.fields(obj)}:
+        if (
+            isinstance(tok, str)
+            and dataclasses.is_dataclass(obj)
+            and tok not in {f.name for f in dataclasses.fields(obj)}
+        ):
             raise ValueError(f"path {path!r}: {type(obj).__name__} has no field {tok!r}")
         try:
             obj = obj[tok] if isinstance(tok, int) else getattr(obj, tok)
         except (IndexError, AttributeError, TypeError) as exc:
-            raise ValueError(f"path {path!r}: {tok!r} does not exist in {type(obj).__name__}") from exc
+            raise ValueError(
+                f"path {path!r}: {tok!r} does not exist in {type(obj).__name__}"
+            ) from exc
     return obj
 
 
@@ -120,18 +138,24 @@ def _set(obj: Any, tokens: list, value: Any, path: str) -> Any:
             new[tok] = _set(new[tok], rest, value, path)
             return new
         if not isinstance(obj, (list, tuple)):
-            raise ValueError(f"path {path!r}: [{tok}] indexes a {type(obj).__name__}, not a sequence")
+            raise ValueError(
+                f"path {path!r}: [{tok}] indexes a {type(obj).__name__}, not a sequence"
+            )
         if not -len(obj) <= tok < len(obj):
             raise ValueError(f"path {path!r}: index {tok} out of range (length {len(obj)})")
         items = list(obj)
         items[tok] = _set(items[tok], rest, value, path)
         return type(obj)(items) if isinstance(obj, tuple) else items
     if not dataclasses.is_dataclass(obj):
-        raise ValueError(f"path {path!r}: .{tok} on a {type(obj).__name__}, which is not a dataclass")
+        raise ValueError(
+            f"path {path!r}: .{tok} on a {type(obj).__name__}, which is not a dataclass"
+        )
     names = {f.name for f in dataclasses.fields(obj)}
     if tok not in names:
-        raise ValueError(f"path {path!r}: {type(obj).__name__} has no field {tok!r} "
-                         f"(fields: {', '.join(sorted(names))})")
+        raise ValueError(
+            f"path {path!r}: {type(obj).__name__} has no field {tok!r} "
+            f"(fields: {', '.join(sorted(names))})"
+        )
     return dataclasses.replace(obj, **{tok: _set(getattr(obj, tok), rest, value, path)})
 
 
@@ -150,11 +174,11 @@ def set_path(obj: Any, path: str, value: Any) -> Any:
 def tip_measure(scene: Any, sol: Any) -> dict:
     """Default per-point record: tip pose, tendon tensions, slacks, displacements."""
     return {
-        "tip_position": np.asarray(sol.tip_position, dtype=float),   # (3,) world [m]
-        "tip_rotation": np.asarray(sol.tip_rotation, dtype=float),   # (3, 3) body-to-world
-        "tension": np.asarray(sol.tension, dtype=float),             # (nt,) [N]
-        "slack": np.asarray(sol.slack, dtype=float),                 # (nt,) [m]
-        "displacement": np.asarray(sol.displacement, dtype=float),   # (nt,) [m]
+        "tip_position": np.asarray(sol.tip_position, dtype=float),  # (3,) world [m]
+        "tip_rotation": np.asarray(sol.tip_rotation, dtype=float),  # (3, 3) body-to-world
+        "tension": np.asarray(sol.tension, dtype=float),  # (nt,) [N]
+        "slack": np.asarray(sol.slack, dtype=float),  # (nt,) [m]
+        "displacement": np.asarray(sol.displacement, dtype=float),  # (nt,) [m]
     }
 
 
@@ -173,8 +197,9 @@ class ComplianceMeasure:
         import tendonrod as tr
 
         out = tip_measure(scene, sol)
-        out["compliance"] = np.stack([np.asarray(tr.compliance(scene, s=s), dtype=float)
-                                      for s in self.s])
+        out["compliance"] = np.stack(
+            [np.asarray(tr.compliance(scene, s=s), dtype=float) for s in self.s]
+        )
         return out
 
 
@@ -227,19 +252,25 @@ class SweepResult:
             return self.data[key]
         if key in self.values:
             return self.values[key]
-        raise KeyError(f"{key!r}: not a recorded quantity ({', '.join(self.data)}) "
-                       f"nor a varied parameter ({', '.join(self.values)})")
+        raise KeyError(
+            f"{key!r}: not a recorded quantity ({', '.join(self.data)}) "
+            f"nor a varied parameter ({', '.join(self.values)})"
+        )
 
     def __repr__(self) -> str:
         ok = int(np.count_nonzero(self.status == STATUS_OK))
-        return (f"SweepResult(shape={self.shape}, names={list(self.names)}, {ok}/{self.status.size} "
-                f"converged, recorded={list(self.data)}, chunksize={self.chunksize})")
+        return (
+            f"SweepResult(shape={self.shape}, names={list(self.names)}, {ok}/{self.status.size} "
+            f"converged, recorded={list(self.data)}, chunksize={self.chunksize})"
+        )
 
     def failures(self) -> list:
         """``[(index tuple, status, message), ...]`` for every point that did not converge."""
         idx = np.argwhere(self.status != STATUS_OK)
-        return [(tuple(int(i) for i in ix), int(self.status[tuple(ix)]), str(self.message[tuple(ix)]))
-                for ix in idx]
+        return [
+            (tuple(int(i) for i in ix), int(self.status[tuple(ix)]), str(self.message[tuple(ix)]))
+            for ix in idx
+        ]
 
 
 # --------------------------------------------------------------------------
@@ -265,7 +296,12 @@ def _run_chunk(task: dict) -> dict:
     """Solve one chunk in order with warm starts; never raises for a point."""
     import tendonrod as tr
 
-    scenes, measure, options, warm = task["scenes"], task["measure"], task["options"], task["warm_start"]
+    scenes, measure, options, warm = (
+        task["scenes"],
+        task["measure"],
+        task["options"],
+        task["warm_start"],
+    )
     records, guess = [], None
     if task.get("batch"):
         # BEGIN batch path (issue 7, tendonrod/batch.py): the whole chunk in one C call
@@ -277,8 +313,15 @@ def _run_chunk(task: dict) -> dict:
         # END batch path (None: this chunk cannot be batched; solve point by point)
     for index, scene in zip(task["indices"], scenes):
         if isinstance(scene, _BuildFailure):  # build failed in the parent: record, go on
-            records.append({"i": index, "status": STATUS_ERROR, "nit": -1,
-                            "message": scene.message, "data": None})
+            records.append(
+                {
+                    "i": index,
+                    "status": STATUS_ERROR,
+                    "nit": -1,
+                    "message": scene.message,
+                    "data": None,
+                }
+            )
             continue
         try:
             if threading.current_thread() is threading.main_thread():
@@ -292,14 +335,27 @@ def _run_chunk(task: dict) -> dict:
                 sol = tr.solve(scene, guess=guess if warm else None, options=options)
             values = {k: np.asarray(v, dtype=float) for k, v in dict(measure(scene, sol)).items()}
             ok = bool(sol.success)
-            records.append({"i": index, "status": STATUS_OK if ok else STATUS_NOT_CONVERGED,
-                            "nit": int(getattr(sol, "nit", -1)), "message": str(sol.message),
-                            "data": {k: v.tolist() for k, v in values.items()}})
+            records.append(
+                {
+                    "i": index,
+                    "status": STATUS_OK if ok else STATUS_NOT_CONVERGED,
+                    "nit": int(getattr(sol, "nit", -1)),
+                    "message": str(sol.message),
+                    "data": {k: v.tolist() for k, v in values.items()},
+                }
+            )
             if ok:
                 guess = sol
         except Exception as exc:  # noqa: BLE001 - a failed point never stops the sweep
-            records.append({"i": index, "status": STATUS_ERROR, "nit": -1,
-                            "message": f"{type(exc).__name__}: {exc}", "data": None})
+            records.append(
+                {
+                    "i": index,
+                    "status": STATUS_ERROR,
+                    "nit": -1,
+                    "message": f"{type(exc).__name__}: {exc}",
+                    "data": None,
+                }
+            )
     return {"chunk": task["chunk"], "records": records}
 
 
@@ -317,9 +373,20 @@ def _fingerprint(base, names, point_values, chunksize, measure, build, options, 
             return (getattr(f, "__module__", ""), f.__qualname__)
         cls = type(f)
         return (cls.__module__, cls.__qualname__, repr(f) if dataclasses.is_dataclass(f) else "")
-    payload = repr((_FORMAT_VERSION, repr(base), list(names),
-                    [[repr(_jsonable(np.asarray(v))) for v in row] for row in point_values],
-                    chunksize, ident(measure), ident(build), repr(options), bool(warm_start)))
+
+    payload = repr(
+        (
+            _FORMAT_VERSION,
+            repr(base),
+            list(names),
+            [[repr(_jsonable(np.asarray(v))) for v in row] for row in point_values],
+            chunksize,
+            ident(measure),
+            ident(build),
+            repr(options),
+            bool(warm_start),
+        )
+    )
     return hashlib.sha256(payload.encode()).hexdigest()
 
 
@@ -330,23 +397,27 @@ def _read_progress(path: str, fingerprint: str, npoints: int) -> dict:
         raw = fh.read()
         good_end = 0
         lines = raw.split(b"\n")
-        complete = lines[:-1]             # the last element follows the last newline
+        complete = lines[:-1]  # the last element follows the last newline
         for n, line in enumerate(complete):
             try:
                 obj = json.loads(line)
             except json.JSONDecodeError:
-                break                      # torn write (killed mid-line): drop it and the rest
+                break  # torn write (killed mid-line): drop it and the rest
             if n == 0:
-                if obj.get("tendonrod_sweep") != _FORMAT_VERSION or obj.get("fingerprint") != fingerprint:
+                if (
+                    obj.get("tendonrod_sweep") != _FORMAT_VERSION
+                    or obj.get("fingerprint") != fingerprint
+                ):
                     raise ValueError(
                         f"path {path!r} holds results of a different sweep (fingerprint "
-                        f"{obj.get('fingerprint')!r}); choose another path or delete the file")
+                        f"{obj.get('fingerprint')!r}); choose another path or delete the file"
+                    )
             else:
                 done[int(obj["chunk"])] = obj["records"]
             good_end += len(line) + 1
         if good_end == 0:
             raise ValueError(f"path {path!r} exists but has no sweep header; not overwriting it")
-        if good_end != len(raw):          # cut the torn tail so appends start on a clean line
+        if good_end != len(raw):  # cut the torn tail so appends start on a clean line
             fh.truncate(good_end)
     return done
 
@@ -357,11 +428,21 @@ def _append(fh, obj: dict) -> None:
     os.fsync(fh.fileno())
 
 
-def sweep(base: Any, vary: Mapping[str, Iterable] | None = None, *, grid: bool = True,
-          build: Callable[..., Any] | None = None, measure: Callable[[Any, Any], Mapping] | None = None,
-          options: Any = None, executor: cf.Executor | None = None, max_workers: int | None = None,
-          chunksize: int | None = None, warm_start: bool = True, path: str | os.PathLike | None = None,
-          progress: bool | None = None) -> SweepResult:
+def sweep(
+    base: Any,
+    vary: Mapping[str, Iterable] | None = None,
+    *,
+    grid: bool = True,
+    build: Callable[..., Any] | None = None,
+    measure: Callable[[Any, Any], Mapping] | None = None,
+    options: Any = None,
+    executor: cf.Executor | None = None,
+    max_workers: int | None = None,
+    chunksize: int | None = None,
+    warm_start: bool = True,
+    path: str | os.PathLike | None = None,
+    progress: bool | None = None,
+) -> SweepResult:
     """Solve ``base`` with parameters varied over a grid (or a list) of points.
 
     Parameters
@@ -404,7 +485,9 @@ def sweep(base: Any, vary: Mapping[str, Iterable] | None = None, *, grid: bool =
     if vary is None:
         vary = {}
     if not isinstance(vary, Mapping):
-        raise TypeError(f"vary must be a mapping name -> sequence of values, got {type(vary).__name__}")
+        raise TypeError(
+            f"vary must be a mapping name -> sequence of values, got {type(vary).__name__}"
+        )
     names = tuple(vary)
     columns = [list(vary[n]) for n in names]
     for n, col in zip(names, columns):
@@ -416,14 +499,16 @@ def sweep(base: Any, vary: Mapping[str, Iterable] | None = None, *, grid: bool =
     else:
         lengths = {len(c) for c in columns}
         if len(lengths) > 1:
-            raise ValueError("grid=False zips the sequences, which need equal lengths; got "
-                             + ", ".join(f"{n}: {len(c)}" for n, c in zip(names, columns)))
+            raise ValueError(
+                "grid=False zips the sequences, which need equal lengths; got "
+                + ", ".join(f"{n}: {len(c)}" for n, c in zip(names, columns))
+            )
         npts = lengths.pop() if lengths else 1
         shape = (npts,)
         point_values = [list(p) for p in zip(*columns)] if names else [[]]
     npoints = len(point_values)
     if chunksize is None:
-        chunksize = (shape[-1] if (grid and shape) else min(npoints, _DEFAULT_LIST_CHUNK))
+        chunksize = shape[-1] if (grid and shape) else min(npoints, _DEFAULT_LIST_CHUNK)
     chunksize = int(chunksize)
     if chunksize < 1:
         raise ValueError(f"chunksize must be >= 1, got {chunksize}")
@@ -439,8 +524,8 @@ def sweep(base: Any, vary: Mapping[str, Iterable] | None = None, *, grid: bool =
             options = tr.Options(tip_only=True)
     if build is None:
         for n in names:
-            _parse_path(n)            # fail early on a malformed path
-            get_path(base, n)         # ... or one that does not exist
+            _parse_path(n)  # fail early on a malformed path
+            get_path(base, n)  # ... or one that does not exist
 
     # the scenes, built in the parent (cheap); a failed build becomes a recorded error
     scenes: list = []
@@ -467,13 +552,30 @@ def sweep(base: Any, vary: Mapping[str, Iterable] | None = None, *, grid: bool =
             fh = open(path, "a", encoding="utf-8")
         else:
             fh = open(path, "w", encoding="utf-8")
-            _append(fh, {"tendonrod_sweep": _FORMAT_VERSION, "fingerprint": fp, "npoints": npoints,
-                         "chunksize": chunksize, "names": list(names), "shape": list(shape)})
+            _append(
+                fh,
+                {
+                    "tendonrod_sweep": _FORMAT_VERSION,
+                    "fingerprint": fp,
+                    "npoints": npoints,
+                    "chunksize": chunksize,
+                    "names": list(names),
+                    "shape": list(shape),
+                },
+            )
 
     todo = [c for c in range(nchunks) if c not in done]
-    tasks = [{"chunk": c, "indices": list(range(c * chunksize, min((c + 1) * chunksize, npoints))),
-              "scenes": scenes[c * chunksize:(c + 1) * chunksize], "measure": measure,
-              "options": options, "warm_start": warm_start} for c in todo]
+    tasks = [
+        {
+            "chunk": c,
+            "indices": list(range(c * chunksize, min((c + 1) * chunksize, npoints))),
+            "scenes": scenes[c * chunksize : (c + 1) * chunksize],
+            "measure": measure,
+            "options": options,
+            "warm_start": warm_start,
+        }
+        for c in todo
+    ]
     # batch path (issue 7): only values of actuation and point loads vary and the record is
     # the default tip measure -> each chunk is one tr.solve_batch call (same chunking and
     # warm starts; with automatic steps bit for bit the per-point path, with a fixed step
@@ -488,11 +590,19 @@ def sweep(base: Any, vary: Mapping[str, Iterable] | None = None, *, grid: bool =
     if progress or progress is None:
         try:
             from tqdm.auto import tqdm
-            bar = tqdm(total=npoints, initial=sum(len(r) for r in done.values()), unit="pt",
-                       desc="sweep", disable=None if progress is None else False)
+
+            bar = tqdm(
+                total=npoints,
+                initial=sum(len(r) for r in done.values()),
+                unit="pt",
+                desc="sweep",
+                disable=None if progress is None else False,
+            )
         except ImportError:
             if progress:
-                warnings.warn("progress=True but tqdm is not installed; running quietly", stacklevel=2)
+                warnings.warn(
+                    "progress=True but tqdm is not installed; running quietly", stacklevel=2
+                )
 
     own = executor is None
     if own and tasks:
@@ -558,7 +668,7 @@ def _assemble(names, shape, point_values, done, npoints, chunksize) -> SweepResu
                 keys.append(k)
                 item_shapes[k] = shp
             elif item_shapes[k] != shp:
-                item_shapes[k] = None        # ragged: stored as objects
+                item_shapes[k] = None  # ragged: stored as objects
     data = {}
     for k in keys:
         if item_shapes[k] is None:
@@ -581,6 +691,13 @@ def _assemble(names, shape, point_values, done, npoints, chunksize) -> SweepResu
             arr = np.empty(npoints, dtype=object)
             arr[:] = [pv[j] for pv in point_values]
             values[n] = arr.reshape(shape)
-    return SweepResult(names=names, shape=tuple(shape), values=values, status=status.reshape(shape),
-                       message=message.reshape(shape), nit=nit.reshape(shape), data=data,
-                       chunksize=chunksize)
+    return SweepResult(
+        names=names,
+        shape=tuple(shape),
+        values=values,
+        status=status.reshape(shape),
+        message=message.reshape(shape),
+        nit=nit.reshape(shape),
+        data=data,
+        chunksize=chunksize,
+    )

@@ -8,6 +8,7 @@ in the direction of F.  Every function broadcasts; no domain checks (the
 tests feed valid designs).  ``k = np.inf`` uses the limit formula written out
 by hand (eq. 25 with k -> inf), never inf arithmetic.
 """
+
 import numpy as np
 
 
@@ -16,6 +17,7 @@ def _f(*xs):
 
 
 # ---------------------------------------------------------------- general (Sec. III)
+
 
 def tension(F, z, L, EI, a, b, k):
     """Eq. 25; k = inf: F (a z^3 + 3 b z^2) / (L (2 a^2 L^2 + 6 a b L + 6 b^2));
@@ -58,8 +60,9 @@ def deflection(s, F, z, L, EI, a, b, k):
 
 def stretch(F, z, L, EI, a, b, tau):
     """Eq. 24: tendon stretch Delta [m] for a given tension."""
-    return (F * a * z**3 / 6 + F * b * z**2 / 2
-            - (a**2 * L**2 / 3 + a * b * L + b**2) * tau * L) / EI
+    return (
+        F * a * z**3 / 6 + F * b * z**2 / 2 - (a**2 * L**2 / 3 + a * b * L + b**2) * tau * L
+    ) / EI
 
 
 def equivalent_stiffness(k, kB):
@@ -92,10 +95,12 @@ def actuation_tension_for_deflection(delta_L, L, EI, a, b):
 
 # ---------------------------------------------------------------- special cases
 
+
 def eq3(s, F, z, EI, r, tau):
     """-EI theta(s) for a parallel tendon, piecewise; returns theta."""
-    return -np.where(s < z, 0.5 * F * s**2 + (r * tau - F * z) * s,
-                     r * tau * s - 0.5 * F * z**2) / EI
+    return (
+        -np.where(s < z, 0.5 * F * s**2 + (r * tau - F * z) * s, r * tau * s - 0.5 * F * z**2) / EI
+    )
 
 
 def eq5(F, z, L, EI, r, k):
@@ -107,8 +112,14 @@ def eq6(F, z, L, EI, r, k):
 
 
 def eq7(s, F, z, EI, r, tau):
-    return -np.where(s < z, F * s**3 / 6 + 0.5 * (r * tau - F * z) * s**2,
-                     0.5 * r * tau * s**2 - 0.5 * F * z**2 * s + F * z**3 / 6) / EI
+    return (
+        -np.where(
+            s < z,
+            F * s**3 / 6 + 0.5 * (r * tau - F * z) * s**2,
+            0.5 * r * tau * s**2 - 0.5 * F * z**2 * s + F * z**3 / 6,
+        )
+        / EI
+    )
 
 
 def eq8(F, z, L, EI, r, k):
@@ -142,8 +153,7 @@ def eq16(F, z, L, EI, r, k_eq):
 
 def eq20(F, z, L, EI, r, k, n):
     P = pattern_factor_sum(n)
-    return (F * z**3 / (3 * EI)
-            - (r**2 * k * z * P / (EI + r**2 * k * L * P)) * F * z**3 / (4 * EI))
+    return F * z**3 / (3 * EI) - (r**2 * k * z * P / (EI + r**2 * k * L * P)) * F * z**3 / (4 * EI)
 
 
 def eq27(F, z, EI, a, b, tau):
@@ -155,21 +165,21 @@ def eq28(F, L, EI, a, b, tau):
 
 
 def eq29(F, z, L, EI, a, b):
-    return (F * z**3 / (3 * EI)
-            - ((a * z + 3 * b)**2 * z / (3 * L * (a**2 * L**2 + 3 * a * b * L + 3 * b**2)))
-            * F * z**3 / (4 * EI))
+    return F * z**3 / (3 * EI) - (
+        (a * z + 3 * b) ** 2 * z / (3 * L * (a**2 * L**2 + 3 * a * b * L + 3 * b**2))
+    ) * F * z**3 / (4 * EI)
 
 
 def eq30(F, L, EI, a, b):
-    return (F * L**3 / (3 * EI)
-            - ((a * L + 3 * b)**2 / (3 * (a**2 * L**2 + 3 * a * b * L + 3 * b**2)))
-            * F * L**3 / (4 * EI))
+    return F * L**3 / (3 * EI) - (
+        (a * L + 3 * b) ** 2 / (3 * (a**2 * L**2 + 3 * a * b * L + 3 * b**2))
+    ) * F * L**3 / (4 * EI)
 
 
 def eq31(F, z, L, EI, b, k):
-    return (F * z**3 / (3 * EI)
-            - ((3 * b * L * z**2 - b * z**3)**2 / (3 * EI + b**2 * k * L))
-            * k * F / (12 * L**2 * EI))
+    return F * z**3 / (3 * EI) - (
+        (3 * b * L * z**2 - b * z**3) ** 2 / (3 * EI + b**2 * k * L)
+    ) * k * F / (12 * L**2 * EI)
 
 
 def eq32(F, L, EI, b, k):
@@ -177,18 +187,20 @@ def eq32(F, L, EI, b, k):
 
 
 def eq33(F, z, L, EI):
-    return F * z**3 / (3 * EI) - (z / L) * ((3 * L - z) / (np.sqrt(3) * L))**2 * F * z**3 / (4 * EI)
+    return F * z**3 / (3 * EI) - (z / L) * ((3 * L - z) / (np.sqrt(3) * L)) ** 2 * F * z**3 / (
+        4 * EI
+    )
 
 
 def eq34(F, L, EI):
-    return F * L**3 / (3 * EI) - (2 * L / (np.sqrt(3) * L))**2 * F * L**3 / (4 * EI)
+    return F * L**3 / (3 * EI) - (2 * L / (np.sqrt(3) * L)) ** 2 * F * L**3 / (4 * EI)
 
 
 def eq36(F, z, L, EI, b, k, n):
     P = pattern_factor_sum(n)
-    return (F * z**3 / (3 * EI)
-            - ((3 * b * L * z**2 - b * z**3)**2 * P / (3 * EI + b**2 * k * L * P))
-            * k * F / (12 * L**2 * EI))
+    return F * z**3 / (3 * EI) - (
+        (3 * b * L * z**2 - b * z**3) ** 2 * P / (3 * EI + b**2 * k * L * P)
+    ) * k * F / (12 * L**2 * EI)
 
 
 def eq37(theta_L, L, EI, r):

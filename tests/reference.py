@@ -9,6 +9,7 @@ tangent angle theta(s) is measured from +z toward +x (rotation about +y); a tend
 angle 0 sits at +x. Closed forms (paper): with the tendon at +x, F > 0 is the world force
 -F e_x and theta, delta are positive in the direction of F (toward -x).
 """
+
 from __future__ import annotations
 
 import math
@@ -23,8 +24,8 @@ from scipy import integrate, optimize, special
 def closed_tension(F, z, L, EI, a, b, k):
     """Eq. 25: tendon tension [N] for a transverse load F at z; k = inf allowed (limit)."""
     F, z, L, EI, a, b, k = map(np.asarray, (F, z, L, EI, a, b, k))
-    num = F * (a * z ** 3 + 3.0 * b * z ** 2)
-    geo = L * (2.0 * a ** 2 * L ** 2 + 6.0 * a * b * L + 6.0 * b ** 2)
+    num = F * (a * z**3 + 3.0 * b * z**2)
+    geo = L * (2.0 * a**2 * L**2 + 6.0 * a * b * L + 6.0 * b**2)
     with np.errstate(divide="ignore", invalid="ignore"):
         finite = k * num / (6.0 * EI + k * geo)
         limit = num / geo
@@ -34,16 +35,16 @@ def closed_tension(F, z, L, EI, a, b, k):
 def closed_angle(s, F, z, L, EI, a, b, tau):
     """Eq. 22: tangent angle theta(s) [rad] (positive toward F) for tension tau."""
     s = np.asarray(s, dtype=float)
-    lo = 0.5 * (F + a * tau) * s ** 2 + (b * tau - F * z) * s
-    hi = 0.5 * a * tau * s ** 2 + b * tau * s - 0.5 * F * z ** 2
+    lo = 0.5 * (F + a * tau) * s**2 + (b * tau - F * z) * s
+    hi = 0.5 * a * tau * s**2 + b * tau * s - 0.5 * F * z**2
     return -np.where(s < z, lo, hi) / EI
 
 
 def closed_deflection(s, F, z, L, EI, a, b, tau):
     """Eq. 26: deflection delta(s) [m] (positive toward F) for tension tau."""
     s = np.asarray(s, dtype=float)
-    lo = (F + a * tau) * s ** 3 / 6.0 + 0.5 * (b * tau - F * z) * s ** 2
-    hi = a * tau * s ** 3 / 6.0 + 0.5 * b * tau * s ** 2 - 0.5 * F * z ** 2 * s + F * z ** 3 / 6.0
+    lo = (F + a * tau) * s**3 / 6.0 + 0.5 * (b * tau - F * z) * s**2
+    hi = a * tau * s**3 / 6.0 + 0.5 * b * tau * s**2 - 0.5 * F * z**2 * s + F * z**3 / 6.0
     return -np.where(s < z, lo, hi) / EI
 
 
@@ -51,7 +52,7 @@ def sloped_closed_params(slope, offset, EA_tendon, L):
     """Exact small-load parameters (a, b, k) for a sloped tendon (MODEL.md "Links to the
     closed forms"): the moment arm and the stretch both see r/c, c = sqrt(1 + a^2), and the
     spring constant is EA/(c L) (tendon reference length c L)."""
-    c = math.sqrt(1.0 + slope ** 2)
+    c = math.sqrt(1.0 + slope**2)
     k = math.inf if math.isinf(EA_tendon) else EA_tendon / (c * L)
     return slope / c, offset / c, k
 
@@ -175,7 +176,7 @@ class PlanarKirchhoffRobot:
         """Total section force on (s, L] for s within a segment ending at s_next."""
         Nx = self.fx * (self.L - s)
         Nz = self.fz * (self.L - s)
-        for (zk, Fx, Fz, _My) in self.loads:
+        for zk, Fx, Fz, _My in self.loads:
             if zk >= s_next and zk > 0.0:
                 Nx += Fx
                 Nz += Fz
@@ -186,7 +187,13 @@ class PlanarKirchhoffRobot:
         act = [(t, taus[i]) for i, t in enumerate(self.tendons) if s < t["end"]]
         kap = M / EI
         for t, tau in act:
-            kap += tau * t["sign"] * (t["slope"] * s + t["offset"]) / math.sqrt(1 + t["slope"] ** 2) / EI
+            kap += (
+                tau
+                * t["sign"]
+                * (t["slope"] * s + t["offset"])
+                / math.sqrt(1 + t["slope"] ** 2)
+                / EI
+            )
         for _ in range(50):
             f, df = EI * kap - M, EI
             for t, tau in act:
@@ -195,7 +202,7 @@ class PlanarKirchhoffRobot:
                 u = 1.0 - rho * kap
                 h = math.sqrt(u * u + a * a)
                 f -= tau * rho * u / h
-                df += tau * rho * rho * a * a / h ** 3
+                df += tau * rho * rho * a * a / h**3
             step = f / df
             kap -= step
             if abs(step) <= 1e-16 * (abs(kap) + 1.0 / self.L):
@@ -219,7 +226,7 @@ class PlanarKirchhoffRobot:
 
     def taus_from(self, x):
         taus = np.zeros(len(self.tendons))
-        scale = self.EI / self.L ** 2
+        scale = self.EI / self.L**2
         for i, t in enumerate(self.tendons):
             if "tau" in t:
                 taus[i] = t["tau"]
@@ -238,15 +245,23 @@ class PlanarKirchhoffRobot:
             tev = None
             if nodes is not None:
                 tev = [sn for sn in nodes if sa <= sn <= sb and (sn < sb or sb == self.L)]
-            sol = integrate.solve_ivp(self._rhs, (sa, sb), y, method="DOP853", rtol=rtol,
-                                      atol=1e-15 * max(1.0, abs(M0)), args=(taus, sb),
-                                      t_eval=tev if tev else None, dense_output=False)
+            sol = integrate.solve_ivp(
+                self._rhs,
+                (sa, sb),
+                y,
+                method="DOP853",
+                rtol=rtol,
+                atol=1e-15 * max(1.0, abs(M0)),
+                args=(taus, sb),
+                t_eval=tev if tev else None,
+                dense_output=False,
+            )
             if not sol.success:
                 raise RuntimeError(sol.message)
             if tev:
                 out.extend(sol.y.T)
             y = sol.y[:, -1].copy()
-            for (zk, _Fx, _Fz, My) in self.loads:
+            for zk, _Fx, _Fz, My in self.loads:
                 if zk == sb and sb < self.L:
                     y[3] -= My
         return y, (np.array(out) if out is not None else None)
@@ -271,13 +286,21 @@ class PlanarKirchhoffRobot:
         x0 = [M0_guess * L / EI]
         for j, i in enumerate(self.unknown_tendons):
             tg = 0.0 if tau_guess is None else tau_guess[j]
-            x0.append(tg / (EI / L ** 2))
-        r = optimize.root(self.residual, np.array(x0), method="hybr",
-                          options={"xtol": 1e-14, "maxfev": 2000})
+            x0.append(tg / (EI / L**2))
+        r = optimize.root(
+            self.residual, np.array(x0), method="hybr", options={"xtol": 1e-14, "maxfev": 2000}
+        )
         if np.max(np.abs(r.fun)) > 1e-11:  # hybr may stall *at* the root; judge by residual
             raise RuntimeError(f"reference shooting failed: {r.message}, residual {r.fun}")
         M0 = r.x[0] * EI / L
         taus = self.taus_from(r.x)
         y, ys = self.integrate(M0, taus, nodes=nodes)
-        return {"x": y[0], "z": y[1], "theta": y[2], "M0": M0, "tension": taus,
-                "path_length": y[4:], "nodes": ys}
+        return {
+            "x": y[0],
+            "z": y[1],
+            "theta": y[2],
+            "M0": M0,
+            "tension": taus,
+            "path_length": y[4:],
+            "nodes": ys,
+        }

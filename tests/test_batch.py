@@ -1,5 +1,6 @@
 """tr.solve_batch: batch solves of one design against individual tr.solve calls and
 closed forms; failure isolation, argument checking, determinism, threads."""
+
 import dataclasses
 import math
 import threading
@@ -33,9 +34,12 @@ def spatial_scene():
     """Three tendons at 120 deg: tendon 0 retracted to a ~90 deg bend, the other two
     tension-controlled (zero tension); a tip load and a mid-length load."""
     tens = [tr.Tendon(offset=R_OFF, angle=2 * math.pi * i / 3) for i in range(3)]
-    return tr.Scene(tr.Robot(ROD, tens), displacement=[R_OFF * math.pi / 2, None, None],
-                    tension=[None, 0.0, 0.0],
-                    loads=[tr.PointLoad(s=L, force=(0, 0, 0)), tr.PointLoad(s=L / 2, force=(0, 0, 0))])
+    return tr.Scene(
+        tr.Robot(ROD, tens),
+        displacement=[R_OFF * math.pi / 2, None, None],
+        tension=[None, 0.0, 0.0],
+        loads=[tr.PointLoad(s=L, force=(0, 0, 0)), tr.PointLoad(s=L / 2, force=(0, 0, 0))],
+    )
 
 
 def with_point(scene, forces=None, moments=None, displacement=None, tension=None):
@@ -54,10 +58,16 @@ def with_point(scene, forces=None, moments=None, displacement=None, tension=None
     if displacement is not None or tension is not None:
         it_d = iter(displacement if displacement is not None else [])
         it_t = iter(tension if tension is not None else [])
-        disp = [(float(next(it_d)) if displacement is not None else scene.displacement[i]) if c else None
-                for i, c in enumerate(ctl)]
-        ten = [None if c else (float(next(it_t)) if tension is not None else scene.tension[i])
-               for i, c in enumerate(ctl)]
+        disp = [
+            (float(next(it_d)) if displacement is not None else scene.displacement[i])
+            if c
+            else None
+            for i, c in enumerate(ctl)
+        ]
+        ten = [
+            None if c else (float(next(it_t)) if tension is not None else scene.tension[i])
+            for i, c in enumerate(ctl)
+        ]
         kw.update(displacement=disp, tension=ten)
     return dataclasses.replace(scene, **kw)
 
@@ -78,7 +88,9 @@ def test_planar_forces_match_individual_solves():
         np.testing.assert_allclose(res.tip_position[p], sol.tip_position, rtol=0, atol=TIP_TOL)
         np.testing.assert_allclose(res.tip_rotation[p], sol.tip_rotation, rtol=0, atol=1e-8)
         # tension [N]: relative to the load scale EI/(r L) (~2 N), same 1e-8 band
-        np.testing.assert_allclose(res.tension[p], sol.tension, rtol=0, atol=1e-8 * EI / (R_OFF * L))
+        np.testing.assert_allclose(
+            res.tension[p], sol.tension, rtol=0, atol=1e-8 * EI / (R_OFF * L)
+        )
         np.testing.assert_allclose(res.displacement[p], sol.displacement, rtol=0, atol=1e-12)
     assert all("converged" in m for m in res.message)
 
@@ -89,9 +101,9 @@ def test_spatial_loads_and_actuation_match_individual_solves(steps):
     n = 10
     rng = np.random.default_rng(7)
     F = np.zeros((n, 2, 3))
-    F[:, 0, :2] = np.cumsum(rng.uniform(-0.02, 0.02, (n, 2)), axis=0)   # a random walk
+    F[:, 0, :2] = np.cumsum(rng.uniform(-0.02, 0.02, (n, 2)), axis=0)  # a random walk
     M = np.zeros((n, 2, 3))
-    M[:, 1, 2] = np.linspace(0.0, 2e-3, n)                              # twist at mid-length
+    M[:, 1, 2] = np.linspace(0.0, 2e-3, n)  # twist at mid-length
     q = np.linspace(0.9, 1.1, n)[:, None] * (R_OFF * math.pi / 2)
     tau = np.column_stack([np.linspace(0.0, 0.1, n), np.zeros(n)])
     opts = tr.Options(steps=steps)
@@ -102,7 +114,9 @@ def test_spatial_loads_and_actuation_match_individual_solves(steps):
         sc = with_point(scene, forces=F[p], moments=M[p], displacement=q[p], tension=tau[p])
         sol = tr.solve(sc, options=dataclasses.replace(opts, tip_only=True))
         np.testing.assert_allclose(res.tip_position[p], sol.tip_position, rtol=0, atol=TIP_TOL)
-        np.testing.assert_allclose(res.tension[p], sol.tension, rtol=0, atol=1e-8 * EI / (R_OFF * L))
+        np.testing.assert_allclose(
+            res.tension[p], sol.tension, rtol=0, atol=1e-8 * EI / (R_OFF * L)
+        )
         np.testing.assert_allclose(res.slack[p], sol.slack, rtol=0, atol=1e-8 * L)
         # the prescribed values come back as given
         assert res.displacement[p, 0] == q[p, 0]
@@ -114,13 +128,15 @@ def test_pure_end_moment_is_an_exact_circle():
     (no internal force, so shear and extension stay zero): tip (1 - cos k L)/k, sin(k L)/k.
     Integration truncation (rk8, verified steps) keeps the tip within ~1e-10 L."""
     scene = tr.Scene(tr.Robot(ROD, []), loads=[tr.PointLoad(s=L, moment=(0, 0, 0))])
-    theta = np.linspace(0.1, 1.5 * math.pi, 15)            # bend angle k L
+    theta = np.linspace(0.1, 1.5 * math.pi, 15)  # bend angle k L
     M = np.zeros((theta.size, 1, 3))
     M[:, 0, 1] = theta * EI / L
     res = tr.solve_batch(scene, moments=M)
     assert res.success.all(), res.failures()
     k = theta / L
-    np.testing.assert_allclose(np.abs(res.tip_position[:, 0]), (1 - np.cos(k * L)) / k, rtol=0, atol=1e-9 * L)
+    np.testing.assert_allclose(
+        np.abs(res.tip_position[:, 0]), (1 - np.cos(k * L)) / k, rtol=0, atol=1e-9 * L
+    )
     np.testing.assert_allclose(res.tip_position[:, 2], np.sin(k * L) / k, rtol=0, atol=1e-9 * L)
     np.testing.assert_allclose(res.tip_position[:, 1], 0.0, atol=1e-15)
 
@@ -130,7 +146,7 @@ def test_failed_point_is_isolated_with_its_message():
     n = 9
     F = np.zeros((n, 1, 3))
     F[:, 0, 0] = np.linspace(0.0, 0.2, n)
-    F[4, 0, 0] = 1e4          # FL^2/EI ~ 1e5: no converged solve within these caps
+    F[4, 0, 0] = 1e4  # FL^2/EI ~ 1e5: no converged solve within these caps
     opts = tr.Options(continuation=False, max_iter=15, max_nfev=200)
     res = tr.solve_batch(scene, forces=F, options=opts)
     assert res.status[4] < 0 and not res.success[4]
@@ -138,24 +154,30 @@ def test_failed_point_is_isolated_with_its_message():
     assert [i for i, _, _ in res.failures()] == [4]
     good = [p for p in range(n) if p != 4]
     assert res.success[good].all()
-    for p in (3, 5, 8):     # the neighbours of the failed point are unaffected
+    for p in (3, 5, 8):  # the neighbours of the failed point are unaffected
         sol = tr.solve(with_point(scene, forces=F[p]), options=tr.Options(tip_only=True))
         np.testing.assert_allclose(res.tip_position[p], sol.tip_position, rtol=0, atol=TIP_TOL)
 
 
-@pytest.mark.parametrize("kw, name", [
-    ({"forces": np.zeros((4, 2, 3))}, "forces"),          # scene has one point load
-    ({"forces": np.zeros((4, 3))}, "forces"),
-    ({"moments": np.zeros((4, 1, 2))}, "moments"),
-    ({"displacement": np.zeros((4, 2))}, "displacement"),  # one displacement-controlled tendon
-    ({"tension": np.zeros((4, 1))}, "tension"),            # none tension-controlled
-    ({"distributed": np.zeros((4, 2))}, "distributed"),
-    ({"forces": np.zeros((4, 1, 3)), "displacement": np.zeros((5, 1))}, r"forces must have shape \(5, 1, 3\)"),
-    ({"forces": np.full((2, 1, 3), np.nan)}, "forces"),
-    ({}, "at least one"),
-    ({"forces": np.zeros((2, 1, 3)), "threads": 0}, "threads"),
-    ({"forces": np.zeros((2, 1, 3)), "chunksize": 0}, "chunksize"),
-])
+@pytest.mark.parametrize(
+    "kw, name",
+    [
+        ({"forces": np.zeros((4, 2, 3))}, "forces"),  # scene has one point load
+        ({"forces": np.zeros((4, 3))}, "forces"),
+        ({"moments": np.zeros((4, 1, 2))}, "moments"),
+        ({"displacement": np.zeros((4, 2))}, "displacement"),  # one displacement-controlled tendon
+        ({"tension": np.zeros((4, 1))}, "tension"),  # none tension-controlled
+        ({"distributed": np.zeros((4, 2))}, "distributed"),
+        (
+            {"forces": np.zeros((4, 1, 3)), "displacement": np.zeros((5, 1))},
+            r"forces must have shape \(5, 1, 3\)",
+        ),
+        ({"forces": np.full((2, 1, 3), np.nan)}, "forces"),
+        ({}, "at least one"),
+        ({"forces": np.zeros((2, 1, 3)), "threads": 0}, "threads"),
+        ({"forces": np.zeros((2, 1, 3)), "chunksize": 0}, "chunksize"),
+    ],
+)
 def test_bad_arguments_are_named(kw, name):
     with pytest.raises(ValueError, match=name):
         tr.solve_batch(planar_scene(), **kw)
@@ -170,7 +192,7 @@ def test_out_of_plane_points_switch_the_whole_batch_to_spatial():
     scene = planar_scene()
     F = np.zeros((4, 1, 3))
     F[:, 0, 0] = 0.1
-    F[2, 0, 1] = 0.05                     # one point leaves the x-z plane
+    F[2, 0, 1] = 0.05  # one point leaves the x-z plane
     res = tr.solve_batch(scene, forces=F)
     assert not res.formulation["planar"] and res.success.all()
     for p in (1, 2):
@@ -187,10 +209,10 @@ def test_deterministic_and_independent_of_threads():
     b = tr.solve_batch(scene, forces=F, chunksize=6)
     c = tr.solve_batch(scene, forces=F, chunksize=6, threads=2)
     for r in (b, c):
-        assert np.array_equal(a.tip_position, r.tip_position)   # bitwise
+        assert np.array_equal(a.tip_position, r.tip_position)  # bitwise
         assert np.array_equal(a.tension, r.tension)
         assert np.array_equal(a.nit, r.nit)
-    assert a.cold.sum() == 4              # one cold start per chunk
+    assert a.cold.sum() == 4  # one cold start per chunk
     # another chunking gives the same equilibria to the solver tolerance
     d = tr.solve_batch(scene, forces=F, chunksize=24)
     np.testing.assert_allclose(a.tip_position, d.tip_position, rtol=0, atol=TIP_TOL)
@@ -221,7 +243,9 @@ def test_value_dependent_scene_is_solved_point_by_point():
     point; the 'no equilibrium' point (both retracted) fails alone, the others (net
     release, sum q < 0) solve."""
     rod = dataclasses.replace(ROD, kirchhoff=True)
-    robot = tr.Robot(rod, [tr.Tendon(offset=R_OFF, angle=0.0), tr.Tendon(offset=R_OFF, angle=math.pi)])
+    robot = tr.Robot(
+        rod, [tr.Tendon(offset=R_OFF, angle=0.0), tr.Tendon(offset=R_OFF, angle=math.pi)]
+    )
     scene = tr.Scene(robot, displacement=[0.002, -0.003])
     q = np.array([[0.002, -0.003], [0.003, -0.004], [0.001, 0.001], [0.004, -0.005]])
     with warnings.catch_warnings():
@@ -256,9 +280,10 @@ def test_sweep_uses_the_batch_path_bitwise(monkeypatch):
     calls = []
     real = solver_mod._core.solve
     monkeypatch.setattr(solver_mod._core, "solve", lambda *a, **k: calls.append(1) or real(*a, **k))
-    res = tr.sweep(scene, {"displacement[0]": qs, "loads[0].force": forces}, progress=False,
-                   max_workers=2)
-    assert not calls                     # every chunk went through the batch
+    res = tr.sweep(
+        scene, {"displacement[0]": qs, "loads[0].force": forces}, progress=False, max_workers=2
+    )
+    assert not calls  # every chunk went through the batch
     assert res.success.all()
     tip = res["tip_position"].reshape(-1, 3)
     ten = res["tension"].reshape(-1, 3)
@@ -286,13 +311,15 @@ def test_lean_loop_without_recording_pass():
     lean = ~b.cold
     assert lean.sum() >= n - 2
     assert np.isnan(b.displacement[lean][:, 1:]).all()
-    assert np.array_equal(b.displacement[:, 0], a.displacement[:, 0])   # prescribed q
+    assert np.array_equal(b.displacement[:, 0], a.displacement[:, 0])  # prescribed q
     assert b.nfev[lean].sum() < a.nfev[lean].sum()
     # the lean loop reaches the tolerance it was given (scaled residual max-norm)
     assert np.all(b.residual_norm <= 3e-9)
     # and agrees with individual fixed-step solves to that tolerance (tip within ~tol L)
     for p in (1, 15, 29):
-        sol = tr.solve(with_point(scene, forces=F[p]), options=dataclasses.replace(opts, tip_only=True))
+        sol = tr.solve(
+            with_point(scene, forces=F[p]), options=dataclasses.replace(opts, tip_only=True)
+        )
         np.testing.assert_allclose(b.tip_position[p], sol.tip_position, rtol=0, atol=TIP_TOL)
 
 
@@ -305,8 +332,9 @@ def test_all_displacement_controlled_scene_keeps_displacements():
     assert res.success.all()
     assert np.array_equal(res.displacement, q)
     for p in (3, 19):
-        sol = tr.solve(with_point(scene, displacement=q[p]),
-                       options=tr.Options(steps=6, tip_only=True))
+        sol = tr.solve(
+            with_point(scene, displacement=q[p]), options=tr.Options(steps=6, tip_only=True)
+        )
         np.testing.assert_allclose(res.tip_position[p], sol.tip_position, rtol=0, atol=TIP_TOL)
 
 
@@ -325,8 +353,9 @@ def test_sweep_with_fixed_steps_uses_the_lean_loop():
     scene = spatial_scene()
     forces = [(fx, 0.01, 0.0) for fx in np.linspace(-0.05, 0.05, 12)]
     opts = tr.Options(steps=6, tip_only=True)
-    res = tr.sweep(scene, {"loads[0].force": forces}, grid=False, chunksize=12, options=opts,
-                   progress=False)
+    res = tr.sweep(
+        scene, {"loads[0].force": forces}, grid=False, chunksize=12, options=opts, progress=False
+    )
     assert res.success.all()
     guess, loop_nit = None, 0
     for p, f in enumerate(forces):
@@ -335,4 +364,4 @@ def test_sweep_with_fixed_steps_uses_the_lean_loop():
         loop_nit += sol.nit
         np.testing.assert_allclose(res["tip_position"][p], sol.tip_position, rtol=0, atol=TIP_TOL)
         np.testing.assert_allclose(res["displacement"][p], sol.displacement, rtol=0, atol=1e-8 * L)
-    assert res.nit.sum() < loop_nit      # predictor + carried Jacobian: fewer iterations
+    assert res.nit.sum() < loop_nit  # predictor + carried Jacobian: fewer iterations

@@ -13,6 +13,7 @@ solver reports:
   - a failure has a message that says what to do, and strict=True raises
     ConvergenceError.
 """
+
 import math
 import os
 import pickle
@@ -34,7 +35,7 @@ NFEV_SLACK = 32
 
 ROD = dict(length=0.2, diameter=0.8e-3, E=207e9, G=79.6e9)
 L = ROD["length"]
-EI = 207e9 * math.pi * 0.8e-3 ** 4 / 64
+EI = 207e9 * math.pi * 0.8e-3**4 / 64
 
 
 def _k():
@@ -49,9 +50,10 @@ def cases():
     """name -> (scene, options).  Pathological on purpose."""
     one = tr.Robot(_k(), [tr.Tendon(offset=0.01)])
     two = tr.Robot(_k(), [tr.Tendon(offset=0.01), tr.Tendon(offset=0.01, angle=math.pi)])
-    cos3 = tr.Robot(_c(), [tr.Tendon(offset=0.01, angle=2 * math.pi * i / 3, EA=2e4)
-                           for i in range(3)])
-    P_euler = math.pi ** 2 * EI / (4 * L ** 2)
+    cos3 = tr.Robot(
+        _c(), [tr.Tendon(offset=0.01, angle=2 * math.pi * i / 3, EA=2e4) for i in range(3)]
+    )
+    P_euler = math.pi**2 * EI / (4 * L**2)
     tight = tr.Options(max_iter=5, max_nfev=200, max_continuation=3)
     return {
         # the tendon would have to be shorter than zero: no equilibrium
@@ -62,37 +64,70 @@ def cases():
         "opposing pair pulled": (tr.Scene(two, displacement=[0.001, 0.001]), tr.Options()),
         "opposing pair at zero": (tr.Scene(two, displacement=[0.0, 0.0]), tr.Options()),
         # 100x the buckling load, straight down, with a tiny lateral push
-        "far past buckling": (tr.Scene(one, displacement=[0.0],
-                                       loads=[tr.PointLoad(s=L, force=(1e-6, 0, -100 * P_euler))]),
-                              tr.Options()),
+        "far past buckling": (
+            tr.Scene(
+                one, displacement=[0.0], loads=[tr.PointLoad(s=L, force=(1e-6, 0, -100 * P_euler))]
+            ),
+            tr.Options(),
+        ),
         # tensile load with L sqrt(T/EI) = 40 and a lateral load: single shooting's bane
-        "stiff tensile": (tr.Scene(one, displacement=[0.004],
-                                   loads=[tr.PointLoad(s=L, force=(0.5, 0, 1600 * EI / L ** 2))]),
-                          tr.Options()),
+        "stiff tensile": (
+            tr.Scene(
+                one,
+                displacement=[0.004],
+                loads=[tr.PointLoad(s=L, force=(0.5, 0, 1600 * EI / L**2))],
+            ),
+            tr.Options(),
+        ),
         # fixed steps: with automatic steps this scene takes 164 s (finding F13)
-        "huge force": (tr.Scene(cos3, displacement=[0.003, 0.0, 0.0],
-                                loads=[tr.PointLoad(s=L, force=(1e6, -1e6, 1e6),
-                                                    moment=(1e3, 0, -1e3))]), tr.Options(steps=64)),
+        "huge force": (
+            tr.Scene(
+                cos3,
+                displacement=[0.003, 0.0, 0.0],
+                loads=[tr.PointLoad(s=L, force=(1e6, -1e6, 1e6), moment=(1e3, 0, -1e3))],
+            ),
+            tr.Options(steps=64),
+        ),
         "huge tension": (tr.Scene(one, tension=[1e9]), tr.Options()),
-        "tiny rod": (tr.Scene(tr.Robot(tr.Rod(length=1e-6, diameter=1e-7, E=1e9, G=4e8,
-                                              kirchhoff=True), [tr.Tendon(offset=4e-8)]),
-                              displacement=[1e-8], loads=[tr.PointLoad(s=1e-6, force=(1e-3, 0, 0))]),
-                     tr.Options()),
-        "unreachable tol": (tr.Scene(cos3, displacement=[0.003, 0.001, 0.0],
-                                     loads=[tr.PointLoad(s=L, force=(0.1, 0.2, 0))]),
-                            tr.Options(tol=1e-300, max_iter=20)),
-        "tight caps, hard scene": (tr.Scene(one, displacement=[0.03],
-                                            loads=[tr.PointLoad(s=L, force=(-2, 0, 0))]), tight),
-        "one evaluation": (tr.Scene(cos3, displacement=[0.01, 0.0, 0.0],
-                                    loads=[tr.PointLoad(s=L, force=(0, 1, 0))]),
-                           tr.Options(max_nfev=1)),
-        "adaptive, tight rtol": (tr.Scene(cos3, displacement=[0.01, 0.0, 0.0],
-                                          loads=[tr.PointLoad(s=L, force=(0, 1, 0))]),
-                                 tr.Options(integrator="adaptive", rtol=1e-14, max_nfev=200)),  # tightest accepted (F14)
-        "many continuation stages": (tr.Scene(two, displacement=[0.05, 0.0],
-                                              loads=[tr.PointLoad(s=L, force=(5, 0, -5))]),
-                                     tr.Options(max_iter=3, max_continuation=1000,
-                                                max_nfev=2000)),
+        "tiny rod": (
+            tr.Scene(
+                tr.Robot(
+                    tr.Rod(length=1e-6, diameter=1e-7, E=1e9, G=4e8, kirchhoff=True),
+                    [tr.Tendon(offset=4e-8)],
+                ),
+                displacement=[1e-8],
+                loads=[tr.PointLoad(s=1e-6, force=(1e-3, 0, 0))],
+            ),
+            tr.Options(),
+        ),
+        "unreachable tol": (
+            tr.Scene(
+                cos3,
+                displacement=[0.003, 0.001, 0.0],
+                loads=[tr.PointLoad(s=L, force=(0.1, 0.2, 0))],
+            ),
+            tr.Options(tol=1e-300, max_iter=20),
+        ),
+        "tight caps, hard scene": (
+            tr.Scene(one, displacement=[0.03], loads=[tr.PointLoad(s=L, force=(-2, 0, 0))]),
+            tight,
+        ),
+        "one evaluation": (
+            tr.Scene(
+                cos3, displacement=[0.01, 0.0, 0.0], loads=[tr.PointLoad(s=L, force=(0, 1, 0))]
+            ),
+            tr.Options(max_nfev=1),
+        ),
+        "adaptive, tight rtol": (
+            tr.Scene(
+                cos3, displacement=[0.01, 0.0, 0.0], loads=[tr.PointLoad(s=L, force=(0, 1, 0))]
+            ),
+            tr.Options(integrator="adaptive", rtol=1e-14, max_nfev=200),
+        ),  # tightest accepted (F14)
+        "many continuation stages": (
+            tr.Scene(two, displacement=[0.05, 0.0], loads=[tr.PointLoad(s=L, force=(5, 0, -5))]),
+            tr.Options(max_iter=3, max_continuation=1000, max_nfev=2000),
+        ),
     }
 
 
@@ -124,11 +159,18 @@ def run_isolated(scene, options):
     env = dict(os.environ)
     env["PYTHONPATH"] = root + (os.pathsep + env["PYTHONPATH"] if env.get("PYTHONPATH") else "")
     try:
-        p = subprocess.run([sys.executable, "-c", RUNNER], input=pickle.dumps((scene, options)),
-                           capture_output=True, env=env, timeout=HANG_GUARD)
+        p = subprocess.run(
+            [sys.executable, "-c", RUNNER],
+            input=pickle.dumps((scene, options)),
+            capture_output=True,
+            env=env,
+            timeout=HANG_GUARD,
+        )
     except subprocess.TimeoutExpired:
         pytest.fail(f"solve did not return within {HANG_GUARD} s: unbounded work")
-    assert p.returncode == 0, f"the solve crashed (exit {p.returncode}):\n{p.stderr.decode()[-3000:]}"
+    assert p.returncode == 0, (
+        f"the solve crashed (exit {p.returncode}):\n{p.stderr.decode()[-3000:]}"
+    )
     return pickle.loads(p.stdout)
 
 
@@ -174,11 +216,16 @@ def test_max_nfev_holds_with_singular_jacobians(max_nfev):
     """Three identical displacement-controlled tendons (a singular Jacobian),
     found by the fuzzer: the evaluation cap must still hold."""
     Lf = 0.071038186956448798
-    rob = tr.Robot(tr.Rod(length=Lf, EI=0.0181125, GJ=0.00084, EA=25000, GA=10000),
-                   [tr.Tendon(offset=0.0025)] * 3)
-    sc = tr.Scene(rob, displacement=[0.00125] * 3,
-                  loads=[tr.PointLoad(s=0.025, force=(0.125,) * 3, moment=(0.0025,) * 3)] * 4
-                  + [tr.DistributedLoad(force=(0.125,) * 3)])
+    rob = tr.Robot(
+        tr.Rod(length=Lf, EI=0.0181125, GJ=0.00084, EA=25000, GA=10000),
+        [tr.Tendon(offset=0.0025)] * 3,
+    )
+    sc = tr.Scene(
+        rob,
+        displacement=[0.00125] * 3,
+        loads=[tr.PointLoad(s=0.025, force=(0.125,) * 3, moment=(0.0025,) * 3)] * 4
+        + [tr.DistributedLoad(force=(0.125,) * 3)],
+    )
     opts = tr.Options(max_nfev=max_nfev, max_continuation=13)
     r = run_isolated(sc, opts)
     assert "refused" not in r
@@ -208,9 +255,16 @@ def test_huge_steps_refused_or_bounded():
     env = dict(os.environ)
     env["PYTHONPATH"] = root + (os.pathsep + env["PYTHONPATH"] if env.get("PYTHONPATH") else "")
     try:
-        p = subprocess.run([sys.executable, "-c", STEPS_RUNNER], capture_output=True, text=True,
-                           env=env, timeout=10 * float(os.environ.get("TR_HANG_GUARD_SCALE", "1")))
+        p = subprocess.run(
+            [sys.executable, "-c", STEPS_RUNNER],
+            capture_output=True,
+            text=True,
+            env=env,
+            timeout=10 * float(os.environ.get("TR_HANG_GUARD_SCALE", "1")),
+        )
     except subprocess.TimeoutExpired:
         pytest.fail("Options(steps=10**9, max_nfev=50): the solve did not return within 10 s")
     assert p.returncode == 0, p.stderr
-    assert p.stdout.startswith("returned") or ("refused" in p.stdout and "steps" in p.stdout), p.stdout
+    assert p.stdout.startswith("returned") or ("refused" in p.stdout and "steps" in p.stdout), (
+        p.stdout
+    )

@@ -1,5 +1,6 @@
 """C-level regression tests of the core, built straight from csrc/ (no Python glue)
 with the same compiler and GSL flags the extension uses."""
+
 import pathlib
 import shlex
 import shutil
@@ -18,8 +19,10 @@ def _gsl_flags():
         if c.returncode == 0 and l.returncode == 0:
             return shlex.split(c.stdout), shlex.split(l.stdout)
     if shutil.which("gsl-config"):
-        return (shlex.split(subprocess.check_output(["gsl-config", "--cflags"], text=True)),
-                shlex.split(subprocess.check_output(["gsl-config", "--libs"], text=True)))
+        return (
+            shlex.split(subprocess.check_output(["gsl-config", "--cflags"], text=True)),
+            shlex.split(subprocess.check_output(["gsl-config", "--libs"], text=True)),
+        )
     pytest.skip("GSL flags not found (pkg-config / gsl-config)")
 
 
@@ -34,8 +37,22 @@ def build(tmp_path_factory):
     def _build(test_c):
         exe = out / pathlib.Path(test_c).stem
         srcs = [str(p) for p in sorted(CSRC.glob("*.c"))]
-        cmd = [cc, "-std=c99", "-O1", "-g", "-Wall", "-I", str(CSRC), *cflags, str(test_c), *srcs,
-               "-o", str(exe), *libs, "-lm"]
+        cmd = [
+            cc,
+            "-std=c99",
+            "-O1",
+            "-g",
+            "-Wall",
+            "-I",
+            str(CSRC),
+            *cflags,
+            str(test_c),
+            *srcs,
+            "-o",
+            str(exe),
+            *libs,
+            "-lm",
+        ]
         r = subprocess.run(cmd, capture_output=True, text=True)
         assert r.returncode == 0, r.stderr
         return exe

@@ -1,5 +1,6 @@
 """Command line: --help everywhere, exit codes 0 / 1 / 2, messages naming the key of a
 malformed scene file (left untouched), solve outputs, figures, bench dispatch."""
+
 import json
 import math
 import os
@@ -34,22 +35,29 @@ def test_help(argv, capsys):
 
 def test_module_entry_point_help():
     # the real `python -m tendonrod` (one subprocess; the rest run in-process)
-    p = subprocess.run([sys.executable, "-m", "tendonrod", "--help"], capture_output=True, text=True)
-    assert p.returncode == 0 and "solve" in p.stdout and "figures" in p.stdout and "bench" in p.stdout
+    p = subprocess.run(
+        [sys.executable, "-m", "tendonrod", "--help"], capture_output=True, text=True
+    )
+    assert (
+        p.returncode == 0 and "solve" in p.stdout and "figures" in p.stdout and "bench" in p.stdout
+    )
 
 
 def test_usage_errors_exit_2(capsys):
     assert run_main([], capsys)[0] == 2
     assert run_main(["nonsense"], capsys)[0] == 2
-    assert run_main(["solve", "x.toml"], capsys)[0] == 2        # --out missing
+    assert run_main(["solve", "x.toml"], capsys)[0] == 2  # --out missing
 
 
-@pytest.mark.parametrize("edit, key", [
-    (("length = 0.2          # [m]\n", ""), "rod.length"),                          # missing key
-    (("offset = 0.01 ", 'offset = "1cm" '), "tendon[0].offset"),                   # wrong type
-    (("s = 0.2 ", "s = 0.5 "), "load[0].s"),                                       # bad value
-    (("EA = inf ", "EA = -1.0 "), "tendon[0]"),                                    # bad value (library)
-])
+@pytest.mark.parametrize(
+    "edit, key",
+    [
+        (("length = 0.2          # [m]\n", ""), "rod.length"),  # missing key
+        (("offset = 0.01 ", 'offset = "1cm" '), "tendon[0].offset"),  # wrong type
+        (("s = 0.2 ", "s = 0.5 "), "load[0].s"),  # bad value
+        (("EA = inf ", "EA = -1.0 "), "tendon[0]"),  # bad value (library)
+    ],
+)
 def test_solve_malformed_scene(tmp_path, capsys, edit, key):
     text = (EXAMPLES / "slack_robot.toml").read_text()
     assert edit[0] in text
@@ -60,7 +68,7 @@ def test_solve_malformed_scene(tmp_path, capsys, edit, key):
     assert rc == EXIT_BAD_INPUT
     assert key in err and "bad.toml" in err
     assert (scene.read_bytes(), os.stat(scene).st_mtime_ns) == before
-    assert not (tmp_path / "out").exists()          # nothing written for bad input
+    assert not (tmp_path / "out").exists()  # nothing written for bad input
 
 
 def test_solve_missing_file(tmp_path, capsys):
@@ -70,7 +78,9 @@ def test_solve_missing_file(tmp_path, capsys):
 
 def test_solve_writes_outputs(tmp_path, capsys):
     out = tmp_path / "out"
-    rc, stdout, _ = run_main(["solve", str(EXAMPLES / "slack_robot.toml"), "--out", str(out), "--plot"], capsys)
+    rc, stdout, _ = run_main(
+        ["solve", str(EXAMPLES / "slack_robot.toml"), "--out", str(out), "--plot"], capsys
+    )
     assert rc == EXIT_OK, stdout
     summary = json.loads((out / "solution.json").read_text())
     arrays = np.load(out / "solution.npz")
@@ -82,7 +92,7 @@ def test_solve_writes_outputs(tmp_path, capsys):
     from tendonrod.scenefile import load_scene
 
     sol = tr.solve(load_scene(EXAMPLES / "slack_robot.toml").scene)
-    assert summary["tip_position_m"] == sol.tip_position.tolist()      # bitwise: same solve
+    assert summary["tip_position_m"] == sol.tip_position.tolist()  # bitwise: same solve
     assert np.array_equal(arrays["position"], sol.position)
     # a locked inextensible parallel tendon keeps the tip at 90 degrees while it is taut
     # (exact); 1e-8 rad is the solver/integrator accuracy, far above round-off
@@ -93,20 +103,32 @@ def test_solve_writes_outputs(tmp_path, capsys):
 
 
 def test_solve_spatial_example(tmp_path, capsys):
-    rc, stdout, _ = run_main(["solve", str(EXAMPLES / "converging_three_tendons.toml"), "--out",
-                              str(tmp_path), "--plot"], capsys)
+    rc, stdout, _ = run_main(
+        [
+            "solve",
+            str(EXAMPLES / "converging_three_tendons.toml"),
+            "--out",
+            str(tmp_path),
+            "--plot",
+        ],
+        capsys,
+    )
     assert rc == EXIT_OK, stdout
     summary = json.loads((tmp_path / "solution.json").read_text())
-    assert summary["tension_N"][0] == pytest.approx(10.0, rel=1e-12)  # tension-controlled: returned as given
+    assert summary["tension_N"][0] == pytest.approx(
+        10.0, rel=1e-12
+    )  # tension-controlled: returned as given
     # the tendon paid out by 2 mm goes slack, the locked one carries tension (never both)
     assert summary["tension_N"][1] == 0.0 and summary["slack_m"][1] > 0
     assert summary["tension_N"][2] > 0 and summary["slack_m"][2] == 0.0
-    assert np.load(tmp_path / "solution.npz")["s"].shape == (51,)   # [options] nodes = 51 honoured
+    assert np.load(tmp_path / "solution.npz")["s"].shape == (51,)  # [options] nodes = 51 honoured
 
 
 def test_solve_not_converged_exit_1(tmp_path, capsys):
     # one iteration and no continuation cannot solve a 90-degree bend from a cold start
-    text = (EXAMPLES / "slack_robot.toml").read_text() + "\n[options]\nmax_iter = 1\ncontinuation = false\n"
+    text = (
+        EXAMPLES / "slack_robot.toml"
+    ).read_text() + "\n[options]\nmax_iter = 1\ncontinuation = false\n"
     scene = tmp_path / "hard.toml"
     scene.write_text(text)
     rc, stdout, _ = run_main(["solve", str(scene), "--out", str(tmp_path / "o")], capsys)
@@ -116,7 +138,9 @@ def test_solve_not_converged_exit_1(tmp_path, capsys):
 
 
 def test_figures_closed_form_subset(tmp_path, capsys):
-    rc, out, err = run_main(["figures", "--out", str(tmp_path), "--fast", "--only", "fig03,fig07,fig22"], capsys)
+    rc, out, err = run_main(
+        ["figures", "--out", str(tmp_path), "--fast", "--only", "fig03,fig07,fig22"], capsys
+    )
     assert rc == EXIT_OK, err
     for k in ("fig03", "fig07", "fig22"):
         assert (tmp_path / f"{k}.png").stat().st_size > 1000
@@ -135,8 +159,26 @@ def test_figures_all(tmp_path, capsys):
 def test_figures_list_and_unknown(tmp_path, capsys):
     rc, out, _ = run_main(["figures", "--out", str(tmp_path), "--list"], capsys)
     keys = [line.split(":")[0] for line in out.splitlines()]
-    expected = ["fig01", "fig03", "fig06", "fig07", "fig08", "fig10", "fig11", "fig12", "fig13", "fig14",
-                "fig15", "fig16", "fig17", "fig18", "fig20", "fig21", "fig22", "fig23"]
+    expected = [
+        "fig01",
+        "fig03",
+        "fig06",
+        "fig07",
+        "fig08",
+        "fig10",
+        "fig11",
+        "fig12",
+        "fig13",
+        "fig14",
+        "fig15",
+        "fig16",
+        "fig17",
+        "fig18",
+        "fig20",
+        "fig21",
+        "fig22",
+        "fig23",
+    ]
     assert rc == EXIT_OK and keys == expected
     rc, _, err = run_main(["figures", "--out", str(tmp_path), "--only", "fig99"], capsys)
     assert rc == EXIT_BAD_INPUT and "fig99" in err
@@ -150,5 +192,5 @@ def test_bench_dispatches_to_benchmarks_main(monkeypatch, capsys):
     monkeypatch.setattr(tr, "benchmarks", mod, raising=False)
     rc, _, _ = run_main(["bench", "work-precision", "--out", "d", "--quick"], capsys)
     assert rc == 0 and calls == [["work-precision", "--out", "d", "--quick"]]
-    rc, _, _ = run_main(["bench", "--help"], capsys)     # --help goes to benchmarks.main
+    rc, _, _ = run_main(["bench", "--help"], capsys)  # --help goes to benchmarks.main
     assert rc == 0 and calls[-1] == ["--help"]

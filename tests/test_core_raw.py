@@ -11,6 +11,7 @@ shapes, errors, warm starts, honest failures).
 Raw rows: rod [L, EI, GJ, EA, GA, kirchhoff]; tendon [b, phi, a, EA, t, control,
 value, pretension]; load [s, Fx, Fy, Fz, Mx, My, Mz].
 """
+
 import math
 import warnings
 import threading
@@ -25,7 +26,7 @@ pytestmark = pytest.mark.skipif(not hasattr(_core, "solve"), reason="_core.solve
 
 # Paper Fig. 17 robot: L = 0.2 m, d = 0.8 mm, E = 207 GPa, G = 79.6 GPa.
 L, D, E, G = 0.2, 0.8e-3, 207e9, 79.6e9
-AREA, I2 = math.pi * D ** 2 / 4, math.pi * D ** 4 / 64
+AREA, I2 = math.pi * D**2 / 4, math.pi * D**4 / 64
 EI, GJ, EA, GA = E * I2, G * 2 * I2, E * AREA, G * AREA
 KIRCH = np.array([L, EI, GJ, EA, GA, 1.0])
 COSS = np.array([L, EI, GJ, EA, GA, 0.0])
@@ -72,7 +73,7 @@ def skew(v):
 @pytest.mark.parametrize("rod", [KIRCH, COSS], ids=["kirchhoff", "cosserat"])
 @pytest.mark.parametrize("spatial", [False, True])
 def test_pure_end_moment_gives_circle(rod, spatial):
-    kappa = 1.3 * math.pi / L            # 234 deg curl
+    kappa = 1.3 * math.pi / L  # 234 deg curl
     res = solve(rod, loads=[load(M=(0, EI * kappa, 0))], nodes=21, force_spatial=spatial, **REF)
     assert res["success"], res["message"]
     x, z = circle(kappa, res["s"])
@@ -85,12 +86,12 @@ def test_pure_end_moment_gives_circle(rod, spatial):
 
 
 def test_tension_controlled_parallel_tendon_kirchhoff_circle():
-    tau = 0.8 * math.pi * EI / (R_OFF * L)     # 144 deg
+    tau = 0.8 * math.pi * EI / (R_OFF * L)  # 144 deg
     res = solve(KIRCH, [tendon(control=1, value=tau)], nodes=11, **REF)
     assert res["success"], res["message"]
     kappa = tau * R_OFF / EI
     x, z = circle(kappa, res["s"])
-    np.testing.assert_allclose(res["position"][:, 0], x, atol=1e-10 * L)   # as above
+    np.testing.assert_allclose(res["position"][:, 0], x, atol=1e-10 * L)  # as above
     np.testing.assert_allclose(res["position"][:, 2], z, atol=1e-10 * L)
     # the backbone carries -tau t^ and -tau r x t^: the tendon's pull, everywhere
     R = res["rotation"]
@@ -116,12 +117,12 @@ def test_tension_controlled_parallel_tendon_cosserat_exact():
     # 1e-10 L: reference integration (see above); v3 - 1 = -3e-5 is resolved 1e5-fold
     np.testing.assert_allclose(res["position"][:, 0], x, atol=1e-10 * L)
     np.testing.assert_allclose(res["position"][:, 2], z, atol=1e-10 * L)
-    q = tau * L * (1 / ea_t + 1 / EA + R_OFF ** 2 / EI)
-    np.testing.assert_allclose(res["displacement"][0], q, rtol=1e-9)   # integrated path
+    q = tau * L * (1 / ea_t + 1 / EA + R_OFF**2 / EI)
+    np.testing.assert_allclose(res["displacement"][0], q, rtol=1e-9)  # integrated path
     # ... and prescribing that displacement gives back the tension (round trip)
     back = solve(COSS, [tendon(ea=ea_t, control=0, value=q)], nodes=11, **REF)
     assert back["success"], back["message"]
-    np.testing.assert_allclose(back["tension"][0], tau, rtol=1e-9)    # same, inverted
+    np.testing.assert_allclose(back["tension"][0], tau, rtol=1e-9)  # same, inverted
     np.testing.assert_allclose(back["position"], res["position"], atol=1e-10 * L)
 
 
@@ -142,11 +143,15 @@ def _tangent0(rod, res, tendons):
 
 
 def _balance_scene():
-    tendons = [tendon(phi=0.3, value=4e-3, ea=3e4),
-               tendon(phi=0.3 + 2 * math.pi / 3, a=-0.02, value=-1e-3, ea=5e4),
-               tendon(phi=0.3 + 4 * math.pi / 3, control=1, value=1.5, t=0.6 * L)]
-    loads = [load(s=0.5 * L, F=(0.2, -0.3, 0.1), M=(0.01, 0, -0.02)),
-             load(F=(-0.1, 0.15, -0.2), M=(0, 0.005, 0.01))]
+    tendons = [
+        tendon(phi=0.3, value=4e-3, ea=3e4),
+        tendon(phi=0.3 + 2 * math.pi / 3, a=-0.02, value=-1e-3, ea=5e4),
+        tendon(phi=0.3 + 4 * math.pi / 3, control=1, value=1.5, t=0.6 * L),
+    ]
+    loads = [
+        load(s=0.5 * L, F=(0.2, -0.3, 0.1), M=(0.01, 0, -0.02)),
+        load(F=(-0.1, 0.15, -0.2), M=(0, 0.005, 0.01)),
+    ]
     return tendons, loads, np.array([0.1, 0.2, -0.5])
 
 
@@ -161,7 +166,8 @@ def test_global_force_and_moment_balance_spatial():
     # distributed moment about the origin: int p(s) x dist ds (Simpson on 401 nodes,
     # error ~ h^4 ~ 1e-13 relative)
     from scipy.integrate import simpson
-    s_u, k_u = np.unique(s, return_index=True)       # breakpoints appear twice
+
+    s_u, k_u = np.unique(s, return_index=True)  # breakpoints appear twice
     pxd = np.cross(p[k_u], dist)
     dist_M = np.array([simpson(pxd[:, c], x=s_u) for c in range(3)])
     ext_M = dist_M.copy()
@@ -188,7 +194,7 @@ def test_rotation_orthonormal_and_tip_only():
     assert res["success"], res["message"]
     R = res["rotation"]
     err = np.abs(np.einsum("nji,njk->nik", R, R) - np.eye(3)).max()
-    assert err < 1e-12     # RK8 preserves R^T R to its truncation error, ~1e-14 here
+    assert err < 1e-12  # RK8 preserves R^T R to its truncation error, ~1e-14 here
     tip = solve(COSS, tendons, loads, dist, steps=24, integrator="rk8", tol=1e-12, tip_only=True)
     assert tip["s"].shape == (1,) and tip["position"].shape == (1, 3)
     assert tip["formulation"]["tip_only"]
@@ -200,8 +206,11 @@ def test_rotation_orthonormal_and_tip_only():
 # ------------------------------------------------------------------ planar == spatial
 @pytest.mark.parametrize("rod", [KIRCH, COSS], ids=["kirchhoff", "cosserat"])
 def test_planar_and_forced_spatial_agree(rod):
-    tendons = [tendon(value=0.01, ea=2e4), tendon(phi=math.pi, a=-0.02, value=-0.004),
-               tendon(control=1, value=0.5, t=0.7 * L, b=0.005)]
+    tendons = [
+        tendon(value=0.01, ea=2e4),
+        tendon(phi=math.pi, a=-0.02, value=-0.004),
+        tendon(control=1, value=0.5, t=0.7 * L, b=0.005),
+    ]
     loads = [load(s=0.4 * L, F=(0.05, 0, -0.1), M=(0, 0.003, 0)), load(F=(-0.2, 0, 0.05))]
     dist = [0.0, 0.0, -0.3]
     kw = dict(nodes=31, integrator="rk8", steps=40, tol=1e-13)
@@ -214,14 +223,17 @@ def test_planar_and_forced_spatial_agree(rod):
     np.testing.assert_allclose(pl["position"], sp["position"], atol=1e-10 * L)
     np.testing.assert_allclose(pl["rotation"], sp["rotation"], atol=1e-10)
     np.testing.assert_allclose(pl["tension"], sp["tension"], rtol=1e-9, atol=1e-10)
-    np.testing.assert_allclose(pl["force"], sp["force"], atol=1e-10 * EI / L ** 2 * 10)
+    np.testing.assert_allclose(pl["force"], sp["force"], atol=1e-10 * EI / L**2 * 10)
     assert np.all(pl["position"][:, 1] == 0)
 
 
 # ------------------------------------------------------------------ round trip
 def test_displacement_tension_round_trip_spatial():
-    tendons = [tendon(value=8e-3, ea=3e4), tendon(phi=2 * math.pi / 3, value=-2e-3, ea=3e4),
-               tendon(phi=4 * math.pi / 3, value=1e-3, ea=3e4)]
+    tendons = [
+        tendon(value=8e-3, ea=3e4),
+        tendon(phi=2 * math.pi / 3, value=-2e-3, ea=3e4),
+        tendon(phi=4 * math.pi / 3, value=1e-3, ea=3e4),
+    ]
     loads = [load(F=(0.0, 0.3, -0.2))]
     a = solve(COSS, tendons, loads, **REF)
     assert a["success"], a["message"]
@@ -247,12 +259,12 @@ def test_slack_scene_taut_then_slack_at_the_elastica_load():
     the buckled cantilever (elastica) with P L^2 / EI = (2 K(k))^2 / 4... i.e.
     P = EI (K(k) / L)^2 with k = sin(45 deg). Past it the tendon is slack."""
     k = math.sin(math.pi / 4)
-    P_crit = EI * (special.ellipk(k ** 2) / L) ** 2        # 0.358 N (paper text: 3.6 N)
+    P_crit = EI * (special.ellipk(k**2) / L) ** 2  # 0.358 N (paper text: 3.6 N)
     below = _fig17(0.98 * P_crit, **REF)
     above = _fig17(1.02 * P_crit, **REF)
     assert below["success"] and above["success"], (below["message"], above["message"])
     assert below["tension"][0] > 0 and below["slack"][0] == 0
-    assert abs(tip_angle(below) - math.pi / 2) < 1e-9     # the length constraint, exactly
+    assert abs(tip_angle(below) - math.pi / 2) < 1e-9  # the length constraint, exactly
     assert above["tension"][0] == 0 and above["slack"][0] > 0
     assert tip_angle(above) > math.pi / 2
     # tension ~ linear in P near the switch: extrapolate to 0 at P_crit within 1 %
@@ -299,7 +311,9 @@ def test_formulation_leaves_out_what_the_scene_does_not_need():
     # tip loads need no split; an interior load and an interior anchor do
     f = solve(KIRCH, [tendon(value=1e-3, t=0.5 * L)], [load(F=(0, 0.1, 0))])["formulation"]
     assert not f["planar"] and f["n_segments"] == 2
-    f = solve(KIRCH, [tendon(value=1e-3)], [load(s=0.3 * L, F=(0.1, 0, 0))], dist=[0, 0, -1])["formulation"]
+    f = solve(KIRCH, [tendon(value=1e-3)], [load(s=0.3 * L, F=(0.1, 0, 0))], dist=[0, 0, -1])[
+        "formulation"
+    ]
     assert f["planar"] and f["n_segments"] == 2 and f["distributed_load"]
     f = solve(KIRCH, integrator="rk4", steps=10)["formulation"]
     assert f["integrator"] == "rk4" and f["steps"] == 10 and f["n_unknowns"] == 3
@@ -315,32 +329,36 @@ def test_nodes_include_breakpoints_on_both_sides():
     # the force jumps by the point load across the two nodes at the load (round-off)
     np.testing.assert_allclose(res["force"][k[0]] - res["force"][k[1]], [0.1, 0, 0], atol=1e-12)
     # output nodes do not depend on the step count
-    res2 = solve(KIRCH, [tendon(value=1e-3, t=0.5 * L)], [load(s=0.25 * L, F=(0.1, 0, 0))],
-                 nodes=5, steps=64)
+    res2 = solve(
+        KIRCH, [tendon(value=1e-3, t=0.5 * L)], [load(s=0.25 * L, F=(0.1, 0, 0))], nodes=5, steps=64
+    )
     np.testing.assert_array_equal(res2["s"], s)
     custom = solve(KIRCH, [tendon(value=1e-3)], nodes=np.array([0.0, 0.05, 0.2]))
     np.testing.assert_array_equal(custom["s"], [0.0, 0.05, 0.2])
 
 
 # ------------------------------------------------------------------ contract
-@pytest.mark.parametrize("kw, name", [
-    (dict(rod=np.ones(5)), "rod"),
-    (dict(tendons=np.ones((1, 7))), "tendons"),
-    (dict(loads=np.ones((2, 6))), "loads"),
-    (dict(dist=np.ones(2)), "dist"),
-    (dict(guess=np.ones(3)), "guess"),
-    (dict(jacobian=np.ones(4)), "jacobian"),
-    (dict(nodes=1), "nodes"),
-    (dict(nodes=np.array([0.1, 0.05])), "nodes"),
-    (dict(steps=-1), "steps"),
-    (dict(steps=10 ** 6), "steps"),          # capped: keeps max_nfev a bound on the work
-    (dict(max_iter=2 ** 40), "max_iter"),
-    (dict(max_nfev=2 ** 70), "max_nfev"),
-    (dict(tol=0.0), "tol"),
-    (dict(integrator="euler"), "integrator"),
-    (dict(slack_model="cubic"), "slack_model"),
-    (dict(jacobian_method="exact"), "jacobian_method"),
-])
+@pytest.mark.parametrize(
+    "kw, name",
+    [
+        (dict(rod=np.ones(5)), "rod"),
+        (dict(tendons=np.ones((1, 7))), "tendons"),
+        (dict(loads=np.ones((2, 6))), "loads"),
+        (dict(dist=np.ones(2)), "dist"),
+        (dict(guess=np.ones(3)), "guess"),
+        (dict(jacobian=np.ones(4)), "jacobian"),
+        (dict(nodes=1), "nodes"),
+        (dict(nodes=np.array([0.1, 0.05])), "nodes"),
+        (dict(steps=-1), "steps"),
+        (dict(steps=10**6), "steps"),  # capped: keeps max_nfev a bound on the work
+        (dict(max_iter=2**40), "max_iter"),
+        (dict(max_nfev=2**70), "max_nfev"),
+        (dict(tol=0.0), "tol"),
+        (dict(integrator="euler"), "integrator"),
+        (dict(slack_model="cubic"), "slack_model"),
+        (dict(jacobian_method="exact"), "jacobian_method"),
+    ],
+)
 def test_bad_arguments_raise_value_error_naming_them(kw, name):
     args = dict(rod=KIRCH, tendons=np.array([tendon(value=1e-3)]), loads=NO_L, dist=Z3)
     args.update(kw)
@@ -349,14 +367,17 @@ def test_bad_arguments_raise_value_error_naming_them(kw, name):
         _core.solve(*pos, **args)
 
 
-@pytest.mark.parametrize("rod, tendons, name", [
-    (np.array([L, -EI, GJ, EA, GA, 1.0]), NO_T, "EI"),
-    (np.array([L, EI, GJ, np.nan, GA, 0.0]), NO_T, "rod"),
-    (KIRCH, np.array([tendon(t=2 * L)]), "end"),
-    (KIRCH, np.array([tendon(ea=-1.0)]), "EA"),
-    (KIRCH, np.array([tendon(control=2)]), "control"),
-    (KIRCH, np.array([tendon(control=1, value=-1.0)]), "tension"),
-])
+@pytest.mark.parametrize(
+    "rod, tendons, name",
+    [
+        (np.array([L, -EI, GJ, EA, GA, 1.0]), NO_T, "EI"),
+        (np.array([L, EI, GJ, np.nan, GA, 0.0]), NO_T, "rod"),
+        (KIRCH, np.array([tendon(t=2 * L)]), "end"),
+        (KIRCH, np.array([tendon(ea=-1.0)]), "EA"),
+        (KIRCH, np.array([tendon(control=2)]), "control"),
+        (KIRCH, np.array([tendon(control=1, value=-1.0)]), "tension"),
+    ],
+)
 def test_bad_model_values_raise_value_error(rod, tendons, name):
     with pytest.raises(ValueError, match=name):
         _core.solve(rod, tendons, NO_L, Z3)
@@ -373,10 +394,18 @@ def test_warm_start_with_guess_and_jacobian_is_fast():
     a = solve(KIRCH, tendons, [load(F=(0.05, 0, -0.1))], steps=8, tol=1e-10, force_spatial=True)
     assert a["success"]
     g = np.concatenate([a["force"][0], a["moment"][0], a["tension"], a["slack"]])
-    b = solve(KIRCH, tendons, [load(F=(0.0502, 0, -0.1))], steps=8, tol=1e-10, force_spatial=True,
-              guess=g, jacobian=a["jacobian"])
+    b = solve(
+        KIRCH,
+        tendons,
+        [load(F=(0.0502, 0, -0.1))],
+        steps=8,
+        tol=1e-10,
+        force_spatial=True,
+        guess=g,
+        jacobian=a["jacobian"],
+    )
     assert b["success"] and b["nit"] <= 2, (b["nit"], b["message"])
-    assert b["njev"] == 0          # the supplied Jacobian was reused: no finite differences
+    assert b["njev"] == 0  # the supplied Jacobian was reused: no finite differences
     # a jacobian of the wrong shape is ignored, not an error
     c = solve(KIRCH, tendons, [load(F=(0.052, 0, -0.1))], steps=8, guess=g, jacobian=np.eye(2))
     assert c["success"]
@@ -421,12 +450,15 @@ def test_pretension():
     pair = [tendon(pre=2.0), tendon(phi=math.pi, pre=2.0)]
     res = solve(COSS, pair, **REF)
     assert res["success"], res["message"]
-    np.testing.assert_allclose(res["tension"], [2.0, 2.0], rtol=1e-9)   # reference solve
+    np.testing.assert_allclose(res["tension"], [2.0, 2.0], rtol=1e-9)  # reference solve
     np.testing.assert_allclose(res["position"][:, 0], 0, atol=1e-14)
     # the backbone is uniformly compressed by the sum of the pretensions
     np.testing.assert_allclose(res["position"][-1, 2], L * (1 - 4.0 / EA), rtol=1e-12)
     # a pretensioned opposing pair keeps both taut under a load that slackens one alone
-    fin = [tendon(value=R_OFF * 0.5, ea=1e4, pre=5.0), tendon(phi=math.pi, value=-R_OFF * 0.5, ea=1e4, pre=5.0)]
+    fin = [
+        tendon(value=R_OFF * 0.5, ea=1e4, pre=5.0),
+        tendon(phi=math.pi, value=-R_OFF * 0.5, ea=1e4, pre=5.0),
+    ]
     res = solve(COSS, fin, [load(F=(0, 0, -0.2))])
     assert res["success"] and np.all(res["tension"] > 0), res["message"]
 
@@ -445,7 +477,9 @@ def test_compliance_matches_finite_differences_of_full_solves():
     k = np.argmin(np.abs(base["s"] - s))
 
     def pose(extra):
-        r = solve(COSS, tendons, base_loads + [extra], force_spatial=True, nodes=np.array([s, L]), **kw)
+        r = solve(
+            COSS, tendons, base_loads + [extra], force_spatial=True, nodes=np.array([s, L]), **kw
+        )
         assert r["success"], r["message"]
         return r["position"][0], r["rotation"][0]
 
@@ -481,7 +515,7 @@ def test_gil_released_and_deterministic_across_threads():
     for t in th:
         t.join()
     for o in out:
-        np.testing.assert_array_equal(o["position"], ref["position"])   # bitwise
+        np.testing.assert_array_equal(o["position"], ref["position"])  # bitwise
 
 
 # ------------------------------------------------------------------ multiple shooting
@@ -490,7 +524,7 @@ def test_multiple_shooting_tensile_load():
     cantilever gives the tip deflection F L / T (1 - tanh(lam)/lam), lam = L sqrt(T/EI).
     Single shooting amplifies errors like e^lam; with M segments, like e^(lam/M)."""
     lam = 20.0
-    T = lam ** 2 * EI / L ** 2
+    T = lam**2 * EI / L**2
     F = 1e-4 * T
     res = solve(KIRCH, loads=[load(F=(F, 0, T))], shooting_segments=4)
     # the load path stalls here and a direct solve converges: status 3, which the raw
@@ -504,12 +538,14 @@ def test_multiple_shooting_tensile_load():
     # tie stretches nothing (Kirchhoff); 1e-6 leaves room for the integrator
     assert abs(res["position"][-1, 0] / delta - 1) < 1e-6
     # the same solution as single shooting where that still works (lam = 5)
-    T5 = 25 * EI / L ** 2
+    T5 = 25 * EI / L**2
     kw = dict(steps=40, tol=1e-12)
     one = solve(KIRCH, [tendon(value=0.003)], [load(F=(0.01 * T5, 0, T5))], **kw)
-    four = solve(KIRCH, [tendon(value=0.003)], [load(F=(0.01 * T5, 0, T5))], shooting_segments=4, **kw)
+    four = solve(
+        KIRCH, [tendon(value=0.003)], [load(F=(0.01 * T5, 0, T5))], shooting_segments=4, **kw
+    )
     assert one["success"] and four["success"], (one["message"], four["message"])
-    np.testing.assert_allclose(four["position"], one["position"], atol=1e-11 * L)   # same equations
+    np.testing.assert_allclose(four["position"], one["position"], atol=1e-11 * L)  # same equations
     np.testing.assert_allclose(four["tension"], one["tension"], rtol=1e-9)
     with pytest.raises(ValueError, match="shooting_segments"):
         solve(KIRCH, shooting_segments=0)
@@ -523,12 +559,15 @@ def test_large_transverse_load_follows_the_loading_branch(fl):
     module (elliptic integrals, no tendonrod inside). Cold starts above a scaled load
     of 6 go by continuation from the unloaded robot, so they must land on it."""
     from tendonrod.references import elastica_tip_force
-    F = fl * EI / L ** 2
+
+    F = fl * EI / L**2
     res = solve(KIRCH, loads=[load(F=(F, 0, 0))])
     assert res["success"], res["message"]
     xL, zL, _ = elastica_tip_force(L, EI, F)
     # auto steps verified to tol = 1e-10 (scaled), tip within 1e-8 L with margin
-    assert abs(res["position"][-1, 0] - xL) < 1e-8 * L and abs(res["position"][-1, 2] - zL) < 1e-8 * L
+    assert (
+        abs(res["position"][-1, 0] - xL) < 1e-8 * L and abs(res["position"][-1, 2] - zL) < 1e-8 * L
+    )
     assert (res["continuation_steps"] > 0) == (fl > 6)
 
 
@@ -566,7 +605,7 @@ def test_automatic_steps_verified_and_not_over_resolved(integrator, P):
     ref = solve(*scene, integrator="adaptive", rtol=1e-13, tol=1e-13)["position"][-1]
     res = solve(*scene, integrator=integrator)
     assert res["status"] == 0, res["message"]
-    tol = 1e-10                                   # the default scaled tolerance
+    tol = 1e-10  # the default scaled tolerance
     assert res["truncation_estimate"] <= tol
     # scaled tip state error <= tol (truncation) + tol (residual), scale ~L: 1e-9 L leaves
     # a factor 5 for the conversion between scaled residual and tip position
@@ -577,7 +616,7 @@ def test_automatic_steps_verified_and_not_over_resolved(integrator, P):
         # Richardson refinement aims at 0.5 tol from a doubling estimate: at most ~2x
         assert n_min is not None and n <= 2 * n_min, (n, n_min)
     else:
-        assert n < 2048, n                        # far from the 8192 cap
+        assert n < 2048, n  # far from the 8192 cap
 
 
 def test_stiff_tendons_under_twist_converge_cold_and_agree_with_a_warm_path():
@@ -587,10 +626,10 @@ def test_stiff_tendons_under_twist_converge_cold_and_agree_with_a_warm_path():
     of small load steps from the unloaded robot, each a plain Newton solve (continuation
     off), i.e. an independent route."""
     Lr, d, Er, Gr, r = 0.1, 1.04e-3, 210e9, 80e9, 0.01
-    A, I = math.pi * d ** 2 / 4, math.pi * d ** 4 / 64
+    A, I = math.pi * d**2 / 4, math.pi * d**4 / 64
     rod = np.array([Lr, Er * I, Gr * 2 * I, Er * A, Gr * A, 1.0])
     EIr = Er * I
-    EAt = 5e4 * 3 * EIr / r ** 2
+    EAt = 5e4 * 3 * EIr / r**2
     tau90 = EIr * (math.pi / 2) / (r * Lr)
     tt = [[r, 2 * math.pi * i / 3, 0, EAt, Lr, 1, tau90 if i == 0 else 0.0, 0] for i in range(3)]
     free = solve(rod, tt)
@@ -598,10 +637,16 @@ def test_stiff_tendons_under_twist_converge_cold_and_agree_with_a_warm_path():
     cold = solve(rod, td, [[Lr, 0, 0.5, 0, 0, 0, 0]])
     assert cold["success"], cold["message"]
     prev = solve(rod, td)
-    for f in np.geomspace(0.002, 0.5, 25):   # the tension grows fastest at small loads
+    for f in np.geomspace(0.002, 0.5, 25):  # the tension grows fastest at small loads
         g = np.concatenate([prev["force"][0], prev["moment"][0], prev["tension"], prev["slack"]])
-        prev = solve(rod, td, [[Lr, 0, f, 0, 0, 0, 0]], guess=g, jacobian=prev["jacobian"],
-                     continuation=False)
+        prev = solve(
+            rod,
+            td,
+            [[Lr, 0, f, 0, 0, 0, 0]],
+            guess=g,
+            jacobian=prev["jacobian"],
+            continuation=False,
+        )
         assert prev["success"], (f, prev["message"])
     # both at residual <= 1e-10 with a condition ~1e5-1e6 (common-mode tension): tensions
     # (100+ N) agree to ~1e-5 relative, the tip to 1e-8 L
@@ -631,11 +676,16 @@ def test_off_path_equilibrium_is_never_reported_as_success(lam):
     for M in (1, 8):
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", tr.ConvergenceWarning)
-            sol = tr.solve(tr.Scene(tr.Robot(rod, []), loads=[tr.PointLoad(s=L, force=(F[0], 0, F[1]))]),
-                           options=tr.Options(shooting_segments=M))
+            sol = tr.solve(
+                tr.Scene(tr.Robot(rod, []), loads=[tr.PointLoad(s=L, force=(F[0], 0, F[1]))]),
+                options=tr.Options(shooting_segments=M),
+            )
         if sol.status == tr._core.STATUS_OFFPATH:
             # success only when a second formulation confirmed the equilibrium
             assert ("; confirmed:" in sol.message) == sol.success, sol.message
         if sol.success:
             # collocation at tol 1e-10 on 400+ nodes: 1e-6 L covers both discretisations
-            assert abs(sol.tip_position[0] - xL) < 1e-6 * L and abs(sol.tip_position[2] - zL) < 1e-6 * L
+            assert (
+                abs(sol.tip_position[0] - xL) < 1e-6 * L
+                and abs(sol.tip_position[2] - zL) < 1e-6 * L
+            )

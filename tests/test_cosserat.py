@@ -7,6 +7,7 @@ integrals, a from-scratch planar SciPy shooting solver, and balance laws.
 Sign convention of the closed forms: with the tendon at +x, F > 0 is the world force
 -F e_x, and the deflection is positive toward F (so x = -delta).
 """
+
 import dataclasses
 import math
 import warnings
@@ -17,8 +18,9 @@ import pytest
 import tendonrod as tr
 import reference as ref
 
-pytestmark = pytest.mark.skipif(not hasattr(tr._core, "solve"),
-                                reason="tendonrod._core.solve not built yet")
+pytestmark = pytest.mark.skipif(
+    not hasattr(tr._core, "solve"), reason="tendonrod._core.solve not built yet"
+)
 
 # Paper Figs. 17-18 robot: L = 0.2 m, d = 0.8 mm, E = 207 GPa, G = 79.6 GPa.
 L17, D17, E17, G17 = 0.2, 0.8e-3, 207e9, 79.6e9
@@ -57,14 +59,14 @@ def _closed_case(kind):
     R_S = 0.05
     if kind == "parallel":
         t = tr.Tendon(offset=R_OFF)
-    elif kind == "parallel-stretch":     # r^2 k L / EI = 5 with k = EA/L
-        t = tr.Tendon(offset=R_OFF, EA=5 * EI17 / R_OFF ** 2)
+    elif kind == "parallel-stretch":  # r^2 k L / EI = 5 with k = EA/L
+        t = tr.Tendon(offset=R_OFF, EA=5 * EI17 / R_OFF**2)
     elif kind == "converging":
         t = tr.Tendon.converging(offset=R_S, length=L17)
-    elif kind == "converging-stretch":   # b^2 k L/EI = 20
-        t = tr.Tendon.converging(offset=R_S, length=L17, EA=20 * EI17 / R_S ** 2)
-    elif kind == "semi-converging":      # b^2 k L/EI = 50
-        t = tr.Tendon(offset=R_S, slope=-0.5 * R_S / L17, EA=50 * EI17 / R_S ** 2)
+    elif kind == "converging-stretch":  # b^2 k L/EI = 20
+        t = tr.Tendon.converging(offset=R_S, length=L17, EA=20 * EI17 / R_S**2)
+    elif kind == "semi-converging":  # b^2 k L/EI = 50
+        t = tr.Tendon(offset=R_S, slope=-0.5 * R_S / L17, EA=50 * EI17 / R_S**2)
     else:
         raise KeyError(kind)
     a, b, k = ref.sloped_closed_params(t.slope, t.offset, t.EA, L17)
@@ -77,13 +79,18 @@ def _closed_case(kind):
 # exactly tau r, so the difference has no F^2 term and shrinks like F^3. A sloped tendon's
 # path length sqrt(a^2 + (1 - rho kappa)^2) has an even part: the difference shrinks like
 # F^2. Either way at least like the load squared; we check the order predicted.
-ORDER = {"parallel": 3, "parallel-stretch": 3, "converging": 2, "converging-stretch": 2,
-         "semi-converging": 2}
+ORDER = {
+    "parallel": 3,
+    "parallel-stretch": 3,
+    "converging": 2,
+    "converging-stretch": 2,
+    "semi-converging": 2,
+}
 # deflection/L of the smallest load: large enough that the F^3 remainder (~(delta/L)^2
 # delta) stays 1e3 x above the reference integrator's 1e-12 accuracy, small enough that
 # the next order changes the fitted slope by < 0.1 over the factor-8 load range
 DEFL = {2: 5e-4, 3: 5e-3}
-FIT_TOL = 0.15   # allowed deviation of the fitted order (next-order terms over the range)
+FIT_TOL = 0.15  # allowed deviation of the fitted order (next-order terms over the range)
 SMALL_OPTS = dict(integrator="adaptive", rtol=1e-12, tol=1e-12)
 
 
@@ -93,8 +100,8 @@ def _fitted_order(forces, errs):
 
 def _linear_part(forces, errs):
     """Fit errs = c1 F + c2 F^2 + c3 F^3; return |c1| F_max / max|errs| (0 if no F term)."""
-    A = np.stack([forces, forces ** 2, forces ** 3], axis=1)
-    c = np.linalg.lstsq(A / forces[:, None] ** 2, np.asarray(errs) / forces ** 2, rcond=None)[0]
+    A = np.stack([forces, forces**2, forces**3], axis=1)
+    c = np.linalg.lstsq(A / forces[:, None] ** 2, np.asarray(errs) / forces**2, rcond=None)[0]
     return abs(c[0]) * forces[-1] / np.max(np.abs(errs))
 
 
@@ -104,7 +111,7 @@ def test_small_loads_reproduce_closed_forms(kind, zeta):
     robot, (a, b, k) = _closed_case(kind)
     z = zeta * L17
     order = ORDER[kind]
-    F0 = DEFL[order] * L17 * 3 * EI17 / z ** 3
+    F0 = DEFL[order] * L17 * 3 * EI17 / z**3
     forces = F0 * 2.0 ** np.arange(4)
     nodes = np.array([0.5 * z, z, L17]) if z < L17 else np.array([0.5 * z, L17])
     opts = tr.Options(nodes=nodes, **SMALL_OPTS)
@@ -114,22 +121,23 @@ def test_small_loads_reproduce_closed_forms(kind, zeta):
         sol = quiet_solve(sc, options=opts)
         tau = ref.closed_tension(F, z, L17, EI17, a, b, k)
         delta = ref.closed_deflection(nodes, F, z, L17, EI17, a, b, tau)
-        err_x.append(np.max(np.abs(sol.position[:, 0] + delta)))   # x = -delta
-        err_tau.append(sol.tension[0] - tau)          # signed: F^2 and F^3 parts may cancel
-        scale.append(F * z ** 3 / (3 * EI17))
+        err_x.append(np.max(np.abs(sol.position[:, 0] + delta)))  # x = -delta
+        err_tau.append(sol.tension[0] - tau)  # signed: F^2 and F^3 parts may cancel
+        scale.append(F * z**3 / (3 * EI17))
         assert np.all(np.abs(sol.position[:, 1]) < 1e-15)  # planar scene: y stays 0
         assert sol.slack[0] == 0.0 and sol.tension[0] > 0
         # the library's ufuncs (another helper's C code) agree with the paper's formulas
         np.testing.assert_allclose(tr.analytic.tension(F, z, L17, EI17, a, b, k), tau, rtol=1e-12)
-        np.testing.assert_allclose(tr.analytic.deflection(nodes, F, z, L17, EI17, a, b, k), delta,
-                                   rtol=1e-11, atol=1e-18)
+        np.testing.assert_allclose(
+            tr.analytic.deflection(nodes, F, z, L17, EI17, a, b, k), delta, rtol=1e-11, atol=1e-18
+        )
     err_x, err_tau, scale = map(np.asarray, (err_x, err_tau, scale))
     if kind == "converging" and zeta == 1.0:
         # exact, not only small-load: eqs. 25-26 give tau = F L/b and m(s) = F (s - L) +
         # (b - b s/L) tau = 0, so the robot stays straight (a truss); the straight rod with
         # tension F c L/b also solves the Cosserat equations at any load. Round-off only.
         # positions to round-off; tensions to the residual tolerance 1e-12 x EI/L^2 (x10)
-        assert np.all(err_x < 1e-13 * L17) and np.all(err_tau < 1e-11 * EI17 / L17 ** 2)
+        assert np.all(err_x < 1e-13 * L17) and np.all(err_tau < 1e-11 * EI17 / L17**2)
         return
     # small: the difference is a geometric nonlinearity, ~ (delta/L)^(order-1) delta
     assert np.all(err_x < 10 * scale * (scale / L17) ** (order - 1)), (err_x, scale)
@@ -144,44 +152,56 @@ def test_small_loads_reproduce_closed_forms(kind, zeta):
 def test_small_loads_extensible_backbone_eq16_17():
     """Cosserat backbone with axial stiffness k_B = EA/L in series with the tendon (eq. 17),
     plus the first-order shear deflection F min(s, z)/GA of a shearable rod."""
-    EA_b = 5 * EI17 / R_OFF ** 2                     # r^2 k_B L/EI = 5
+    EA_b = 5 * EI17 / R_OFF**2  # r^2 k_B L/EI = 5
     rod = tr.Rod(L17, D17, E17, G17, EA=EA_b)
     GA = rod.shear_stiffness
-    for EA_t in (math.inf, 3 * EI17 / R_OFF ** 2 * L17):
+    for EA_t in (math.inf, 3 * EI17 / R_OFF**2 * L17):
         robot = tr.Robot(rod, [tr.Tendon(offset=R_OFF, EA=EA_t)])
         k = math.inf if math.isinf(EA_t) else EA_t / L17
         keq = ref.equivalent_stiffness(k, EA_b / L17)
         for z in (L17, 0.7 * L17):
-            F0 = DEFL[3] * L17 * 3 * EI17 / z ** 3
+            F0 = DEFL[3] * L17 * 3 * EI17 / z**3
             forces = F0 * 2.0 ** np.arange(4)
             errs, err_tau = [], []
             for F in forces:
-                sc = tr.Scene(robot, displacement=[0.0], loads=[tr.PointLoad(s=z, force=(-F, 0, 0))])
+                sc = tr.Scene(
+                    robot, displacement=[0.0], loads=[tr.PointLoad(s=z, force=(-F, 0, 0))]
+                )
                 sol = quiet_solve(sc, options=tr.Options(nodes=np.array([z, L17]), **SMALL_OPTS))
                 tau = ref.closed_tension(F, z, L17, EI17, 0.0, R_OFF, keq)
                 delta = ref.closed_deflection(np.array([z, L17]), F, z, L17, EI17, 0.0, R_OFF, tau)
                 delta = delta + F * np.minimum([z, L17], z) / GA
                 errs.append(np.max(np.abs(sol.position[:, 0] + delta)))
                 err_tau.append(sol.tension[0] - tau)
-                np.testing.assert_allclose(tr.analytic.equivalent_stiffness(k, EA_b / L17), keq, rtol=1e-14)
+                np.testing.assert_allclose(
+                    tr.analytic.equivalent_stiffness(k, EA_b / L17), keq, rtol=1e-14
+                )
             errs = np.asarray(errs)
             slope = _fitted_order(forces, errs)
             # shear and axial strain add even terms to the odd F^3 of the Kirchhoff case:
             # at least quadratic (measured: close to 3, the even terms are tiny)
             assert slope > 2.0 - FIT_TOL, (EA_t, z, slope, errs)
-            assert _linear_part(forces, err_tau) < 1e-2, err_tau   # tension exact to first order
+            assert _linear_part(forces, err_tau) < 1e-2, err_tau  # tension exact to first order
 
 
-@pytest.mark.parametrize("n, routing", [(2, "parallel"), (3, "parallel"), (4, "parallel"),
-                                        (3, "converging"), (4, "converging")])
+@pytest.mark.parametrize(
+    "n, routing",
+    [(2, "parallel"), (3, "parallel"), (4, "parallel"), (3, "converging"), (4, "converging")],
+)
 def test_small_loads_pretensioned_sets(n, routing):
     """n equally spaced pretensioned tendons (phi_i = 2 pi i/n): k -> k sum cos^2 phi_i
     (eqs. 20, 36); tendon i carries tau_p + cos(phi_i) T / P."""
-    EA_t = 10 * EI17 / R_OFF ** 2 * L17                # r^2 k L/EI = 10 per tendon
+    EA_t = 10 * EI17 / R_OFF**2 * L17  # r^2 k L/EI = 10 per tendon
     tau_p = 1.0
-    mk = (lambda phi: tr.Tendon(offset=R_OFF, angle=phi, EA=EA_t, pretension=tau_p)) \
-        if routing == "parallel" else \
-        (lambda phi: tr.Tendon.converging(offset=R_OFF, angle=phi, length=L17, EA=EA_t, pretension=tau_p))
+    mk = (
+        (lambda phi: tr.Tendon(offset=R_OFF, angle=phi, EA=EA_t, pretension=tau_p))
+        if routing == "parallel"
+        else (
+            lambda phi: tr.Tendon.converging(
+                offset=R_OFF, angle=phi, length=L17, EA=EA_t, pretension=tau_p
+            )
+        )
+    )
     phis = 2 * np.pi * np.arange(1, n + 1) / n
     robot = tr.Robot(KIRCH17, [mk(p) for p in phis])
     P = ref.pattern_factor(n)
@@ -189,9 +209,9 @@ def test_small_loads_pretensioned_sets(n, routing):
     a, b, _ = ref.sloped_closed_params(t0.slope, t0.offset, EA_t, L17)
     # Hooke's law acts on the rest length, which pretension shortens to s_r/(1 + tau_p/EA):
     # the spring constant of a pretensioned tendon is EA/s_rest = (EA + tau_p)/(c L)
-    k = (EA_t + tau_p) / (math.sqrt(1 + t0.slope ** 2) * L17)
+    k = (EA_t + tau_p) / (math.sqrt(1 + t0.slope**2) * L17)
     z = 0.8 * L17
-    F0 = DEFL[3 if routing == "parallel" else 2] * L17 * 3 * EI17 / z ** 3
+    F0 = DEFL[3 if routing == "parallel" else 2] * L17 * 3 * EI17 / z**3
     forces = F0 * 2.0 ** np.arange(4)
     errs, err_tau = [], []
     for F in forces:
@@ -206,43 +226,57 @@ def test_small_loads_pretensioned_sets(n, routing):
     # tension changes: cos(phi_i) T/P to first order (T: the largest load's resultant)
     if routing == "parallel":
         for i in range(n):
-            if np.max(np.abs(err_tau[:, i])) > 1e-12:   # below: round-off at tendons with cos = 0
+            if np.max(np.abs(err_tau[:, i])) > 1e-12:  # below: round-off at tendons with cos = 0
                 assert _linear_part(forces, err_tau[:, i]) < 1e-2, (i, err_tau[:, i])
     else:
         # the geometric-stiffness change (~3e-5 relative, below) plus F^2 terms: 1e-3 of T
         assert np.max(np.abs(err_tau[-1])) < 1e-3 * abs(T), err_tau[-1]
     # pretension on sloped tendons adds a small geometric stiffness that eq. 36 leaves out
     # (MODEL.md): it is linear in F, so for converging sets only the size is checked
-    scale = forces * z ** 3 / (3 * EI17)
+    scale = forces * z**3 / (3 * EI17)
     if routing == "parallel":
         slope = _fitted_order(forces, errs)
-        assert abs(slope - 3.0) < FIT_TOL, (slope, errs)   # odd symmetry, as ORDER["parallel"]
-        assert np.all(errs < 2.0 * scale ** 2 / L17)
+        assert abs(slope - 3.0) < FIT_TOL, (slope, errs)  # odd symmetry, as ORDER["parallel"]
+        assert np.all(errs < 2.0 * scale**2 / L17)
     else:
         # the pretension's geometric stiffness on sloped tendons (left out of eq. 36): a
         # first-order relative change of order tau_p a^2 L^2/EI (2.4e-5 here; measured 3-4e-5)
-        g = tau_p * a ** 2 * L17 ** 2 / EI17
+        g = tau_p * a**2 * L17**2 / EI17
         assert np.all(errs < 3 * g * scale), (errs / scale, g)
+
         # ... and it is the pretension's: doubling tau_p doubles the discrepancy
         def tip_diff(tp):
-            rob2 = tr.Robot(KIRCH17, [tr.Tendon.converging(offset=R_OFF, angle=p, length=L17, EA=EA_t,
-                                                           pretension=tp) for p in phis])
-            k2 = (EA_t + tp) / (math.sqrt(1 + t0.slope ** 2) * L17)
+            rob2 = tr.Robot(
+                KIRCH17,
+                [
+                    tr.Tendon.converging(offset=R_OFF, angle=p, length=L17, EA=EA_t, pretension=tp)
+                    for p in phis
+                ],
+            )
+            k2 = (EA_t + tp) / (math.sqrt(1 + t0.slope**2) * L17)
             F = forces[0]
-            sol = quiet_solve(tr.Scene(rob2, displacement=[0.0] * n, loads=[tr.PointLoad(s=z, force=(-F, 0, 0))]),
-                              options=tr.Options(nodes=np.array([L17]), **SMALL_OPTS))
+            sol = quiet_solve(
+                tr.Scene(rob2, displacement=[0.0] * n, loads=[tr.PointLoad(s=z, force=(-F, 0, 0))]),
+                options=tr.Options(nodes=np.array([L17]), **SMALL_OPTS),
+            )
             T = ref.closed_tension(F, z, L17, EI17, a, b, k2 * P)
             return -sol.position[0, 0] - ref.closed_deflection(L17, F, z, L17, EI17, a, b, T)
+
         ratio = tip_diff(2 * tau_p) / tip_diff(tau_p)
-        assert abs(ratio - 2.0) < 0.1, ratio   # 5 %: the F^2 remainder at the smallest load
+        assert abs(ratio - 2.0) < 0.1, ratio  # 5 %: the F^2 remainder at the smallest load
 
 
 def test_small_load_direction_isotropy_of_three_tendons():
     """Three equally spaced pretensioned tendons: the same compliance in every lateral
     direction, and the deflection is along the load (paper Section II-D)."""
-    EA_t = 10 * EI17 / R_OFF ** 2 * L17
-    robot = tr.Robot(KIRCH17, [tr.Tendon(offset=R_OFF, angle=2 * np.pi * i / 3, EA=EA_t, pretension=1.0)
-                               for i in range(3)])
+    EA_t = 10 * EI17 / R_OFF**2 * L17
+    robot = tr.Robot(
+        KIRCH17,
+        [
+            tr.Tendon(offset=R_OFF, angle=2 * np.pi * i / 3, EA=EA_t, pretension=1.0)
+            for i in range(3)
+        ],
+    )
     F = 1e-3
     out = []
     for psi in (0.0, 0.4, np.pi / 2, 2.0):
@@ -285,7 +319,7 @@ def test_pure_end_moment_gives_circle(rod):
 
 @pytest.mark.parametrize("rod", [KIRCH17, COSS17], ids=["kirchhoff", "cosserat"])
 def test_tension_controlled_parallel_tendon_constant_curvature(rod):
-    tau = 2.0   # N: kappa = tau r / EI ~ 4.8 1/m, tip angle ~ 55 deg
+    tau = 2.0  # N: kappa = tau r / EI ~ 4.8 1/m, tip angle ~ 55 deg
     robot = tr.Robot(rod, [tr.Tendon(offset=R_OFF)])
     sol = quiet_solve(tr.Scene(robot, tension=[tau]))
     kap = tau * R_OFF / EI17
@@ -310,7 +344,8 @@ def test_oblique_end_moment_gives_helix_with_twist(rod):
     constant c = (1/GJ - 1/EI) M_z, and R(s) = exp(s [M/EI]x) exp(s c [e3]x): the centre line
     is a helix about M (independent of GJ), the frame twists on top of it."""
     from scipy.spatial.transform import Rotation
-    M = np.array([0.004, -0.006, 0.003])          # N m: |M| L/EI ~ 0.37 rad
+
+    M = np.array([0.004, -0.006, 0.003])  # N m: |M| L/EI ~ 0.37 rad
     sol = quiet_solve(tr.Scene(tr.Robot(rod, []), loads=[tr.PointLoad(s=L17, moment=tuple(M))]))
     assert not sol.formulation.planar
     EI, GJ = rod.bending_stiffness, rod.torsional_stiffness
@@ -320,26 +355,33 @@ def test_oblique_end_moment_gives_helix_with_twist(rod):
     e3 = np.array([0.0, 0.0, 1.0])
     for k in range(0, sol.s.size, 10):
         s_ = sol.s[k]
-        p = (math.sin(s_ * om) / om * e3 + (1 - math.cos(s_ * om)) / om * np.cross(n, e3)
-             + (s_ - math.sin(s_ * om) / om) * (n @ e3) * n)
+        p = (
+            math.sin(s_ * om) / om * e3
+            + (1 - math.cos(s_ * om)) / om * np.cross(n, e3)
+            + (s_ - math.sin(s_ * om) / om) * (n @ e3) * n
+        )
         R = Rotation.from_rotvec(s_ * w).as_matrix() @ Rotation.from_rotvec(s_ * c * e3).as_matrix()
         # default rk8: 1e-8 relative accuracy target; a helix is smooth, 1e-9 L
         np.testing.assert_allclose(sol.position[k], p, atol=1e-9 * L17)
         np.testing.assert_allclose(sol.rotation[k], R, atol=1e-9)
-    np.testing.assert_allclose(sol.moment, np.tile(M, (sol.s.size, 1)), atol=1e-9 * np.linalg.norm(M))
+    np.testing.assert_allclose(
+        sol.moment, np.tile(M, (sol.s.size, 1)), atol=1e-9 * np.linalg.norm(M)
+    )
 
 
 def test_small_distributed_load_cantilever():
     """Uniform load w on a plain cantilever: delta(s) = w s^2 (6L^2 - 4Ls + s^2)/(24 EI); the
     difference is odd in w (no tendon), so it shrinks like w^3."""
-    w0 = DEFL[3] * L17 * 8 * EI17 / L17 ** 4
+    w0 = DEFL[3] * L17 * 8 * EI17 / L17**4
     ws = w0 * 2.0 ** np.arange(4)
     errs = []
     for w in ws:
-        sol = quiet_solve(tr.Scene(tr.Robot(KIRCH17, []), loads=[tr.DistributedLoad(force=(-w, 0, 0))]),
-                          options=tr.Options(**SMALL_OPTS))
+        sol = quiet_solve(
+            tr.Scene(tr.Robot(KIRCH17, []), loads=[tr.DistributedLoad(force=(-w, 0, 0))]),
+            options=tr.Options(**SMALL_OPTS),
+        )
         s_ = sol.s
-        delta = w * s_ ** 2 * (6 * L17 ** 2 - 4 * L17 * s_ + s_ ** 2) / (24 * EI17)
+        delta = w * s_**2 * (6 * L17**2 - 4 * L17 * s_ + s_**2) / (24 * EI17)
         errs.append(np.max(np.abs(sol.position[:, 0] + delta)))
         assert sol.formulation.distributed_load and sol.formulation.planar
     assert abs(_fitted_order(ws, np.array(errs)) - 3.0) < FIT_TOL, errs
@@ -388,13 +430,16 @@ def test_actuated_robot_against_planar_reference(routing, load):
         loads = [tr.PointLoad(s=L, force=(0, 0, -0.5))]
         rloads = [(L, 0.0, -0.5, 0.0)]
     else:
-        loads = [tr.PointLoad(s=0.04, force=(0.3, 0, 0.2), moment=(0, 0.005, 0)),
-                 tr.DistributedLoad(force=(0, 0, -2.0))]
+        loads = [
+            tr.PointLoad(s=0.04, force=(0.3, 0, 0.2), moment=(0, 0.005, 0)),
+            tr.DistributedLoad(force=(0, 0, -2.0)),
+        ]
         rloads = [(0.04, 0.3, 0.2, 0.005)]
         dist = (0.0, -2.0)
     sol = quiet_solve(tr.Scene(robot, displacement=[q], loads=loads), guess=free)
-    rr = ref.PlanarKirchhoffRobot(L, EI, tendons=[dict(offset=t.offset, slope=t.slope, q=q)],
-                                  loads=rloads, dist=dist)
+    rr = ref.PlanarKirchhoffRobot(
+        L, EI, tendons=[dict(offset=t.offset, slope=t.slope, q=q)], loads=rloads, dist=dist
+    )
     # starting guess for the reference only: the load moment about the base on the solved shape
     My0 = 0.0
     for ld in loads:
@@ -438,9 +483,10 @@ def test_fig17_tension_falls_to_slack_at_the_elastica_critical_load():
     # find the critical load: g(P) = tension - slack * EI/(r L^2) changes sign there
     def g(P):
         s = quiet_solve(_fig17_scene(P), options=REF_OPTS)
-        return s.tension[0] - s.slack[0] * EI17 / (R_OFF * L17 ** 2)
+        return s.tension[0] - s.slack[0] * EI17 / (R_OFF * L17**2)
 
     from scipy.optimize import brentq
+
     Pc = brentq(g, 0.3, 0.45, xtol=1e-12)
     # solver at rtol 1e-12, tol 1e-12: the root agrees with the exact elliptic value to 1e-8
     assert abs(Pc - Pc_exact) < 1e-8 * Pc_exact, (Pc, Pc_exact)
@@ -466,17 +512,21 @@ def test_fig17_compliance_jumps_after_slack():
     h = 1e-4
 
     def z_ref(P):
-        rr = ref.PlanarKirchhoffRobot(L17, EI17, tendons=[dict(offset=R_OFF, q=q)], loads=[(L17, 0.0, -P, 0.0)])
+        rr = ref.PlanarKirchhoffRobot(
+            L17, EI17, tendons=[dict(offset=R_OFF, q=q)], loads=[(L17, 0.0, -P, 0.0)]
+        )
         return rr.solve(M0_guess=-0.2, tau_guess=[1.0])["z"]
 
-    dz_lo = -(z_ref(below + h) - z_ref(below - h)) / (2 * h)   # dz/dF_z with F_z = -P
+    dz_lo = -(z_ref(below + h) - z_ref(below - h)) / (2 * h)  # dz/dF_z with F_z = -P
 
     # slack reference: the compressed elastica with free tip angle, parametrised by theta_L
     def elastica(th):
         P, x, z = ref.elastica_compressive_tip_angle(th, L17, EI17)
         return P, z
+
     th0 = 2 * math.asin(math.sqrt(0.5))
     from scipy.optimize import brentq
+
     thA = brentq(lambda th: elastica(th)[0] - above, th0, th0 + 0.5, xtol=1e-14)
     dth = 1e-5
     (P1, z1), (P2, z2) = elastica(thA - dth), elastica(thA + dth)
@@ -485,23 +535,30 @@ def test_fig17_compliance_jumps_after_slack():
     np.testing.assert_allclose(C_lo[2, 2], dz_lo, rtol=1e-5)
     np.testing.assert_allclose(C_hi[2, 2], dz_hi, rtol=1e-5)
     ratio = C_hi[2, 2] / C_lo[2, 2]
-    assert ratio > 2.0, ratio   # the paper: "about 3 times greater"; measured value reported
+    assert ratio > 2.0, ratio  # the paper: "about 3 times greater"; measured value reported
 
 
 def test_fig18_opposing_pretensioned_tendon_stays_taut():
     """Fig. 18: a second, opposing tendon with pretension (Cosserat backbone, so the
     pretension is defined); actuate by tension to 90 deg, lock the actuators, load 0.5 N."""
     tau_p = 2.0
-    robot = tr.Robot(COSS17, [tr.Tendon(offset=R_OFF, pretension=tau_p),
-                              tr.Tendon(offset=R_OFF, angle=np.pi, pretension=tau_p)])
-    d_tau = EI17 * (math.pi / 2) / (R_OFF * L17)   # exact for parallel tendons (kappa = r dtau/EI)
+    robot = tr.Robot(
+        COSS17,
+        [
+            tr.Tendon(offset=R_OFF, pretension=tau_p),
+            tr.Tendon(offset=R_OFF, angle=np.pi, pretension=tau_p),
+        ],
+    )
+    d_tau = EI17 * (math.pi / 2) / (R_OFF * L17)  # exact for parallel tendons (kappa = r dtau/EI)
     act = quiet_solve(tr.Scene(robot, tension=[tau_p + d_tau, tau_p]))
     assert abs(tip_xz_theta(act)[2] - math.pi / 2) < 1e-9
     q = act.displacement
     locked = quiet_solve(tr.Scene(robot, displacement=list(q)), guess=act)
     np.testing.assert_allclose(locked.tension, [tau_p + d_tau, tau_p], rtol=1e-8)
-    loaded = quiet_solve(tr.Scene(robot, displacement=list(q),
-                                  loads=[tr.PointLoad(s=L17, force=(0, 0, -0.5))]), guess=locked)
+    loaded = quiet_solve(
+        tr.Scene(robot, displacement=list(q), loads=[tr.PointLoad(s=L17, force=(0, 0, -0.5))]),
+        guess=locked,
+    )
     assert np.all(loaded.tension > 0) and np.all(loaded.slack == 0)
     # both taut: s_2 - s_1 = 2 r theta_L is fixed by the locked actuators (the backbone's
     # axial strain enters both paths equally; its shear strain only at second order, ~1e-10)
@@ -510,43 +567,80 @@ def test_fig18_opposing_pretensioned_tendon_stays_taut():
     # tau_1 - tau_2 (which may be negative); the SciPy planar reference with a single
     # tendon at q = r pi/2 does exactly that on a Kirchhoff backbone. The Cosserat backbone
     # differs by its axial strain (tau_1 + tau_2)/EA ~ 7e-5: allow 2e-4 relative.
-    r = ref.PlanarKirchhoffRobot(L17, EI17, tendons=[dict(offset=R_OFF, q=R_OFF * math.pi / 2)],
-                                 loads=[(L17, 0.0, -0.5, 0.0)]).solve(M0_guess=0.0, tau_guess=[1.0])
-    assert r["tension"][0] < 0          # a single tendon would have to push: it goes slack
+    r = ref.PlanarKirchhoffRobot(
+        L17,
+        EI17,
+        tendons=[dict(offset=R_OFF, q=R_OFF * math.pi / 2)],
+        loads=[(L17, 0.0, -0.5, 0.0)],
+    ).solve(M0_guess=0.0, tau_guess=[1.0])
+    assert r["tension"][0] < 0  # a single tendon would have to push: it goes slack
     np.testing.assert_allclose(loaded.tip_position[[0, 2]], [r["x"], r["z"]], atol=2e-4 * L17)
     np.testing.assert_allclose(loaded.tension[0] - loaded.tension[1], r["tension"][0], rtol=2e-3)
     single = quiet_solve(_fig17_scene(0.5))
     assert single.slack[0] > 0
     d_two = np.linalg.norm(loaded.tip_position - act.tip_position)
     d_one = np.linalg.norm(single.tip_position - quiet_solve(_fig17_scene(0.0)).tip_position)
-    assert d_two < d_one, (d_two, d_one)   # measured: 65 mm vs 113 mm
+    assert d_two < d_one, (d_two, d_one)  # measured: 65 mm vs 113 mm
 
 
 # =============================================================== balance, round trips, formulation
 def _spatial_scenes():
     rod_c = tr.Rod(0.15, 1.0e-3, 200e9, 77e9)
     rod_k = tr.Rod(0.15, 1.0e-3, 200e9, 77e9, kirchhoff=True)
-    ts = [tr.Tendon(offset=0.008, angle=0.3, EA=2e4),
-          tr.Tendon.converging(offset=0.008, angle=2.4, length=0.15),
-          tr.Tendon(offset=0.006, angle=4.0, slope=-0.01, end=0.1, EA=5e3)]
-    loads = [tr.PointLoad(s=0.15, force=(0.2, -0.1, -0.3), moment=(0.002, 0, 0.001)),
-             tr.PointLoad(s=0.07, force=(0.0, 0.3, 0.0)),
-             tr.DistributedLoad(force=(0.0, 0.0, -0.8))]
+    ts = [
+        tr.Tendon(offset=0.008, angle=0.3, EA=2e4),
+        tr.Tendon.converging(offset=0.008, angle=2.4, length=0.15),
+        tr.Tendon(offset=0.006, angle=4.0, slope=-0.01, end=0.1, EA=5e3),
+    ]
+    loads = [
+        tr.PointLoad(s=0.15, force=(0.2, -0.1, -0.3), moment=(0.002, 0, 0.001)),
+        tr.PointLoad(s=0.07, force=(0.0, 0.3, 0.0)),
+        tr.DistributedLoad(force=(0.0, 0.0, -0.8)),
+    ]
     return [
-        ("cosserat-mixed", tr.Scene(tr.Robot(rod_c, ts), displacement=[2e-3, None, 1e-3],
-                                    tension=[None, 1.5, None], loads=loads)),
-        ("kirchhoff-mixed", tr.Scene(tr.Robot(rod_k, ts), displacement=[2e-3, 1e-3, None],
-                                     tension=[None, None, 0.7], loads=loads)),
+        (
+            "cosserat-mixed",
+            tr.Scene(
+                tr.Robot(rod_c, ts),
+                displacement=[2e-3, None, 1e-3],
+                tension=[None, 1.5, None],
+                loads=loads,
+            ),
+        ),
+        (
+            "kirchhoff-mixed",
+            tr.Scene(
+                tr.Robot(rod_k, ts),
+                displacement=[2e-3, 1e-3, None],
+                tension=[None, None, 0.7],
+                loads=loads,
+            ),
+        ),
         # opposing inextensible pairs on a Kirchhoff backbone: q_i + q_opposite must be < 0
         # (one of each pair slack); = 0 is indeterminate, > 0 has no equilibrium (MODEL.md)
-        ("kirchhoff-gravity-4", tr.Scene(
-            tr.Robot(rod_k, [tr.Tendon(offset=0.008, angle=i * np.pi / 2) for i in range(4)]),
-            displacement=[3e-3, 1e-3, -4e-3, -2e-3], loads=[tr.DistributedLoad(force=(0.0, -0.5, -1.0))])),
-        ("cosserat-tip-loads", tr.Scene(
-            tr.Robot(rod_c, [tr.Tendon(offset=0.008, angle=0.3, EA=2e4),
-                             tr.Tendon.converging(offset=0.008, angle=2.4, length=0.15)]),
-            displacement=[2e-3, None], tension=[None, 1.5],
-            loads=[loads[0], tr.DistributedLoad(force=(0.3, 0.0, -0.8))])),
+        (
+            "kirchhoff-gravity-4",
+            tr.Scene(
+                tr.Robot(rod_k, [tr.Tendon(offset=0.008, angle=i * np.pi / 2) for i in range(4)]),
+                displacement=[3e-3, 1e-3, -4e-3, -2e-3],
+                loads=[tr.DistributedLoad(force=(0.0, -0.5, -1.0))],
+            ),
+        ),
+        (
+            "cosserat-tip-loads",
+            tr.Scene(
+                tr.Robot(
+                    rod_c,
+                    [
+                        tr.Tendon(offset=0.008, angle=0.3, EA=2e4),
+                        tr.Tendon.converging(offset=0.008, angle=2.4, length=0.15),
+                    ],
+                ),
+                displacement=[2e-3, None],
+                tension=[None, 1.5],
+                loads=[loads[0], tr.DistributedLoad(force=(0.3, 0.0, -0.8))],
+            ),
+        ),
     ]
 
 
@@ -559,20 +653,25 @@ def _tendon_tangent_at_base(sol, i):
     u = m_b / np.array([rod.bending_stiffness, rod.bending_stiffness, rod.torsional_stiffness])
     v = np.array([0, 0, 1.0])
     if not rod.kirchhoff:
-        v = v + (R0.T @ sol.force[0]) / np.array([rod.shear_stiffness, rod.shear_stiffness,
-                                                  rod.axial_stiffness])
+        v = v + (R0.T @ sol.force[0]) / np.array(
+            [rod.shear_stiffness, rod.shear_stiffness, rod.axial_stiffness]
+        )
     d = np.array([math.cos(t.angle), math.sin(t.angle), 0.0])
     r, dr = t.offset * d, t.slope * d
     w = np.cross(u, r) + dr + v
     return R0 @ (w / np.linalg.norm(w)), R0 @ r
 
 
-@pytest.mark.parametrize("name, scene", _spatial_scenes(), ids=lambda x: x if isinstance(x, str) else "")
+@pytest.mark.parametrize(
+    "name, scene", _spatial_scenes(), ids=lambda x: x if isinstance(x, str) else ""
+)
 def test_global_balance_and_orthonormal_frames(name, scene):
     L = scene.robot.rod.length
     pls = scene.point_loads
     nodes = np.union1d(np.linspace(0, L, 801), [p.s for p in pls])
-    sol = quiet_solve(scene, options=tr.Options(integrator="adaptive", rtol=1e-12, tol=1e-12, nodes=nodes))
+    sol = quiet_solve(
+        scene, options=tr.Options(integrator="adaptive", rtol=1e-12, tol=1e-12, nodes=nodes)
+    )
     # external loads on the free body [0+, L]: point loads, distributed load, tendon cuts at s = 0
     F_ext = sum((np.array(p.force) for p in pls), np.zeros(3)) + scene.distributed_force * L
     M_ext = np.zeros(3)
@@ -580,6 +679,7 @@ def test_global_balance_and_orthonormal_frames(name, scene):
         k = int(np.argmin(np.abs(sol.s - p.s)))
         M_ext += np.cross(sol.position[k], p.force) + np.array(p.moment)
     from scipy.integrate import simpson
+
     M_ext += np.cross(simpson(sol.position, x=sol.s, axis=0), scene.distributed_force)
     F_base, M_base = sol.force[0].copy(), sol.moment[0].copy()
     for i in range(scene.robot.n_tendons):
@@ -599,7 +699,9 @@ def test_global_balance_and_orthonormal_frames(name, scene):
     np.testing.assert_allclose(fast.tip_position, sol.tip_position, atol=1e-8 * L)
 
 
-@pytest.mark.parametrize("name, scene", _spatial_scenes(), ids=lambda x: x if isinstance(x, str) else "")
+@pytest.mark.parametrize(
+    "name, scene", _spatial_scenes(), ids=lambda x: x if isinstance(x, str) else ""
+)
 def test_displacement_tension_round_trip(name, scene):
     sol = quiet_solve(scene)
     tens = tr.Scene(scene.robot, tension=list(sol.tension), loads=scene.loads)
@@ -609,7 +711,9 @@ def test_displacement_tension_round_trip(name, scene):
     np.testing.assert_allclose(sol_t.rotation, sol.rotation, atol=1e-9)
     for i, q in enumerate(scene.displacement):
         if q is not None and sol.slack[i] == 0:
-            np.testing.assert_allclose(sol_t.displacement[i], q, atol=1e-10 * scene.robot.rod.length)
+            np.testing.assert_allclose(
+                sol_t.displacement[i], q, atol=1e-10 * scene.robot.rod.length
+            )
     back = tr.Scene(scene.robot, displacement=list(sol_t.displacement), loads=scene.loads)
     sol_b = quiet_solve(back, guess=sol_t)
     np.testing.assert_allclose(sol_b.tension, sol.tension, rtol=1e-7, atol=1e-9)
@@ -618,11 +722,23 @@ def test_displacement_tension_round_trip(name, scene):
 
 def test_planar_vs_forced_spatial_and_formulation():
     rod = KIRCH17
-    robot = tr.Robot(rod, [tr.Tendon(offset=R_OFF), tr.Tendon.converging(offset=R_OFF, angle=np.pi, length=L17),
-                           tr.Tendon(offset=0.005, end=0.1, EA=1e4)])
-    sc = tr.Scene(robot, displacement=[8e-3, None, 1e-3], tension=[None, 0.5, None],
-                  loads=[tr.PointLoad(s=0.12, force=(0.1, 0, -0.2), moment=(0, 0.003, 0)),
-                         tr.DistributedLoad(force=(0.3, 0, -0.5))])
+    robot = tr.Robot(
+        rod,
+        [
+            tr.Tendon(offset=R_OFF),
+            tr.Tendon.converging(offset=R_OFF, angle=np.pi, length=L17),
+            tr.Tendon(offset=0.005, end=0.1, EA=1e4),
+        ],
+    )
+    sc = tr.Scene(
+        robot,
+        displacement=[8e-3, None, 1e-3],
+        tension=[None, 0.5, None],
+        loads=[
+            tr.PointLoad(s=0.12, force=(0.1, 0, -0.2), moment=(0, 0.003, 0)),
+            tr.DistributedLoad(force=(0.3, 0, -0.5)),
+        ],
+    )
     pl = quiet_solve(sc)
     sp = quiet_solve(sc, options=tr.Options(force_spatial=True))
     f, g = pl.formulation, sp.formulation
@@ -639,26 +755,43 @@ def test_planar_vs_forced_spatial_and_formulation():
 
 
 def test_formulation_leaves_out_what_is_not_needed():
-    plain = quiet_solve(tr.Scene(tr.Robot(COSS17, []), loads=[tr.PointLoad(s=L17, force=(0.1, 0, 0))]))
+    plain = quiet_solve(
+        tr.Scene(tr.Robot(COSS17, []), loads=[tr.PointLoad(s=L17, force=(0.1, 0, 0))])
+    )
     f = plain.formulation
     assert f.planar and not f.kirchhoff and f.n_unknowns == 3 and f.n_segments == 1
     assert f.n_length_states == 0 and not f.distributed_load
-    three_d = quiet_solve(tr.Scene(tr.Robot(KIRCH17, [tr.Tendon(angle=0.5)]), tension=[1.0],
-                                   loads=[tr.PointLoad(s=0.1, force=(0, 0.1, 0))]))
+    three_d = quiet_solve(
+        tr.Scene(
+            tr.Robot(KIRCH17, [tr.Tendon(angle=0.5)]),
+            tension=[1.0],
+            loads=[tr.PointLoad(s=0.1, force=(0, 0.1, 0))],
+        )
+    )
     g = three_d.formulation
     assert not g.planar and g.n_unknowns == 6 and g.n_segments == 2 and g.n_length_states == 0
-    tip = quiet_solve(tr.Scene(tr.Robot(KIRCH17, [tr.Tendon()]), displacement=[1e-3]),
-                      options=tr.Options(tip_only=True))
+    tip = quiet_solve(
+        tr.Scene(tr.Robot(KIRCH17, [tr.Tendon()]), displacement=[1e-3]),
+        options=tr.Options(tip_only=True),
+    )
     assert tip.formulation.tip_only and tip.s.shape == (1,) and tip.s[0] == L17
     full = quiet_solve(tr.Scene(tr.Robot(KIRCH17, [tr.Tendon()]), displacement=[1e-3]))
     np.testing.assert_allclose(tip.tip_position, full.tip_position, atol=1e-14)
     # a tip-only solution still warm-starts: its base state comes from the core's unknowns
     for opts in (tr.Options(tip_only=True), tr.Options(tip_only=True, force_spatial=True)):
-        sc = tr.Scene(tr.Robot(KIRCH17, [tr.Tendon(), tr.Tendon.converging(offset=R_OFF, angle=2.0, length=L17)]),
-                      displacement=[5e-3, None], tension=[None, 1.0], loads=[tr.PointLoad(s=L17, force=(0.1, 0, -0.2))])
+        sc = tr.Scene(
+            tr.Robot(
+                KIRCH17, [tr.Tendon(), tr.Tendon.converging(offset=R_OFF, angle=2.0, length=L17)]
+            ),
+            displacement=[5e-3, None],
+            tension=[None, 1.0],
+            loads=[tr.PointLoad(s=L17, force=(0.1, 0, -0.2))],
+        )
         t_only = quiet_solve(sc, options=opts)
         whole = quiet_solve(sc, options=dataclasses.replace(opts, tip_only=False))
-        np.testing.assert_allclose(t_only.base_state, whole.base_state, atol=1e-12)  # same solve, round-off
+        np.testing.assert_allclose(
+            t_only.base_state, whole.base_state, atol=1e-12
+        )  # same solve, round-off
 
 
 # =============================================================== warm starts, compliance, errors
@@ -670,7 +803,7 @@ def test_warm_start_from_solution():
     warm2 = quiet_solve(sc2, guess=cold1)
     np.testing.assert_allclose(warm2.position, cold2.position, atol=1e-9 * L17)
     assert warm2.nfev <= cold2.nfev
-    raw = quiet_solve(sc2, guess=cold1.base_state)   # a raw vector works too
+    raw = quiet_solve(sc2, guess=cold1.base_state)  # a raw vector works too
     np.testing.assert_allclose(raw.tip_position, cold2.tip_position, atol=1e-9 * L17)
     # a planar solution warm-starts a forced-spatial solve (its Jacobian is not reused)
     sp = quiet_solve(sc2, guess=cold1, options=tr.Options(force_spatial=True))
@@ -688,7 +821,7 @@ def test_compliance_matches_finite_differences(s_at):
     assert C.shape == (6, 6)
     opts = tr.Options(integrator="adaptive", rtol=1e-12, tol=1e-12, nodes=np.array([s_]))
     base = quiet_solve(scene, options=opts)
-    h = [1e-4] * 3 + [1e-4 * L] * 3    # central differences: O(h^2) ~ 1e-8 relative
+    h = [1e-4] * 3 + [1e-4 * L] * 3  # central differences: O(h^2) ~ 1e-8 relative
     fd = np.zeros((6, 6))
     for j in range(6):
         cols = []
@@ -696,15 +829,23 @@ def test_compliance_matches_finite_differences(s_at):
             w = np.zeros(6)
             w[j] = sgn * h[j]
             extra = tr.PointLoad(s=s_, force=tuple(w[:3]), moment=tuple(w[3:]))
-            sol = quiet_solve(tr.Scene(scene.robot, displacement=scene.displacement, tension=scene.tension,
-                                       loads=tuple(scene.loads) + (extra,)), guess=base, options=opts)
+            sol = quiet_solve(
+                tr.Scene(
+                    scene.robot,
+                    displacement=scene.displacement,
+                    tension=scene.tension,
+                    loads=tuple(scene.loads) + (extra,),
+                ),
+                guess=base,
+                options=opts,
+            )
             dR = sol.rotation[0] @ base.rotation[0].T
             dth = 0.5 * np.array([dR[2, 1] - dR[1, 2], dR[0, 2] - dR[2, 0], dR[1, 0] - dR[0, 1]])
             cols.append(np.concatenate([sol.position[0] - base.position[0], dth]))
         fd[:, j] = (cols[0] - cols[1]) / (2 * h[j])
     # FD truncation ~1e-8 relative and solver noise 1e-12/h ~ 1e-8: 1e-4 relative is safe
     np.testing.assert_allclose(C, fd, rtol=1e-4, atol=1e-6 * np.max(np.abs(fd)))
-    if s_at is not None:   # closer to the base: stiffer than at the tip
+    if s_at is not None:  # closer to the base: stiffer than at the tip
         assert np.linalg.norm(C[:3, :3]) < np.linalg.norm(tr.compliance(scene)[:3, :3])
 
 
@@ -720,15 +861,21 @@ def test_nonconvergence_warns_and_strict_raises():
 
 
 def test_solution_fields_shapes_and_repr():
-    sc = tr.Scene(tr.Robot(KIRCH17, [tr.Tendon(), tr.Tendon(angle=np.pi / 2)]), displacement=[1e-3, None],
-                  tension=[None, 0.5], loads=[tr.PointLoad(s=0.11, force=(0, 0, -0.1))])
+    sc = tr.Scene(
+        tr.Robot(KIRCH17, [tr.Tendon(), tr.Tendon(angle=np.pi / 2)]),
+        displacement=[1e-3, None],
+        tension=[None, 0.5],
+        loads=[tr.PointLoad(s=0.11, force=(0, 0, -0.1))],
+    )
     sol = quiet_solve(sc, options=tr.Options(nodes=33))
-    n = sol.s.size   # 33 uniform nodes plus the load's breakpoint twice (before/after its jump)
+    n = sol.s.size  # 33 uniform nodes plus the load's breakpoint twice (before/after its jump)
     assert n == 35 and np.count_nonzero(sol.s == 0.11) == 2
     assert sol.position.shape == (n, 3) and sol.rotation.shape == (n, 3, 3)
     assert sol.force.shape == (n, 3) and sol.moment.shape == (n, 3)
     k = np.flatnonzero(sol.s == 0.11)
-    np.testing.assert_allclose(sol.force[k[0]] - sol.force[k[1]], (0, 0, -0.1), atol=1e-12)  # n jumps by -P
+    np.testing.assert_allclose(
+        sol.force[k[0]] - sol.force[k[1]], (0, 0, -0.1), atol=1e-12
+    )  # n jumps by -P
     assert sol.tension.shape == (2,) and sol.slack.shape == (2,) and sol.displacement.shape == (2,)
     assert sol.s[0] == 0.0 and sol.s[-1] == L17
     np.testing.assert_array_equal(sol.position[0], 0.0)
@@ -747,16 +894,29 @@ def test_rotating_the_scene_about_the_axis_rotates_the_solution():
     c, s_ = math.cos(psi), math.sin(psi)
     Rz = np.array([[c, -s_, 0], [s_, c, 0], [0, 0, 1.0]])
     rob = scene.robot
-    rot_t = [tr.Tendon(offset=t.offset, angle=t.angle + psi, slope=t.slope, EA=t.EA, end=t.end,
-                       pretension=t.pretension) for t in rob.tendons]
+    rot_t = [
+        tr.Tendon(
+            offset=t.offset,
+            angle=t.angle + psi,
+            slope=t.slope,
+            EA=t.EA,
+            end=t.end,
+            pretension=t.pretension,
+        )
+        for t in rob.tendons
+    ]
     loads = []
     for ld in scene.loads:
         if isinstance(ld, tr.PointLoad):
             loads.append(tr.PointLoad(s=ld.s, force=Rz @ ld.force, moment=Rz @ ld.moment))
         else:
             loads.append(tr.DistributedLoad(force=Rz @ ld.force))
-    rotated = tr.Scene(tr.Robot(rob.rod, rot_t), displacement=scene.displacement,
-                       tension=scene.tension, loads=loads)
+    rotated = tr.Scene(
+        tr.Robot(rob.rod, rot_t),
+        displacement=scene.displacement,
+        tension=scene.tension,
+        loads=loads,
+    )
     a, b = quiet_solve(scene), quiet_solve(rotated)
     L = rob.rod.length
     # the same discrete equations in rotated coordinates: agreement to round-off amplified
@@ -782,9 +942,18 @@ def test_at_matches_a_solve_with_those_nodes():
         sol.at(0.2)
 
 
-@pytest.mark.parametrize("kw", [dict(slack_model="squared"), dict(jacobian_method="newton"),
-                                dict(jacobian_method="hybrid"), dict(integrator="rk4", steps=200), dict(integrator="adaptive"),
-                                dict(continuation=False)], ids=repr)
+@pytest.mark.parametrize(
+    "kw",
+    [
+        dict(slack_model="squared"),
+        dict(jacobian_method="newton"),
+        dict(jacobian_method="hybrid"),
+        dict(integrator="rk4", steps=200),
+        dict(integrator="adaptive"),
+        dict(continuation=False),
+    ],
+    ids=repr,
+)
 @pytest.mark.parametrize("P", [0.2, 0.5], ids=["taut", "slack"])
 def test_numerical_options_do_not_change_the_answer(kw, P):
     """The options change how the equations are solved, not which: every variant agrees
@@ -809,13 +978,14 @@ def _balance_errors(sol):
         k = int(np.flatnonzero(np.isclose(sol.s, p.s, rtol=0, atol=1e-15))[0])
         M_ext += np.cross(sol.position[k], p.force) + np.array(p.moment)
     from scipy.integrate import simpson
+
     M_ext += np.cross(simpson(sol.position, x=sol.s, axis=0), scene.distributed_force)
     F_b, M_b = sol.force[0].copy(), sol.moment[0].copy()
     for i in range(scene.robot.n_tendons):
         th, r0 = _tendon_tangent_at_base(sol, i)
         F_b += sol.tension[i] * th
         M_b += np.cross(r0, sol.tension[i] * th)
-    scale = np.linalg.norm(F_ext) + np.sum(sol.tension) + 1e-3 * EI17 / L ** 2
+    scale = np.linalg.norm(F_ext) + np.sum(sol.tension) + 1e-3 * EI17 / L**2
     return np.max(np.abs(F_b - F_ext)) / scale, np.max(np.abs(M_b - M_ext)) / (scale * L)
 
 
@@ -826,8 +996,12 @@ def test_random_scenes_converge_and_balance():
     converges and balances forces and moments globally."""
     from hypothesis import given, settings, strategies as st, HealthCheck
 
-    @settings(max_examples=25, deadline=None, derandomize=True,
-              suppress_health_check=[HealthCheck.too_slow])
+    @settings(
+        max_examples=25,
+        deadline=None,
+        derandomize=True,
+        suppress_health_check=[HealthCheck.too_slow],
+    )
     @given(st.data())
     def check(data):
         kir = data.draw(st.booleans())
@@ -843,10 +1017,13 @@ def test_random_scenes_converge_and_balance():
             e = L if end is None else end
             a = {"parallel": 0.0, "sloped": -0.4 * b / e, "converging": -b / e}[kind]
             EA = data.draw(st.sampled_from([math.inf, 2e3, 2e4]))
-            tendons.append(tr.Tendon(offset=b, angle=data.draw(st.floats(0, 2 * math.pi)), slope=a,
-                                     EA=EA, end=end))
+            tendons.append(
+                tr.Tendon(
+                    offset=b, angle=data.draw(st.floats(0, 2 * math.pi)), slope=a, EA=EA, end=end
+                )
+            )
             if data.draw(st.booleans()):
-                tens.append(data.draw(st.floats(0.0, 2.0)))       # N: up to ~kappa L = 0.5 rad
+                tens.append(data.draw(st.floats(0.0, 2.0)))  # N: up to ~kappa L = 0.5 rad
                 disp.append(None)
             else:
                 # released up to 2 mm or retracted up to 1 mm: at most one retracted, so no
@@ -860,19 +1037,32 @@ def test_random_scenes_converge_and_balance():
         for _ in range(data.draw(st.integers(0, 2))):
             f = data.draw(st.lists(st.floats(-0.3, 0.3), min_size=3, max_size=3))
             m = data.draw(st.lists(st.floats(-3e-3, 3e-3), min_size=3, max_size=3))
-            loads.append(tr.PointLoad(s=data.draw(st.sampled_from([0.05, 0.09, L])), force=f, moment=m))
+            loads.append(
+                tr.PointLoad(s=data.draw(st.sampled_from([0.05, 0.09, L])), force=f, moment=m)
+            )
         if data.draw(st.booleans()):
-            loads.append(tr.DistributedLoad(force=data.draw(st.lists(st.floats(-1, 1), min_size=3, max_size=3))))
+            loads.append(
+                tr.DistributedLoad(
+                    force=data.draw(st.lists(st.floats(-1, 1), min_size=3, max_size=3))
+                )
+            )
         scene = tr.Scene(tr.Robot(rod, tendons), displacement=disp, tension=tens, loads=loads)
         nodes = np.union1d(np.linspace(0, L, 401), [p.s for p in scene.point_loads])
-        sol = tr.solve(scene, options=tr.Options(integrator="adaptive", rtol=1e-12, tol=1e-12, nodes=nodes),
-                       strict=True)
+        sol = tr.solve(
+            scene,
+            options=tr.Options(integrator="adaptive", rtol=1e-12, tol=1e-12, nodes=nodes),
+            strict=True,
+        )
         ef, em = _balance_errors(sol)
         # adaptive integration at rtol 1e-12, residual 1e-12, Simpson on 401 nodes (~1e-12)
         assert ef < 1e-9 and em < 1e-9, (ef, em, scene)
         RtR = np.einsum("nji,njk->nik", sol.rotation, sol.rotation)
         assert np.max(np.abs(RtR - np.eye(3))) < 1e-10
-        assert np.all(sol.tension >= 0) and np.all(sol.slack >= 0) and np.all(sol.tension * sol.slack == 0)
+        assert (
+            np.all(sol.tension >= 0)
+            and np.all(sol.slack >= 0)
+            and np.all(sol.tension * sol.slack == 0)
+        )
 
     check()
 
@@ -884,16 +1074,25 @@ def test_failure_near_tendon_curvature_limit_says_so():
     curvature (stress finding S1).  The solve fails, and its message names that limit.
     A solve whose last iterate stays far below the limit says nothing of it."""
     import math as _m
+
     L11, d11, r11 = 0.1, 1.04e-3, 0.01
     rod = tr.Rod(length=L11, diameter=d11, E=210e9, G=80e9, kirchhoff=True)
     fs = rod.bending_stiffness / L11**2
     one = tr.Robot(rod, [tr.Tendon(offset=r11)])
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", tr.ConvergenceWarning)
-        bad = tr.solve(tr.Scene(one, displacement=[r11 * _m.pi / 2],
-                                loads=[tr.PointLoad(s=L11, force=(-100 * fs, 0, 0))]))
+        bad = tr.solve(
+            tr.Scene(
+                one,
+                displacement=[r11 * _m.pi / 2],
+                loads=[tr.PointLoad(s=L11, force=(-100 * fs, 0, 0))],
+            )
+        )
     assert not bad.success
     assert "EI/r^2" in bad.message and "centre of curvature" in bad.message
-    ok = tr.solve(tr.Scene(one, displacement=[r11 * _m.pi / 2],
-                           loads=[tr.PointLoad(s=L11, force=(-1 * fs, 0, 0))]))
+    ok = tr.solve(
+        tr.Scene(
+            one, displacement=[r11 * _m.pi / 2], loads=[tr.PointLoad(s=L11, force=(-1 * fs, 0, 0))]
+        )
+    )
     assert ok.success and "EI/r^2" not in ok.message

@@ -62,8 +62,10 @@ def test_golden(stored, current):
                 ok = same_nan and np.allclose(new[fin], old[fin], rtol=1e-9, atol=1e-9 * scale)
             if not ok:
                 d = np.abs(new - old)
-                bad.append(f"{key}: max |diff| {np.nanmax(d):.3g} (max |value| "
-                           f"{np.nanmax(np.abs(old)):.3g})")
+                bad.append(
+                    f"{key}: max |diff| {np.nanmax(d):.3g} (max |value| "
+                    f"{np.nanmax(np.abs(old)):.3g})"
+                )
         elif not bitwise and _counts(key):
             continue
         elif not np.array_equal(old, new):

@@ -21,6 +21,7 @@ because the first call in a fresh worker imports NumPy).  It is derandomised
 so CI is reproducible; ``TR_HOSTILE_PROFILE=explore`` runs 10x more random
 examples for a local hunt.
 """
+
 import importlib
 import math
 import os
@@ -40,15 +41,31 @@ from hypothesis import strategies as st
 import tendonrod as tr
 
 settings.register_profile(
-    "hostile", max_examples=25, deadline=None, derandomize=True, database=None,
-    suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large,
-                           HealthCheck.filter_too_much])
+    "hostile",
+    max_examples=25,
+    deadline=None,
+    derandomize=True,
+    database=None,
+    suppress_health_check=[
+        HealthCheck.too_slow,
+        HealthCheck.data_too_large,
+        HealthCheck.filter_too_much,
+    ],
+)
 settings.register_profile(
-    "hostile-explore", max_examples=250, deadline=None, derandomize=False,
-    suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large,
-                           HealthCheck.filter_too_much])
+    "hostile-explore",
+    max_examples=250,
+    deadline=None,
+    derandomize=False,
+    suppress_health_check=[
+        HealthCheck.too_slow,
+        HealthCheck.data_too_large,
+        HealthCheck.filter_too_much,
+    ],
+)
 HOSTILE = settings.get_profile(
-    "hostile-explore" if os.environ.get("TR_HOSTILE_PROFILE") == "explore" else "hostile")
+    "hostile-explore" if os.environ.get("TR_HOSTILE_PROFILE") == "explore" else "hostile"
+)
 
 
 def hostile(n=None):
@@ -175,8 +192,13 @@ class Worker:
         env = dict(os.environ)
         env["PYTHONPATH"] = root + (os.pathsep + env["PYTHONPATH"] if env.get("PYTHONPATH") else "")
         self.err = tempfile.TemporaryFile()
-        self.proc = subprocess.Popen([sys.executable, "-c", WORKER_SRC], stdin=subprocess.PIPE,
-                                     stdout=subprocess.PIPE, stderr=self.err, env=env)
+        self.proc = subprocess.Popen(
+            [sys.executable, "-c", WORKER_SRC],
+            stdin=subprocess.PIPE,
+            stdout=subprocess.PIPE,
+            stderr=self.err,
+            env=env,
+        )
 
     def _stderr(self):
         self.err.seek(0)
@@ -188,8 +210,10 @@ class Worker:
         except OSError:
             pass
         rc = self.proc.wait()
-        msg = (f"{name} {why} (exit status {rc}) on\n  args={args!r}\n  kwargs={kwargs!r}\n"
-               f"child stderr:\n{self._stderr()}")
+        msg = (
+            f"{name} {why} (exit status {rc}) on\n  args={args!r}\n  kwargs={kwargs!r}\n"
+            f"child stderr:\n{self._stderr()}"
+        )
         self.proc = None
         raise Crash(msg)
 
@@ -238,7 +262,7 @@ def test_worker_reports_a_crash_as_a_failure(worker):
     """The harness itself: a segfault in the child is a Crash, and the next
     call runs in a fresh worker."""
     with pytest.raises(Crash, match="crashed"):
-        worker.call("ctypes.string_at", 0)          # reads address 0: SIGSEGV
+        worker.call("ctypes.string_at", 0)  # reads address 0: SIGSEGV
     assert worker.call("math.sqrt", 4.0)[:2] == ("ok", 2.0)
 
 
@@ -251,20 +275,49 @@ def raised(outcome, *classes):
 # Hostile values
 # --------------------------------------------------------------------------
 
-SPECIAL = [math.nan, -math.nan, math.inf, -math.inf, 0.0, -0.0, 1.0, -1.0,
-           5e-324, -5e-324, 2.2250738585072014e-308, 1e-300, 1e-30, 1e30, 1e300,
-           1.7976931348623157e308, -1.7976931348623157e308, -1e300]
+SPECIAL = [
+    math.nan,
+    -math.nan,
+    math.inf,
+    -math.inf,
+    0.0,
+    -0.0,
+    1.0,
+    -1.0,
+    5e-324,
+    -5e-324,
+    2.2250738585072014e-308,
+    1e-300,
+    1e-30,
+    1e30,
+    1e300,
+    1.7976931348623157e308,
+    -1.7976931348623157e308,
+    -1e300,
+]
 
 
 def hostile_floats():
     """NaN, +-inf, signed zeros, subnormals, huge and tiny, and anything else."""
-    return st.one_of(st.sampled_from(SPECIAL),
-                     st.floats(allow_nan=True, allow_infinity=True),
-                     st.floats(-10.0, 10.0))
+    return st.one_of(
+        st.sampled_from(SPECIAL),
+        st.floats(allow_nan=True, allow_infinity=True),
+        st.floats(-10.0, 10.0),
+    )
 
 
-NON_NUMERIC = ["abc", "", None, {"a": 1}, b"\x00\x01", ("@object", None), ("@badfloat", None),
-               [1.0, "x"], 1j, [[1.0], [1.0, 2.0]]]
+NON_NUMERIC = [
+    "abc",
+    "",
+    None,
+    {"a": 1},
+    b"\x00\x01",
+    ("@object", None),
+    ("@badfloat", None),
+    [1.0, "x"],
+    1j,
+    [[1.0], [1.0, 2.0]],
+]
 
 # --------------------------------------------------------------------------
 # Closed-form ufuncs
@@ -278,8 +331,15 @@ def _beam_ok(L, EI):
 
 
 def _dom_tension(F, z, L, EI, a, b, k):
-    return (_beam_ok(L, EI) & (z >= 0) & (z <= L) & (k >= 0)
-            & ~np.isnan(F) & ~np.isnan(a) & ~np.isnan(b))
+    return (
+        _beam_ok(L, EI)
+        & (z >= 0)
+        & (z <= L)
+        & (k >= 0)
+        & ~np.isnan(F)
+        & ~np.isnan(a)
+        & ~np.isnan(b)
+    )
 
 
 def _dom_s(s, F, z, L, EI, a, b, k):
@@ -332,8 +392,10 @@ def _ref_deflection(s, F, z, L, EI, a, b, k):
     tau, _ = _ref_tau(F, z, L, EI, a, b, k)
     lo = -((F + a * tau) * s**3 / 6 + (b * tau - F * z) * s**2 / 2) / EI
     hi = -(a * tau * s**3 / 6 + b * tau * s**2 / 2 - F * z**2 * s / 2 + F * z**3 / 6) / EI
-    scale = (np.abs(F) * (s**3 + z**3 + z * s**2 + z**2 * s)
-             + np.abs(tau) * (np.abs(a) * s**3 + 3 * np.abs(b) * s**2)) / EI
+    scale = (
+        np.abs(F) * (s**3 + z**3 + z * s**2 + z**2 * s)
+        + np.abs(tau) * (np.abs(a) * s**3 + 3 * np.abs(b) * s**2)
+    ) / EI
     return np.where(s < z, lo, hi), scale
 
 
@@ -346,8 +408,14 @@ def _ref_eqk(k, kb):
 
 def _ref_pattern(n):
     # the sum of cos^2(2 pi i / n) itself, for small n
-    out = np.array([sum(math.cos(2 * math.pi * i / int(m)) ** 2 for i in range(1, int(m) + 1))
-                    if 1 <= m <= 1000 else np.nan for m in np.atleast_1d(n)])
+    out = np.array(
+        [
+            sum(math.cos(2 * math.pi * i / int(m)) ** 2 for i in range(1, int(m) + 1))
+            if 1 <= m <= 1000
+            else np.nan
+            for m in np.atleast_1d(n)
+        ]
+    )
     return out, np.abs(out) + 1.0
 
 
@@ -373,8 +441,20 @@ UFUNCS = {
 }
 
 # A valid, moderate design to start from: L = 0.2 m, d = 0.8 mm steel, r = 1 cm.
-_BASE = dict(s=0.15, F=0.3, z=0.12, L=0.2, EI=207e9 * math.pi * 0.8e-3**4 / 64, a=-0.02,
-             b=0.01, k=5e4, k_backbone=2e5, n=4.0, theta_L=0.5, delta_L=0.03)
+_BASE = dict(
+    s=0.15,
+    F=0.3,
+    z=0.12,
+    L=0.2,
+    EI=207e9 * math.pi * 0.8e-3**4 / 64,
+    a=-0.02,
+    b=0.01,
+    k=5e4,
+    k_backbone=2e5,
+    n=4.0,
+    theta_L=0.5,
+    delta_L=0.03,
+)
 
 
 def _moderate(x):
@@ -412,9 +492,11 @@ def _check_ufunc_outcome(name, args, outcome, where=""):
     nan = np.isnan(r)
     # Out of the domain: NaN, always.
     bad = ~inside & ~nan
-    assert not bad.any(), (f"{name}{where}: out of the domain but not NaN at rows "
-                           f"{np.flatnonzero(bad)[:5]}: args {[a[bad][:3] for a in args]}, "
-                           f"result {r[bad][:3]}")
+    assert not bad.any(), (
+        f"{name}{where}: out of the domain but not NaN at rows "
+        f"{np.flatnonzero(bad)[:5]}: args {[a[bad][:3] for a in args]}, "
+        f"result {r[bad][:3]}"
+    )
     # Every NaN comes with NumPy's 'invalid' flag; no NaN, no 'invalid' flag.
     if nan.any():
         assert "invalid value" in flags, f"{name}{where}: NaN returned without the invalid flag"
@@ -426,8 +508,11 @@ def _check_ufunc_outcome(name, args, outcome, where=""):
     if "k" in argnames.split():
         kpos = argnames.split().index("k")
         others = [a for j, a in enumerate(args) if j != kpos]
-        fine |= (inside & np.isposinf(args[kpos])
-                 & np.all([np.isfinite(a) & _moderate(a) for a in others], axis=0))
+        fine |= (
+            inside
+            & np.isposinf(args[kpos])
+            & np.all([np.isfinite(a) & _moderate(a) for a in others], axis=0)
+        )
     if fine.any():
         with np.errstate(all="ignore"):
             want, scale = ref(*[np.asarray(a, float)[fine] for a in args])
@@ -441,7 +526,8 @@ def _check_ufunc_outcome(name, args, outcome, where=""):
         assert np.all(err <= tol), (
             f"{name}{where}: differs from the independent formula, worst rows "
             f"{[np.asarray(a, float)[fine][ok][np.argmax(err / tol)] for a in args]}: "
-            f"got {got[ok][np.argmax(err / tol)]!r}, want {want[ok][np.argmax(err / tol)]!r}")
+            f"got {got[ok][np.argmax(err / tol)]!r}, want {want[ok][np.argmax(err / tol)]!r}"
+        )
         assert not np.isnan(got[ok]).any(), f"{name}{where}: NaN inside the domain"
 
 
@@ -522,10 +608,17 @@ def test_raw_ufunc_layouts_and_dtypes(worker, name):
 
 
 @pytest.mark.parametrize("name", sorted(UFUNCS))
-@pytest.mark.parametrize("bad", NON_NUMERIC + [np.array(["a", "b"]), np.array([1, None], dtype=object),
-                                               np.array(["2020-01-01"], dtype="datetime64[D]"),
-                                               np.array([1 + 2j])],
-                         ids=lambda b: type(b).__name__ + ":" + repr(b)[:20])
+@pytest.mark.parametrize(
+    "bad",
+    NON_NUMERIC
+    + [
+        np.array(["a", "b"]),
+        np.array([1, None], dtype=object),
+        np.array(["2020-01-01"], dtype="datetime64[D]"),
+        np.array([1 + 2j]),
+    ],
+    ids=lambda b: type(b).__name__ + ":" + repr(b)[:20],
+)
 def test_raw_ufunc_non_numeric(worker, name, bad):
     """A non-numeric object in any argument: TypeError (or ValueError for a
     ragged list) from NumPy naming the ufunc, never a crash, never a number."""
@@ -538,8 +631,13 @@ def test_raw_ufunc_non_numeric(worker, name, bad):
             # only an object array of numbers may legitimately evaluate
             assert isinstance(bad, np.ndarray) and bad.dtype == object, (argnames[pos], bad, out)
             continue
-        if isinstance(bad, tuple) and bad[0] == "@badfloat" and out[0] == "raise" and "BadFloat" in out[2]:
-            continue            # the object's own exception propagates, as in NumPy
+        if (
+            isinstance(bad, tuple)
+            and bad[0] == "@badfloat"
+            and out[0] == "raise"
+            and "BadFloat" in out[2]
+        ):
+            continue  # the object's own exception propagates, as in NumPy
         assert raised(out, TypeError, ValueError), (argnames[pos], bad, out)
         if raised(out, TypeError) and "object" not in out[2]:
             assert name in out[2] or "float" in out[2] or "argument" in out[2], out
@@ -554,7 +652,7 @@ def test_raw_ufunc_bad_calls(worker, name):
     assert raised(worker.call(f, *good[:-1]), TypeError)
     assert raised(worker.call(f, *good, 1.0, 2.0, 3.0), TypeError)
     if len(good) > 1:
-        assert raised(worker.call(f, *good[:-1], np.ones(4)), ValueError)       # (3,) vs (4,)
+        assert raised(worker.call(f, *good[:-1], np.ones(4)), ValueError)  # (3,) vs (4,)
     assert raised(worker.call(f, *good, out=np.zeros(3, dtype=np.int64)), TypeError)
     assert raised(worker.call(f, *good, out=np.zeros(5)), ValueError)
     assert raised(worker.call(f, *good, out=("@readonly", np.zeros(3))), ValueError)
@@ -579,6 +677,7 @@ def test_public_analytic_functions_are_the_core_ufuncs():
 # tr.analytic.planar_shape (Python on top of the angle ufunc)
 # --------------------------------------------------------------------------
 
+
 def _shape_reference(s, F, z, L, EI, a, b, k, n=20001):
     """(axial, lateral) by the composite trapezoid rule on a fine grid of the
     angle ufunc: an independent quadrature of the same integrals."""
@@ -588,15 +687,23 @@ def _shape_reference(s, F, z, L, EI, a, b, k, n=20001):
 
 
 @hostile(20)
-@given(row=st.tuples(*(st.one_of(st.sampled_from([math.nan, math.inf, -math.inf, 0.0, -1.0]),
-                                  st.floats(-1.0, 1.0)) for _ in range(3))),
-       which=st.lists(st.sampled_from("s F z L EI a b k".split()), max_size=3, unique=True))
+@given(
+    row=st.tuples(
+        *(
+            st.one_of(
+                st.sampled_from([math.nan, math.inf, -math.inf, 0.0, -1.0]), st.floats(-1.0, 1.0)
+            )
+            for _ in range(3)
+        )
+    ),
+    which=st.lists(st.sampled_from("s F z L EI a b k".split()), max_size=3, unique=True),
+)
 def test_planar_shape_hostile_values(row, which):
     """Out of the domain: NaN with the invalid flag; inside: a shape whose
     chord never exceeds the arc length and which matches an independent
     trapezoid quadrature of the angle."""
     args = {n: _BASE[n] for n in "s F z L EI a b k".split()}
-    args["F"] = 0.05                       # |theta| < 1 rad: the documented accuracy range
+    args["F"] = 0.05  # |theta| < 1 rad: the documented accuracy range
     for n, v in zip(which, row):
         args[n] = v
     vals = [args[n] for n in "s F z L EI a b k".split()]
@@ -612,7 +719,7 @@ def test_planar_shape_hostile_values(row, which):
         assert "invalid value" in out[2], (args, r, out[2])
         return
     s = args["s"]
-    assert math.hypot(*r) <= s * (1 + 1e-12) + 1e-300, (args, r)   # chord <= arc (round-off)
+    assert math.hypot(*r) <= s * (1 + 1e-12) + 1e-300, (args, r)  # chord <= arc (round-off)
     if all(math.isfinite(v) for v in vals):
         th = tr.analytic.angle(s, *vals[1:])
         if abs(th) < 1.0:
@@ -621,8 +728,9 @@ def test_planar_shape_hostile_values(row, which):
             assert np.allclose(r, want, rtol=0, atol=1e-9 * s), (args, r, want)
 
 
-@pytest.mark.parametrize("nodes", [math.inf, math.nan, "abc", 2.7, 10**5, 10**12, None, [3]],
-                         ids=repr)
+@pytest.mark.parametrize(
+    "nodes", [math.inf, math.nan, "abc", 2.7, 10**5, 10**12, None, [3]], ids=repr
+)
 def test_planar_shape_bad_nodes(nodes):
     """nodes must be a modest positive integer; anything else is a
     ValueError/TypeError that names `nodes`, raised before any work."""
@@ -637,20 +745,47 @@ def test_planar_shape_bad_nodes(nodes):
 # the field (and, for scalars, shows the value).
 # --------------------------------------------------------------------------
 
-from decimal import Decimal          # noqa: E402
-from fractions import Fraction       # noqa: E402
+from decimal import Decimal  # noqa: E402
+from fractions import Fraction  # noqa: E402
 
 # Scalars that are not reals, or not finite floats.  Huge Python ints
 # (10**400) are left to test_huge_ints_are_value_errors (finding F3).
 SCALARS = st.one_of(
     hostile_floats(),
-    st.integers(-10**6, 10**6),
-    st.sampled_from([True, False, None, "0.1", "abc", "", b"1", 1j, 1 + 0j, Decimal("0.1"),
-                     Decimal("nan"), Fraction(1, 10), np.float32(0.1), np.float32("nan"),
-                     np.int64(3), np.uint8(7), np.bool_(True), np.float16(1.0),
-                     np.array(0.1), np.array([0.1]), np.array([[0.1]]), np.zeros(0),
-                     np.array("x"), [0.1], (0.1,), {"v": 0.1}, np.datetime64("2020-01-01"),
-                     np.array(0.1 + 0j)]))
+    st.integers(-(10**6), 10**6),
+    st.sampled_from(
+        [
+            True,
+            False,
+            None,
+            "0.1",
+            "abc",
+            "",
+            b"1",
+            1j,
+            1 + 0j,
+            Decimal("0.1"),
+            Decimal("nan"),
+            Fraction(1, 10),
+            np.float32(0.1),
+            np.float32("nan"),
+            np.int64(3),
+            np.uint8(7),
+            np.bool_(True),
+            np.float16(1.0),
+            np.array(0.1),
+            np.array([0.1]),
+            np.array([[0.1]]),
+            np.zeros(0),
+            np.array("x"),
+            [0.1],
+            (0.1,),
+            {"v": 0.1},
+            np.datetime64("2020-01-01"),
+            np.array(0.1 + 0j),
+        ]
+    ),
+)
 
 
 def _as_real(v):
@@ -661,6 +796,7 @@ def _as_real(v):
     (Decimal, complex, strings, sequences, bool).
     """
     import numbers
+
     if isinstance(v, (bool, np.bool_)):
         return None
     if isinstance(v, np.ndarray):
@@ -675,7 +811,7 @@ def _expect(check, v):
     x = _as_real(v)
     if x is None:
         if isinstance(v, Decimal):
-            return "maybe"     # Decimal is not numbers.Real; accepting it is also fine
+            return "maybe"  # Decimal is not numbers.Real; accepting it is also fine
         return False
     return check(x)
 
@@ -683,21 +819,25 @@ def _expect(check, v):
 FIN = math.isfinite
 REAL_FIELDS = {
     # class: {field: (accepts None?, check for a real x)}
-    "Rod": {"length": (False, lambda x: FIN(x) and x > 0),
-            "diameter": (True, lambda x: FIN(x) and x > 0),
-            "E": (True, lambda x: FIN(x) and x > 0),
-            "G": (True, lambda x: FIN(x) and x > 0),
-            "EI": (True, lambda x: FIN(x) and x > 0),
-            "GJ": (True, lambda x: FIN(x) and x > 0),
-            "EA": (True, lambda x: x > 0),            # inf: rigid in extension
-            "GA": (True, lambda x: x > 0)},
-    "Tendon": {"offset": (False, lambda x: FIN(x) and x >= 0),
-               "angle": (False, FIN),
-               "slope": (False, FIN),
-               # inf: inextensible; finite values in [1e-100, 1e150] N (finding F16)
-               "EA": (False, lambda x: x == math.inf or 1e-100 <= x <= 1e150),
-               "end": (True, lambda x: FIN(x) and x > 0),
-               "pretension": (False, lambda x: FIN(x) and x >= 0)},
+    "Rod": {
+        "length": (False, lambda x: FIN(x) and x > 0),
+        "diameter": (True, lambda x: FIN(x) and x > 0),
+        "E": (True, lambda x: FIN(x) and x > 0),
+        "G": (True, lambda x: FIN(x) and x > 0),
+        "EI": (True, lambda x: FIN(x) and x > 0),
+        "GJ": (True, lambda x: FIN(x) and x > 0),
+        "EA": (True, lambda x: x > 0),  # inf: rigid in extension
+        "GA": (True, lambda x: x > 0),
+    },
+    "Tendon": {
+        "offset": (False, lambda x: FIN(x) and x >= 0),
+        "angle": (False, FIN),
+        "slope": (False, FIN),
+        # inf: inextensible; finite values in [1e-100, 1e150] N (finding F16)
+        "EA": (False, lambda x: x == math.inf or 1e-100 <= x <= 1e150),
+        "end": (True, lambda x: FIN(x) and x > 0),
+        "pretension": (False, lambda x: FIN(x) and x >= 0),
+    },
     "PointLoad": {"s": (False, lambda x: FIN(x) and x >= 0)},
 }
 ROD_OK = dict(length=0.2, diameter=0.8e-3, E=207e9, G=79.6e9)
@@ -749,18 +889,41 @@ def test_scalar_fields_hostile(cls, field, value):
     assert want in (True, "maybe"), f"{cls}({field}={value!r}) accepted an invalid value: {obj!r}"
     got = getattr(obj, field)
     if value is not None:
-        assert isinstance(got, float) and (got == float(value) or (math.isnan(got) and False)), (got, value)
+        assert isinstance(got, float) and (got == float(value) or (math.isnan(got) and False)), (
+            got,
+            value,
+        )
 
 
-VEC_CASES = [(1.0, 2.0, 3.0), [0, 0, 0], np.arange(3), np.array([1.0, 2.0, 3.0], dtype=np.float32),
-             (1.0, 2.0), (1.0, 2.0, 3.0, 4.0), np.zeros((3, 1)), np.zeros((1, 3)), (math.nan, 0, 0),
-             (0, math.inf, 0), (0, 0, -math.inf), "abc", None, 3.0, (1.0, "a", 2.0), [[1, 2], 3, 4],
-             ("@", 1, 2), (1e308, 1e308, 1e308), (5e-324, 0, 0), np.array([1, 2, 3], dtype=object),
-             {"x": 1}, (True, False, True)]
+VEC_CASES = [
+    (1.0, 2.0, 3.0),
+    [0, 0, 0],
+    np.arange(3),
+    np.array([1.0, 2.0, 3.0], dtype=np.float32),
+    (1.0, 2.0),
+    (1.0, 2.0, 3.0, 4.0),
+    np.zeros((3, 1)),
+    np.zeros((1, 3)),
+    (math.nan, 0, 0),
+    (0, math.inf, 0),
+    (0, 0, -math.inf),
+    "abc",
+    None,
+    3.0,
+    (1.0, "a", 2.0),
+    [[1, 2], 3, 4],
+    ("@", 1, 2),
+    (1e308, 1e308, 1e308),
+    (5e-324, 0, 0),
+    np.array([1, 2, 3], dtype=object),
+    {"x": 1},
+    (True, False, True),
+]
 
 
-@pytest.mark.parametrize("cls,field", [("PointLoad", "force"), ("PointLoad", "moment"),
-                                       ("DistributedLoad", "force")])
+@pytest.mark.parametrize(
+    "cls,field", [("PointLoad", "force"), ("PointLoad", "moment"), ("DistributedLoad", "force")]
+)
 @pytest.mark.parametrize("value", VEC_CASES, ids=lambda v: repr(v)[:24])
 def test_vector_fields_hostile(cls, field, value):
     """3-vectors: finite real (3,) accepted as floats; anything else names the field."""
@@ -770,21 +933,30 @@ def test_vector_fields_hostile(cls, field, value):
     except (TypeError, ValueError):
         pass
     bad_dtype = isinstance(value, np.ndarray) and value.dtype.kind in "cO"
-    valid = (arr is not None and arr.shape == (3,) and np.isfinite(arr).all()
-             and not isinstance(value, str) and not bad_dtype)
-    make = (lambda v: tr.PointLoad(s=0.1, **{field: v})) if cls == "PointLoad" else \
-        (lambda v: tr.DistributedLoad(force=v))
+    valid = (
+        arr is not None
+        and arr.shape == (3,)
+        and np.isfinite(arr).all()
+        and not isinstance(value, str)
+        and not bad_dtype
+    )
+    make = (
+        (lambda v: tr.PointLoad(s=0.1, **{field: v}))
+        if cls == "PointLoad"
+        else (lambda v: tr.DistributedLoad(force=v))
+    )
     try:
         obj = make(value)
     except (ValueError, TypeError) as e:
-        assert not valid or isinstance(value, tuple) and any(isinstance(x, bool) for x in value), \
+        assert not valid or isinstance(value, tuple) and any(isinstance(x, bool) for x in value), (
             f"{cls}.{field}={value!r} rejected: {e}"
+        )
         assert field in str(e), str(e)
         return
     if isinstance(value, tuple) and all(isinstance(x, bool) for x in value):
-        pass   # (True, False, True) as (1, 0, 1): NumPy's view of bools; not a lie
+        pass  # (True, False, True) as (1, 0, 1): NumPy's view of bools; not a lie
     elif bad_dtype and np.asarray(value).dtype.kind == "O":
-        pass   # an object array of numbers is numbers
+        pass  # an object array of numbers is numbers
     else:
         assert valid, f"{cls}.{field}={value!r} accepted: {obj!r}"
     got = getattr(obj, field)
@@ -792,31 +964,44 @@ def test_vector_fields_hostile(cls, field, value):
     assert np.array_equal(np.asarray(got), np.asarray(value, dtype=float))
 
 
-@pytest.mark.parametrize("make", [lambda v: tr.PointLoad(s=0.1, force=v),
-                                  lambda v: tr.PointLoad(s=0.1, moment=v),
-                                  lambda v: tr.DistributedLoad(force=v)],
-                         ids=["PointLoad.force", "PointLoad.moment", "DistributedLoad.force"])
+@pytest.mark.parametrize(
+    "make",
+    [
+        lambda v: tr.PointLoad(s=0.1, force=v),
+        lambda v: tr.PointLoad(s=0.1, moment=v),
+        lambda v: tr.DistributedLoad(force=v),
+    ],
+    ids=["PointLoad.force", "PointLoad.moment", "DistributedLoad.force"],
+)
 def test_complex_vectors_rejected(make):
     import warnings
+
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         with pytest.raises((ValueError, TypeError)):
             make(np.array([1 + 1j, 0, 0]))
 
 
-@pytest.mark.parametrize("make", [lambda: tr.Rod(length=10**400, diameter=1e-3, E=1e9, G=1e9),
-                                  lambda: tr.Tendon(offset=10**400),
-                                  lambda: tr.PointLoad(s=0.1, force=(10**400, 0, 0)),
-                                  lambda: tr.Scene(tr.Robot(tr.Rod(**ROD_OK), [tr.Tendon()]),
-                                                   displacement=[10**400])],
-                         ids=["Rod.length", "Tendon.offset", "PointLoad.force", "Scene.displacement"])
+@pytest.mark.parametrize(
+    "make",
+    [
+        lambda: tr.Rod(length=10**400, diameter=1e-3, E=1e9, G=1e9),
+        lambda: tr.Tendon(offset=10**400),
+        lambda: tr.PointLoad(s=0.1, force=(10**400, 0, 0)),
+        lambda: tr.Scene(tr.Robot(tr.Rod(**ROD_OK), [tr.Tendon()]), displacement=[10**400]),
+    ],
+    ids=["Rod.length", "Tendon.offset", "PointLoad.force", "Scene.displacement"],
+)
 def test_huge_ints_are_value_errors(make):
     with pytest.raises((ValueError, TypeError)):
         make()
 
 
-@pytest.mark.parametrize("kw", [dict(diameter=1e100), dict(diameter=1e-90), dict(E=1e-320),
-                                dict(diameter=1e80, E=1e300)], ids=repr)
+@pytest.mark.parametrize(
+    "kw",
+    [dict(diameter=1e100), dict(diameter=1e-90), dict(E=1e-320), dict(diameter=1e80, E=1e300)],
+    ids=repr,
+)
 def test_rod_derived_rigidities_finite_positive(kw):
     """Every effective rigidity is finite and > 0 (EA, GA may be inf only when
     given so), or the Rod is refused with a ValueError naming the field."""
@@ -827,8 +1012,12 @@ def test_rod_derived_rigidities_finite_positive(kw):
     except ValueError as e:
         assert any(f in str(e) for f in kw), str(e)
         return
-    for v in (rod.bending_stiffness, rod.torsional_stiffness, rod.axial_stiffness,
-              rod.shear_stiffness):
+    for v in (
+        rod.bending_stiffness,
+        rod.torsional_stiffness,
+        rod.axial_stiffness,
+        rod.shear_stiffness,
+    ):
         assert math.isfinite(v) and v > 0, (kw, v)
 
 
@@ -838,14 +1027,23 @@ def _rod():
 
 ROBOT_CASES = [
     # (rod, tendons, word the message must contain or None if valid)
-    ("@rod", None, "tendons"), ("@rod", 5, "tendons"), ("@rod", [None], "tendons[0]"),
-    ("@rod", [tr.Tendon(), "x"], "tendons[1]"), ("@rod", [tr.Tendon(end=0.3)], "end"),
-    ("@rod", [tr.Tendon(end=0.2000001)], "end"), ("@rod", [tr.Tendon(end=0.2)], None),
-    ("@rod", [tr.Tendon(end=1e-300)], None), ("@rod", [], None), ("@rod", (), None),
+    ("@rod", None, "tendons"),
+    ("@rod", 5, "tendons"),
+    ("@rod", [None], "tendons[0]"),
+    ("@rod", [tr.Tendon(), "x"], "tendons[1]"),
+    ("@rod", [tr.Tendon(end=0.3)], "end"),
+    ("@rod", [tr.Tendon(end=0.2000001)], "end"),
+    ("@rod", [tr.Tendon(end=0.2)], None),
+    ("@rod", [tr.Tendon(end=1e-300)], None),
+    ("@rod", [], None),
+    ("@rod", (), None),
     ("@rod", (t for t in [tr.Tendon(), tr.Tendon(angle=math.pi)]), None),
-    ("@rod", [tr.Tendon(offset=0.01, slope=-0.1)], "radius"),          # crosses the centre line
-    ("@rod", [tr.Tendon(pretension=1.0)], "pretension"),               # unbalanced
-    (None, [], "rod"), ("rod", [], "rod"), (ROD_OK, [], "rod"), (tr.Tendon(), [], "rod"),
+    ("@rod", [tr.Tendon(offset=0.01, slope=-0.1)], "radius"),  # crosses the centre line
+    ("@rod", [tr.Tendon(pretension=1.0)], "pretension"),  # unbalanced
+    (None, [], "rod"),
+    ("rod", [], "rod"),
+    (ROD_OK, [], "rod"),
+    (tr.Tendon(), [], "rod"),
 ]
 
 
@@ -887,7 +1085,10 @@ SCENE_CASES = [
     (dict(displacement=[0.0, 0.0], loads=[None]), "loads[0]"),
     (dict(displacement=[0.0, 0.0], loads=["x"]), "loads[0]"),
     (dict(displacement=[0.0, 0.0], loads=5), "loads"),
-    (dict(displacement=[0.0, 0.0], loads=[tr.DistributedLoad(), tr.DistributedLoad((0, 0, -1))]), None),
+    (
+        dict(displacement=[0.0, 0.0], loads=[tr.DistributedLoad(), tr.DistributedLoad((0, 0, -1))]),
+        None,
+    ),
     (dict(displacement=[0.0, 0.0], loads=[tr.Tendon()]), "loads[0]"),
     # displacements that would pull the robot into itself are legal input:
     # the solver decides (test_solve_hostile_scenes)
@@ -914,22 +1115,46 @@ def test_scene_robot_hostile():
 
 
 INT_FIELDS = {"steps": 0, "max_iter": 1, "max_nfev": 1, "max_continuation": 0}
-STR_FIELDS = {"integrator": ("rk8", "rk4", "adaptive"), "jacobian_method": ("fd", "newton", "hybrid"),
-              "slack_model": ("linear", "squared")}
+STR_FIELDS = {
+    "integrator": ("rk8", "rk4", "adaptive"),
+    "jacobian_method": ("fd", "newton", "hybrid"),
+    "slack_model": ("linear", "squared"),
+}
 BOOL_FIELDS = ("continuation", "force_spatial", "tip_only")
 
 
-@pytest.mark.parametrize("field", list(INT_FIELDS) + ["rtol", "tol"] + list(STR_FIELDS)
-                         + list(BOOL_FIELDS) + ["nodes"])
+@pytest.mark.parametrize(
+    "field", list(INT_FIELDS) + ["rtol", "tol"] + list(STR_FIELDS) + list(BOOL_FIELDS) + ["nodes"]
+)
 @hostile(30)
-@given(value=st.one_of(SCALARS, st.integers(-10**20, 10**20),
-                       st.sampled_from(["rk8", "RK8", "rk4 ", "fd", "sensitivity", "linear",
-                                        "squared", "adaptive", np.str_("rk4")])))
+@given(
+    value=st.one_of(
+        SCALARS,
+        st.integers(-(10**20), 10**20),
+        st.sampled_from(
+            [
+                "rk8",
+                "RK8",
+                "rk4 ",
+                "fd",
+                "sensitivity",
+                "linear",
+                "squared",
+                "adaptive",
+                np.str_("rk4"),
+            ]
+        ),
+    )
+)
 def test_options_hostile(field, value):
     import numbers
+
     if field in INT_FIELDS:
-        want = (isinstance(value, (numbers.Integral, np.integer))
-                and not isinstance(value, (bool, np.bool_)) and value >= INT_FIELDS[field])
+        want = (
+            isinstance(value, (numbers.Integral, np.integer))
+            and not isinstance(value, (bool, np.bool_))
+            and value >= INT_FIELDS[field]
+        )
     elif field in ("rtol", "tol"):
         x = _as_real(value)
         # rtol below 1e-14 cannot be met in double precision (finding F14)
@@ -970,8 +1195,11 @@ def test_options_hostile(field, value):
 @pytest.mark.parametrize("field", list(STR_FIELDS))
 @pytest.mark.parametrize("value", ["empty", "two", "valid-in-array"])
 def test_options_string_fields_arrays(field, value):
-    v = {"empty": np.zeros(0), "two": np.zeros(2),
-         "valid-in-array": np.array([STR_FIELDS[field][0]])}[value]
+    v = {
+        "empty": np.zeros(0),
+        "two": np.zeros(2),
+        "valid-in-array": np.array([STR_FIELDS[field][0]]),
+    }[value]
     with pytest.raises((ValueError, TypeError), match=field):
         tr.Options(**{field: v})
 
@@ -981,7 +1209,7 @@ def test_options_string_fields_arrays(field, value):
 # the public tr.solve / tr.compliance / Solution.at.
 # --------------------------------------------------------------------------
 
-from tendonrod.solver import pack_scene   # noqa: E402
+from tendonrod.solver import pack_scene  # noqa: E402
 
 _ROD = dict(length=0.2, diameter=0.8e-3, E=207e9, G=79.6e9)
 
@@ -992,16 +1220,30 @@ def _base_scenes():
     C = tr.Rod(**_ROD)
     three = [tr.Tendon(offset=0.01, angle=2 * math.pi * i / 3, EA=2e4) for i in range(3)]
     return [
-        tr.Scene(tr.Robot(K, [tr.Tendon(offset=0.01)]), displacement=[0.004],
-                 loads=[tr.PointLoad(s=L, force=(-0.2, 0, 0))]),
-        tr.Scene(tr.Robot(C, [tr.Tendon.converging(offset=0.01, length=L)]), tension=[1.0],
-                 loads=[tr.DistributedLoad(force=(0, 0, -0.3))]),
-        tr.Scene(tr.Robot(C, three), displacement=[0.004, 0.0, None], tension=[None, None, 0.3],
-                 loads=[tr.PointLoad(s=L, force=(0.05, 0.1, 0), moment=(0, 0, 0.001)),
-                        tr.PointLoad(s=0.12, force=(0, -0.05, 0))]),
-        tr.Scene(tr.Robot(K, [tr.Tendon(offset=0.008, end=0.1),
-                              tr.Tendon(offset=0.008, angle=math.pi)]),
-                 displacement=[0.004, -0.002], loads=[tr.PointLoad(s=L, force=(0.3, 0, 0))]),
+        tr.Scene(
+            tr.Robot(K, [tr.Tendon(offset=0.01)]),
+            displacement=[0.004],
+            loads=[tr.PointLoad(s=L, force=(-0.2, 0, 0))],
+        ),
+        tr.Scene(
+            tr.Robot(C, [tr.Tendon.converging(offset=0.01, length=L)]),
+            tension=[1.0],
+            loads=[tr.DistributedLoad(force=(0, 0, -0.3))],
+        ),
+        tr.Scene(
+            tr.Robot(C, three),
+            displacement=[0.004, 0.0, None],
+            tension=[None, None, 0.3],
+            loads=[
+                tr.PointLoad(s=L, force=(0.05, 0.1, 0), moment=(0, 0, 0.001)),
+                tr.PointLoad(s=0.12, force=(0, -0.05, 0)),
+            ],
+        ),
+        tr.Scene(
+            tr.Robot(K, [tr.Tendon(offset=0.008, end=0.1), tr.Tendon(offset=0.008, angle=math.pi)]),
+            displacement=[0.004, -0.002],
+            loads=[tr.PointLoad(s=L, force=(0.3, 0, 0))],
+        ),
         tr.Scene(tr.Robot(K, []), loads=[tr.PointLoad(s=L, force=(0.1, 0, 0))]),
     ]
 
@@ -1038,8 +1280,12 @@ def raw_balance(rod, tend, loads, dist, res):
     # is on the clamp as well (observation O1 in reliability_findings.md).
     on_rod = loads[loads[:, 0] > 1e-12 * L] if len(loads) else loads
     ext = (on_rod[:, 1:4].sum(axis=0) if len(on_rod) else np.zeros(3)) + np.asarray(dist) * L
-    scale = max(np.abs(ext).max(), np.abs(n).max(),
-                np.abs(res["tension"]).max() if len(res["tension"]) else 0.0, EI / L ** 2)
+    scale = max(
+        np.abs(ext).max(),
+        np.abs(n).max(),
+        np.abs(res["tension"]).max() if len(res["tension"]) else 0.0,
+        EI / L**2,
+    )
     return float(np.abs(tot - ext).max() / scale)
 
 
@@ -1061,18 +1307,23 @@ def check_raw_result(rod, tend, loads, dist, res, tol=1e-10, where=""):
     # rod under a tip torque, whose shooting residual is exact at iteration 0)
     # reach 4e-8 at the automatic step count, still a 1e-9 relative twist error
     assert np.abs(np.einsum("nji,njk->nik", R, R) - np.eye(3)).max() < 1e-6, note
-    if res["s"][0] == 0.0:     # the base node is there (not tip_only, nodes from 0)
+    if res["s"][0] == 0.0:  # the base node is there (not tip_only, nodes from 0)
         bal = raw_balance(rod, tend, loads, dist, res)
         # a loose tol (the raw entry accepts any tol > 0) loosens the balance with it
-        assert bal < max(BALANCE_TOL, 10 * tol), \
+        assert bal < max(BALANCE_TOL, 10 * tol), (
             f"success but the force balance is off by {bal:.2e}; {note}"
+        )
     return "success"
 
 
 ARG_NAMES = ("rod", "tendons", "loads", "dist")
 # what a message about an element of each array may call it
-ELEMENT_WORDS = {"rod": ("rod", "L ", "EI", "GJ", "EA", "GA", "kirchhoff", "length"),
-                 "tendons": ("tendon",), "loads": ("load",), "dist": ("dist",)}
+ELEMENT_WORDS = {
+    "rod": ("rod", "L ", "EI", "GJ", "EA", "GA", "kirchhoff", "length"),
+    "tendons": ("tendon",),
+    "loads": ("load",),
+    "dist": ("dist",),
+}
 
 
 @st.composite
@@ -1106,15 +1357,24 @@ def test_raw_solve_hostile_values(worker, case):
 
 
 def _shape_variants(a):
-    yield a.reshape(-1)[:-1] if a.size else np.zeros(1)       # one element short
-    yield np.concatenate([a.reshape(-1), [0.0]])              # one too many
+    yield a.reshape(-1)[:-1] if a.size else np.zeros(1)  # one element short
+    yield np.concatenate([a.reshape(-1), [0.0]])  # one too many
     yield a.reshape(1, -1) if a.ndim == 1 else a.reshape(-1)  # wrong rank
-    yield a[..., None]                                        # extra axis
+    yield a[..., None]  # extra axis
     yield np.zeros((2, 3, 4))
 
 
-BAD_OBJECTS = [None, "abc", 3.0, {"a": 1}, object, [[1.0, 2.0], [3.0]], np.array([1 + 2j] * 6),
-               np.array(["a"] * 6), np.array([None] * 6, dtype=object)]
+BAD_OBJECTS = [
+    None,
+    "abc",
+    3.0,
+    {"a": 1},
+    object,
+    [[1.0, 2.0], [3.0]],
+    np.array([1 + 2j] * 6),
+    np.array(["a"] * 6),
+    np.array([None] * 6, dtype=object),
+]
 
 
 @pytest.mark.parametrize("pos", range(4), ids=ARG_NAMES)
@@ -1132,15 +1392,17 @@ def test_raw_solve_wrong_shapes_and_types(worker, pos):
         out = worker.call("tendonrod._core.solve", *args)
         if out[0] == "ok":
             # a ragged/object input NumPy can coerce to the right shape is just data
-            check_raw_result(*[np.asarray(a, dtype=float) for a in args], out[1],
-                             where=f"{ARG_NAMES[pos]}={x!r}")
+            check_raw_result(
+                *[np.asarray(a, dtype=float) for a in args], out[1], where=f"{ARG_NAMES[pos]}={x!r}"
+            )
             continue
         assert raised(out, ValueError, TypeError), (ARG_NAMES[pos], x, out)
         assert ARG_NAMES[pos] in out[2], (ARG_NAMES[pos], x, out[2])
 
 
-@pytest.mark.parametrize("tag", ["@noncontig", "@fortran", "@readonly", "@bigendian",
-                                 "@misaligned"])
+@pytest.mark.parametrize(
+    "tag", ["@noncontig", "@fortran", "@readonly", "@bigendian", "@misaligned"]
+)
 def test_raw_solve_layouts_give_bitwise_the_same(worker, tag):
     """Strided, Fortran-ordered, read-only, big-endian and misaligned arrays
     are coerced, and the result is bitwise the contiguous one; lists too."""
@@ -1160,37 +1422,100 @@ BOOL_KW = ("continuation", "force_spatial", "tip_only")
 
 @st.composite
 def raw_kwargs(draw):
-    name = draw(st.sampled_from(INT_KW + ("rtol", "tol") + STR_KW + BOOL_KW
-                                + ("nodes", "guess", "jacobian")))
+    name = draw(
+        st.sampled_from(
+            INT_KW + ("rtol", "tol") + STR_KW + BOOL_KW + ("nodes", "guess", "jacobian")
+        )
+    )
     if name in INT_KW:
         # up to 2**31 - 1; larger ints are finding F8; steps > 2000 is finding F9
         hi = 2000 if name == "steps" else 2**31 - 1
-        v = draw(st.one_of(st.integers(-2**31, hi), st.sampled_from([0, 1, -1, True, 2.5, "3", None,
-                                                                     np.int64(7), math.nan])))
+        v = draw(
+            st.one_of(
+                st.integers(-(2**31), hi),
+                st.sampled_from([0, 1, -1, True, 2.5, "3", None, np.int64(7), math.nan]),
+            )
+        )
         if name == "steps" and isinstance(v, (int, np.integer)) and not isinstance(v, bool):
             v = min(int(v), hi)
     elif name in ("rtol", "tol"):
         v = draw(st.one_of(hostile_floats(), st.sampled_from(["1e-8", None, 1, np.float32(1e-6)])))
     elif name in STR_KW:
-        v = draw(st.sampled_from(["rk4", "rk8", "adaptive", "fd", "newton", "linear", "squared",
-                                  "", "RK8", "rk8\x00", "x" * 1000, None, 3, b"rk8"]))
+        v = draw(
+            st.sampled_from(
+                [
+                    "rk4",
+                    "rk8",
+                    "adaptive",
+                    "fd",
+                    "newton",
+                    "linear",
+                    "squared",
+                    "",
+                    "RK8",
+                    "rk8\x00",
+                    "x" * 1000,
+                    None,
+                    3,
+                    b"rk8",
+                ]
+            )
+        )
     elif name in BOOL_KW:
         v = draw(st.sampled_from([True, False, 0, 1, None, "no", 2.5]))
     elif name == "nodes":
-        v = draw(st.one_of(st.integers(-5, 300),
-                           st.sampled_from([10**7 + 1, 2**31, None, 2.0, "5", np.int64(5),
-                                            [], [0.1], [0.0, 0.2], [0.2, 0.0], [0.1, math.nan],
-                                            [-1.0, 0.1], [0.0, 0.5], [[0.1, 0.2]], np.zeros(3),
-                                            np.linspace(0, 0.2, 1000)])))
+        v = draw(
+            st.one_of(
+                st.integers(-5, 300),
+                st.sampled_from(
+                    [
+                        10**7 + 1,
+                        2**31,
+                        None,
+                        2.0,
+                        "5",
+                        np.int64(5),
+                        [],
+                        [0.1],
+                        [0.0, 0.2],
+                        [0.2, 0.0],
+                        [0.1, math.nan],
+                        [-1.0, 0.1],
+                        [0.0, 0.5],
+                        [[0.1, 0.2]],
+                        np.zeros(3),
+                        np.linspace(0, 0.2, 1000),
+                    ]
+                ),
+            )
+        )
     elif name == "guess":
-        v = draw(st.one_of(st.lists(hostile_floats(), min_size=12, max_size=12).map(np.array),
-                           st.sampled_from([np.zeros(11), np.zeros(13), np.zeros((2, 6)), "g",
-                                            np.full(12, 1e300), np.full(12, -1e300)])))
+        v = draw(
+            st.one_of(
+                st.lists(hostile_floats(), min_size=12, max_size=12).map(np.array),
+                st.sampled_from(
+                    [
+                        np.zeros(11),
+                        np.zeros(13),
+                        np.zeros((2, 6)),
+                        "g",
+                        np.full(12, 1e300),
+                        np.full(12, -1e300),
+                    ]
+                ),
+            )
+        )
     else:  # jacobian: right shape (k = 6 + 2 displacement-controlled... ) or not
         k = draw(st.sampled_from([0, 1, 2, 3, 8, 9, 30]))
-        v = draw(st.one_of(st.just(np.zeros((k, k))), st.just(np.full((k, k), math.nan)),
-                           st.just(np.eye(k) * 1e300), st.just(np.zeros((k, k + 1))),
-                           st.just("j")))
+        v = draw(
+            st.one_of(
+                st.just(np.zeros((k, k))),
+                st.just(np.full((k, k), math.nan)),
+                st.just(np.eye(k) * 1e300),
+                st.just(np.zeros((k, k + 1))),
+                st.just("j"),
+            )
+        )
     return name, v
 
 
@@ -1208,8 +1533,15 @@ def test_raw_solve_hostile_options(worker, kw):
         assert raised(out, ValueError, TypeError), (name, v, out)
         # CPython's argument parser names the type, not the keyword, for a
         # wrong Python type ("an integer is required", "str, not int", ...)
-        generic = ("must be", "integer", "str", "float", "embedded null", "bool",
-                   "cannot be interpreted")
+        generic = (
+            "must be",
+            "integer",
+            "str",
+            "float",
+            "embedded null",
+            "bool",
+            "cannot be interpreted",
+        )
         assert name in out[2] or any(g in out[2] for g in generic), (name, v, out[2])
         return
     tol = 1e-10
@@ -1226,9 +1558,7 @@ def test_int_options_beyond_c_int(worker, name):
         tr.solve(scene, options=opts)
 
 
-@pytest.mark.parametrize("name,value", [
-    ("steps", 2**31), ("max_iter", 2**40),
-    ("nodes", 2**63)])
+@pytest.mark.parametrize("name,value", [("steps", 2**31), ("max_iter", 2**40), ("nodes", 2**63)])
 def test_raw_int_keywords_beyond_c_range(worker, name, value):
     rod, tend, loads, dist = BASES[0]
     out = worker.call("tendonrod._core.solve", rod, tend, loads, dist, **{name: value})
@@ -1241,8 +1571,21 @@ def test_raw_compliance_hostile_s(worker, b):
     finite (6, 6) matrix, or RuntimeError with the solver's message."""
     rod, tend, loads, dist = BASES[b]
     L = rod[0]
-    for s in [L, 0.5 * L, 0.0, -L, 2 * L, math.nan, math.inf, -0.0, 5e-324, L * (1 + 1e-16),
-              "x", None, [L]]:
+    for s in [
+        L,
+        0.5 * L,
+        0.0,
+        -L,
+        2 * L,
+        math.nan,
+        math.inf,
+        -0.0,
+        5e-324,
+        L * (1 + 1e-16),
+        "x",
+        None,
+        [L],
+    ]:
         out = worker.call("tendonrod._core.compliance", rod, tend, loads, dist, s)
         if out[0] == "ok":
             C = np.asarray(out[1])
@@ -1255,7 +1598,7 @@ def test_raw_compliance_hostile_s(worker, b):
 
 
 def test_raw_strerror_any_int(worker):
-    for code in (0, 1, 2, -1, -12, -13, 100, -1000, 2**31 - 1, -2**31):
+    for code in (0, 1, 2, -1, -12, -13, 100, -1000, 2**31 - 1, -(2**31)):
         out = worker.call("tendonrod._core.strerror", code)
         assert out[0] == "ok" and isinstance(out[1], str) and out[1], (code, out)
     for bad in (2**70, "x", None, 1.5):
@@ -1265,10 +1608,12 @@ def test_raw_strerror_any_int(worker):
 
 @pytest.mark.parametrize("length", [1e308, 1.7976931348623157e308, 5e306])
 def test_huge_length_does_not_crash(worker, length):
-    rob = tr.Robot(tr.Rod(length=length, diameter=8e-4, E=207e9, G=79.6e9, kirchhoff=True),
-                   [tr.Tendon(offset=0.01, end=0.2)])
+    rob = tr.Robot(
+        tr.Rod(length=length, diameter=8e-4, E=207e9, G=79.6e9, kirchhoff=True),
+        [tr.Tendon(offset=0.01, end=0.2)],
+    )
     scene = tr.Scene(rob, displacement=[0.004], loads=[tr.PointLoad(s=0.2, force=(-0.2, 0, 0))])
-    out = worker.call("tendonrod.solve", scene)       # a crash raises Crash (F10, fixed)
+    out = worker.call("tendonrod.solve", scene)  # a crash raises Crash (F10, fixed)
     if out[0] == "raise":
         assert raised(out, ValueError) and ("length" in out[2].lower() or "L" in out[2]), out
     else:
@@ -1282,10 +1627,22 @@ def check_public_solution(scene, sol, where=""):
     assert isinstance(sol.message, str) and sol.message, where
     if not sol.success:
         return "failure"
-    raw = {k: getattr(sol, k) for k in ("s", "position", "rotation", "force", "moment",
-                                        "tension", "slack", "displacement")}
-    raw.update(message=sol.message, success=sol.success, status=sol.status,
-               residual_norm=sol.residual_norm)
+    raw = {
+        k: getattr(sol, k)
+        for k in (
+            "s",
+            "position",
+            "rotation",
+            "force",
+            "moment",
+            "tension",
+            "slack",
+            "displacement",
+        )
+    }
+    raw.update(
+        message=sol.message, success=sol.success, status=sol.status, residual_norm=sol.residual_norm
+    )
     rod, tend, loads, dist = pack_scene(scene)
     check_raw_result(rod, tend, loads, dist, raw, tol=sol.options.tol, where=where)
     # displacement-controlled tendons report the displacement they were given
@@ -1296,7 +1653,7 @@ def check_public_solution(scene, sol, where=""):
 
 
 def _logu(lo, hi):
-    return st.floats(math.log10(lo), math.log10(hi)).map(lambda e: 10.0 ** e)
+    return st.floats(math.log10(lo), math.log10(hi)).map(lambda e: 10.0**e)
 
 
 @st.composite
@@ -1306,9 +1663,14 @@ def extreme_scenes(draw):
     rod length, tensions up to 1e6 N, up to 4 tendons, tendons ending early."""
     L = draw(st.one_of(_logu(1e-6, 1e3), st.sampled_from([0.2, 1e-9, 1e6])))
     kirchhoff = draw(st.booleans())
-    rod = tr.Rod(length=L, EI=draw(_logu(1e-12, 1e9)), GJ=draw(_logu(1e-12, 1e9)),
-                 EA=draw(st.one_of(_logu(1e-3, 1e12), st.just(math.inf))),
-                 GA=draw(st.one_of(_logu(1e-3, 1e12), st.just(math.inf))), kirchhoff=kirchhoff)
+    rod = tr.Rod(
+        length=L,
+        EI=draw(_logu(1e-12, 1e9)),
+        GJ=draw(_logu(1e-12, 1e9)),
+        EA=draw(st.one_of(_logu(1e-3, 1e12), st.just(math.inf))),
+        GA=draw(st.one_of(_logu(1e-3, 1e12), st.just(math.inf))),
+        kirchhoff=kirchhoff,
+    )
     nt = draw(st.integers(0, 4))
     tendons, disp, tens = [], [], []
     for i in range(nt):
@@ -1316,12 +1678,24 @@ def extreme_scenes(draw):
         end = draw(st.one_of(st.none(), st.floats(1e-3, 1.0).map(lambda f: f * L)))
         e = L if end is None else end
         a = draw(st.one_of(st.just(0.0), st.floats(-1.0, 1.0).map(lambda f: f * b / e)))
-        tendons.append(tr.Tendon(offset=b, angle=draw(st.floats(-10.0, 10.0)), slope=a,
-                                 EA=draw(st.one_of(st.just(math.inf), _logu(1e-3, 1e12))),
-                                 end=end))
+        tendons.append(
+            tr.Tendon(
+                offset=b,
+                angle=draw(st.floats(-10.0, 10.0)),
+                slope=a,
+                EA=draw(st.one_of(st.just(math.inf), _logu(1e-3, 1e12))),
+                end=end,
+            )
+        )
         if draw(st.booleans()):
-            disp.append(draw(st.one_of(st.floats(-2.0, 2.0).map(lambda f: f * L),
-                                       st.sampled_from([0.0, L, -L, 1e-300]))))
+            disp.append(
+                draw(
+                    st.one_of(
+                        st.floats(-2.0, 2.0).map(lambda f: f * L),
+                        st.sampled_from([0.0, L, -L, 1e-300]),
+                    )
+                )
+            )
             tens.append(None)
         else:
             disp.append(None)
@@ -1332,12 +1706,14 @@ def extreme_scenes(draw):
         m = draw(st.lists(st.one_of(st.just(0.0), st.floats(-1e3, 1e3)), min_size=3, max_size=3))
         loads.append(tr.PointLoad(s=draw(st.floats(0.0, 1.0)) * L, force=f, moment=m))
     if draw(st.booleans()):
-        loads.append(tr.DistributedLoad(force=draw(st.lists(st.floats(-1e3, 1e3), min_size=3,
-                                                            max_size=3))))
+        loads.append(
+            tr.DistributedLoad(force=draw(st.lists(st.floats(-1e3, 1e3), min_size=3, max_size=3)))
+        )
     try:
         robot = tr.Robot(rod, tendons)
-        return tr.Scene(robot, displacement=disp if nt else None, tension=tens if nt else None,
-                        loads=loads)
+        return tr.Scene(
+            robot, displacement=disp if nt else None, tension=tens if nt else None, loads=loads
+        )
     except ValueError as e:
         # the scene description itself may refuse a combination (e.g. a
         # displacement on a tendon that cannot act); that is an outcome too
@@ -1420,7 +1796,7 @@ def test_public_solve_bad_arguments():
         with pytest.raises((ValueError, TypeError), match="options|nonsense|steps"):
             tr.solve(scene, options=o)
     with pytest.raises((ValueError, TypeError), match="nodes"):
-        tr.solve(scene, options=tr.Options(nodes=[0.0, 0.5]))      # beyond L = 0.2
+        tr.solve(scene, options=tr.Options(nodes=[0.0, 0.5]))  # beyond L = 0.2
 
 
 @pytest.mark.parametrize("s", [math.nan, math.inf, -0.1, 0.3, "x", [0.1, 0.2], None, 0.0, 0.2, 0.1])
@@ -1487,19 +1863,23 @@ def test_raw_tendon_anchor_beyond_tip(worker, end):
 # message), never the sweep; hostile arguments are refused by name.
 # --------------------------------------------------------------------------
 
+
 def _sweep_base():
     rob = tr.Robot(tr.Rod(**_ROD, kirchhoff=True), [tr.Tendon(offset=0.01)])
     return tr.Scene(rob, displacement=[0.004], loads=[tr.PointLoad(s=0.2, force=(-0.1, 0, 0))])
 
 
-@pytest.mark.parametrize("path,values,bad", [
-    ("displacement[0]", [0.001, math.nan, 0.002], [1]),
-    ("displacement[0]", [0.001, "abc", -math.inf], [1, 2]),
-    ("robot.tendons[0].EA", [1e4, -1.0, math.inf, 0.0], [1, 3]),
-    ("loads[0].force", [(1, 0, 0), (math.nan, 0, 0), (0, 1e300, 0)], [1]),
-    ("robot.rod.length", [0.2, 0.0, -1.0, 0.1], [1, 2, 3]),    # 0.1 < the load's s = 0.2
-    ("displacement[0]", [0.5, 2.0, -0.5], []),                 # legal: the solver decides
-])
+@pytest.mark.parametrize(
+    "path,values,bad",
+    [
+        ("displacement[0]", [0.001, math.nan, 0.002], [1]),
+        ("displacement[0]", [0.001, "abc", -math.inf], [1, 2]),
+        ("robot.tendons[0].EA", [1e4, -1.0, math.inf, 0.0], [1, 3]),
+        ("loads[0].force", [(1, 0, 0), (math.nan, 0, 0), (0, 1e300, 0)], [1]),
+        ("robot.rod.length", [0.2, 0.0, -1.0, 0.1], [1, 2, 3]),  # 0.1 < the load's s = 0.2
+        ("displacement[0]", [0.5, 2.0, -0.5], []),  # legal: the solver decides
+    ],
+)
 def test_sweep_hostile_points(path, values, bad):
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
@@ -1513,26 +1893,36 @@ def test_sweep_hostile_points(path, values, bad):
             assert status[i] != 0 and ("Error" in msgs[i] or "must" in msgs[i]), (i, msgs[i])
 
 
-@pytest.mark.parametrize("kw,word", [
-    (dict(vary=[1, 2]), "vary"), (dict(vary={"nonexistent.path": [1]}), "nonexistent"),
-    (dict(vary={"displacement[5]": [1]}), "displacement[5]"),
-    (dict(vary={"displacement[0]": [0.1]}, chunksize=0), "chunksize"),
-    (dict(vary={"displacement[0]": [0.1]}, max_workers=0), "max_workers"),
-    (dict(vary={"displacement[0]": []}), "displacement[0]"),
-    (dict(vary={"displacement[0]": [0.1, 0.2], "tension[0]": [1.0]}, grid=False), "grid"),
-])
+@pytest.mark.parametrize(
+    "kw,word",
+    [
+        (dict(vary=[1, 2]), "vary"),
+        (dict(vary={"nonexistent.path": [1]}), "nonexistent"),
+        (dict(vary={"displacement[5]": [1]}), "displacement[5]"),
+        (dict(vary={"displacement[0]": [0.1]}, chunksize=0), "chunksize"),
+        (dict(vary={"displacement[0]": [0.1]}, max_workers=0), "max_workers"),
+        (dict(vary={"displacement[0]": []}), "displacement[0]"),
+        (dict(vary={"displacement[0]": [0.1, 0.2], "tension[0]": [1.0]}, grid=False), "grid"),
+    ],
+)
 def test_sweep_bad_arguments(kw, word):
     with pytest.raises((ValueError, TypeError)) as e:
         tr.sweep(_sweep_base(), **kw)
     assert word in str(e.value), str(e.value)
 
 
-@pytest.mark.xfail(strict=True, reason="finding F12 in bench/results/reliability_findings.md: "
-                   "sweep(chunksize=nan) and vary={name: scalar} raise without naming the argument")
-@pytest.mark.parametrize("kw,word", [
-    (dict(vary={"displacement[0]": [0.1]}, chunksize=math.nan), "chunksize"),
-    (dict(vary={"displacement[0]": 5}), "displacement[0]"),
-])
+@pytest.mark.xfail(
+    strict=True,
+    reason="finding F12 in bench/results/reliability_findings.md: "
+    "sweep(chunksize=nan) and vary={name: scalar} raise without naming the argument",
+)
+@pytest.mark.parametrize(
+    "kw,word",
+    [
+        (dict(vary={"displacement[0]": [0.1]}, chunksize=math.nan), "chunksize"),
+        (dict(vary={"displacement[0]": 5}), "displacement[0]"),
+    ],
+)
 def test_sweep_argument_names(kw, word):
     with pytest.raises((ValueError, TypeError)) as e:
         tr.sweep(_sweep_base(), **kw)
@@ -1543,28 +1933,32 @@ def test_sweep_argument_names(kw, word):
 # tr.solve_batch: hostile per-point arrays and arguments
 # --------------------------------------------------------------------------
 
+
 def _batch_scene():
     rob = tr.Robot(tr.Rod(**_ROD, kirchhoff=True), [tr.Tendon(offset=0.01)])
     return tr.Scene(rob, displacement=[0.004], loads=[tr.PointLoad(s=0.2, force=(-0.1, 0, 0))])
 
 
-@pytest.mark.parametrize("kw,word", [
-    (dict(displacement=np.array([[0.001], [math.nan]])), "displacement"),
-    (dict(displacement=np.array([[0.001], [-math.inf]])), "displacement"),
-    (dict(displacement=np.zeros((3, 2))), "displacement"),
-    (dict(displacement=np.zeros(3)), "displacement"),
-    (dict(tension=np.zeros((3, 1))), "tension"),
-    (dict(forces=np.zeros((2, 2, 3))), "forces"),
-    (dict(forces=np.full((2, 1, 3), math.nan)), "forces"),
-    (dict(moments=np.zeros((2, 1, 2))), "moments"),
-    (dict(distributed=np.full((2, 3), math.inf)), "distributed"),
-    (dict(displacement=np.zeros((3, 1)), forces=np.zeros((2, 1, 3))), "forces"),
-    (dict(displacement=np.zeros((3, 1)), threads=0), "threads"),
-    (dict(displacement=np.zeros((3, 1)), threads=-1), "threads"),
-    (dict(displacement=np.zeros((3, 1)), chunksize=0), "chunksize"),
-    (dict(displacement=np.zeros((3, 1)), chunksize=math.nan), "chunksize"),
-    (dict(), "displacement"),
-])
+@pytest.mark.parametrize(
+    "kw,word",
+    [
+        (dict(displacement=np.array([[0.001], [math.nan]])), "displacement"),
+        (dict(displacement=np.array([[0.001], [-math.inf]])), "displacement"),
+        (dict(displacement=np.zeros((3, 2))), "displacement"),
+        (dict(displacement=np.zeros(3)), "displacement"),
+        (dict(tension=np.zeros((3, 1))), "tension"),
+        (dict(forces=np.zeros((2, 2, 3))), "forces"),
+        (dict(forces=np.full((2, 1, 3), math.nan)), "forces"),
+        (dict(moments=np.zeros((2, 1, 2))), "moments"),
+        (dict(distributed=np.full((2, 3), math.inf)), "distributed"),
+        (dict(displacement=np.zeros((3, 1)), forces=np.zeros((2, 1, 3))), "forces"),
+        (dict(displacement=np.zeros((3, 1)), threads=0), "threads"),
+        (dict(displacement=np.zeros((3, 1)), threads=-1), "threads"),
+        (dict(displacement=np.zeros((3, 1)), chunksize=0), "chunksize"),
+        (dict(displacement=np.zeros((3, 1)), chunksize=math.nan), "chunksize"),
+        (dict(), "displacement"),
+    ],
+)
 def test_solve_batch_bad_arguments(kw, word):
     with pytest.raises((ValueError, TypeError)) as e:
         tr.solve_batch(_batch_scene(), **kw)
@@ -1573,8 +1967,11 @@ def test_solve_batch_bad_arguments(kw, word):
 
 @pytest.mark.parametrize("value", ["empty", "string", "complex"])
 def test_solve_batch_degenerate_arrays(value):
-    v = {"empty": np.zeros((0, 1)), "string": np.array([["abc"]]),
-         "complex": np.array([[0.001 + 0.5j]])}[value]
+    v = {
+        "empty": np.zeros((0, 1)),
+        "string": np.array([["abc"]]),
+        "complex": np.array([[0.001 + 0.5j]]),
+    }[value]
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         try:
@@ -1590,8 +1987,16 @@ def test_solve_batch_hostile_points_fail_alone():
     status and message; the good points around them match tr.solve."""
     sc = _batch_scene()
     q = np.array([[0.002], [0.5], [0.004], [2.0], [0.006], [-1.0]])
-    F = np.array([[[-0.1, 0, 0]], [[-0.1, 0, 0]], [[1e300, 0, 0]], [[-0.1, 0, 0]],
-                  [[-0.1, 0, 0]], [[-0.1, 0, 0]]])
+    F = np.array(
+        [
+            [[-0.1, 0, 0]],
+            [[-0.1, 0, 0]],
+            [[1e300, 0, 0]],
+            [[-0.1, 0, 0]],
+            [[-0.1, 0, 0]],
+            [[-0.1, 0, 0]],
+        ]
+    )
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         r = tr.solve_batch(sc, displacement=q, forces=F, threads=2, chunksize=2)
@@ -1599,13 +2004,16 @@ def test_solve_batch_hostile_points_fail_alone():
             assert isinstance(r.message[i], str) and r.message[i], i
             if r.status[i] < 0:
                 continue
-            one = tr.solve(tr.Scene(sc.robot, displacement=[q[i, 0]],
-                                    loads=[tr.PointLoad(s=0.2, force=F[i, 0])]),
-                           options=tr.Options(tip_only=True))
+            one = tr.solve(
+                tr.Scene(
+                    sc.robot, displacement=[q[i, 0]], loads=[tr.PointLoad(s=0.2, force=F[i, 0])]
+                ),
+                options=tr.Options(tip_only=True),
+            )
             assert one.success, (i, one.message)
             # both converged to tol = 1e-10 (scaled): tips agree to 1e-8 L
             assert np.abs(r.tip_position[i] - one.tip_position).max() < 1e-8 * 0.2, i
-    assert r.status[1] < 0 and r.status[3] < 0      # q = 2.5 L, 10 L: no equilibrium
+    assert r.status[1] < 0 and r.status[3] < 0  # q = 2.5 L, 10 L: no equilibrium
 
 
 # Finding F16 (fixed): a subnormal tendon EA was accepted and a tension-controlled tendon
@@ -1613,8 +2021,9 @@ def test_solve_batch_hostile_points_fail_alone():
 def test_tiny_tendon_EA(worker):
     rod = tr.Rod(length=0.05, EI=0.00105, GJ=0.00084, EA=81601.4, GA=43873.0)
     try:
-        scene = tr.Scene(tr.Robot(rod, [tr.Tendon(offset=0.0054, slope=-0.1067, EA=1e-320)]),
-                         tension=[0.25])
+        scene = tr.Scene(
+            tr.Robot(rod, [tr.Tendon(offset=0.0054, slope=-0.1067, EA=1e-320)]), tension=[0.25]
+        )
     except ValueError as e:
         assert "EA" in str(e)
         return
@@ -1653,5 +2062,7 @@ def test_rtol_below_double_precision_is_refused(worker, rtol):
     with pytest.raises(ValueError, match="rtol"):
         tr.Options(integrator="adaptive", rtol=rtol)
     rod, tend, loads, dist = BASES[0]
-    out = worker.call("tendonrod._core.solve", rod, tend, loads, dist, integrator="adaptive", rtol=rtol)
+    out = worker.call(
+        "tendonrod._core.solve", rod, tend, loads, dist, integrator="adaptive", rtol=rtol
+    )
     assert raised(out, ValueError) and "rtol" in out[2], out

@@ -26,6 +26,7 @@ Tolerances (why they are that size):
     warning registries, the cache of NumPy scalars).
   - refcounts of arguments: exactly unchanged.
 """
+
 import gc
 import os
 import sys
@@ -37,8 +38,8 @@ import pytest
 
 import tendonrod as tr
 
-RSS_TOL = 4 * 1024 * 1024      # bytes, see the module docstring
-BLOCKS_TOL = 200               # objects, see the module docstring
+RSS_TOL = 4 * 1024 * 1024  # bytes, see the module docstring
+BLOCKS_TOL = 200  # objects, see the module docstring
 
 PAGE = os.sysconf("SC_PAGE_SIZE") if hasattr(os, "sysconf") else 4096
 
@@ -49,13 +50,16 @@ def rss():
 
 
 pytestmark = [
-    pytest.mark.skipif(not os.path.exists("/proc/self/statm"),
-                       reason="RSS is read from /proc/self/statm (Linux)"),
+    pytest.mark.skipif(
+        not os.path.exists("/proc/self/statm"), reason="RSS is read from /proc/self/statm (Linux)"
+    ),
     # Under AddressSanitizer (make sanitize) freed memory sits in ASan's
     # quarantine (up to 256 MiB) and every allocation carries redzones, so RSS
     # grows by design; leaks are covered there by the valgrind run instead.
-    pytest.mark.skipif("libasan" in os.environ.get("LD_PRELOAD", ""),
-                       reason="RSS is not meaningful under ASan's quarantine"),
+    pytest.mark.skipif(
+        "libasan" in os.environ.get("LD_PRELOAD", ""),
+        reason="RSS is not meaningful under ASan's quarantine",
+    ),
 ]
 
 
@@ -72,8 +76,10 @@ def measure(loop, n, warm):
 
 
 def assert_flat(what, n, drss, dblocks, dt):
-    print(f"{what}: {n} calls in {dt:.2f} s, RSS {drss / 1024:+.0f} KiB, "
-          f"allocated blocks {dblocks:+d}")
+    print(
+        f"{what}: {n} calls in {dt:.2f} s, RSS {drss / 1024:+.0f} KiB, "
+        f"allocated blocks {dblocks:+d}"
+    )
     assert drss < RSS_TOL, f"{what}: RSS grew by {drss / 1024:.0f} KiB over {n} calls"
     assert dblocks < BLOCKS_TOL, f"{what}: {dblocks} Python objects leaked over {n} calls"
 
@@ -96,7 +102,7 @@ def test_ufunc_loops_do_not_leak():
     raise TypeError (the error path of NumPy's type resolution)."""
     s = np.linspace(0.0, 0.2, 16)
     out = np.empty(16)
-    bad_s = np.linspace(-0.1, 0.3, 16)          # partly outside [0, L]: NaN + invalid flag
+    bad_s = np.linspace(-0.1, 0.3, 16)  # partly outside [0, L]: NaN + invalid flag
     fs = [(getattr(tr.analytic, n), a) for n, a in UFUNC_ARGS.items()]
     angle, deflection = tr.analytic.angle, tr.analytic.deflection
     args8 = UFUNC_ARGS["deflection"][1:]
@@ -157,10 +163,17 @@ def _scenes():
     c = tr.Rod(**ROD)
     three = [tr.Tendon(offset=0.01, angle=2 * np.pi * i / 3, EA=2e4) for i in range(3)]
     return [
-        tr.Scene(tr.Robot(k, [tr.Tendon(offset=0.01)]), displacement=[0.004],
-                 loads=[tr.PointLoad(s=L, force=(-0.2, 0, 0))]),
-        tr.Scene(tr.Robot(c, three), displacement=[0.004, 0.0, None], tension=[None, None, 0.3],
-                 loads=[tr.PointLoad(s=L, force=(0.05, 0.1, 0)), tr.DistributedLoad((0, 0, -0.2))]),
+        tr.Scene(
+            tr.Robot(k, [tr.Tendon(offset=0.01)]),
+            displacement=[0.004],
+            loads=[tr.PointLoad(s=L, force=(-0.2, 0, 0))],
+        ),
+        tr.Scene(
+            tr.Robot(c, three),
+            displacement=[0.004, 0.0, None],
+            tension=[None, None, 0.3],
+            loads=[tr.PointLoad(s=L, force=(0.05, 0.1, 0)), tr.DistributedLoad((0, 0, -0.2))],
+        ),
     ]
 
 
@@ -168,6 +181,7 @@ def test_raw_solve_loop_does_not_leak():
     """10^5 raw _core.solve calls (warm start with guess and Jacobian, tip
     only): RSS, allocated blocks and the refcounts of every argument flat."""
     from tendonrod.solver import pack_scene
+
     sc = _scenes()[0]
     sol = tr.solve(sc)
     rod, tend, loads, dist = pack_scene(sc)
@@ -192,9 +206,10 @@ def test_public_solve_loop_does_not_leak():
     strict=True (exception path), and 10^4 raw calls that raise ValueError
     (the glue's error exits)."""
     from tendonrod.solver import pack_scene
+
     scs = _scenes()
     warm = [tr.solve(s) for s in scs]
-    bad = tr.Scene(scs[0].robot, displacement=[0.5])        # no equilibrium
+    bad = tr.Scene(scs[0].robot, displacement=[0.5])  # no equilibrium
     few = tr.Options(max_nfev=20, continuation=False)
 
     def loop(n):
@@ -222,11 +237,14 @@ def test_public_solve_loop_does_not_leak():
 
     rod, tend, loads, dist = pack_scene(scs[1])
     bad_rod = rod.copy()
-    bad_rod[1] = -1.0                                        # EI < 0: the core refuses it
-    calls = [((rod[:5], tend, loads, dist), {}), ((bad_rod, tend, loads, dist), {}),
-             ((rod, tend, loads, dist), {"guess": np.zeros(3)}),
-             ((rod, tend, loads, dist), {"nodes": np.array([0.2, 0.1])}),
-             ((rod, tend, loads, dist), {"integrator": "nope"})]
+    bad_rod[1] = -1.0  # EI < 0: the core refuses it
+    calls = [
+        ((rod[:5], tend, loads, dist), {}),
+        ((bad_rod, tend, loads, dist), {}),
+        ((rod, tend, loads, dist), {"guess": np.zeros(3)}),
+        ((rod, tend, loads, dist), {"nodes": np.array([0.2, 0.1])}),
+        ((rod, tend, loads, dist), {"integrator": "nope"}),
+    ]
 
     def err_loop(n):
         for i in range(n):
@@ -262,7 +280,7 @@ def test_solve_batch_loop_does_not_leak():
     one object per call would show as +300 blocks, per point as +6000."""
     sc = _scenes()[0]
     q = np.linspace(0.0, 0.006, 20)[:, None]
-    q[7] = 0.5                                            # no equilibrium
+    q[7] = 0.5  # no equilibrium
     bad = np.array([[np.nan]])
 
     def loop(n):

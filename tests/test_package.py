@@ -1,4 +1,5 @@
 """Package-level facts: the build links GSL and the module imports cleanly."""
+
 import re
 import subprocess
 import sys

@@ -1,4 +1,5 @@
 """Plot helpers: accept ax=, return the Axes, label both axes, never show or save."""
+
 import math
 
 import matplotlib
@@ -34,7 +35,10 @@ CLOSED = [
     (P.tip_sigma_vs_alpha, S.closed_form_tip_sigma_vs_alpha),
     (P.prototype_deflection, lambda: S.prototype_curves("parallel")),
     (P.prototype_shapes, lambda: S.prototype_shapes("converging")),
-    (P.prototype_tension, lambda: [S.prototype_curves("parallel"), S.prototype_curves("converging")]),
+    (
+        P.prototype_tension,
+        lambda: [S.prototype_curves("parallel"), S.prototype_curves("converging")],
+    ),
 ]
 
 
@@ -43,7 +47,7 @@ def test_closed_form_charts(fn, data):
     fig, ax = plt.subplots()
     out = fn(data(), ax=ax)
     assert out is ax and labelled(ax) and len(ax.lines) >= 2
-    out2 = fn(data())                     # ax=None: draws on the current Axes
+    out2 = fn(data())  # ax=None: draws on the current Axes
     assert isinstance(out2, matplotlib.axes.Axes) and labelled(out2)
 
 
@@ -68,24 +72,29 @@ def test_curve_values_are_the_data():
 def test_robot_planar_and_spatial():
     rod = S.paper_rod_ivb()
     robot = tr.Robot(rod, [tr.Tendon(offset=0.01, angle=2 * math.pi * i / 3) for i in range(3)])
-    planar = tr.Scene(tr.Robot(rod, [tr.Tendon(offset=0.01)]), tension=[2.0],
-                      loads=[tr.PointLoad(s=0.1, force=(-0.2, 0.0, 0.0))])
+    planar = tr.Scene(
+        tr.Robot(rod, [tr.Tendon(offset=0.01)]),
+        tension=[2.0],
+        loads=[tr.PointLoad(s=0.1, force=(-0.2, 0.0, 0.0))],
+    )
     sol = tr.solve(planar)
     assert P.is_planar(planar)
-    ax = P.robot(sol)                       # planar scene: the x-z view on 2D Axes
+    ax = P.robot(sol)  # planar scene: the x-z view on 2D Axes
     assert ax.name != "3d" and ax.get_xlabel() == "x [m]" and ax.get_ylabel() == "z [m]"
     xs = ax.lines[0].get_xdata()
-    assert np.array_equal(xs, sol.position[:, 0])        # the backbone is the solution
+    assert np.array_equal(xs, sol.position[:, 0])  # the backbone is the solution
     # tendon line = backbone + R r(s): at the base it sits at x = offset
     assert ax.lines[1].get_xdata()[0] == pytest.approx(0.01, abs=1e-15)  # R(0) = I exactly
-    spatial = tr.Scene(robot, tension=[2.0, 0.0, 0.0], loads=[tr.PointLoad(s=0.1, force=(0.0, 0.3, 0.0))])
+    spatial = tr.Scene(
+        robot, tension=[2.0, 0.0, 0.0], loads=[tr.PointLoad(s=0.1, force=(0.0, 0.3, 0.0))]
+    )
     assert not P.is_planar(spatial)
     sol3 = tr.solve(spatial)
     fig = plt.figure()
     ax3 = fig.add_subplot(projection="3d")
     out = P.robot(sol3, ax=ax3, disks=5)
     assert out is ax3 and labelled(ax3, z=True)
-    assert len(ax3.lines) == 1 + 3 + 5                   # backbone, tendons, disks
+    assert len(ax3.lines) == 1 + 3 + 5  # backbone, tendons, disks
 
 
 def test_shapes_and_tension_vs_load():
@@ -99,17 +108,30 @@ def test_shapes_and_tension_vs_load():
 
 def test_sweep_lines():
     rod = S.paper_rod_ivb()
-    base = tr.Scene(tr.Robot(rod, [tr.Tendon(offset=0.01)]), displacement=[0.0],
-                    loads=[tr.PointLoad(s=0.1, force=(0.0, 0.0, 0.0))])
+    base = tr.Scene(
+        tr.Robot(rod, [tr.Tendon(offset=0.01)]),
+        displacement=[0.0],
+        loads=[tr.PointLoad(s=0.1, force=(0.0, 0.0, 0.0))],
+    )
     EAs = [1e4, np.inf]
     mags = [0.1, 0.2, 0.3]
-    res = tr.sweep(base, {"robot.tendons[0].EA": EAs, "loads[0].force": [(-f, 0.0, 0.0) for f in mags]},
-                   progress=False)
+    res = tr.sweep(
+        base,
+        {"robot.tendons[0].EA": EAs, "loads[0].force": [(-f, 0.0, 0.0) for f in mags]},
+        progress=False,
+    )
     fig, ax = plt.subplots()
-    out = P.sweep_lines(res, "loads[0].force", "tip_position", component=0, ax=ax,
-                        xlabel="tip load [N]", ylabel="tip x [m]")
-    assert out is ax and labelled(ax) and len(ax.lines) == len(EAs)      # one line per EA
-    assert np.allclose(ax.lines[1].get_xdata(), mags, rtol=1e-15)           # |force| on x
+    out = P.sweep_lines(
+        res,
+        "loads[0].force",
+        "tip_position",
+        component=0,
+        ax=ax,
+        xlabel="tip load [N]",
+        ylabel="tip x [m]",
+    )
+    assert out is ax and labelled(ax) and len(ax.lines) == len(EAs)  # one line per EA
+    assert np.allclose(ax.lines[1].get_xdata(), mags, rtol=1e-15)  # |force| on x
     assert np.array_equal(ax.lines[1].get_ydata(), res["tip_position"][1, :, 0])
     assert "inf" in ax.lines[1].get_label()
     with pytest.raises(ValueError, match="component"):

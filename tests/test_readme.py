@@ -1,5 +1,6 @@
 """The README's Python examples run as written (in a scratch directory, since the
 sweep example writes its results file there)."""
+
 import pathlib
 import re
 import warnings

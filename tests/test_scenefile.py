@@ -1,5 +1,6 @@
 """Scene files: the examples parse to the scenes they describe; every malformed file
 gets a SceneFileError naming the key and the problem; the file is never modified."""
+
 import math
 import os
 import pathlib
@@ -59,7 +60,9 @@ def test_examples_parse():
     spec = load_scene(EXAMPLES / "converging_three_tendons.toml")
     sc = spec.scene
     assert len(sc.robot.tendons) == 3
-    for t in sc.robot.tendons:  # routing = "converging" -> slope = -offset / L, exactly as Tendon.converging
+    for t in (
+        sc.robot.tendons
+    ):  # routing = "converging" -> slope = -offset / L, exactly as Tendon.converging
         assert t.slope == tr.Tendon.converging(offset=t.offset, length=0.1).slope
     assert sc.tension == (10.0, None, None) and sc.displacement == (None, -0.002, 0.0)
     assert spec.options == tr.Options(nodes=51)
@@ -87,29 +90,73 @@ BAD = [
     # (description, edit, expected key, expected words in the problem)
     ("missing rod length", ("length = 0.2\n", ""), "rod.length", "missing"),
     ("missing rod table", ("[rod]", "[rodd]"), "rodd", "unknown key"),
-    ("wrong type offset", ("offset = 0.01\ndisplacement", 'offset = "abc"\ndisplacement'),
-     "tendon[0].offset", "expected a number"),
+    (
+        "wrong type offset",
+        ("offset = 0.01\ndisplacement", 'offset = "abc"\ndisplacement'),
+        "tendon[0].offset",
+        "expected a number",
+    ),
     ("boolean for a number", ("E = 207e9", "E = true"), "rod.E", "expected a number"),
-    ("number for a boolean", ("kirchhoff = true", "kirchhoff = 1"), "rod.kirchhoff", "true or false"),
-    ("negative offset (library check)", ("offset = 0.01\ndisplacement", "offset = -0.01\ndisplacement"),
-     "tendon[0]", "offset"),
-    ("both actuations", ("displacement = 0.002", "displacement = 0.002\ntension = 1.0"), "tendon[0]",
-     "exactly one"),
+    (
+        "number for a boolean",
+        ("kirchhoff = true", "kirchhoff = 1"),
+        "rod.kirchhoff",
+        "true or false",
+    ),
+    (
+        "negative offset (library check)",
+        ("offset = 0.01\ndisplacement", "offset = -0.01\ndisplacement"),
+        "tendon[0]",
+        "offset",
+    ),
+    (
+        "both actuations",
+        ("displacement = 0.002", "displacement = 0.002\ntension = 1.0"),
+        "tendon[0]",
+        "exactly one",
+    ),
     ("no actuation", ("displacement = 0.002\n", ""), "tendon[0]", "exactly one"),
-    ("unknown tendon key", ("displacement = 0.002", "displacement = 0.002\nofset = 1.0"), "tendon[0].ofset",
-     "unknown key"),
-    ("bad routing", ('routing = "converging"', 'routing = "helical"'), "tendon[1].routing", "helical"),
-    ("routing and slope", ('routing = "converging"', 'routing = "converging"\nslope = -0.01'),
-     "tendon[1].routing", "not both"),
-    ("short force vector", ("force = [0.0, 0.0, -0.1]", "force = [0.0, -0.1]"), "load[0].force", "3 numbers"),
-    ("string in vector", ("force = [0.0, 0.0, -0.1]", 'force = [0.0, "x", -0.1]'), "load[0].force[1]",
-     "expected a number"),
+    (
+        "unknown tendon key",
+        ("displacement = 0.002", "displacement = 0.002\nofset = 1.0"),
+        "tendon[0].ofset",
+        "unknown key",
+    ),
+    (
+        "bad routing",
+        ('routing = "converging"', 'routing = "helical"'),
+        "tendon[1].routing",
+        "helical",
+    ),
+    (
+        "routing and slope",
+        ('routing = "converging"', 'routing = "converging"\nslope = -0.01'),
+        "tendon[1].routing",
+        "not both",
+    ),
+    (
+        "short force vector",
+        ("force = [0.0, 0.0, -0.1]", "force = [0.0, -0.1]"),
+        "load[0].force",
+        "3 numbers",
+    ),
+    (
+        "string in vector",
+        ("force = [0.0, 0.0, -0.1]", 'force = [0.0, "x", -0.1]'),
+        "load[0].force[1]",
+        "expected a number",
+    ),
     ("load beyond the tip", ("s = 0.2\n", "s = 0.3\n"), "load[0].s", "on the rod"),
     ("load without s", ("s = 0.2\n", ""), "load[0].s", "missing"),
     ("unknown option", ("nodes = 21", "nodez = 21"), "options.nodez", "unknown key"),
     ("bad option value", ("nodes = 21", 'integrator = "euler"'), "options", "integrator"),
     ("negative tension (library check)", ("tension = 0.5", "tension = -0.5"), "scene", "tension"),
-    ("key lands in the table above", ("[[load]]", "tendon = 3\n[[load]]"), "tendon[1].tendon", "unknown key"),
+    (
+        "key lands in the table above",
+        ("[[load]]", "tendon = 3\n[[load]]"),
+        "tendon[1].tendon",
+        "unknown key",
+    ),
     ("syntax error", ("length = 0.2", "length = = 0.2"), "(syntax)", "not valid TOML"),
 ]
 
@@ -132,7 +179,12 @@ def test_parse_scene_from_dict_and_not_utf8(tmp_path):
     spec = parse_scene({"rod": {"length": 0.1, "EI": 1e-2, "GJ": 1e-2, "EA": 1e6, "GA": 1e6}})
     assert spec.scene.robot.n_tendons == 0
     with pytest.raises(SceneFileError) as info:
-        parse_scene({"rod": {"length": 0.1, "EI": 1e-2, "GJ": 1e-2, "EA": 1e6, "GA": 1e6}, "tendon": {"offset": 1}})
+        parse_scene(
+            {
+                "rod": {"length": 0.1, "EI": 1e-2, "GJ": 1e-2, "EA": 1e6, "GA": 1e6},
+                "tendon": {"offset": 1},
+            }
+        )
     assert info.value.key == "tendon"
     p = tmp_path / "latin1.toml"
     p.write_bytes(b'title = "\xe9"\n')

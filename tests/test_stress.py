@@ -11,6 +11,7 @@ Fig. 12's twist with inextensible tendons) must return success=False with a
 message that names the problem. The full suite is
 ``python -m tendonrod bench stress --out DIR``.
 """
+
 import math
 
 import numpy as np
@@ -37,7 +38,16 @@ def test_stress_report_files(stress_run):
     assert (out / "stress.png").stat().st_size > 5000
     csvrows = bm.read_csv(out / "stress.csv")
     assert len(csvrows) == len(QUICK)
-    for col in ("case", "converged", "verified", "iterations", "residual", "jacobian_cond", "seconds", "message"):
+    for col in (
+        "case",
+        "converged",
+        "verified",
+        "iterations",
+        "residual",
+        "jacobian_cond",
+        "seconds",
+        "message",
+    ):
         assert col in csvrows[0]
 
 
@@ -60,7 +70,9 @@ def test_stress_case(stress_run, name):
     _, rows = stress_run
     rec = rows[name]
     # never an exception from the core, never a crash, never a hang
-    assert rec["outcome"] not in ("exception", "crash", "timeout"), f"{name}: {rec['outcome']}: {rec.get('message')}"
+    assert rec["outcome"] not in ("exception", "crash", "timeout"), (
+        f"{name}: {rec['outcome']}: {rec.get('message')}"
+    )
     # never a silent failure
     assert rec.get("message"), f"{name}: no message"
     if rec["outcome"] not in bm.GOOD and name in KNOWN_FAILURES:
@@ -82,7 +94,17 @@ def test_verification_catches_a_wrong_answer():
         pass
 
     bad = Fake()
-    for k in ("scene", "s", "position", "rotation", "moment", "tension", "slack", "options", "formulation"):
+    for k in (
+        "scene",
+        "s",
+        "position",
+        "rotation",
+        "moment",
+        "tension",
+        "slack",
+        "options",
+        "formulation",
+    ):
         setattr(bad, k, getattr(good, k))
     bad.force = good.force + np.array([1e-3, 0.0, 0.0])
     assert bm.global_balance(bad) > 10 * bm.BALANCE_TOL  # 1e-3 N on ~25 N of tension: 4e-5

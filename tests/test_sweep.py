@@ -1,6 +1,7 @@
 """tendonrod.sweep: paths into frozen dataclasses; results equal the same solves in
 series (bitwise, same chunking); executors honoured; failed points recorded; a sweep
 killed with SIGKILL resumes and ends with identical results."""
+
 import concurrent.futures as cf
 import json
 import math
@@ -17,18 +18,29 @@ import numpy as np
 import pytest
 
 import tendonrod as tr
-from tendonrod.sweep import (STATUS_ERROR, STATUS_NOT_CONVERGED, STATUS_OK, SweepResult, get_path,
-                             set_path, tip_measure)
+from tendonrod.sweep import (
+    STATUS_ERROR,
+    STATUS_NOT_CONVERGED,
+    STATUS_OK,
+    SweepResult,
+    get_path,
+    set_path,
+    tip_measure,
+)
 
 
 def ivb_robot(n=1, EA=math.inf):
     rod = tr.Rod(length=0.1, diameter=1.04e-3, E=210e9, G=80e9, kirchhoff=True)
-    return tr.Robot(rod, [tr.Tendon(offset=0.01, angle=2 * math.pi * i / n, EA=EA) for i in range(n)])
+    return tr.Robot(
+        rod, [tr.Tendon(offset=0.01, angle=2 * math.pi * i / n, EA=EA) for i in range(n)]
+    )
 
 
 def base_scene():
     """One locked parallel tendon (q = 0) and a tip load to be varied."""
-    return tr.Scene(ivb_robot(), displacement=[0.0], loads=[tr.PointLoad(s=0.1, force=(0.0, 0.0, 0.0))])
+    return tr.Scene(
+        ivb_robot(), displacement=[0.0], loads=[tr.PointLoad(s=0.1, force=(0.0, 0.0, 0.0))]
+    )
 
 
 FORCES = [(-f, 0.0, 0.0) for f in np.linspace(0.1, 1.2, 8)]
@@ -39,16 +51,22 @@ def test_set_get_path():
     sc = base_scene()
     assert get_path(sc, "robot.tendons[0].offset") == 0.01
     sc2 = set_path(sc, "robot.tendons[0].EA", 1e5)
-    assert sc2.robot.tendons[0].EA == 1e5 and sc.robot.tendons[0].EA == math.inf   # copy, not mutation
+    assert (
+        sc2.robot.tendons[0].EA == 1e5 and sc.robot.tendons[0].EA == math.inf
+    )  # copy, not mutation
     assert set_path(sc, "loads[0].force", (1.0, 2.0, 3.0)).loads[0].force == (1.0, 2.0, 3.0)
     assert set_path(sc, "loads[0].force[2]", -4.0).loads[0].force == (0.0, 0.0, -4.0)
     assert set_path(sc, "displacement[0]", 0.003).displacement == (0.003,)
     assert set_path(sc, "robot.rod.length", 0.2).robot.rod.length == 0.2
-    for bad, words in [("robot.tendonz[0]", "no field"), ("robot.tendons[3]", "out of range"),
-                       ("robot..rod", "cannot parse"), ("robot.rod[0]", "not a sequence")]:
+    for bad, words in [
+        ("robot.tendonz[0]", "no field"),
+        ("robot.tendons[3]", "out of range"),
+        ("robot..rod", "cannot parse"),
+        ("robot.rod[0]", "not a sequence"),
+    ]:
         with pytest.raises(ValueError, match=words):
             set_path(sc, bad, 1.0)
-    with pytest.raises(ValueError, match="offset"):       # the dataclass's own validation runs
+    with pytest.raises(ValueError, match="offset"):  # the dataclass's own validation runs
         set_path(sc, "robot.tendons[0].offset", -1.0)
 
 
@@ -69,7 +87,7 @@ def series(scenes, chunksize, options=None, measure=tip_measure):
     out = []
     for c in range(0, len(scenes), chunksize):
         guess = None
-        for sc in scenes[c:c + chunksize]:
+        for sc in scenes[c : c + chunksize]:
             sol = tr.solve(sc, guess=guess, options=options)
             out.append((sol.success, measure(sc, sol)))
             if sol.success:
@@ -81,12 +99,14 @@ def test_equals_series_bitwise_and_shapes():
     sc = base_scene()
     res = tr.sweep(sc, {"loads[0].force": FORCES}, grid=False, chunksize=3, progress=False)
     # the default measure reads tip quantities only, so the sweep solves with tip_only=True
-    ref = series([set_path(sc, "loads[0].force", f) for f in FORCES], 3, options=tr.Options(tip_only=True))
+    ref = series(
+        [set_path(sc, "loads[0].force", f) for f in FORCES], 3, options=tr.Options(tip_only=True)
+    )
     assert res.shape == (8,) and res.success.all()
     for i, (ok, m) in enumerate(ref):
         assert ok
         for k, v in m.items():
-            assert np.array_equal(res[k][i], v), (i, k)        # bitwise: same solves, same order
+            assert np.array_equal(res[k][i], v), (i, k)  # bitwise: same solves, same order
     assert np.array_equal(res["loads[0].force"], np.array(FORCES))
     # the tendon tightens as the load pushes the tip away from it (closed-form sign)
     assert np.all(np.diff(res["tension"][:, 0]) > 0)
@@ -98,8 +118,9 @@ def test_grid_shape_and_chunking_independence():
     res = tr.sweep(sc, {"robot.tendons[0].EA": EAs, "loads[0].force": FORCES[:4]}, progress=False)
     assert res.shape == (3, 4) and res["tip_position"].shape == (3, 4, 3) and res.chunksize == 4
     assert res["robot.tendons[0].EA"][:, 0].tolist() == EAs
-    res1 = tr.sweep(sc, {"robot.tendons[0].EA": EAs, "loads[0].force": FORCES[:4]}, chunksize=1,
-                    progress=False)
+    res1 = tr.sweep(
+        sc, {"robot.tendons[0].EA": EAs, "loads[0].force": FORCES[:4]}, chunksize=1, progress=False
+    )
     # other chunking, other warm starts: equal to the solver tolerance (1e-10 scaled residual;
     # 1e-12 m on a 0.1 m robot is well above it and far below anything physical)
     assert np.allclose(res["tip_position"], res1["tip_position"], rtol=0, atol=1e-12)
@@ -110,7 +131,9 @@ def test_grid_shape_and_chunking_independence():
 @pytest.mark.parametrize("kind", ["thread", "process"])
 def test_executor_honoured(kind):
     sc = base_scene()
-    ref = tr.sweep(sc, {"loads[0].force": FORCES}, grid=False, chunksize=2, max_workers=1, progress=False)
+    ref = tr.sweep(
+        sc, {"loads[0].force": FORCES}, grid=False, chunksize=2, max_workers=1, progress=False
+    )
     submitted = []
 
     if kind == "thread":
@@ -118,19 +141,25 @@ def test_executor_honoured(kind):
     else:
         ex = cf.ProcessPoolExecutor(max_workers=2, mp_context=multiprocessing.get_context("spawn"))
 
-    class Counting(cf.Executor):           # proves the sweep used *our* executor
+    class Counting(cf.Executor):  # proves the sweep used *our* executor
         def submit(self, fn, *a, **k):
             submitted.append(1)
             return ex.submit(fn, *a, **k)
 
     try:
-        res = tr.sweep(sc, {"loads[0].force": FORCES}, grid=False, chunksize=2, executor=Counting(),
-                       progress=False)
+        res = tr.sweep(
+            sc,
+            {"loads[0].force": FORCES},
+            grid=False,
+            chunksize=2,
+            executor=Counting(),
+            progress=False,
+        )
     finally:
         ex.shutdown()
     assert len(submitted) == 4
     for k in ref.data:
-        assert np.array_equal(res[k], ref[k]), k          # bitwise across executors
+        assert np.array_equal(res[k], ref[k]), k  # bitwise across executors
     assert pickle.loads(pickle.dumps(res)).data.keys() == res.data.keys()
 
 
@@ -138,10 +167,20 @@ def test_dask_local_cluster():
     distributed = pytest.importorskip("dask.distributed")
     sc = base_scene()
     ref = tr.sweep(sc, {"loads[0].force": FORCES}, grid=False, chunksize=2, progress=False)
-    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
-                                  dashboard_address=None) as cluster, distributed.Client(cluster) as client:
-        res = tr.sweep(sc, {"loads[0].force": FORCES}, grid=False, chunksize=2,
-                       executor=client.get_executor(), progress=False)
+    with (
+        distributed.LocalCluster(
+            n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None
+        ) as cluster,
+        distributed.Client(cluster) as client,
+    ):
+        res = tr.sweep(
+            sc,
+            {"loads[0].force": FORCES},
+            grid=False,
+            chunksize=2,
+            executor=client.get_executor(),
+            progress=False,
+        )
     for k in ref.data:
         assert np.array_equal(res[k], ref[k]), k
 
@@ -149,8 +188,10 @@ def test_dask_local_cluster():
 # --------------------------------------------------------------------------- failures
 def test_failed_points_recorded_and_sweep_continues():
     sc = base_scene()
-    offsets = [0.01, -0.01, 0.02]            # -0.01: the Tendon rejects it (build fails)
-    res = tr.sweep(sc, {"robot.tendons[0].offset": offsets, "loads[0].force": FORCES[:2]}, progress=False)
+    offsets = [0.01, -0.01, 0.02]  # -0.01: the Tendon rejects it (build fails)
+    res = tr.sweep(
+        sc, {"robot.tendons[0].offset": offsets, "loads[0].force": FORCES[:2]}, progress=False
+    )
     assert res.status[1].tolist() == [STATUS_ERROR] * 2
     assert "offset" in res.message[1, 0] and np.isnan(res["tip_position"][1]).all()
     assert res.success[[0, 2]].all()
@@ -159,14 +200,20 @@ def test_failed_points_recorded_and_sweep_continues():
     # F L^2/EI = 2.5 cannot be solved in one step; the unloaded robot is solved by the
     # initial guess itself
     opts = tr.Options(max_iter=1, continuation=False)
-    res2 = tr.sweep(sc, {"loads[0].force": [(0.0, 0.0, 0.0), (-3.0, 0.0, 0.0), (0.0, 0.0, 0.0)]}, grid=False,
-                    options=opts, warm_start=False, progress=False)
+    res2 = tr.sweep(
+        sc,
+        {"loads[0].force": [(0.0, 0.0, 0.0), (-3.0, 0.0, 0.0), (0.0, 0.0, 0.0)]},
+        grid=False,
+        options=opts,
+        warm_start=False,
+        progress=False,
+    )
     assert res2.status.tolist() == [STATUS_OK, STATUS_NOT_CONVERGED, STATUS_OK]
     assert res2.message[1] and res2.nit[1] >= 1
 
 
 # --------------------------------------------------------------------------- resume
-WORKER = textwrap.dedent('''
+WORKER = textwrap.dedent("""
     import math, sys, time
     import numpy as np
     import tendonrod as tr
@@ -187,7 +234,7 @@ WORKER = textwrap.dedent('''
         base, vary = args()
         return tr.sweep(base, vary, grid=False, chunksize=2, measure=slow_measure, path=path,
                         max_workers=1, progress=False)
-''')
+""")
 
 
 def _lines(path):
@@ -202,8 +249,9 @@ def test_resume_after_sigkill(tmp_path, monkeypatch):
 
     path = tmp_path / "sweep.jsonl"
     env = dict(os.environ, PYTHONPATH=str(tmp_path) + os.pathsep + os.environ.get("PYTHONPATH", ""))
-    proc = subprocess.Popen([sys.executable, "-c", f"import sweep_worker; sweep_worker.run({str(path)!r})"],
-                            env=env)
+    proc = subprocess.Popen(
+        [sys.executable, "-c", f"import sweep_worker; sweep_worker.run({str(path)!r})"], env=env
+    )
     try:
         # wait (no time limit asserted) until the header and 4 of 12 chunks are on disk
         while not (path.exists() and len(_lines(path)) >= 6):
@@ -215,13 +263,13 @@ def test_resume_after_sigkill(tmp_path, monkeypatch):
     assert proc.returncode == -signal.SIGKILL
     before = path.read_bytes()
     n_done = before.count(b"\n") - 1
-    assert 4 <= n_done < 12, n_done                     # killed half way
+    assert 4 <= n_done < 12, n_done  # killed half way
 
     resumed = sweep_worker.run(str(path))
     after = path.read_bytes()
-    assert after.startswith(before[:before.rfind(b"\n") + 1])   # finished chunks kept, not redone
+    assert after.startswith(before[: before.rfind(b"\n") + 1])  # finished chunks kept, not redone
     chunks = [json.loads(line)["chunk"] for line in after.splitlines()[1:]]
-    assert sorted(chunks) == list(range(12))             # every chunk exactly once
+    assert sorted(chunks) == list(range(12))  # every chunk exactly once
     # an uninterrupted run (no file) gives bitwise the same result
     base, vary = sweep_worker.args()
     # (options as the resumed run had them: a custom measure gets the default Options())
@@ -230,8 +278,15 @@ def test_resume_after_sigkill(tmp_path, monkeypatch):
     for k in full.data:
         assert np.array_equal(resumed[k], full[k]), k
     # a second call reads everything and solves nothing
-    again = tr.sweep(base, vary, grid=False, chunksize=2, measure=sweep_worker.slow_measure,
-                     path=str(path), progress=False)     # same sweep: nothing left to run
+    again = tr.sweep(
+        base,
+        vary,
+        grid=False,
+        chunksize=2,
+        measure=sweep_worker.slow_measure,
+        path=str(path),
+        progress=False,
+    )  # same sweep: nothing left to run
     assert path.read_bytes() == after
     assert all(np.array_equal(again[k], full[k]) for k in full.data)
 
@@ -239,15 +294,21 @@ def test_resume_after_sigkill(tmp_path, monkeypatch):
 def test_torn_last_line_and_foreign_file(tmp_path):
     sc = base_scene()
     path = tmp_path / "s.jsonl"
-    full = tr.sweep(sc, {"loads[0].force": FORCES}, grid=False, chunksize=2, path=path, progress=False)
+    full = tr.sweep(
+        sc, {"loads[0].force": FORCES}, grid=False, chunksize=2, path=path, progress=False
+    )
     text = path.read_bytes()
-    path.write_bytes(text[:-25])                         # a write cut short by a crash
-    res = tr.sweep(sc, {"loads[0].force": FORCES}, grid=False, chunksize=2, path=path, progress=False)
+    path.write_bytes(text[:-25])  # a write cut short by a crash
+    res = tr.sweep(
+        sc, {"loads[0].force": FORCES}, grid=False, chunksize=2, path=path, progress=False
+    )
     for k in full.data:
         assert np.array_equal(res[k], full[k]), k
     assert path.read_bytes().count(b"\n") == text.count(b"\n")
     with pytest.raises(ValueError, match="different sweep"):
-        tr.sweep(sc, {"loads[0].force": FORCES[:3]}, grid=False, chunksize=2, path=path, progress=False)
+        tr.sweep(
+            sc, {"loads[0].force": FORCES[:3]}, grid=False, chunksize=2, path=path, progress=False
+        )
     other = tmp_path / "notes.txt"
     other.write_text("my notes\n")
     with pytest.raises(ValueError, match="no sweep header"):
@@ -264,26 +325,48 @@ class PlainMeasure:
 
 def test_resume_with_callable_object_measure(tmp_path):
     path = tmp_path / "m.jsonl"
-    a = tr.sweep(base_scene(), {"loads[0].force": FORCES[:4]}, grid=False, chunksize=2, measure=PlainMeasure(),
-                 path=path, progress=False)
+    a = tr.sweep(
+        base_scene(),
+        {"loads[0].force": FORCES[:4]},
+        grid=False,
+        chunksize=2,
+        measure=PlainMeasure(),
+        path=path,
+        progress=False,
+    )
     size = path.stat().st_size
-    b = tr.sweep(base_scene(), {"loads[0].force": FORCES[:4]}, grid=False, chunksize=2, measure=PlainMeasure(),
-                 path=path, progress=False)          # a new instance: same sweep, read back
+    b = tr.sweep(
+        base_scene(),
+        {"loads[0].force": FORCES[:4]},
+        grid=False,
+        chunksize=2,
+        measure=PlainMeasure(),
+        path=path,
+        progress=False,
+    )  # a new instance: same sweep, read back
     assert path.stat().st_size == size and np.array_equal(a["tip"], b["tip"])
 
 
 def test_result_is_picklable_dataclass():
     res = tr.sweep(base_scene(), {"loads[0].force": FORCES[:2]}, grid=False, progress=False)
     back = pickle.loads(pickle.dumps(res))
-    assert isinstance(back, SweepResult) and np.array_equal(back["tip_position"], res["tip_position"])
+    assert isinstance(back, SweepResult) and np.array_equal(
+        back["tip_position"], res["tip_position"]
+    )
 
 
 def test_compliance_measure():
     from tendonrod.sweep import ComplianceMeasure
 
     sc = base_scene()
-    res = tr.sweep(sc, {"loads[0].force": FORCES[:3]}, grid=False, measure=ComplianceMeasure(s=(0.05, None)),
-                   chunksize=1, progress=False)
+    res = tr.sweep(
+        sc,
+        {"loads[0].force": FORCES[:3]},
+        grid=False,
+        measure=ComplianceMeasure(s=(0.05, None)),
+        chunksize=1,
+        progress=False,
+    )
     assert res["compliance"].shape == (3, 2, 6, 6)
     for i, f in enumerate(FORCES[:3]):
         scene = set_path(sc, "loads[0].force", f)

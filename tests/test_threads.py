@@ -10,6 +10,7 @@
   that went through a process pool is bitwise the one solved here.
 Speed-up with threads is measured by bench/threads.py, not asserted here.
 """
+
 import concurrent.futures as cf
 import hashlib
 import math
@@ -39,28 +40,47 @@ def scenes():
     for i in range(6):
         # one parallel tendon, displacement-controlled, tip load growing
         robot = tr.Robot(tr.Rod(**ROD, kirchhoff=True), [tr.Tendon(offset=0.01)])
-        out.append(tr.Scene(robot, displacement=[0.002 + 0.002 * i],
-                            loads=[tr.PointLoad(s=L, force=(-0.1 * i, 0, 0))]))
+        out.append(
+            tr.Scene(
+                robot,
+                displacement=[0.002 + 0.002 * i],
+                loads=[tr.PointLoad(s=L, force=(-0.1 * i, 0, 0))],
+            )
+        )
     for i in range(6):
         # converging tendon, tension-controlled, Cosserat backbone, gravity
         robot = tr.Robot(tr.Rod(**ROD), [tr.Tendon.converging(offset=0.01, length=L)])
-        out.append(tr.Scene(robot, tension=[0.5 + 0.5 * i],
-                            loads=[tr.DistributedLoad(force=(0, 0, -0.2 * i))]))
+        out.append(
+            tr.Scene(
+                robot, tension=[0.5 + 0.5 * i], loads=[tr.DistributedLoad(force=(0, 0, -0.2 * i))]
+            )
+        )
     for i in range(6):
         # three tendons at 120 deg, spatial loads
         ts = [tr.Tendon(offset=0.01, angle=2 * math.pi * k / 3, EA=2e4) for k in range(3)]
         robot = tr.Robot(tr.Rod(**ROD), ts)
-        out.append(tr.Scene(robot, displacement=[0.003 + 0.001 * i, 0.0, None],
-                            tension=[None, None, 0.2 * i],
-                            loads=[tr.PointLoad(s=L, force=(0.05 * i, 0.1, 0),
-                                                moment=(0, 0, 0.001 * i)),
-                                   tr.PointLoad(s=0.6 * L, force=(0, -0.05 * i, 0))]))
+        out.append(
+            tr.Scene(
+                robot,
+                displacement=[0.003 + 0.001 * i, 0.0, None],
+                tension=[None, None, 0.2 * i],
+                loads=[
+                    tr.PointLoad(s=L, force=(0.05 * i, 0.1, 0), moment=(0, 0, 0.001 * i)),
+                    tr.PointLoad(s=0.6 * L, force=(0, -0.05 * i, 0)),
+                ],
+            )
+        )
     for i in range(6):
         # two tendons ending at different places (two segments), one slack-prone
         ts = [tr.Tendon(offset=0.008, end=0.5 * L), tr.Tendon(offset=0.008, angle=math.pi)]
         robot = tr.Robot(tr.Rod(**ROD, kirchhoff=True), ts)
-        out.append(tr.Scene(robot, displacement=[0.004, -0.001 * i],
-                            loads=[tr.PointLoad(s=L, force=(0.2 * i, 0, 0))]))
+        out.append(
+            tr.Scene(
+                robot,
+                displacement=[0.004, -0.001 * i],
+                loads=[tr.PointLoad(s=L, force=(0.2 * i, 0, 0))],
+            )
+        )
     return out
 
 
@@ -78,7 +98,9 @@ def fingerprint(sol):
         h.update(f.encode() + repr(a.shape).encode() + a.tobytes())
     for f in SCALARS:
         v = getattr(sol, f)
-        h.update(f.encode() + (np.float64(v).tobytes() if isinstance(v, float) else repr(v).encode()))
+        h.update(
+            f.encode() + (np.float64(v).tobytes() if isinstance(v, float) else repr(v).encode())
+        )
     return h.hexdigest()
 
 
@@ -88,8 +110,9 @@ def assert_same(a, b, what):
         assert x.shape == y.shape and x.tobytes() == y.tobytes(), f"{what}: {f} differs"
     for f in SCALARS:
         x, y = getattr(a, f), getattr(b, f)
-        assert (x == y) or (isinstance(x, float) and np.float64(x).tobytes() == np.float64(y).tobytes()), \
-            f"{what}: {f} differs ({x!r} vs {y!r})"
+        assert (x == y) or (
+            isinstance(x, float) and np.float64(x).tobytes() == np.float64(y).tobytes()
+        ), f"{what}: {f} differs ({x!r} vs {y!r})"
 
 
 @pytest.fixture(scope="module")
@@ -155,10 +178,16 @@ def test_compliance_on_threads(serial):
 # ------------------------------------------------------------------ pickling
 def test_scene_objects_pickle(serial):
     sc, _ = serial
-    objs = [sc[15], sc[15].robot, sc[15].robot.rod, sc[15].robot.tendons[0],
-            sc[15].loads[0], tr.DistributedLoad(force=(0, 0, -1)),
-            tr.Options(integrator="rk4", steps=40, nodes=np.linspace(0, 0.2, 5), tip_only=True),
-            tr.Options()]
+    objs = [
+        sc[15],
+        sc[15].robot,
+        sc[15].robot.rod,
+        sc[15].robot.tendons[0],
+        sc[15].loads[0],
+        tr.DistributedLoad(force=(0, 0, -1)),
+        tr.Options(integrator="rk4", steps=40, nodes=np.linspace(0, 0.2, 5), tip_only=True),
+        tr.Options(),
+    ]
     for o in objs:
         for proto in (2, pickle.HIGHEST_PROTOCOL):
             u = pickle.loads(pickle.dumps(o, protocol=proto))
@@ -173,8 +202,11 @@ def test_solution_pickles(serial):
         assert_same(u, sols[i], f"unpickled solution {i}")
         assert u.scene == sc[i] and u.formulation == sols[i].formulation
         # an unpickled solution still warm-starts and answers at(s)
-        assert_same(solve_quiet(sc[i], guess=u), solve_quiet(sc[i], guess=sols[i]),
-                    "warm start from an unpickled solution")
+        assert_same(
+            solve_quiet(sc[i], guess=u),
+            solve_quiet(sc[i], guess=sols[i]),
+            "warm start from an unpickled solution",
+        )
         st = u.at(0.1)
         assert np.asarray(st.position).shape == (3,)
 
@@ -227,8 +259,13 @@ def test_fingerprints_match_a_fresh_process(serial):
     root = os.path.dirname(os.path.dirname(os.path.abspath(tr.__file__)))
     env = dict(os.environ)
     env["PYTHONPATH"] = root + (os.pathsep + env["PYTHONPATH"] if env.get("PYTHONPATH") else "")
-    out = subprocess.run([sys.executable, "-c", FP_SCRIPT, os.path.abspath(__file__)],
-                         capture_output=True, text=True, env=env, timeout=600)
+    out = subprocess.run(
+        [sys.executable, "-c", FP_SCRIPT, os.path.abspath(__file__)],
+        capture_output=True,
+        text=True,
+        env=env,
+        timeout=600,
+    )
     assert out.returncode == 0, out.stderr[-3000:]
     theirs = out.stdout.split()
     assert theirs == [fingerprint(s) for s in sols]
@@ -237,15 +274,19 @@ def test_fingerprints_match_a_fresh_process(serial):
 def test_solve_batch_threads_bitwise():
     """tr.solve_batch: for a given chunking the result does not depend on the
     number of threads (chunks are independent), bitwise."""
-    sc = scenes()[12]                                   # three tendons, spatial
+    sc = scenes()[12]  # three tendons, spatial
     n = 40
     q = np.column_stack([np.linspace(0.0, 0.006, n), np.linspace(0.0, 0.002, n)])
     t = np.linspace(0.0, 1.0, n)[:, None]
     F = np.zeros((n, 2, 3))
     F[:, 0, 1] = np.linspace(0.0, 0.2, n)
-    runs = [tr.solve_batch(sc, displacement=q, tension=t, forces=F, threads=th, chunksize=7)
-            for th in (1, 2, 4, 1)]
+    runs = [
+        tr.solve_batch(sc, displacement=q, tension=t, forces=F, threads=th, chunksize=7)
+        for th in (1, 2, 4, 1)
+    ]
     for r in runs[1:]:
         for f in ("tip_position", "tip_rotation", "tension", "slack", "status", "nit", "nfev"):
-            assert np.asarray(getattr(r, f)).tobytes() == np.asarray(getattr(runs[0], f)).tobytes(), f
+            assert (
+                np.asarray(getattr(r, f)).tobytes() == np.asarray(getattr(runs[0], f)).tobytes()
+            ), f
     assert np.all(np.asarray(runs[0].status) >= 0)

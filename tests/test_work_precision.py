@@ -4,6 +4,7 @@ convergence, and the benchmark harness (quick setting, a subset of scenes).
 No timing is asserted anywhere: the benchmark records run times, the tests check
 errors, orders and the files written.
 """
+
 import math
 import os
 
@@ -23,7 +24,7 @@ GJ11 = P11["G"] * math.pi * P11["d"] ** 4 / 32
 def test_elastica_elliptic_agrees_with_collocation_and_shooting():
     """Three independent routes to the elastica under a transverse tip force: elliptic
     integrals, collocation (solve_bvp) and the distal-balance shooting reference."""
-    F = 5.0 * EI11 / L11 ** 2
+    F = 5.0 * EI11 / L11**2
     x, z, th = refs.elastica_tip_force(L11, EI11, F)
     xb, zb, thb, _ = refs.planar_rod_bvp(L11, EI11, (F, 0.0), tol=1e-10, nodes=400)
     r = refs.TendonRobotReference(L11, EI11, GJ11, [], F=(F, 0.0, 0.0)).solve(steps=1)
@@ -40,10 +41,10 @@ def test_elastica_small_load_limit_is_linear_beam():
     apart (an O(F) error would change it tenfold)."""
     cs = []
     for fl in (1e-2, 1e-3):
-        F = fl * EI11 / L11 ** 2
+        F = fl * EI11 / L11**2
         x, _, _ = refs.elastica_tip_force(L11, EI11, F)
-        lin = F * L11 ** 3 / (3 * EI11)
-        cs.append((lin - x) / lin / fl ** 2)
+        lin = F * L11**3 / (3 * EI11)
+        cs.append((lin - x) / lin / fl**2)
     # c = 0.114 (measured); the next term, O(fl^4), changes it by ~1e-4 at fl = 1e-2, and
     # round-off (1e-16 / 1e-6 = 1e-10 relative at fl = 1e-3) is negligible: 1 % is ample
     assert 0.0 < cs[0] < 0.2
@@ -59,18 +60,32 @@ def test_compressive_elastica_and_critical_load():
     p = bm.FIG17
     L, EI, r = p["L"], bm.EI_of(p), p["r"]
     Pc = refs.critical_tip_angle_load(L, EI, math.pi / 2)
-    assert Pc * L ** 2 / EI == pytest.approx(1.854074677 ** 2, rel=1e-9)  # K(1/sqrt 2), tabulated
+    assert Pc * L**2 / EI == pytest.approx(1.854074677**2, rel=1e-9)  # K(1/sqrt 2), tabulated
     x, z, th = refs.elastica_compressive(L, EI, Pc)
     assert th == pytest.approx(math.pi / 2, rel=1e-12)  # consistency of the two routes
     robot = tr.Robot(bm.rod_of(p), [tr.Tendon(offset=r)])
     opts = tr.Options(integrator="rk8", steps=64, tol=1e-12)
-    below = bm._solve_quiet(tr.Scene(robot, displacement=[r * math.pi / 2],
-                                     loads=[tr.PointLoad(s=L, force=(0.0, 0.0, -0.98 * Pc))]), opts)
+    below = bm._solve_quiet(
+        tr.Scene(
+            robot,
+            displacement=[r * math.pi / 2],
+            loads=[tr.PointLoad(s=L, force=(0.0, 0.0, -0.98 * Pc))],
+        ),
+        opts,
+    )
     assert below.success and below.tension[0] > 0.0 and below.slack[0] == 0.0
     tangent = below.tip_rotation[:, 2]
-    assert np.arctan2(tangent[0], tangent[2]) == pytest.approx(math.pi / 2, abs=1e-9)  # locked tip angle
-    above = bm._solve_quiet(tr.Scene(robot, displacement=[r * math.pi / 2],
-                                     loads=[tr.PointLoad(s=L, force=(0.0, 0.0, -1.02 * Pc))]), opts)
+    assert np.arctan2(tangent[0], tangent[2]) == pytest.approx(
+        math.pi / 2, abs=1e-9
+    )  # locked tip angle
+    above = bm._solve_quiet(
+        tr.Scene(
+            robot,
+            displacement=[r * math.pi / 2],
+            loads=[tr.PointLoad(s=L, force=(0.0, 0.0, -1.02 * Pc))],
+        ),
+        opts,
+    )
     assert above.success and above.tension[0] == 0.0 and above.slack[0] > 0.0
     x2, z2, _ = refs.elastica_compressive(L, EI, 1.02 * Pc)
     # slack: the robot is the free elastica; rk8 x 64 steps is exact to ~1e-13 of L
@@ -85,9 +100,9 @@ def test_twist_with_tendons_limits():
     M = 0.5 * GJ / L11
     psi, T = refs.twist_with_tendons(L11, GJ, 1e-12, 0.01, 3, M)
     assert psi == pytest.approx(M * L11 / GJ, rel=1e-12)  # tendons carry ~1e-20 of the moment
-    EA = 1e12 * EI11 / 0.01 ** 2
+    EA = 1e12 * EI11 / 0.01**2
     psi, T = refs.twist_with_tendons(L11, GJ, EA, 0.01, 3, M)
-    cubic = (2.0 * M * L11 ** 3 / (3.0 * EA * 0.01 ** 4)) ** (1.0 / 3.0)
+    cubic = (2.0 * M * L11**3 / (3.0 * EA * 0.01**4)) ** (1.0 / 3.0)
     # the rod's own GJ psi / L is 6e-4 of M here, the helix's higher-order terms
     # (r psi / L)^2 ~ 1e-9: 1e-3 bounds both
     assert psi == pytest.approx(cubic, rel=1e-3)
@@ -116,10 +131,13 @@ def _elastica_scene():
     return [s for s in bm.wp_scenes() if s.name == "elastica"][0]
 
 
-@pytest.mark.parametrize("method,steps,order", [
-    ("rk4", [4, 6, 8, 12, 16, 24, 32, 48, 64], 4),
-    ("rk8", [1, 2, 3, 4, 5, 6, 8], 8),
-])
+@pytest.mark.parametrize(
+    "method,steps,order",
+    [
+        ("rk4", [4, 6, 8, 12, 16, 24, 32, 48, 64], 4),
+        ("rk8", [1, 2, 3, 4, 5, 6, 8], 8),
+    ],
+)
 def test_observed_convergence_order(method, steps, order):
     """Error against the exact elastica falls like steps^-p with p the method's order.
     The slope is a least-squares fit of log error on log steps over the asymptotic
@@ -132,7 +150,9 @@ def test_observed_convergence_order(method, steps, order):
     ref = sc.reference()
     errs = []
     for n in steps:
-        sol = bm._solve_quiet(sc.scene, tr.Options(integrator=method, steps=n, tol=1e-13, tip_only=True))
+        sol = bm._solve_quiet(
+            sc.scene, tr.Options(integrator=method, steps=n, tol=1e-13, tip_only=True)
+        )
         assert sol.success, sol.message
         assert sol.formulation.steps in (n, 0, -1) or sol.formulation.steps >= n
         errs.append(bm.tip_error(sc, sol.tip_position, ref))
@@ -148,7 +168,9 @@ def test_adaptive_integrator_meets_its_tolerance():
     sc = _elastica_scene()
     ref = sc.reference()
     for rt in (1e-6, 1e-9, 1e-12):
-        sol = bm._solve_quiet(sc.scene, tr.Options(integrator="adaptive", rtol=rt, tol=1e-13, tip_only=True))
+        sol = bm._solve_quiet(
+            sc.scene, tr.Options(integrator="adaptive", rtol=rt, tol=1e-13, tip_only=True)
+        )
         assert sol.success, sol.message
         assert bm.tip_error(sc, sol.tip_position, ref) < 100 * rt + 1e-13
 
@@ -168,8 +190,13 @@ def test_fig11a_core_matches_independent_reference():
 def test_work_precision_command_quick(tmp_path):
     """The quick benchmark writes the CSV (required columns, one row per scene x method
     x setting x Jacobian) and the PNG; rk8 beats rk4 on the exact circle at equal steps."""
-    rows = bm.run_work_precision(str(tmp_path), quick=True, repeats=1, log=lambda *a: None,
-                                 scenes=["circle", "elastica", "fig17_slack"])
+    rows = bm.run_work_precision(
+        str(tmp_path),
+        quick=True,
+        repeats=1,
+        log=lambda *a: None,
+        scenes=["circle", "elastica", "fig17_slack"],
+    )
     assert (tmp_path / "work_precision.png").stat().st_size > 10000
     csvrows = bm.read_csv(tmp_path / "work_precision.csv")
     for col in ("scene", "method", "setting", "error", "seconds", "nit", "nfev"):

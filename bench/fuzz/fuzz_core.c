@@ -55,9 +55,9 @@
  * evaluations, added at the check) and the step-count verification and
  * recording passes (a few evaluations) may complete after it. */
 #define TR_FUZZ_NFEV_SLACK 16
-#define TR_FUZZ_MAX_NT 6
-#define TR_FUZZ_MAX_NL 4
-#define TR_FUZZ_MAX_NODES 64
+#define TR_FUZZ_MAX_NT     6
+#define TR_FUZZ_MAX_NL     4
+#define TR_FUZZ_MAX_NODES  64
 
 typedef struct {
     const uint8_t *p;
@@ -66,8 +66,7 @@ typedef struct {
 
 static unsigned u8(reader *r)
 {
-    if (r->n == 0)
-        return 0;
+    if (r->n == 0) return 0;
     r->n--;
     return *r->p++;
 }
@@ -82,8 +81,7 @@ static double raw_double(reader *r)
 {
     uint8_t b[8];
     double x;
-    for (int i = 0; i < 8; i++)
-        b[i] = (uint8_t)u8(r);
+    for (int i = 0; i < 8; i++) b[i] = (uint8_t)u8(r);
     memcpy(&x, b, sizeof x);
     return x;
 }
@@ -92,7 +90,7 @@ static double raw_double(reader *r)
 static double val(reader *r, double typical)
 {
     const unsigned sel = u8(r);
-    if (sel < 150)                       /* typical * [0.25, 4) on a log scale, either sign 1/16 */
+    if (sel < 150) /* typical * [0.25, 4) on a log scale, either sign 1/16 */
         return (sel % 16 == 15 ? -typical : typical) * exp2((double)(sel % 150) / 37.5 - 2.0);
     switch (sel - 150) {
     case 0: return NAN;
@@ -114,7 +112,7 @@ static double val(reader *r, double typical)
     case 16: return -1.0;
     default: break;
     }
-    if (sel < 240)                       /* typical times a small signed factor */
+    if (sel < 240) /* typical times a small signed factor */
         return typical * ((double)(int)u8(r) - 128.0) / 16.0;
     return raw_double(r);
 }
@@ -132,40 +130,42 @@ static int ival(reader *r, int lo, int hi)
     }
 }
 
-static int verbose = 0;   /* TR_FUZZ_VERBOSE=1: print each decoded case (for reproducers) */
+static int verbose = 0; /* TR_FUZZ_VERBOSE=1: print each decoded case (for reproducers) */
 
-static void print_case(const double rod[6], const double *tend, int nt, const double *loads,
-                       int nl, const double dist[3], const tr_options *o, int nnode, int use_nodes)
+static void print_case(const double rod[6], const double *tend, int nt, const double *loads, int nl,
+                       const double dist[3], const tr_options *o, int nnode, int use_nodes)
 {
     int i, j;
-    fprintf(stderr, "rod = [%.17g, %.17g, %.17g, %.17g, %.17g, %.17g]\n",
-            rod[0], rod[1], rod[2], rod[3], rod[4], rod[5]);
+    fprintf(stderr, "rod = [%.17g, %.17g, %.17g, %.17g, %.17g, %.17g]\n", rod[0], rod[1], rod[2],
+            rod[3], rod[4], rod[5]);
     for (i = 0; i < nt; i++) {
         fprintf(stderr, "tendon[%d] = [", i);
-        for (j = 0; j < 8; j++)
-            fprintf(stderr, "%.17g%s", tend[8 * i + j], j < 7 ? ", " : "]\n");
+        for (j = 0; j < 8; j++) fprintf(stderr, "%.17g%s", tend[8 * i + j], j < 7 ? ", " : "]\n");
     }
     for (i = 0; i < nl; i++) {
         fprintf(stderr, "load[%d] = [", i);
-        for (j = 0; j < 7; j++)
-            fprintf(stderr, "%.17g%s", loads[7 * i + j], j < 6 ? ", " : "]\n");
+        for (j = 0; j < 7; j++) fprintf(stderr, "%.17g%s", loads[7 * i + j], j < 6 ? ", " : "]\n");
     }
     fprintf(stderr, "dist = [%.17g, %.17g, %.17g]\n", dist[0], dist[1], dist[2]);
-    fprintf(stderr, "options: integrator=%d steps=%d rtol=%.17g tol=%.17g max_iter=%d max_nfev=%d "
+    fprintf(stderr,
+            "options: integrator=%d steps=%d rtol=%.17g tol=%.17g max_iter=%d max_nfev=%d "
             "jacobian_method=%d slack_model=%d continuation=%d max_continuation=%d "
             "force_spatial=%d tip_only=%d shooting_segments=%d; nnode=%d explicit_nodes=%d\n",
-            o->integrator, o->steps, o->rtol, o->tol, o->max_iter, o->max_nfev,
-            o->jacobian_method, o->slack_model, o->continuation, o->max_continuation,
-            o->force_spatial, o->tip_only, o->shooting_segments, nnode, use_nodes);
+            o->integrator, o->steps, o->rtol, o->tol, o->max_iter, o->max_nfev, o->jacobian_method,
+            o->slack_model, o->continuation, o->max_continuation, o->force_spatial, o->tip_only,
+            o->shooting_segments, nnode, use_nodes);
 }
 
-#define FAIL(...) do { fprintf(stderr, "fuzz_core contract violation: " __VA_ARGS__); \
-                       fprintf(stderr, "\n"); abort(); } while (0)
+#define FAIL(...)                                                                                  \
+    do {                                                                                           \
+        fprintf(stderr, "fuzz_core contract violation: " __VA_ARGS__);                             \
+        fprintf(stderr, "\n");                                                                     \
+        abort();                                                                                   \
+    } while (0)
 
 static void check_msg(const char *msg, size_t len, const char *where)
 {
-    if (memchr(msg, '\0', len) == NULL)
-        FAIL("C3 %s message not NUL-terminated", where);
+    if (memchr(msg, '\0', len) == NULL) FAIL("C3 %s message not NUL-terminated", where);
 }
 
 /* a documented status: one that tr_strerror names (caveats > 0 are added as
@@ -179,8 +179,7 @@ static int known_status(int st)
 static int finite_all(const double *x, int n)
 {
     for (int i = 0; i < n; i++)
-        if (!isfinite(x[i]))
-            return 0;
+        if (!isfinite(x[i])) return 0;
     return 1;
 }
 
@@ -198,8 +197,8 @@ static void fuzz_closed(reader *r)
     const int beam = L > 0 && isfinite(L) && EI > 0 && isfinite(EI);
     const int dom_t = beam && z >= 0 && z <= L && k >= 0 && !isnan(F) && !isnan(a) && !isnan(b);
     const int dom_s = dom_t && s >= 0 && s <= L;
-    const int all_mod = moderate(s) && moderate(F) && moderate(z) && moderate(L) && moderate(EI)
-                        && moderate(a) && moderate(b) && (moderate(k) || k == INFINITY);
+    const int all_mod = moderate(s) && moderate(F) && moderate(z) && moderate(L) && moderate(EI) &&
+                        moderate(a) && moderate(b) && (moderate(k) || k == INFINITY);
     double v;
 
     v = tr_closed_tension(F, z, L, EI, a, b, k);
@@ -213,7 +212,8 @@ static void fuzz_closed(reader *r)
     if (dom_s && all_mod && !isfinite(v)) FAIL("C7 deflection %g inside the domain", v);
     v = tr_closed_equivalent_stiffness(k, kb);
     if (!(k >= 0 && kb >= 0) && !isnan(v)) FAIL("C7 equivalent_stiffness not NaN outside");
-    if (k >= 0 && kb >= 0 && isnan(v)) FAIL("C7 equivalent_stiffness NaN inside (k=%g kb=%g)", k, kb);
+    if (k >= 0 && kb >= 0 && isnan(v))
+        FAIL("C7 equivalent_stiffness NaN inside (k=%g kb=%g)", k, kb);
     v = tr_closed_pattern_factor(n);
     if ((n >= 1) != !isnan(v)) FAIL("C7 pattern_factor(%g) = %g", n, v);
     v = tr_closed_actuation_tension_for_angle(x, L, EI, a, b);
@@ -254,7 +254,7 @@ static void fuzz_solve(reader *r)
     o.shooting_segments = ival(r, 1, 8);
     if (o.shooting_segments > 16 || o.shooting_segments < 0)
         o.shooting_segments = o.shooting_segments < 0 ? o.shooting_segments : 16;
-    if (u8(r) % 4 == 0) {              /* keep the run short unless the input insists */
+    if (u8(r) % 4 == 0) { /* keep the run short unless the input insists */
         if (o.steps > 256) o.steps = 256;
         if (o.max_nfev > 4000) o.max_nfev = 4000;
         if (o.max_iter > 60) o.max_iter = 60;
@@ -269,8 +269,7 @@ static void fuzz_solve(reader *r)
      * seconds (finding F14, known); keep such inputs out so that the run
      * explores the rest.  NaN, 0 and negative rtol stay: validation must
      * refuse them. */
-    if (o.integrator == TR_ADAPTIVE && o.rtol > 0.0 && o.rtol < 1e-14)
-        o.rtol = 1e-14;
+    if (o.integrator == TR_ADAPTIVE && o.rtol > 0.0 && o.rtol < 1e-14) o.rtol = 1e-14;
 
     rod[0] = val(r, L0);
     rod[1] = val(r, EI0);
@@ -285,8 +284,10 @@ static void fuzz_solve(reader *r)
         double *t = tend + 8 * i;
         const unsigned kind = u8(r);
         t[0] = val(r, 0.01);
-        t[1] = kind % 4 == 0 ? 0.0 : kind % 4 == 1 ? M_PI : kind % 4 == 2
-               ? 2.0 * M_PI * i / (nt ? nt : 1) : val(r, 1.0);
+        t[1] = kind % 4 == 0   ? 0.0
+               : kind % 4 == 1 ? M_PI
+               : kind % 4 == 2 ? 2.0 * M_PI * i / (nt ? nt : 1)
+                               : val(r, 1.0);
         t[2] = (kind / 4) % 3 == 0 ? 0.0 : (kind / 4) % 3 == 1 ? -t[0] / rod[0] : val(r, -0.02);
         t[3] = (kind / 12) % 2 == 0 ? INFINITY : val(r, 1e4);
         t[4] = (kind / 24) % 2 == 0 ? rod[0] : val(r, 0.1);
@@ -297,48 +298,37 @@ static void fuzz_solve(reader *r)
     for (i = 0; i < nl; i++) {
         double *l = loads + 7 * i;
         l[0] = u8(r) % 2 ? rod[0] : val(r, 0.1);
-        for (j = 1; j < 4; j++)
-            l[j] = u8(r) % 3 ? 0.0 : val(r, 0.5);
-        for (j = 4; j < 7; j++)
-            l[j] = u8(r) % 3 ? 0.0 : val(r, 0.01);
+        for (j = 1; j < 4; j++) l[j] = u8(r) % 3 ? 0.0 : val(r, 0.5);
+        for (j = 4; j < 7; j++) l[j] = u8(r) % 3 ? 0.0 : val(r, 0.01);
     }
-    for (j = 0; j < 3; j++)
-        dist[j] = u8(r) % 3 ? 0.0 : val(r, 0.5);
+    for (j = 0; j < 3; j++) dist[j] = u8(r) % 3 ? 0.0 : val(r, 0.5);
 
-    if (verbose)
-        print_case(rod, tend, nt, loads, nl, dist, &o, -1, -1);
+    if (verbose) print_case(rod, tend, nt, loads, nl, dist, &o, -1, -1);
     st = tr_model_alloc(&m, rod, nt ? tend : NULL, nt, nl ? loads : NULL, nl, dist, &o, msg,
                         sizeof msg);
     check_msg(msg, sizeof msg, "tr_model_alloc");
-    if (!known_status(st))
-        FAIL("C1 tr_model_alloc returned %d", st);
-    if (tr_strerror(st) == NULL)
-        FAIL("C1 tr_strerror(%d) is NULL", st);
+    if (!known_status(st)) FAIL("C1 tr_model_alloc returned %d", st);
+    if (tr_strerror(st) == NULL) FAIL("C1 tr_strerror(%d) is NULL", st);
     if (st < 0) {
-        if (m != NULL)
-            FAIL("C2 tr_model_alloc failed (%d) but returned a model", st);
-        if (msg[0] == '\0')
-            FAIL("C2 tr_model_alloc failed (%d) without a message", st);
+        if (m != NULL) FAIL("C2 tr_model_alloc failed (%d) but returned a model", st);
+        if (msg[0] == '\0') FAIL("C2 tr_model_alloc failed (%d) without a message", st);
         return;
     }
-    if (m == NULL)
-        FAIL("C2 tr_model_alloc returned %d and no model", st);
+    if (m == NULL) FAIL("C2 tr_model_alloc returned %d and no model", st);
 
     nnode = ival(r, 1, TR_FUZZ_MAX_NODES);
     use_nodes = (int)(u8(r) % 3 == 0);
     if (use_nodes) {
-        if (nnode > TR_FUZZ_MAX_NODES || nnode < 0)
-            nnode = TR_FUZZ_MAX_NODES;
+        if (nnode > TR_FUZZ_MAX_NODES || nnode < 0) nnode = TR_FUZZ_MAX_NODES;
         for (i = 0; i < nnode; i++)
             node_s[i] = u8(r) % 4 ? rod[0] * i / (nnode > 1 ? nnode - 1 : 1) : val(r, 0.1);
     } else if (nnode > 100000) {
-        nnode = 100000;               /* a huge count is a memory request, not a bug */
+        nnode = 100000; /* a huge count is a memory request, not a bug */
     }
     d = tr_data_alloc(m, &o, nnode, use_nodes ? node_s : NULL, msg, sizeof msg);
     check_msg(msg, sizeof msg, "tr_data_alloc");
     if (d == NULL) {
-        if (msg[0] == '\0')
-            FAIL("C2 tr_data_alloc failed without a message");
+        if (msg[0] == '\0') FAIL("C2 tr_data_alloc failed without a message");
         tr_model_free(m);
         return;
     }
@@ -347,8 +337,7 @@ static void fuzz_solve(reader *r)
         const int k = m->n_unknowns;
         const double *gp = NULL, *jp = NULL;
         if (g % 3 == 1) {
-            for (i = 0; i < 6 + 2 * nt; i++)
-                guess[i] = val(r, i < 3 ? 0.1 : i < 6 ? 0.01 : 1.0);
+            for (i = 0; i < 6 + 2 * nt; i++) guess[i] = val(r, i < 3 ? 0.1 : i < 6 ? 0.01 : 1.0);
             gp = guess;
         }
         if (g / 3 % 3 == 1 && k <= 6 + TR_FUZZ_MAX_NT) {
@@ -361,24 +350,24 @@ static void fuzz_solve(reader *r)
                     gp != NULL, jp != NULL);
         st = tr_solve(m, d, gp, jp);
         if (verbose)
-            fprintf(stderr, "tr_solve: status %d (%s) nit %d nfev %d njev %d cont %d residual %g: %s\n",
-                    st, tr_strerror(st), d->nit, d->nfev, d->njev, d->cont_steps,
-                    d->residual_norm, d->message);
+            fprintf(stderr,
+                    "tr_solve: status %d (%s) nit %d nfev %d njev %d cont %d residual %g: %s\n", st,
+                    tr_strerror(st), d->nit, d->nfev, d->njev, d->cont_steps, d->residual_norm,
+                    d->message);
     }
     check_msg(d->message, TR_MSGLEN, "tr_solve");
-    if (!known_status(st) || st == TR_CONTINUE)
-        FAIL("C1 tr_solve returned %d", st);
+    if (!known_status(st) || st == TR_CONTINUE) FAIL("C1 tr_solve returned %d", st);
     if (o.max_nfev >= 1 && d->nfev > o.max_nfev + m->n_unknowns + TR_FUZZ_NFEV_SLACK)
-        FAIL("C5 nfev %d > max_nfev %d + n_unknowns %d + %d", d->nfev, o.max_nfev,
-             m->n_unknowns, TR_FUZZ_NFEV_SLACK);
+        FAIL("C5 nfev %d > max_nfev %d + n_unknowns %d + %d", d->nfev, o.max_nfev, m->n_unknowns,
+             TR_FUZZ_NFEV_SLACK);
     if (st >= 0) {
         const int nn = d->nnode;
         if (!(d->residual_norm <= o.tol))
             FAIL("C4 status %d with residual %g > tol %g", st, d->residual_norm, o.tol);
-        if (!finite_all(d->s, nn) || !finite_all(d->pos, 3 * nn) || !finite_all(d->rot, 9 * nn)
-            || !finite_all(d->force, 3 * nn) || !finite_all(d->moment, 3 * nn)
-            || !finite_all(d->tension, nt) || !finite_all(d->slack, nt)
-            || !finite_all(d->displacement, nt))
+        if (!finite_all(d->s, nn) || !finite_all(d->pos, 3 * nn) || !finite_all(d->rot, 9 * nn) ||
+            !finite_all(d->force, 3 * nn) || !finite_all(d->moment, 3 * nn) ||
+            !finite_all(d->tension, nt) || !finite_all(d->slack, nt) ||
+            !finite_all(d->displacement, nt))
             FAIL("C4 status %d with non-finite output", st);
         for (i = 0; i < nt; i++)
             if (d->tension[i] < 0.0 || d->slack[i] < 0.0)
@@ -402,8 +391,7 @@ static void fuzz_solve(reader *r)
         if (u8(r) % 2) {
             const double sp = u8(r) % 2 ? rod[0] : (nl ? loads[0] : val(r, 0.1));
             const int cs = tr_compliance(m, d, sp, C);
-            if (!known_status(cs))
-                FAIL("C1 tr_compliance returned %d", cs);
+            if (!known_status(cs)) FAIL("C1 tr_compliance returned %d", cs);
             if (cs >= 0 && !finite_all(C, 36))
                 FAIL("C6 compliance status %d with non-finite entries", cs);
         }
@@ -416,7 +404,7 @@ int LLVMFuzzerInitialize(int *argc, char ***argv)
 {
     (void)argc;
     (void)argv;
-    gsl_set_error_handler_off();     /* as the Python module does at load */
+    gsl_set_error_handler_off(); /* as the Python module does at load */
     verbose = getenv("TR_FUZZ_VERBOSE") != NULL;
     return 0;
 }
@@ -424,8 +412,7 @@ int LLVMFuzzerInitialize(int *argc, char ***argv)
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
     reader r = {data, size};
-    if (size == 0)
-        return 0;
+    if (size == 0) return 0;
     if (u8(&r) % 8 == 0)
         fuzz_closed(&r);
     else

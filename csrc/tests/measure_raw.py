@@ -10,6 +10,7 @@ each with 101 output nodes and tip-only.  Run from the repository root:
 
     .venv/bin/python csrc/tests/measure_raw.py [--repeat 201]
 """
+
 import argparse
 import math
 import statistics
@@ -23,7 +24,7 @@ REL = 1e-8
 
 
 def rod_row(L, d, E, G, kirchhoff=True):
-    A, I = math.pi * d ** 2 / 4, math.pi * d ** 4 / 64
+    A, I = math.pi * d**2 / 4, math.pi * d**4 / 64
     return np.array([L, E * I, G * 2 * I, E * A, G * A, 1.0 if kirchhoff else 0.0]), E * I
 
 
@@ -36,14 +37,22 @@ def scenes():
     out["fig11a transverse 1 N"] = (rod, one, np.array([[L, -1.0, 0, 0, 0, 0, 0]]))
     out["fig11b axial 1 N"] = (rod, one, np.array([[L, 0, 0, -1.0, 0, 0, 0]]))
     for alpha in (50.0, 5e4):
-        EAt = alpha * 3 * EI / r ** 2
+        EAt = alpha * 3 * EI / r**2
         tau90 = EI * (math.pi / 2) / (r * L)
-        tt = np.array([[r, 2 * math.pi * i / 3, 0, EAt, L, 1, tau90 if i == 0 else 0.0, 0] for i in range(3)])
-        free = _core.solve(rod, tt, np.zeros((0, 7)), np.zeros(3), integrator="adaptive", rtol=1e-13, tol=1e-13)
+        tt = np.array(
+            [[r, 2 * math.pi * i / 3, 0, EAt, L, 1, tau90 if i == 0 else 0.0, 0] for i in range(3)]
+        )
+        free = _core.solve(
+            rod, tt, np.zeros((0, 7)), np.zeros(3), integrator="adaptive", rtol=1e-13, tol=1e-13
+        )
         td = tt.copy()
         td[:, 5] = 0
         td[:, 6] = free["displacement"]
-        out[f"fig11c out-of-plane 0.5 N a={alpha:g}"] = (rod, td, np.array([[L, 0, 0.5, 0, 0, 0, 0]]))
+        out[f"fig11c out-of-plane 0.5 N a={alpha:g}"] = (
+            rod,
+            td,
+            np.array([[L, 0, 0.5, 0, 0, 0, 0]]),
+        )
     rod17, _ = rod_row(0.2, 0.8e-3, 207e9, 79.6e9)
     t17 = np.array([[r, 0, 0, np.inf, 0.2, 0, r * math.pi / 2, 0]])
     out["fig17 taut 0.2 N"] = (rod17, t17, np.array([[0.2, 0, 0, -0.2, 0, 0, 0]]))
@@ -88,10 +97,17 @@ def main():
         tc = med(lambda: _core.solve(rod, t, lo, z, **kw), n)
         tct = med(lambda: _core.solve(rod, t, lo, z, tip_only=True, **kw), n)
         tw = med(lambda: _core.solve(rod, t, lo, z, guess=g, jacobian=near["jacobian"], **kw), n)
-        twt = med(lambda: _core.solve(rod, t, lo, z, guess=g, jacobian=near["jacobian"], tip_only=True, **kw), n)
+        twt = med(
+            lambda: _core.solve(
+                rod, t, lo, z, guess=g, jacobian=near["jacobian"], tip_only=True, **kw
+            ),
+            n,
+        )
         err = np.abs(cold["position"][-1] - p_ref).max() / rod[0]
-        print(f"{name:34s} {s8:3d} {s4:3d} | {tc:7.1f} ({cold['nit']}/{cold['nfev']}) {tct:7.1f} | "
-              f"{tw:6.1f} ({warm['nit']}/{warm['nfev']}) {twt:6.1f}   tip err {err:.1e}")
+        print(
+            f"{name:34s} {s8:3d} {s4:3d} | {tc:7.1f} ({cold['nit']}/{cold['nfev']}) {tct:7.1f} | "
+            f"{tw:6.1f} ({warm['nit']}/{warm['nfev']}) {twt:6.1f}   tip err {err:.1e}"
+        )
 
 
 if __name__ == "__main__":
