@@ -35,8 +35,8 @@ from .solver import (
     compliance,
     solve,
 )
-# END Cosserat solver API
 
+# END Cosserat solver API
 # BEGIN design studies (sweep.py; plot, studies and scenefile are imported on first use)
 from .sweep import SweepResult, sweep  # noqa: E402  (tendonrod.sweep is this function)
 
@@ -55,6 +55,7 @@ def __getattr__(name):
 
 # BEGIN batch solves (batch.py, issue 7)
 from .batch import BatchResult, solve_batch  # noqa: E402
+
 # END batch solves
 
 __all__ = ["analytic", "gsl_version", "__version__"]

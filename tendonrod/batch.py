@@ -20,7 +20,6 @@ from __future__ import annotations
 import concurrent.futures as cf
 import math
 from dataclasses import dataclass
-from typing import Optional
 
 import numpy as np
 
@@ -92,7 +91,7 @@ class BatchResult:
         ]
 
 
-def _points(arr, name: str, tail: tuple, what: str, n: Optional[int]):
+def _points(arr, name: str, tail: tuple, what: str, n: int | None):
     """float64 (n, *tail) array of a per-point argument; ValueError naming it."""
     if arr is None:
         return None, n
@@ -127,9 +126,9 @@ def solve_batch(
     forces=None,
     moments=None,
     distributed=None,
-    options: Optional[Options] = None,
+    options: Options | None = None,
     threads: int = 1,
-    chunksize: Optional[int] = None,
+    chunksize: int | None = None,
     warm_start: bool = True,
     retry_cold: bool = True,
     predict: bool = True,

@@ -41,8 +41,8 @@ import sys
 import time
 import traceback
 import warnings
-from dataclasses import dataclass, field
-from typing import Callable, Dict, List, Optional
+from collections.abc import Callable
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -104,7 +104,7 @@ def _tip_scale(ref):
     return float(np.linalg.norm(ref))
 
 
-def wp_scenes() -> List[WPScene]:
+def wp_scenes() -> list[WPScene]:
     """The fixed scene set of the work-precision benchmark."""
     tr = _tr()
     out = []
@@ -325,9 +325,9 @@ def tip_error(sc: WPScene, tip, ref):
 def run_work_precision(
     out: str,
     quick: bool = False,
-    repeats: Optional[int] = None,
+    repeats: int | None = None,
     log=print,
-    scenes: Optional[List[str]] = None,
+    scenes: list[str] | None = None,
 ):
     tr = _tr()
     os.makedirs(out, exist_ok=True)
@@ -884,7 +884,7 @@ def plot_model_choice(rows, path, cf_name):
         "s-",
         color="tab:green",
         ms=3,
-        label=f"closed form, one scalar call",
+        label="closed form, one scalar call",
     )
     a2.loglog(
         ld,
@@ -932,9 +932,9 @@ class StressCase:
     build: Callable
     well_posed: bool = True
     expect_words: tuple = ()
-    check: Optional[Callable] = None
+    check: Callable | None = None
     quick: bool = False
-    ramp: Optional[Callable] = None  # custom runner (load ramps): sol-less, returns dict
+    ramp: Callable | None = None  # custom runner (load ramps): sol-less, returns dict
 
 
 def _stress_opts(**kw):
@@ -969,10 +969,10 @@ KAPPA_R_LIMIT = {("90deg", "transverse-x"), ("90deg", "axial+z"), ("straight", "
 KAPPA_R_WORDS = ("curvature", "1/r", "centre of curvature", "center of curvature", "ei/r")
 
 
-def stress_cases() -> List[StressCase]:
+def stress_cases() -> list[StressCase]:
     """Every stress case (the issue's list, each dimension swept)."""
     tr = _tr()
-    cases: List[StressCase] = []
+    cases: list[StressCase] = []
     p = FIG11
     L, EI, r = p["L"], EI_of(p), p["r"]
     fs = EI / L**2  # force scale [N]

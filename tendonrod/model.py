@@ -19,14 +19,14 @@ from __future__ import annotations
 
 import math
 import numbers
-from dataclasses import KW_ONLY, dataclass, field
-from typing import Optional, Sequence, Tuple, Union
+from collections.abc import Sequence
+from dataclasses import KW_ONLY, dataclass
 
 import numpy as np
 
 __all__ = ["Rod", "Tendon", "Robot", "PointLoad", "DistributedLoad", "Scene"]
 
-Vec3 = Tuple[float, float, float]
+Vec3 = tuple[float, float, float]
 
 
 # --------------------------------------------------------------------------- helpers
@@ -122,14 +122,14 @@ class Rod:
     """
 
     length: float
-    diameter: Optional[float] = None
-    E: Optional[float] = None
-    G: Optional[float] = None
+    diameter: float | None = None
+    E: float | None = None
+    G: float | None = None
     _: KW_ONLY
-    EI: Optional[float] = None
-    GJ: Optional[float] = None
-    EA: Optional[float] = None
-    GA: Optional[float] = None
+    EI: float | None = None
+    GJ: float | None = None
+    EA: float | None = None
+    GA: float | None = None
     kirchhoff: bool = False
 
     def __post_init__(self):
@@ -167,7 +167,7 @@ class Rod:
                     f"is {v!r}: the section's rigidity must be finite and > 0"
                 )
 
-    def _effective(self, name: str) -> Optional[float]:
+    def _effective(self, name: str) -> float | None:
         explicit = getattr(self, name)
         if explicit is not None:
             return explicit
@@ -246,7 +246,7 @@ class Tendon:
     angle: float = 0.0
     slope: float = 0.0
     EA: float = math.inf
-    end: Optional[float] = None
+    end: float | None = None
     pretension: float = 0.0
 
     def __post_init__(self):
@@ -271,12 +271,12 @@ class Tendon:
         cls,
         offset: float,
         angle: float = 0.0,
-        length: Optional[float] = None,
+        length: float | None = None,
         *,
         EA: float = math.inf,
-        end: Optional[float] = None,
+        end: float | None = None,
         pretension: float = 0.0,
-    ) -> "Tendon":
+    ) -> Tendon:
         """A tendon converging from ``offset`` at the base to the centre line at
         arc length ``length`` [m] (normally the rod length): ``slope = -offset/length``."""
         if length is None:
@@ -318,7 +318,7 @@ class Robot:
     """
 
     rod: Rod
-    tendons: Tuple[Tendon, ...] = ()
+    tendons: tuple[Tendon, ...] = ()
 
     def __post_init__(self):
         if not isinstance(self.rod, Rod):
@@ -430,7 +430,7 @@ class DistributedLoad:
 
 
 # --------------------------------------------------------------------------- scene
-def _actuation(name: str, values, n: int) -> Tuple[Optional[float], ...]:
+def _actuation(name: str, values, n: int) -> tuple[float | None, ...]:
     if values is None:
         return (None,) * n
     if isinstance(values, (str, bytes)):
@@ -471,9 +471,9 @@ class Scene:
 
     robot: Robot
     _: KW_ONLY
-    displacement: Optional[Sequence[Optional[float]]] = None
-    tension: Optional[Sequence[Optional[float]]] = None
-    loads: Sequence[Union[PointLoad, DistributedLoad]] = ()
+    displacement: Sequence[float | None] | None = None
+    tension: Sequence[float | None] | None = None
+    loads: Sequence[PointLoad | DistributedLoad] = ()
 
     def __post_init__(self):
         if not isinstance(self.robot, Robot):
@@ -530,7 +530,7 @@ class Scene:
         object.__setattr__(self, "loads", loads)
 
     @property
-    def point_loads(self) -> Tuple[PointLoad, ...]:
+    def point_loads(self) -> tuple[PointLoad, ...]:
         """The point loads, in the order given."""
         return tuple(ld for ld in self.loads if isinstance(ld, PointLoad))
 
@@ -543,6 +543,6 @@ class Scene:
                 f += ld.force
         return f
 
-    def displacement_controlled(self) -> Tuple[bool, ...]:
+    def displacement_controlled(self) -> tuple[bool, ...]:
         """Per tendon: True where the displacement is prescribed (tension unknown)."""
         return tuple(d is not None for d in self.displacement)

@@ -34,8 +34,8 @@ TendonRobotReference     spatial Kirchhoff/Cosserat rod with tip-anchored tendon
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
-from typing import Optional, Sequence
+from collections.abc import Sequence
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -279,8 +279,8 @@ class RefTendon:
     phi: float = 0.0
     a: float = 0.0
     EA: float = math.inf
-    q: Optional[float] = None
-    tau: Optional[float] = None
+    q: float | None = None
+    tau: float | None = None
     pretension: float = 0.0
 
     def r(self, s):

@@ -17,13 +17,14 @@ from __future__ import annotations
 import math
 import numbers
 import warnings
-from dataclasses import dataclass, field, fields
-from typing import Any, Optional, Sequence, Union
+from collections.abc import Sequence
+from dataclasses import dataclass, fields
+from typing import Any
 
 import numpy as np
 
 from . import _core
-from .model import DistributedLoad, PointLoad, Robot, Scene
+from .model import Scene
 
 __all__ = [
     "Options",
@@ -48,7 +49,7 @@ class ConvergenceError(RuntimeError):
     Attribute ``solution`` holds the (unconverged) :class:`Solution`.
     """
 
-    def __init__(self, message: str, solution: "Solution" = None):
+    def __init__(self, message: str, solution: Solution = None):
         super().__init__(message)
         self.solution = solution
 
@@ -135,7 +136,7 @@ class Options:
     slack_model: str = "linear"
     continuation: bool = True
     max_continuation: int = 64
-    nodes: Union[int, Sequence[float], np.ndarray] = 101
+    nodes: int | Sequence[float] | np.ndarray = 101
     force_spatial: bool = False
     tip_only: bool = False
     shooting_segments: int = 1
@@ -286,7 +287,7 @@ class Formulation:
     shooting_segments: int = 1
 
     @classmethod
-    def from_dict(cls, d: dict) -> "Formulation":
+    def from_dict(cls, d: dict) -> Formulation:
         kw = {}
         for f in fields(cls):
             v = d.get(f.name)
@@ -691,7 +692,7 @@ def _check_options(options) -> Options:
 
 
 def solve(
-    scene: Scene, guess=None, options: Optional[Options] = None, strict: bool = False
+    scene: Scene, guess=None, options: Options | None = None, strict: bool = False
 ) -> Solution:
     """Solve ``scene``: the static equilibrium of the robot under its actuation and loads.
 
@@ -823,7 +824,7 @@ def _cross_check_off_path(raw: dict, packed: tuple, kw: dict) -> dict:
 
 
 def compliance(
-    scene: Scene, s: Optional[float] = None, guess=None, options: Optional[Options] = None
+    scene: Scene, s: float | None = None, guess=None, options: Options | None = None
 ) -> np.ndarray:
     """Compliance matrix (6, 6) at arc length ``s`` [m] (default: the tip).
 

@@ -34,8 +34,8 @@ from __future__ import annotations
 import dataclasses
 import math
 import os
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
-from typing import Callable, Sequence
 
 import numpy as np
 
@@ -307,6 +307,7 @@ def _load_path(scene, forces, s=None, moments=None, options=None):
     """Solve ``scene`` under a point load stepping through ``forces`` (K, 3) [N] (and
     ``moments``), in one warm-started chunk (a continuation path), via tr.sweep."""
     import tendonrod as tr
+
     from .sweep import sweep
 
     L = scene.robot.rod.length

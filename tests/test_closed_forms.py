@@ -6,11 +6,11 @@ dtypes, NaN + 'invalid' flag, TypeError)."""
 import re
 import warnings
 
+import closed_ref as ref
 import numpy as np
 import pytest
 from scipy import integrate, optimize
 
-import closed_ref as ref
 import tendonrod
 from tendonrod import analytic as an
 

@@ -13,8 +13,8 @@ value, pretension]; load [s, Fx, Fy, Fz, Mx, My, Mz].
 """
 
 import math
-import warnings
 import threading
+import warnings
 
 import numpy as np
 import pytest

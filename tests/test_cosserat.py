@@ -14,9 +14,9 @@ import warnings
 
 import numpy as np
 import pytest
+import reference as ref
 
 import tendonrod as tr
-import reference as ref
 
 pytestmark = pytest.mark.skipif(
     not hasattr(tr._core, "solve"), reason="tendonrod._core.solve not built yet"
@@ -994,7 +994,8 @@ def test_random_scenes_converge_and_balance():
     or not; Kirchhoff or Cosserat), random actuation (tensions, or displacements that keep
     opposing inextensible pairs feasible) and random point/distributed loads: every solve
     converges and balances forces and moments globally."""
-    from hypothesis import given, settings, strategies as st, HealthCheck
+    from hypothesis import HealthCheck, given, settings
+    from hypothesis import strategies as st
 
     @settings(
         max_examples=25,

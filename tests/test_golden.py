@@ -12,10 +12,9 @@ iteration counts may differ.
 
 from __future__ import annotations
 
+import golden_cases as G
 import numpy as np
 import pytest
-
-import golden_cases as G
 
 
 @pytest.fixture(scope="module")

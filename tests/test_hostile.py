@@ -22,7 +22,6 @@ so CI is reproducible; ``TR_HOSTILE_PROFILE=explore`` runs 10x more random
 examples for a local hunt.
 """
 
-import importlib
 import math
 import os
 import pickle
@@ -35,7 +34,7 @@ import warnings
 
 import numpy as np
 import pytest
-from hypothesis import HealthCheck, assume, event, given, note, settings
+from hypothesis import HealthCheck, event, given, settings
 from hypothesis import strategies as st
 
 import tendonrod as tr

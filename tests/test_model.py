@@ -11,7 +11,6 @@ import pytest
 import tendonrod as tr
 from tendonrod.solver import pack_scene
 
-
 ROD = dict(length=0.2, diameter=0.8e-3, E=207e9, G=79.6e9)
 
 

@@ -15,11 +15,11 @@ import concurrent.futures as cf
 import hashlib
 import math
 import multiprocessing
+import os
 import pickle
 import random
 import subprocess
 import sys
-import os
 import warnings
 
 import numpy as np

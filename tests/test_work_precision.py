@@ -6,7 +6,6 @@ errors, orders and the files written.
 """
 
 import math
-import os
 
 import numpy as np
 import pytest
