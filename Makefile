@@ -8,7 +8,7 @@ STAMP   := $(VENV)/.installed
 SOURCES := setup.py pyproject.toml tendonrod/_core.c $(wildcard csrc/*.c csrc/*.h)
 DEMO_OUT ?= figures
 
-.PHONY: demo test install gsl bench sanitize valgrind clean
+.PHONY: demo test install gsl bench sanitize valgrind lint clean
 
 # GSL: install libgsl-dev through apt-get when neither pkg-config nor gsl-config finds it.
 gsl:
@@ -20,7 +20,7 @@ gsl:
 $(STAMP): $(SOURCES) | gsl
 	test -x $(VPY) || $(PY) -m venv $(VENV)
 	$(VPY) -m pip install -q --upgrade pip
-	$(VPY) -m pip install -q -e '.[plot,test,notebooks]'
+	$(VPY) -m pip install -q -e '.[plot,test,notebooks,lint]'
 	touch $@
 
 install: $(STAMP)
@@ -48,6 +48,16 @@ sanitize: $(STAMP)
 
 valgrind: $(STAMP)
 	VPY=$(abspath $(VPY)) bench/valgrind.sh $(VALGRIND_ARGS)
+
+# Lint: ruff (lint + format check) over the Python, clang-format over the C
+# (csrc/, the glue, bench/); clang-format is installed with apt-get when missing.
+C_FILES = $(wildcard csrc/*.c csrc/*.h tendonrod/*.c bench/*.c bench/fuzz/*.c)
+lint: $(STAMP)
+	@command -v clang-format >/dev/null 2>&1 || { SUDO=; [ "$$(id -u)" = 0 ] || SUDO=sudo; \
+	  $$SUDO apt-get update -qq && $$SUDO apt-get install -y -qq clang-format; }
+	$(VENV)/bin/ruff check .
+	$(VENV)/bin/ruff format --check .
+	clang-format --dry-run --Werror $(C_FILES)
 
 clean:
 	rm -rf build $(VENV) tendonrod/*.so *.egg-info

@@ -308,7 +308,6 @@ WP_TOL = 1e-13
 
 
 def jacobian_methods():
-    tr = _tr()
     try:
         from .solver import _JACOBIANS
 
@@ -1580,7 +1579,7 @@ def global_balance(sol):
     Fsum = -sol.force[0].copy()
     Msum = -sol.moment[0].copy()
     fmax = 0.0
-    for (rb, tb), tau, t in zip(_tendon_tangents(sol, 0), sol.tension, sc.robot.tendons):
+    for (rb, tb), tau in zip(_tendon_tangents(sol, 0), sol.tension):
         Fsum -= tau * tb
         Msum -= tau * np.cross(rb, tb)
         fmax = max(fmax, abs(tau))

@@ -262,7 +262,6 @@ def planar_rod_bvp(L, EI, F, M=0.0, *, EA=np.inf, GA=np.inf, tol=1e-10, nodes=40
             ylast = sol.sol(s)
     if sol.status != 0:
         raise RuntimeError(f"planar_rod_bvp did not converge: {sol.message}")
-    yL = sol.sol(L) if s_out is None else sol.sol(s_out)
     return float(sol.y[0, -1]), float(sol.y[1, -1]), float(sol.y[2, -1]), sol
 
 
@@ -539,16 +538,12 @@ class TendonRobotReference:
             h0g = guess.base_moment + sum(
                 guess.tension[i] * np.cross(self.tendons[i].r(0.0), _E3) for i in range(nt)
             )
-            x = np.concatenate([h0g / mscale] + [[guess.tension[i] / fscale] for i in sorted(taut)])
-            lams = [1.0]
-            act = sorted(taut)
             for i in disp:
                 if guess.tension[i] <= 0.0 and guess.slack[i] > 0.0:
                     taut.discard(i)
             act = sorted(taut)
             x = np.concatenate([h0g / mscale] + [[guess.tension[i] / fscale] for i in act])
         else:
-            lams = np.linspace(1.0 / steps, 1.0, steps)
             act = sorted(taut)
             x = np.concatenate([np.zeros(3)] + [[tp[i] / fscale] for i in act])
 

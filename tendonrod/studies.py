@@ -888,7 +888,7 @@ def critical_slack_load(
         if g_mid > 0.0:
             lo, sol_lo = mid, sol_mid
         else:
-            hi, sol_hi = mid, sol_mid
+            hi = mid
     return 0.5 * (lo + hi)
 
 

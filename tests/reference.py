@@ -284,7 +284,7 @@ class PlanarKirchhoffRobot:
         (columns x, z, theta, M, s_i) if nodes were given."""
         EI, L = self.EI, self.L
         x0 = [M0_guess * L / EI]
-        for j, i in enumerate(self.unknown_tendons):
+        for j in range(len(self.unknown_tendons)):
             tg = 0.0 if tau_guess is None else tau_guess[j]
             x0.append(tg / (EI / L**2))
         r = optimize.root(

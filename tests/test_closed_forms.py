@@ -708,7 +708,9 @@ def test_planar_shape_against_adaptive_quadrature(case):
     s = np.linspace(0, L, 9)
     xy = an.planar_shape(s, *case)
     assert xy.shape == (9, 2)
-    th = lambda u: float(an.angle(u, *case))
+
+    def th(u):
+        return float(an.angle(u, *case))
 
     def quad(f, si):
         # adaptive Gauss-Kronrod on each smooth piece, asked for ~round-off;

@@ -474,7 +474,6 @@ def test_compliance_matches_finite_differences_of_full_solves():
     s = 0.6 * L
     C = _core.compliance(COSS, np.array(tendons), np.array(base_loads), Z3, s, guess=g, **kw)
     assert C.shape == (6, 6)
-    k = np.argmin(np.abs(base["s"] - s))
 
     def pose(extra):
         r = solve(

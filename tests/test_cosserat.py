@@ -1008,10 +1008,9 @@ def test_random_scenes_converge_and_balance():
         kir = data.draw(st.booleans())
         rod = tr.Rod(0.15, 1.0e-3, 200e9, 77e9, kirchhoff=kir)
         L = 0.15
-        EI = rod.bending_stiffness
         nt = data.draw(st.integers(1, 4))
         tendons, disp, tens = [], [], []
-        for i in range(nt):
+        for _ in range(nt):
             b = data.draw(st.floats(0.002, 0.01))
             kind = data.draw(st.sampled_from(["parallel", "sloped", "converging"]))
             end = data.draw(st.sampled_from([None, 0.1, 0.12]))

@@ -1672,7 +1672,7 @@ def extreme_scenes(draw):
     )
     nt = draw(st.integers(0, 4))
     tendons, disp, tens = [], [], []
-    for i in range(nt):
+    for _ in range(nt):
         b = draw(st.one_of(st.just(0.0), _logu(1e-9, 1.0).map(lambda x: x * L)))
         end = draw(st.one_of(st.none(), st.floats(1e-3, 1.0).map(lambda f: f * L)))
         e = L if end is None else end
