@@ -8,7 +8,7 @@
  * Threads may share a model; each thread owns its data.  Nothing allocates
  * between tr_data_alloc() and tr_data_free(); there is no global state.
  *
- * Conventions (MODEL.md): SI units, radians.  Base at the origin, base frame =
+ * Conventions (docs/model.md): SI units, radians.  Base at the origin, base frame =
  * world frame, undeformed rod along +z.  R is body-to-world, stored row-major.
  * Tendon i runs at the body-frame offset r_i(s) = (a_i s + b_i)(cos phi_i,
  * sin phi_i, 0) and is anchored at s = t_i <= L.  q > 0 retracts a tendon.
@@ -76,18 +76,60 @@ enum tr_jacobian_method {
 };
 enum tr_control { TR_DISPLACEMENT = 0, TR_TENSION = 1 };
 
-/* Largest fixed step count accepted: an 8th-order method gains nothing beyond a few
- * thousand steps on [0, L]; the cap keeps max_nfev a bound on the work. */
+/* Limits of the options and values accepted (tr_options_check, tr_model_alloc); the
+ * glue exports them so that the Python layer checks the same ranges.
+ * Largest fixed step count: an 8th-order method gains nothing beyond a few thousand
+ * steps on [0, L]; the cap keeps max_nfev a bound on the work. */
 #define TR_MAX_STEPS 100000
-
-/* Smallest adaptive-integrator tolerance accepted: ~50 ulp; a tighter one cannot be
- * met in double precision and only shrinks the step to underflow. */
+/* Smallest adaptive-integrator tolerance: ~50 ulp; a tighter one cannot be met in
+ * double precision and only shrinks the step to underflow. */
 #define TR_RTOL_MIN 1e-14
+/* Caps of the iteration, evaluation and continuation counts and of the node count. */
+#define TR_MAX_ITER_CAP         1000000
+#define TR_MAX_NFEV_CAP         1000000000
+#define TR_MAX_CONTINUATION_CAP 1000000
+#define TR_MAX_NODES            10000000
+/* Largest number of shooting segments. */
+#define TR_MAX_SHOOTING_SEGMENTS 64
+/* Range of the rod's L [m], EI, GJ [N m^2]: the scales EI/L^2, EI/L and the
+ * stiffness ratios must stay normal doubles ... */
+#define TR_ROD_MIN 1e-100
+#define TR_ROD_MAX 1e100
+/* ... and of a finite axial or shear rigidity EA, GA [N] of the rod or a tendon's
+ * EA [N] (a subnormal EA would make tau/EA overflow). */
+#define TR_EA_MIN 1e-100
+#define TR_EA_MAX 1e150
+/* |sin phi| of a tendon angle below this counts as in the x-z plane (phi = 0 or pi
+ * given in floating point): the planarity rule of tr_is_planar. */
+#define TR_PLANAR_SIN 1e-12
 
-/* Range of a finite tendon axial rigidity EA [N]: as for the rod's rigidities; a
- * subnormal EA made tau/EA overflow (finding F16). */
-#define TR_TENDON_EA_MIN 1e-100
-#define TR_TENDON_EA_MAX 1e150
+/* Column layouts of the flat input arrays of tr_model_alloc. */
+enum tr_rod_col {
+    TR_ROD_L,
+    TR_ROD_EI,
+    TR_ROD_GJ,
+    TR_ROD_EA,
+    TR_ROD_GA,
+    TR_ROD_KIRCHHOFF,
+    TR_ROD_NCOL
+};
+enum tr_tendon_col {
+    TR_TD_OFFSET,     /* b [m] */
+    TR_TD_ANGLE,      /* phi [rad] */
+    TR_TD_SLOPE,      /* a [-] */
+    TR_TD_EA,         /* [N], inf: inextensible */
+    TR_TD_END,        /* anchor arc length t [m] */
+    TR_TD_CONTROL,    /* TR_DISPLACEMENT (0) or TR_TENSION (1) */
+    TR_TD_VALUE,      /* q [m] (> 0 retracts) or tau [N] */
+    TR_TD_PRETENSION, /* [N] */
+    TR_TD_NCOL
+};
+enum tr_load_col {
+    TR_LD_S,
+    TR_LD_F,
+    TR_LD_M = 4,
+    TR_LD_NCOL = 7
+}; /* s [m], F (3) [N], M (3) [N m] */
 
 typedef struct tr_options {
     int integrator;      /* tr_integrator; default TR_RK8 (3-8 steps reach 1e-8 on a 90 deg bend) */
@@ -111,10 +153,9 @@ typedef struct tr_options {
                              axial loads with L sqrt(T/EI) >~ 7 (growth e^(L sqrt(T/EI)/M)) */
 } tr_options;
 
-/* Largest number of shooting segments accepted. */
-#define TR_MAX_SHOOTING_SEGMENTS 64
-
 tr_options tr_default_options(void);
+/* TR_OK, or TR_EINVAL with a message naming the first option out of its range. */
+int tr_options_check(const tr_options *opt, char *msg, size_t msglen);
 
 /* ----------------------------------------------------------------- model */
 typedef struct tr_tendon {
@@ -184,6 +225,22 @@ int tr_model_alloc(tr_model **out, const double rod[6], const double *tendons, i
                    const double *loads, int nl, const double dist[3], const tr_options *opt,
                    char *msg, size_t msglen);
 void tr_model_free(tr_model *m);
+/* A deep copy of m (NULL when out of memory): a model whose values can be set while m
+ * stays shared. */
+tr_model *tr_model_clone(const tr_model *m);
+/* Set the values of a compiled model without changing its structure: value (nt) the
+ * actuation value of every tendon (q [m] or tau [N] per its control mode), load
+ * (nl x 6) [F (3) N, M (3) N m] world frame of every point load (positions stay),
+ * dist (3) the distributed force [N/m], world frame; NULL keeps what the model has.
+ * The scene check that depends on values (opposing inextensible tendons on a
+ * Kirchhoff backbone) is redone.  TR_EINVAL with a message when a value is not
+ * finite, a tension is negative, or a planar model would get an out-of-plane load;
+ * the model is then unchanged. */
+int tr_model_set_values(tr_model *m, const double *value, const double *load, const double *dist,
+                        char *msg, size_t msglen);
+/* 1 when a scene of these flat arrays (as for tr_model_alloc) lies in the x-z plane:
+ * every tendon at |sin phi| <= TR_PLANAR_SIN, no load with Fy, Mx or Mz, dist_y = 0. */
+int tr_is_planar(const double *tendons, int nt, const double *loads, int nl, const double dist[3]);
 
 /* ------------------------------------------------------------------ data */
 #define TR_MSGLEN 512
@@ -195,13 +252,17 @@ typedef struct tr_data {
     /* iteration */
     double *x, *f;         /* (k) scaled unknowns / residual */
     double *xt, *ft, *dx;  /* (k) trial point, trial residual, step */
-    double *xs, *xp, *fs;  /* (k) saved / previous (continuation) unknowns, saved residual */
+    double *xs, *xp, *fs;  /* (k) continuation: unknowns at the stage start and at the
+                              previous stage, residual at the stage start */
     double *J;             /* (k x k) scaled Jacobian, row-major */
-    double *work;          /* (k) scratch */
+    double *work;          /* (k) a right-hand side (condition number, compliance) */
+    double *hyb_f;         /* (k) residual evaluated for GSL's hybrid Jacobian callback */
+    int *switched;         /* (ndisp) a tendon switched between taut and slack in a step */
     gsl_matrix *LU;        /* (k x k) LU factors */
     gsl_permutation *perm; /* (k) */
     double fnorm;          /* max-norm of f */
     int have_J, J_fresh, J_refresh;
+    int jac_method;  /* tr_jacobian_method in use (continuation: TR_JAC_NEWTON) */
     int steps_moved; /* 1 once the step verification ran: polish the residual below tol */
     /* evaluation context */
     double lam_act;         /* continuation: actuation (q, prescribed tau) scaled by it */
@@ -222,9 +283,16 @@ typedef struct tr_data {
     gsl_odeiv2_step *ad_step_shoot, *ad_step_rec;
     gsl_odeiv2_control *ad_ctl_shoot, *ad_ctl_rec;
     gsl_odeiv2_evolve *ad_ev_shoot, *ad_ev_rec;
-    /* cold guess (small-deflection linear model) */
-    double *lin;     /* (2 ndisp^2 + 3 ndisp) scratch */
-    int *lin_act;    /* (2 ndisp) active set / index map */
+    /* cold guess: the small-deflection linear model over the displacement-controlled
+     * tendons, sum_j C_ij tau_j = rhs_i, solved on an active set */
+    double *lin_C;   /* (ndisp x ndisp) compliance C_ij [m/N] */
+    double *lin_A;   /* (ndisp x ndisp) C restricted to the active set, factored in place */
+    double *lin_rhs; /* (ndisp) right-hand side [m] */
+    double *lin_sol; /* (ndisp) tension change over the pretension [N] */
+    double *lin_pre; /* (ndisp) pretension [N] */
+    double *lin_tmp; /* (ndisp) scatter buffer */
+    int *lin_act;    /* (ndisp) 1: taut (in the active set) */
+    int *lin_map;    /* (ndisp) active-set index -> tendon gamma index */
     double *bp_pose; /* ((nseg + 1) x 12) p, R at each breakpoint (cold-start shape pass) */
     gsl_multiroot_fdfsolver *hyb; /* hybridsj workspace (jacobian_method = TR_JAC_HYBRID) */
     /* compliance */
@@ -280,6 +348,24 @@ int tr_residual(const tr_model *m, tr_data *d, const double *x, double *f);
  * the breakpoint s_probe (which must be a load position of the model or L), world
  * frame, linearised at the solution (call tr_solve first). */
 int tr_compliance(const tr_model *m, tr_data *d, double s_probe, double C[36]);
+
+/* The physical guess of the current unknowns (after tr_solve: of the solution):
+ * g (6 + 2 nt) = [n(0) world (3) [N], m(0) world (3) [N m], tension (nt) [N],
+ * slack (nt) [m]], n(0), m(0) the backbone's internal force and moment at the base.
+ * The exact inverse of the map tr_solve applies to a guess. */
+void tr_base_state(const tr_model *m, const tr_data *d, double *g);
+
+/* Lean warm solve at a fixed step count (opt.steps > 0, fixed-step integrator): from
+ * the scaled unknowns x0 (k) with the Jacobian jac (k x k; NULL: the workspace's own),
+ * full Newton steps, each of which must reduce the residual's max-norm, good Broyden
+ * updates guarded against round-off; no line search, continuation, step verification,
+ * polish or recording (tr_record or tr_record_tip follow).  At most max_iter
+ * iterations.  TR_OK, or < 0 when the caller should run tr_solve instead. */
+int tr_solve_lean(const tr_model *m, tr_data *d, const double *x0, const double *jac, int max_iter);
+/* After tr_solve_lean, in a tip-only workspace: the tip state from the last residual
+ * evaluation (no recording pass).  The actuator displacement of a tension-controlled
+ * tendon, which only the recording pass integrates, is NaN. */
+int tr_record_tip(const tr_model *m, tr_data *d);
 
 #ifdef __cplusplus
 }

@@ -3,28 +3,23 @@
  *
  * A batch shares everything that fixes the shape of the shooting problem with a
  * compiled base model: rod, tendon routing, control modes, load positions, the
- * formulation (planar/spatial).  Per point it varies only values:
+ * formulation (planar/spatial).  Per point it varies only values (set on a private
+ * clone of the model with tr_model_set_values):
  *   - the actuation value of every tendon (q [m] for displacement-controlled tendons,
  *     tau [N] for tension-controlled ones, following the base model's control modes),
  *   - the force and moment of every point load (world frame),
  *   - the uniform distributed force (world frame).
- * Points are solved in order with tr_solve(); each is warm-started from the previous
- * converged point (its unknowns mapped to a physical guess and its final Jacobian),
- * as tendonrod.solve(scene, guess=previous_solution) does (optionally from a secant
- * or quadratic prediction along a line of points).  With a fixed step count
- * (opt->steps > 0) a warm point first runs a lean Newton/Broyden loop on tr_residual
- * (the carried Jacobian, no step verification, no polish; the tip read from the last
- * residual evaluation unless the recording pass is needed) and goes to the full
- * tr_solve only if that fails; with
- * automatic steps every point runs tr_solve (step verification included).  Only tip
- * quantities are recorded.  The base model's scene_status (compile-time indeterminacy
- * check) holds for all points, which is exact unless the displacements of two or more
- * inextensible displacement-controlled tendons on a Kirchhoff backbone vary (then the
- * check depends on them: tendonrod.solve_batch solves such batches point by point).
- * One call uses one workspace: everything is allocated
- * once at the start of tr_batch_solve and freed at its end, nothing per point.  Call
- * it from several threads on disjoint ranges of points for parallelism (the base
- * model is read-only and may be shared).
+ * Points are solved in order with the core's public API; each is warm-started from
+ * the previous converged point (its base state, tr_base_state, and its final
+ * Jacobian), as tendonrod.solve(scene, guess=previous) does, optionally from a
+ * secant, quadratic or cubic prediction along a line of points.  With a fixed step
+ * count (opt->steps > 0) a warm point first runs the lean solve (tr_solve_lean) and
+ * goes to the full tr_solve only if that fails; with automatic steps every point runs
+ * tr_solve (step verification included).  Only tip quantities are recorded.
+ * One call uses one workspace: everything is allocated once at the start of
+ * tr_batch_solve and freed at its end, nothing per point.  Call it from several
+ * threads on disjoint ranges of points for parallelism (the base model is read-only
+ * and may be shared).
  */
 #ifndef TR_BATCH_H
 #define TR_BATCH_H
@@ -51,13 +46,14 @@ typedef struct tr_batch_in {
     int predict;                   /* 1: when a point continues the line through the last two
                                converged points, start from the secant extrapolation of
                                their solutions instead of the last one */
-    int exact;                     /* 1: reproduce a loop of tendonrod.solve(scene, guess=previous
-                               tip-only solution) bit for bit: the Python layer's guess map,
-                               no predictor, no lean loop (every point runs tr_solve) */
-    int skip_tension_displacement; /* 1: the lean loop skips the recording pass; the
-                               displacement of tension-controlled tendons is then NaN at
-                               the points it solved (scenes whose tendons are all
-                               displacement-controlled never need that pass) */
+    int exact;                     /* 1: reproduce a loop of tendonrod.solve(scene,
+                                      guess=previous tip-only solution) bit for bit: no
+                                      predictor, no lean solve (every point runs tr_solve) */
+    int skip_tension_displacement; /* 1: a point solved by the lean solve skips the
+                                      recording pass (tr_record_tip); the displacement of
+                                      tension-controlled tendons is then NaN there (scenes
+                                      whose tendons are all displacement-controlled never
+                                      need that pass) */
 } tr_batch_in;
 
 typedef struct tr_batch_out {

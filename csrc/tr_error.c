@@ -1,8 +1,13 @@
-/* tr_error.c -- names of the status codes. */
+/* tr_error.c -- names of the status codes, and the message helpers. */
+#include <stdarg.h>
+#include <stdio.h>
+
 #include "tendonrod.h"
+#include "tr_internal.h"
 
 const char *tr_strerror(int status)
 {
+
     switch (status) {
     case TR_OK: return "success";
     case TR_TRUNCATION: return "converged; truncation estimate above tolerance at the step cap";
@@ -23,4 +28,21 @@ const char *tr_strerror(int status)
     case TR_ECONTINUATION: return "continuation failed";
     default: return "unknown status";
     }
+}
+
+void tr_msgf(char *msg, size_t len, const char *fmt, ...)
+{
+    va_list ap;
+    if (!msg || len == 0) return;
+    va_start(ap, fmt);
+    vsnprintf(msg, len, fmt, ap);
+    va_end(ap);
+}
+
+void tr_set_message(tr_data *d, const char *fmt, ...)
+{
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(d->message, TR_MSGLEN, fmt, ap);
+    va_end(ap);
 }

@@ -49,12 +49,13 @@ static int rk4(const tr_model *m, tr_data *d, double s0, double s1, int n, doubl
     return TR_OK;
 }
 
-int tr_integrate(const tr_model *m, tr_data *d, double s0, double s1, int nsteps, double *y)
+int tr_integrate_with(const tr_model *m, tr_data *d, int method, double s0, double s1, int nsteps,
+                      double *y)
 {
     const int dim = d->rec ? m->n_states_rec : m->n_states;
     int status = TR_OK;
     if (!(s1 > s0)) return TR_OK;
-    switch (d->opt.integrator) {
+    switch (method) {
     case TR_RK4: status = rk4(m, d, s0, s1, nsteps, y, dim); break;
     case TR_RK8: {
         gsl_odeiv2_step *st = d->rec ? d->rk8_rec : d->rk8_shoot;
@@ -98,4 +99,9 @@ int tr_integrate(const tr_model *m, tr_data *d, double s0, double s1, int nsteps
     }
     if (status == TR_OK && !all_finite(y, dim)) status = TR_ENONFINITE;
     return status;
+}
+
+int tr_integrate(const tr_model *m, tr_data *d, double s0, double s1, int nsteps, double *y)
+{
+    return tr_integrate_with(m, d, d->opt.integrator, s0, s1, nsteps, y);
 }

@@ -1,13 +1,27 @@
 /*
- * tr_internal.h -- functions shared between the core's translation units
- * (not part of the public API).
+ * tr_internal.h -- what the core's translation units share and the public API
+ * does not show: state layouts, the solve-policy constants with their reasons,
+ * and the internal functions of each layer.
+ *
+ * Layers (a file calls only into its own layer or the ones below it):
+ *   tr_rod.c, tr_integrate.c        right-hand side, integration of one segment
+ *   tr_residual.c                   the shooting residual
+ *   tr_guess.c                      cold guess, node guesses, guess <-> unknowns
+ *   tr_newton.c, tr_hybrid.c        Jacobian, LU, Broyden, init / iterate / test
+ *   tr_continuation.c, tr_verify.c  load continuation; step verification, polish
+ *   tr_record.c, tr_compliance.c    recording pass; compliance
+ *   tr_solve.c                      the driver: a list of stages
+ *   tr_batch.c                      a loop over the public API
  */
 #ifndef TR_INTERNAL_H
 #define TR_INTERNAL_H
 
+#include <math.h>
+#include <stddef.h>
+
 #include "tendonrod.h"
 
-/* State layouts (MODEL.md): spatial p (3), R (9, row-major), n_b (3), m_b (3),
+/* State layouts (docs/model.md): spatial p (3), R (9, row-major), n_b (3), m_b (3),
  * then path lengths; planar x, z, theta, n_b1, n_b3, m_b2, then path lengths. */
 enum { TR_Y_P = 0, TR_Y_R = 3, TR_Y_N = 12, TR_Y_M = 15, TR_Y_LEN = 18 };
 enum {
@@ -19,6 +33,154 @@ enum {
     TR_YP_M = 5,
     TR_YP_LEN = 6
 };
+
+/* ------------------------------------------------------ solve-policy constants */
+/* Forward-difference step for the Jacobian, scaled units: ~sqrt(machine eps). */
+#define TR_FD_H 1.5e-8
+/* Central-difference step for the compliance (scaled units): balances the
+ * h^2 truncation (~1e-11) against round-off (~1e-16/h). */
+#define TR_CD_H 3e-6
+/* Largest Newton step (scaled max-norm): 10 ~ a curl of 10 rad per length. */
+#define TR_MAX_STEP 10.0
+/* Armijo constant of the backtracking line search. */
+#define TR_ARMIJO 1e-4
+/* Smallest line-search step before giving up. */
+#define TR_ALPHA_MIN 1e-6
+/* A stalled scaled residual below this is probably round-off, not a bad model. */
+#define TR_ROUNDOFF_HINT 1e-8
+/* A Broyden step reducing the residual by less than this factor triggers a
+ * fresh finite-difference Jacobian. */
+#define TR_BROYDEN_RATIO 0.5
+/* Smallest step (scaled max-norm) that updates the Jacobian in a lean warm solve:
+ * below it the secant (f(x + dx) - f(x)) / dx is dominated by the integration's
+ * round-off (~1e-14) and a Broyden update would spoil a Jacobian that later points
+ * reuse. */
+#define TR_LEAN_BROYDEN_MIN_STEP 1e-10
+/* Condition number (1-norm, scaled) above which the Jacobian counts as singular. */
+#define TR_COND_SINGULAR 1e12
+/* Automatic step count: initial totals for rk8 and rk4 ... */
+#define TR_AUTO_RK8 2
+#define TR_AUTO_RK4 16
+/* ... and at least this many rk8 steps per unit of L sqrt(|F|/EI) (boundary layers
+ * of width L / lambda), capped so that max_nfev stays a time bound for huge loads. */
+#define TR_AUTO_PER_LAMBDA 2.0
+#define TR_AUTO_MAX        256
+/* Largest step count the step verification refines to. */
+#define TR_STEP_CAP 8192
+/* Step refinement aims the Richardson-predicted truncation at this fraction of tol. */
+#define TR_REFINE_SAFETY 0.5
+/* Rounds of step refinement (each at least N + 1 steps, usually one suffices). */
+#define TR_REFINE_ROUNDS 16
+/* Recording pass: RK4 steps of at most this fraction of the rk8 shooting step, and
+ * at most L / TR_RECORD_RK4_MIN_STEPS ... */
+#define TR_RECORD_RK4_FRACTION  8.0
+#define TR_RECORD_RK4_MIN_STEPS 100.0
+/* ... redone with rk8 if its tip differs from the shooting tip by more than this
+ * (scaled states): a guard against gross RK4 errors (unresolved boundary layers);
+ * otherwise the tip node takes the shooting tip. */
+#define TR_RECORD_GROSS 1e-6
+/* Continuation: first step and smallest step in lambda. */
+#define TR_CONT_DLAM0    0.25
+#define TR_CONT_DLAM_MIN 1e-4
+/* Iterations per continuation step: Newton from a near point converges in a few. */
+#define TR_CONT_ITER 15
+/* Polish: at most this many extra Newton steps, taken while the step exceeds
+ * TR_POLISH_XTOL_FACTOR tol (relative to max(1, |x|)), or, after the step
+ * verification moved the step count, while the residual exceeds
+ * TR_POLISH_RES_FACTOR tol. */
+#define TR_POLISH_STEPS       3
+#define TR_POLISH_XTOL_FACTOR 1e3
+#define TR_POLISH_RES_FACTOR  1e-2
+/* A direct Newton run whose residual fell by less than 1/TR_STALL_RATIO over the
+ * last TR_STALL_ITERS iterations is abandoned as stagnating (creeping damped steps:
+ * on Fig. 11c with stiff tendons under twist the residual stays at ~2e-3 for 50+
+ * iterations; a creep that ends in the Newton basin, as at r^2kL/3EI = 500, halves
+ * the residual in ~8 iterations and is kept). */
+#define TR_STALL_ITERS 8
+#define TR_STALL_RATIO 0.8
+/* The same test for a continuation stage, over TR_CONT_STALL_ITERS iterations (then
+ * the step is halved).  A stricter test (2x over 4) stalls Fig. 12 at
+ * r^2kL/EI = 1e8 at its first load stage: its stages creep for ~5 iterations and
+ * then converge. */
+#define TR_CONT_STALL_ITERS 6
+#define TR_CONT_STALL_RATIO 0.8
+/* A failed solve with displacement-controlled tendons stiffer than this (r^2 EA/EI)
+ * says so in its message (Fig. 12 twist fails from ~1e10 and converges at 1e8). */
+#define TR_STIFF_HINT 1e6
+/* Cold starts with loads above this scaled magnitude (sum of |F| L^2/EI, |M| L/EI,
+ * |f| L^3/EI) go by continuation at once, in load steps of at most TR_RAMP_LOAD:
+ * a direct Newton iteration can land on a looped, unstable elastica. */
+#define TR_DIRECT_LOAD_MAX 6.0
+#define TR_RAMP_LOAD       3.0
+/* A continuation stage may move the tip by at most this fraction of L. */
+#define TR_CONT_TIP_JUMP 0.2
+/* Newton iterations of the implicit jump at a breakpoint (converges in 2-4). */
+#define TR_JUMP_ITER 20
+/* Iterations a lean warm solve (tr_solve_lean) may take. */
+#define TR_LEAN_ITER 8
+
+/* ------------------------------------------------------------ small helpers */
+/* Number of force/moment unknowns: 3 planar (x, z force, y moment), 6 spatial. */
+static inline int tr_n_force(const tr_model *m)
+{
+    return m->planar ? 3 : 6;
+}
+
+/* Tension tau [N] and slack beta [m] of a displacement-controlled tendon's unknown
+ * gamma: linear (semismooth) tau = tau_s max(gamma, 0), beta = l_s max(-gamma, 0), or
+ * the paper's squared form tau = tau_s gamma^2 (gamma >= 0), beta = l_s gamma^2
+ * (gamma < 0); tau_s = EI/(r L), l_s = r with r the largest offset of a
+ * displacement-controlled tendon, so a unit of gamma changes the path length by ~r on
+ * either side of the switch and the Jacobian is balanced. */
+static inline void tr_tension_of_gamma(const tr_model *m, int slack_model, double g, double *tau,
+                                       double *beta)
+{
+    if (slack_model == TR_SLACK_SQUARED) {
+        *tau = g > 0.0 ? m->tau_s * g * g : 0.0;
+        *beta = g < 0.0 ? m->len_s * g * g : 0.0;
+    } else {
+        *tau = g > 0.0 ? m->tau_s * g : 0.0;
+        *beta = g < 0.0 ? -m->len_s * g : 0.0;
+    }
+}
+
+/* Its inverse: gamma of a tension tau [N] (if > 0) or else a slack beta [m]. */
+static inline double tr_gamma_of_tension(const tr_model *m, int slack_model, double tau,
+                                         double beta)
+{
+    const int sq = slack_model == TR_SLACK_SQUARED;
+    if (tau > 0.0) return sq ? sqrt(tau / m->tau_s) : tau / m->tau_s;
+    if (beta > 0.0) return sq ? -sqrt(beta / m->len_s) : -beta / m->len_s;
+    return 0.0;
+}
+
+/* Force sum_i tau_i t0_i and moment sum_i tau_i r_i(0) x t0_i [N, N m] of the tendons
+ * pulling on the base section of the straight robot (tensions tau (nt), negative
+ * ones counted as 0): the part of the base reaction the tendons carry. */
+static inline void tr_tendon_pull_sum(const tr_model *m, const double *tau, double tn[3],
+                                      double tm[3])
+{
+    int i, c;
+    tn[0] = tn[1] = tn[2] = tm[0] = tm[1] = tm[2] = 0.0;
+    for (i = 0; i < m->nt; i++) {
+        const double t = tau[i] > 0.0 ? tau[i] : 0.0;
+        for (c = 0; c < 3; c++) {
+            tn[c] += t * m->tendon[i].t0[c];
+            tm[c] += t * m->tendon[i].rt0[c];
+        }
+    }
+}
+
+/* tr_tendons.c: rest lengths that give the pretensions (TR_OK, TR_EPRETENSION or
+ * TR_EINVAL with a message), and the check for opposing inextensible tendons on a
+ * Kirchhoff backbone (TR_OK, TR_EINDETERMINATE or TR_ENOEQUILIBRIUM). */
+int tr_rest_lengths(tr_model *m, char *msg, size_t msglen);
+int tr_check_indeterminate(const tr_model *m, char *msg, size_t msglen);
+
+/* tr_error.c: printf into a message buffer (NULL or empty: nothing), and into
+ * d->message. */
+void tr_msgf(char *msg, size_t len, const char *fmt, ...);
+void tr_set_message(tr_data *d, const char *fmt, ...);
 
 /* tr_rod.c */
 int tr_rhs(double s, const double y[], double dyds[], void *params);
@@ -33,11 +195,68 @@ void tr_section_pulls(const tr_model *m, const tr_data *d, int seg, double s, co
 void tr_state_world(const tr_model *m, const double *y, double p[3], double R[9], double n[3],
                     double mom[3]);
 
-/* tr_integrate.c: integrate y over [s0, s1] on segment d->seg (layout d->rec). */
+/* tr_integrate.c: integrate y over [s0, s1] on segment d->seg (layout d->rec) with
+ * `method` (tr_integrator) in nsteps fixed steps (ignored by TR_ADAPTIVE). */
+int tr_integrate_with(const tr_model *m, tr_data *d, int method, double s0, double s1, int nsteps,
+                      double *y);
+/* ... with the workspace's integrator. */
 int tr_integrate(const tr_model *m, tr_data *d, double s0, double s1, int nsteps, double *y);
 int tr_segment_steps(const tr_model *m, const tr_data *d, int seg);
 
-/* tr_shoot.c */
-void tr_set_message(tr_data *d, const char *fmt, ...);
+/* tr_residual.c */
+/* Tensions and slacks (d->tau, d->beta) of the unknowns x. */
+void tr_set_tensions(const tr_model *m, tr_data *d, const double *x);
+/* Base state y (dim entries) from the unknowns x, tensions already set. */
+void tr_init_state(const tr_model *m, const tr_data *d, const double *x, double *y, int dim);
+/* The jump of the state at interior breakpoint b. */
+void tr_apply_jump(const tr_model *m, const tr_data *d, int b, double *y);
+/* Magnitude of all external loads, scaled by EI/L^2 (forces) and EI/L (moments). */
+double tr_load_scale(const tr_model *m);
+/* Offset of shooting node j (1..M-1) in the unknowns and residuals; scale of its
+ * state component c. */
+int tr_node_off(const tr_model *m, int j);
+double tr_node_scale(const tr_model *m, int c);
+
+/* tr_guess.c */
+/* Cold start into d->x: the straight-robot guess or the shape pass's, whichever has
+ * the smaller residual; node unknowns from the shape. */
+void tr_cold_start(const tr_model *m, tr_data *d);
+/* Scaled unknowns x from a physical guess g (6 + 2 nt), nodes integrated from it.
+ * Returns TR_OK or TR_EINVAL (non-finite unknowns; message set). */
+int tr_unknowns_from_guess(const tr_model *m, tr_data *d, const double *g, double *x);
+
+/* tr_newton.c */
+/* Reset the counters and the per-solve state of d for a solve at `steps` steps. */
+void tr_solve_reset(const tr_model *m, tr_data *d, int steps);
+/* Forward difference of the residual along unknown j at x (residual f0 there) into
+ * col[i * stride], i < k; a trial point whose residual is not finite is retried
+ * backwards if `backward`.  Uses d->xt, d->ft. */
+int tr_fd_column(const tr_model *m, tr_data *d, const double *x, const double *f0, int j,
+                 double *col, size_t stride, int backward);
+/* Forward-difference Jacobian at d->x (d->f) into d->J. */
+int tr_fd_jacobian(const tr_model *m, tr_data *d);
+/* LU of d->J into d->LU (0, or -1 if singular) and solve with it. */
+int tr_lu_factor(tr_data *d);
+int tr_lu_solve(tr_data *d, const double *rhs, double *res);
+/* 1-norm condition number of d->J. */
+double tr_jacobian_cond(tr_data *d);
+/* Newton/Broyden from the current point until converged, max_iter, or stagnation
+ * (residual down by less than 1/ratio over the last `stall` iterations). */
+int tr_newton_run(const tr_model *m, tr_data *d, int max_iter, int stall, double ratio);
+
+/* tr_hybrid.c: GSL hybridsj on the same residual and Jacobian. */
+int tr_hybrid_run(const tr_model *m, tr_data *d, int max_iter);
+
+/* tr_continuation.c: from the unloaded straight robot, ramp the actuation, then the
+ * loads. */
+int tr_continuation(const tr_model *m, tr_data *d);
+
+/* tr_verify.c */
+/* Automatic initial step count of the scene. */
+int tr_auto_steps(const tr_model *m, const tr_data *d);
+/* Step doubling until the truncation estimate is <= tol (steps = 0). */
+int tr_verify_steps(const tr_model *m, tr_data *d);
+/* Full Newton steps from a converged point while the step is still large. */
+void tr_polish(const tr_model *m, tr_data *d);
 
 #endif

@@ -72,6 +72,27 @@ static inline void tru_skew3(double S[9], const double a[3])
     S[8] = 0.0;
 }
 
+/* Max-norm of v (n); NaN propagates. */
+static inline double tru_maxnorm(const double *v, int n)
+{
+    double r = 0.0;
+    int i;
+    for (i = 0; i < n; i++) {
+        const double a = fabs(v[i]);
+        if (!(a <= r)) r = a;
+    }
+    return r;
+}
+
+/* Sum of squares of v (n). */
+static inline double tru_sumsq(const double *v, int n)
+{
+    double r = 0.0;
+    int i;
+    for (i = 0; i < n; i++) r += v[i] * v[i];
+    return r;
+}
+
 /* Solve A x = b in place (A n x n row-major, destroyed; b overwritten by x) by
  * Gaussian elimination with partial pivoting.  Returns 0, or -1 if singular. */
 static inline int tru_solve_dense(int n, double *A, double *b)

@@ -1,0 +1,381 @@
+/*
+ * tr_newton.c -- the Newton layer: finite-difference Jacobian, LU, good-Broyden
+ * update, init / iterate / test with a backtracking (Armijo) line search, the run
+ * to convergence with a stagnation test, and the lean warm solve.
+ */
+#include <math.h>
+#include <string.h>
+#include <gsl/gsl_errno.h>
+#include <gsl/gsl_linalg.h>
+
+#include "tendonrod.h"
+#include "tr_internal.h"
+#include "tru_math.h"
+
+void tr_solve_reset(const tr_model *m, tr_data *d, int steps)
+{
+    (void)m;
+    d->nit = d->nfev = d->njev = d->cont_steps = 0;
+    d->steps_moved = 0;
+    d->steps_double = 0;
+    d->message[0] = '\0';
+    d->lam_act = d->lam_load = 1.0;
+    d->truncation = NAN;
+    d->jacobian_cond = NAN;
+    d->probe_bp = -1;
+    d->steps = steps;
+    d->jac_method = d->opt.jacobian_method;
+}
+
+int tr_fd_column(const tr_model *m, tr_data *d, const double *x, const double *f0, int j,
+                 double *col, size_t stride, int backward)
+{
+    const int k = d->k;
+    int i, status;
+    double h = TR_FD_H * (fabs(x[j]) > 1.0 ? fabs(x[j]) : 1.0);
+    memcpy(d->xt, x, (size_t)k * sizeof(double));
+    d->xt[j] += h;
+    h = d->xt[j] - x[j];
+    status = tr_residual(m, d, d->xt, d->ft);
+    if (status != TR_OK) {
+        if (!backward) return status;
+        d->xt[j] = x[j] - h;
+        status = tr_residual(m, d, d->xt, d->ft);
+        if (status != TR_OK) return status;
+        h = -h;
+    }
+    for (i = 0; i < k; i++) col[i * stride] = (d->ft[i] - f0[i]) / h;
+    return TR_OK;
+}
+
+int tr_fd_jacobian(const tr_model *m, tr_data *d)
+{
+    const int k = d->k;
+    int j, status;
+    if (d->nfev + k > d->opt.max_nfev) {
+        tr_set_message(d,
+                       "function-evaluation limit (max_nfev = %d) reached: a Jacobian needs %d "
+                       "more evaluations; raise max_nfev",
+                       d->opt.max_nfev, k);
+        return TR_EMAXFEV;
+    }
+    for (j = 0; j < k; j++) {
+        /* a column whose forward trial leaves the finite domain is taken backwards */
+        status = tr_fd_column(m, d, d->x, d->f, j, d->J + j, (size_t)k, 1);
+        if (status != TR_OK) return status;
+    }
+    d->njev++;
+    d->have_J = 1;
+    d->J_fresh = 1;
+    d->J_refresh = 0;
+    return TR_OK;
+}
+
+int tr_lu_factor(tr_data *d)
+{
+    const int k = d->k;
+    int i, signum;
+    double dmax = 0.0, dmin = INFINITY;
+    for (i = 0; i < k * k; i++) d->LU->data[(i / k) * d->LU->tda + i % k] = d->J[i];
+    if (gsl_linalg_LU_decomp(d->LU, d->perm, &signum) != GSL_SUCCESS) return -1;
+    for (i = 0; i < k; i++) {
+        const double a = fabs(gsl_matrix_get(d->LU, i, i));
+        if (a > dmax) dmax = a;
+        if (a < dmin) dmin = a;
+    }
+    if (!(dmin > 1e-300) || !(dmin > 1e-15 * dmax) || !isfinite(dmax)) return -1;
+    return 0;
+}
+
+int tr_lu_solve(tr_data *d, const double *rhs, double *res)
+{
+    gsl_vector_const_view b = gsl_vector_const_view_array(rhs, (size_t)d->k);
+    gsl_vector_view xv = gsl_vector_view_array(res, (size_t)d->k);
+    return gsl_linalg_LU_solve(d->LU, d->perm, &b.vector, &xv.vector) == GSL_SUCCESS ? 0 : -1;
+}
+
+double tr_jacobian_cond(tr_data *d)
+{
+    const int k = d->k;
+    double nJ = 0.0, nI = 0.0;
+    int i, j;
+    if (k == 0) return 1.0;
+    for (j = 0; j < k; j++) {
+        double c = 0.0;
+        for (i = 0; i < k; i++) c += fabs(d->J[i * k + j]);
+        if (c > nJ) nJ = c;
+    }
+    if (tr_lu_factor(d) != 0) return INFINITY;
+    for (j = 0; j < k; j++) {
+        double c = 0.0;
+        for (i = 0; i < k; i++) d->work[i] = (i == j);
+        if (tr_lu_solve(d, d->work, d->ft) != 0) return INFINITY;
+        for (i = 0; i < k; i++) c += fabs(d->ft[i]);
+        if (c > nI) nI = c;
+    }
+    return nJ * nI;
+}
+
+/* Good Broyden update of the k x k row-major J after the step s (|s|^2 = ss) took
+ * the residual from f to ft: J += (ft - f - J s) s^T / (s^T s). */
+static void broyden_update(int k, double *J, const double *s, double ss, const double *f,
+                           const double *ft)
+{
+    int i, j;
+    for (i = 0; i < k; i++) {
+        double r = ft[i] - f[i];
+        for (j = 0; j < k; j++) r -= J[i * k + j] * s[j];
+        r /= ss;
+        for (j = 0; j < k; j++) J[i * k + j] += r * s[j];
+    }
+}
+
+int tr_solve_init(const tr_model *m, tr_data *d, const double *guess, const double *jac)
+{
+    const int k = d->k;
+    int i, status;
+    if (d->model != m) {
+        tr_set_message(d, "workspace was allocated for a different model");
+        return TR_EINVAL;
+    }
+    if (guess) {
+        status = tr_unknowns_from_guess(m, d, guess, d->x);
+        if (status != TR_OK) return status;
+    } else {
+        tr_cold_start(m, d);
+    }
+    d->have_J = d->J_fresh = d->J_refresh = 0;
+    if (jac) {
+        memcpy(d->J, jac, (size_t)k * k * sizeof(double));
+        d->have_J = 1;
+        for (i = 0; i < k * k; i++)
+            if (!isfinite(jac[i])) d->have_J = 0;
+    }
+    status = tr_residual(m, d, d->x, d->f);
+    d->fnorm = tru_maxnorm(d->f, k);
+    if (status != TR_OK)
+        tr_set_message(d, "the residual at the initial guess is not finite (the guess is far "
+                          "from any equilibrium); try no guess, or a guess from a nearby scene");
+    return status;
+}
+
+int tr_solve_test(const tr_model *m, const tr_data *d)
+{
+    (void)m;
+    return d->fnorm <= d->opt.tol ? TR_OK : TR_CONTINUE;
+}
+
+/* Backtracking line search along d->dx from d->x: the first alpha with the Armijo
+ * decrease of |f|^2 puts the trial point in d->xt, d->ft and returns 1; with a
+ * Broyden (not fresh) Jacobian the first failure asks for a fresh one (returns 0,
+ * J_refresh set); otherwise a failure below TR_ALPHA_MIN returns TR_ENOPROGRESS. */
+static int line_search(const tr_model *m, tr_data *d, double phi0)
+{
+    const int k = d->k;
+    double alpha = 1.0;
+    int i;
+    for (;;) {
+        double phi;
+        int status;
+        if (d->nfev >= d->opt.max_nfev) {
+            tr_set_message(d,
+                           "function-evaluation limit (max_nfev = %d) reached at iteration %d "
+                           "(scaled residual %.3g > tol %.3g); raise max_nfev",
+                           d->opt.max_nfev, d->nit, d->fnorm, d->opt.tol);
+            return TR_EMAXFEV;
+        }
+        for (i = 0; i < k; i++) d->xt[i] = d->x[i] + alpha * d->dx[i];
+        status = tr_residual(m, d, d->xt, d->ft);
+        phi = status == TR_OK ? tru_sumsq(d->ft, k) : INFINITY;
+        if (phi <= (1.0 - 2.0 * TR_ARMIJO * alpha) * phi0) return 1;
+        if (!d->J_fresh) {
+            d->J_refresh = 1;
+            return 0;
+        }
+        if (isfinite(phi)) {
+            /* minimiser of the quadratic through phi0, slope -2 phi0, phi(alpha) */
+            double an = phi0 * alpha * alpha / (phi - phi0 + 2.0 * phi0 * alpha);
+            if (!(an >= 0.1 * alpha)) an = 0.1 * alpha;
+            if (an > 0.5 * alpha) an = 0.5 * alpha;
+            alpha = an;
+        } else {
+            alpha *= 0.25;
+        }
+        if (alpha < TR_ALPHA_MIN) {
+            if (d->fnorm < TR_ROUNDOFF_HINT)
+                tr_set_message(d,
+                               "no progress at iteration %d: the scaled residual stalled at "
+                               "%.3g > tol %.3g, near the round-off level of this scene (large "
+                               "tensions or stiffness ratios); loosen tol",
+                               d->nit, d->fnorm, d->opt.tol);
+            else
+                tr_set_message(d,
+                               "no progress at iteration %d: the line search found no "
+                               "decrease of the scaled residual (%.3g) along the Newton "
+                               "direction; the scene may have no equilibrium nearby (e.g. past "
+                               "a buckling or slack limit), or the guess is poor",
+                               d->nit, d->fnorm);
+            return TR_ENOPROGRESS;
+        }
+    }
+}
+
+/* Take the accepted trial point: Broyden update (fd method), then, for a tendon
+ * that switched between taut and slack (its Jacobian column jumps: semismooth),
+ * a fresh column when the step made good progress. */
+static void accept_step(const tr_model *m, tr_data *d, double phi0)
+{
+    const int k = d->k, off = tr_n_force(m), gend = off + m->ndisp;
+    const double ratio = sqrt(tru_sumsq(d->ft, k) / (phi0 > 0.0 ? phi0 : 1.0));
+    int i, j;
+    if (d->jac_method == TR_JAC_FD) {
+        double ss = 0.0;
+        for (i = 0; i < k; i++) {
+            d->dx[i] = d->xt[i] - d->x[i];
+            ss += d->dx[i] * d->dx[i];
+        }
+        if (ss > 0.0) broyden_update(k, d->J, d->dx, ss, d->f, d->ft);
+    }
+    for (j = off; j < gend; j++) d->switched[j - off] = (d->x[j] > 0.0) != (d->xt[j] > 0.0);
+    memcpy(d->x, d->xt, (size_t)k * sizeof(double));
+    memcpy(d->f, d->ft, (size_t)k * sizeof(double));
+    if (d->jac_method == TR_JAC_FD && !(ratio > TR_BROYDEN_RATIO))
+        for (j = off; j < gend; j++)
+            if (d->switched[j - off] &&
+                tr_fd_column(m, d, d->x, d->f, j, d->J + j, (size_t)k, 0) != TR_OK)
+                break; /* the remaining columns keep their Broyden update */
+    d->fnorm = tru_maxnorm(d->f, k);
+    d->J_fresh = 0;
+    d->J_refresh = ratio > TR_BROYDEN_RATIO;
+    d->nit++;
+}
+
+int tr_solve_iterate(const tr_model *m, tr_data *d)
+{
+    const int k = d->k;
+    int attempt, i;
+    for (attempt = 0; attempt < 3; attempt++) {
+        double phi0, dmax;
+        int status;
+        if (!d->have_J || d->J_refresh || (d->jac_method == TR_JAC_NEWTON && !d->J_fresh)) {
+            status = tr_fd_jacobian(m, d);
+            if (status != TR_OK) {
+                if (status != TR_EMAXFEV)
+                    tr_set_message(d, "the residual became non-finite while forming the Jacobian");
+                return status;
+            }
+        }
+        if (tr_lu_factor(d) != 0 || tr_lu_solve(d, d->f, d->dx) != 0) {
+            if (!d->J_fresh) {
+                d->J_refresh = 1;
+                continue;
+            }
+            tr_set_message(d,
+                           "singular Jacobian at iteration %d (scaled residual %.3g): the "
+                           "unknowns are not determined by the boundary conditions (statically "
+                           "indeterminate tendons, or a tendon whose tension cannot act)",
+                           d->nit, d->fnorm);
+            return TR_ESINGULAR;
+        }
+        for (i = 0; i < k; i++) d->dx[i] = -d->dx[i];
+        dmax = tru_maxnorm(d->dx, k);
+        if (dmax > TR_MAX_STEP)
+            for (i = 0; i < k; i++) d->dx[i] *= TR_MAX_STEP / dmax;
+        phi0 = tru_sumsq(d->f, k);
+        status = line_search(m, d, phi0);
+        if (status < 0) return status;
+        if (status == 0) continue; /* stale Jacobian rejected: retry with a fresh one */
+        accept_step(m, d, phi0);
+        return TR_CONTINUE;
+    }
+    tr_set_message(d, "no progress at iteration %d even with a fresh Jacobian", d->nit);
+    return TR_ENOPROGRESS;
+}
+
+int tr_newton_run(const tr_model *m, tr_data *d, int max_iter, int stall, double ratio)
+{
+    int it = 0;
+    double hist[TR_STALL_ITERS]; /* residual norms of the last TR_STALL_ITERS iterations */
+    if (d->jac_method == TR_JAC_HYBRID && d->hyb) return tr_hybrid_run(m, d, max_iter);
+    for (;;) {
+        int status;
+        if (tr_solve_test(m, d) == TR_OK) return TR_OK;
+        /* creeping (tiny damped steps along a curved valley, e.g. the common-mode
+         * tension of stiff tendons under twist): give up early, so that the caller's
+         * continuation starts before max_iter evaluations are spent */
+        if (it >= stall && d->fnorm > ratio * hist[(it - stall) % TR_STALL_ITERS]) {
+            tr_set_message(d,
+                           "stagnated (scaled residual %.3g > tol %.3g, down by less than "
+                           "%gx in %d iterations); give a guess from a nearby solved scene",
+                           d->fnorm, d->opt.tol, 1.0 / ratio, stall);
+            return TR_EMAXITER;
+        }
+        hist[it % TR_STALL_ITERS] = d->fnorm;
+        if (d->nfev >= d->opt.max_nfev) {
+            tr_set_message(d,
+                           "function-evaluation limit (max_nfev = %d) reached (scaled residual "
+                           "%.3g > tol %.3g); raise max_nfev",
+                           d->opt.max_nfev, d->fnorm, d->opt.tol);
+            return TR_EMAXFEV;
+        }
+        if (it >= max_iter) {
+            tr_set_message(d,
+                           "did not converge in %d iterations (scaled residual %.3g > tol %.3g); "
+                           "raise max_iter, or give a guess from a nearby solved scene",
+                           max_iter, d->fnorm, d->opt.tol);
+            return TR_EMAXITER;
+        }
+        status = tr_solve_iterate(m, d);
+        it++;
+        if (status < 0) return status;
+    }
+}
+
+int tr_solve_lean(const tr_model *m, tr_data *d, const double *x0, const double *jac, int max_iter)
+{
+    const int k = d->k;
+    double fn, fnt;
+    int i, st;
+    if (d->model != m) {
+        tr_set_message(d, "workspace was allocated for a different model");
+        return d->status = TR_EINVAL;
+    }
+    tr_solve_reset(m, d, d->opt.steps);
+    if (jac) {
+        memcpy(d->J, jac, (size_t)k * k * sizeof(double));
+        d->have_J = 1;
+    }
+    if (m->scene_status != TR_OK || d->opt.steps <= 0 || d->opt.integrator == TR_ADAPTIVE ||
+        !d->have_J) {
+        tr_set_message(d, "a lean solve needs a solvable scene, fixed steps and a Jacobian");
+        return d->status = TR_EINVAL;
+    }
+    memcpy(d->x, x0, (size_t)k * sizeof(double));
+    if (tr_residual(m, d, d->x, d->f) != TR_OK) return d->status = TR_ENONFINITE;
+    fn = tru_maxnorm(d->f, k);
+    while (!(fn <= d->opt.tol)) {
+        double ss = 0.0;
+        if (d->nit >= max_iter || d->nfev >= d->opt.max_nfev) return d->status = TR_EMAXITER;
+        if (tr_lu_factor(d) != 0 || tr_lu_solve(d, d->f, d->dx) != 0)
+            return d->status = TR_ESINGULAR;
+        for (i = 0; i < k; i++) {
+            d->dx[i] = -d->dx[i];
+            d->xt[i] = d->x[i] + d->dx[i];
+        }
+        st = tr_residual(m, d, d->xt, d->ft);
+        fnt = st == TR_OK ? tru_maxnorm(d->ft, k) : INFINITY;
+        if (!(fnt < fn)) return d->status = TR_ENOPROGRESS;
+        for (i = 0; i < k; i++) ss += d->dx[i] * d->dx[i];
+        if (tru_maxnorm(d->dx, k) > TR_LEAN_BROYDEN_MIN_STEP)
+            broyden_update(k, d->J, d->dx, ss, d->f, d->ft);
+        memcpy(d->x, d->xt, (size_t)k * sizeof(double));
+        memcpy(d->f, d->ft, (size_t)k * sizeof(double));
+        fn = fnt;
+        d->nit++;
+    }
+    d->fnorm = d->residual_norm = fn;
+    d->J_fresh = 0;
+    tr_set_message(d, "converged in %d iterations (scaled residual %.3g <= tol %.3g)", d->nit,
+                   d->residual_norm, d->opt.tol);
+    return d->status = TR_OK;
+}

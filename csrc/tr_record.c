@@ -1,0 +1,173 @@
+/*
+ * tr_record.c -- the recording pass: the states at the output nodes of a solved
+ * scene, integrated from the converged unknowns with the accuracy of the shooting
+ * steps (denser nodes cost RK4 steps instead of rk8 ones), the tip node being the
+ * shooting tip itself; or only the tip, from the last residual evaluation.
+ */
+#include <math.h>
+#include <string.h>
+
+#include "tendonrod.h"
+#include "tr_internal.h"
+
+static void store_node(const tr_model *m, tr_data *d, int j, const double *y)
+{
+    tr_state_world(m, y, d->pos + 3 * j, d->rot + 9 * j, d->force + 3 * j, d->moment + 3 * j);
+}
+
+/* Integrate a span [s0, s1] of segment k in the recording pass with at least the
+ * accuracy of the shooting steps.  Fixed-step rk8: where nodes are dense, a few
+ * classical RK4 steps of at most an eighth of the shooting step cost less than
+ * one 13-stage rk8 step and stay as accurate (error ~ (h/8)^4 against h^8 for
+ * the curvatures of a robot); where nodes are sparse, rk8 at the shooting step. */
+static int record_span(const tr_model *m, tr_data *d, double s0, double s1, int k, double *y,
+                       int allow_rk4, int *used_rk4)
+{
+    const double len = s1 - s0;
+    const double h = (m->bp[k + 1] - m->bp[k]) / tr_segment_steps(m, d, k);
+    int n8, n4;
+    if (!(len > 0.0)) return TR_OK;
+    n8 = (int)ceil(len / h - 1e-9);
+    if (n8 < 1) n8 = 1;
+    if (d->opt.integrator != TR_RK8) return tr_integrate(m, d, s0, s1, n8, y);
+    n4 = (int)ceil(len / fmin(h / TR_RECORD_RK4_FRACTION, m->L / TR_RECORD_RK4_MIN_STEPS) - 1e-9);
+    if (n4 < 1) n4 = 1;
+    if (!allow_rk4 || 4 * n4 >= 13 * n8) return tr_integrate(m, d, s0, s1, n8, y);
+    *used_rk4 = 1;
+    return tr_integrate_with(m, d, TR_RK4, s0, s1, n4, y);
+}
+
+/* Restart the recording at shooting node j from its unknowns; the recording
+ * layout has a path-length slot per tendon: those of displacement-controlled
+ * tendons come from the node, the others keep integrating (they are continuous). */
+static void rec_restart(const tr_model *m, tr_data *d, int j, double *y)
+{
+    const int o = tr_node_off(m, j), lenbase = m->n_base;
+    int c, i;
+    for (c = 0; c < m->n_base; c++) y[c] = d->x[o + c] * tr_node_scale(m, c);
+    for (i = 0; i < m->nt; i++) {
+        const tr_tendon *t = &m->tendon[i];
+        if (t->len_index >= 0) y[lenbase + i] = d->x[o + m->n_base + t->len_index] * m->len_s;
+    }
+}
+
+static int record_pass(const tr_model *m, tr_data *d, int allow_rk4, int *used)
+{
+    const double eps = 1e-12 * m->L;
+    const int nn = d->nnode, lenbase = m->planar ? TR_YP_LEN : TR_Y_LEN;
+    double *y = d->y, scur = 0.0;
+    int j, k = 0, status = TR_OK, i, used_rk4 = 0;
+
+    d->rec = 1;
+    tr_set_tensions(m, d, d->x);
+    tr_init_state(m, d, d->x, y, m->n_states_rec);
+    for (j = 0; j < nn && status == TR_OK; j++) {
+        const double sj = d->s[j];
+        while (k < m->nseg - 1 && sj > m->bp[k + 1] + eps && status == TR_OK) {
+            d->seg = k;
+            status = record_span(m, d, scur, m->bp[k + 1], k, y, allow_rk4, &used_rk4);
+            tr_apply_jump(m, d, k + 1, y);
+            if (m->bp_node[k + 1] > 0) rec_restart(m, d, m->bp_node[k + 1], y);
+            scur = m->bp[k + 1];
+            k++;
+        }
+        if (status != TR_OK) break;
+        d->seg = k;
+        if (k < m->nseg - 1 && fabs(sj - m->bp[k + 1]) <= eps) {
+            const int pre = (j + 1 < nn && fabs(d->s[j + 1] - sj) <= eps);
+            status = record_span(m, d, scur, m->bp[k + 1], k, y, allow_rk4, &used_rk4);
+            scur = m->bp[k + 1];
+            if (!pre) {
+                tr_apply_jump(m, d, k + 1, y);
+                if (m->bp_node[k + 1] > 0) rec_restart(m, d, m->bp_node[k + 1], y);
+                k++;
+            }
+        } else {
+            const double se = sj > m->bp[k + 1] ? m->bp[k + 1] : sj;
+            if (se > scur) status = record_span(m, d, scur, se, k, y, allow_rk4, &used_rk4);
+            if (se > scur) scur = se;
+        }
+        store_node(m, d, j, y);
+    }
+    while (k < m->nseg && status == TR_OK) {
+        d->seg = k;
+        if (m->bp[k + 1] > scur)
+            status = record_span(m, d, scur, m->bp[k + 1], k, y, allow_rk4, &used_rk4);
+        scur = m->bp[k + 1];
+        if (k + 1 < m->nseg) {
+            tr_apply_jump(m, d, k + 1, y);
+            if (m->bp_node[k + 1] > 0) rec_restart(m, d, m->bp_node[k + 1], y);
+        }
+        k++;
+    }
+    d->nfev++;
+    d->rec = 0;
+    for (i = 0; i < m->nt; i++) {
+        const tr_tendon *t = &m->tendon[i];
+        d->tension[i] = d->tau[i];
+        d->slack[i] = d->beta[i];
+        if (t->control == TR_DISPLACEMENT)
+            d->displacement[i] = t->value;
+        else
+            d->displacement[i] = t->rest_dev +
+                                 (isfinite(t->EA) ? d->tau[i] / t->EA : 0.0) * t->rest -
+                                 y[lenbase + i];
+    }
+    *used = used_rk4;
+    if (status != TR_OK) {
+        /* nothing stale is handed back: the recorded states (pos, rot, force, moment:
+         * 18 per node, contiguous after s in one block, see tr_data_alloc) become NaN;
+         * the node arc lengths d->s are inputs of the next recording pass and stay */
+        for (j = 0; j < 18 * nn; j++) d->pos[j] = NAN;
+    }
+    return status;
+}
+
+/* The recording pass; if it took RK4 shortcuts (dense nodes), its tip is checked
+ * against the shooting integration's tip: redone at the shooting steps when they
+ * differ grossly (> TR_RECORD_GROSS, scaled), else the tip node is replaced by the
+ * shooting tip. */
+int tr_record(const tr_model *m, tr_data *d)
+{
+    int used = 0, status = record_pass(m, d, 1, &used);
+    if (status == TR_OK && used) {
+        double diff = 0.0;
+        int i;
+        memcpy(d->ysave, d->y, (size_t)m->n_base * sizeof(double));
+        status = tr_residual(m, d, d->x, d->ft);
+        if (status != TR_OK) return record_pass(m, d, 0, &used);
+        for (i = 0; i < m->n_base; i++) {
+            const double e = fabs(d->ysave[i] - d->y[i]) / m->xstate_scale[i];
+            if (e > diff) diff = e;
+        }
+        if (!(diff <= TR_RECORD_GROSS)) return record_pass(m, d, 0, &used);
+        /* the tip node carries the shooting solution itself (the one the residual
+         * and the tolerance refer to); the RK4 nodes before it agree to ~1e-9 */
+        if (d->nnode > 0 && fabs(d->s[d->nnode - 1] - m->L) <= 1e-12 * m->L)
+            store_node(m, d, d->nnode - 1, d->y);
+    }
+    return status;
+}
+
+int tr_record_tip(const tr_model *m, tr_data *d)
+{
+    double nw[3], mw[3];
+    int i;
+    if (d->nnode != 1 || !(fabs(d->s[0] - m->L) <= 1e-12 * m->L)) {
+        tr_set_message(d, "tr_record_tip needs a tip-only workspace");
+        return TR_EINVAL;
+    }
+    /* the last residual evaluation was at d->x: d->y holds its tip state and d->tau,
+     * d->beta its tensions and slacks (the recording pass would reproduce this tip:
+     * it replaces its tip node by the shooting tip) */
+    tr_state_world(m, d->y, d->pos, d->rot, nw, mw);
+    memcpy(d->force, nw, sizeof nw);
+    memcpy(d->moment, mw, sizeof mw);
+    for (i = 0; i < m->nt; i++) {
+        const tr_tendon *t = &m->tendon[i];
+        d->tension[i] = d->tau[i];
+        d->slack[i] = d->beta[i];
+        d->displacement[i] = t->control == TR_DISPLACEMENT ? t->value : NAN;
+    }
+    return TR_OK;
+}

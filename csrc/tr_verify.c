@@ -1,0 +1,138 @@
+/*
+ * tr_verify.c -- the automatic step count (steps = 0): the initial count from the
+ * scene's load scale, its verification by step doubling with Richardson
+ * refinement, and the polish of a converged point.
+ */
+#include <math.h>
+#include <string.h>
+
+#include "tendonrod.h"
+#include "tr_internal.h"
+#include "tru_math.h"
+
+/* Step-doubling estimate of the truncation error at the current steps N and x:
+ * the change of the residual (into d->f at N, d->ft at 2N) and of the scaled tip
+ * state when every segment's steps are doubled, divided by (1 - 2^-p).  Returns
+ * INFINITY if an integration fails. */
+static double doubling_estimate(const tr_model *m, tr_data *d)
+{
+    const int k = d->k;
+    const double order = d->opt.integrator == TR_RK4 ? 4.0 : 8.0;
+    double est = 0.0;
+    int status, c;
+    status = tr_residual(m, d, d->x, d->f);
+    d->fnorm = status == TR_OK ? tru_maxnorm(d->f, k) : INFINITY;
+    memcpy(d->ysave, d->y, (size_t)m->n_base * sizeof(double));
+    d->steps_double = 1;
+    if (status == TR_OK) status = tr_residual(m, d, d->x, d->ft);
+    d->steps_double = 0;
+    if (status != TR_OK) return INFINITY;
+    for (c = 0; c < k; c++) {
+        const double e = fabs(d->ft[c] - d->f[c]);
+        if (!(e <= est)) est = e;
+    }
+    for (c = 0; c < m->n_base; c++) {
+        const double e = fabs(d->y[c] - d->ysave[c]) / m->xstate_scale[c];
+        if (!(e <= est)) est = e;
+    }
+    return est / (1.0 - pow(2.0, -order));
+}
+
+/* Richardson: the step count whose truncation error est (N / Nn)^p is
+ * TR_REFINE_SAFETY tol, at least N + 1 (2N when est is not finite), capped. */
+static int refined_steps(const tr_data *d, int N, double est)
+{
+    const double order = d->opt.integrator == TR_RK4 ? 4.0 : 8.0;
+    int Nn = N + 1;
+    if (isfinite(est)) {
+        const double want = ceil(N * pow(est / (TR_REFINE_SAFETY * d->opt.tol), 1.0 / order));
+        if (want > Nn) Nn = want < (double)TR_STEP_CAP ? (int)want : TR_STEP_CAP;
+    } else {
+        Nn = 2 * N;
+    }
+    return Nn < TR_STEP_CAP ? Nn : TR_STEP_CAP;
+}
+
+/* Verify the step count by doubling (steps = 0).  With every segment's steps
+ * doubled, the change of the residual and of the tip state (scaled) is (1 - 2^-p)
+ * of the truncation error at N steps (order p): that estimate of the error at N
+ * is what is compared with tol.  While it is too big, the count is raised to the
+ * Richardson prediction for TR_REFINE_SAFETY tol (at least N + 1 steps) and the
+ * Newton iteration continues from the current point at the new count. */
+int tr_verify_steps(const tr_model *m, tr_data *d)
+{
+    const int k = d->k;
+    int round;
+    for (round = 0; round < TR_REFINE_ROUNDS; round++) {
+        const int N = d->steps;
+        const double est = doubling_estimate(m, d);
+        int status;
+        d->truncation = est;
+        if (est <= d->opt.tol) {
+            /* N steps verified; the polish that follows may still reduce the
+             * residual at N (a converged residual near tol is not polished yet) */
+            d->steps_moved = 1;
+            return TR_OK;
+        }
+        if (N >= TR_STEP_CAP) {
+            tr_set_message(d,
+                           "converged, but the truncation estimate %.3g stayed above tol %.3g "
+                           "at %d steps; use a higher-order integrator or a looser tol",
+                           est, d->opt.tol, N);
+            return TR_TRUNCATION;
+        }
+        d->steps = refined_steps(d, N, est);
+        status = tr_residual(m, d, d->x, d->f);
+        d->fnorm = tru_maxnorm(d->f, k);
+        /* (no stagnation test: the point is converged at N steps already) */
+        if (status == TR_OK)
+            status = tr_newton_run(m, d, d->opt.max_iter, TR_STALL_ITERS, INFINITY);
+        if (status != TR_OK) return status;
+    }
+    return TR_TRUNCATION;
+}
+
+/* Polish a converged point: if the Newton step from it (with the final Jacobian)
+ * is still large -- a small residual that does not pin the unknowns, as for stiff
+ * antagonistic tendons on an inextensible backbone -- take full Newton steps while
+ * they do not increase the residual. */
+void tr_polish(const tr_model *m, tr_data *d)
+{
+    const int k = d->k;
+    int p, i;
+    for (p = 0; p < TR_POLISH_STEPS; p++) {
+        double big = 0.0;
+        if (tr_lu_factor(d) != 0 || tr_lu_solve(d, d->f, d->dx) != 0) return;
+        for (i = 0; i < k; i++) {
+            const double r = fabs(d->dx[i]) / (fabs(d->x[i]) > 1.0 ? fabs(d->x[i]) : 1.0);
+            if (r > big) big = r;
+            d->xt[i] = d->x[i] - d->dx[i];
+        }
+        /* after the step verification, a residual left near tol at the verified
+         * step count is polished too */
+        if (!(big > TR_POLISH_XTOL_FACTOR * d->opt.tol) &&
+            !(d->steps_moved && d->fnorm > TR_POLISH_RES_FACTOR * d->opt.tol))
+            return;
+        if (tr_residual(m, d, d->xt, d->ft) != TR_OK) return;
+        if (!(tru_maxnorm(d->ft, k) <= (d->fnorm > d->opt.tol ? d->fnorm : d->opt.tol))) return;
+        memcpy(d->x, d->xt, (size_t)k * sizeof(double));
+        memcpy(d->f, d->ft, (size_t)k * sizeof(double));
+        d->fnorm = tru_maxnorm(d->f, k);
+        d->nit++;
+    }
+}
+
+/* Automatic initial step count: the fixed minimum, or enough steps to resolve the
+ * boundary layers of width L / lambda that a load of magnitude F makes, lambda =
+ * L sqrt(F / EI) (TR_AUTO_PER_LAMBDA steps per unit lambda). */
+int tr_auto_steps(const tr_model *m, const tr_data *d)
+{
+    const int base = d->opt.integrator == TR_RK4 ? TR_AUTO_RK4 : TR_AUTO_RK8;
+    const double per = d->opt.integrator == TR_RK4 ? 4.0 * TR_AUTO_PER_LAMBDA : TR_AUTO_PER_LAMBDA;
+    double F = m->L * tru_norm3(m->dist), lam;
+    int b, n;
+    for (b = 1; b <= m->nseg; b++) F += tru_norm3(m->bpF + 3 * b);
+    lam = m->L * sqrt(F / m->EI);
+    n = (int)ceil(fmin(per * lam, (double)TR_AUTO_MAX));
+    return n > base ? n : base;
+}
