@@ -5,7 +5,7 @@ PY      ?= python3
 VENV    := .venv
 VPY     := $(VENV)/bin/python
 STAMP   := $(VENV)/.installed
-SOURCES := setup.py pyproject.toml tendonrod/_core.c $(wildcard csrc/*.c csrc/*.h)
+SOURCES := setup.py pyproject.toml $(wildcard tendonrod/*.c tendonrod/*.h csrc/*.c csrc/*.h)
 DEMO_OUT ?= figures
 
 .PHONY: demo test install gsl bench sanitize valgrind lint clean
@@ -51,7 +51,7 @@ valgrind: $(STAMP)
 
 # Lint: ruff (lint + format check) over the Python, clang-format over the C
 # (csrc/, the glue, bench/); clang-format is installed with apt-get when missing.
-C_FILES = $(wildcard csrc/*.c csrc/*.h tendonrod/*.c bench/*.c bench/fuzz/*.c)
+C_FILES = $(wildcard csrc/*.c csrc/*.h tendonrod/*.c tendonrod/*.h bench/*.c bench/fuzz/*.c)
 lint: $(STAMP)
 	@command -v clang-format >/dev/null 2>&1 || { SUDO=; [ "$$(id -u)" = 0 ] || SUDO=sudo; \
 	  $$SUDO apt-get update -qq && $$SUDO apt-get install -y -qq clang-format; }

@@ -86,6 +86,8 @@ def split_flags(cflags, libs):
 cflags, libs, how = find_gsl()
 inc, extra_c, libdirs, libnames, extra_l = split_flags(cflags, libs)
 csrc = sorted(os.path.join("csrc", f) for f in os.listdir("csrc") if f.endswith(".c"))
+# the glue: tendonrod/_*.c (only these files speak the CPython / NumPy C-API)
+glue = sorted(os.path.join("tendonrod", f) for f in os.listdir("tendonrod") if f.endswith(".c"))
 # Extra compile/link flags for instrumented builds (make sanitize) come from the
 # environment: TR_EXTRA_CFLAGS / TR_EXTRA_LDFLAGS.
 extra_c += shlex.split(os.environ.get("TR_EXTRA_CFLAGS", ""))
@@ -93,8 +95,8 @@ extra_l += shlex.split(os.environ.get("TR_EXTRA_LDFLAGS", ""))
 
 ext = Extension(
     "tendonrod._core",
-    sources=["tendonrod/_core.c"] + csrc,
-    include_dirs=["csrc", numpy.get_include()] + inc,
+    sources=glue + csrc,
+    include_dirs=["csrc", "tendonrod", numpy.get_include()] + inc,
     library_dirs=libdirs,
     libraries=libnames,
     # NumPy >= 2.0 is the runtime floor (pyproject.toml); pin the C-API target to it.

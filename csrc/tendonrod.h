@@ -89,6 +89,8 @@ enum tr_control { TR_DISPLACEMENT = 0, TR_TENSION = 1 };
 #define TR_MAX_NFEV_CAP         1000000000
 #define TR_MAX_CONTINUATION_CAP 1000000
 #define TR_MAX_NODES            10000000
+/* Output nodes of a solve by default: a smooth plot of the backbone. */
+#define TR_DEFAULT_NODES 101
 /* Largest number of shooting segments. */
 #define TR_MAX_SHOOTING_SEGMENTS 64
 /* Range of the rod's L [m], EI, GJ [N m^2]: the scales EI/L^2, EI/L and the

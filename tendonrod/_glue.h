@@ -1,0 +1,79 @@
+/*
+ * _glue.h -- what the glue files share.  The glue (tendonrod/_*.c) is the only code
+ * that speaks the CPython / NumPy C-API; it is built into one extension,
+ * tendonrod._core, whose module definition is _core.c.
+ *
+ * Each wrapper has the same shape: parse, coerce (float64, C-contiguous), check
+ * shapes with a message naming the argument, allocate outputs, release the GIL
+ * around the core call, map status to data, clean up through one label.
+ */
+#ifndef TENDONROD_GLUE_H
+#define TENDONROD_GLUE_H
+
+#define PY_SSIZE_T_CLEAN
+#include <Python.h>
+#define PY_ARRAY_UNIQUE_SYMBOL tendonrod_ARRAY_API
+#define PY_UFUNC_UNIQUE_SYMBOL tendonrod_UFUNC_API
+#ifndef TENDONROD_GLUE_MAIN
+#define NO_IMPORT_ARRAY
+#define NO_IMPORT_UFUNC
+#endif
+#include <numpy/arrayobject.h>
+#include <numpy/ufuncobject.h>
+
+#include "tendonrod.h"
+
+/* _ufuncs.c */
+int glue_add_ufuncs(PyObject *module);
+
+/* _args.c: arguments shared by the solver entry points */
+typedef struct {
+    PyArrayObject *rod, *tendons, *loads, *dist; /* the scene's flat arrays */
+    PyArrayObject *guess, *jac, *nodes;          /* optional */
+    int nt, nl, nnode;
+    tr_options opt;
+} glue_args;
+
+/* Names of the choice options, in the order of their enums. */
+extern const char *const glue_integrators[];
+extern const char *const glue_jacobians[];
+extern const char *const glue_slack_models[];
+
+void glue_args_clear(glue_args *a);
+/* Exception of `type` with a printf-style message. */
+void glue_err(PyObject *type, const char *fmt, ...);
+/* float64, C-contiguous copy-or-view of obj; NULL + TypeError naming `name`. */
+PyArrayObject *glue_coerce(PyObject *obj, const char *name);
+/* 0, or -1 with ValueError when an entry is not finite (+inf allowed in column
+ * `posinf_col` of rows of `ncol` when posinf_col >= 0). */
+int glue_all_finite(PyArrayObject *a, const char *name, int posinf_col, int ncol);
+/* Remove `key` from the dict kw (may be NULL) and return it (a new reference), or
+ * NULL when absent (no exception). */
+PyObject *glue_take(PyObject *kw, const char *key);
+/* The scene arrays rod (6,), tendons (nt, 8), loads (nl, 7), dist (3,) into a,
+ * checked.  0, or -1 with an exception. */
+int glue_scene(glue_args *a, PyObject *rod, PyObject *tendons, PyObject *loads, PyObject *dist);
+/* The solver options in the dict kw (every remaining key must be one): a->opt starts
+ * from tr_default_options() and is checked by tr_options_check; "nodes" sets
+ * a->nnode / a->nodes.  `fn` names the entry point in errors.  0 or -1. */
+int glue_options(glue_args *a, PyObject *kw, const char *fn);
+/* The optional guess (6 + 2 nt,) and jacobian (square) of a warm start.  0 or -1. */
+int glue_warm_start(glue_args *a, PyObject *guess, PyObject *jacobian);
+/* Compile the model (with an extra point load row when extra_load != NULL) and its
+ * workspace; ValueError with the core's message (it names the value).  0 or -1. */
+int glue_build(glue_args *a, const double *extra_load, tr_model **mp, tr_data **dp);
+/* A new float64 array of shape dims filled from src (may be NULL). */
+PyObject *glue_array(int nd, const npy_intp *dims, const double *src);
+/* Steal `value` into dict[key]; -1 on error (value released). */
+int glue_set(PyObject *dict, const char *key, PyObject *value);
+
+/* _solve.c, _batch.c: the entry points */
+PyObject *glue_solve(PyObject *self, PyObject *args, PyObject *kwds);
+PyObject *glue_compliance(PyObject *self, PyObject *args, PyObject *kwds);
+PyObject *glue_strerror(PyObject *self, PyObject *arg);
+PyObject *glue_is_planar(PyObject *self, PyObject *args);
+PyObject *glue_solve_batch(PyObject *self, PyObject *args, PyObject *kwds);
+extern const char glue_solve_doc[], glue_compliance_doc[], glue_strerror_doc[];
+extern const char glue_is_planar_doc[], glue_solve_batch_doc[];
+
+#endif
