@@ -3,7 +3,7 @@
  * tr_closed.h (paper Sections II-III).
  *
  * The kernels are C99 inline functions defined in the header, so the NumPy
- * ufunc loops in tendonrod/_core.c can inline them.  C99 (6.7.4) requires one
+ * ufunc loops in tendonrod/_ufuncs.c can inline them.  C99 (6.7.4) requires one
  * translation unit to provide the external definition of each inline
  * function for callers that do not inline it; these `extern` declarations of
  * the inline definitions emit exactly that.  All formulas, units, domains

@@ -11,7 +11,7 @@
  * the tip and, at the base, to a spring of stiffness k [N/m] (k = INFINITY:
  * inextensible tendon, k = 0: no tendon).
  *
- * Sign convention (DESIGN.md): with the tendon at +x (b > 0), F > 0 is the
+ * Sign convention (docs/model.md): with the tendon at +x (b > 0), F > 0 is the
  * world force -F e_x, i.e. it points away from the tendon side, so the tendon
  * is stretched and tightens.  theta(s) [rad] and delta(s) [m] are positive in
  * the direction of F, so theta(s) = -(right-hand side of eq. 22)/EI and

@@ -1,5 +1,5 @@
 /*
- * tr_rod.c -- right-hand sides of the rod/tendon ODE (MODEL.md).
+ * tr_rod.c -- right-hand sides of the rod/tendon ODE (docs/model.md).
  *
  * Body-frame equilibrium with the tendon loads a + A v' + G u' (force) and
  * b + B v' + H u' (moment); internal force and moment n_b, m_b are the states
