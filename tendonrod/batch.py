@@ -25,7 +25,8 @@ import numpy as np
 
 from . import _core
 from .model import Scene
-from .solver import Options, _check_options, _is_planar, pack_scene
+from .options import Options, _check_options
+from .solver import _is_planar, pack_scene
 
 __all__ = ["solve_batch", "BatchResult", "DEFAULT_CHUNKSIZE"]
 

@@ -309,7 +309,7 @@ WP_TOL = 1e-13
 
 def jacobian_methods():
     try:
-        from .solver import _JACOBIANS
+        from .options import _JACOBIANS
 
         return list(_JACOBIANS)
     except ImportError:  # pragma: no cover
