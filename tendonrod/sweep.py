@@ -70,6 +70,7 @@ from ._sweep_chunk import (
     STATUS_OK,
     _BuildFailure,
     _run_chunk,
+    sweep_can_batch,
 )
 
 __all__ = [
@@ -505,8 +506,6 @@ def sweep(
     # the default tip measure -> each chunk is one tr.solve_batch call (same chunking and
     # warm starts; with automatic steps bit for bit the per-point path, with a fixed step
     # count the batch's lean loop, equal to it to the solver tolerance)
-    from .batch import sweep_can_batch
-
     if build is None and measure is tip_measure and sweep_can_batch(base, names):
         for t in tasks:
             t["batch"] = True
