@@ -49,10 +49,7 @@ Failures
 from __future__ import annotations
 
 import concurrent.futures as cf
-import dataclasses
-import hashlib
 import itertools
-import json
 import math
 import os
 import warnings
@@ -71,6 +68,7 @@ from ._sweep_chunk import (
     _run_chunk,
     sweep_can_batch,
 )
+from ._sweep_file import append_line, fingerprint_of, open_progress
 from ._sweep_paths import _parse_path, get_path, set_path
 
 __all__ = [
@@ -86,7 +84,6 @@ __all__ = [
     "STATUS_NOT_RUN",
 ]
 
-_FORMAT_VERSION = 1
 _DEFAULT_LIST_CHUNK = 32
 
 
@@ -193,86 +190,6 @@ class SweepResult:
             (tuple(int(i) for i in ix), int(self.status[tuple(ix)]), str(self.message[tuple(ix)]))
             for ix in idx
         ]
-
-
-# --------------------------------------------------------------------------
-# the work done by one worker
-# --------------------------------------------------------------------------
-def _jsonable(value: Any) -> Any:
-    if isinstance(value, np.ndarray):
-        return value.tolist()
-    if isinstance(value, (np.floating, np.integer, np.bool_)):
-        return value.item()
-    return value
-
-
-# --------------------------------------------------------------------------
-# the sweep
-# --------------------------------------------------------------------------
-def _fingerprint(base, names, point_values, chunksize, measure, build, options, warm_start) -> str:
-    def ident(f):
-        # functions by module + qualified name; callable objects by their class (and, for
-        # dataclasses, their fields) -- never by a repr holding a memory address, which
-        # would change from one process to the next and make every file look foreign
-        if f is None:
-            return None
-        if hasattr(f, "__qualname__"):
-            return (getattr(f, "__module__", ""), f.__qualname__)
-        cls = type(f)
-        return (cls.__module__, cls.__qualname__, repr(f) if dataclasses.is_dataclass(f) else "")
-
-    payload = repr(
-        (
-            _FORMAT_VERSION,
-            repr(base),
-            list(names),
-            [[repr(_jsonable(np.asarray(v))) for v in row] for row in point_values],
-            chunksize,
-            ident(measure),
-            ident(build),
-            repr(options),
-            bool(warm_start),
-        )
-    )
-    return hashlib.sha256(payload.encode()).hexdigest()
-
-
-def _read_progress(path: str, fingerprint: str, npoints: int) -> dict:
-    """Chunks already recorded in ``path`` -> their records; drops a torn last line."""
-    done: dict = {}
-    with open(path, "rb+") as fh:
-        raw = fh.read()
-        good_end = 0
-        lines = raw.split(b"\n")
-        complete = lines[:-1]  # the last element follows the last newline
-        for n, line in enumerate(complete):
-            try:
-                obj = json.loads(line)
-            except json.JSONDecodeError:
-                break  # torn write (killed mid-line): drop it and the rest
-            if n == 0:
-                if (
-                    obj.get("tendonrod_sweep") != _FORMAT_VERSION
-                    or obj.get("fingerprint") != fingerprint
-                ):
-                    raise ValueError(
-                        f"path {path!r} holds results of a different sweep (fingerprint "
-                        f"{obj.get('fingerprint')!r}); choose another path or delete the file"
-                    )
-            else:
-                done[int(obj["chunk"])] = obj["records"]
-            good_end += len(line) + 1
-        if good_end == 0:
-            raise ValueError(f"path {path!r} exists but has no sweep header; not overwriting it")
-        if good_end != len(raw):  # cut the torn tail so appends start on a clean line
-            fh.truncate(good_end)
-    return done
-
-
-def _append(fh, obj: dict) -> None:
-    fh.write(json.dumps(obj, allow_nan=True, separators=(",", ":")) + "\n")
-    fh.flush()
-    os.fsync(fh.fileno())
 
 
 def sweep(
@@ -391,25 +308,9 @@ def sweep(
     nchunks = math.ceil(npoints / chunksize)
     done: dict = {}
     fh = None
-    fp = _fingerprint(base, names, point_values, chunksize, measure, build, options, warm_start)
+    fp = fingerprint_of(base, names, point_values, chunksize, measure, build, options, warm_start)
     if path is not None:
-        path = os.fspath(path)
-        if os.path.exists(path) and os.path.getsize(path) > 0:
-            done = _read_progress(path, fp, npoints)
-            fh = open(path, "a", encoding="utf-8")
-        else:
-            fh = open(path, "w", encoding="utf-8")
-            _append(
-                fh,
-                {
-                    "tendonrod_sweep": _FORMAT_VERSION,
-                    "fingerprint": fp,
-                    "npoints": npoints,
-                    "chunksize": chunksize,
-                    "names": list(names),
-                    "shape": list(shape),
-                },
-            )
+        done, fh = open_progress(path, fp, npoints, chunksize, names, shape)
 
     todo = [c for c in range(nchunks) if c not in done]
     tasks = [
@@ -480,7 +381,7 @@ def _drive(executor, tasks, done, fh, bar) -> None:
             out = fut.result()
             done[out["chunk"]] = out["records"]
             if fh is not None:
-                _append(fh, {"chunk": out["chunk"], "records": out["records"]})
+                append_line(fh, {"chunk": out["chunk"], "records": out["records"]})
             if bar is not None:
                 bar.update(len(out["records"]))
     except BaseException:
