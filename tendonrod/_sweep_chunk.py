@@ -20,7 +20,8 @@ import numpy as np
 
 from .batch import solve_batch
 from .model import PointLoad, Scene
-from .solver import _is_planar
+from .results import ConvergenceWarning
+from .solver import _is_planar, solve
 
 STATUS_OK = 0
 """The solve converged."""
@@ -42,8 +43,6 @@ class _BuildFailure:
 
 def _run_chunk(task: dict) -> dict:
     """Solve one chunk in order with warm starts; never raises for a point."""
-    import tendonrod as tr
-
     scenes, measure, options, warm = (
         task["scenes"],
         task["measure"],
@@ -75,10 +74,10 @@ def _run_chunk(task: dict) -> dict:
                 # point, so silence the warning here.  Thread-pool workers must not touch the
                 # (process-global) filters; sweep() silences them once, in the calling thread.
                 with warnings.catch_warnings():
-                    warnings.simplefilter("ignore", getattr(tr, "ConvergenceWarning", Warning))
-                    sol = tr.solve(scene, guess=guess if warm else None, options=options)
+                    warnings.simplefilter("ignore", ConvergenceWarning)
+                    sol = solve(scene, guess=guess if warm else None, options=options)
             else:
-                sol = tr.solve(scene, guess=guess if warm else None, options=options)
+                sol = solve(scene, guess=guess if warm else None, options=options)
             values = {k: np.asarray(v, dtype=float) for k, v in dict(measure(scene, sol)).items()}
             ok = bool(sol.success)
             records.append(

@@ -70,6 +70,9 @@ from ._sweep_chunk import (
 )
 from ._sweep_file import append_line, fingerprint_of, open_progress
 from ._sweep_paths import _parse_path, get_path, set_path
+from .options import Options
+from .results import ConvergenceWarning
+from .solver import compliance
 
 __all__ = [
     "sweep",
@@ -113,11 +116,9 @@ class ComplianceMeasure:
     s: tuple = (None,)
 
     def __call__(self, scene, sol):
-        import tendonrod as tr
-
         out = tip_measure(scene, sol)
         out["compliance"] = np.stack(
-            [np.asarray(tr.compliance(scene, s=s), dtype=float) for s in self.s]
+            [np.asarray(compliance(scene, s=s), dtype=float) for s in self.s]
         )
         return out
 
@@ -281,11 +282,9 @@ def sweep(
     if measure is None:
         measure = tip_measure
         if options is None:
-            # only tip quantities are recorded: do not fill backbone arrays (DESIGN.md,
-            # "leave out what a scene does not need"; ~30% faster per solve)
-            import tendonrod as tr
-
-            options = tr.Options(tip_only=True)
+            # only tip quantities are recorded: do not fill backbone arrays (~30% faster
+            # per solve)
+            options = Options(tip_only=True)
     if build is None:
         for n in names:
             _parse_path(n)  # fail early on a malformed path
@@ -354,11 +353,9 @@ def sweep(
     if own and tasks:
         workers = max_workers or os.cpu_count() or 1
         executor = cf.ThreadPoolExecutor(max_workers=min(workers, len(tasks)))
-    import tendonrod as tr
-
     try:
         with warnings.catch_warnings():
-            warnings.simplefilter("ignore", getattr(tr, "ConvergenceWarning", Warning))
+            warnings.simplefilter("ignore", ConvergenceWarning)
             _drive(executor, tasks, done, fh, bar)
     finally:
         if own and executor is not None:
