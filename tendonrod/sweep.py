@@ -247,6 +247,48 @@ def sweep(
     -------
     SweepResult
     """
+    names, shape, point_values = _points(vary, grid)
+    npoints = len(point_values)
+    if chunksize is None:
+        chunksize = shape[-1] if (grid and shape) else min(npoints, _DEFAULT_LIST_CHUNK)
+    chunksize = int(chunksize)
+    if chunksize < 1:
+        raise ValueError(f"chunksize must be >= 1, got {chunksize}")
+    if max_workers is not None and int(max_workers) < 1:
+        raise ValueError(f"max_workers must be >= 1, got {max_workers}")
+    if measure is None:
+        measure = tip_measure
+        if options is None:
+            # only tip quantities are recorded: do not fill backbone arrays (~30% faster
+            # per solve)
+            options = Options(tip_only=True)
+    if build is None:
+        for n in names:
+            _parse_path(n)  # fail early on a malformed path
+            get_path(base, n)  # ... or one that does not exist
+
+    scenes = _build_scenes(base, names, point_values, build)
+    done: dict = {}
+    fh = None
+    fp = fingerprint_of(base, names, point_values, chunksize, measure, build, options, warm_start)
+    if path is not None:
+        done, fh = open_progress(path, fp, npoints, chunksize, names, shape)
+    tasks = _tasks(scenes, chunksize, done, measure, options, warm_start)
+    # batch path: only values of actuation and point loads vary and the record is the
+    # default tip measure -> each chunk is one tr.solve_batch call (same chunking and
+    # warm starts; with automatic steps bit for bit the per-point path, with a fixed step
+    # count the batch's lean loop, equal to it to the solver tolerance)
+    if build is None and measure is tip_measure and sweep_can_batch(base, names):
+        for t in tasks:
+            t["batch"] = True
+    bar = _progress_bar(progress, npoints, done)
+    _run(tasks, done, fh, bar, executor, max_workers)
+    return _assemble(names, shape, point_values, done, npoints, chunksize)
+
+
+def _points(vary, grid: bool):
+    """``(names, shape, point_values)``: the varied names, the result shape, and the
+    values of every point (a list per point, in the order of ``names``)."""
     if vary is None:
         vary = {}
     if not isinstance(vary, Mapping):
@@ -271,26 +313,12 @@ def sweep(
         npts = lengths.pop() if lengths else 1
         shape = (npts,)
         point_values = [list(p) for p in zip(*columns)] if names else [[]]
-    npoints = len(point_values)
-    if chunksize is None:
-        chunksize = shape[-1] if (grid and shape) else min(npoints, _DEFAULT_LIST_CHUNK)
-    chunksize = int(chunksize)
-    if chunksize < 1:
-        raise ValueError(f"chunksize must be >= 1, got {chunksize}")
-    if max_workers is not None and int(max_workers) < 1:
-        raise ValueError(f"max_workers must be >= 1, got {max_workers}")
-    if measure is None:
-        measure = tip_measure
-        if options is None:
-            # only tip quantities are recorded: do not fill backbone arrays (~30% faster
-            # per solve)
-            options = Options(tip_only=True)
-    if build is None:
-        for n in names:
-            _parse_path(n)  # fail early on a malformed path
-            get_path(base, n)  # ... or one that does not exist
+    return names, shape, point_values
 
-    # the scenes, built in the parent (cheap); a failed build becomes a recorded error
+
+def _build_scenes(base, names, point_values, build) -> list:
+    """The scene of every point, built in the parent (cheap); a failed build becomes a
+    :class:`_BuildFailure`, recorded as an error when its chunk runs."""
     scenes: list = []
     for pv in point_values:
         try:
@@ -303,16 +331,15 @@ def sweep(
             scenes.append(scene)
         except Exception as exc:  # noqa: BLE001 - recorded as a failed point
             scenes.append(_BuildFailure(f"{type(exc).__name__}: {exc}"))
+    return scenes
 
+
+def _tasks(scenes, chunksize, done, measure, options, warm_start) -> list:
+    """One task per chunk not already in ``done`` (see :mod:`tendonrod._sweep_chunk`)."""
+    npoints = len(scenes)
     nchunks = math.ceil(npoints / chunksize)
-    done: dict = {}
-    fh = None
-    fp = fingerprint_of(base, names, point_values, chunksize, measure, build, options, warm_start)
-    if path is not None:
-        done, fh = open_progress(path, fp, npoints, chunksize, names, shape)
-
     todo = [c for c in range(nchunks) if c not in done]
-    tasks = [
+    return [
         {
             "chunk": c,
             "indices": list(range(c * chunksize, min((c + 1) * chunksize, npoints))),
@@ -323,14 +350,11 @@ def sweep(
         }
         for c in todo
     ]
-    # batch path (issue 7): only values of actuation and point loads vary and the record is
-    # the default tip measure -> each chunk is one tr.solve_batch call (same chunking and
-    # warm starts; with automatic steps bit for bit the per-point path, with a fixed step
-    # count the batch's lean loop, equal to it to the solver tolerance)
-    if build is None and measure is tip_measure and sweep_can_batch(base, names):
-        for t in tasks:
-            t["batch"] = True
 
+
+def _progress_bar(progress, npoints, done):
+    """A tqdm bar (None: not wanted, or tqdm missing; with ``progress=True`` the latter
+    warns)."""
     bar = None
     if progress or progress is None:
         try:
@@ -345,10 +369,16 @@ def sweep(
             )
         except ImportError:
             if progress:
+                # stacklevel 3: the warning points at the caller of sweep()
                 warnings.warn(
-                    "progress=True but tqdm is not installed; running quietly", stacklevel=2
+                    "progress=True but tqdm is not installed; running quietly", stacklevel=3
                 )
+    return bar
 
+
+def _run(tasks, done, fh, bar, executor, max_workers) -> None:
+    """Run the chunks on ``executor`` (default: a thread pool, shut down at the end),
+    with the solver's convergence warnings silenced, then close the file and the bar."""
     own = executor is None
     if own and tasks:
         workers = max_workers or os.cpu_count() or 1
@@ -364,8 +394,6 @@ def sweep(
             fh.close()
         if bar is not None:
             bar.close()
-
-    return _assemble(names, shape, point_values, done, npoints, chunksize)
 
 
 def _drive(executor, tasks, done, fh, bar) -> None:
