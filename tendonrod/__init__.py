@@ -37,10 +37,10 @@ from .solver import (
 )
 
 # END Cosserat solver API
-# BEGIN design studies (sweep.py; plot, studies and scenefile are imported on first use)
+# BEGIN design studies (sweep.py; plot, paper and scenefile are imported on first use)
 from .sweep import SweepResult, sweep  # noqa: E402  (tendonrod.sweep is this function)
 
-_LAZY_SUBMODULES = ("plot", "studies", "scenefile")
+_LAZY_SUBMODULES = ("plot", "paper", "scenefile")
 
 
 def __getattr__(name):

@@ -147,10 +147,10 @@ def _cmd_figures(args) -> int:
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    from tendonrod import studies
+    from tendonrod.paper.figures import fast_mode, figure_registry
 
-    args.fast = bool(args.fast or studies.fast_mode())  # --fast or TENDONROD_FAST=1
-    registry = studies.figure_registry()
+    args.fast = bool(args.fast or fast_mode())  # --fast or TENDONROD_FAST=1
+    registry = figure_registry()
     keys = list(registry)
     if args.only:
         wanted = [k.strip() for k in args.only.split(",") if k.strip()]

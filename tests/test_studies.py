@@ -1,4 +1,4 @@
-"""tendonrod.studies: closed-form data equal the paper's formulas (written out here
+"""tendonrod.paper: closed-form data equal the paper's formulas (written out here
 independently); Cosserat studies agree with the closed forms in the small-deflection
 straight limit and with exact statements elsewhere."""
 
@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 import tendonrod as tr
-from tendonrod import studies as S
+from tendonrod import paper as S
 
 ZETA = np.linspace(0.0, 1.0, 11)
 ALPHA = np.array([0.0, 0.1, 1.0, 5.03, 10.0, 1e3, np.inf])
