@@ -405,8 +405,8 @@ def solve(
 # A tendon of offset r pulling with tension tau bends the backbone at a moment-free end
 # to curvature tau r / EI; at tau = EI / r^2 that is 1/r, where the tendon's path-length
 # rate 1 - kappa r vanishes and the tendon would pass the centre of curvature.  Failed
-# solves whose last iterate carries 90 % of that say so (the stress suite's S1 cases
-# stall at 0.96-0.99).
+# solves whose last iterate carries 90 % of that say so (the stress suite's cases past
+# that tension stall at 0.96-0.99 of it).
 _TENDON_CURVATURE_FRACTION = 0.9
 
 

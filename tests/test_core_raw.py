@@ -101,7 +101,7 @@ def test_tension_controlled_parallel_tendon_kirchhoff_circle():
 
 
 def test_tension_controlled_parallel_tendon_cosserat_exact():
-    """Derivation (MODEL.md equations): try u = kappa e2, n_b = N e3, m_b = EI kappa e2
+    """Derivation (docs/model.md equations): try u = kappa e2, n_b = N e3, m_b = EI kappa e2
     constant. The tendon tangent is w = (0, 0, v3 - kappa r), so A = tau/|w| e1 e1^T and
     a = A (u x w) = (tau kappa, 0, 0). Force balance n_b' + u x n_b + a = (kappa N +
     tau kappa, 0, 0) = 0 gives N = -tau; moment balance holds (v x n_b = 0, r x a = 0);

@@ -235,7 +235,7 @@ def test_small_loads_pretensioned_sets(n, routing):
         # the geometric-stiffness change (~3e-5 relative, below) plus F^2 terms: 1e-3 of T
         assert np.max(np.abs(err_tau[-1])) < 1e-3 * abs(T), err_tau[-1]
     # pretension on sloped tendons adds a small geometric stiffness that eq. 36 leaves out
-    # (MODEL.md): it is linear in F, so for converging sets only the size is checked
+    # (docs/model.md): it is linear in F, so for converging sets only the size is checked
     scale = forces * z**3 / (3 * EI17)
     if routing == "parallel":
         slope = _fitted_order(forces, errs)
@@ -620,7 +620,7 @@ def _spatial_scenes():
             ),
         ),
         # opposing inextensible pairs on a Kirchhoff backbone: q_i + q_opposite must be < 0
-        # (one of each pair slack); = 0 is indeterminate, > 0 has no equilibrium (MODEL.md)
+        # (one of each pair slack); = 0 is indeterminate, > 0 has no equilibrium (docs/model.md)
         (
             "kirchhoff-gravity-4",
             tr.Scene(

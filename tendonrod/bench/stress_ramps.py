@@ -110,7 +110,7 @@ def ramp_large_load(n=13):
     F L^2/EI = 31.6 to 100 in 10 % steps, each solve warm started from the previous
     one (what a design sweep does). Every step must converge on the exact elastica
     (elliptic integrals): a warm start that jumps to another equilibrium is a wrong
-    answer (finding S7)."""
+    answer."""
     p = FIG17
     L, EI = p["L"], EI_of(p)
     robot = Robot(rod_of(p), [])

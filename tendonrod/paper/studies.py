@@ -283,7 +283,7 @@ def tip_compliance_vs_alpha(
     the tendon's EA and records the locked-actuator tip compliance.  Also returns the
     closed-form straight-robot curves of Fig. 7 for comparison (as the paper writes
     them; the exact straight-robot limit of the converging tendon is eq. 32 at
-    alpha / c^3, c = sqrt(1 + a^2) -- see MODEL.md and tests/test_studies.py).
+    alpha / c^3, c = sqrt(1 + a^2) -- see docs/model.md and tests/test_studies.py).
     """
     rod = paper_rod_ivb() if rod is None else rod
     EI, L = rod.bending_stiffness, rod.length
