@@ -254,6 +254,10 @@ class TendonRobotReference:
         steps from the straight unloaded robot, each step a MINPACK hybrid solve) and
         an active set for slack. ``guess``: a previous RefResult of a nearby scene to
         start from instead (then one step)."""
+        # One long method (~170 lines): the continuation, the active set and the final
+        # polish are closures over the same unknowns and active set; it is kept whole
+        # because it is the independent reference the committed results and the tests
+        # were computed with.
         from scipy.optimize import root
 
         nt = len(self.tendons)
