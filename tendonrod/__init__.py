@@ -5,6 +5,10 @@ with prescribed tendon displacements (or tensions).
   as NumPy ufuncs (Sections II-III).
 - :func:`tendonrod.solve` -- a geometrically exact Cosserat-rod/tendon solver
   (Section IV) with prescribed displacements, tendon stretch, pretension, slack.
+- :func:`tendonrod.sweep`, :func:`tendonrod.solve_batch` -- many scenes at once.
+- :mod:`tendonrod.plot`, :mod:`tendonrod.paper` (the paper's studies and figures) and
+  :mod:`tendonrod.scenefile` are imported on first use; :mod:`tendonrod.bench` holds
+  the benchmark suites (``python -m tendonrod bench``).
 
 SI units everywhere, angles in radians.
 """
@@ -16,47 +20,26 @@ gsl_version: str = _core.gsl_version
 
 __version__ = "0.1.0"
 
-from . import analytic  # noqa: E402
+from . import analytic
+from .batch import BatchResult, solve_batch
+from .model import DistributedLoad, PointLoad, Robot, Rod, Scene, Tendon
+from .options import Options
+from .results import ConvergenceError, ConvergenceWarning
+from .solver import Solution, compliance, solve
+from .sweep import SweepResult, sweep  # the attribute tendonrod.sweep is this function
 
-# BEGIN Cosserat solver API (model.py, solver.py)
-from .model import (
-    DistributedLoad,
-    PointLoad,
-    Robot,
-    Rod,
-    Scene,  # noqa: E402
-    Tendon,
-)
-from .solver import (
-    ConvergenceError,
-    ConvergenceWarning,
-    Options,  # noqa: E402
-    Solution,
-    compliance,
-    solve,
-)
-
-# END Cosserat solver API
-# BEGIN design studies (sweep.py; plot, studies and scenefile are imported on first use)
-from .sweep import SweepResult, sweep  # noqa: E402  (tendonrod.sweep is this function)
-
-_LAZY_SUBMODULES = ("plot", "studies", "scenefile")
+_LAZY_SUBMODULES = ("plot", "paper", "scenefile")
 
 
 def __getattr__(name):
+    """``tendonrod.plot``, ``tendonrod.paper`` and ``tendonrod.scenefile`` on first use
+    (they are not needed to solve, and plot and paper reach for matplotlib)."""
     if name in _LAZY_SUBMODULES:
         import importlib
 
         return importlib.import_module(f".{name}", __name__)
     raise AttributeError(f"module 'tendonrod' has no attribute {name!r}")
 
-
-# END design studies
-
-# BEGIN batch solves (batch.py, issue 7)
-from .batch import BatchResult, solve_batch  # noqa: E402
-
-# END batch solves
 
 __all__ = ["analytic", "gsl_version", "__version__"]
 __all__ += [

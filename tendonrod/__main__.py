@@ -147,10 +147,10 @@ def _cmd_figures(args) -> int:
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    from tendonrod import studies
+    from tendonrod.paper.figures import fast_mode, figure_registry
 
-    args.fast = bool(args.fast or studies.fast_mode())  # --fast or TENDONROD_FAST=1
-    registry = studies.figure_registry()
+    args.fast = bool(args.fast or fast_mode())  # --fast or TENDONROD_FAST=1
+    registry = figure_registry()
     keys = list(registry)
     if args.only:
         wanted = [k.strip() for k in args.only.split(",") if k.strip()]
@@ -220,15 +220,15 @@ def _cmd_bench(args) -> int:
 
 def _bench(argv) -> int:
     try:
-        from tendonrod import benchmarks
+        from tendonrod import bench
     except ImportError as exc:
         print(
-            f"tendonrod bench: error: the benchmarks module is not available ({exc})",
+            f"tendonrod bench: error: the benchmark suites are not available ({exc})",
             file=sys.stderr,
         )
         return EXIT_BAD_INPUT
     try:
-        rc = benchmarks.main(list(argv))
+        rc = bench.main(list(argv))
     except SystemExit as exc:  # its argparse: --help (0), usage errors (2)
         rc = exc.code
     return int(rc or 0)
@@ -280,16 +280,16 @@ def build_parser() -> argparse.ArgumentParser:
     pb = sub.add_parser(
         "bench",
         help="benchmarks: work-precision | stress (see 'bench --help')",
-        description="Benchmarks, implemented in tendonrod.benchmarks: "
+        description="Benchmarks, implemented in tendonrod.bench: "
         "'bench work-precision --out DIR [--quick]' and "
         "'bench stress --out DIR [--quick]'. Arguments after 'bench' "
-        "are passed to tendonrod.benchmarks.main.",
+        "are passed to tendonrod.bench.main.",
         add_help=False,
     )
     pb.add_argument(
         "bench_args",
         nargs=argparse.REMAINDER,
-        help="arguments for tendonrod.benchmarks.main (e.g. work-precision --out DIR)",
+        help="arguments for tendonrod.bench.main (e.g. work-precision --out DIR)",
     )
     pb.set_defaults(func=_cmd_bench)
     return p
@@ -298,7 +298,7 @@ def build_parser() -> argparse.ArgumentParser:
 def main(argv=None) -> int:
     argv = sys.argv[1:] if argv is None else list(argv)
     if argv and argv[0] == "bench":
-        # everything after 'bench' belongs to tendonrod.benchmarks.main, options included
+        # everything after 'bench' belongs to tendonrod.bench.main, options included
         # (argparse's REMAINDER would not pass a leading '--help' through)
         return _bench(argv[1:])
     parser = build_parser()

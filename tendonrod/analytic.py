@@ -67,8 +67,8 @@ Limits
   arms); where they vanish no tension reaches the target and the result is
   NaN with the invalid flag.
 
-Several tendons, compressible backbone (DESIGN.md)
---------------------------------------------------
+Several tendons, compressible backbone (docs/model.md)
+------------------------------------------------------
 - n >= 2 equally spaced, equally pretensioned tendons at the same path
   (a, b) and stiffness k act like one tendon of stiffness ``k * P`` with
   ``P = pattern_factor(n)`` (n/2 for n >= 3; eqs. 19-20, 35-36); the pretension

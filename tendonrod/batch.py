@@ -18,14 +18,18 @@ are returned.
 from __future__ import annotations
 
 import concurrent.futures as cf
+import dataclasses
 import math
+import warnings
 from dataclasses import dataclass
 
 import numpy as np
 
 from . import _core
-from .model import Scene
-from .solver import Options, _check_options, _is_planar, pack_scene
+from .model import DistributedLoad, PointLoad, Scene
+from .options import Options, _check_options
+from .results import ConvergenceWarning
+from .solver import _is_planar, pack_scene, solve
 
 __all__ = ["solve_batch", "BatchResult", "DEFAULT_CHUNKSIZE"]
 
@@ -193,79 +197,17 @@ def solve_batch(
     -------
     BatchResult
     """
-    if not isinstance(scene, Scene):
-        raise ValueError(f"scene must be a tendonrod.Scene, got {scene!r}")
-    options = _check_options(options)
-    if isinstance(threads, bool) or not isinstance(threads, (int, np.integer)) or threads < 1:
-        raise ValueError(f"threads must be an int >= 1, got {threads!r}")
-    if not (isinstance(options, Options)):
-        raise ValueError(f"options must be a tendonrod.Options, got {options!r}")
-    if chunksize is None:
-        chunksize = DEFAULT_CHUNKSIZE
-    if isinstance(chunksize, bool) or not isinstance(chunksize, (int, np.integer)) or chunksize < 1:
-        raise ValueError(f"chunksize must be an int >= 1, got {chunksize!r}")
+    options, chunksize = _check_arguments(scene, options, threads, chunksize)
     rod, tendons, loads, dist = pack_scene(scene)
     controls = scene.displacement_controlled()
     idisp = [i for i, c in enumerate(controls) if c]
     iten = [i for i, c in enumerate(controls) if not c]
-    npl = loads.shape[0]
-    n = None
-    displacement, n = _points(
-        displacement,
-        "displacement",
-        (len(idisp),),
-        "one column per displacement-controlled tendon",
-        n,
+    n, displacement, tension, forces, moments, distributed = _per_point_arrays(
+        displacement, tension, forces, moments, distributed, len(idisp), len(iten), loads.shape[0]
     )
-    tension, n = _points(
-        tension, "tension", (len(iten),), "one column per tension-controlled tendon", n
-    )
-    forces, n = _points(forces, "forces", (npl, 3), "a force per point and point load", n)
-    moments, n = _points(moments, "moments", (npl, 3), "a moment per point and point load", n)
-    distributed, n = _points(distributed, "distributed", (3,), "a distributed force per point", n)
-    if n is None:
-        raise ValueError(
-            "solve_batch needs at least one of displacement, tension, forces, moments, "
-            "distributed (they set the number of points)"
-        )
-    if tension is not None and np.any(tension < 0.0):
-        bad = tuple(int(i) for i in np.argwhere(tension < 0.0)[0])
-        raise ValueError(
-            f"tension must be >= 0 (a tendon cannot push); tension[{bad[0]}, {bad[1]}] "
-            f"= {tension[bad]!r}"
-        )
-
-    values = None
-    if displacement is not None or tension is not None:
-        values = np.repeat(tendons[None, :, 6], n, axis=0)
-        if displacement is not None:
-            values[:, idisp] = displacement
-        if tension is not None:
-            values[:, iten] = tension
-    point_loads = None
-    if forces is not None or moments is not None:
-        point_loads = np.repeat(loads[None, :, 1:7], n, axis=0)
-        if forces is not None:
-            point_loads[:, :, 0:3] = forces
-        if moments is not None:
-            point_loads[:, :, 3:6] = moments
-    force_spatial = bool(options.force_spatial)
-    if not force_spatial and _is_planar(scene):
-        # one formulation for the whole batch: spatial as soon as any point leaves the plane
-        out_of_plane = (
-            point_loads is not None
-            and np.any(
-                (point_loads[:, :, 1] != 0)
-                | (point_loads[:, :, 3] != 0)
-                | (point_loads[:, :, 5] != 0)
-            )
-        ) or (distributed is not None and np.any(distributed[:, 1] != 0))
-        force_spatial = bool(out_of_plane)
-
-    kw = dict(options._raw)
-    kw.pop("nodes", None)
-    kw.pop("tip_only", None)
-    kw["force_spatial"] = force_spatial
+    values = _tendon_values(tendons, n, idisp, iten, displacement, tension)
+    point_loads = _point_load_values(loads, n, forces, moments)
+    force_spatial = _force_spatial(scene, options, point_loads, distributed)
 
     if displacement is not None and _value_dependent_scene(scene):
         # whether such a scene has a unique equilibrium depends on the displacement values
@@ -283,6 +225,51 @@ def solve_batch(
             force_spatial,
         )
 
+    kw = dict(options._raw)
+    kw.pop("nodes", None)
+    kw.pop("tip_only", None)
+    kw["force_spatial"] = force_spatial
+    kw.update(
+        warm=bool(warm_start),
+        retry_cold=bool(retry_cold) and not exact,
+        predict=bool(predict) and not exact,
+        exact=bool(exact),
+        skip_tension_displacement=not tension_tendon_displacement,
+    )
+    packed = (rod, tendons, loads, dist)
+    parts = _run_chunks(packed, values, point_loads, distributed, kw, n, chunksize, threads)
+    return _assemble(parts, n, chunksize, options)
+
+
+def _tendon_values(tendons, n, idisp, iten, displacement, tension):
+    """(n, nt) control values per point (the scene's where not varied), or None."""
+    values = None
+    if displacement is not None or tension is not None:
+        values = np.repeat(tendons[None, :, 6], n, axis=0)
+        if displacement is not None:
+            values[:, idisp] = displacement
+        if tension is not None:
+            values[:, iten] = tension
+    return values
+
+
+def _point_load_values(loads, n, forces, moments):
+    """(n, nl, 6) force and moment per point and point load (the scene's where not
+    varied), or None."""
+    point_loads = None
+    if forces is not None or moments is not None:
+        point_loads = np.repeat(loads[None, :, 1:7], n, axis=0)
+        if forces is not None:
+            point_loads[:, :, 0:3] = forces
+        if moments is not None:
+            point_loads[:, :, 3:6] = moments
+    return point_loads
+
+
+def _run_chunks(packed, values, point_loads, distributed, kw, n, chunksize, threads) -> list:
+    """The core's result of every chunk of ``chunksize`` points, in order (chunks shared
+    out to ``threads`` worker threads; each chunk starts cold)."""
+    rod, tendons, loads, dist = packed
     bounds = [(a, min(a + chunksize, n)) for a in range(0, n, chunksize)] or [(0, 0)]
 
     def run(b):
@@ -295,20 +282,76 @@ def solve_batch(
             values=None if values is None else values[a:e],
             point_loads=None if point_loads is None else point_loads[a:e],
             dists=None if distributed is None else distributed[a:e],
-            warm=bool(warm_start),
-            retry_cold=bool(retry_cold) and not exact,
-            predict=bool(predict) and not exact,
-            exact=bool(exact),
-            skip_tension_displacement=not tension_tendon_displacement,
             **kw,
         )
 
     if threads == 1 or len(bounds) == 1:
-        parts = [run(b) for b in bounds]
-    else:
-        with cf.ThreadPoolExecutor(max_workers=min(int(threads), len(bounds))) as ex:
-            parts = list(ex.map(run, bounds))
-    return _assemble(parts, n, chunksize, options)
+        return [run(b) for b in bounds]
+    with cf.ThreadPoolExecutor(max_workers=min(int(threads), len(bounds))) as ex:
+        return list(ex.map(run, bounds))
+
+
+def _check_arguments(scene, options, threads, chunksize):
+    """``(options, chunksize)`` checked, with their defaults; ValueError otherwise."""
+    if not isinstance(scene, Scene):
+        raise ValueError(f"scene must be a tendonrod.Scene, got {scene!r}")
+    options = _check_options(options)
+    if isinstance(threads, bool) or not isinstance(threads, (int, np.integer)) or threads < 1:
+        raise ValueError(f"threads must be an int >= 1, got {threads!r}")
+    if not (isinstance(options, Options)):
+        raise ValueError(f"options must be a tendonrod.Options, got {options!r}")
+    if chunksize is None:
+        chunksize = DEFAULT_CHUNKSIZE
+    if isinstance(chunksize, bool) or not isinstance(chunksize, (int, np.integer)) or chunksize < 1:
+        raise ValueError(f"chunksize must be an int >= 1, got {chunksize!r}")
+    return options, chunksize
+
+
+def _per_point_arrays(displacement, tension, forces, moments, distributed, ndisp, nten, npl):
+    """``(n, displacement, tension, forces, moments, distributed)``: the per-point
+    arguments as float64 arrays of their documented shapes (None where not given) and
+    the number of points they agree on; ValueError naming the first bad one."""
+    n = None
+    displacement, n = _points(
+        displacement,
+        "displacement",
+        (ndisp,),
+        "one column per displacement-controlled tendon",
+        n,
+    )
+    tension, n = _points(tension, "tension", (nten,), "one column per tension-controlled tendon", n)
+    forces, n = _points(forces, "forces", (npl, 3), "a force per point and point load", n)
+    moments, n = _points(moments, "moments", (npl, 3), "a moment per point and point load", n)
+    distributed, n = _points(distributed, "distributed", (3,), "a distributed force per point", n)
+    if n is None:
+        raise ValueError(
+            "solve_batch needs at least one of displacement, tension, forces, moments, "
+            "distributed (they set the number of points)"
+        )
+    if tension is not None and np.any(tension < 0.0):
+        bad = tuple(int(i) for i in np.argwhere(tension < 0.0)[0])
+        raise ValueError(
+            f"tension must be >= 0 (a tendon cannot push); tension[{bad[0]}, {bad[1]}] "
+            f"= {tension[bad]!r}"
+        )
+    return n, displacement, tension, forces, moments, distributed
+
+
+def _force_spatial(scene, options, point_loads, distributed) -> bool:
+    """One formulation for the whole batch: spatial as soon as any point leaves the plane
+    (or the options ask for it)."""
+    force_spatial = bool(options.force_spatial)
+    if not force_spatial and _is_planar(scene):
+        out_of_plane = (
+            point_loads is not None
+            and np.any(
+                (point_loads[:, :, 1] != 0)
+                | (point_loads[:, :, 3] != 0)
+                | (point_loads[:, :, 5] != 0)
+            )
+        ) or (distributed is not None and np.any(distributed[:, 1] != 0))
+        force_spatial = bool(out_of_plane)
+    return force_spatial
 
 
 def _value_dependent_scene(scene: Scene) -> bool:
@@ -381,12 +424,6 @@ def _fallback(
 ) -> BatchResult:
     """Point-by-point tr.solve (same chunking and warm starts) for scenes whose
     solvability depends on the varied values."""
-    import dataclasses
-    import warnings
-
-    from .model import DistributedLoad, PointLoad
-    from .solver import ConvergenceWarning, solve
-
     opts = dataclasses.replace(options, tip_only=True, force_spatial=force_spatial)
     nt = scene.robot.n_tendons
     out = {
@@ -466,114 +503,3 @@ def _fallback(
         chunksize=int(chunksize),
         **out,
     )
-
-
-# --------------------------------------------------------------------------- tr.sweep hook
-_BATCH_PATH = None
-
-
-def sweep_can_batch(base, names) -> bool:
-    """True if every varied path of a sweep of ``base`` is an actuation value
-    (``displacement[i]``, ``tension[i]``) or a point load's force/moment (or one
-    component of it): then the sweep's chunks can go through :func:`solve_batch`."""
-    global _BATCH_PATH
-    import re
-
-    from .model import PointLoad
-
-    if _BATCH_PATH is None:
-        _BATCH_PATH = re.compile(
-            r"^(?:(displacement|tension)\[(\d+)\]|loads\[(\d+)\]\.(?:force|moment)"
-            r"(?:\[[0-2]\])?)$"
-        )
-    if not isinstance(base, Scene) or not names:
-        return False
-    for n in names:
-        mt = _BATCH_PATH.match(n)
-        if not mt:
-            return False
-        if mt.group(3) is not None:
-            j = int(mt.group(3))
-            if j >= len(base.loads) or not isinstance(base.loads[j], PointLoad):
-                return False
-    return True
-
-
-def _sweep_chunk(task: dict):
-    """The records of one tr.sweep chunk solved by :func:`solve_batch`, or None if the
-    chunk's scenes do not share one design (then the sweep solves it point by point)."""
-    from .model import PointLoad
-    from .sweep import STATUS_NOT_CONVERGED, STATUS_OK
-
-    scenes, options = task["scenes"], task["options"]
-    if not scenes or not all(isinstance(s, Scene) for s in scenes):
-        return None
-    if options is not None and not options.tip_only:
-        return None  # the per-point path warm-starts from recorded base states then
-    first = scenes[0]
-    planar = _is_planar(first)
-    if any(_is_planar(s) != planar for s in scenes):
-        return None  # the per-point path switches formulation within the chunk
-    ctl = first.displacement_controlled()
-    pos = [(type(ld), getattr(ld, "s", None)) for ld in first.loads]
-    for s in scenes:
-        if (
-            (s.robot is not first.robot and s.robot != first.robot)
-            or s.displacement_controlled() != ctl
-            or [(type(ld), getattr(ld, "s", None)) for ld in s.loads] != pos
-        ):
-            return None
-    idisp = [i for i, c in enumerate(ctl) if c]
-    iten = [i for i, c in enumerate(ctl) if not c]
-    n = len(scenes)
-    disp = np.array([[s.displacement[i] for i in idisp] for s in scenes], dtype=float).reshape(
-        n, len(idisp)
-    )
-    ten = np.array([[s.tension[i] for i in iten] for s in scenes], dtype=float).reshape(
-        n, len(iten)
-    )
-    pls = [[ld for ld in s.loads if isinstance(ld, PointLoad)] for s in scenes]
-    npl = len(pls[0])
-    forces = np.array([[p.force for p in pl] for pl in pls], dtype=float).reshape(n, npl, 3)
-    moments = np.array([[p.moment for p in pl] for pl in pls], dtype=float).reshape(n, npl, 3)
-    dist = np.array([s.distributed_force for s in scenes], dtype=float)
-    # automatic steps: exact mode, bit for bit the per-point loop (each point verifies its
-    # steps); a fixed step count: the lean loop with the predictor (equal to the loop to
-    # the solver tolerance, several times faster)
-    exact = options is None or options.steps == 0 or options.integrator == "adaptive"
-    try:
-        res = solve_batch(
-            first,
-            displacement=disp if idisp else None,
-            tension=ten if iten else None,
-            forces=forces if npl else None,
-            moments=moments if npl else None,
-            distributed=dist,
-            options=options,
-            chunksize=n,
-            warm_start=bool(task["warm_start"]),
-            exact=exact,
-            retry_cold=False,
-        )
-    except ValueError:
-        return None
-    records = []
-    for k, index in enumerate(task["indices"]):
-        ok = bool(res.success[k])
-        data = {
-            "tip_position": res.tip_position[k].tolist(),
-            "tip_rotation": res.tip_rotation[k].tolist(),
-            "tension": res.tension[k].tolist(),
-            "slack": res.slack[k].tolist(),
-            "displacement": res.displacement[k].tolist(),
-        }
-        records.append(
-            {
-                "i": index,
-                "status": STATUS_OK if ok else STATUS_NOT_CONVERGED,
-                "nit": int(res.nit[k]),
-                "message": str(res.message[k]),
-                "data": data,
-            }
-        )
-    return {"chunk": task["chunk"], "records": records}

@@ -1,7 +1,7 @@
 """Scene description for the Cosserat-rod/tendon solver: frozen, validated dataclasses.
 
 Everything here is pure Python and describes *what* is solved; :mod:`tendonrod.solver`
-packs it into the flat arrays of the C core. Conventions (see ``MODEL.md``):
+packs it into the flat arrays of the C core. Conventions (see ``docs/model.md``):
 
 - SI units (m, N, N m, Pa), angles in radians.
 - The base sits at the origin, the base frame is the world frame, and the undeformed
@@ -256,7 +256,7 @@ class Tendon:
         object.__setattr__(self, "slope", _real(own, "slope", self.slope))
         EA = _positive(own, "EA", self.EA, allow_inf=True)
         if math.isfinite(EA) and not (_TENDON_EA_MIN <= EA <= _TENDON_EA_MAX):
-            # a subnormal EA made tau/EA overflow (finding F16); same range as the core
+            # a subnormal EA would make tau/EA overflow; the same range as the core
             raise ValueError(
                 f"{own}.EA must lie in [{_TENDON_EA_MIN:g}, {_TENDON_EA_MAX:g}] N "
                 f"or be inf (inextensible), got {self.EA!r}"

@@ -50,6 +50,9 @@ from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import Any
 
+from .model import DistributedLoad, PointLoad, Robot, Rod, Scene, Tendon
+from .options import Options
+
 if sys.version_info >= (3, 11):
     import tomllib
 else:  # pragma: no cover - exercised on Python 3.10 only
@@ -159,9 +162,9 @@ def _build(cls, kwargs: dict, key: str):
         raise SceneFileError(key, str(exc)) from exc
 
 
-def _parse_rod(tr, raw: Any) -> Any:
+def _parse_rod(raw: Any) -> Any:
     rod = _table(raw, "rod")
-    fields = {f.name for f in dataclasses.fields(tr.Rod)}
+    fields = {f.name for f in dataclasses.fields(Rod)}
     _unknown(rod, fields, "rod")
     kwargs = {}
     for name, value in rod.items():
@@ -174,13 +177,13 @@ def _parse_rod(tr, raw: Any) -> Any:
     for required in ("length",):
         if required not in kwargs:
             raise SceneFileError(f"rod.{required}", "missing (required)")
-    return _build(tr.Rod, kwargs, "rod")
+    return _build(Rod, kwargs, "rod")
 
 
-def _parse_tendon(tr, raw: Any, j: int, length: float):
+def _parse_tendon(raw: Any, j: int, length: float):
     key = f"tendon[{j}]"
     table = _table(raw, key)
-    fields = {f.name for f in dataclasses.fields(tr.Tendon)}
+    fields = {f.name for f in dataclasses.fields(Tendon)}
     allowed = fields | {"displacement", "tension", "routing"}
     _unknown(table, allowed, key)
     values: dict[str, Any] = {}
@@ -222,14 +225,14 @@ def _parse_tendon(tr, raw: Any, j: int, length: float):
             values["slope"] = -values["offset"] / end
     q = values.pop("displacement", None)
     tau = values.pop("tension", None)
-    tendon = _build(tr.Tendon, values, key)
+    tendon = _build(Tendon, values, key)
     return tendon, q, tau
 
 
-def _parse_load(tr, raw: Any, j: int, length: float):
+def _parse_load(raw: Any, j: int, length: float):
     key = f"load[{j}]"
     table = _table(raw, key)
-    fields = {f.name for f in dataclasses.fields(tr.PointLoad)}
+    fields = {f.name for f in dataclasses.fields(PointLoad)}
     _unknown(table, fields, key)
     if "s" not in table:
         raise SceneFileError(f"{key}.s", "missing (required)")
@@ -248,12 +251,12 @@ def _parse_load(tr, raw: Any, j: int, length: float):
             f"{key}.s",
             f"must lie on the rod, 0 <= s <= rod.length = {length!r}; got {kwargs['s']!r}",
         )
-    return _build(tr.PointLoad, kwargs, key)
+    return _build(PointLoad, kwargs, key)
 
 
-def _parse_distributed(tr, raw: Any):
+def _parse_distributed(raw: Any):
     table = _table(raw, "distributed")
-    fields = {f.name for f in dataclasses.fields(tr.DistributedLoad)}
+    fields = {f.name for f in dataclasses.fields(DistributedLoad)}
     _unknown(table, fields, "distributed")
     kwargs: dict[str, Any] = {}
     for name, value in table.items():
@@ -261,14 +264,14 @@ def _parse_distributed(tr, raw: Any):
             kwargs[name] = _vector3(value, f"distributed.{name}")
         else:
             kwargs[name] = value
-    return _build(tr.DistributedLoad, kwargs, "distributed")
+    return _build(DistributedLoad, kwargs, "distributed")
 
 
-def _parse_options(tr, raw: Any):
+def _parse_options(raw: Any):
     table = _table(raw, "options")
-    fields = {f.name for f in dataclasses.fields(tr.Options)}
+    fields = {f.name for f in dataclasses.fields(Options)}
     _unknown(table, fields, "options")
-    return _build(tr.Options, dict(table), "options")
+    return _build(Options, dict(table), "options")
 
 
 def parse_scene(data: Mapping[str, Any], source: str | None = None) -> SceneSpec:
@@ -276,8 +279,6 @@ def parse_scene(data: Mapping[str, Any], source: str | None = None) -> SceneSpec
 
     Raises :class:`SceneFileError` naming the offending key.
     """
-    import tendonrod as tr
-
     try:
         if not isinstance(data, Mapping):
             raise SceneFileError("(document)", f"expected a table, got {_kind(data)}")
@@ -287,27 +288,27 @@ def parse_scene(data: Mapping[str, Any], source: str | None = None) -> SceneSpec
             raise SceneFileError("title", f"expected a string, got {title!r} ({_kind(title)})")
         if "rod" not in data:
             raise SceneFileError("rod", "missing (required): a [rod] table with at least length")
-        rod = _parse_rod(tr, data["rod"])
+        rod = _parse_rod(data["rod"])
         raw_tendons = data.get("tendon", [])
         if not isinstance(raw_tendons, list):
             raise SceneFileError("tendon", "expected an array of tables ([[tendon]] sections)")
         tendons, qs, taus = [], [], []
         for j, raw in enumerate(raw_tendons):
-            t, q, tau = _parse_tendon(tr, raw, j, rod.length)
+            t, q, tau = _parse_tendon(raw, j, rod.length)
             tendons.append(t)
             qs.append(q)
             taus.append(tau)
         raw_loads = data.get("load", [])
         if not isinstance(raw_loads, list):
             raise SceneFileError("load", "expected an array of tables ([[load]] sections)")
-        loads = [_parse_load(tr, raw, j, rod.length) for j, raw in enumerate(raw_loads)]
+        loads = [_parse_load(raw, j, rod.length) for j, raw in enumerate(raw_loads)]
         if "distributed" in data:
-            loads.append(_parse_distributed(tr, data["distributed"]))
-        robot = _build(tr.Robot, {"rod": rod, "tendons": tendons}, "tendon")
+            loads.append(_parse_distributed(data["distributed"]))
+        robot = _build(Robot, {"rod": rod, "tendons": tendons}, "tendon")
         scene = _build(
-            tr.Scene, {"robot": robot, "displacement": qs, "tension": taus, "loads": loads}, "scene"
+            Scene, {"robot": robot, "displacement": qs, "tension": taus, "loads": loads}, "scene"
         )
-        options = _parse_options(tr, data["options"]) if "options" in data else None
+        options = _parse_options(data["options"]) if "options" in data else None
     except SceneFileError as exc:
         if source is not None and exc.path is None:
             raise SceneFileError(exc.key, exc.problem, source) from exc.__cause__

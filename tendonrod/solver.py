@@ -1,12 +1,13 @@
 """Public API of the Cosserat-rod/tendon solver: :func:`solve`, :class:`Solution`,
-:class:`Options`, :func:`compliance`.
+:func:`compliance`.
 
 A :class:`~tendonrod.model.Scene` is packed into the flat float64 arrays of the raw
 entry point ``tendonrod._core.solve`` (see ``csrc/README.md``), solved in C with the
 GIL released, and wrapped in a :class:`Solution`. Bad input raises ``ValueError``
 before any C runs; a solve that does not converge is never silent (``success`` is
 False and a :class:`ConvergenceWarning` is issued, or :class:`ConvergenceError` is
-raised with ``strict=True``).
+raised with ``strict=True``). The options live in :mod:`tendonrod.options`, the
+records a solution carries in :mod:`tendonrod.results`; both are importable from here.
 
 Frames and units: SI, radians; base at the origin, base frame = world frame, the
 undeformed rod along +z; all vectors in the world frame unless said otherwise.
@@ -15,16 +16,14 @@ undeformed rod along +z; all vectors in the world frame unless said otherwise.
 from __future__ import annotations
 
 import math
-import numbers
 import warnings
-from collections.abc import Sequence
-from dataclasses import dataclass, fields
-from typing import Any
 
 import numpy as np
 
 from . import _core
 from .model import Scene
+from .options import Options, _check_options, _replace
+from .results import ConvergenceError, ConvergenceWarning, Formulation, RodState
 
 __all__ = [
     "Options",
@@ -37,293 +36,6 @@ __all__ = [
     "ConvergenceError",
     "pack_scene",
 ]
-
-
-class ConvergenceWarning(RuntimeWarning):
-    """Issued by :func:`solve` when the shooting iteration did not converge."""
-
-
-class ConvergenceError(RuntimeError):
-    """Raised by ``solve(..., strict=True)`` when the iteration did not converge.
-
-    Attribute ``solution`` holds the (unconverged) :class:`Solution`.
-    """
-
-    def __init__(self, message: str, solution: Solution = None):
-        super().__init__(message)
-        self.solution = solution
-
-
-# --------------------------------------------------------------------------- options
-_INTEGRATORS = ("rk8", "rk4", "adaptive")
-_JACOBIANS = ("fd", "newton", "hybrid")
-# Adaptive-integrator tolerances below ~50 ulp cannot be met in double precision (the
-# step shrinks to underflow, seconds per evaluation): refused (TR_RTOL_MIN in the core).
-_RTOL_MIN = 1e-14
-_SLACK_MODELS = ("linear", "squared")
-
-
-@dataclass(frozen=True)
-class Options:
-    """Numerical options of :func:`solve` (each maps onto the raw ``_core.solve`` keyword
-    of the same name).
-
-    Attributes
-    ----------
-    integrator : str
-        ``"rk8"`` (default: a fixed-step 8th-order Runge-Kutta reaches 1e-8 relative tip
-        accuracy in a handful of steps on this non-stiff ODE), ``"rk4"`` (classical RK4),
-        or ``"adaptive"`` (GSL's adaptive embedded RK with tolerance ``rtol``: slow,
-        for reference solutions).
-    steps : int
-        Fixed-step integrators: steps over the rod; 0 (default) lets the core choose
-        from the curvature scale of the scene.
-    rtol : float
-        Relative tolerance of the adaptive integrator (default 1e-10: well below the
-        1e-8 the fixed-step methods aim at, so references are references).
-    tol : float
-        Convergence tolerance on the scaled residual (forces by EI/L^2, moments by EI/L,
-        lengths by L). Default 1e-10: about 1e-10 relative accuracy of the tip, well
-        below the integrator's truncation error with default steps, so the iteration is
-        never the accuracy bottleneck.
-    max_iter : int
-        Cap on Newton/trust-region iterations per solve (default 50: converged solves
-        take 2-10; 50 leaves room for hard continuation stages without hiding a stall).
-    max_nfev : int
-        Cap on right-hand-side integrations counted as shooting evaluations, continuation
-        included (default 20000: bounds the time of a hopeless solve to well under a second).
-    jacobian_method : str
-        ``"fd"`` (default: one forward-difference Jacobian in scaled unknowns, then Broyden
-        updates, refreshed on poor progress: fewest integrations per solve) or ``"newton"``
-        (a fresh forward-difference Jacobian every iteration: more robust, slower) or
-        ``"hybrid"`` (GSL's hybridsj dogleg trust region on the same scaled residual; kept
-        for comparison in the work-precision benchmark, no general gain measured).
-    slack_model : str
-        ``"linear"`` (default: tension = max(gamma, 0), slack = max(-gamma, 0), whose
-        Jacobian stays nonsingular at the taut/slack switch) or ``"squared"`` (the
-        paper's gamma^2, kept to measure its singular Jacobian at the switch).
-    continuation : bool
-        If a cold solve fails, ramp load and actuation from a solved state (default True:
-        users should not have to hand-tune continuation).
-    max_continuation : int
-        Cap on continuation stages (default 64: a ramp halved six times).
-    nodes : int or array of float
-        Output nodes: a count of equally spaced arc lengths on [0, L] (default 101: a
-        smooth plot), to which every interior breakpoint (point load, tendon anchor) is
-        added twice (the states before and after its jump); or a non-decreasing array of
-        arc lengths [m] in [0, L] (a node at a breakpoint gives the state after the jump,
-        unless the next node has the same s). Nodes do not change the integration (the
-        integrator steps are independent of them).
-    force_spatial : bool
-        Solve a planar scene with the full spatial formulation (default False: planar
-        scenes are solved as planar problems, which is faster and gives the same answer).
-    tip_only : bool
-        Fill only the tip state (``s``, ``position`` ... have one row, at s = L;
-        default False). For sweeps that need tip quantities only.
-    shooting_segments : int
-        M > 1: multiple shooting with full-state unknowns and continuity residuals at
-        j L / M (default 1: single shooting is fastest and suffices unless a tensile axial
-        load has L sqrt(T/EI) >~ 7, where single shooting diverges).
-    """
-
-    integrator: str = "rk8"
-    steps: int = 0
-    rtol: float = 1e-10
-    tol: float = 1e-10
-    max_iter: int = 50
-    max_nfev: int = 20000
-    jacobian_method: str = "fd"
-    slack_model: str = "linear"
-    continuation: bool = True
-    max_continuation: int = 64
-    nodes: int | Sequence[float] | np.ndarray = 101
-    force_spatial: bool = False
-    tip_only: bool = False
-    shooting_segments: int = 1
-
-    def __post_init__(self):
-        own = "Options"
-        for name, allowed in (
-            ("integrator", _INTEGRATORS),
-            ("jacobian_method", _JACOBIANS),
-            ("slack_model", _SLACK_MODELS),
-        ):
-            v = getattr(self, name)
-            if not isinstance(v, str) or v not in allowed:
-                raise ValueError(f"{own}.{name} must be one of {allowed}, got {v!r}")
-        for name, lo in (
-            ("steps", 0),
-            ("max_iter", 1),
-            ("max_nfev", 1),
-            ("max_continuation", 0),
-            ("shooting_segments", 1),
-        ):
-            v = getattr(self, name)
-            if (
-                isinstance(v, (bool, np.bool_))
-                or not isinstance(v, (numbers.Integral, np.integer))
-                or v < lo
-            ):
-                raise ValueError(f"{own}.{name} must be an integer >= {lo}, got {v!r}")
-            object.__setattr__(self, name, int(v))
-        for name, lo in (("rtol", _RTOL_MIN), ("tol", 0.0)):
-            v = getattr(self, name)
-            ok = isinstance(v, (numbers.Real, np.floating)) and not isinstance(v, bool)
-            if not ok or not (
-                math.isfinite(float(v)) and lo < float(v) < 1.0 or float(v) == lo > 0.0
-            ):
-                rng = f"[{lo:g}, 1)" if lo > 0.0 else "(0, 1)"
-                raise ValueError(f"{own}.{name} must be a real number in {rng}, got {v!r}")
-            object.__setattr__(self, name, float(v))
-        for name in ("continuation", "force_spatial", "tip_only"):
-            v = getattr(self, name)
-            if not isinstance(v, (bool, np.bool_)):
-                raise ValueError(f"{own}.{name} must be True or False, got {v!r}")
-            object.__setattr__(self, name, bool(v))
-        nodes = self.nodes
-        if isinstance(nodes, (numbers.Integral, np.integer)) and not isinstance(
-            nodes, (bool, np.bool_)
-        ):
-            if nodes < 2:
-                raise ValueError(
-                    f"{own}.nodes must be >= 2 (or an array of arc lengths), got {nodes!r}"
-                )
-            object.__setattr__(self, "nodes", int(nodes))
-        else:
-            try:
-                arr = np.array(nodes, dtype=float).ravel()
-            except (TypeError, ValueError):
-                raise ValueError(
-                    f"{own}.nodes must be an int or an array of arc lengths, got {nodes!r}"
-                ) from None
-            if (
-                arr.size < 1
-                or not np.all(np.isfinite(arr))
-                or np.any(np.diff(arr) < 0)
-                or arr[0] < 0
-            ):
-                raise ValueError(
-                    f"{own}.nodes must be a non-empty, non-decreasing array of finite "
-                    f"arc lengths >= 0, got {nodes!r}"
-                )
-            arr.setflags(write=False)
-            object.__setattr__(self, "nodes", arr)
-        # the raw keyword arguments, built once (solve() is called in tight loops)
-        object.__setattr__(self, "_raw", {f.name: getattr(self, f.name) for f in fields(self)})
-
-    def __hash__(self):  # nodes may be an array
-        return hash(tuple((f.name, self._key(getattr(self, f.name))) for f in fields(self)))
-
-    def __eq__(self, other):
-        if not isinstance(other, Options):
-            return NotImplemented
-        return all(
-            np.array_equal(getattr(self, f.name), getattr(other, f.name))
-            if isinstance(getattr(self, f.name), np.ndarray)
-            or isinstance(getattr(other, f.name), np.ndarray)
-            else getattr(self, f.name) == getattr(other, f.name)
-            for f in fields(self)
-        )
-
-    @staticmethod
-    def _key(v):
-        return tuple(v.tolist()) if isinstance(v, np.ndarray) else v
-
-    def raw(self) -> dict:
-        """The keyword arguments of ``_core.solve`` (nodes as int or float64 array); a copy."""
-        return dict(self._raw)
-
-
-# --------------------------------------------------------------------------- formulation
-@dataclass(frozen=True)
-class Formulation:
-    """What the core actually solved (the scene compiled into the smallest problem).
-
-    Attributes
-    ----------
-    planar : bool
-        Solved as a planar (x-z) problem.
-    kirchhoff : bool
-        Unshearable, inextensible backbone.
-    n_unknowns : int
-        Shooting unknowns (planar: 3, spatial: 6, plus one per displacement-controlled tendon).
-    n_states : int
-        ODE states integrated.
-    n_segments : int
-        Integration segments (split at point loads and tendon anchors).
-    n_length_states : int
-        Tendon path-length states (one per displacement-controlled tendon).
-    n_stretch_terms : int
-        Extensible (finite EA) displacement-controlled tendons.
-    distributed_load : bool
-        A distributed force is integrated.
-    tip_only : bool
-        Only the tip state was filled.
-    integrator : str
-        Integrator used.
-    steps : int
-        Integrator steps over the rod actually used.
-    slack_model : str
-        Tension/slack parametrisation.
-    jacobian_method : str
-        How the shooting Jacobian was formed.
-    shooting_segments : int
-        Shooting segments (1: single shooting).
-    """
-
-    planar: bool
-    kirchhoff: bool
-    n_unknowns: int
-    n_states: int
-    n_segments: int
-    n_length_states: int
-    n_stretch_terms: int
-    distributed_load: bool
-    tip_only: bool
-    integrator: str
-    steps: int
-    slack_model: str
-    jacobian_method: str = ""
-    shooting_segments: int = 1
-
-    @classmethod
-    def from_dict(cls, d: dict) -> Formulation:
-        kw = {}
-        for f in fields(cls):
-            v = d.get(f.name)
-            if f.type in ("bool",):
-                v = bool(v)
-            elif f.type in ("int",):
-                v = int(v) if v is not None else (f.default if isinstance(f.default, int) else -1)
-            else:
-                v = "" if v is None else (v.decode() if isinstance(v, bytes) else str(v))
-            kw[f.name] = v
-        return cls(**kw)
-
-    def __repr__(self):
-        geom = "planar" if self.planar else "spatial"
-        rod = "Kirchhoff" if self.kirchhoff else "Cosserat"
-        extra = []
-        if self.n_length_states:
-            extra.append(f"{self.n_length_states} tendon length state(s)")
-        if self.n_stretch_terms:
-            extra.append(f"{self.n_stretch_terms} stretch term(s)")
-        if self.distributed_load:
-            extra.append("distributed load")
-        if self.tip_only:
-            extra.append("tip only")
-        more = (", " + ", ".join(extra)) if extra else ""
-        return (
-            f"Formulation({geom} {rod}, {self.n_unknowns} unknowns, {self.n_states} states, "
-            f"{self.n_segments} segment(s){more}; {self.integrator} x {self.steps} steps, "
-            f"slack model {self.slack_model}, jacobian {self.jacobian_method}"
-            + (
-                f", {self.shooting_segments} shooting segments"
-                if self.shooting_segments > 1
-                else ""
-            )
-            + ")"
-        )
 
 
 # --------------------------------------------------------------------------- packing
@@ -456,34 +168,6 @@ def _guess_vector(guess, scene: Scene, options: Options):
 
 
 # --------------------------------------------------------------------------- results
-@dataclass(frozen=True)
-class RodState:
-    """The rod state at given arc length(s), from :meth:`Solution.at`.
-
-    For a scalar ``s``: ``position`` (3,), ``rotation`` (3, 3), ``force`` (3,), ``moment`` (3,);
-    for an array of N arc lengths a leading axis of length N is added.
-
-    Attributes
-    ----------
-    s : float or ndarray (N,)
-        Arc length [m].
-    position : ndarray
-        Backbone position, world frame [m].
-    rotation : ndarray
-        Body-to-world rotation matrix.
-    force : ndarray
-        Internal backbone force n, world frame [N].
-    moment : ndarray
-        Internal backbone moment m, world frame [N m].
-    """
-
-    s: Any
-    position: np.ndarray
-    rotation: np.ndarray
-    force: np.ndarray
-    moment: np.ndarray
-
-
 class Solution:
     """Result of :func:`solve`.
 
@@ -671,26 +355,7 @@ class Solution:
         return "\n".join(lines)
 
 
-def _replace(options: Options, **changes) -> Options:
-    kw = options.raw()
-    kw.update(changes)
-    return Options(**kw)
-
-
 # --------------------------------------------------------------------------- solve
-_DEFAULT_OPTIONS = Options()
-
-
-def _check_options(options) -> Options:
-    if options is None:
-        return _DEFAULT_OPTIONS
-    if isinstance(options, dict):
-        return Options(**options)
-    if not isinstance(options, Options):
-        raise ValueError(f"options must be a tendonrod.Options (or dict), got {options!r}")
-    return options
-
-
 def solve(
     scene: Scene, guess=None, options: Options | None = None, strict: bool = False
 ) -> Solution:
@@ -740,8 +405,8 @@ def solve(
 # A tendon of offset r pulling with tension tau bends the backbone at a moment-free end
 # to curvature tau r / EI; at tau = EI / r^2 that is 1/r, where the tendon's path-length
 # rate 1 - kappa r vanishes and the tendon would pass the centre of curvature.  Failed
-# solves whose last iterate carries 90 % of that say so (the stress suite's S1 cases
-# stall at 0.96-0.99).
+# solves whose last iterate carries 90 % of that say so (the stress suite's cases past
+# that tension stall at 0.96-0.99 of it).
 _TENDON_CURVATURE_FRACTION = 0.9
 
 

@@ -49,20 +49,30 @@ Failures
 from __future__ import annotations
 
 import concurrent.futures as cf
-import dataclasses
-import hashlib
 import itertools
-import json
 import math
 import os
-import re
-import threading
 import warnings
 from collections.abc import Callable, Iterable, Mapping
 from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
+
+from ._sweep_chunk import (
+    STATUS_ERROR,
+    STATUS_NOT_CONVERGED,
+    STATUS_NOT_RUN,
+    STATUS_OK,
+    _BuildFailure,
+    _run_chunk,
+    sweep_can_batch,
+)
+from ._sweep_file import append_line, fingerprint_of, open_progress
+from ._sweep_paths import _parse_path, get_path, set_path
+from .options import Options
+from .results import ConvergenceWarning
+from .solver import compliance
 
 __all__ = [
     "sweep",
@@ -77,96 +87,7 @@ __all__ = [
     "STATUS_NOT_RUN",
 ]
 
-STATUS_OK = 0
-"""The solve converged."""
-STATUS_NOT_CONVERGED = 1
-"""The solver finished without converging (values: its last iterate)."""
-STATUS_ERROR = 2
-"""Building or solving the point raised (values: NaN)."""
-STATUS_NOT_RUN = -1
-"""Only in results of a sweep that was interrupted before the point ran."""
-
-_FORMAT_VERSION = 1
 _DEFAULT_LIST_CHUNK = 32
-
-# --------------------------------------------------------------------------
-# paths into frozen dataclasses
-# --------------------------------------------------------------------------
-_TOKEN = re.compile(r"\.?([A-Za-z_][A-Za-z_0-9]*)|\[(-?\d+)\]")
-
-
-def _parse_path(path: str) -> list:
-    tokens, pos = [], 0
-    while pos < len(path):
-        m = _TOKEN.match(path, pos)
-        if m is None or (pos == 0 and path.startswith(".")):
-            raise ValueError(
-                f"path {path!r}: cannot parse at position {pos} ({path[pos:]!r}); "
-                "use names and [index], e.g. 'robot.tendons[0].EA'"
-            )
-        tokens.append(m.group(1) if m.group(1) is not None else int(m.group(2)))
-        pos = m.end()
-    if not tokens:
-        raise ValueError(f"path {path!r}: empty")
-    return tokens
-
-
-def get_path(obj: Any, path: str) -> Any:
-    """The value at ``path`` (e.g. ``"robot.tendons[0].offset"``) inside ``obj``."""
-    for tok in _parse_path(path):
-        if (
-            isinstance(tok, str)
-            and dataclasses.is_dataclass(obj)
-            and tok not in {f.name for f in dataclasses.fields(obj)}
-        ):
-            raise ValueError(f"path {path!r}: {type(obj).__name__} has no field {tok!r}")
-        try:
-            obj = obj[tok] if isinstance(tok, int) else getattr(obj, tok)
-        except (IndexError, AttributeError, TypeError) as exc:
-            raise ValueError(
-                f"path {path!r}: {tok!r} does not exist in {type(obj).__name__}"
-            ) from exc
-    return obj
-
-
-def _set(obj: Any, tokens: list, value: Any, path: str) -> Any:
-    if not tokens:
-        return value
-    tok, rest = tokens[0], tokens[1:]
-    if isinstance(tok, int):
-        if isinstance(obj, np.ndarray):
-            new = np.array(obj, copy=True)
-            new[tok] = _set(new[tok], rest, value, path)
-            return new
-        if not isinstance(obj, (list, tuple)):
-            raise ValueError(
-                f"path {path!r}: [{tok}] indexes a {type(obj).__name__}, not a sequence"
-            )
-        if not -len(obj) <= tok < len(obj):
-            raise ValueError(f"path {path!r}: index {tok} out of range (length {len(obj)})")
-        items = list(obj)
-        items[tok] = _set(items[tok], rest, value, path)
-        return type(obj)(items) if isinstance(obj, tuple) else items
-    if not dataclasses.is_dataclass(obj):
-        raise ValueError(
-            f"path {path!r}: .{tok} on a {type(obj).__name__}, which is not a dataclass"
-        )
-    names = {f.name for f in dataclasses.fields(obj)}
-    if tok not in names:
-        raise ValueError(
-            f"path {path!r}: {type(obj).__name__} has no field {tok!r} "
-            f"(fields: {', '.join(sorted(names))})"
-        )
-    return dataclasses.replace(obj, **{tok: _set(getattr(obj, tok), rest, value, path)})
-
-
-def set_path(obj: Any, path: str, value: Any) -> Any:
-    """A copy of the dataclass ``obj`` with the value at ``path`` replaced.
-
-    Every dataclass on the way is rebuilt with :func:`dataclasses.replace`,
-    so its ``__post_init__`` validation runs on the new value.
-    """
-    return _set(obj, _parse_path(path), value, path)
 
 
 # --------------------------------------------------------------------------
@@ -195,11 +116,9 @@ class ComplianceMeasure:
     s: tuple = (None,)
 
     def __call__(self, scene, sol):
-        import tendonrod as tr
-
         out = tip_measure(scene, sol)
         out["compliance"] = np.stack(
-            [np.asarray(tr.compliance(scene, s=s), dtype=float) for s in self.s]
+            [np.asarray(compliance(scene, s=s), dtype=float) for s in self.s]
         )
         return out
 
@@ -274,161 +193,6 @@ class SweepResult:
         ]
 
 
-# --------------------------------------------------------------------------
-# the work done by one worker
-# --------------------------------------------------------------------------
-def _jsonable(value: Any) -> Any:
-    if isinstance(value, np.ndarray):
-        return value.tolist()
-    if isinstance(value, (np.floating, np.integer, np.bool_)):
-        return value.item()
-    return value
-
-
-@dataclass(frozen=True)
-class _BuildFailure:
-    """A point whose scene could not be built (its message; a plain string pickles
-    anywhere, unlike some exception objects)."""
-
-    message: str
-
-
-def _run_chunk(task: dict) -> dict:
-    """Solve one chunk in order with warm starts; never raises for a point."""
-    import tendonrod as tr
-
-    scenes, measure, options, warm = (
-        task["scenes"],
-        task["measure"],
-        task["options"],
-        task["warm_start"],
-    )
-    records, guess = [], None
-    if task.get("batch"):
-        # BEGIN batch path (issue 7, tendonrod/batch.py): the whole chunk in one C call
-        from .batch import _sweep_chunk
-
-        out = _sweep_chunk(task)
-        if out is not None:
-            return out
-        # END batch path (None: this chunk cannot be batched; solve point by point)
-    for index, scene in zip(task["indices"], scenes):
-        if isinstance(scene, _BuildFailure):  # build failed in the parent: record, go on
-            records.append(
-                {
-                    "i": index,
-                    "status": STATUS_ERROR,
-                    "nit": -1,
-                    "message": scene.message,
-                    "data": None,
-                }
-            )
-            continue
-        try:
-            if threading.current_thread() is threading.main_thread():
-                # a process-pool worker (or a serial run): non-convergence is recorded per
-                # point, so silence the warning here.  Thread-pool workers must not touch the
-                # (process-global) filters; sweep() silences them once, in the calling thread.
-                with warnings.catch_warnings():
-                    warnings.simplefilter("ignore", getattr(tr, "ConvergenceWarning", Warning))
-                    sol = tr.solve(scene, guess=guess if warm else None, options=options)
-            else:
-                sol = tr.solve(scene, guess=guess if warm else None, options=options)
-            values = {k: np.asarray(v, dtype=float) for k, v in dict(measure(scene, sol)).items()}
-            ok = bool(sol.success)
-            records.append(
-                {
-                    "i": index,
-                    "status": STATUS_OK if ok else STATUS_NOT_CONVERGED,
-                    "nit": int(getattr(sol, "nit", -1)),
-                    "message": str(sol.message),
-                    "data": {k: v.tolist() for k, v in values.items()},
-                }
-            )
-            if ok:
-                guess = sol
-        except Exception as exc:  # noqa: BLE001 - a failed point never stops the sweep
-            records.append(
-                {
-                    "i": index,
-                    "status": STATUS_ERROR,
-                    "nit": -1,
-                    "message": f"{type(exc).__name__}: {exc}",
-                    "data": None,
-                }
-            )
-    return {"chunk": task["chunk"], "records": records}
-
-
-# --------------------------------------------------------------------------
-# the sweep
-# --------------------------------------------------------------------------
-def _fingerprint(base, names, point_values, chunksize, measure, build, options, warm_start) -> str:
-    def ident(f):
-        # functions by module + qualified name; callable objects by their class (and, for
-        # dataclasses, their fields) -- never by a repr holding a memory address, which
-        # would change from one process to the next and make every file look foreign
-        if f is None:
-            return None
-        if hasattr(f, "__qualname__"):
-            return (getattr(f, "__module__", ""), f.__qualname__)
-        cls = type(f)
-        return (cls.__module__, cls.__qualname__, repr(f) if dataclasses.is_dataclass(f) else "")
-
-    payload = repr(
-        (
-            _FORMAT_VERSION,
-            repr(base),
-            list(names),
-            [[repr(_jsonable(np.asarray(v))) for v in row] for row in point_values],
-            chunksize,
-            ident(measure),
-            ident(build),
-            repr(options),
-            bool(warm_start),
-        )
-    )
-    return hashlib.sha256(payload.encode()).hexdigest()
-
-
-def _read_progress(path: str, fingerprint: str, npoints: int) -> dict:
-    """Chunks already recorded in ``path`` -> their records; drops a torn last line."""
-    done: dict = {}
-    with open(path, "rb+") as fh:
-        raw = fh.read()
-        good_end = 0
-        lines = raw.split(b"\n")
-        complete = lines[:-1]  # the last element follows the last newline
-        for n, line in enumerate(complete):
-            try:
-                obj = json.loads(line)
-            except json.JSONDecodeError:
-                break  # torn write (killed mid-line): drop it and the rest
-            if n == 0:
-                if (
-                    obj.get("tendonrod_sweep") != _FORMAT_VERSION
-                    or obj.get("fingerprint") != fingerprint
-                ):
-                    raise ValueError(
-                        f"path {path!r} holds results of a different sweep (fingerprint "
-                        f"{obj.get('fingerprint')!r}); choose another path or delete the file"
-                    )
-            else:
-                done[int(obj["chunk"])] = obj["records"]
-            good_end += len(line) + 1
-        if good_end == 0:
-            raise ValueError(f"path {path!r} exists but has no sweep header; not overwriting it")
-        if good_end != len(raw):  # cut the torn tail so appends start on a clean line
-            fh.truncate(good_end)
-    return done
-
-
-def _append(fh, obj: dict) -> None:
-    fh.write(json.dumps(obj, allow_nan=True, separators=(",", ":")) + "\n")
-    fh.flush()
-    os.fsync(fh.fileno())
-
-
 def sweep(
     base: Any,
     vary: Mapping[str, Iterable] | None = None,
@@ -483,6 +247,48 @@ def sweep(
     -------
     SweepResult
     """
+    names, shape, point_values = _points(vary, grid)
+    npoints = len(point_values)
+    if chunksize is None:
+        chunksize = shape[-1] if (grid and shape) else min(npoints, _DEFAULT_LIST_CHUNK)
+    chunksize = int(chunksize)
+    if chunksize < 1:
+        raise ValueError(f"chunksize must be >= 1, got {chunksize}")
+    if max_workers is not None and int(max_workers) < 1:
+        raise ValueError(f"max_workers must be >= 1, got {max_workers}")
+    if measure is None:
+        measure = tip_measure
+        if options is None:
+            # only tip quantities are recorded: do not fill backbone arrays (~30% faster
+            # per solve)
+            options = Options(tip_only=True)
+    if build is None:
+        for n in names:
+            _parse_path(n)  # fail early on a malformed path
+            get_path(base, n)  # ... or one that does not exist
+
+    scenes = _build_scenes(base, names, point_values, build)
+    done: dict = {}
+    fh = None
+    fp = fingerprint_of(base, names, point_values, chunksize, measure, build, options, warm_start)
+    if path is not None:
+        done, fh = open_progress(path, fp, npoints, chunksize, names, shape)
+    tasks = _tasks(scenes, chunksize, done, measure, options, warm_start)
+    # batch path: only values of actuation and point loads vary and the record is the
+    # default tip measure -> each chunk is one tr.solve_batch call (same chunking and
+    # warm starts; with automatic steps bit for bit the per-point path, with a fixed step
+    # count the batch's lean loop, equal to it to the solver tolerance)
+    if build is None and measure is tip_measure and sweep_can_batch(base, names):
+        for t in tasks:
+            t["batch"] = True
+    bar = _progress_bar(progress, npoints, done)
+    _run(tasks, done, fh, bar, executor, max_workers)
+    return _assemble(names, shape, point_values, done, npoints, chunksize)
+
+
+def _points(vary, grid: bool):
+    """``(names, shape, point_values)``: the varied names, the result shape, and the
+    values of every point (a list per point, in the order of ``names``)."""
     if vary is None:
         vary = {}
     if not isinstance(vary, Mapping):
@@ -507,28 +313,12 @@ def sweep(
         npts = lengths.pop() if lengths else 1
         shape = (npts,)
         point_values = [list(p) for p in zip(*columns)] if names else [[]]
-    npoints = len(point_values)
-    if chunksize is None:
-        chunksize = shape[-1] if (grid and shape) else min(npoints, _DEFAULT_LIST_CHUNK)
-    chunksize = int(chunksize)
-    if chunksize < 1:
-        raise ValueError(f"chunksize must be >= 1, got {chunksize}")
-    if max_workers is not None and int(max_workers) < 1:
-        raise ValueError(f"max_workers must be >= 1, got {max_workers}")
-    if measure is None:
-        measure = tip_measure
-        if options is None:
-            # only tip quantities are recorded: do not fill backbone arrays (DESIGN.md,
-            # "leave out what a scene does not need"; ~30% faster per solve)
-            import tendonrod as tr
+    return names, shape, point_values
 
-            options = tr.Options(tip_only=True)
-    if build is None:
-        for n in names:
-            _parse_path(n)  # fail early on a malformed path
-            get_path(base, n)  # ... or one that does not exist
 
-    # the scenes, built in the parent (cheap); a failed build becomes a recorded error
+def _build_scenes(base, names, point_values, build) -> list:
+    """The scene of every point, built in the parent (cheap); a failed build becomes a
+    :class:`_BuildFailure`, recorded as an error when its chunk runs."""
     scenes: list = []
     for pv in point_values:
         try:
@@ -541,32 +331,15 @@ def sweep(
             scenes.append(scene)
         except Exception as exc:  # noqa: BLE001 - recorded as a failed point
             scenes.append(_BuildFailure(f"{type(exc).__name__}: {exc}"))
+    return scenes
 
+
+def _tasks(scenes, chunksize, done, measure, options, warm_start) -> list:
+    """One task per chunk not already in ``done`` (see :mod:`tendonrod._sweep_chunk`)."""
+    npoints = len(scenes)
     nchunks = math.ceil(npoints / chunksize)
-    done: dict = {}
-    fh = None
-    fp = _fingerprint(base, names, point_values, chunksize, measure, build, options, warm_start)
-    if path is not None:
-        path = os.fspath(path)
-        if os.path.exists(path) and os.path.getsize(path) > 0:
-            done = _read_progress(path, fp, npoints)
-            fh = open(path, "a", encoding="utf-8")
-        else:
-            fh = open(path, "w", encoding="utf-8")
-            _append(
-                fh,
-                {
-                    "tendonrod_sweep": _FORMAT_VERSION,
-                    "fingerprint": fp,
-                    "npoints": npoints,
-                    "chunksize": chunksize,
-                    "names": list(names),
-                    "shape": list(shape),
-                },
-            )
-
     todo = [c for c in range(nchunks) if c not in done]
-    tasks = [
+    return [
         {
             "chunk": c,
             "indices": list(range(c * chunksize, min((c + 1) * chunksize, npoints))),
@@ -577,16 +350,11 @@ def sweep(
         }
         for c in todo
     ]
-    # batch path (issue 7): only values of actuation and point loads vary and the record is
-    # the default tip measure -> each chunk is one tr.solve_batch call (same chunking and
-    # warm starts; with automatic steps bit for bit the per-point path, with a fixed step
-    # count the batch's lean loop, equal to it to the solver tolerance)
-    from .batch import sweep_can_batch
 
-    if build is None and measure is tip_measure and sweep_can_batch(base, names):
-        for t in tasks:
-            t["batch"] = True
 
+def _progress_bar(progress, npoints, done):
+    """A tqdm bar (None: not wanted, or tqdm missing; with ``progress=True`` the latter
+    warns)."""
     bar = None
     if progress or progress is None:
         try:
@@ -601,19 +369,23 @@ def sweep(
             )
         except ImportError:
             if progress:
+                # stacklevel 3: the warning points at the caller of sweep()
                 warnings.warn(
-                    "progress=True but tqdm is not installed; running quietly", stacklevel=2
+                    "progress=True but tqdm is not installed; running quietly", stacklevel=3
                 )
+    return bar
 
+
+def _run(tasks, done, fh, bar, executor, max_workers) -> None:
+    """Run the chunks on ``executor`` (default: a thread pool, shut down at the end),
+    with the solver's convergence warnings silenced, then close the file and the bar."""
     own = executor is None
     if own and tasks:
         workers = max_workers or os.cpu_count() or 1
         executor = cf.ThreadPoolExecutor(max_workers=min(workers, len(tasks)))
-    import tendonrod as tr
-
     try:
         with warnings.catch_warnings():
-            warnings.simplefilter("ignore", getattr(tr, "ConvergenceWarning", Warning))
+            warnings.simplefilter("ignore", ConvergenceWarning)
             _drive(executor, tasks, done, fh, bar)
     finally:
         if own and executor is not None:
@@ -622,8 +394,6 @@ def sweep(
             fh.close()
         if bar is not None:
             bar.close()
-
-    return _assemble(names, shape, point_values, done, npoints, chunksize)
 
 
 def _drive(executor, tasks, done, fh, bar) -> None:
@@ -636,7 +406,7 @@ def _drive(executor, tasks, done, fh, bar) -> None:
             out = fut.result()
             done[out["chunk"]] = out["records"]
             if fh is not None:
-                _append(fh, {"chunk": out["chunk"], "records": out["records"]})
+                append_line(fh, {"chunk": out["chunk"], "records": out["records"]})
             if bar is not None:
                 bar.update(len(out["records"]))
     except BaseException:

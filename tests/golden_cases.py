@@ -29,7 +29,7 @@ import tendonrod as tr
 HERE = os.path.dirname(os.path.abspath(__file__))
 GOLDEN = os.path.join(HERE, "data", "golden.npz")
 
-# fields of a Solution that the contract defines (DESIGN.md)
+# fields of a Solution that the contract defines (the Solution docstring)
 SOLUTION_ARRAYS = (
     "s",
     "position",

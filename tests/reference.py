@@ -1,10 +1,10 @@
 """Independent reference results for the Cosserat solver tests.
 
-Nothing here imports tendonrod: these are written from the paper (Sections II-III),
-from classical elastica theory, and as a from-scratch planar shooting solver built on
-SciPy, so that agreement with the C core means something.
+Nothing here imports tendonrod: these are written from classical elastica theory and
+as a from-scratch planar shooting solver built on SciPy, so that agreement with the C
+core means something.  The paper's closed forms (Sections II-III) are in closed_ref.py.
 
-Sign conventions (tendonrod's, see MODEL.md): base at the origin, rod along +z; the
+Sign conventions (tendonrod's, see docs/model.md): base at the origin, rod along +z; the
 tangent angle theta(s) is measured from +z toward +x (rotation about +y); a tendon at
 angle 0 sits at +x. Closed forms (paper): with the tendon at +x, F > 0 is the world force
 -F e_x and theta, delta are positive in the direction of F (toward -x).
@@ -18,56 +18,17 @@ import numpy as np
 from scipy import integrate, optimize, special
 
 # --------------------------------------------------------------------------- closed forms
-# Paper Section III (general linear path r(s) = a s + b; a = 0 is Section II).
-
-
-def closed_tension(F, z, L, EI, a, b, k):
-    """Eq. 25: tendon tension [N] for a transverse load F at z; k = inf allowed (limit)."""
-    F, z, L, EI, a, b, k = map(np.asarray, (F, z, L, EI, a, b, k))
-    num = F * (a * z**3 + 3.0 * b * z**2)
-    geo = L * (2.0 * a**2 * L**2 + 6.0 * a * b * L + 6.0 * b**2)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        finite = k * num / (6.0 * EI + k * geo)
-        limit = num / geo
-    return np.where(np.isinf(k), limit, finite)
-
-
-def closed_angle(s, F, z, L, EI, a, b, tau):
-    """Eq. 22: tangent angle theta(s) [rad] (positive toward F) for tension tau."""
-    s = np.asarray(s, dtype=float)
-    lo = 0.5 * (F + a * tau) * s**2 + (b * tau - F * z) * s
-    hi = 0.5 * a * tau * s**2 + b * tau * s - 0.5 * F * z**2
-    return -np.where(s < z, lo, hi) / EI
-
-
-def closed_deflection(s, F, z, L, EI, a, b, tau):
-    """Eq. 26: deflection delta(s) [m] (positive toward F) for tension tau."""
-    s = np.asarray(s, dtype=float)
-    lo = (F + a * tau) * s**3 / 6.0 + 0.5 * (b * tau - F * z) * s**2
-    hi = a * tau * s**3 / 6.0 + 0.5 * b * tau * s**2 - 0.5 * F * z**2 * s + F * z**3 / 6.0
-    return -np.where(s < z, lo, hi) / EI
+# The paper's closed forms themselves are in closed_ref.py (the one independent NumPy
+# version); here only the map from a sloped tendon to their parameters.
 
 
 def sloped_closed_params(slope, offset, EA_tendon, L):
-    """Exact small-load parameters (a, b, k) for a sloped tendon (MODEL.md "Links to the
+    """Exact small-load parameters (a, b, k) for a sloped tendon (docs/model.md, "Links to the
     closed forms"): the moment arm and the stretch both see r/c, c = sqrt(1 + a^2), and the
     spring constant is EA/(c L) (tendon reference length c L)."""
     c = math.sqrt(1.0 + slope**2)
     k = math.inf if math.isinf(EA_tendon) else EA_tendon / (c * L)
     return slope / c, offset / c, k
-
-
-def equivalent_stiffness(k, k_backbone):
-    """Eq. 17: springs in series (k = inf gives k_backbone)."""
-    if math.isinf(k):
-        return k_backbone
-    return k * k_backbone / (k + k_backbone)
-
-
-def pattern_factor(n):
-    """sum_i cos^2(2 pi i / n) for n equally spaced tendons (paper eq. 20)."""
-    phi = 2.0 * np.pi * np.arange(1, n + 1) / n
-    return float(np.sum(np.cos(phi) ** 2))
 
 
 # --------------------------------------------------------------------------- elastica

@@ -184,13 +184,13 @@ def test_figures_list_and_unknown(tmp_path, capsys):
     assert rc == EXIT_BAD_INPUT and "fig99" in err
 
 
-def test_bench_dispatches_to_benchmarks_main(monkeypatch, capsys):
+def test_bench_dispatches_to_bench_main(monkeypatch, capsys):
     calls = []
-    mod = types.ModuleType("tendonrod.benchmarks")
+    mod = types.ModuleType("tendonrod.bench")
     mod.main = lambda argv: calls.append(argv) or 0
-    monkeypatch.setitem(sys.modules, "tendonrod.benchmarks", mod)
-    monkeypatch.setattr(tr, "benchmarks", mod, raising=False)
+    monkeypatch.setitem(sys.modules, "tendonrod.bench", mod)
+    monkeypatch.setattr(tr, "bench", mod, raising=False)
     rc, _, _ = run_main(["bench", "work-precision", "--out", "d", "--quick"], capsys)
     assert rc == 0 and calls == [["work-precision", "--out", "d", "--quick"]]
-    rc, _, _ = run_main(["bench", "--help"], capsys)  # --help goes to benchmarks.main
+    rc, _, _ = run_main(["bench", "--help"], capsys)  # --help goes to bench.main
     assert rc == 0 and calls[-1] == ["--help"]

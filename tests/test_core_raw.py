@@ -101,7 +101,7 @@ def test_tension_controlled_parallel_tendon_kirchhoff_circle():
 
 
 def test_tension_controlled_parallel_tendon_cosserat_exact():
-    """Derivation (MODEL.md equations): try u = kappa e2, n_b = N e3, m_b = EI kappa e2
+    """Derivation (docs/model.md equations): try u = kappa e2, n_b = N e3, m_b = EI kappa e2
     constant. The tendon tangent is w = (0, 0, v3 - kappa r), so A = tau/|w| e1 e1^T and
     a = A (u x w) = (tau kappa, 0, 0). Force balance n_b' + u x n_b + a = (kappa N +
     tau kappa, 0, 0) = 0 gives N = -tau; moment balance holds (v x n_b = 0, r x a = 0);
@@ -557,7 +557,7 @@ def test_large_transverse_load_follows_the_loading_branch(fl):
     (looped ones too); the one reached by loading is the elastica of the references
     module (elliptic integrals, no tendonrod inside). Cold starts above a scaled load
     of 6 go by continuation from the unloaded robot, so they must land on it."""
-    from tendonrod.references import elastica_tip_force
+    from tendonrod.bench.references import elastica_tip_force
 
     F = fl * EI / L**2
     res = solve(KIRCH, loads=[load(F=(F, 0, 0))])
@@ -664,7 +664,7 @@ def test_off_path_equilibrium_is_never_reported_as_success(lam):
     tension) finds; an equilibrium found off the load path (status 3) is data with
     success = False, never a success."""
     import tendonrod as tr
-    from tendonrod.references import planar_rod_bvp
+    from tendonrod.bench.references import planar_rod_bvp
 
     L, d, E, G = 0.1, 1.04e-3, 210e9, 80e9
     rod = tr.Rod(length=L, diameter=d, E=E, G=G, kirchhoff=True)

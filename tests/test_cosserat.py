@@ -12,6 +12,7 @@ import dataclasses
 import math
 import warnings
 
+import closed_ref
 import numpy as np
 import pytest
 import reference as ref
@@ -119,8 +120,8 @@ def test_small_loads_reproduce_closed_forms(kind, zeta):
     for F in forces:
         sc = tr.Scene(robot, displacement=[0.0], loads=[tr.PointLoad(s=z, force=(-F, 0, 0))])
         sol = quiet_solve(sc, options=opts)
-        tau = ref.closed_tension(F, z, L17, EI17, a, b, k)
-        delta = ref.closed_deflection(nodes, F, z, L17, EI17, a, b, tau)
+        tau = closed_ref.tension(F, z, L17, EI17, a, b, k)
+        delta = closed_ref.deflection_given_tau(nodes, F, z, EI17, a, b, tau)
         err_x.append(np.max(np.abs(sol.position[:, 0] + delta)))  # x = -delta
         err_tau.append(sol.tension[0] - tau)  # signed: F^2 and F^3 parts may cancel
         scale.append(F * z**3 / (3 * EI17))
@@ -158,7 +159,7 @@ def test_small_loads_extensible_backbone_eq16_17():
     for EA_t in (math.inf, 3 * EI17 / R_OFF**2 * L17):
         robot = tr.Robot(rod, [tr.Tendon(offset=R_OFF, EA=EA_t)])
         k = math.inf if math.isinf(EA_t) else EA_t / L17
-        keq = ref.equivalent_stiffness(k, EA_b / L17)
+        keq = closed_ref.equivalent_stiffness(k, EA_b / L17)
         for z in (L17, 0.7 * L17):
             F0 = DEFL[3] * L17 * 3 * EI17 / z**3
             forces = F0 * 2.0 ** np.arange(4)
@@ -168,8 +169,10 @@ def test_small_loads_extensible_backbone_eq16_17():
                     robot, displacement=[0.0], loads=[tr.PointLoad(s=z, force=(-F, 0, 0))]
                 )
                 sol = quiet_solve(sc, options=tr.Options(nodes=np.array([z, L17]), **SMALL_OPTS))
-                tau = ref.closed_tension(F, z, L17, EI17, 0.0, R_OFF, keq)
-                delta = ref.closed_deflection(np.array([z, L17]), F, z, L17, EI17, 0.0, R_OFF, tau)
+                tau = closed_ref.tension(F, z, L17, EI17, 0.0, R_OFF, keq)
+                delta = closed_ref.deflection_given_tau(
+                    np.array([z, L17]), F, z, EI17, 0.0, R_OFF, tau
+                )
                 delta = delta + F * np.minimum([z, L17], z) / GA
                 errs.append(np.max(np.abs(sol.position[:, 0] + delta)))
                 err_tau.append(sol.tension[0] - tau)
@@ -204,7 +207,7 @@ def test_small_loads_pretensioned_sets(n, routing):
     )
     phis = 2 * np.pi * np.arange(1, n + 1) / n
     robot = tr.Robot(KIRCH17, [mk(p) for p in phis])
-    P = ref.pattern_factor(n)
+    P = closed_ref.pattern_factor_sum(n)
     t0 = robot.tendons[0]
     a, b, _ = ref.sloped_closed_params(t0.slope, t0.offset, EA_t, L17)
     # Hooke's law acts on the rest length, which pretension shortens to s_r/(1 + tau_p/EA):
@@ -217,8 +220,8 @@ def test_small_loads_pretensioned_sets(n, routing):
     for F in forces:
         sc = tr.Scene(robot, displacement=[0.0] * n, loads=[tr.PointLoad(s=z, force=(-F, 0, 0))])
         sol = quiet_solve(sc, options=tr.Options(nodes=np.array([z, L17]), **SMALL_OPTS))
-        T = ref.closed_tension(F, z, L17, EI17, a, b, k * P)
-        delta = ref.closed_deflection(np.array([z, L17]), F, z, L17, EI17, a, b, T)
+        T = closed_ref.tension(F, z, L17, EI17, a, b, k * P)
+        delta = closed_ref.deflection_given_tau(np.array([z, L17]), F, z, EI17, a, b, T)
         taus = tau_p + np.cos(phis) * T / P
         errs.append(np.max(np.abs(sol.position[:, 0] + delta)))
         err_tau.append(sol.tension - taus)
@@ -232,7 +235,7 @@ def test_small_loads_pretensioned_sets(n, routing):
         # the geometric-stiffness change (~3e-5 relative, below) plus F^2 terms: 1e-3 of T
         assert np.max(np.abs(err_tau[-1])) < 1e-3 * abs(T), err_tau[-1]
     # pretension on sloped tendons adds a small geometric stiffness that eq. 36 leaves out
-    # (MODEL.md): it is linear in F, so for converging sets only the size is checked
+    # (docs/model.md): it is linear in F, so for converging sets only the size is checked
     scale = forces * z**3 / (3 * EI17)
     if routing == "parallel":
         slope = _fitted_order(forces, errs)
@@ -259,8 +262,8 @@ def test_small_loads_pretensioned_sets(n, routing):
                 tr.Scene(rob2, displacement=[0.0] * n, loads=[tr.PointLoad(s=z, force=(-F, 0, 0))]),
                 options=tr.Options(nodes=np.array([L17]), **SMALL_OPTS),
             )
-            T = ref.closed_tension(F, z, L17, EI17, a, b, k2 * P)
-            return -sol.position[0, 0] - ref.closed_deflection(L17, F, z, L17, EI17, a, b, T)
+            T = closed_ref.tension(F, z, L17, EI17, a, b, k2 * P)
+            return -sol.position[0, 0] - closed_ref.deflection_given_tau(L17, F, z, EI17, a, b, T)
 
         ratio = tip_diff(2 * tau_p) / tip_diff(tau_p)
         assert abs(ratio - 2.0) < 0.1, ratio  # 5 %: the F^2 remainder at the smallest load
@@ -617,7 +620,7 @@ def _spatial_scenes():
             ),
         ),
         # opposing inextensible pairs on a Kirchhoff backbone: q_i + q_opposite must be < 0
-        # (one of each pair slack); = 0 is indeterminate, > 0 has no equilibrium (MODEL.md)
+        # (one of each pair slack); = 0 is indeterminate, > 0 has no equilibrium (docs/model.md)
         (
             "kirchhoff-gravity-4",
             tr.Scene(

@@ -7,7 +7,7 @@ values they produce.  Whatever it is given, the outcome must be one of
   - a ``ValueError`` / ``TypeError`` naming the parameter (and, for scalars,
     the value),
 and never a crash, a hang or a lie.  For the closed-form ufuncs the NumPy
-convention applies instead (DESIGN.md): out of the domain -> NaN and NumPy's
+convention applies instead (tendonrod/analytic.py): out of the domain -> NaN and NumPy's
 'invalid' flag; wrong types -> NumPy's TypeError naming the ufunc.
 
 The raw entry points (``tendonrod._core.*``) run in a worker subprocess
@@ -321,7 +321,7 @@ NON_NUMERIC = [
 # --------------------------------------------------------------------------
 # Closed-form ufuncs
 # --------------------------------------------------------------------------
-# Independent domain predicates from DESIGN.md / the ufunc docstrings:
+# Independent domain predicates from the ufunc docstrings (tendonrod/analytic.py):
 # L, EI finite positive; s, z in [0, L]; k in [0, inf]; F, a, b not NaN.
 
 

@@ -10,8 +10,9 @@ import numpy as np  # noqa: E402
 import pytest  # noqa: E402
 
 import tendonrod as tr  # noqa: E402
+from tendonrod import paper as S  # noqa: E402
 from tendonrod import plot as P  # noqa: E402
-from tendonrod import studies as S  # noqa: E402
+from tendonrod.paper import charts as C  # noqa: E402
 
 
 @pytest.fixture(autouse=True)
@@ -31,12 +32,12 @@ def labelled(ax, z=False):
 
 
 CLOSED = [
-    (P.sigma_vs_zeta, lambda: S.closed_form_sigma_vs_zeta(slopes=(0.0, -1.0))),
-    (P.tip_sigma_vs_alpha, S.closed_form_tip_sigma_vs_alpha),
-    (P.prototype_deflection, lambda: S.prototype_curves("parallel")),
-    (P.prototype_shapes, lambda: S.prototype_shapes("converging")),
+    (C.sigma_vs_zeta, lambda: S.closed_form_sigma_vs_zeta(slopes=(0.0, -1.0))),
+    (C.tip_sigma_vs_alpha, S.closed_form_tip_sigma_vs_alpha),
+    (C.prototype_deflection, lambda: S.prototype_curves("parallel")),
+    (C.prototype_shapes, lambda: S.prototype_shapes("converging")),
     (
-        P.prototype_tension,
+        C.prototype_tension,
         lambda: [S.prototype_curves("parallel"), S.prototype_curves("converging")],
     ),
 ]
@@ -53,17 +54,17 @@ def test_closed_form_charts(fn, data):
 
 def test_units_or_groups_in_labels():
     fig, ax = plt.subplots()
-    P.sigma_vs_zeta(S.closed_form_sigma_vs_zeta(), ax=ax)
+    C.sigma_vs_zeta(S.closed_form_sigma_vs_zeta(), ax=ax)
     assert "EI" in ax.get_ylabel() and "z / L" in ax.get_xlabel()
     fig, ax = plt.subplots()
-    P.prototype_deflection(S.prototype_curves("converging"), ax=ax)
+    C.prototype_deflection(S.prototype_curves("converging"), ax=ax)
     assert "[mm]" in ax.get_xlabel() and "[mm]" in ax.get_ylabel()
 
 
 def test_curve_values_are_the_data():
     d = S.closed_form_tip_sigma_vs_alpha(np.logspace(-1, 3, 9))
     fig, ax = plt.subplots()
-    P.tip_sigma_vs_alpha(d, ax=ax)
+    C.tip_sigma_vs_alpha(d, ax=ax)
     ys = [ln.get_ydata() for ln in ax.lines]
     assert any(np.array_equal(y, d["parallel"]) for y in ys)
     assert any(np.array_equal(y, d["converging"]) for y in ys)

@@ -1,4 +1,4 @@
-"""Stress suite, fast subset (the cases marked quick in tendonrod.benchmarks).
+"""Stress suite, fast subset (the cases marked quick in tendonrod.bench.stress_cases).
 
 Each case runs in a child process with a timeout (a hang or a crash is a finding,
 not a frozen test run). A well-posed case must converge to a *verified* answer:
@@ -18,9 +18,12 @@ import numpy as np
 import pytest
 
 import tendonrod as tr
-from tendonrod import benchmarks as bm
+from tendonrod.bench.common import FIG11, EI_of, read_csv, solve_quiet
+from tendonrod.bench.stress import GOOD, run_stress
+from tendonrod.bench.stress_cases import one_tendon_scene, stress_cases
+from tendonrod.bench.verify import BALANCE_TOL, REFINE_TOL, global_balance, verify
 
-QUICK = [c for c in bm.stress_cases() if c.quick]
+QUICK = [c for c in stress_cases() if c.quick]
 #: Per-case limit [s]: the slowest quick case (a 25-step load ramp with verification)
 #: takes a few seconds; 120 s only catches hangs on a loaded 2-core machine.
 TIMEOUT = 120.0
@@ -29,14 +32,14 @@ TIMEOUT = 120.0
 @pytest.fixture(scope="module")
 def stress_run(tmp_path_factory):
     out = tmp_path_factory.mktemp("stress")
-    rows = bm.run_stress(str(out), quick=True, timeout=TIMEOUT, log=lambda *a: None)
+    rows = run_stress(str(out), quick=True, timeout=TIMEOUT, log=lambda *a: None)
     return out, {r["case"]: r for r in rows}
 
 
 def test_stress_report_files(stress_run):
     out, rows = stress_run
     assert (out / "stress.png").stat().st_size > 5000
-    csvrows = bm.read_csv(out / "stress.csv")
+    csvrows = read_csv(out / "stress.csv")
     assert len(csvrows) == len(QUICK)
     for col in (
         "case",
@@ -75,20 +78,20 @@ def test_stress_case(stress_run, name):
     )
     # never a silent failure
     assert rec.get("message"), f"{name}: no message"
-    if rec["outcome"] not in bm.GOOD and name in KNOWN_FAILURES:
+    if rec["outcome"] not in GOOD and name in KNOWN_FAILURES:
         assert rec["outcome"] in ("FAILED", "UNVERIFIED", "VAGUE FAILURE"), rec
         pytest.xfail(f"{KNOWN_FAILURES[name]}: {rec['outcome']}: {rec.get('message')}")
-    assert rec["outcome"] in bm.GOOD, f"{name}: {rec['outcome']}: {rec.get('message')}"
+    assert rec["outcome"] in GOOD, f"{name}: {rec['outcome']}: {rec.get('message')}"
 
 
 def test_verification_catches_a_wrong_answer():
     """The verifier must be able to fail: a solution with a perturbed base force does
     not balance, and a coarse rk4 solve does not survive step refinement."""
-    p = bm.FIG11
-    sc = bm._one_tendon_scene(p, math.pi / 2, F=(-bm.EI_of(p) / p["L"] ** 2, 0.0, 0.0))
-    good = bm._solve_quiet(sc, tr.Options())
+    p = FIG11
+    sc = one_tendon_scene(p, math.pi / 2, F=(-EI_of(p) / p["L"] ** 2, 0.0, 0.0))
+    good = solve_quiet(sc, tr.Options())
     assert good.success
-    assert bm.global_balance(good) < bm.BALANCE_TOL
+    assert global_balance(good) < BALANCE_TOL
 
     class Fake:
         pass
@@ -107,8 +110,8 @@ def test_verification_catches_a_wrong_answer():
     ):
         setattr(bad, k, getattr(good, k))
     bad.force = good.force + np.array([1e-3, 0.0, 0.0])
-    assert bm.global_balance(bad) > 10 * bm.BALANCE_TOL  # 1e-3 N on ~25 N of tension: 4e-5
-    coarse = bm._solve_quiet(sc, tr.Options(integrator="rk4", steps=2))
+    assert global_balance(bad) > 10 * BALANCE_TOL  # 1e-3 N on ~25 N of tension: 4e-5
+    coarse = solve_quiet(sc, tr.Options(integrator="rk4", steps=2))
     if coarse.success:
-        v = bm.verify(coarse)
-        assert not v["verified"] and v["refine"] > bm.REFINE_TOL
+        v = verify(coarse)
+        assert not v["verified"] and v["refine"] > REFINE_TOL

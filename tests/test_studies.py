@@ -1,4 +1,4 @@
-"""tendonrod.studies: closed-form data equal the paper's formulas (written out here
+"""tendonrod.paper: closed-form data equal the paper's formulas (written out here
 independently); Cosserat studies agree with the closed forms in the small-deflection
 straight limit and with exact statements elsewhere."""
 
@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 import tendonrod as tr
-from tendonrod import studies as S
+from tendonrod import paper as S
 
 ZETA = np.linspace(0.0, 1.0, 11)
 ALPHA = np.array([0.0, 0.1, 1.0, 5.03, 10.0, 1e3, np.inf])
@@ -137,7 +137,7 @@ def test_compliance_map_small_angle_limit_matches_closed_forms():
     # 2e-6 absolute on sigma = O(1): the departures from the straight robot are O(theta^2)
     # = 1e-8 (measured: 1e-8 at theta = 1e-4, 1e-6 at 1e-3), plus the linearisation's own
     # accuracy in tr.compliance (~1e-7 measured); inextensible, so the converging tendon's
-    # exact-geometry factor c = sqrt(1 + a^2) (MODEL.md) cancels
+    # exact-geometry factor c = sqrt(1 + a^2) (docs/model.md) cancels
     tol = dict(rtol=0, atol=2e-6)
     assert np.allclose(d[("parallel", "displacement held", "transverse")], par, **tol)
     assert np.allclose(d[("converging", "displacement held", "transverse")], conv, **tol)
@@ -158,7 +158,7 @@ def test_tip_compliance_vs_alpha_straight_limit_is_fig7():
         d[("parallel", "transverse")], 4 - 3 * alphas / (1 + alphas), rtol=0, atol=2e-6
     )
     # a sloped tendon: the exact linearisation is Sec. III with a -> a/c, b -> b/c and spring
-    # constant EA/(cL) (MODEL.md), c = sqrt(1 + a^2); with alpha defined by k = EA/L that is
+    # constant EA/(cL) (docs/model.md), c = sqrt(1 + a^2); with alpha defined by k = EA/L that is
     # alpha -> alpha / c^3 (here c - 1 = 5e-3: a 1.5% shift in alpha, 0.7% in sigma -- well
     # resolved by the tolerance, so this test tells the two apart)
     c3 = (1 + 0.1**2) ** 1.5

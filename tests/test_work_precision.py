@@ -7,15 +7,19 @@ errors, orders and the files written.
 
 import math
 
+import closed_ref
 import numpy as np
 import pytest
 
 import tendonrod as tr
-from tendonrod import benchmarks as bm
-from tendonrod import references as refs
+from tendonrod.bench import references as refs
+from tendonrod.bench import work_precision as wp
+from tendonrod.bench.common import FIG11, FIG17, EI_of, read_csv, rod_of, solve_quiet
+from tendonrod.bench.model_choice import run_model_choice
+from tendonrod.bench.reference_robot import TendonRobotReference, from_scene
 
-P11 = bm.FIG11
-L11, EI11 = P11["L"], bm.EI_of(P11)
+P11 = FIG11
+L11, EI11 = P11["L"], EI_of(P11)
 GJ11 = P11["G"] * math.pi * P11["d"] ** 4 / 32
 
 
@@ -26,7 +30,7 @@ def test_elastica_elliptic_agrees_with_collocation_and_shooting():
     F = 5.0 * EI11 / L11**2
     x, z, th = refs.elastica_tip_force(L11, EI11, F)
     xb, zb, thb, _ = refs.planar_rod_bvp(L11, EI11, (F, 0.0), tol=1e-10, nodes=400)
-    r = refs.TendonRobotReference(L11, EI11, GJ11, [], F=(F, 0.0, 0.0)).solve(steps=1)
+    r = TendonRobotReference(L11, EI11, GJ11, [], F=(F, 0.0, 0.0)).solve(steps=1)
     # collocation at tol 1e-10 (residual; the solution error is far smaller, ~1e-14) and DOP853 at rtol 1e-13: both ~1e-12 of L;
     # 1e-10 leaves a factor 100 for round-off in the elliptic functions' root solve.
     assert abs(xb - x) / L11 < 1e-10 and abs(zb - z) / L11 < 1e-10
@@ -56,15 +60,15 @@ def test_compressive_elastica_and_critical_load():
     0.358 N for the paper's robot, not the 3.6 N its text states). Checked against the
     core on the work-precision scene: taut with the tip at 90 deg just below P_c, slack
     and on the exact elastica just above."""
-    p = bm.FIG17
-    L, EI, r = p["L"], bm.EI_of(p), p["r"]
+    p = FIG17
+    L, EI, r = p["L"], EI_of(p), p["r"]
     Pc = refs.critical_tip_angle_load(L, EI, math.pi / 2)
     assert Pc * L**2 / EI == pytest.approx(1.854074677**2, rel=1e-9)  # K(1/sqrt 2), tabulated
     x, z, th = refs.elastica_compressive(L, EI, Pc)
     assert th == pytest.approx(math.pi / 2, rel=1e-12)  # consistency of the two routes
-    robot = tr.Robot(bm.rod_of(p), [tr.Tendon(offset=r)])
+    robot = tr.Robot(rod_of(p), [tr.Tendon(offset=r)])
     opts = tr.Options(integrator="rk8", steps=64, tol=1e-12)
-    below = bm._solve_quiet(
+    below = solve_quiet(
         tr.Scene(
             robot,
             displacement=[r * math.pi / 2],
@@ -77,7 +81,7 @@ def test_compressive_elastica_and_critical_load():
     assert np.arctan2(tangent[0], tangent[2]) == pytest.approx(
         math.pi / 2, abs=1e-9
     )  # locked tip angle
-    above = bm._solve_quiet(
+    above = solve_quiet(
         tr.Scene(
             robot,
             displacement=[r * math.pi / 2],
@@ -109,9 +113,8 @@ def test_twist_with_tendons_limits():
 
 
 def test_small_load_reference_matches_analytic_ufunc():
-    """The plain-NumPy eq. 26 in references agrees with the C ufunc (two codes)."""
-    if not hasattr(tr.analytic, "deflection"):
-        pytest.skip("tr.analytic.deflection not built")
+    """The closed form the benchmarks compare against (the C ufunc tr.analytic.deflection,
+    eq. 26) agrees with the independent plain-NumPy eq. 26 of tests/closed_ref.py."""
     rng = np.random.default_rng(1)
     L = 0.2
     s = rng.uniform(0, L, 50)
@@ -119,7 +122,7 @@ def test_small_load_reference_matches_analytic_ufunc():
     b = rng.uniform(1e-3, 0.02, 50)
     a = -b / L * rng.uniform(0, 1, 50)
     k = np.where(rng.uniform(size=50) < 0.3, np.inf, rng.uniform(10, 1e5, 50))
-    mine = refs.small_load_deflection(s, 0.3, z, L, 4e-3, a, b, k)
+    mine = closed_ref.deflection(s, 0.3, z, L, 4e-3, a, b, k)
     theirs = tr.analytic.deflection(s, 0.3, z, L, 4e-3, a, b, k)
     # same formula, different order of operations: agreement to a few ulps of the terms
     np.testing.assert_allclose(theirs, mine, rtol=1e-10, atol=1e-16)
@@ -127,7 +130,7 @@ def test_small_load_reference_matches_analytic_ufunc():
 
 # --------------------------------------------------------------------------- convergence order
 def _elastica_scene():
-    return [s for s in bm.wp_scenes() if s.name == "elastica"][0]
+    return [s for s in wp.wp_scenes() if s.name == "elastica"][0]
 
 
 @pytest.mark.parametrize(
@@ -149,13 +152,13 @@ def test_observed_convergence_order(method, steps, order):
     ref = sc.reference()
     errs = []
     for n in steps:
-        sol = bm._solve_quiet(
+        sol = solve_quiet(
             sc.scene, tr.Options(integrator=method, steps=n, tol=1e-13, tip_only=True)
         )
         assert sol.success, sol.message
         assert sol.formulation.steps in (n, 0, -1) or sol.formulation.steps >= n
-        errs.append(bm.tip_error(sc, sol.tip_position, ref))
-    slope, used = bm.observed_order(steps, errs)
+        errs.append(wp.tip_error(sc, sol.tip_position, ref))
+    slope, used = wp.observed_order(steps, errs)
     assert used >= 3, f"too few points in the asymptotic range: errors {errs}"
     tol = 0.6 if order == 4 else 1.2
     assert abs(slope - order) < tol, f"{method}: observed order {slope:.2f} from errors {errs}"
@@ -167,29 +170,29 @@ def test_adaptive_integrator_meets_its_tolerance():
     sc = _elastica_scene()
     ref = sc.reference()
     for rt in (1e-6, 1e-9, 1e-12):
-        sol = bm._solve_quiet(
+        sol = solve_quiet(
             sc.scene, tr.Options(integrator="adaptive", rtol=rt, tol=1e-13, tip_only=True)
         )
         assert sol.success, sol.message
-        assert bm.tip_error(sc, sol.tip_position, ref) < 100 * rt + 1e-13
+        assert wp.tip_error(sc, sol.tip_position, ref) < 100 * rt + 1e-13
 
 
 def test_fig11a_core_matches_independent_reference():
     """The core's formulation (A, B, G, H matrices) against the distal-balance form of
-    references.TendonRobotReference on Fig. 11a (90 deg, transverse 1 N)."""
-    sc = [s for s in bm.wp_scenes() if s.name == "fig11a"][0]
-    ref = refs.from_scene(sc.scene, rtol=1e-11).solve(steps=2).tip_position
-    sol = bm._solve_quiet(sc.scene, tr.Options(integrator="rk8", steps=32, tol=1e-13))
+    reference_robot.TendonRobotReference on Fig. 11a (90 deg, transverse 1 N)."""
+    sc = [s for s in wp.wp_scenes() if s.name == "fig11a"][0]
+    ref = from_scene(sc.scene, rtol=1e-11).solve(steps=2).tip_position
+    sol = solve_quiet(sc.scene, tr.Options(integrator="rk8", steps=32, tol=1e-13))
     assert sol.success, sol.message
     # rk8 with 32 steps: truncation ~1e-13; reference at rtol 1e-11: ~1e-11; 1e-9 is margin
-    assert bm.tip_error(sc, sol.tip_position, ref) < 1e-9
+    assert wp.tip_error(sc, sol.tip_position, ref) < 1e-9
 
 
 # --------------------------------------------------------------------------- harness
 def test_work_precision_command_quick(tmp_path):
     """The quick benchmark writes the CSV (required columns, one row per scene x method
     x setting x Jacobian) and the PNG; rk8 beats rk4 on the exact circle at equal steps."""
-    rows = bm.run_work_precision(
+    rows = wp.run_work_precision(
         str(tmp_path),
         quick=True,
         repeats=1,
@@ -197,11 +200,11 @@ def test_work_precision_command_quick(tmp_path):
         scenes=["circle", "elastica", "fig17_slack"],
     )
     assert (tmp_path / "work_precision.png").stat().st_size > 10000
-    csvrows = bm.read_csv(tmp_path / "work_precision.csv")
+    csvrows = read_csv(tmp_path / "work_precision.csv")
     for col in ("scene", "method", "setting", "error", "seconds", "nit", "nfev"):
         assert col in csvrows[0]
-    n_set = len(bm.wp_settings(True))
-    n_jac = len(bm.jacobian_methods())
+    n_set = len(wp.wp_settings(True))
+    n_jac = len(wp.jacobian_methods())
     # fig17_slack also runs the paper's squared slack model; +1 default row per scene
     assert len(csvrows) == n_jac * n_set * (1 + 1 + 2) + 3
     ok = [r for r in rows if r["success"] and r["method"] != "default"]
@@ -212,7 +215,7 @@ def test_work_precision_command_quick(tmp_path):
 def test_model_choice_quick(tmp_path):
     """The closed form is accurate for small loads (error O(F L^2/EI)^2 relative -> tiny)
     and wrong for large ones; the chart and CSV are written."""
-    rows = bm.run_model_choice(str(tmp_path), quick=True, log=lambda *a: None)
+    rows = run_model_choice(str(tmp_path), quick=True, log=lambda *a: None)
     assert (tmp_path / "model_choice.png").stat().st_size > 10000
     for model in {r["model"] for r in rows}:
         sub = sorted((r for r in rows if r["model"] == model), key=lambda r: r["load"])

@@ -1,34 +1,16 @@
-"""Independent reference solutions for the work-precision benchmark and the tests.
+"""An independent solver of the tendon robot for the benchmarks and the tests.
 
-Nothing here calls the C core: every function is an exact solution, a closed
-form, or a fine numerical solution of the rod/tendon equations written in a
-*different* form from the core's (global balance of the distal part instead of
-the local A, B, G, H matrices of MODEL.md), integrated with SciPy's DOP853 at
-tight tolerance. Agreement between the core and these references therefore
-tests the core's formulation, not only its arithmetic.
+A spatial Kirchhoff or Cosserat rod with tip-anchored tendons (displacement- or
+tension-controlled, stretch, pretension, slack by an active set) under tip loads,
+written in a *different* form from the core's (global balance of the distal part
+instead of the local A, B, G, H matrices of ``docs/model.md``), by single shooting
+with SciPy's DOP853 at tight tolerance.  It never calls the C core, so agreement
+with the core tests the core's formulation, not only its arithmetic.
 
-Conventions are those of MODEL.md: SI units, base at the origin, base frame =
-world frame, undeformed rod along +z, loads in the world frame, tendon i at
+Conventions are those of ``docs/model.md``: SI units, base at the origin, base
+frame = world frame, undeformed rod along +z, loads in the world frame, tendon i at
 body-frame offset ``r_i(s) = (a_i s + b_i)(cos phi_i, sin phi_i, 0)``, positive
 displacement q retracts the tendon, tension tau >= 0.
-
-Contents
---------
-circle_end_moment        exact: a pure end moment bends any rod into a circle.
-elastica_tip_force       exact (elliptic integrals): Kirchhoff cantilever under a
-                         tip force perpendicular to the undeformed axis.
-elastica_compressive     exact (elliptic integrals): first buckled mode of a
-                         Kirchhoff cantilever under an axial compressive tip force.
-twist_with_tendons       exact: paper Fig. 12 (three tendons, pure twisting moment).
-small_load_deflection    the paper's eqs. 22-26 in plain NumPy (independent of the
-                         ufuncs in tendonrod.analytic).
-planar_rod_bvp           plain planar rod (Kirchhoff or Cosserat) under a tip force
-                         and moment by collocation (scipy.integrate.solve_bvp);
-                         stable for large tensile loads where shooting fails.
-TendonRobotReference     spatial Kirchhoff/Cosserat rod with tip-anchored tendons
-                         (displacement- or tension-controlled, stretch, pretension,
-                         slack by an active set) under tip loads, by single shooting
-                         on the distal-balance form with DOP853.
 """
 
 from __future__ import annotations
@@ -39,233 +21,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = [
-    "circle_end_moment",
-    "elastica_tip_force",
-    "elastica_compressive",
-    "small_load_deflection",
-    "planar_rod_bvp",
-    "RefTendon",
-    "RefResult",
-    "TendonRobotReference",
-    "from_scene",
-]
+from .references import _E3, _hat
 
-_E3 = np.array([0.0, 0.0, 1.0])
+__all__ = ["RefTendon", "RefResult", "TendonRobotReference", "from_scene"]
 
 
-def _hat(x):
-    return np.array([[0.0, -x[2], x[1]], [x[2], 0.0, -x[0]], [-x[1], x[0], 0.0]])
-
-
-# --------------------------------------------------------------------------- exact
-def circle_end_moment(L, EI, moment, s=None):
-    """Exact shape of a straight rod (any shear/extension stiffness) under a pure
-    end moment ``moment`` (world frame [N m], perpendicular to z).
-
-    The internal force vanishes, so the rod neither shears nor stretches and bends
-    into a circle of curvature ``|M|/EI`` about the moment's axis. Returns
-    ``(position (N, 3), rotation (N, 3, 3))`` at arc lengths ``s`` (default: the tip
-    only, N = 1)."""
-    M = np.asarray(moment, dtype=float)
-    if abs(M[2]) > 1e-14 * max(1.0, np.linalg.norm(M)):
-        raise ValueError(f"circle_end_moment: moment must be perpendicular to z, got {moment!r}")
-    s = np.atleast_1d(np.asarray(L if s is None else s, dtype=float))
-    Mn = np.linalg.norm(M)
-    if Mn == 0.0:
-        pos = np.outer(s, _E3)
-        rot = np.repeat(np.eye(3)[None], len(s), axis=0)
-        return pos, rot
-    ax = M / Mn
-    kappa = Mn / EI
-    side = np.cross(ax, _E3)  # direction the rod bends toward
-    th = kappa * s
-    pos = (np.sin(th)[:, None] * _E3 + (1.0 - np.cos(th))[:, None] * side) / kappa
-    K = _hat(ax)
-    rot = (
-        np.eye(3)[None]
-        + np.sin(th)[:, None, None] * K
-        + (1.0 - np.cos(th))[:, None, None] * (K @ K)
-    )
-    return pos, rot
-
-
-def elastica_tip_force(L, EI, F):
-    """Exact tip of a Kirchhoff cantilever (clamped along +z) under a tip force of
-    magnitude ``F`` > 0 [N] along +x (perpendicular to the undeformed axis, fixed
-    direction), from elliptic integrals.
-
-    With theta the tangent angle from z toward x, EI theta'' = -F cos(theta),
-    theta(0) = 0, theta'(L) = 0. Substituting 1 + sin(theta) = 2 k^2 sin^2(phi):
-    L sqrt(F/EI) = K(k) - F(phi0, k) with sin(phi0) = 1/(sqrt(2) k), and
-    z_L = 2 k cos(phi0) / lam, x_L = L - 2 (E(k) - E(phi0, k)) / lam, lam = sqrt(F/EI).
-    Returns ``(x_L, z_L, theta_L)``."""
-    from scipy.optimize import brentq
-    from scipy.special import ellipe, ellipeinc, ellipk, ellipkinc
-
-    if not F > 0:
-        raise ValueError(f"elastica_tip_force: F must be > 0, got {F!r}")
-    lam = math.sqrt(F / EI)
-    target = L * lam
-
-    def g(k):
-        m = k * k
-        phi0 = math.asin(1.0 / (math.sqrt(2.0) * k))
-        return ellipk(m) - ellipkinc(phi0, m) - target
-
-    lo = 1.0 / math.sqrt(2.0) * (1.0 + 1e-15)
-    hi = 1.0 - 1e-16
-    k = brentq(g, lo, hi, xtol=1e-16, rtol=4 * np.finfo(float).eps, maxiter=500)
-    m = k * k
-    phi0 = math.asin(1.0 / (math.sqrt(2.0) * k))
-    zL = 2.0 * k * math.cos(phi0) / lam
-    xL = L - 2.0 * (ellipe(m) - ellipeinc(phi0, m)) / lam
-    thetaL = math.asin(2.0 * m - 1.0)
-    return xL, zL, thetaL
-
-
-def elastica_compressive(L, EI, P):
-    """Exact tip of the first buckled mode of a Kirchhoff cantilever (clamped along
-    +z) under an axial compressive tip force of magnitude ``P`` [N] (force -P e_z),
-    bent toward +x. EI theta'' = -P sin(theta), theta(0) = 0, theta'(L) = 0:
-    L sqrt(P/EI) = K(k), k = sin(theta_L/2); x_L = 2k/lam, z_L = (2E(k) - K(k))/lam.
-    Needs P > pi^2 EI / (4 L^2) (Euler's load). Returns ``(x_L, z_L, theta_L)``."""
-    from scipy.optimize import brentq
-    from scipy.special import ellipe, ellipk
-
-    lam = math.sqrt(P / EI)
-    target = L * lam
-    if not target > math.pi / 2:
-        raise ValueError(
-            f"elastica_compressive: P={P!r} is below Euler's load "
-            f"{math.pi**2 * EI / (4 * L * L)!r}; the straight rod is the only solution"
-        )
-    k = brentq(
-        lambda k: ellipk(k * k) - target,
-        1e-300,
-        1.0 - 1e-16,
-        xtol=1e-16,
-        rtol=4 * np.finfo(float).eps,
-        maxiter=500,
-    )
-    m = k * k
-    return 2.0 * k / lam, (2.0 * ellipe(m) - ellipk(m)) / lam, 2.0 * math.asin(k)
-
-
-def critical_tip_angle_load(L, EI, theta_L):
-    """The compressive tip load P [N] at which the free (tendon-less) elastica's tip
-    angle equals ``theta_L`` (0 < theta_L < pi): L sqrt(P/EI) = K(sin(theta_L/2)).
-    For a robot locked at tip angle theta_L by one inextensible tendon and loaded
-    axially (paper Fig. 17), this is the load at which the tendon's tension reaches
-    zero: beyond it the tendon is slack."""
-    from scipy.special import ellipk
-
-    k = math.sin(theta_L / 2.0)
-    return EI * (ellipk(k * k) / L) ** 2
-
-
-def twist_with_tendons(L, GJ, EA, r, n, M):
-    """Paper Fig. 12, exactly: a straight Kirchhoff rod with ``n`` equally spaced
-    parallel tendons at offset ``r`` (axial rigidity ``EA`` [N] each, displacement 0,
-    no pretension) under a pure twisting tip moment ``M`` [N m].
-
-    By symmetry the rod stays straight and twists uniformly by psi; each tendon
-    becomes a helix of length L sqrt(1 + s^2), s = r psi / L, so its tension is
-    T = EA (sqrt(1 + s^2) - 1) and it adds the moment r T s / sqrt(1 + s^2) about the
-    axis: M = GJ psi / L + n r T s / sqrt(1 + s^2). Returns ``(psi [rad], T [N])``.
-    The tendon term is cubic in psi, so the slope at zero is GJ/L whatever EA (the
-    paper's observation), and psi -> 0 as EA -> inf (no equilibrium in the limit)."""
-    from scipy.optimize import brentq
-
-    def tension(psi):
-        s = r * psi / L
-        return (
-            EA * (math.sqrt(1.0 + s * s) - 1.0)
-            if s * s > 1e-8
-            else EA * (0.5 * s * s - 0.125 * s**4)
-        )
-
-    def g(psi):
-        s = r * psi / L
-        return GJ * psi / L + n * r * tension(psi) * s / math.sqrt(1.0 + s * s) - M
-
-    hi = M * L / GJ  # the tendons only reduce the twist
-    psi = (
-        brentq(g, 0.0, hi, xtol=1e-300, rtol=4 * np.finfo(float).eps, maxiter=500) if M > 0 else 0.0
-    )
-    return psi, tension(psi)
-
-
-def small_load_deflection(s, F, z, L, EI, a, b, k):
-    """The paper's eqs. 25-26 in plain NumPy: transverse deflection [m] at ``s`` of
-    a straight Bernoulli-Euler beam with one tendon on r(s) = a s + b (spring
-    constant ``k`` [N/m], ``np.inf`` = inextensible) under a transverse force ``F``
-    [N] at ``z``; positive in the direction of F (F pushes away from the tendon).
-    Independent of the C ufuncs in :mod:`tendonrod.analytic`."""
-    s, F, z, L, EI, a, b, k = np.broadcast_arrays(
-        *[np.asarray(x, dtype=float) for x in (s, F, z, L, EI, a, b, k)]
-    )
-    with np.errstate(divide="ignore", invalid="ignore"):
-        num = F * (a * z**3 + 3 * b * z**2)
-        den_inf = L * (2 * a * a * L * L + 6 * a * b * L + 6 * b * b)
-        tau = np.where(np.isinf(k), num / den_inf, k * num / (6 * EI + k * den_inf))
-    below = (F + a * tau) * s**3 / 6 + (b * tau - F * z) * s**2 / 2
-    above = a * tau * s**3 / 6 + b * tau * s**2 / 2 - F * z * z * s / 2 + F * z**3 / 6
-    return -np.where(s < z, below, above) / EI
-
-
-# --------------------------------------------------------------------------- collocation
-def planar_rod_bvp(L, EI, F, M=0.0, *, EA=np.inf, GA=np.inf, tol=1e-10, nodes=400, s_out=None):
-    """Plain planar rod (no tendons) clamped along +z under a tip force
-    ``F = (Fx, Fz)`` [N] and tip moment ``M`` [N m] about +y, by collocation
-    (scipy.integrate.solve_bvp, 4th-order Lobatto IIIA): stable where single
-    shooting is not (tensile loads with L sqrt(T/EI) >> 1).
-
-    States x, z, theta (tangent angle from z toward x), m (moment about y). The
-    internal force is the constant F; body components n1 = Fx cos - Fz sin,
-    n3 = Fx sin + Fz cos; v = (n1/GA, 0, 1 + n3/EA) (Kirchhoff: EA = GA = inf).
-    Returns ``(x_L, z_L, theta_L, sol)``."""
-    from scipy.integrate import solve_bvp
-
-    Fx, Fz = float(F[0]), float(F[1])
-
-    def f(s, y):
-        x, zz, th, m = y
-        c, sn = np.cos(th), np.sin(th)
-        n1 = Fx * c - Fz * sn
-        n3 = Fx * sn + Fz * c
-        v1 = n1 / GA
-        v3 = 1.0 + n3 / EA
-        xp = c * v1 + sn * v3
-        zp = -sn * v1 + c * v3
-        # m' = -(p' x F)_y = -(zp Fx - xp Fz)
-        return np.vstack([xp, zp, m / EI, -(zp * Fx - xp * Fz)])
-
-    def bc(ya, yb):
-        return np.array([ya[0], ya[1], ya[2], yb[3] - M])
-
-    s = np.linspace(0.0, L, nodes)
-    y0 = np.zeros((4, nodes))
-    y0[1] = s
-    sol = solve_bvp(f, bc, s, y0, tol=tol, max_nodes=200000)
-    # continuation in the load if the cold collocation did not converge
-    if sol.status != 0:
-        ylast = y0
-        for lam in np.linspace(0.1, 1.0, 10):
-            Fx, Fz = lam * float(F[0]), lam * float(F[1])
-            Ms = lam * M
-
-            def bc2(ya, yb, Ms=Ms):
-                return np.array([ya[0], ya[1], ya[2], yb[3] - Ms])
-
-            sol = solve_bvp(f, bc2, s, ylast, tol=tol, max_nodes=200000)
-            ylast = sol.sol(s)
-    if sol.status != 0:
-        raise RuntimeError(f"planar_rod_bvp did not converge: {sol.message}")
-    return float(sol.y[0, -1]), float(sol.y[1, -1]), float(sol.y[2, -1]), sol
-
-
-# --------------------------------------------------------------------------- shooting
 @dataclass
 class RefTendon:
     """One tendon for :class:`TendonRobotReference` (anchored at the tip).
@@ -494,6 +254,10 @@ class TendonRobotReference:
         steps from the straight unloaded robot, each step a MINPACK hybrid solve) and
         an active set for slack. ``guess``: a previous RefResult of a nearby scene to
         start from instead (then one step)."""
+        # One long method (~170 lines): the continuation, the active set and the final
+        # polish are closures over the same unknowns and active set; it is kept whole
+        # because it is the independent reference the committed results and the tests
+        # were computed with.
         from scipy.optimize import root
 
         nt = len(self.tendons)

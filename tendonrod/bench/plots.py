@@ -1,0 +1,234 @@
+"""The charts of the benchmark suites (matplotlib, Agg): work-precision, choice of
+model, stress outcomes.  Each takes the rows a suite recorded and writes one PNG."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+_STYLE = {
+    "rk4": ("tab:blue", "o"),
+    "rk8": ("tab:red", "s"),
+    "adaptive": ("tab:green", "^"),
+    "default": ("k", "*"),
+}
+
+
+def plot_work_precision(rows, scenes, path):
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    n = len(scenes)
+    ncol = 4
+    nrow = (n + ncol - 1) // ncol
+    fig, axes = plt.subplots(nrow, ncol, figsize=(4.2 * ncol, 3.6 * nrow), squeeze=False)
+    floor = 1e-16
+    for ax, sc in zip(axes.ravel(), scenes):
+        sub = [r for r in rows if r["scene"] == sc.name]
+        keys = []
+        for r in sub:
+            k = (r["method"], r["jacobian"], r["slack_model"])
+            if k not in keys:
+                keys.append(k)
+        for k in keys:
+            pts = [
+                r
+                for r in sub
+                if (r["method"], r["jacobian"], r["slack_model"]) == k
+                and r["success"]
+                and np.isfinite(r["error"])
+                and np.isfinite(r["seconds"])
+            ]
+            fails = [
+                r
+                for r in sub
+                if (r["method"], r["jacobian"], r["slack_model"]) == k
+                and not r["success"]
+                and np.isfinite(r["seconds"])
+            ]
+            color, marker = _STYLE.get(k[0], ("gray", "x"))
+            ls = {"fd": "-", "newton": "--", "hybrid": "-."}.get(k[1], (0, (1, 3)))
+            if k[2] != "linear":
+                ls = ":"
+            label = (
+                k[0]
+                if k[0] == "default"
+                else f"{k[0]} ({k[1]}{', ' + k[2] if k[2] != 'linear' else ''})"
+            )
+            if pts:
+                # in the order of increasing work (steps up, rtol down), so timing noise
+                # shows as a wiggle, not as a reordering of the line
+                pts.sort(
+                    key=lambda r: float(r["setting"]) * (-1 if r["method"] == "adaptive" else 1)
+                )
+                ax.loglog(
+                    [r["seconds"] * 1e3 for r in pts],
+                    [max(r["error"], floor) for r in pts],
+                    ls=ls if k[0] != "default" else "none",
+                    marker=marker,
+                    color=color,
+                    ms=4,
+                    label=label,
+                    alpha=0.85,
+                )
+            if fails:
+                ax.loglog(
+                    [r["seconds"] * 1e3 for r in fails],
+                    [max(r["error"], floor) if np.isfinite(r["error"]) else 1.0 for r in fails],
+                    ls="none",
+                    marker="x",
+                    color=color,
+                    ms=6,
+                )
+        ax.set_ylim(3e-17, 3.0)
+        ax.set_title(sc.title, fontsize=8.5)
+        ax.set_xlabel("median run time per cold solve [ms]", fontsize=8)
+        ax.set_ylabel("relative tip error", fontsize=8)
+        ax.grid(True, which="major", alpha=0.3)
+        ax.tick_params(labelsize=7)
+    for ax in axes.ravel()[n:]:
+        ax.axis("off")
+    h, lab = axes.ravel()[0].get_legend_handles_labels()
+    for ax in axes.ravel()[1:n]:
+        hh, ll = ax.get_legend_handles_labels()
+        for a, b in zip(hh, ll):
+            if b not in lab:
+                h.append(a)
+                lab.append(b)
+    fig.legend(h, lab, loc="lower center", ncol=min(6, len(lab)), fontsize=8)
+    fig.suptitle(
+        "tendonrod work-precision: relative tip error vs run time (x: solve reported failure)",
+        fontsize=11,
+    )
+    fig.tight_layout(rect=(0, 0.11, 1, 0.96))
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+
+
+def plot_model_choice(rows, path, cf_name):
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, (a1, a2) = plt.subplots(1, 2, figsize=(11, 4.2))
+    models = []
+    for r in rows:
+        if r["model"] not in models:
+            models.append(r["model"])
+    colors = ["tab:gray", "tab:blue", "tab:red"]
+    for m, c in zip(models, colors):
+        sub = [r for r in rows if r["model"] == m]
+        a1.loglog(
+            [r["load"] for r in sub],
+            [max(r["error"], 1e-17) for r in sub],
+            "o-",
+            color=c,
+            ms=3,
+            label=m,
+        )
+    for lvl, txt in ((0.01, "1 %"), (0.1, "10 %")):
+        a1.axhline(lvl, color="k", lw=0.6, ls=":")
+        a1.text(1.2e-3, lvl * 1.15, txt, fontsize=8)
+    a1.set_xlabel("tip load  F L² / EI")
+    a1.set_ylabel("relative error of the closed-form tip deflection")
+    a1.set_title("closed form (eq. 26) vs Cosserat, straight robot", fontsize=10)
+    a1.legend(fontsize=8)
+    a1.grid(True, alpha=0.3)
+    sub = [r for r in rows if r["model"] == models[-1]]
+    ld = [r["load"] for r in sub]
+    a2.loglog(
+        ld,
+        [r["seconds_closed_scalar"] * 1e6 for r in sub],
+        "s-",
+        color="tab:green",
+        ms=3,
+        label="closed form, one scalar call",
+    )
+    a2.loglog(
+        ld,
+        [r["seconds_closed_vector"] * 1e6 for r in sub],
+        "s--",
+        color="tab:green",
+        ms=3,
+        label="closed form, per point of a 10⁴ array",
+    )
+    a2.loglog(
+        ld,
+        [r["seconds_cosserat_cold"] * 1e6 for r in sub],
+        "o-",
+        color="tab:red",
+        ms=3,
+        label="Cosserat, cold solve (default Options)",
+    )
+    warm = [
+        (r["load"], r["seconds_cosserat_warm"] * 1e6)
+        for r in sub
+        if np.isfinite(r["seconds_cosserat_warm"])
+    ]
+    if warm:
+        a2.loglog(*zip(*warm), "o--", color="tab:red", ms=3, label="Cosserat, warm start (sweep)")
+    a2.set_xlabel("tip load  F L² / EI")
+    a2.set_ylabel("run time [µs]")
+    a2.set_title(f"run time (inextensible tendon; {cf_name})", fontsize=10)
+    a2.legend(fontsize=8)
+    a2.grid(True, alpha=0.3)
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+
+
+def plot_stress(rows, path):
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    colors = {
+        "verified": "tab:green",
+        "honest failure": "tab:olive",
+        "UNVERIFIED": "tab:orange",
+        "FAILED": "tab:red",
+        "WRONG SUCCESS": "tab:purple",
+        "VAGUE FAILURE": "gold",
+        "exception": "black",
+        "timeout": "tab:brown",
+        "crash": "black",
+        "REJECTED": "tab:pink",
+    }
+    n = len(rows)
+    fig, ax = plt.subplots(figsize=(10, max(4.0, 0.13 * n + 1.2)))
+    y = np.arange(n)[::-1]
+    secs = [
+        max(
+            float(r.get("seconds", math.nan) if r.get("seconds") not in (None, "") else math.nan),
+            1e-6,
+        )
+        if np.isfinite(
+            float(r.get("seconds", math.nan) if r.get("seconds") not in (None, "") else math.nan)
+        )
+        else float(r.get("wall_seconds", 1.0))
+        for r in rows
+    ]
+    ax.barh(y, secs, color=[colors.get(r["outcome"], "gray") for r in rows], height=0.8)
+    ax.set_xscale("log")
+    ax.set_yticks(y)
+    ax.set_yticklabels([r["case"] for r in rows], fontsize=6)
+    ax.set_xlabel("solve time [s] (log)")
+    from matplotlib.patches import Patch
+
+    handles = [
+        Patch(color=c, label=f"{k} ({sum(1 for r in rows if r['outcome'] == k)})")
+        for k, c in colors.items()
+        if any(r["outcome"] == k for r in rows)
+    ]
+    ax.legend(handles=handles, loc="lower right", fontsize=8)
+    ax.set_ylim(-1, n)
+    ax.set_title("tendonrod stress suite: outcome and time per case", fontsize=10)
+    ax.grid(True, axis="x", alpha=0.3)
+    fig.tight_layout()
+    fig.savefig(path, dpi=100)
+    plt.close(fig)

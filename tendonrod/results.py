@@ -1,0 +1,151 @@
+"""What a solve reports besides its :class:`~tendonrod.solver.Solution`: the problem the
+core actually solved (:class:`Formulation`), the rod state at given arc lengths
+(:class:`RodState`, from ``Solution.at``), and how a failed solve is reported
+(:class:`ConvergenceWarning`, :class:`ConvergenceError`).
+
+``Solution`` itself lives in :mod:`tendonrod.solver`, next to :func:`~tendonrod.solve`:
+``Solution.at`` is a warm solve, so the two cannot be apart without an import cycle.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, fields
+from typing import Any
+
+import numpy as np
+
+__all__ = ["Formulation", "RodState", "ConvergenceWarning", "ConvergenceError"]
+
+
+class ConvergenceWarning(RuntimeWarning):
+    """Issued by :func:`tendonrod.solve` when the shooting iteration did not converge."""
+
+
+class ConvergenceError(RuntimeError):
+    """Raised by ``solve(..., strict=True)`` when the iteration did not converge.
+
+    Attribute ``solution`` holds the (unconverged) :class:`~tendonrod.solver.Solution`.
+    """
+
+    def __init__(self, message: str, solution: Any = None):
+        super().__init__(message)
+        self.solution = solution
+
+
+@dataclass(frozen=True)
+class Formulation:
+    """What the core actually solved (the scene compiled into the smallest problem).
+
+    Attributes
+    ----------
+    planar : bool
+        Solved as a planar (x-z) problem.
+    kirchhoff : bool
+        Unshearable, inextensible backbone.
+    n_unknowns : int
+        Shooting unknowns (planar: 3, spatial: 6, plus one per displacement-controlled tendon).
+    n_states : int
+        ODE states integrated.
+    n_segments : int
+        Integration segments (split at point loads and tendon anchors).
+    n_length_states : int
+        Tendon path-length states (one per displacement-controlled tendon).
+    n_stretch_terms : int
+        Extensible (finite EA) displacement-controlled tendons.
+    distributed_load : bool
+        A distributed force is integrated.
+    tip_only : bool
+        Only the tip state was filled.
+    integrator : str
+        Integrator used.
+    steps : int
+        Integrator steps over the rod actually used.
+    slack_model : str
+        Tension/slack parametrisation.
+    jacobian_method : str
+        How the shooting Jacobian was formed.
+    shooting_segments : int
+        Shooting segments (1: single shooting).
+    """
+
+    planar: bool
+    kirchhoff: bool
+    n_unknowns: int
+    n_states: int
+    n_segments: int
+    n_length_states: int
+    n_stretch_terms: int
+    distributed_load: bool
+    tip_only: bool
+    integrator: str
+    steps: int
+    slack_model: str
+    jacobian_method: str = ""
+    shooting_segments: int = 1
+
+    @classmethod
+    def from_dict(cls, d: dict) -> Formulation:
+        kw = {}
+        for f in fields(cls):
+            v = d.get(f.name)
+            if f.type in ("bool",):
+                v = bool(v)
+            elif f.type in ("int",):
+                v = int(v) if v is not None else (f.default if isinstance(f.default, int) else -1)
+            else:
+                v = "" if v is None else (v.decode() if isinstance(v, bytes) else str(v))
+            kw[f.name] = v
+        return cls(**kw)
+
+    def __repr__(self):
+        geom = "planar" if self.planar else "spatial"
+        rod = "Kirchhoff" if self.kirchhoff else "Cosserat"
+        extra = []
+        if self.n_length_states:
+            extra.append(f"{self.n_length_states} tendon length state(s)")
+        if self.n_stretch_terms:
+            extra.append(f"{self.n_stretch_terms} stretch term(s)")
+        if self.distributed_load:
+            extra.append("distributed load")
+        if self.tip_only:
+            extra.append("tip only")
+        more = (", " + ", ".join(extra)) if extra else ""
+        return (
+            f"Formulation({geom} {rod}, {self.n_unknowns} unknowns, {self.n_states} states, "
+            f"{self.n_segments} segment(s){more}; {self.integrator} x {self.steps} steps, "
+            f"slack model {self.slack_model}, jacobian {self.jacobian_method}"
+            + (
+                f", {self.shooting_segments} shooting segments"
+                if self.shooting_segments > 1
+                else ""
+            )
+            + ")"
+        )
+
+
+@dataclass(frozen=True)
+class RodState:
+    """The rod state at given arc length(s), from :meth:`Solution.at`.
+
+    For a scalar ``s``: ``position`` (3,), ``rotation`` (3, 3), ``force`` (3,), ``moment`` (3,);
+    for an array of N arc lengths a leading axis of length N is added.
+
+    Attributes
+    ----------
+    s : float or ndarray (N,)
+        Arc length [m].
+    position : ndarray
+        Backbone position, world frame [m].
+    rotation : ndarray
+        Body-to-world rotation matrix.
+    force : ndarray
+        Internal backbone force n, world frame [N].
+    moment : ndarray
+        Internal backbone moment m, world frame [N m].
+    """
+
+    s: Any
+    position: np.ndarray
+    rotation: np.ndarray
+    force: np.ndarray
+    moment: np.ndarray
