@@ -351,6 +351,10 @@ int tr_residual(const tr_model *m, tr_data *d, const double *x, double *f);
  * frame, linearised at the solution (call tr_solve first). */
 int tr_compliance(const tr_model *m, tr_data *d, double s_probe, double C[36]);
 
+/* The message of a converged solve (nit iterations, final scaled residual): the one
+ * wording of a success, for entry points that store no message per converged point. */
+void tr_message_converged(char *msg, size_t len, int nit, double residual, double tol);
+
 /* The physical guess of the current unknowns (after tr_solve: of the solution):
  * g (6 + 2 nt) = [n(0) world (3) [N], m(0) world (3) [N m], tension (nt) [N],
  * slack (nt) [m]], n(0), m(0) the backbone's internal force and moment at the base.

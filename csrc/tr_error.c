@@ -39,6 +39,12 @@ void tr_msgf(char *msg, size_t len, const char *fmt, ...)
     va_end(ap);
 }
 
+void tr_message_converged(char *msg, size_t len, int nit, double residual, double tol)
+{
+    tr_msgf(msg, len, "converged in %d iterations (scaled residual %.3g <= tol %.3g)", nit,
+            residual, tol);
+}
+
 void tr_set_message(tr_data *d, const char *fmt, ...)
 {
     va_list ap;

@@ -375,7 +375,6 @@ int tr_solve_lean(const tr_model *m, tr_data *d, const double *x0, const double 
     }
     d->fnorm = d->residual_norm = fn;
     d->J_fresh = 0;
-    tr_set_message(d, "converged in %d iterations (scaled residual %.3g <= tol %.3g)", d->nit,
-                   d->residual_norm, d->opt.tol);
+    tr_message_converged(d->message, TR_MSGLEN, d->nit, d->residual_norm, d->opt.tol);
     return d->status = TR_OK;
 }

@@ -42,7 +42,7 @@ int tr_options_check(const tr_options *o, char *msg, size_t msglen)
     }
     if (check_int("integrator", o->integrator, TR_RK4, TR_ADAPTIVE, msg, msglen) ||
         check_int("steps", o->steps, 0, TR_MAX_STEPS, msg, msglen) ||
-        check_int("max_iter", o->max_iter, 0, TR_MAX_ITER_CAP, msg, msglen) ||
+        check_int("max_iter", o->max_iter, 1, TR_MAX_ITER_CAP, msg, msglen) ||
         check_int("max_nfev", o->max_nfev, 1, TR_MAX_NFEV_CAP, msg, msglen) ||
         check_int("jacobian_method", o->jacobian_method, TR_JAC_FD, TR_JAC_HYBRID, msg, msglen) ||
         check_int("slack_model", o->slack_model, TR_SLACK_LINEAR, TR_SLACK_SQUARED, msg, msglen) ||

@@ -154,8 +154,7 @@ static int solve_record(const tr_model *m, tr_data *d, int status)
         tr_set_message(d, "the recording pass failed: %s", tr_strerror(rs));
     }
     if (status == TR_OK)
-        tr_set_message(d, "converged in %d iterations (scaled residual %.3g <= tol %.3g)", d->nit,
-                       d->residual_norm, d->opt.tol);
+        tr_message_converged(d->message, TR_MSGLEN, d->nit, d->residual_norm, d->opt.tol);
     else if (status == TR_TRUNCATION && d->message[0] == '\0')
         tr_set_message(d, "%s", tr_strerror(status));
     return status;

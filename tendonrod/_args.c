@@ -145,7 +145,7 @@ static const opt_spec options[] = {
     {"steps", OPT_INT, offsetof(tr_options, steps), NULL, 0, TR_MAX_STEPS},
     {"rtol", OPT_DOUBLE, offsetof(tr_options, rtol), NULL, 0, 0},
     {"tol", OPT_DOUBLE, offsetof(tr_options, tol), NULL, 0, 0},
-    {"max_iter", OPT_INT, offsetof(tr_options, max_iter), NULL, 0, TR_MAX_ITER_CAP},
+    {"max_iter", OPT_INT, offsetof(tr_options, max_iter), NULL, 1, TR_MAX_ITER_CAP},
     {"max_nfev", OPT_INT, offsetof(tr_options, max_nfev), NULL, 1, TR_MAX_NFEV_CAP},
     {"jacobian_method", OPT_CHOICE, offsetof(tr_options, jacobian_method), glue_jacobians, 0, 0},
     {"slack_model", OPT_CHOICE, offsetof(tr_options, slack_model), glue_slack_models, 0, 0},

@@ -106,13 +106,19 @@ static int arrays_alloc(batch_arrays *b, npy_intp n, int nt, tr_batch_out *out)
 }
 
 /* The result dict (references to the arrays are added, not stolen). */
-static PyObject *batch_result(const batch_arrays *b, npy_intp n, const tr_model *m)
+static PyObject *batch_result(const batch_arrays *b, npy_intp n, const tr_model *m, double tol)
 {
     PyObject *result = PyDict_New(), *msgs = PyList_New(n), *form = NULL;
+    const int *status = (const int *)PyArray_DATA((PyArrayObject *)b->sta);
+    const int *nit = (const int *)PyArray_DATA((PyArrayObject *)b->nit);
+    const double *res = (const double *)PyArray_DATA((PyArrayObject *)b->res);
     npy_intp i;
     if (!result || !msgs) goto fail;
     for (i = 0; i < n; i++) {
-        const char *mi = b->mbuf + (size_t)i * TR_MSGLEN;
+        char *mi = b->mbuf + (size_t)i * TR_MSGLEN;
+        /* the batch stores no message for a converged point: the core's wording */
+        if (status[i] == TR_OK && mi[0] == '\0')
+            tr_message_converged(mi, TR_MSGLEN, nit[i], res[i], tol);
         const char *end = (const char *)memchr(mi, '\0', TR_MSGLEN);
         PyObject *s = PyUnicode_DecodeUTF8(mi, end ? (Py_ssize_t)(end - mi) : TR_MSGLEN, "replace");
         if (!s) goto fail;
@@ -167,7 +173,7 @@ const char glue_solve_batch_doc[] =
     "solve (nodes and tip_only do not apply).\n"
     "Returns a dict of arrays over the n points: tip_position (n,3) [m], tip_rotation (n,3,3),\n"
     "tension, slack, displacement (n,nt), residual_norm (n,), status, nit, nfev, cold (n,)\n"
-    "int32, message (list of n str; '' where status == 0), formulation (dict: planar,\n"
+    "int32, message (list of n str), formulation (dict: planar,\n"
     "kirchhoff, n_unknowns, n_states).\n";
 
 PyObject *glue_solve_batch(PyObject *self, PyObject *args, PyObject *kwds)
@@ -234,7 +240,7 @@ PyObject *glue_solve_batch(PyObject *self, PyObject *args, PyObject *kwds)
             PyErr_SetString(PyExc_ValueError, emsg);
         goto done;
     }
-    result = batch_result(&b, n, m);
+    result = batch_result(&b, n, m, a.opt.tol);
 done:
     arrays_clear(&b);
     Py_XDECREF(values);

@@ -34,15 +34,27 @@ static PyObject *default_options(void)
         o.tip_only ? Py_True : Py_False, "shooting_segments", o.shooting_segments);
 }
 
-/* LIMITS: the ranges tr_options_check and tr_model_alloc accept (tendonrod.h). */
+/* LIMITS: the ranges tr_options_check and tr_model_alloc accept (tendonrod.h): per
+ * option (lo, hi), inclusive for ints; rtol in [lo, hi), tol in (lo, hi); rod L, EI,
+ * GJ and the finite EA, GA of a rod or tendon in [lo, hi]. */
 static PyObject *limits(void)
 {
-    return Py_BuildValue("{s:i,s:d,s:i,s:i,s:i,s:i,s:i,s:d,s:d,s:d,s:d,s:d}", "max_steps",
-                         TR_MAX_STEPS, "rtol_min", TR_RTOL_MIN, "max_iter", TR_MAX_ITER_CAP,
-                         "max_nfev", TR_MAX_NFEV_CAP, "max_continuation", TR_MAX_CONTINUATION_CAP,
-                         "max_nodes", TR_MAX_NODES, "max_shooting_segments",
-                         TR_MAX_SHOOTING_SEGMENTS, "rod_min", TR_ROD_MIN, "rod_max", TR_ROD_MAX,
-                         "ea_min", TR_EA_MIN, "ea_max", TR_EA_MAX, "planar_sin", TR_PLANAR_SIN);
+    return Py_BuildValue(
+        "{s:(ii),s:(ii),s:(ii),s:(ii),s:(ii),s:(ii),s:(dd),s:(dd),s:(dd),s:(dd),s:d}", "steps", 0,
+        TR_MAX_STEPS, "max_iter", 1, TR_MAX_ITER_CAP, "max_nfev", 1, TR_MAX_NFEV_CAP,
+        "max_continuation", 0, TR_MAX_CONTINUATION_CAP, "shooting_segments", 1,
+        TR_MAX_SHOOTING_SEGMENTS, "nodes", 2, TR_MAX_NODES, "rtol", TR_RTOL_MIN, 1.0, "tol", 0.0,
+        1.0, "rod", TR_ROD_MIN, TR_ROD_MAX, "EA", TR_EA_MIN, TR_EA_MAX, "planar_sin",
+        TR_PLANAR_SIN);
+}
+
+/* CHOICES: the accepted names of the choice options, in the order of their enums. */
+static PyObject *choices(void)
+{
+    return Py_BuildValue("{s:(sss),s:(sss),s:(ss)}", "integrator", glue_integrators[0],
+                         glue_integrators[1], glue_integrators[2], "jacobian_method",
+                         glue_jacobians[0], glue_jacobians[1], glue_jacobians[2], "slack_model",
+                         glue_slack_models[0], glue_slack_models[1]);
 }
 
 static int add_constants(PyObject *module)
@@ -52,6 +64,7 @@ static int add_constants(PyObject *module)
     if (PyModule_AddIntConstant(module, "STATUS_OFFPATH", TR_OFFPATH) < 0) return -1;
     if (add_object(module, "DEFAULT_OPTIONS", default_options()) < 0 ||
         add_object(module, "LIMITS", limits()) < 0 ||
+        add_object(module, "CHOICES", choices()) < 0 ||
         add_object(module, "ROD_COLUMNS",
                    Py_BuildValue("(ssssss)", "length", "EI", "GJ", "EA", "GA", "kirchhoff")) < 0 ||
         add_object(module, "TENDON_COLUMNS",

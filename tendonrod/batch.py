@@ -18,18 +18,14 @@ are returned.
 from __future__ import annotations
 
 import concurrent.futures as cf
-import dataclasses
-import math
-import warnings
 from dataclasses import dataclass
 
 import numpy as np
 
 from . import _core
-from .model import DistributedLoad, PointLoad, Scene
+from .model import Scene
 from .options import Options, _check_options
-from .results import ConvergenceWarning
-from .solver import _is_planar, pack_scene, solve
+from .solver import _TD, is_planar, pack_scene
 
 __all__ = ["solve_batch", "BatchResult", "DEFAULT_CHUNKSIZE"]
 
@@ -209,22 +205,6 @@ def solve_batch(
     point_loads = _point_load_values(loads, n, forces, moments)
     force_spatial = _force_spatial(scene, options, point_loads, distributed)
 
-    if displacement is not None and _value_dependent_scene(scene):
-        # whether such a scene has a unique equilibrium depends on the displacement values
-        # (checked when a model is compiled): solve point by point
-        return _fallback(
-            scene,
-            values,
-            point_loads,
-            distributed,
-            options,
-            chunksize,
-            warm_start,
-            retry_cold,
-            n,
-            force_spatial,
-        )
-
     kw = dict(options._raw)
     kw.pop("nodes", None)
     kw.pop("tip_only", None)
@@ -245,7 +225,7 @@ def _tendon_values(tendons, n, idisp, iten, displacement, tension):
     """(n, nt) control values per point (the scene's where not varied), or None."""
     values = None
     if displacement is not None or tension is not None:
-        values = np.repeat(tendons[None, :, 6], n, axis=0)
+        values = np.repeat(tendons[None, :, _TD["value"]], n, axis=0)
         if displacement is not None:
             values[:, idisp] = displacement
         if tension is not None:
@@ -341,7 +321,7 @@ def _force_spatial(scene, options, point_loads, distributed) -> bool:
     """One formulation for the whole batch: spatial as soon as any point leaves the plane
     (or the options ask for it)."""
     force_spatial = bool(options.force_spatial)
-    if not force_spatial and _is_planar(scene):
+    if not force_spatial and is_planar(scene):
         out_of_plane = (
             point_loads is not None
             and np.any(
@@ -352,20 +332,6 @@ def _force_spatial(scene, options, point_loads, distributed) -> bool:
         ) or (distributed is not None and np.any(distributed[:, 1] != 0))
         force_spatial = bool(out_of_plane)
     return force_spatial
-
-
-def _value_dependent_scene(scene: Scene) -> bool:
-    """Inextensible displacement-controlled tendons (two or more) on a Kirchhoff backbone:
-    the core's compile-time indeterminacy check depends on their displacement values."""
-    if not scene.robot.rod.kirchhoff:
-        return False
-    ctl = scene.displacement_controlled()
-    return sum(1 for t, c in zip(scene.robot.tendons, ctl) if c and math.isinf(t.EA)) >= 2
-
-
-def _ok_message(nit: int, res: float, tol: float) -> str:
-    # the core's own wording for a converged point (tr_shoot.c), which the batch does not copy
-    return f"converged in {nit} iterations (scaled residual {res:.3g} <= tol {tol:.3g})"
 
 
 def _assemble(parts, n, chunksize, options) -> BatchResult:
@@ -385,14 +351,7 @@ def _assemble(parts, n, chunksize, options) -> BatchResult:
         )
     }
     message = np.empty(n, dtype=object)
-    msgs = [m for p in parts for m in p["message"]]
-    tol = options.tol
-    for i, m in enumerate(msgs):
-        message[i] = (
-            m
-            if cat["status"][i] != 0
-            else _ok_message(int(cat["nit"][i]), float(cat["residual_norm"][i]), tol)
-        )
+    message[:] = [m for p in parts for m in p["message"]]
     return BatchResult(
         tip_position=cat["tip_position"],
         tip_rotation=cat["tip_rotation"],
@@ -407,99 +366,4 @@ def _assemble(parts, n, chunksize, options) -> BatchResult:
         cold=cat["cold"].astype(bool),
         formulation=dict(parts[0]["formulation"]),
         chunksize=int(chunksize),
-    )
-
-
-def _fallback(
-    scene,
-    values,
-    point_loads,
-    distributed,
-    options,
-    chunksize,
-    warm_start,
-    retry_cold,
-    n,
-    force_spatial,
-) -> BatchResult:
-    """Point-by-point tr.solve (same chunking and warm starts) for scenes whose
-    solvability depends on the varied values."""
-    opts = dataclasses.replace(options, tip_only=True, force_spatial=force_spatial)
-    nt = scene.robot.n_tendons
-    out = {
-        "tip_position": np.full((n, 3), np.nan),
-        "tip_rotation": np.full((n, 3, 3), np.nan),
-        "tension": np.full((n, nt), np.nan),
-        "slack": np.full((n, nt), np.nan),
-        "displacement": np.full((n, nt), np.nan),
-        "residual_norm": np.full(n, np.nan),
-        "status": np.zeros(n, dtype=np.int64),
-        "nit": np.zeros(n, dtype=np.int64),
-        "nfev": np.zeros(n, dtype=np.int64),
-        "cold": np.zeros(n, dtype=bool),
-    }
-    message = np.empty(n, dtype=object)
-    ctl = scene.displacement_controlled()
-    form = None
-    guess = None
-    for p in range(n):
-        if p % chunksize == 0:
-            guess = None
-        sc = scene
-        if values is not None:
-            sc = dataclasses.replace(
-                sc,
-                displacement=[float(values[p, i]) if ctl[i] else None for i in range(nt)],
-                tension=[None if ctl[i] else float(values[p, i]) for i in range(nt)],
-            )
-        if point_loads is not None or distributed is not None:
-            new, k = [], 0
-            for ld in sc.loads:
-                if isinstance(ld, PointLoad):
-                    if point_loads is not None:
-                        ld = dataclasses.replace(
-                            ld,
-                            force=tuple(point_loads[p, k, :3]),
-                            moment=tuple(point_loads[p, k, 3:]),
-                        )
-                    k += 1
-                    new.append(ld)
-                elif distributed is None:
-                    new.append(ld)
-            if distributed is not None:
-                new.append(DistributedLoad(force=tuple(distributed[p])))
-            sc = dataclasses.replace(sc, loads=new)
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore", ConvergenceWarning)
-            g = guess if warm_start else None
-            sol = solve(sc, guess=g, options=opts)
-            nit, nfev, cold = sol.nit, sol.nfev, g is None
-            if not sol.success and g is not None and retry_cold:
-                sol = solve(sc, options=opts)
-                nit, nfev, cold = nit + sol.nit, nfev + sol.nfev, True
-        out["tip_position"][p] = sol.tip_position
-        out["tip_rotation"][p] = sol.tip_rotation
-        out["tension"][p], out["slack"][p] = sol.tension, sol.slack
-        out["displacement"][p] = sol.displacement
-        out["residual_norm"][p] = sol.residual_norm
-        out["status"][p], out["nit"][p], out["nfev"][p], out["cold"][p] = (
-            sol.status,
-            nit,
-            nfev,
-            cold,
-        )
-        message[p] = str(sol.message)
-        form = form or {
-            "planar": sol.formulation.planar,
-            "kirchhoff": sol.formulation.kirchhoff,
-            "n_unknowns": sol.formulation.n_unknowns,
-            "n_states": sol.formulation.n_states,
-        }
-        if sol.success:
-            guess = sol
-    return BatchResult(
-        message=message,
-        formulation=dict(form or {}, pointwise=True),
-        chunksize=int(chunksize),
-        **out,
     )

@@ -24,6 +24,8 @@ from dataclasses import KW_ONLY, dataclass
 
 import numpy as np
 
+from . import _core
+
 __all__ = ["Rod", "Tendon", "Robot", "PointLoad", "DistributedLoad", "Scene"]
 
 Vec3 = tuple[float, float, float]
@@ -53,8 +55,8 @@ def _real(owner: str, name: str, value, *, allow_inf: bool = False) -> float:
     return x
 
 
-# Range of a finite tendon EA [N] (TR_TENDON_EA_MIN/MAX in csrc/tendonrod.h).
-_TENDON_EA_MIN, _TENDON_EA_MAX = 1e-100, 1e150
+# Range of a finite tendon EA [N]: the core's (a subnormal EA would overflow tau/EA).
+_TENDON_EA_MIN, _TENDON_EA_MAX = _core.LIMITS["EA"]
 
 
 def _positive(owner: str, name: str, value, *, allow_inf: bool = False) -> float:

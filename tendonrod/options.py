@@ -13,14 +13,19 @@ from dataclasses import dataclass, fields
 
 import numpy as np
 
+from . import _core
+
 __all__ = ["Options"]
 
-_INTEGRATORS = ("rk8", "rk4", "adaptive")
-_JACOBIANS = ("fd", "newton", "hybrid")
-# Adaptive-integrator tolerances below ~50 ulp cannot be met in double precision (the
-# step shrinks to underflow, seconds per evaluation): refused (TR_RTOL_MIN in the core).
-_RTOL_MIN = 1e-14
-_SLACK_MODELS = ("linear", "squared")
+# Defaults, accepted names and ranges are the core's (tr_default_options,
+# tr_options_check): read from the extension, never written here again.
+_DEFAULTS = _core.DEFAULT_OPTIONS
+_CHOICES = _core.CHOICES
+_LIMITS = _core.LIMITS
+_INTEGRATORS = _CHOICES["integrator"]
+_JACOBIANS = _CHOICES["jacobian_method"]
+_SLACK_MODELS = _CHOICES["slack_model"]
+_RTOL_MIN = _LIMITS["rtol"][0]
 
 
 @dataclass(frozen=True)
@@ -86,53 +91,46 @@ class Options:
         load has L sqrt(T/EI) >~ 7, where single shooting diverges).
     """
 
-    integrator: str = "rk8"
-    steps: int = 0
-    rtol: float = 1e-10
-    tol: float = 1e-10
-    max_iter: int = 50
-    max_nfev: int = 20000
-    jacobian_method: str = "fd"
-    slack_model: str = "linear"
-    continuation: bool = True
-    max_continuation: int = 64
-    nodes: int | Sequence[float] | np.ndarray = 101
-    force_spatial: bool = False
-    tip_only: bool = False
-    shooting_segments: int = 1
+    integrator: str = _DEFAULTS["integrator"]
+    steps: int = _DEFAULTS["steps"]
+    rtol: float = _DEFAULTS["rtol"]
+    tol: float = _DEFAULTS["tol"]
+    max_iter: int = _DEFAULTS["max_iter"]
+    max_nfev: int = _DEFAULTS["max_nfev"]
+    jacobian_method: str = _DEFAULTS["jacobian_method"]
+    slack_model: str = _DEFAULTS["slack_model"]
+    continuation: bool = _DEFAULTS["continuation"]
+    max_continuation: int = _DEFAULTS["max_continuation"]
+    nodes: int | Sequence[float] | np.ndarray = _DEFAULTS["nodes"]
+    force_spatial: bool = _DEFAULTS["force_spatial"]
+    tip_only: bool = _DEFAULTS["tip_only"]
+    shooting_segments: int = _DEFAULTS["shooting_segments"]
 
     def __post_init__(self):
         own = "Options"
-        for name, allowed in (
-            ("integrator", _INTEGRATORS),
-            ("jacobian_method", _JACOBIANS),
-            ("slack_model", _SLACK_MODELS),
-        ):
+        for name, allowed in _CHOICES.items():
             v = getattr(self, name)
             if not isinstance(v, str) or v not in allowed:
                 raise ValueError(f"{own}.{name} must be one of {allowed}, got {v!r}")
-        for name, lo in (
-            ("steps", 0),
-            ("max_iter", 1),
-            ("max_nfev", 1),
-            ("max_continuation", 0),
-            ("shooting_segments", 1),
-        ):
+        for name in ("steps", "max_iter", "max_nfev", "max_continuation", "shooting_segments"):
+            lo, hi = _LIMITS[name]
             v = getattr(self, name)
             if (
                 isinstance(v, (bool, np.bool_))
                 or not isinstance(v, (numbers.Integral, np.integer))
-                or v < lo
+                or not lo <= v <= hi
             ):
-                raise ValueError(f"{own}.{name} must be an integer >= {lo}, got {v!r}")
+                raise ValueError(f"{own}.{name} must be an integer in [{lo}, {hi}], got {v!r}")
             object.__setattr__(self, name, int(v))
-        for name, lo in (("rtol", _RTOL_MIN), ("tol", 0.0)):
+        for name in ("rtol", "tol"):
+            lo, hi = _LIMITS[name]
             v = getattr(self, name)
             ok = isinstance(v, (numbers.Real, np.floating)) and not isinstance(v, bool)
+            # rtol in [lo, hi) (lo > 0), tol in (lo, hi) (lo = 0)
             if not ok or not (
-                math.isfinite(float(v)) and lo < float(v) < 1.0 or float(v) == lo > 0.0
+                math.isfinite(float(v)) and lo < float(v) < hi or float(v) == lo > 0.0
             ):
-                rng = f"[{lo:g}, 1)" if lo > 0.0 else "(0, 1)"
+                rng = f"[{lo:g}, {hi:g})" if lo > 0.0 else f"({lo:g}, {hi:g})"
                 raise ValueError(f"{own}.{name} must be a real number in {rng}, got {v!r}")
             object.__setattr__(self, name, float(v))
         for name in ("continuation", "force_spatial", "tip_only"):
@@ -144,9 +142,11 @@ class Options:
         if isinstance(nodes, (numbers.Integral, np.integer)) and not isinstance(
             nodes, (bool, np.bool_)
         ):
-            if nodes < 2:
+            lo, hi = _LIMITS["nodes"]
+            if not lo <= nodes <= hi:
                 raise ValueError(
-                    f"{own}.nodes must be >= 2 (or an array of arc lengths), got {nodes!r}"
+                    f"{own}.nodes must be in [{lo}, {hi}] (or an array of arc lengths), "
+                    f"got {nodes!r}"
                 )
             object.__setattr__(self, "nodes", int(nodes))
         else:
@@ -157,7 +157,7 @@ class Options:
                     f"{own}.nodes must be an int or an array of arc lengths, got {nodes!r}"
                 ) from None
             if (
-                arr.size < 1
+                not 1 <= arr.size <= _LIMITS["nodes"][1]
                 or not np.all(np.isfinite(arr))
                 or np.any(np.diff(arr) < 0)
                 or arr[0] < 0

@@ -22,6 +22,8 @@ import math
 
 import numpy as np
 
+from .solver import is_planar
+
 __all__ = [
     "is_planar",
     "robot",
@@ -39,20 +41,6 @@ def _ax(ax, projection=None):
     if projection is None:
         return plt.gca()
     return plt.figure().add_subplot(projection=projection)
-
-
-def is_planar(scene) -> bool:
-    """True when every tendon lies at angle 0 or pi and every load in the x-z plane
-    (forces without y, moments about y only): the solution stays in the x-z plane."""
-    for t in scene.robot.tendons:
-        if abs(math.sin(t.angle)) > 1e-12 and (t.offset != 0.0 or t.slope != 0.0):
-            return False
-    for ld in scene.loads:
-        f = np.asarray(ld.force, dtype=float)
-        m = np.asarray(getattr(ld, "moment", (0.0, 0.0, 0.0)), dtype=float)
-        if f[1] != 0.0 or m[0] != 0.0 or m[2] != 0.0:
-            return False
-    return True
 
 
 def _state_at(sol, s):

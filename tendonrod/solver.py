@@ -39,6 +39,12 @@ __all__ = [
 
 
 # --------------------------------------------------------------------------- packing
+# Column indices of the flat arrays of the raw contract (the core's layouts).
+_ROD = {name: i for i, name in enumerate(_core.ROD_COLUMNS)}
+_TD = {name: i for i, name in enumerate(_core.TENDON_COLUMNS)}
+_LD = {name: i for i, name in enumerate(_core.LOAD_COLUMNS)}
+
+
 def pack_scene(scene: Scene):
     """Flat float64 arrays ``(rod (6,), tendons (nt, 8), loads (nl, 7), dist (3,))`` of the
     raw glue contract (csrc/README.md) for ``scene``."""
@@ -49,38 +55,33 @@ def pack_scene(scene: Scene):
         return cached
     robot = scene.robot
     r = robot.rod
-    rod = np.array(
-        [
-            r.length,
-            r.bending_stiffness,
-            r.torsional_stiffness,
-            r.axial_stiffness,
-            r.shear_stiffness,
-            1.0 if r.kirchhoff else 0.0,
-        ]
+    rod = np.empty(len(_core.ROD_COLUMNS))
+    rod[_ROD["length"]], rod[_ROD["EI"]], rod[_ROD["GJ"]] = (
+        r.length,
+        r.bending_stiffness,
+        r.torsional_stiffness,
     )
+    rod[_ROD["EA"]], rod[_ROD["GA"]] = r.axial_stiffness, r.shear_stiffness
+    rod[_ROD["kirchhoff"]] = 1.0 if r.kirchhoff else 0.0
     nt = robot.n_tendons
-    tendons = np.empty((nt, 8))
+    tendons = np.empty((nt, len(_core.TENDON_COLUMNS)))
     for i, t in enumerate(robot.tendons):
         disp = scene.displacement[i]
-        control = 0.0 if disp is not None else 1.0
-        value = disp if disp is not None else scene.tension[i]
-        tendons[i] = (
-            t.offset,
-            t.angle,
-            t.slope,
+        row = tendons[i]
+        row[_TD["offset"]], row[_TD["angle"]], row[_TD["slope"]] = t.offset, t.angle, t.slope
+        row[_TD["EA"]], row[_TD["end"]], row[_TD["pretension"]] = (
             t.EA,
             robot.tendon_end(i),
-            control,
-            value,
             t.pretension,
         )
+        row[_TD["control"]] = 0.0 if disp is not None else 1.0
+        row[_TD["value"]] = disp if disp is not None else scene.tension[i]
     pls = scene.point_loads
-    loads = np.empty((len(pls), 7))
+    loads = np.empty((len(pls), len(_core.LOAD_COLUMNS)))
     for k, p in enumerate(pls):
-        loads[k, 0] = min(p.s, r.length)
-        loads[k, 1:4] = p.force
-        loads[k, 4:7] = p.moment
+        loads[k, _LD["s"]] = min(p.s, r.length)
+        loads[k, _LD["Fx"] : _LD["Fz"] + 1] = p.force
+        loads[k, _LD["Mx"] : _LD["Mz"] + 1] = p.moment
     dist = scene.distributed_force
     for a in (rod, tendons, loads, dist):
         a.setflags(write=False)
@@ -115,20 +116,20 @@ def _structure_key(scene: Scene, options: Options):
     return key + (options.force_spatial, options.slack_model)
 
 
-_PLANAR_ATOL = 0.0  # exact: the core decides planarity from exact zeros as well
+def is_planar(scene: Scene) -> bool:
+    """True when ``scene`` is solved with the planar (x-z) formulation unless
+    ``Options.force_spatial``: every tendon at angle 0 or pi (|sin angle| <= 1e-12) and
+    every load in the x-z plane.  The core's rule (``_core.is_planar``), so the answer
+    is the ``formulation.planar`` a solve reports."""
+    key = scene.__dict__.get("_planar")
+    if key is None:
+        _, tendons, loads, dist = pack_scene(scene)
+        key = bool(_core.is_planar(tendons, loads, dist))
+        object.__setattr__(scene, "_planar", key)
+    return key
 
 
-def _is_planar(scene: Scene) -> bool:
-    """True if tendons lie at angle 0 or pi and loads stay in the x-z plane (a prediction;
-    the core's ``formulation.planar`` is authoritative)."""
-    for t in scene.robot.tendons:
-        if t.offset != 0.0 or t.slope != 0.0:
-            if abs(math.sin(t.angle)) > 1e-15:
-                return False
-    for p in scene.point_loads:
-        if p.force[1] != 0.0 or p.moment[0] != 0.0 or p.moment[2] != 0.0:
-            return False
-    return scene.distributed_force[1] == 0.0
+_is_planar = is_planar
 
 
 def _guess_vector(guess, scene: Scene, options: Options):
@@ -256,7 +257,6 @@ class Solution:
         self.continuation_steps = int(raw.get("continuation_steps", 0))
         self.truncation_estimate = float(raw.get("truncation_estimate", math.nan))
         self._formulation = None
-        self._base = None
 
     @property
     def formulation(self) -> Formulation:
@@ -277,36 +277,10 @@ class Solution:
 
     @property
     def base_state(self) -> np.ndarray:
-        """``[n(0), m(0), tension, slack]`` (6 + 2 ntendon,), world frame, SI: the raw guess format."""
-        if self._base is None:
-            if self.s.shape[0] and self.s[0] == 0.0:
-                n0, m0 = self.force[0], self.moment[0]
-            else:
-                n0, m0 = self._base_from_unknowns()
-            self._base = np.concatenate([n0, m0, self.tension, self.slack])
-        return self._base
-
-    def _base_from_unknowns(self):
-        """n(0), m(0) of a tip-only solution from the core's scaled unknowns
-        [(n(0) + sum tau t0)/(EI/L^2), (m(0) + sum tau r0 x t0)/(EI/L), gammas] (planar:
-        [x, z, y] components of the first two); t0 is the tendon's base tangent of the
-        straight robot, as the core uses it to map a guess. Only used as a warm start."""
-        rob = self.scene.robot
-        L, EI = rob.rod.length, rob.rod.bending_stiffness
-        x = np.asarray(self.unknowns, dtype=float)
-        tn, tm = np.zeros(3), np.zeros(3)
-        for i, t in enumerate(rob.tendons):
-            d = np.array([math.cos(t.angle), math.sin(t.angle), 0.0])
-            t0 = (t.slope * d + np.array([0.0, 0.0, 1.0])) / math.hypot(1.0, t.slope)
-            tau = max(float(self.tension[i]), 0.0)
-            tn += tau * t0
-            tm += tau * np.cross(t.offset * d, t0)
-        if self.formulation.planar:
-            N = np.array([x[0], 0.0, x[1]]) * (EI / L**2)
-            M = np.array([0.0, x[2], 0.0]) * (EI / L)
-        else:
-            N, M = x[0:3] * (EI / L**2), x[3:6] * (EI / L)
-        return N - tn, M - tm
+        """``[n(0), m(0), tension, slack]`` (6 + 2 ntendon,), world frame, SI: the raw guess
+        format, from the core's map of the converged unknowns (so a warm start from it
+        starts exactly at this solution)."""
+        return self.raw["base_state"]
 
     def at(self, s) -> RodState:
         """The state at arc length(s) ``s`` [m] (scalar or 1-D array in [0, L]).

@@ -1113,7 +1113,13 @@ def test_scene_robot_hostile():
             tr.Scene(bad)
 
 
-INT_FIELDS = {"steps": 0, "max_iter": 1, "max_nfev": 1, "max_continuation": 0}
+# documented ranges [lo, hi] of the integer options (tendonrod._core.LIMITS)
+INT_FIELDS = {
+    "steps": (0, 100000),
+    "max_iter": (1, 10**6),
+    "max_nfev": (1, 10**9),
+    "max_continuation": (0, 10**6),
+}
 STR_FIELDS = {
     "integrator": ("rk8", "rk4", "adaptive"),
     "jacobian_method": ("fd", "newton", "hybrid"),
@@ -1152,7 +1158,7 @@ def test_options_hostile(field, value):
         want = (
             isinstance(value, (numbers.Integral, np.integer))
             and not isinstance(value, (bool, np.bool_))
-            and value >= INT_FIELDS[field]
+            and INT_FIELDS[field][0] <= value <= INT_FIELDS[field][1]
         )
     elif field in ("rtol", "tol"):
         x = _as_real(value)
@@ -1168,7 +1174,7 @@ def test_options_hostile(field, value):
     else:  # nodes: an int >= 2, or arc lengths (checked against L at solve time)
         x = _as_real(value)
         if isinstance(value, (int, np.integer)) and not isinstance(value, (bool, np.bool_)):
-            want = value >= 2
+            want = 2 <= value <= 10**7
         else:
             want = "maybe"
             if x is not None and not (math.isfinite(x) and x >= 0):
