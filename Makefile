@@ -37,7 +37,7 @@ test: $(STAMP)
 bench: $(STAMP)
 	MPLBACKEND=Agg $(VPY) bench/closed_forms.py
 
-# Memory safety (issue 6).  sanitize: ASan+UBSan build in a copy of the tree
+# Memory safety.  sanitize: ASan+UBSan build in a copy of the tree
 # (/tmp/tendonrod-sanitize), then pytest against it; SANITIZE_ARGS picks tests.
 # valgrind: memcheck of a loop of solves and ufunc calls; VALGRIND_ARGS=--fast
 # for a short run.  See bench/sanitize.sh and bench/valgrind.sh.
@@ -50,7 +50,8 @@ valgrind: $(STAMP)
 	VPY=$(abspath $(VPY)) bench/valgrind.sh $(VALGRIND_ARGS)
 
 # Lint: ruff (lint + format check) over the Python, clang-format over the C
-# (csrc/, the glue, bench/); clang-format is installed with apt-get when missing.
+# (csrc/, the glue, bench/), and the house rules (tools/check_house.py: file sizes,
+# no import cycles); clang-format is installed with apt-get when missing.
 C_FILES = $(wildcard csrc/*.c csrc/*.h tendonrod/*.c tendonrod/*.h bench/*.c bench/fuzz/*.c)
 lint: $(STAMP)
 	@command -v clang-format >/dev/null 2>&1 || { SUDO=; [ "$$(id -u)" = 0 ] || SUDO=sudo; \
@@ -58,6 +59,7 @@ lint: $(STAMP)
 	$(VENV)/bin/ruff check .
 	$(VENV)/bin/ruff format --check .
 	clang-format --dry-run --Werror $(C_FILES)
+	$(VPY) tools/check_house.py
 
 clean:
 	rm -rf build $(VENV) tendonrod/*.so *.egg-info

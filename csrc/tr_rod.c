@@ -29,7 +29,9 @@
  *   r^ A_i = c_t (r^ - q t^T)        B = sum r^ A_i
  *   r^ A_i r^ = c_t (r r^T - |r|^2 I + q q^T),  H = -sum r^ A_i r^
  * so the loop accumulates a few scalars and outer products, and the matrices are
- * assembled once. */
+ * assembled once.  One function, longer than the house's 120 lines: it is the hot
+ * kernel (78 % of a spatial solve's instructions), and its stages share a dozen
+ * accumulators that a split would pass through memory. */
 static int rhs_spatial(const tr_model *m, const tr_data *d, double s, const double *y, double *dy)
 {
     const double *R = y + TR_Y_R, *nb = y + TR_Y_N, *mb = y + TR_Y_M;

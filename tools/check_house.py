@@ -269,6 +269,31 @@ def long_functions(root: Path, files: list[Path], limit: int) -> list[tuple[int,
     return sorted(out, reverse=True)
 
 
+def long_c_functions(root: Path, files: list[Path], limit: int) -> list[tuple[int, str]]:
+    """``(lines, "path:line name")`` of every C function body longer than ``limit`` lines.
+    The tree is clang-formatted: a function body opens with ``{`` and closes with ``}`` in
+    column 0, its name on the line before the ``{`` (or the line that ends the
+    parameter list)."""
+    out = []
+    for f in files:
+        lines = f.read_text(encoding="utf-8").split("\n")
+        start, name = None, ""
+        for i, line in enumerate(lines):
+            if line == "{" and i > 0:
+                start, name = i, "?"
+                for j in range(i - 1, max(-1, i - 6), -1):  # the line that opens the signature
+                    if lines[j][:1] not in ("", " ", "/", "*") and "(" in lines[j]:
+                        cut = lines[j].split("(")[0].split()
+                        name = cut[-1].lstrip("*") if cut else "?"
+                        break
+            elif line == "}" and start is not None:
+                n = i - start + 1
+                if n > limit:
+                    out.append((n, f"{f.relative_to(root).as_posix()}:{start} {name}"))
+                start = None
+    return sorted(out, reverse=True)
+
+
 # --------------------------------------------------------------------------- report
 def check_python(root: Path, top: int) -> bool:
     files = py_files(root)
@@ -308,6 +333,11 @@ def check_c(root: Path, top: int) -> bool:
     print(f"  largest files (limit {C_MAX_LINES} lines):")
     for n, f in sizes[:top]:
         print(f"    {n:6d}  {f}")
+    longs = long_c_functions(root, files, FUNCTION_NOTE_LINES)
+    if longs:
+        print(f"  note: functions over {FUNCTION_NOTE_LINES} lines (give the reason in a comment):")
+        for n, where in longs:
+            print(f"    {n:6d}  {where}")
     return ok
 
 
