@@ -10,6 +10,23 @@
 #include "tr_internal.h"
 #include "tru_math.h"
 
+/* The force/moment unknowns of a base reaction F [N], M [N m] (world = base frame):
+ * scaled, planar x, z force and y moment. */
+static void base_unknowns(const tr_model *m, const double F[3], const double M[3], double *x)
+{
+    int c;
+    if (m->planar) {
+        x[0] = F[0] / m->F_s;
+        x[1] = F[2] / m->F_s;
+        x[2] = M[1] / m->M_s;
+    } else {
+        for (c = 0; c < 3; c++) {
+            x[c] = F[c] / m->F_s;
+            x[3 + c] = M[c] / m->M_s;
+        }
+    }
+}
+
 /* Shape pass of a cold start: integrate the robot under its (guessed) tensions with
  * the loads off, record the pose at every breakpoint, then
  *  - set the base-reaction moment unknowns to the moment of the loads about the
@@ -90,16 +107,7 @@ static void shape_guess(const tr_model *m, tr_data *d, double *x)
         }
         if (b == 0) {
             /* base reaction (world = base frame) */
-            if (m->planar) {
-                x[0] = F[0] / m->F_s;
-                x[1] = F[2] / m->F_s;
-                x[2] = M[1] / m->M_s;
-            } else {
-                for (c = 0; c < 3; c++) {
-                    x[c] = F[c] / m->F_s;
-                    x[3 + c] = M[c] / m->M_s;
-                }
-            }
+            base_unknowns(m, F, M, x);
         } else {
             const int o = tr_node_off(m, m->bp_node[b]);
             const double *R = pb + 3;
@@ -251,16 +259,7 @@ static void cold_guess(const tr_model *m, tr_data *d, double *x)
         F[c] *= d->lam_load;
         M[c] *= d->lam_load;
     }
-    if (m->planar) {
-        x[0] = F[0] / m->F_s;
-        x[1] = F[2] / m->F_s;
-        x[2] = M[1] / m->M_s;
-    } else {
-        for (c = 0; c < 3; c++) {
-            x[c] = F[c] / m->F_s;
-            x[3 + c] = M[c] / m->M_s;
-        }
-    }
+    base_unknowns(m, F, M, x);
     if (nd == 0) return;
     /* the linear system over displacement-controlled tendons */
     for (i = 0; i < m->nt; i++) {
@@ -352,16 +351,11 @@ int tr_unknowns_from_guess(const tr_model *m, tr_data *d, const double *g, doubl
     double tn[3], tm[3];
     int i;
     tr_tendon_pull_sum(m, g + 6, tn, tm);
-    if (m->planar) {
-        x[0] = (g[0] + tn[0]) / m->F_s;
-        x[1] = (g[2] + tn[2]) / m->F_s;
-        x[2] = (g[4] + tm[1]) / m->M_s;
-    } else {
-        for (i = 0; i < 3; i++) {
-            x[i] = (g[i] + tn[i]) / m->F_s;
-            x[3 + i] = (g[3 + i] + tm[i]) / m->M_s;
-        }
+    for (i = 0; i < 3; i++) {
+        tn[i] += g[i];
+        tm[i] += g[3 + i];
     }
+    base_unknowns(m, tn, tm, x);
     for (i = 0; i < m->nt; i++) {
         const tr_tendon *t = &m->tendon[i];
         if (t->control != TR_DISPLACEMENT) continue;
