@@ -40,7 +40,10 @@ enum tr_status {
     TR_OFFPATH = 3,         /* converged by a direct solve after load continuation from
                                 the unloaded robot stalled: an equilibrium, but possibly not
                                 the one reached by loading (e.g. a looped rod under a large
-                                tensile load); NOT counted as success (TR_SUCCEEDED) */
+                                tensile load), not confirmed by a second formulation; NOT
+                                counted as success (TR_SUCCEEDED) */
+    TR_CONFIRMED = 4,       /* as TR_OFFPATH, but a cold solve with another shooting
+                                formulation reaches the same equilibrium: a success */
     TR_CONTINUE = 100,      /* iteration in progress (tr_solve_iterate/test only) */
     TR_EINVAL = -1,         /* invalid model or option value */
     TR_ENOMEM = -2,         /* allocation failed */
@@ -53,7 +56,9 @@ enum tr_status {
     TR_ENOEQUILIBRIUM = -9, /* the prescribed displacements admit no equilibrium */
     TR_EPRETENSION = -10,   /* pretension not meaningful for this tendon set */
     TR_EINTEGRATOR = -11,   /* adaptive integrator failed (step underflow / cap) */
-    TR_ECONTINUATION = -12  /* continuation could not reach the full load */
+    TR_ECONTINUATION = -12, /* continuation could not reach the full load */
+    TR_EBUDGET = -13,       /* the work budget (max_rhs evaluations or max_time) ran out */
+    TR_EINTERRUPTED = -14   /* stopped by the caller's poll hook (e.g. Ctrl-C) */
 };
 
 const char *tr_strerror(int status);
@@ -89,6 +94,14 @@ enum tr_control { TR_DISPLACEMENT = 0, TR_TENSION = 1 };
 #define TR_MAX_NFEV_CAP         1000000000
 #define TR_MAX_CONTINUATION_CAP 1000000
 #define TR_MAX_NODES            10000000
+/* Default work budget in right-hand-side evaluations (150-300 ns each: about 0.3 s of
+ * integration; a converged cold solve takes 10^2-10^4, a hard continuation 10^5). */
+#define TR_DEFAULT_MAX_RHS 1e6
+/* Largest work budget and wall-clock limit accepted. */
+#define TR_MAX_RHS_CAP  1e15
+#define TR_MAX_TIME_CAP 1e9
+/* The caller's poll hook runs at most this often [s] (and the wall clock is read). */
+#define TR_POLL_INTERVAL 2e-3
 /* Output nodes of a solve by default: a smooth plot of the backbone. */
 #define TR_DEFAULT_NODES 101
 /* Largest number of shooting segments. */
@@ -153,6 +166,12 @@ typedef struct tr_options {
                              nodes at j L / M carry full-state unknowns and continuity
                              residuals); default 1 = single shooting.  Needed for tensile
                              axial loads with L sqrt(T/EI) >~ 7 (growth e^(L sqrt(T/EI)/M)) */
+    double max_rhs;        /* work budget: right-hand-side evaluations per solve, everything
+                             included (continuation, step verification, confirmation);
+                             deterministic, so a solve stays bitwise reproducible; default
+                             TR_DEFAULT_MAX_RHS (a hopeless solve gives up within ~0.5 s) */
+    double max_time;       /* wall-clock limit per solve [s], 0: none; default 0.  Opt-in and
+                             not deterministic (the machine's speed decides where it stops) */
 } tr_options;
 
 tr_options tr_default_options(void);
@@ -240,6 +259,10 @@ tr_model *tr_model_clone(const tr_model *m);
  * the model is then unchanged. */
 int tr_model_set_values(tr_model *m, const double *value, const double *load, const double *dist,
                         char *msg, size_t msglen);
+/* Set the tendons' pretensions (nt) [N] of a compiled model: the rest lengths are
+ * recomputed and the scene checks redone (m->scene_status).  TR_EINVAL with a message
+ * when a value is not finite or negative; the model is then unchanged. */
+int tr_model_set_pretension(tr_model *m, const double *pretension, char *msg, size_t msglen);
 /* 1 when a scene of these flat arrays (as for tr_model_alloc) lies in the x-z plane:
  * every tendon at |sin phi| <= TR_PLANAR_SIN, no load with Fy, Mx or Mz, dist_y = 0. */
 int tr_is_planar(const double *tendons, int nt, const double *loads, int nl, const double dist[3]);
@@ -300,6 +323,21 @@ typedef struct tr_data {
     /* compliance */
     double *Yx; /* (6 x k) d(output)/d(unknowns) */
     double *Fp; /* (k x 6) d(residual)/d(probe load) */
+    /* work budget and the caller's poll hook (tr_set_poll) */
+    double nrhs;                /* right-hand-side evaluations of this solve */
+    int stop;                   /* 0, or TR_EBUDGET / TR_EINTERRUPTED once a poll said stop */
+    int (*poll)(void *ctx);     /* called about every TR_POLL_INTERVAL; nonzero: stop */
+    void *poll_ctx;             /* its argument */
+    double t_start, t_poll;     /* wall clock at the solve's start and at the last poll [s] */
+    /* the last successful solve, for tr_solve_warm */
+    double *x_last;             /* (k) its scaled unknowns */
+    double *J_last;             /* (k x k) its Jacobian */
+    int steps_last;             /* its verified step count */
+    int have_last;              /* 1 once a solve succeeded in this workspace */
+    /* the second formulation that confirms an equilibrium found off the load path,
+     * allocated the first time a solve needs it */
+    struct tr_model *confirm_m;
+    struct tr_data *confirm_d;
     /* counters and results */
     int nit, nfev, njev, cont_steps;
     int status;
@@ -338,12 +376,27 @@ int tr_solve_init(const tr_model *m, tr_data *d, const double *guess, const doub
 int tr_solve_iterate(const tr_model *m, tr_data *d);
 /* TR_OK when the scaled residual max-norm <= tol, else TR_CONTINUE. */
 int tr_solve_test(const tr_model *m, const tr_data *d);
-/* One-call driver: init, iterate, continuation on failure, step verification
- * (steps = 0), conditioning check, recording pass.  Returns d->status. */
+/* One-call driver: init, iterate, continuation on failure, confirmation of an
+ * equilibrium found off the load path, step verification (steps = 0), conditioning
+ * check, diagnosis of a failure, recording pass.  Returns d->status. */
 int tr_solve(const tr_model *m, tr_data *d, const double *guess, const double *jac);
+/* The same, warm from the last successful solve in this workspace (its unknowns,
+ * Jacobian and verified step count, kept in the workspace); cold if there is none.
+ * The model's values may have changed since (tr_model_set_values). */
+int tr_solve_warm(const tr_model *m, tr_data *d);
+/* Forget the last successful solve (the next tr_solve_warm starts cold). */
+void tr_forget(tr_data *d);
+/* A hook the solve calls about every TR_POLL_INTERVAL of wall time (at most), from the
+ * thread that runs it; a nonzero return stops the solve promptly with TR_EINTERRUPTED.
+ * NULL: none.  The workspace stays usable after an interrupted solve. */
+void tr_set_poll(tr_data *d, int (*poll)(void *ctx), void *ctx);
 /* Recording pass at the current unknowns: fills s, pos, rot, force, moment,
  * tension, slack, displacement. */
 int tr_record(const tr_model *m, tr_data *d);
+/* Recording pass from given scaled unknowns x (k) at a given step count (a solution's
+ * formulation.steps): the states of that solution at this workspace's nodes, without
+ * solving again. */
+int tr_record_from(const tr_model *m, tr_data *d, const double *x, int steps);
 /* Scaled residual at x (k) with the current step count; f (k). */
 int tr_residual(const tr_model *m, tr_data *d, const double *x, double *f);
 /* Compliance (6 x 6, row-major): [dx (3), dtheta (3)] per [F (3), M (3)] applied at

@@ -234,12 +234,12 @@ static int solve_point(batch_ws *w, const tr_batch_in *in, int have, int record,
         if (st == TR_OK) st = record ? tr_record(m, d) : tr_record_tip(m, d);
         *nit = d->nit;
         *nfev = d->nfev;
-        if (st == TR_OK) return st;
+        if (st == TR_OK || st == TR_EINTERRUPTED) return st;
     }
     st = tr_solve(m, d, *cold ? NULL : g, *cold ? NULL : w->J);
     *nit += d->nit;
     *nfev += d->nfev;
-    if (st < 0 && !*cold && in->retry_cold) {
+    if (st < 0 && st != TR_EINTERRUPTED && !*cold && in->retry_cold) {
         st = tr_solve(m, d, NULL, NULL);
         *nit += d->nit;
         *nfev += d->nfev;
@@ -285,6 +285,7 @@ int tr_batch_solve(const tr_model *m, const tr_options *opt, const tr_batch_in *
      * displacement is wanted */
     for (i = 0; i < m->nt; i++) nten += m->tendon[i].control == TR_TENSION;
     record = nten > 0 && !in->skip_tension_displacement;
+    tr_set_poll(w.d, in->poll, in->poll_ctx);
     for (p = 0; p < in->n; p++) {
         char pmsg[TR_MSGLEN];
         int nit, nfev, cold;
@@ -299,6 +300,13 @@ int tr_batch_solve(const tr_model *m, const tr_options *opt, const tr_batch_in *
         }
         gather(m, in, p, w.P);
         st = solve_point(&w, in, have, record, &nit, &nfev, &cold);
+        if (st == TR_EINTERRUPTED) {
+            /* this point and the rest are not solved */
+            for (; p < in->n; p++)
+                write_failed_point(out, p, m->nt, TR_EINTERRUPTED, "interrupted by the caller");
+            ws_free(&w);
+            return TR_EINTERRUPTED;
+        }
         write_point(out, p, w.m, w.d, st, nit, nfev, cold);
         if (st >= 0) {
             push_converged(&w, w.m, w.d);

@@ -54,6 +54,8 @@ typedef struct tr_batch_in {
                                       tension-controlled tendons is then NaN there (scenes
                                       whose tendons are all displacement-controlled never
                                       need that pass) */
+    int (*poll)(void *ctx);        /* the caller's poll hook (tr_set_poll), or NULL */
+    void *poll_ctx;
 } tr_batch_in;
 
 typedef struct tr_batch_out {
@@ -74,8 +76,9 @@ typedef struct tr_batch_out {
 
 /* Solve in->n points of the base model m with options opt (tip_only is forced on).
  * Returns TR_OK when the workspace could be set up and every point was attempted
- * (per-point outcomes are in out->status), TR_EINVAL (bad arguments; msg says which)
- * or TR_ENOMEM.  Per-point value problems (a negative prescribed tension, an
+ * (per-point outcomes are in out->status), TR_EINTERRUPTED when the poll hook stopped
+ * the batch (the points from there on have that status), TR_EINVAL (bad arguments;
+ * msg says which) or TR_ENOMEM.  Per-point value problems (a negative prescribed tension, an
  * out-of-plane load on a planar model, a non-finite value) give that point
  * TR_EINVAL with a message and do not stop the batch. */
 int tr_batch_solve(const tr_model *m, const tr_options *opt, const tr_batch_in *in,

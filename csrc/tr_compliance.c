@@ -32,6 +32,7 @@ int tr_compliance(const tr_model *m, tr_data *d, double s_probe, double C[36])
     d->probe_bp = pb;
     memset(d->probe, 0, sizeof d->probe);
     d->lam_act = d->lam_load = 1.0;
+    tr_poll_start(d); /* a budget of its own; the caller's interrupt still applies */
     status = tr_residual(m, d, d->x, d->f);
     if (status != TR_OK) goto done;
     memcpy(R0, d->probe_state + 3, sizeof R0);

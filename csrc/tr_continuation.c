@@ -37,6 +37,10 @@ static int ramp(const tr_model *m, tr_data *d, double *lamp, const char *what, d
         tip[0] = tip[1] = tip[2] = 0.0;
     while (lam < 1.0) {
         double lt;
+        if (d->stop) {
+            *lamp = lam;
+            return d->stop;
+        }
         if (dlam > dmax) dlam = dmax;
         lt = lam + dlam > 1.0 ? 1.0 : lam + dlam;
         if (d->nfev >= d->opt.max_nfev) {
@@ -66,7 +70,7 @@ static int ramp(const tr_model *m, tr_data *d, double *lamp, const char *what, d
         if (status == TR_OK)
             status = tr_newton_run(m, d, iter_cap, TR_CONT_STALL_ITERS, TR_CONT_STALL_RATIO);
         d->cont_steps++;
-        if (status == TR_EMAXFEV) return status;
+        if (status == TR_EMAXFEV || d->stop) return status;
         if (status == TR_OK) {
             /* a stage whose tip jumps by more than TR_CONT_TIP_JUMP L left the branch it
              * started on (exponentially sensitive shapes can do that in one Newton
@@ -124,7 +128,7 @@ static int continuation_run(const tr_model *m, tr_data *d)
     d->fnorm = tru_maxnorm(d->f, d->k);
     if (status == TR_OK)
         status = tr_newton_run(m, d, d->opt.max_iter, TR_STALL_ITERS, TR_STALL_RATIO);
-    if (status == TR_EMAXFEV) return status;
+    if (status == TR_EMAXFEV || d->stop) return status;
     if (status != TR_OK) {
         tr_set_message(d, "continuation could not solve the unloaded robot: %s",
                        tr_strerror(status));

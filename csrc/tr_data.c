@@ -28,6 +28,9 @@ void tr_data_free(tr_data *d)
     if (d->ad_ev_shoot) gsl_odeiv2_evolve_free(d->ad_ev_shoot);
     if (d->ad_ev_rec) gsl_odeiv2_evolve_free(d->ad_ev_rec);
     free(d->Yx);
+    free(d->x_last);
+    tr_data_free(d->confirm_d);
+    tr_model_free(d->confirm_m);
     free(d->lin_C);
     free(d->lin_act);
     free(d->bp_pose);
@@ -42,6 +45,7 @@ static int alloc_buffers(const tr_model *m, tr_data *d)
     const int k = d->k, nsr = m->n_states_rec, nt = m->nt, nd = m->ndisp;
     d->x = (double *)calloc((size_t)10 * k + 1, sizeof(double));
     d->J = (double *)calloc((size_t)k * k + 1, sizeof(double));
+    d->x_last = (double *)calloc((size_t)k * (k + 1) + 1, sizeof(double));
     d->LU = gsl_matrix_alloc(k > 0 ? k : 1, k > 0 ? k : 1);
     d->perm = gsl_permutation_alloc(k > 0 ? k : 1);
     d->tau = (double *)calloc((size_t)5 * nt + 1, sizeof(double));
@@ -51,8 +55,9 @@ static int alloc_buffers(const tr_model *m, tr_data *d)
     d->lin_act = (int *)calloc((size_t)(3 * nd + 1), sizeof(int));
     d->bp_pose = (double *)calloc((size_t)12 * (m->nseg + 1), sizeof(double));
     if (!d->bp_pose || !d->lin_C || !d->lin_act || !d->x || !d->J || !d->LU || !d->perm ||
-        !d->tau || !d->y || !d->Yx)
+        !d->tau || !d->y || !d->Yx || !d->x_last)
         return -1;
+    d->J_last = d->x_last + k;
     d->f = d->x + k;
     d->xt = d->x + 2 * k;
     d->ft = d->x + 3 * k;

@@ -12,7 +12,10 @@ const char *tr_strerror(int status)
     case TR_OK: return "success";
     case TR_TRUNCATION: return "converged; truncation estimate above tolerance at the step cap";
     case TR_ILLCONDITIONED: return "converged; final Jacobian nearly singular";
-    case TR_OFFPATH: return "converged off the load path (continuation stalled)";
+    case TR_OFFPATH: return "converged off the load path (continuation stalled), not confirmed";
+    case TR_CONFIRMED:
+        return "converged off the load path (continuation stalled), confirmed by a second "
+               "formulation";
     case TR_CONTINUE: return "iteration in progress";
     case TR_EINVAL: return "invalid model or option";
     case TR_ENOMEM: return "out of memory";
@@ -26,6 +29,8 @@ const char *tr_strerror(int status)
     case TR_EPRETENSION: return "pretension not meaningful for this tendon set";
     case TR_EINTEGRATOR: return "adaptive integrator failed";
     case TR_ECONTINUATION: return "continuation failed";
+    case TR_EBUDGET: return "work budget exhausted";
+    case TR_EINTERRUPTED: return "interrupted";
     default: return "unknown status";
     }
 }

@@ -37,6 +37,7 @@ static int rk4(const tr_model *m, tr_data *d, double s0, double s1, int n, doubl
     int step, j;
     for (step = 0; step < n; step++) {
         const double s = s0 + step * h;
+        if ((step & TR_POLL_STEPS) == TR_POLL_STEPS && tr_poll(d)) return d->stop;
         if (tr_rhs(s, y, k1, d) != GSL_SUCCESS) return TR_ENONFINITE;
         for (j = 0; j < dim; j++) yt[j] = y[j] + 0.5 * h * k1[j];
         if (tr_rhs(s + 0.5 * h, yt, k2, d) != GSL_SUCCESS) return TR_ENONFINITE;
@@ -55,6 +56,7 @@ int tr_integrate_with(const tr_model *m, tr_data *d, int method, double s0, doub
     const int dim = d->rec ? m->n_states_rec : m->n_states;
     int status = TR_OK;
     if (!(s1 > s0)) return TR_OK;
+    if (tr_poll(d)) return d->stop;
     switch (method) {
     case TR_RK4: status = rk4(m, d, s0, s1, nsteps, y, dim); break;
     case TR_RK8: {
@@ -64,6 +66,10 @@ int tr_integrate_with(const tr_model *m, tr_data *d, int method, double s0, doub
         int step;
         for (step = 0; step < nsteps; step++) {
             const double s = (step == nsteps - 1) ? s1 - h : s0 + step * h;
+            if ((step & TR_POLL_STEPS) == TR_POLL_STEPS && tr_poll(d)) {
+                status = d->stop;
+                break;
+            }
             if (gsl_odeiv2_step_apply(st, s, h, y, d->yerr, NULL, NULL, sys) != GSL_SUCCESS) {
                 status = TR_ENONFINITE;
                 break;
@@ -83,7 +89,12 @@ int tr_integrate_with(const tr_model *m, tr_data *d, int method, double s0, doub
         gsl_odeiv2_evolve_reset(ev);
         gsl_odeiv2_step_reset(st);
         while (s < s1) {
-            const int gs = gsl_odeiv2_evolve_apply(ev, ctl, st, sys, &s, s1, &h, y);
+            int gs;
+            if (tr_poll(d)) {
+                status = d->stop;
+                break;
+            }
+            gs = gsl_odeiv2_evolve_apply(ev, ctl, st, sys, &s, s1, &h, y);
             if (gs != GSL_SUCCESS) {
                 status = TR_EINTEGRATOR;
                 break;

@@ -104,6 +104,10 @@ enum {
  * then converge. */
 #define TR_CONT_STALL_ITERS 6
 #define TR_CONT_STALL_RATIO 0.8
+/* A failed solve whose last iterate loads a tendon with more than this fraction of
+ * EI/r^2 says that no equilibrium lies past that tension (load paths that need more
+ * stall at 0.96-0.99 of it). */
+#define TR_CURVATURE_HINT 0.9
 /* A failed solve with displacement-controlled tendons stiffer than this (r^2 EA/EI)
  * says so in its message (Fig. 12 twist fails from ~1e10 and converges at 1e8). */
 #define TR_STIFF_HINT 1e6
@@ -171,11 +175,31 @@ static inline void tr_tendon_pull_sum(const tr_model *m, const double *tau, doub
     }
 }
 
+/* tr_model.c: the same scene compiled with nshoot shooting segments (the formulation,
+ * planar or spatial, kept), or NULL (msg says why); copy the values of src into dst,
+ * a model of the same scene (another shooting formulation). */
+tr_model *tr_model_reshoot(const tr_model *m, const tr_options *opt, int nshoot, char *msg,
+                           size_t msglen);
+void tr_model_sync_values(tr_model *dst, const tr_model *src);
+
+/* tr_confirm.c: a TR_OFFPATH equilibrium in d->x confirmed (TR_CONFIRMED) or not
+ * (TR_OFFPATH) by a cold solve with another shooting formulation; the message says
+ * which.  d->stop when the budget or an interrupt stopped it. */
+int tr_confirm_offpath(const tr_model *m, tr_data *d);
+
 /* tr_tendons.c: rest lengths that give the pretensions (TR_OK, TR_EPRETENSION or
  * TR_EINVAL with a message), and the check for opposing inextensible tendons on a
  * Kirchhoff backbone (TR_OK, TR_EINDETERMINATE or TR_ENOEQUILIBRIUM). */
 int tr_rest_lengths(tr_model *m, char *msg, size_t msglen);
 int tr_check_indeterminate(const tr_model *m, char *msg, size_t msglen);
+
+/* tr_poll.c: the monotonic wall clock [s]; the start of a solve's budget; whether to
+ * go on (TR_OK) or stop (TR_EBUDGET, TR_EINTERRUPTED, then sticky in d->stop). */
+double tr_clock(void);
+void tr_poll_start(tr_data *d);
+int tr_poll(tr_data *d);
+/* Fixed-step loops poll every TR_POLL_STEPS + 1 steps (a power of two, minus one). */
+#define TR_POLL_STEPS 255
 
 /* tr_error.c: printf into a message buffer (NULL or empty: nothing), and into
  * d->message. */

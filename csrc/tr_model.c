@@ -481,3 +481,74 @@ int tr_model_set_values(tr_model *m, const double *value, const double *load, co
     }
     return TR_OK;
 }
+
+int tr_model_set_pretension(tr_model *m, const double *pretension, char *msg, size_t msglen)
+{
+    int i, status;
+    for (i = 0; i < m->nt; i++)
+        if (!(pretension[i] >= 0.0 && isfinite(pretension[i]))) {
+            tr_msgf(msg, msglen, "tendon %d pretension = %g N must be finite and >= 0", i,
+                    pretension[i]);
+            return TR_EINVAL;
+        }
+    for (i = 0; i < m->nt; i++) m->tendon[i].pretension = pretension[i];
+    m->scene_message[0] = '\0';
+    status = tr_rest_lengths(m, m->scene_message, sizeof m->scene_message);
+    if (status == TR_OK)
+        status = tr_check_indeterminate(m, m->scene_message, sizeof m->scene_message);
+    m->scene_status = status;
+    return TR_OK;
+}
+
+tr_model *tr_model_reshoot(const tr_model *m, const tr_options *opt, int nshoot, char *msg,
+                           size_t msglen)
+{
+    double rod[TR_ROD_NCOL], *tendons, *row;
+    tr_options o = *opt;
+    tr_model *out = NULL;
+    int i;
+    tendons = (double *)malloc((size_t)(m->nt > 0 ? m->nt : 1) * TR_TD_NCOL * sizeof(double));
+    if (!tendons) return NULL;
+    rod[TR_ROD_L] = m->L;
+    rod[TR_ROD_EI] = m->EI;
+    rod[TR_ROD_GJ] = m->GJ;
+    rod[TR_ROD_EA] = m->EA;
+    rod[TR_ROD_GA] = m->GA;
+    rod[TR_ROD_KIRCHHOFF] = m->kirchhoff;
+    for (i = 0; i < m->nt; i++) {
+        const tr_tendon *t = &m->tendon[i];
+        row = tendons + TR_TD_NCOL * i;
+        row[TR_TD_OFFSET] = t->b;
+        row[TR_TD_ANGLE] = t->phi;
+        row[TR_TD_SLOPE] = t->a;
+        row[TR_TD_EA] = t->EA;
+        row[TR_TD_END] = t->t;
+        row[TR_TD_CONTROL] = t->control == TR_TENSION ? 1.0 : 0.0;
+        row[TR_TD_VALUE] = t->value;
+        row[TR_TD_PRETENSION] = t->pretension;
+    }
+    o.shooting_segments = nshoot;
+    o.force_spatial = !m->planar;
+    if (tr_model_alloc(&out, rod, tendons, m->nt, m->load, m->nl, m->dist, &o, msg, msglen) !=
+        TR_OK)
+        out = NULL;
+    free(tendons);
+    return out;
+}
+
+void tr_model_sync_values(tr_model *dst, const tr_model *src)
+{
+    int i;
+    for (i = 0; i < src->nt; i++) {
+        dst->tendon[i].value = src->tendon[i].value;
+        dst->tendon[i].pretension = src->tendon[i].pretension;
+        dst->tendon[i].rest = src->tendon[i].rest;
+        dst->tendon[i].rest_dev = src->tendon[i].rest_dev;
+    }
+    memcpy(dst->load, src->load, (size_t)TR_LD_NCOL * src->nl * sizeof(double));
+    sum_breakpoint_loads(dst);
+    memcpy(dst->dist, src->dist, sizeof dst->dist);
+    dst->has_dist = src->has_dist;
+    dst->scene_status = src->scene_status;
+    memcpy(dst->scene_message, src->scene_message, sizeof dst->scene_message);
+}

@@ -25,6 +25,7 @@ void tr_solve_reset(const tr_model *m, tr_data *d, int steps)
     d->probe_bp = -1;
     d->steps = steps;
     d->jac_method = d->opt.jacobian_method;
+    tr_poll_start(d);
 }
 
 int tr_fd_column(const tr_model *m, tr_data *d, const double *x, const double *f0, int j,
@@ -38,7 +39,7 @@ int tr_fd_column(const tr_model *m, tr_data *d, const double *x, const double *f
     h = d->xt[j] - x[j];
     status = tr_residual(m, d, d->xt, d->ft);
     if (status != TR_OK) {
-        if (!backward) return status;
+        if (!backward || d->stop) return status;
         d->xt[j] = x[j] - h;
         status = tr_residual(m, d, d->xt, d->ft);
         if (status != TR_OK) return status;
@@ -186,6 +187,7 @@ static int line_search(const tr_model *m, tr_data *d, double phi0)
         }
         for (i = 0; i < k; i++) d->xt[i] = d->x[i] + alpha * d->dx[i];
         status = tr_residual(m, d, d->xt, d->ft);
+        if (d->stop) return d->stop;
         phi = status == TR_OK ? tru_sumsq(d->ft, k) : INFINITY;
         if (phi <= (1.0 - 2.0 * TR_ARMIJO * alpha) * phi0) return 1;
         if (!d->J_fresh) {
@@ -260,7 +262,7 @@ int tr_solve_iterate(const tr_model *m, tr_data *d)
         if (!d->have_J || d->J_refresh || (d->jac_method == TR_JAC_NEWTON && !d->J_fresh)) {
             status = tr_fd_jacobian(m, d);
             if (status != TR_OK) {
-                if (status != TR_EMAXFEV)
+                if (status != TR_EMAXFEV && !d->stop)
                     tr_set_message(d, "the residual became non-finite while forming the Jacobian");
                 return status;
             }
@@ -296,10 +298,14 @@ int tr_newton_run(const tr_model *m, tr_data *d, int max_iter, int stall, double
 {
     int it = 0;
     double hist[TR_STALL_ITERS]; /* residual norms of the last TR_STALL_ITERS iterations */
-    if (d->jac_method == TR_JAC_HYBRID && d->hyb) return tr_hybrid_run(m, d, max_iter);
+    if (d->jac_method == TR_JAC_HYBRID && d->hyb) {
+        const int st = tr_hybrid_run(m, d, max_iter);
+        return d->stop ? d->stop : st;
+    }
     for (;;) {
         int status;
         if (tr_solve_test(m, d) == TR_OK) return TR_OK;
+        if (d->stop) return d->stop;
         /* creeping (tiny damped steps along a curved valley, e.g. the common-mode
          * tension of stiff tendons under twist): give up early, so that the caller's
          * continuation starts before max_iter evaluations are spent */
@@ -351,10 +357,11 @@ int tr_solve_lean(const tr_model *m, tr_data *d, const double *x0, const double 
         return d->status = TR_EINVAL;
     }
     memcpy(d->x, x0, (size_t)k * sizeof(double));
-    if (tr_residual(m, d, d->x, d->f) != TR_OK) return d->status = TR_ENONFINITE;
+    if (tr_residual(m, d, d->x, d->f) != TR_OK) return d->status = d->stop ? d->stop : TR_ENONFINITE;
     fn = tru_maxnorm(d->f, k);
     while (!(fn <= d->opt.tol)) {
         double ss = 0.0;
+        if (d->stop) return d->status = d->stop;
         if (d->nit >= max_iter || d->nfev >= d->opt.max_nfev) return d->status = TR_EMAXITER;
         if (tr_lu_factor(d) != 0 || tr_lu_solve(d, d->f, d->dx) != 0)
             return d->status = TR_ESINGULAR;
@@ -363,6 +370,7 @@ int tr_solve_lean(const tr_model *m, tr_data *d, const double *x0, const double 
             d->xt[i] = d->x[i] + d->dx[i];
         }
         st = tr_residual(m, d, d->xt, d->ft);
+        if (d->stop) return d->status = d->stop;
         fnt = st == TR_OK ? tru_maxnorm(d->ft, k) : INFINITY;
         if (!(fnt < fn)) return d->status = TR_ENOPROGRESS;
         for (i = 0; i < k; i++) ss += d->dx[i] * d->dx[i];

@@ -23,6 +23,8 @@ tr_options tr_default_options(void)
     o.force_spatial = 0;
     o.tip_only = 0;
     o.shooting_segments = 1;
+    o.max_rhs = TR_DEFAULT_MAX_RHS;
+    o.max_time = 0.0;
     return o;
 }
 
@@ -63,6 +65,15 @@ int tr_options_check(const tr_options *o, char *msg, size_t msglen)
     }
     if (!(o->tol > 0.0 && o->tol < 1.0)) {
         tr_msgf(msg, msglen, "tol = %g must lie in (0, 1)", o->tol);
+        return TR_EINVAL;
+    }
+    if (!(o->max_rhs >= 1.0 && o->max_rhs <= TR_MAX_RHS_CAP)) {
+        tr_msgf(msg, msglen, "max_rhs = %g must lie in [1, %g]", o->max_rhs, TR_MAX_RHS_CAP);
+        return TR_EINVAL;
+    }
+    if (!(o->max_time >= 0.0 && o->max_time <= TR_MAX_TIME_CAP)) {
+        tr_msgf(msg, msglen, "max_time = %g s must lie in [0, %g] (0: no limit)", o->max_time,
+                TR_MAX_TIME_CAP);
         return TR_EINVAL;
     }
     return TR_OK;

@@ -319,8 +319,9 @@ static int rhs_planar(const tr_model *m, const tr_data *d, double s, const doubl
 
 int tr_rhs(double s, const double y[], double dyds[], void *params)
 {
-    const tr_data *d = (const tr_data *)params;
+    tr_data *d = (tr_data *)params;
     const tr_model *m = d->model;
+    d->nrhs += 1.0;
     return m->planar ? rhs_planar(m, d, s, y, dyds) : rhs_spatial(m, d, s, y, dyds);
 }
 

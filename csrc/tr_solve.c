@@ -5,17 +5,22 @@
  *                    start under large loads goes to continuation at once
  *   3. continuation: on failure, follow the load path from the unloaded robot; if that
  *                    path stalls after a forced start, a direct cold solve may still
- *                    find an equilibrium off the path (TR_OFFPATH, not a success)
- *   4. verify:       automatic steps: step doubling until the truncation estimate <= tol
- *   5. condition:    a fresh Jacobian at a cold solution, polish, condition number
- *   6. diagnose:     what a failure is likely due to
- *   7. record:       the recording pass and the final message
+ *                    find an equilibrium off the path (TR_OFFPATH, not a success) ...
+ *   4. confirm:      ... unless a cold solve with another shooting formulation reaches
+ *                    the same equilibrium (TR_CONFIRMED, tr_confirm.c)
+ *   5. verify:       automatic steps: step doubling until the truncation estimate <= tol
+ *   6. condition:    a fresh Jacobian at a cold solution, polish, condition number
+ *   7. diagnose:     what a failure is likely due to
+ *   8. record:       the recording pass, the final message, and the solution kept for
+ *                    the next warm solve (tr_solve_warm)
+ * A work budget or an interrupt (tr_poll.c) ends the solve after the stage it stops.
  */
 #include <math.h>
 #include <string.h>
 
 #include "tendonrod.h"
 #include "tr_internal.h"
+#include "tru_math.h"
 
 static int solve_begin(const tr_model *m, tr_data *d)
 {
@@ -38,13 +43,29 @@ static int solve_begin(const tr_model *m, tr_data *d)
     return m->scene_status;
 }
 
-static int solve_direct(const tr_model *m, tr_data *d, const double *guess, const double *jac,
-                        int *forced)
+/* Start from the last successful solve of this workspace: its unknowns (node unknowns
+ * included), Jacobian and verified step count. */
+static int init_from_last(const tr_model *m, tr_data *d)
 {
-    int status = tr_solve_init(m, d, guess, jac);
+    const int k = d->k;
+    int status;
+    memcpy(d->x, d->x_last, (size_t)k * sizeof(double));
+    memcpy(d->J, d->J_last, (size_t)k * k * sizeof(double));
+    d->have_J = 1;
+    d->J_fresh = d->J_refresh = 0;
+    if (d->opt.steps == 0 && d->opt.integrator != TR_ADAPTIVE) d->steps = d->steps_last;
+    status = tr_residual(m, d, d->x, d->f);
+    d->fnorm = tru_maxnorm(d->f, k);
+    return status;
+}
+
+static int solve_direct(const tr_model *m, tr_data *d, const double *guess, const double *jac,
+                        int from_last, int *forced)
+{
+    int status = from_last ? init_from_last(m, d) : tr_solve_init(m, d, guess, jac);
     *forced = 0;
     if (status != TR_OK) return status;
-    if (!guess && d->opt.continuation && d->opt.max_continuation > 0 &&
+    if (!guess && !from_last && d->opt.continuation && d->opt.max_continuation > 0 &&
         tr_load_scale(m) > TR_DIRECT_LOAD_MAX) {
         /* large loads from a cold start: a direct Newton iteration can land on a looped,
          * unstable equilibrium (buckled-through elastica); follow the load path from
@@ -61,14 +82,15 @@ static int solve_continuation(const tr_model *m, tr_data *d, int status, int for
 {
     char first[TR_MSGLEN], second[TR_MSGLEN], both[TR_MSGLEN];
     int st2, st3;
-    if (!(status < 0 && status != TR_EMAXFEV && d->opt.continuation && d->opt.max_continuation > 0))
+    if (!(status < 0 && status != TR_EMAXFEV && !d->stop && d->opt.continuation &&
+          d->opt.max_continuation > 0))
         return status;
     memcpy(first, d->message, TR_MSGLEN);
     st2 = tr_continuation(m, d);
     if (st2 == TR_OK) return TR_OK;
     memcpy(second, d->message, TR_MSGLEN);
     tr_set_message(d, "%s; then %s", first, second);
-    if (st2 == TR_EMAXFEV) return st2;
+    if (st2 == TR_EMAXFEV || d->stop) return st2;
     if (!forced) return TR_ECONTINUATION;
     /* the load path stalled (a limit point: snap-through): an equilibrium may still
      * exist off that path; a direct cold solve may find it */
@@ -77,6 +99,7 @@ static int solve_continuation(const tr_model *m, tr_data *d, int status, int for
     st3 = tr_solve_init(m, d, NULL, NULL);
     if (st3 == TR_OK) st3 = tr_newton_run(m, d, d->opt.max_iter, TR_STALL_ITERS, TR_STALL_RATIO);
     if (st3 != TR_OK) {
+        if (d->stop) return d->stop;
         tr_set_message(d, "%s; a direct solve did not converge either", both);
         return TR_ECONTINUATION;
     }
@@ -86,7 +109,7 @@ static int solve_continuation(const tr_model *m, tr_data *d, int status, int for
                    "one reached by loading the robot (a limit point / "
                    "snap-through lies on the path)",
                    second);
-    return TR_OFFPATH;
+    return tr_confirm_offpath(m, d);
 }
 
 static int solve_condition(const tr_model *m, tr_data *d, int status, const double *jac)
@@ -98,6 +121,7 @@ static int solve_condition(const tr_model *m, tr_data *d, int status, const doub
     if (status >= 0 && !jac && !d->J_fresh && d->k > 0 && tr_fd_jacobian(m, d) != TR_OK)
         d->have_J = 0;
     if (status >= 0 && d->have_J) tr_polish(m, d);
+    if (d->stop) return d->stop;
     d->jacobian_cond = d->have_J ? tr_jacobian_cond(d) : NAN;
     if (status >= 0 && d->jacobian_cond > TR_COND_SINGULAR) {
         tr_set_message(d,
@@ -123,7 +147,7 @@ static int solve_condition(const tr_model *m, tr_data *d, int status, const doub
 /* Stiff tendons sharing a tension level: that level is fixed only by their stretch,
  * a near-null direction of the Jacobian (singular value ~ EI/(r^2 EA)) along which
  * second-order shape terms spoil the Newton step. */
-static void solve_diagnose(const tr_model *m, tr_data *d, int status)
+static void diagnose_stiff(const tr_model *m, tr_data *d, int status)
 {
     double stiff = 0.0;
     char first[TR_MSGLEN];
@@ -143,12 +167,70 @@ static void solve_diagnose(const tr_model *m, tr_data *d, int status)
                    stiff, first);
 }
 
+/* A tendon of offset r pulling with tension tau bends the backbone at a moment-free end
+ * to curvature tau r / EI; at tau = EI / r^2 that is 1/r, where the tendon's path-length
+ * rate 1 - kappa r vanishes and the tendon would pass the centre of curvature.  A failed
+ * solve whose last iterate loads a tendon with more than TR_CURVATURE_HINT of that says
+ * so (load paths that need more stall at 0.96-0.99). */
+static void diagnose_curvature(const tr_model *m, tr_data *d, int status)
+{
+    char first[TR_MSGLEN];
+    int i;
+    if (TR_SUCCEEDED(status) || d->stop) return;
+    tr_set_tensions(m, d, d->x);
+    for (i = 0; i < m->nt; i++) {
+        const tr_tendon *t = m->tendon + i;
+        const double tau = d->tau[i], rb = t->b, re = t->b + t->a * t->t;
+        const double r = rb > re ? rb : re;
+        double ratio;
+        if (!(tau > 0.0) || !(r > 0.0)) continue;
+        ratio = tau * r * r / m->EI;
+        if (!(ratio >= TR_CURVATURE_HINT && isfinite(ratio))) continue;
+        memcpy(first, d->message, TR_MSGLEN);
+        tr_set_message(d,
+                       "%s; the last iterate loads tendon %d with %.4g N = %.2f EI/r^2 "
+                       "(EI/r^2 = %.4g N): near that tension the backbone curvature tau r/EI "
+                       "at a moment-free end approaches 1/r, where the tendon would pass the "
+                       "centre of curvature, so no valid equilibrium lies past that point on "
+                       "this load path (reduce the load or the actuation, or route the tendon "
+                       "closer to the centre line)",
+                       first, i, tau, ratio, m->EI / (r * r));
+        return;
+    }
+}
+
+/* The message of a solve that the budget or an interrupt stopped. */
+static void stop_message(tr_data *d)
+{
+    char first[TR_MSGLEN];
+    memcpy(first, d->message, TR_MSGLEN);
+    if (d->stop == TR_EINTERRUPTED) {
+        tr_set_message(d, "interrupted by the caller after %d iterations", d->nit);
+    } else if (d->opt.max_time > 0.0 && tr_clock() - d->t_start > d->opt.max_time) {
+        tr_set_message(d,
+                       "the time limit ran out (max_time = %g s) after %d iterations (scaled "
+                       "residual %.3g); raise Options.max_time, give a guess from a nearby "
+                       "solved scene, or approach this scene in smaller steps (a sweep)%s%s",
+                       d->opt.max_time, d->nit, d->fnorm, first[0] ? "; last: " : "", first);
+    } else {
+        tr_set_message(d,
+                       "the work budget ran out (max_rhs = %.3g right-hand-side evaluations) "
+                       "after %d iterations (scaled residual %.3g): the scene may have no "
+                       "equilibrium near the path tried; raise Options.max_rhs, give a guess "
+                       "from a nearby solved scene, or approach this scene in smaller steps (a "
+                       "sweep)%s%s",
+                       d->opt.max_rhs, d->nit, d->fnorm, first[0] ? "; last: " : "", first);
+    }
+}
+
 static int solve_record(const tr_model *m, tr_data *d, int status)
 {
     int rs;
     d->residual_norm = d->fnorm;
     d->lam_act = d->lam_load = 1.0;
+    if (status == TR_EINTERRUPTED) return status;
     rs = tr_record(m, d);
+    if (rs == TR_EINTERRUPTED) return rs;
     if (rs != TR_OK && status >= 0) {
         status = rs;
         tr_set_message(d, "the recording pass failed: %s", tr_strerror(rs));
@@ -157,22 +239,50 @@ static int solve_record(const tr_model *m, tr_data *d, int status)
         tr_message_converged(d->message, TR_MSGLEN, d->nit, d->residual_norm, d->opt.tol);
     else if (status == TR_TRUNCATION && d->message[0] == '\0')
         tr_set_message(d, "%s", tr_strerror(status));
+    if (TR_SUCCEEDED(status)) {
+        /* kept for the next warm solve */
+        memcpy(d->x_last, d->x, (size_t)d->k * sizeof(double));
+        memcpy(d->J_last, d->J, (size_t)d->k * d->k * sizeof(double));
+        d->steps_last = d->steps;
+        d->have_last = d->have_J;
+    }
     return status;
 }
 
-int tr_solve(const tr_model *m, tr_data *d, const double *guess, const double *jac)
+static int solve(const tr_model *m, tr_data *d, const double *guess, const double *jac,
+                 int from_last)
 {
     int status, forced;
     status = solve_begin(m, d);
     if (status != TR_OK) return d->status = status;
-    status = solve_direct(m, d, guess, jac, &forced);
+    status = solve_direct(m, d, guess, jac, from_last, &forced);
     if (status == TR_EINVAL) return d->status = status;
     status = solve_continuation(m, d, status, forced);
     if (status >= 0 && d->opt.steps == 0 && d->opt.integrator != TR_ADAPTIVE) {
         const int vs = tr_verify_steps(m, d);
         if (vs != TR_OK) status = vs;
     }
-    status = solve_condition(m, d, status, jac);
-    solve_diagnose(m, d, status);
+    status = solve_condition(m, d, status, from_last ? d->J_last : jac);
+    if (d->stop) {
+        status = d->stop;
+        stop_message(d);
+    }
+    diagnose_stiff(m, d, status);
+    diagnose_curvature(m, d, status);
     return d->status = solve_record(m, d, status);
+}
+
+int tr_solve(const tr_model *m, tr_data *d, const double *guess, const double *jac)
+{
+    return solve(m, d, guess, jac, 0);
+}
+
+int tr_solve_warm(const tr_model *m, tr_data *d)
+{
+    return solve(m, d, NULL, NULL, d->have_last);
+}
+
+void tr_forget(tr_data *d)
+{
+    d->have_last = 0;
 }

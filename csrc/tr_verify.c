@@ -67,6 +67,7 @@ int tr_verify_steps(const tr_model *m, tr_data *d)
         const int N = d->steps;
         const double est = doubling_estimate(m, d);
         int status;
+        if (d->stop) return d->stop;
         d->truncation = est;
         if (est <= d->opt.tol) {
             /* N steps verified; the polish that follows may still reduce the

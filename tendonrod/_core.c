@@ -35,17 +35,19 @@ static PyObject *default_options(void)
 }
 
 /* LIMITS: the ranges tr_options_check and tr_model_alloc accept (tendonrod.h): per
- * option (lo, hi), inclusive for ints; rtol in [lo, hi), tol in (lo, hi); rod L, EI,
+ * option (lo, hi), inclusive for ints, max_rhs and max_time; rtol in [lo, hi), tol in
+ * (lo, hi); rod L, EI,
  * GJ and the finite EA, GA of a rod or tendon in [lo, hi]. */
 static PyObject *limits(void)
 {
     return Py_BuildValue(
-        "{s:(ii),s:(ii),s:(ii),s:(ii),s:(ii),s:(ii),s:(dd),s:(dd),s:(dd),s:(dd),s:d}", "steps", 0,
+        "{s:(ii),s:(ii),s:(ii),s:(ii),s:(ii),s:(ii),s:(dd),s:(dd),s:(dd),s:(dd),s:(dd),s:(dd),s:d}",
+        "steps", 0,
         TR_MAX_STEPS, "max_iter", 1, TR_MAX_ITER_CAP, "max_nfev", 1, TR_MAX_NFEV_CAP,
         "max_continuation", 0, TR_MAX_CONTINUATION_CAP, "shooting_segments", 1,
         TR_MAX_SHOOTING_SEGMENTS, "nodes", 2, TR_MAX_NODES, "rtol", TR_RTOL_MIN, 1.0, "tol", 0.0,
-        1.0, "rod", TR_ROD_MIN, TR_ROD_MAX, "EA", TR_EA_MIN, TR_EA_MAX, "planar_sin",
-        TR_PLANAR_SIN);
+        1.0, "max_rhs", 1.0, TR_MAX_RHS_CAP, "max_time", 0.0, TR_MAX_TIME_CAP, "rod", TR_ROD_MIN,
+        TR_ROD_MAX, "EA", TR_EA_MIN, TR_EA_MAX, "planar_sin", TR_PLANAR_SIN);
 }
 
 /* CHOICES: the accepted names of the choice options, in the order of their enums. */

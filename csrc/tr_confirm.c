@@ -1,0 +1,112 @@
+/*
+ * tr_confirm.c -- is an equilibrium found off the load path the answer?
+ *
+ * When load continuation from the unloaded robot stalls and a direct cold solve then
+ * converges (TR_OFFPATH), that equilibrium may not be the one the loading reaches:
+ * single shooting amplifies errors like exp(2 L sqrt(T/EI)) under tension and can land
+ * on a looped rod.  A cold solve with another shooting formulation (8 segments, or
+ * twice the number used) has basins of its own; only when both reach the same
+ * equilibrium is it reported as a success (TR_CONFIRMED).
+ *
+ * The second formulation is compiled and its workspace allocated the first time a
+ * solve in this workspace needs it (a rare path), then kept and freed with the
+ * workspace; its values are synchronised before each use.
+ */
+#include <math.h>
+#include <string.h>
+
+#include "tendonrod.h"
+#include "tr_internal.h"
+
+/* Shooting segments of the confirming formulation. */
+#define TR_CONFIRM_SEGMENTS 8
+/* Tips of two solves of one equilibrium agree to the solver tolerance (~1e-8 L);
+ * distinct equilibria found so far differ by >= 1e-2 L: 1e-6 L (and 1e-6 of the
+ * largest tension) separates them. */
+#define TR_CONFIRM_AGREE 1e-6
+
+/* The confirming model and workspace, synchronised with m; 0, or -1 (message set). */
+static int confirm_workspace(const tr_model *m, tr_data *d, int nshoot, const char *first)
+{
+    char msg[TR_MSGLEN];
+    if (d->confirm_d && d->confirm_m->nshoot != nshoot) {
+        tr_data_free(d->confirm_d);
+        tr_model_free(d->confirm_m);
+        d->confirm_d = NULL;
+        d->confirm_m = NULL;
+    }
+    if (!d->confirm_d) {
+        tr_options o = d->opt;
+        o.shooting_segments = nshoot;
+        o.tip_only = 1;
+        d->confirm_m = tr_model_reshoot(m, &o, nshoot, msg, sizeof msg);
+        if (d->confirm_m) d->confirm_d = tr_data_alloc(d->confirm_m, &o, 1, NULL, msg, sizeof msg);
+        if (!d->confirm_d) {
+            tr_model_free(d->confirm_m);
+            d->confirm_m = NULL;
+            tr_set_message(d, "%s; not confirmed: the second formulation could not be set up (%s)",
+                           first, msg);
+            return -1;
+        }
+    }
+    tr_model_sync_values(d->confirm_m, m);
+    tr_set_poll(d->confirm_d, d->poll, d->poll_ctx);
+    /* the confirmation spends what is left of this solve's budget */
+    d->confirm_d->opt.max_rhs = d->opt.max_rhs - d->nrhs > 1.0 ? d->opt.max_rhs - d->nrhs : 1.0;
+    d->confirm_d->opt.max_time = d->opt.max_time;
+    return 0;
+}
+
+int tr_confirm_offpath(const tr_model *m, tr_data *d)
+{
+    const int M = m->nshoot;
+    const int M2 = M >= TR_CONFIRM_SEGMENTS ? 2 * M : TR_CONFIRM_SEGMENTS;
+    double tip[12], nw[3], mw[3], dtip = 0.0, dten = 0.0, tmax = 0.0;
+    tr_data *c;
+    int st, i;
+    char first[TR_MSGLEN];
+    memcpy(first, d->message, TR_MSGLEN);
+    if (M2 > TR_MAX_SHOOTING_SEGMENTS) {
+        tr_set_message(d, "%s; not confirmed: no finer shooting formulation than %d segments",
+                       first, M);
+        return TR_OFFPATH;
+    }
+    /* the tip and tensions of this equilibrium */
+    if (tr_residual(m, d, d->x, d->ft) != TR_OK) return d->stop ? d->stop : TR_OFFPATH;
+    tr_state_world(m, d->y, tip, tip + 3, nw, mw);
+    if (confirm_workspace(m, d, M2, first) != 0) return TR_OFFPATH;
+    c = d->confirm_d;
+    st = tr_solve(d->confirm_m, c, NULL, NULL);
+    d->nfev += c->nfev;
+    d->nrhs += c->nrhs;
+    if (st == TR_EINTERRUPTED) return d->stop = TR_EINTERRUPTED;
+    if (!TR_SUCCEEDED(st)) {
+        tr_set_message(d,
+                       "%s; not confirmed: a cold solve with %d shooting segments did not "
+                       "converge (%s)",
+                       first, M2, tr_strerror(st));
+        return TR_OFFPATH;
+    }
+    for (i = 0; i < 3; i++) {
+        const double e = fabs(tip[i] - c->pos[i]);
+        if (!(e <= dtip)) dtip = e;
+    }
+    for (i = 0; i < m->nt; i++) {
+        const double e = fabs(d->tau[i] - c->tension[i]);
+        if (!(e <= dten)) dten = e;
+        if (fabs(d->tau[i]) > tmax) tmax = fabs(d->tau[i]);
+    }
+    if (dtip <= TR_CONFIRM_AGREE * m->L && dten <= TR_CONFIRM_AGREE * (tmax > 0.0 ? tmax : 1e-300)) {
+        tr_set_message(d,
+                       "%s; confirmed: a cold solve with %d shooting segments reaches the same "
+                       "equilibrium (tips %.1e L apart)",
+                       first, M2, dtip / m->L);
+        return TR_CONFIRMED;
+    }
+    tr_set_message(d,
+                   "%s; not confirmed: a cold solve with %d shooting segments reaches a "
+                   "different equilibrium (tips %.2g L apart), so this one is not reported as "
+                   "the answer",
+                   first, M2, dtip / m->L);
+    return TR_OFFPATH;
+}

@@ -1,0 +1,54 @@
+/*
+ * tr_poll.c -- the work budget and the caller's poll hook.
+ *
+ * Every integration (and every 256 steps of a long one, every step of an adaptive
+ * one) asks tr_poll whether to go on.  The budget in right-hand-side evaluations is
+ * checked every time (an integer compare: deterministic); the wall clock is read and,
+ * at most every TR_POLL_INTERVAL, the caller's hook is called (the Python glue checks
+ * for Ctrl-C there).  Once a poll says stop, the answer sticks (d->stop) until the next
+ * solve starts, so every loop of the solver unwinds at once.
+ */
+#define _POSIX_C_SOURCE 200809L
+#include <math.h>
+#include <time.h>
+
+#include "tendonrod.h"
+#include "tr_internal.h"
+
+double tr_clock(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+void tr_set_poll(tr_data *d, int (*poll)(void *ctx), void *ctx)
+{
+    d->poll = poll;
+    d->poll_ctx = ctx;
+}
+
+void tr_poll_start(tr_data *d)
+{
+    d->stop = TR_OK;
+    d->nrhs = 0.0;
+    d->t_start = d->t_poll = tr_clock();
+}
+
+int tr_poll(tr_data *d)
+{
+    double now;
+    if (d->stop) return d->stop;
+    /* the recording pass of a solve that ran out of budget still runs (its states are
+     * the last iterate's); only an interrupt stops it */
+    if (!d->rec && d->nrhs > d->opt.max_rhs) return d->stop = TR_EBUDGET;
+    if (!d->poll && !(d->opt.max_time > 0.0)) return TR_OK;
+    now = tr_clock();
+    if (!d->rec && d->opt.max_time > 0.0 && now - d->t_start > d->opt.max_time)
+        return d->stop = TR_EBUDGET;
+    if (d->poll && now - d->t_poll >= TR_POLL_INTERVAL) {
+        d->t_poll = now;
+        if (d->poll(d->poll_ctx)) return d->stop = TR_EINTERRUPTED;
+    }
+    return TR_OK;
+}
