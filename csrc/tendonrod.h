@@ -57,7 +57,7 @@ enum tr_status {
     TR_EPRETENSION = -10,   /* pretension not meaningful for this tendon set */
     TR_EINTEGRATOR = -11,   /* adaptive integrator failed (step underflow / cap) */
     TR_ECONTINUATION = -12, /* continuation could not reach the full load */
-    TR_EBUDGET = -13,       /* the work budget (max_rhs evaluations or max_time) ran out */
+    TR_EBUDGET = -13,       /* the work budget (max_work or max_time) ran out */
     TR_EINTERRUPTED = -14   /* stopped by the caller's poll hook (e.g. Ctrl-C) */
 };
 
@@ -94,11 +94,14 @@ enum tr_control { TR_DISPLACEMENT = 0, TR_TENSION = 1 };
 #define TR_MAX_NFEV_CAP         1000000000
 #define TR_MAX_CONTINUATION_CAP 1000000
 #define TR_MAX_NODES            10000000
-/* Default work budget in right-hand-side evaluations (150-300 ns each: about 0.3 s of
- * integration; a converged cold solve takes 10^2-10^4, a hard continuation 10^5). */
-#define TR_DEFAULT_MAX_RHS 1e6
+/* Work is counted in units of one right-hand-side evaluation of a planar Kirchhoff rod
+ * without tendons (~33 ns here); an evaluation of a scene's ODE counts its relative cost
+ * (tr_model.rhs_work: a spatial Cosserat rod with three tendons ~9).  The default budget
+ * lets a hopeless solve give up after ~0.5 s whatever the formulation; converged solves
+ * take 10^2-10^6 units. */
+#define TR_DEFAULT_MAX_WORK 1.5e7
 /* Largest work budget and wall-clock limit accepted. */
-#define TR_MAX_RHS_CAP  1e15
+#define TR_MAX_WORK_CAP 1e15
 #define TR_MAX_TIME_CAP 1e9
 /* The caller's poll hook runs at most this often [s] (and the wall clock is read). */
 #define TR_POLL_INTERVAL 2e-3
@@ -166,10 +169,11 @@ typedef struct tr_options {
                              nodes at j L / M carry full-state unknowns and continuity
                              residuals); default 1 = single shooting.  Needed for tensile
                              axial loads with L sqrt(T/EI) >~ 7 (growth e^(L sqrt(T/EI)/M)) */
-    double max_rhs;        /* work budget: right-hand-side evaluations per solve, everything
-                             included (continuation, step verification, confirmation);
-                             deterministic, so a solve stays bitwise reproducible; default
-                             TR_DEFAULT_MAX_RHS (a hopeless solve gives up within ~0.5 s) */
+    double max_work;       /* work budget per solve [units of one planar right-hand-side
+                             evaluation, see TR_DEFAULT_MAX_WORK], everything included
+                             (continuation, step verification, confirmation); deterministic,
+                             so a solve stays bitwise reproducible; default TR_DEFAULT_MAX_WORK
+                             (a hopeless solve gives up within ~0.5 s) */
     double max_time;       /* wall-clock limit per solve [s], 0: none; default 0.  Opt-in and
                              not deterministic (the machine's speed decides where it stops) */
 } tr_options;
@@ -230,6 +234,8 @@ typedef struct tr_model {
                                    tension EI/(r_max L) [N] */
     double len_s;            /* scale of slack and length residuals: r_max (L if 0) [m] */
     double xstate_scale[18]; /* absolute scale of each base state (adaptive control) */
+    double rhs_work;         /* cost of one right-hand-side evaluation [work units, see
+                                TR_DEFAULT_MAX_WORK], from the formulation */
     int scene_status;        /* 0, or why this (well-formed) scene has no unique solution:
                                    TR_EINDETERMINATE, TR_ENOEQUILIBRIUM, TR_EPRETENSION;
                                    tr_solve then fails at once with scene_message */
@@ -268,7 +274,7 @@ int tr_model_set_pretension(tr_model *m, const double *pretension, char *msg, si
 int tr_is_planar(const double *tendons, int nt, const double *loads, int nl, const double dist[3]);
 
 /* ------------------------------------------------------------------ data */
-#define TR_MSGLEN 512
+#define TR_MSGLEN 1024
 
 typedef struct tr_data {
     const tr_model *model; /* the model this workspace was allocated for */
@@ -324,20 +330,22 @@ typedef struct tr_data {
     double *Yx; /* (6 x k) d(output)/d(unknowns) */
     double *Fp; /* (k x 6) d(residual)/d(probe load) */
     /* work budget and the caller's poll hook (tr_set_poll) */
-    double nrhs;                /* right-hand-side evaluations of this solve */
-    int stop;                   /* 0, or TR_EBUDGET / TR_EINTERRUPTED once a poll said stop */
-    int (*poll)(void *ctx);     /* called about every TR_POLL_INTERVAL; nonzero: stop */
-    void *poll_ctx;             /* its argument */
-    double t_start, t_poll;     /* wall clock at the solve's start and at the last poll [s] */
+    double spent;           /* work of this solve [units, see TR_DEFAULT_MAX_WORK] */
+    int stop;               /* 0, or TR_EBUDGET / TR_EINTERRUPTED once a poll said stop */
+    int (*poll)(void *ctx); /* called about every TR_POLL_INTERVAL; nonzero: stop */
+    void *poll_ctx;         /* its argument */
+    double t_start, t_poll; /* wall clock at the solve's start and at the last poll [s] */
     /* the last successful solve, for tr_solve_warm */
-    double *x_last;             /* (k) its scaled unknowns */
-    double *J_last;             /* (k x k) its Jacobian */
-    int steps_last;             /* its verified step count */
-    int have_last;              /* 1 once a solve succeeded in this workspace */
+    double *x_last; /* (k) its scaled unknowns */
+    double *J_last; /* (k x k) its Jacobian */
+    int steps_last; /* its verified step count */
+    int have_last;  /* 1 once a solve succeeded in this workspace */
     /* the second formulation that confirms an equilibrium found off the load path,
      * allocated the first time a solve needs it */
     struct tr_model *confirm_m;
     struct tr_data *confirm_d;
+    int is_confirm;   /* 1: this workspace confirms another's (no nested confirmation) */
+    int nfev_confirm; /* evaluations spent confirming, added to nfev at the end */
     /* counters and results */
     int nit, nfev, njev, cont_steps;
     int status;

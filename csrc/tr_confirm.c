@@ -41,6 +41,7 @@ static int confirm_workspace(const tr_model *m, tr_data *d, int nshoot, const ch
         o.tip_only = 1;
         d->confirm_m = tr_model_reshoot(m, &o, nshoot, msg, sizeof msg);
         if (d->confirm_m) d->confirm_d = tr_data_alloc(d->confirm_m, &o, 1, NULL, msg, sizeof msg);
+        if (d->confirm_d) d->confirm_d->is_confirm = 1;
         if (!d->confirm_d) {
             tr_model_free(d->confirm_m);
             d->confirm_m = NULL;
@@ -51,8 +52,10 @@ static int confirm_workspace(const tr_model *m, tr_data *d, int nshoot, const ch
     }
     tr_model_sync_values(d->confirm_m, m);
     tr_set_poll(d->confirm_d, d->poll, d->poll_ctx);
-    /* the confirmation spends what is left of this solve's budget */
-    d->confirm_d->opt.max_rhs = d->opt.max_rhs - d->nrhs > 1.0 ? d->opt.max_rhs - d->nrhs : 1.0;
+    /* the confirmation spends at most half of what is left of this solve's budget (the
+     * stages after it need some) */
+    d->confirm_d->opt.max_work =
+        d->opt.max_work - d->spent > 2.0 ? 0.5 * (d->opt.max_work - d->spent) : 1.0;
     d->confirm_d->opt.max_time = d->opt.max_time;
     return 0;
 }
@@ -77,10 +80,12 @@ int tr_confirm_offpath(const tr_model *m, tr_data *d)
     if (confirm_workspace(m, d, M2, first) != 0) return TR_OFFPATH;
     c = d->confirm_d;
     st = tr_solve(d->confirm_m, c, NULL, NULL);
-    d->nfev += c->nfev;
-    d->nrhs += c->nrhs;
+    d->nfev_confirm += c->nfev;
+    d->spent += c->spent;
     if (st == TR_EINTERRUPTED) return d->stop = TR_EINTERRUPTED;
-    if (!TR_SUCCEEDED(st)) {
+    /* an equilibrium of the confirming formulation, even one it found off the load path
+     * itself, counts: the question is whether the two formulations agree */
+    if (st < 0) {
         tr_set_message(d,
                        "%s; not confirmed: a cold solve with %d shooting segments did not "
                        "converge (%s)",
@@ -96,7 +101,8 @@ int tr_confirm_offpath(const tr_model *m, tr_data *d)
         if (!(e <= dten)) dten = e;
         if (fabs(d->tau[i]) > tmax) tmax = fabs(d->tau[i]);
     }
-    if (dtip <= TR_CONFIRM_AGREE * m->L && dten <= TR_CONFIRM_AGREE * (tmax > 0.0 ? tmax : 1e-300)) {
+    if (dtip <= TR_CONFIRM_AGREE * m->L &&
+        dten <= TR_CONFIRM_AGREE * (tmax > 0.0 ? tmax : 1e-300)) {
         tr_set_message(d,
                        "%s; confirmed: a cold solve with %d shooting segments reaches the same "
                        "equilibrium (tips %.1e L apart)",

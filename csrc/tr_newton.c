@@ -25,6 +25,7 @@ void tr_solve_reset(const tr_model *m, tr_data *d, int steps)
     d->probe_bp = -1;
     d->steps = steps;
     d->jac_method = d->opt.jacobian_method;
+    d->nfev_confirm = 0;
     tr_poll_start(d);
 }
 
@@ -357,7 +358,8 @@ int tr_solve_lean(const tr_model *m, tr_data *d, const double *x0, const double 
         return d->status = TR_EINVAL;
     }
     memcpy(d->x, x0, (size_t)k * sizeof(double));
-    if (tr_residual(m, d, d->x, d->f) != TR_OK) return d->status = d->stop ? d->stop : TR_ENONFINITE;
+    if (tr_residual(m, d, d->x, d->f) != TR_OK)
+        return d->status = d->stop ? d->stop : TR_ENONFINITE;
     fn = tru_maxnorm(d->f, k);
     while (!(fn <= d->opt.tol)) {
         double ss = 0.0;

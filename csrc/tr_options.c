@@ -23,7 +23,7 @@ tr_options tr_default_options(void)
     o.force_spatial = 0;
     o.tip_only = 0;
     o.shooting_segments = 1;
-    o.max_rhs = TR_DEFAULT_MAX_RHS;
+    o.max_work = TR_DEFAULT_MAX_WORK;
     o.max_time = 0.0;
     return o;
 }
@@ -67,8 +67,8 @@ int tr_options_check(const tr_options *o, char *msg, size_t msglen)
         tr_msgf(msg, msglen, "tol = %g must lie in (0, 1)", o->tol);
         return TR_EINVAL;
     }
-    if (!(o->max_rhs >= 1.0 && o->max_rhs <= TR_MAX_RHS_CAP)) {
-        tr_msgf(msg, msglen, "max_rhs = %g must lie in [1, %g]", o->max_rhs, TR_MAX_RHS_CAP);
+    if (!(o->max_work >= 1.0 && o->max_work <= TR_MAX_WORK_CAP)) {
+        tr_msgf(msg, msglen, "max_work = %g must lie in [1, %g]", o->max_work, TR_MAX_WORK_CAP);
         return TR_EINVAL;
     }
     if (!(o->max_time >= 0.0 && o->max_time <= TR_MAX_TIME_CAP)) {

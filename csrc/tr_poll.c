@@ -2,8 +2,8 @@
  * tr_poll.c -- the work budget and the caller's poll hook.
  *
  * Every integration (and every 256 steps of a long one, every step of an adaptive
- * one) asks tr_poll whether to go on.  The budget in right-hand-side evaluations is
- * checked every time (an integer compare: deterministic); the wall clock is read and,
+ * one) asks tr_poll whether to go on.  The work budget (right-hand-side evaluations
+ * weighted by their cost, tr_model.rhs_work) is checked every time (deterministic); the wall clock is read and,
  * at most every TR_POLL_INTERVAL, the caller's hook is called (the Python glue checks
  * for Ctrl-C there).  Once a poll says stop, the answer sticks (d->stop) until the next
  * solve starts, so every loop of the solver unwinds at once.
@@ -31,7 +31,7 @@ void tr_set_poll(tr_data *d, int (*poll)(void *ctx), void *ctx)
 void tr_poll_start(tr_data *d)
 {
     d->stop = TR_OK;
-    d->nrhs = 0.0;
+    d->spent = 0.0;
     d->t_start = d->t_poll = tr_clock();
 }
 
@@ -41,7 +41,7 @@ int tr_poll(tr_data *d)
     if (d->stop) return d->stop;
     /* the recording pass of a solve that ran out of budget still runs (its states are
      * the last iterate's); only an interrupt stops it */
-    if (!d->rec && d->nrhs > d->opt.max_rhs) return d->stop = TR_EBUDGET;
+    if (!d->rec && d->spent > d->opt.max_work) return d->stop = TR_EBUDGET;
     if (!d->poll && !(d->opt.max_time > 0.0)) return TR_OK;
     now = tr_clock();
     if (!d->rec && d->opt.max_time > 0.0 && now - d->t_start > d->opt.max_time)

@@ -175,8 +175,10 @@ int tr_record_tip(const tr_model *m, tr_data *d)
 int tr_record_from(const tr_model *m, tr_data *d, const double *x, int steps)
 {
     if (d->model != m || steps < 1 || steps > TR_MAX_STEPS) {
-        tr_set_message(d, "tr_record_from: a workspace of another model, or steps = %d out of "
-                          "range", steps);
+        tr_set_message(d,
+                       "tr_record_from: a workspace of another model, or steps = %d out of "
+                       "range",
+                       steps);
         return TR_EINVAL;
     }
     tr_solve_reset(m, d, steps);

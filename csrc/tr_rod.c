@@ -321,7 +321,7 @@ int tr_rhs(double s, const double y[], double dyds[], void *params)
 {
     tr_data *d = (tr_data *)params;
     const tr_model *m = d->model;
-    d->nrhs += 1.0;
+    d->spent += m->rhs_work;
     return m->planar ? rhs_planar(m, d, s, y, dyds) : rhs_spatial(m, d, s, y, dyds);
 }
 

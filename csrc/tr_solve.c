@@ -16,6 +16,7 @@
  * A work budget or an interrupt (tr_poll.c) ends the solve after the stage it stops.
  */
 #include <math.h>
+#include <stdio.h>
 #include <string.h>
 
 #include "tendonrod.h"
@@ -109,7 +110,8 @@ static int solve_continuation(const tr_model *m, tr_data *d, int status, int for
                    "one reached by loading the robot (a limit point / "
                    "snap-through lies on the path)",
                    second);
-    return tr_confirm_offpath(m, d);
+    /* a workspace that confirms another's does not confirm in turn */
+    return d->is_confirm ? TR_OFFPATH : tr_confirm_offpath(m, d);
 }
 
 static int solve_condition(const tr_model *m, tr_data *d, int status, const double *jac)
@@ -188,13 +190,13 @@ static void diagnose_curvature(const tr_model *m, tr_data *d, int status)
         if (!(ratio >= TR_CURVATURE_HINT && isfinite(ratio))) continue;
         memcpy(first, d->message, TR_MSGLEN);
         tr_set_message(d,
-                       "%s; the last iterate loads tendon %d with %.4g N = %.2f EI/r^2 "
-                       "(EI/r^2 = %.4g N): near that tension the backbone curvature tau r/EI "
-                       "at a moment-free end approaches 1/r, where the tendon would pass the "
-                       "centre of curvature, so no valid equilibrium lies past that point on "
-                       "this load path (reduce the load or the actuation, or route the tendon "
-                       "closer to the centre line)",
-                       first, i, tau, ratio, m->EI / (r * r));
+                       "the last iterate loads tendon %d with %.4g N = %.2f EI/r^2 (EI/r^2 = "
+                       "%.4g N): near that tension the backbone curvature tau r/EI at a "
+                       "moment-free end approaches 1/r, where the tendon would pass the centre "
+                       "of curvature, so no valid equilibrium lies past that point on this load "
+                       "path (reduce the load or the actuation, or route the tendon closer to "
+                       "the centre line); %s",
+                       i, tau, ratio, m->EI / (r * r), first);
         return;
     }
 }
@@ -202,24 +204,29 @@ static void diagnose_curvature(const tr_model *m, tr_data *d, int status)
 /* The message of a solve that the budget or an interrupt stopped. */
 static void stop_message(tr_data *d)
 {
-    char first[TR_MSGLEN];
+    char first[TR_MSGLEN], where[96];
+    const char *sep = d->message[0] ? "; last: " : "";
     memcpy(first, d->message, TR_MSGLEN);
+    if (isfinite(d->fnorm))
+        snprintf(where, sizeof where, "after %d iterations (scaled residual %.3g)", d->nit,
+                 d->fnorm);
+    else
+        snprintf(where, sizeof where, "after %d iterations", d->nit);
     if (d->stop == TR_EINTERRUPTED) {
-        tr_set_message(d, "interrupted by the caller after %d iterations", d->nit);
+        tr_set_message(d, "interrupted by the caller %s", where);
     } else if (d->opt.max_time > 0.0 && tr_clock() - d->t_start > d->opt.max_time) {
         tr_set_message(d,
-                       "the time limit ran out (max_time = %g s) after %d iterations (scaled "
-                       "residual %.3g); raise Options.max_time, give a guess from a nearby "
-                       "solved scene, or approach this scene in smaller steps (a sweep)%s%s",
-                       d->opt.max_time, d->nit, d->fnorm, first[0] ? "; last: " : "", first);
+                       "the time limit ran out (max_time = %g s) %s; raise Options.max_time, "
+                       "give a guess from a nearby solved scene, or approach this scene in "
+                       "smaller steps (a sweep)%s%s",
+                       d->opt.max_time, where, sep, first);
     } else {
         tr_set_message(d,
-                       "the work budget ran out (max_rhs = %.3g right-hand-side evaluations) "
-                       "after %d iterations (scaled residual %.3g): the scene may have no "
-                       "equilibrium near the path tried; raise Options.max_rhs, give a guess "
-                       "from a nearby solved scene, or approach this scene in smaller steps (a "
-                       "sweep)%s%s",
-                       d->opt.max_rhs, d->nit, d->fnorm, first[0] ? "; last: " : "", first);
+                       "the work budget ran out (max_work = %.3g units) "
+                       "%s: the scene may have no equilibrium near the path tried; raise "
+                       "Options.max_work, give a guess from a nearby solved scene, or approach "
+                       "this scene in smaller steps (a sweep)%s%s",
+                       d->opt.max_work, where, sep, first);
     }
 }
 
@@ -229,6 +236,8 @@ static int solve_record(const tr_model *m, tr_data *d, int status)
     d->residual_norm = d->fnorm;
     d->lam_act = d->lam_load = 1.0;
     if (status == TR_EINTERRUPTED) return status;
+    /* the states of the last iterate are recorded even when the budget ran out */
+    if (d->stop == TR_EBUDGET) d->stop = TR_OK;
     rs = tr_record(m, d);
     if (rs == TR_EINTERRUPTED) return rs;
     if (rs != TR_OK && status >= 0) {
@@ -269,7 +278,9 @@ static int solve(const tr_model *m, tr_data *d, const double *guess, const doubl
     }
     diagnose_stiff(m, d, status);
     diagnose_curvature(m, d, status);
-    return d->status = solve_record(m, d, status);
+    status = solve_record(m, d, status);
+    d->nfev += d->nfev_confirm;
+    return d->status = status;
 }
 
 int tr_solve(const tr_model *m, tr_data *d, const double *guess, const double *jac)

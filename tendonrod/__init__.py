@@ -4,7 +4,8 @@ with prescribed tendon displacements (or tensions).
 - :mod:`tendonrod.analytic` -- the paper's closed-form small-deflection formulas
   as NumPy ufuncs (Sections II-III).
 - :func:`tendonrod.solve` -- a geometrically exact Cosserat-rod/tendon solver
-  (Section IV) with prescribed displacements, tendon stretch, pretension, slack.
+  (Section IV) with prescribed displacements, tendon stretch, pretension, slack;
+  :class:`tendonrod.Problem` -- a scene's structure compiled once, solved warm.
 - :func:`tendonrod.sweep`, :func:`tendonrod.solve_batch` -- many scenes at once.
 - :mod:`tendonrod.plot`, :mod:`tendonrod.paper` (the paper's studies and figures) and
   :mod:`tendonrod.scenefile` are imported on first use; :mod:`tendonrod.bench` holds
@@ -24,6 +25,7 @@ from . import analytic
 from .batch import BatchResult, solve_batch
 from .model import DistributedLoad, PointLoad, Robot, Rod, Scene, Tendon
 from .options import Options
+from .problem import Problem
 from .results import ConvergenceError, ConvergenceWarning
 from .solver import Solution, compliance, solve
 from .sweep import SweepResult, sweep  # the attribute tendonrod.sweep is this function
@@ -51,6 +53,7 @@ __all__ += [
     "DistributedLoad",
     "Options",
     "Solution",
+    "Problem",
     "solve",
     "compliance",
     "ConvergenceWarning",

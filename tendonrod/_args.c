@@ -156,7 +156,7 @@ static const opt_spec options[] = {
     {"tip_only", OPT_BOOL, offsetof(tr_options, tip_only), NULL, 0, 1},
     {"shooting_segments", OPT_INT, offsetof(tr_options, shooting_segments), NULL, 1,
      TR_MAX_SHOOTING_SEGMENTS},
-    {"max_rhs", OPT_DOUBLE, offsetof(tr_options, max_rhs), NULL, 0, 0},
+    {"max_work", OPT_DOUBLE, offsetof(tr_options, max_work), NULL, 0, 0},
     {"max_time", OPT_DOUBLE, offsetof(tr_options, max_time), NULL, 0, 0},
 };
 

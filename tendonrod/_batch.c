@@ -108,7 +108,7 @@ static int arrays_alloc(batch_arrays *b, npy_intp n, int nt, tr_batch_out *out)
 /* The result dict (references to the arrays are added, not stolen). */
 static PyObject *batch_result(const batch_arrays *b, npy_intp n, const tr_model *m, double tol)
 {
-    PyObject *result = PyDict_New(), *msgs = PyList_New(n), *form = NULL;
+    PyObject *result = PyDict_New(), *msgs = PyList_New(n), *form = NULL, *succ = NULL;
     const int *status = (const int *)PyArray_DATA((PyArrayObject *)b->sta);
     const int *nit = (const int *)PyArray_DATA((PyArrayObject *)b->nit);
     const double *res = (const double *)PyArray_DATA((PyArrayObject *)b->res);
@@ -124,6 +124,10 @@ static PyObject *batch_result(const batch_arrays *b, npy_intp n, const tr_model 
         if (!s) goto fail;
         PyList_SET_ITEM(msgs, i, s);
     }
+    /* the verdict per point: the core's rule (TR_SUCCEEDED) */
+    if (!(succ = PyArray_SimpleNew(1, &n, NPY_BOOL))) goto fail;
+    for (i = 0; i < n; i++)
+        ((npy_bool *)PyArray_DATA((PyArrayObject *)succ))[i] = TR_SUCCEEDED(status[i]);
     form = PyDict_New();
     if (!form || glue_set(form, "planar", PyBool_FromLong(m->planar)) < 0 ||
         glue_set(form, "kirchhoff", PyBool_FromLong(m->kirchhoff)) < 0 ||
@@ -141,15 +145,18 @@ static PyObject *batch_result(const batch_arrays *b, npy_intp n, const tr_model 
         PyDict_SetItemString(result, "nfev", b->nfe) < 0 ||
         PyDict_SetItemString(result, "cold", b->cld) < 0 ||
         PyDict_SetItemString(result, "message", msgs) < 0 ||
+        PyDict_SetItemString(result, "success", succ) < 0 ||
         PyDict_SetItemString(result, "formulation", form) < 0)
         goto fail;
     Py_DECREF(msgs);
     Py_DECREF(form);
+    Py_DECREF(succ);
     return result;
 fail:
     Py_XDECREF(result);
     Py_XDECREF(msgs);
     Py_XDECREF(form);
+    Py_XDECREF(succ);
     return NULL;
 }
 
@@ -180,7 +187,8 @@ PyObject *glue_solve_batch(PyObject *self, PyObject *args, PyObject *kwds)
 {
     glue_args a;
     PyObject *rod, *tendons, *loads, *dist, *kw = NULL, *result = NULL;
-    PyObject *o_values = NULL, *o_pl = NULL, *o_dists = NULL;
+    PyObject *o_values = NULL, *o_pl = NULL, *o_dists = NULL, *cancel = NULL;
+    glue_poll poll;
     PyArrayObject *values = NULL, *pl = NULL, *dists = NULL;
     batch_arrays b;
     tr_batch_in in;
@@ -198,6 +206,8 @@ PyObject *glue_solve_batch(PyObject *self, PyObject *args, PyObject *kwds)
     o_values = glue_take(kw, "values");
     o_pl = glue_take(kw, "point_loads");
     o_dists = glue_take(kw, "dists");
+    cancel = glue_take(kw, "cancel");
+    if (glue_poll_init(&poll, cancel) < 0) goto done;
     if (take_flag(kw, "warm", 1, &in.warm) < 0 ||
         take_flag(kw, "retry_cold", 0, &in.retry_cold) < 0 ||
         take_flag(kw, "predict", 1, &in.predict) < 0 || take_flag(kw, "exact", 0, &in.exact) < 0 ||
@@ -230,9 +240,12 @@ PyObject *glue_solve_batch(PyObject *self, PyObject *args, PyObject *kwds)
     in.value = values ? (const double *)PyArray_DATA(values) : NULL;
     in.load = pl ? (const double *)PyArray_DATA(pl) : NULL;
     in.dist = dists ? (const double *)PyArray_DATA(dists) : NULL;
+    in.poll = glue_poll_hook;
+    in.poll_ctx = &poll;
     Py_BEGIN_ALLOW_THREADS;
     status = tr_batch_solve(m, &a.opt, &in, &out, emsg, sizeof emsg);
     Py_END_ALLOW_THREADS;
+    if (glue_poll_finish(&poll, status) < 0) goto done;
     if (status != TR_OK) {
         if (status == TR_ENOMEM)
             PyErr_NoMemory();
@@ -249,6 +262,7 @@ done:
     Py_XDECREF(o_values);
     Py_XDECREF(o_pl);
     Py_XDECREF(o_dists);
+    Py_XDECREF(cancel);
     Py_XDECREF(kw);
     tr_model_free(m);
     glue_args_clear(&a);

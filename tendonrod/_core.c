@@ -25,28 +25,28 @@ static PyObject *default_options(void)
 {
     const tr_options o = tr_default_options();
     return Py_BuildValue(
-        "{s:s,s:i,s:d,s:d,s:i,s:i,s:s,s:s,s:O,s:i,s:i,s:O,s:O,s:i}", "integrator",
+        "{s:s,s:i,s:d,s:d,s:i,s:i,s:s,s:s,s:O,s:i,s:i,s:O,s:O,s:i,s:d,s:d}", "integrator",
         glue_integrators[o.integrator], "steps", o.steps, "rtol", o.rtol, "tol", o.tol, "max_iter",
         o.max_iter, "max_nfev", o.max_nfev, "jacobian_method", glue_jacobians[o.jacobian_method],
         "slack_model", glue_slack_models[o.slack_model], "continuation",
         o.continuation ? Py_True : Py_False, "max_continuation", o.max_continuation, "nodes",
         TR_DEFAULT_NODES, "force_spatial", o.force_spatial ? Py_True : Py_False, "tip_only",
-        o.tip_only ? Py_True : Py_False, "shooting_segments", o.shooting_segments);
+        o.tip_only ? Py_True : Py_False, "shooting_segments", o.shooting_segments, "max_work",
+        o.max_work, "max_time", o.max_time);
 }
 
 /* LIMITS: the ranges tr_options_check and tr_model_alloc accept (tendonrod.h): per
- * option (lo, hi), inclusive for ints, max_rhs and max_time; rtol in [lo, hi), tol in
+ * option (lo, hi), inclusive for ints, max_work and max_time; rtol in [lo, hi), tol in
  * (lo, hi); rod L, EI,
  * GJ and the finite EA, GA of a rod or tendon in [lo, hi]. */
 static PyObject *limits(void)
 {
     return Py_BuildValue(
         "{s:(ii),s:(ii),s:(ii),s:(ii),s:(ii),s:(ii),s:(dd),s:(dd),s:(dd),s:(dd),s:(dd),s:(dd),s:d}",
-        "steps", 0,
-        TR_MAX_STEPS, "max_iter", 1, TR_MAX_ITER_CAP, "max_nfev", 1, TR_MAX_NFEV_CAP,
+        "steps", 0, TR_MAX_STEPS, "max_iter", 1, TR_MAX_ITER_CAP, "max_nfev", 1, TR_MAX_NFEV_CAP,
         "max_continuation", 0, TR_MAX_CONTINUATION_CAP, "shooting_segments", 1,
         TR_MAX_SHOOTING_SEGMENTS, "nodes", 2, TR_MAX_NODES, "rtol", TR_RTOL_MIN, 1.0, "tol", 0.0,
-        1.0, "max_rhs", 1.0, TR_MAX_RHS_CAP, "max_time", 0.0, TR_MAX_TIME_CAP, "rod", TR_ROD_MIN,
+        1.0, "max_work", 1.0, TR_MAX_WORK_CAP, "max_time", 0.0, TR_MAX_TIME_CAP, "rod", TR_ROD_MIN,
         TR_ROD_MAX, "EA", TR_EA_MIN, TR_EA_MAX, "planar_sin", TR_PLANAR_SIN);
 }
 
@@ -62,8 +62,13 @@ static PyObject *choices(void)
 static int add_constants(PyObject *module)
 {
     if (PyModule_AddStringConstant(module, "gsl_version", gsl_version) < 0) return -1;
-    /* the one caveat status that is not a success (see TR_SUCCEEDED) */
-    if (PyModule_AddIntConstant(module, "STATUS_OFFPATH", TR_OFFPATH) < 0) return -1;
+    /* the one caveat status that is not a success (see TR_SUCCEEDED), and the statuses
+     * the Python layer names */
+    if (PyModule_AddIntConstant(module, "STATUS_OFFPATH", TR_OFFPATH) < 0 ||
+        PyModule_AddIntConstant(module, "STATUS_CONFIRMED", TR_CONFIRMED) < 0 ||
+        PyModule_AddIntConstant(module, "STATUS_EBUDGET", TR_EBUDGET) < 0 ||
+        PyModule_AddIntConstant(module, "STATUS_EINTERRUPTED", TR_EINTERRUPTED) < 0)
+        return -1;
     if (add_object(module, "DEFAULT_OPTIONS", default_options()) < 0 ||
         add_object(module, "LIMITS", limits()) < 0 ||
         add_object(module, "CHOICES", choices()) < 0 ||
@@ -89,9 +94,18 @@ static PyMethodDef core_methods[] = {
     {"is_planar", (PyCFunction)glue_is_planar, METH_VARARGS, glue_is_planar_doc},
     {NULL, NULL, 0, NULL}};
 
+static int add_type(PyObject *module, const char *name, PyTypeObject *type)
+{
+    if (PyType_Ready(type) < 0) return -1;
+    return PyModule_AddObjectRef(module, name, (PyObject *)type);
+}
+
 static int core_exec(PyObject *module)
 {
     if (add_constants(module) < 0) return -1;
+    if (add_type(module, "Problem", &glue_problem_type) < 0 ||
+        add_type(module, "Cancel", &glue_cancel_type) < 0)
+        return -1;
     if (glue_add_ufuncs(module) < 0) return -1;
     return 0;
 }

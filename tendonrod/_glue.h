@@ -67,6 +67,28 @@ PyObject *glue_array(int nd, const npy_intp *dims, const double *src);
 /* Steal `value` into dict[key]; -1 on error (value released). */
 int glue_set(PyObject *dict, const char *key, PyObject *value);
 
+/* _poll.c: the poll hook of a solve running with the GIL released (Ctrl-C, a Cancel
+ * token from another thread). */
+typedef struct {
+    PyObject *cancel; /* a Cancel token (borrowed, kept alive by the caller) or NULL */
+    int raised;       /* 1 once a signal handler raised (the exception is pending) */
+} glue_poll;
+extern PyTypeObject glue_cancel_type;
+/* Set up p for a call with the keyword cancel= (None or a Cancel).  0 or -1. */
+int glue_poll_init(glue_poll *p, PyObject *cancel);
+/* The hook given to tr_set_poll (ctx: a glue_poll). */
+int glue_poll_hook(void *ctx);
+/* After the GIL is back: -1 with KeyboardInterrupt pending if the solve was interrupted
+ * (by a signal handler's exception, or a Cancel token), else 0. */
+int glue_poll_finish(glue_poll *p, int status);
+
+/* _problem.c: the compiled Problem type */
+extern PyTypeObject glue_problem_type;
+/* The formulation dict of a model (and the options of a workspace, if d != NULL). */
+PyObject *glue_formulation(const tr_model *m, const tr_data *d);
+/* The solve result dict of a workspace (_solve.c). */
+PyObject *glue_solve_result(const tr_model *m, const tr_data *d, int status);
+
 /* _solve.c, _batch.c: the entry points */
 PyObject *glue_solve(PyObject *self, PyObject *args, PyObject *kwds);
 PyObject *glue_compliance(PyObject *self, PyObject *args, PyObject *kwds);

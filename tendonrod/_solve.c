@@ -5,7 +5,7 @@
 #include "_glue.h"
 
 /* The formulation a model compiled to, and the options a workspace used. */
-static PyObject *formulation(const tr_model *m, const tr_data *d)
+PyObject *glue_formulation(const tr_model *m, const tr_data *d)
 {
     PyObject *form = PyDict_New();
     if (!form) return NULL;
@@ -43,6 +43,7 @@ static int set_counts(PyObject *res, const tr_data *d, int status)
                    glue_set(res, "nit", PyLong_FromLong(d->nit)) < 0 ||
                    glue_set(res, "nfev", PyLong_FromLong(d->nfev)) < 0 ||
                    glue_set(res, "njev", PyLong_FromLong(d->njev)) < 0 ||
+                   glue_set(res, "work", PyFloat_FromDouble(d->spent)) < 0 ||
                    glue_set(res, "residual_norm", PyFloat_FromDouble(d->residual_norm)) < 0 ||
                    glue_set(res, "jacobian_cond", PyFloat_FromDouble(d->jacobian_cond)) < 0 ||
                    glue_set(res, "truncation_estimate", PyFloat_FromDouble(d->truncation)) < 0 ||
@@ -51,7 +52,7 @@ static int set_counts(PyObject *res, const tr_data *d, int status)
                : 0;
 }
 
-static PyObject *solve_result(const tr_model *m, const tr_data *d, int status)
+PyObject *glue_solve_result(const tr_model *m, const tr_data *d, int status)
 {
     PyObject *res = PyDict_New(), *base = NULL;
     const int N = d->nnode, nt = m->nt, k = d->k;
@@ -80,7 +81,7 @@ static PyObject *solve_result(const tr_model *m, const tr_data *d, int status)
     if (glue_set(res, "unknowns", glue_array(1, dims, d->x)) < 0) goto fail;
     dims[1] = k;
     if (glue_set(res, "jacobian", glue_array(2, dims, d->J)) < 0) goto fail;
-    if (glue_set(res, "formulation", formulation(m, d)) < 0) goto fail;
+    if (glue_set(res, "formulation", glue_formulation(m, d)) < 0) goto fail;
     return res;
 fail:
     Py_DECREF(res);
@@ -89,7 +90,7 @@ fail:
 
 /* Positional scene arrays, then the keywords: guess, jacobian, options. */
 static int parse_call(glue_args *a, PyObject *args, PyObject *kwds, const char *fn, int nextra,
-                      double *extra)
+                      double *extra, glue_poll *poll, PyObject **cancel)
 {
     PyObject *rod, *tendons, *loads, *dist, *kw = NULL, *guess = NULL, *jac = NULL;
     int r = -1;
@@ -100,8 +101,9 @@ static int parse_call(glue_args *a, PyObject *args, PyObject *kwds, const char *
     if (kwds && !(kw = PyDict_Copy(kwds))) return -1;
     guess = glue_take(kw, "guess");
     jac = glue_take(kw, "jacobian");
-    if (glue_scene(a, rod, tendons, loads, dist) == 0 && glue_options(a, kw, fn) == 0 &&
-        glue_warm_start(a, guess, jac) == 0)
+    *cancel = glue_take(kw, "cancel");
+    if (glue_poll_init(poll, *cancel) == 0 && glue_scene(a, rod, tendons, loads, dist) == 0 &&
+        glue_options(a, kw, fn) == 0 && glue_warm_start(a, guess, jac) == 0)
         r = 0;
     Py_XDECREF(kw);
     Py_XDECREF(guess);
@@ -133,20 +135,24 @@ const char glue_solve_doc[] =
 PyObject *glue_solve(PyObject *self, PyObject *args, PyObject *kwds)
 {
     glue_args a;
+    glue_poll poll;
     tr_model *m = NULL;
     tr_data *d = NULL;
-    PyObject *result = NULL;
+    PyObject *result = NULL, *cancel = NULL;
     const double *g = NULL, *jac = NULL;
     int status;
-    if (parse_call(&a, args, kwds, "solve", 0, NULL) < 0 || glue_build(&a, NULL, &m, &d) < 0)
+    if (parse_call(&a, args, kwds, "solve", 0, NULL, &poll, &cancel) < 0 ||
+        glue_build(&a, NULL, &m, &d) < 0)
         goto done;
     g = a.guess ? (const double *)PyArray_DATA(a.guess) : NULL;
     if (a.jac && PyArray_DIM(a.jac, 0) == m->n_unknowns) jac = (const double *)PyArray_DATA(a.jac);
+    tr_set_poll(d, glue_poll_hook, &poll);
     Py_BEGIN_ALLOW_THREADS;
     status = tr_solve(m, d, g, jac);
     Py_END_ALLOW_THREADS;
-    result = solve_result(m, d, status);
+    if (glue_poll_finish(&poll, status) == 0) result = glue_solve_result(m, d, status);
 done:
+    Py_XDECREF(cancel);
     tr_data_free(d);
     tr_model_free(m);
     glue_args_clear(&a);
@@ -166,12 +172,13 @@ const char glue_compliance_doc[] =
 PyObject *glue_compliance(PyObject *self, PyObject *args, PyObject *kwds)
 {
     glue_args a;
+    glue_poll poll;
     tr_model *m = NULL;
     tr_data *d = NULL;
-    PyObject *result = NULL;
+    PyObject *result = NULL, *cancel = NULL;
     double s = 0.0, extra[TR_LD_NCOL] = {0, 0, 0, 0, 0, 0, 0}, C[36], L;
     int status;
-    if (parse_call(&a, args, kwds, "compliance", 1, &s) < 0) goto done;
+    if (parse_call(&a, args, kwds, "compliance", 1, &s, &poll, &cancel) < 0) goto done;
     a.opt.force_spatial = a.opt.tip_only = 1;
     L = ((const double *)PyArray_DATA(a.rod))[TR_ROD_L];
     if (!(s > 0.0 && s <= L)) {
@@ -180,6 +187,7 @@ PyObject *glue_compliance(PyObject *self, PyObject *args, PyObject *kwds)
     }
     extra[TR_LD_S] = s;
     if (glue_build(&a, extra, &m, &d) < 0) goto done;
+    tr_set_poll(d, glue_poll_hook, &poll);
     Py_BEGIN_ALLOW_THREADS;
     status = tr_solve(m, d, a.guess ? (const double *)PyArray_DATA(a.guess) : NULL, NULL);
     if (TR_SUCCEEDED(status))
@@ -187,6 +195,7 @@ PyObject *glue_compliance(PyObject *self, PyObject *args, PyObject *kwds)
     else if (status >= 0)
         status = TR_ECONTINUATION; /* linearising about an unvouched equilibrium: refuse */
     Py_END_ALLOW_THREADS;
+    if (glue_poll_finish(&poll, status) < 0) goto done;
     if (status < 0) {
         glue_err(PyExc_RuntimeError, "compliance: %s (status %d: %s)", d->message, status,
                  tr_strerror(status));
@@ -197,6 +206,7 @@ PyObject *glue_compliance(PyObject *self, PyObject *args, PyObject *kwds)
         result = glue_array(2, dims, C);
     }
 done:
+    Py_XDECREF(cancel);
     tr_data_free(d);
     tr_model_free(m);
     glue_args_clear(&a);

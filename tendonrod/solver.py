@@ -285,8 +285,9 @@ class Solution:
     def at(self, s) -> RodState:
         """The state at arc length(s) ``s`` [m] (scalar or 1-D array in [0, L]).
 
-        Exact to solver accuracy: the core re-integrates from the converged base state
-        with output nodes at ``s`` (a warm solve that starts converged; no interpolation).
+        Exact to solver accuracy: the core integrates again from this solution's
+        converged unknowns at its step count, with output nodes at ``s`` (no solve, no
+        interpolation).
         """
         L = self.scene.robot.rod.length
         scalar = np.ndim(s) == 0
@@ -299,8 +300,16 @@ class Solution:
         ):
             raise ValueError(f"s must be arc lengths in [0, L={L!r}], got {s!r}")
         order = np.argsort(ss, kind="stable")
+        # the states of this solution at the nodes s: a recording pass from its unknowns
+        # at its verified step count (no solve)
+        from .problem import _compile
+
         opts = _replace(self.options, nodes=np.minimum(ss[order], L), tip_only=False)
-        sol = solve(self.scene, guess=self, options=opts)
+        sol = Solution(
+            _compile(self.scene, opts).record_from(self.unknowns, max(1, self.formulation.steps)),
+            self.scene,
+            opts,
+        )
         inv = np.empty_like(order)
         inv[order] = np.arange(order.size)
         pos, rot = sol.position[inv], sol.rotation[inv]
@@ -335,14 +344,17 @@ def solve(
 ) -> Solution:
     """Solve ``scene``: the static equilibrium of the robot under its actuation and loads.
 
+    A one-shot :class:`~tendonrod.Problem`: the scene is compiled, solved and the compiled
+    problem dropped.  To solve many scenes of one structure, keep a ``tr.Problem``.
+
     Parameters
     ----------
     scene : Scene
         Robot, actuation (displacements/tensions) and loads.
-    guess : Solution or array (6 + 2 ntendon,), optional
-        Warm start: a previous :class:`Solution` (its base force and moment, tensions,
-        slacks, and its Jacobian when the problem has the same structure), or a raw
-        ``[n(0), m(0), tension, slack]`` vector (world frame, SI).
+    guess : None, "cold", Solution or array (6 + 2 ntendon,), optional
+        Warm start: a previous :class:`Solution` (its base state, and its Jacobian when
+        the problem has the same formulation), or a raw ``[n(0), m(0), tension, slack]``
+        vector (world frame, SI).  None or ``"cold"``: the core's cold guess.
     options : Options, optional
         Numerical options (default ``Options()``).
     strict : bool
@@ -352,114 +364,25 @@ def solve(
     -------
     Solution
     """
-    options = _check_options(options)
-    rod, tendons, loads, dist = pack_scene(scene)
-    nodes = _nodes_for(scene, options)
-    gvec, jac = _guess_vector(guess, scene, options)
-    kw = options._raw
-    if nodes is not kw["nodes"]:
-        kw = dict(kw, nodes=nodes)
-    raw = _core.solve(rod, tendons, loads, dist, guess=gvec, jacobian=jac, **kw)
-    if raw["status"] == _core.STATUS_OFFPATH:
-        raw = _cross_check_off_path(raw, (rod, tendons, loads, dist), kw)
-    if not raw["success"]:
-        raw = dict(raw, message=raw["message"] + _tendon_curvature_diagnosis(raw, scene))
-    sol = Solution(raw, scene, options)
-    if not sol.success:
-        msg = (
-            f"tendonrod.solve did not converge: {sol.message} (status {sol.status}, "
-            f"nit {sol.nit}, nfev {sol.nfev}, residual {sol.residual_norm:.3g})"
-        )
-        if strict:
-            raise ConvergenceError(msg, sol)
-        warnings.warn(msg, ConvergenceWarning, stacklevel=2)
+    from .problem import Problem
+
+    prob = Problem(scene, options)
+    sol = Solution(prob._run(guess), scene, prob.options)
+    _report(sol, strict, "tendonrod.solve", stacklevel=3)
     return sol
 
 
-# A tendon of offset r pulling with tension tau bends the backbone at a moment-free end
-# to curvature tau r / EI; at tau = EI / r^2 that is 1/r, where the tendon's path-length
-# rate 1 - kappa r vanishes and the tendon would pass the centre of curvature.  Failed
-# solves whose last iterate carries 90 % of that say so (the stress suite's cases past
-# that tension stall at 0.96-0.99 of it).
-_TENDON_CURVATURE_FRACTION = 0.9
-
-
-def _tendon_curvature_diagnosis(raw: dict, scene: Scene) -> str:
-    """Text appended to a failed solve's message when its last iterate loads a tendon
-    near EI / r^2 (r its largest offset): the likely reason no equilibrium was found."""
-    EI = scene.robot.rod.bending_stiffness
-    L = scene.robot.rod.length
-    tension = np.asarray(raw.get("tension", ()), dtype=float)
-    for i, t in enumerate(scene.robot.tendons):
-        if i >= tension.size or not np.isfinite(tension[i]) or tension[i] <= 0.0:
-            continue
-        end = L if t.end is None else t.end
-        r = max(t.offset, t.offset + t.slope * end)
-        if r <= 0.0:
-            continue
-        limit = EI / r**2
-        if tension[i] >= _TENDON_CURVATURE_FRACTION * limit:
-            return (
-                f"; the last iterate loads tendon {i} with {tension[i]:.4g} N = "
-                f"{tension[i] / limit:.2f} EI/r^2 (EI/r^2 = {limit:.4g} N): near that tension "
-                f"the backbone curvature tau r/EI at a "
-                f"moment-free end approaches 1/r, where the tendon would pass the centre of "
-                f"curvature, so no valid equilibrium lies past that point on this load path "
-                f"(reduce the load or the actuation, or route the tendon closer to the "
-                f"centre line)"
-            )
-    return ""
-
-
-# Cross-check of an equilibrium found off the load path: single shooting amplifies
-# errors like exp(2 L sqrt(T/EI)) under tension, so a direct solve can land on a looped
-# equilibrium; 8 segments (or twice as many as used) cut that to exp(2 L sqrt(T/EI)/8)
-# and have basins of their own.
-_OFFPATH_CHECK_SEGMENTS = 8
-# Tips of two solves of the same equilibrium agree to the solver tolerance (~1e-8 L);
-# distinct equilibria found so far differ by >= 1e-2 L.  1e-6 L separates them.
-_OFFPATH_AGREE = 1e-6
-
-
-def _cross_check_off_path(raw: dict, packed: tuple, kw: dict) -> dict:
-    """The core returned status 3 (TR_OFFPATH): load continuation from the unloaded robot
-    stalled and a direct solve converged to an equilibrium that may not be the one the
-    loading reaches (the core reports it with success = False).  Solve again, cold, with
-    another shooting formulation; only if both reach the same equilibrium (tips within
-    1e-6 L, tensions within 1e-6 relative) is the answer reported as a success, with a
-    message saying how it was confirmed.  Otherwise it stays success = False."""
-    rod, tendons, loads, dist = packed
-    L = float(rod[0])
-    M = int(kw.get("shooting_segments", 1))
-    M2 = 2 * M if M >= _OFFPATH_CHECK_SEGMENTS else _OFFPATH_CHECK_SEGMENTS
-    other = _core.solve(
-        rod, tendons, loads, dist, guess=None, jacobian=None, **dict(kw, shooting_segments=M2)
+def _report(sol: Solution, strict: bool, who: str, stacklevel: int) -> None:
+    """A failed solve is never silent: ConvergenceError (strict) or ConvergenceWarning."""
+    if sol.success:
+        return
+    msg = (
+        f"{who} did not converge: {sol.message} (status {sol.status}, "
+        f"nit {sol.nit}, nfev {sol.nfev}, residual {sol.residual_norm:.3g})"
     )
-    raw = dict(raw)
-    if not (other["status"] >= 0):
-        raw["message"] += (
-            f"; not confirmed: a cold solve with {M2} shooting segments failed ({other['message']})"
-        )
-        return raw
-    dtip = float(
-        np.max(np.abs(np.asarray(raw["position"])[-1] - np.asarray(other["position"])[-1]))
-    )
-    t1, t2 = np.asarray(raw["tension"]), np.asarray(other["tension"])
-    dten = float(np.max(np.abs(t1 - t2), initial=0.0))
-    tscale = max(float(np.max(np.abs(t1), initial=0.0)), 1e-300)
-    if dtip <= _OFFPATH_AGREE * L and dten <= _OFFPATH_AGREE * tscale:
-        raw["success"] = True
-        raw["message"] += (
-            f"; confirmed: a cold solve with {M2} shooting segments reaches the "
-            f"same equilibrium (tips {dtip / L:.1e} L apart)"
-        )
-    else:
-        raw["message"] += (
-            f"; not confirmed: a cold solve with {M2} shooting segments reaches "
-            f"a different equilibrium (tips {dtip / L:.2g} L apart), so this one "
-            f"is not reported as the answer"
-        )
-    return raw
+    if strict:
+        raise ConvergenceError(msg, sol)
+    warnings.warn(msg, ConvergenceWarning, stacklevel=stacklevel)
 
 
 def compliance(
@@ -473,26 +396,27 @@ def compliance(
     at the solved state of ``scene`` with the prescribed tendon displacements and tensions
     held fixed. Units per block: m/N, m/(N m), rad/N, rad/(N m).
 
-    The scene is solved first (``guess`` and ``options`` as in :func:`solve`); if that
-    solve fails, :class:`ConvergenceError` is raised (a linearisation about an
-    unconverged state means nothing).
+    One solve of the spatial formulation of ``scene`` (``guess`` and ``options`` as in
+    :func:`solve`; with a breakpoint at ``s``), then the implicit function theorem on
+    its converged shooting system.  If that solve fails, :class:`ConvergenceError` is
+    raised (a linearisation about an unconverged state means nothing).
     """
+    from .problem import compliance_problem
+
     options = _check_options(options)
-    L = scene.robot.rod.length if isinstance(scene, Scene) else None
+    if not isinstance(scene, Scene):
+        raise ValueError(f"scene must be a tendonrod.Scene, got {scene!r}")
+    L = scene.robot.rod.length
     if s is None:
         s_val = L
     else:
         s_val = float(np.asarray(s, dtype=float)) if np.ndim(s) == 0 else math.nan
-        if not (math.isfinite(s_val) and L is not None and 0.0 <= s_val <= L * (1 + 1e-12)):
-            raise ValueError(f"s must be an arc length in [0, L={L!r}], got {s!r}")
+        if not (math.isfinite(s_val) and 0.0 < s_val <= L * (1 + 1e-12)):
+            raise ValueError(f"s must be an arc length in (0, L={L!r}], got {s!r}")
         s_val = min(s_val, L)
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore", ConvergenceWarning)
-        sol = solve(scene, guess=guess, options=options)
+    prob = compliance_problem(scene, s_val, options)
+    sol = Solution(prob._run(guess), scene, prob.options)
     if not sol.success:
         raise ConvergenceError(f"tendonrod.compliance: the scene did not solve: {sol.message}", sol)
-    rod, tendons, loads, dist = pack_scene(scene)
-    kw = options.raw()
-    kw["nodes"] = _nodes_for(scene, options)
-    C = _core.compliance(rod, tendons, loads, dist, s_val, guess=sol.base_state, **kw)
-    return np.asarray(C, dtype=float).reshape(6, 6)
+    prob._last = sol
+    return np.asarray(prob._c.compliance(s_val), dtype=float).reshape(6, 6)

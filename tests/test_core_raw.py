@@ -525,10 +525,10 @@ def test_multiple_shooting_tensile_load():
     lam = 20.0
     T = lam**2 * EI / L**2
     F = 1e-4 * T
-    res = solve(KIRCH, loads=[load(F=(F, 0, T))], shooting_segments=4)
-    # the load path stalls here and a direct solve converges: status 3, which the raw
-    # layer never calls a success (tr.solve confirms it with another formulation); the
-    # answer itself is verified against the tie-beam theory just below
+    # a hard case: its load path stalls, a direct solve converges (status 3), and the
+    # confirming 8-segment solve needs ~3e7 right-hand-side evaluations, beyond the
+    # default work budget; the answer itself is verified against the tie-beam theory
+    res = solve(KIRCH, loads=[load(F=(F, 0, T))], shooting_segments=4, max_work=1e8)
     assert res["status"] >= 0, res["message"]
     f = res["formulation"]
     assert f["shooting_segments"] == 4 and f["n_unknowns"] == 3 + 3 * 6 and f["planar"]

@@ -232,8 +232,11 @@ def test_solve_rejects_bad_input_before_c():
         tr.solve(sc, guess=np.zeros(5))
     with pytest.raises(ValueError, match=r"Options.nodes must lie in \[0, L"):
         tr.solve(sc, options=tr.Options(nodes=[0.0, 0.3]))
-    with pytest.raises(ValueError, match=r"s must be an arc length in \[0, L"):
+    # the compliance point lies in (0, L]: at s = 0 the clamp takes any load
+    with pytest.raises(ValueError, match=r"s must be an arc length in \(0, L"):
         tr.compliance(sc, s=0.5)
+    with pytest.raises(ValueError, match=r"s must be an arc length in \(0, L"):
+        tr.compliance(sc, s=0.0)
 
 
 @pytest.mark.parametrize(

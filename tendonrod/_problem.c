@@ -1,0 +1,272 @@
+/*
+ * _problem.c -- _core.Problem: a scene's structure compiled once into a model and a
+ * workspace that live as long as the object.  Per call only values change
+ * (set_values); the last successful solution (unknowns, Jacobian, verified step count)
+ * stays in the workspace between calls, so a warm solve ships nothing through Python.
+ * One thread at a time: a call while another thread is inside a solve of the same
+ * object raises RuntimeError.
+ */
+#include "_glue.h"
+
+typedef struct {
+    PyObject_HEAD tr_model *m;
+    tr_data *d;
+    int nnode_req;   /* the nodes asked for (int form), for the repr */
+    int busy;        /* 1 while a call runs with the GIL released */
+    int last_status; /* status of the last solve (TR_CONTINUE before any) */
+} ProblemObject;
+
+static int check_free(ProblemObject *self)
+{
+    if (!self->m || !self->d) {
+        PyErr_SetString(PyExc_RuntimeError, "Problem is not initialised");
+        return -1;
+    }
+    if (self->busy) {
+        PyErr_SetString(PyExc_RuntimeError,
+                        "this Problem is being solved in another thread: a Problem belongs to "
+                        "one thread at a time (make one per worker)");
+        return -1;
+    }
+    return 0;
+}
+
+static void problem_dealloc(ProblemObject *self)
+{
+    tr_data_free(self->d);
+    tr_model_free(self->m);
+    Py_TYPE(self)->tp_free((PyObject *)self);
+}
+
+static int problem_init(ProblemObject *self, PyObject *args, PyObject *kwds)
+{
+    glue_args a;
+    PyObject *rod, *tendons, *loads, *dist, *kw = NULL;
+    tr_model *m = NULL;
+    tr_data *d = NULL;
+    int r = -1;
+    memset(&a, 0, sizeof a);
+    if (self->m) {
+        PyErr_SetString(PyExc_RuntimeError, "Problem is already initialised");
+        return -1;
+    }
+    if (!PyArg_ParseTuple(args, "OOOO", &rod, &tendons, &loads, &dist)) return -1;
+    if (kwds && !(kw = PyDict_Copy(kwds))) return -1;
+    if (glue_scene(&a, rod, tendons, loads, dist) == 0 && glue_options(&a, kw, "Problem") == 0 &&
+        glue_build(&a, NULL, &m, &d) == 0) {
+        self->m = m;
+        self->d = d;
+        self->nnode_req = a.nnode;
+        self->last_status = TR_CONTINUE;
+        r = 0;
+    }
+    Py_XDECREF(kw);
+    glue_args_clear(&a);
+    return r;
+}
+
+/* An optional float64 array of exactly n values (a 1-D or any shape of that size). */
+static int values_of(PyObject *obj, const char *name, npy_intp n, PyArrayObject **out)
+{
+    *out = NULL;
+    if (obj == NULL || obj == Py_None) return 0;
+    if (!(*out = glue_coerce(obj, name))) return -1;
+    if (PyArray_SIZE(*out) != n) {
+        PyErr_Format(PyExc_ValueError, "%s must have %ld values, got %ld", name, (long)n,
+                     (long)PyArray_SIZE(*out));
+        Py_CLEAR(*out);
+        return -1;
+    }
+    return 0;
+}
+
+#define DATA_OR_NULL(a) ((a) ? (const double *)PyArray_DATA(a) : NULL)
+
+static PyObject *problem_set_values(ProblemObject *self, PyObject *args, PyObject *kwds)
+{
+    static char *kwlist[] = {"values", "point_loads", "dist", "pretension", NULL};
+    PyObject *ov = Py_None, *ol = Py_None, *od = Py_None, *op = Py_None, *result = NULL;
+    PyArrayObject *v = NULL, *l = NULL, *dd = NULL, *p = NULL;
+    char msg[TR_MSGLEN];
+    if (check_free(self) < 0) return NULL;
+    if (!PyArg_ParseTupleAndKeywords(args, kwds, "|$OOOO", kwlist, &ov, &ol, &od, &op)) return NULL;
+    if (values_of(ov, "values", self->m->nt, &v) < 0 ||
+        values_of(ol, "point_loads", 6 * (npy_intp)self->m->nl, &l) < 0 ||
+        values_of(od, "dist", 3, &dd) < 0 || values_of(op, "pretension", self->m->nt, &p) < 0)
+        goto done;
+    if (tr_model_set_values(self->m, DATA_OR_NULL(v), DATA_OR_NULL(l), DATA_OR_NULL(dd), msg,
+                            sizeof msg) != TR_OK ||
+        (p && tr_model_set_pretension(self->m, DATA_OR_NULL(p), msg, sizeof msg) != TR_OK)) {
+        PyErr_SetString(PyExc_ValueError, msg);
+        goto done;
+    }
+    result = Py_NewRef(Py_None);
+done:
+    Py_XDECREF(v);
+    Py_XDECREF(l);
+    Py_XDECREF(dd);
+    Py_XDECREF(p);
+    return result;
+}
+
+static PyObject *problem_solve(ProblemObject *self, PyObject *args, PyObject *kwds)
+{
+    static char *kwlist[] = {"guess", "jacobian", "warm", "cancel", NULL};
+    PyObject *og = Py_None, *oj = Py_None, *cancel = Py_None, *result = NULL;
+    glue_args a;
+    glue_poll poll;
+    tr_data *d = self->d;
+    const double *g = NULL, *jac = NULL;
+    int warm = 1, status;
+    memset(&a, 0, sizeof a);
+    if (check_free(self) < 0) return NULL;
+    if (!PyArg_ParseTupleAndKeywords(args, kwds, "|$OOpO", kwlist, &og, &oj, &warm, &cancel))
+        return NULL;
+    a.nt = self->m->nt;
+    if (glue_poll_init(&poll, cancel) < 0 || glue_warm_start(&a, og, oj) < 0) goto done;
+    g = a.guess ? (const double *)PyArray_DATA(a.guess) : NULL;
+    if (a.jac && PyArray_DIM(a.jac, 0) == self->m->n_unknowns)
+        jac = (const double *)PyArray_DATA(a.jac);
+    tr_set_poll(d, glue_poll_hook, &poll);
+    self->busy = 1;
+    Py_BEGIN_ALLOW_THREADS;
+    if (g)
+        status = tr_solve(self->m, d, g, jac);
+    else if (warm)
+        status = tr_solve_warm(self->m, d);
+    else
+        status = tr_solve(self->m, d, NULL, NULL);
+    Py_END_ALLOW_THREADS;
+    self->busy = 0;
+    tr_set_poll(d, NULL, NULL);
+    self->last_status = status;
+    if (glue_poll_finish(&poll, status) == 0) result = glue_solve_result(self->m, d, status);
+done:
+    glue_args_clear(&a);
+    return result;
+}
+
+static PyObject *problem_record_from(ProblemObject *self, PyObject *args, PyObject *kwds)
+{
+    static char *kwlist[] = {"unknowns", "steps", NULL};
+    PyObject *ox, *result = NULL;
+    PyArrayObject *x = NULL;
+    int steps, status;
+    if (check_free(self) < 0) return NULL;
+    if (!PyArg_ParseTupleAndKeywords(args, kwds, "Oi", kwlist, &ox, &steps)) return NULL;
+    if (values_of(ox, "unknowns", self->d->k, &x) < 0) return NULL;
+    if (glue_all_finite(x, "unknowns", -1, 0) < 0) goto done;
+    self->busy = 1;
+    Py_BEGIN_ALLOW_THREADS;
+    status = tr_record_from(self->m, self->d, (const double *)PyArray_DATA(x), steps);
+    Py_END_ALLOW_THREADS;
+    self->busy = 0;
+    if (status != TR_OK) {
+        glue_err(PyExc_RuntimeError, "record_from: %s (status %d: %s)", self->d->message, status,
+                 tr_strerror(status));
+        goto done;
+    }
+    result = glue_solve_result(self->m, self->d, TR_OK);
+done:
+    Py_XDECREF(x);
+    return result;
+}
+
+static PyObject *problem_compliance(ProblemObject *self, PyObject *args, PyObject *kwds)
+{
+    static char *kwlist[] = {"s", "cancel", NULL};
+    PyObject *cancel = Py_None;
+    glue_poll poll;
+    double s, C[36];
+    npy_intp dims[2] = {6, 6};
+    int status;
+    if (check_free(self) < 0) return NULL;
+    if (!PyArg_ParseTupleAndKeywords(args, kwds, "d|$O", kwlist, &s, &cancel)) return NULL;
+    if (glue_poll_init(&poll, cancel) < 0) return NULL;
+    if (!TR_SUCCEEDED(self->last_status)) {
+        PyErr_SetString(PyExc_RuntimeError,
+                        "compliance needs a successful solve of this Problem first");
+        return NULL;
+    }
+    tr_set_poll(self->d, glue_poll_hook, &poll);
+    self->busy = 1;
+    Py_BEGIN_ALLOW_THREADS;
+    status = tr_compliance(self->m, self->d, s, C);
+    Py_END_ALLOW_THREADS;
+    self->busy = 0;
+    tr_set_poll(self->d, NULL, NULL);
+    if (glue_poll_finish(&poll, status) < 0) return NULL;
+    if (status != TR_OK) {
+        glue_err(status == TR_EINVAL ? PyExc_ValueError : PyExc_RuntimeError, "%s",
+                 self->d->message);
+        return NULL;
+    }
+    return glue_array(2, dims, C);
+}
+
+static PyObject *problem_forget(ProblemObject *self, PyObject *unused)
+{
+    if (check_free(self) < 0) return NULL;
+    tr_forget(self->d);
+    self->last_status = TR_CONTINUE;
+    Py_RETURN_NONE;
+}
+
+static PyObject *problem_formulation(ProblemObject *self, void *closure)
+{
+    if (check_free(self) < 0) return NULL;
+    return glue_formulation(self->m, self->d);
+}
+
+static PyObject *problem_has_solution(ProblemObject *self, void *closure)
+{
+    return PyBool_FromLong(self->d && self->d->have_last);
+}
+
+static PyObject *problem_breakpoints(ProblemObject *self, void *closure)
+{
+    npy_intp n;
+    if (check_free(self) < 0) return NULL;
+    n = self->m->nseg + 1;
+    return glue_array(1, &n, self->m->bp);
+}
+
+static PyMethodDef problem_methods[] = {
+    {"set_values", (PyCFunction)(void (*)(void))problem_set_values, METH_VARARGS | METH_KEYWORDS,
+     "set_values(*, values=None, point_loads=None, dist=None, pretension=None): the per-call\n"
+     "values (nt actuation values, nl x 6 point-load forces and moments, the distributed\n"
+     "force, nt pretensions); None keeps what is set.  ValueError naming a bad value."},
+    {"solve", (PyCFunction)(void (*)(void))problem_solve, METH_VARARGS | METH_KEYWORDS,
+     "solve(*, guess=None, jacobian=None, warm=True, cancel=None) -> dict: from the guess\n"
+     "(a base_state) if given, else warm from the last successful solve (warm=True; cold if\n"
+     "there is none), else cold.  The dict of _core.solve.  Ctrl-C raises KeyboardInterrupt."},
+    {"record_from", (PyCFunction)(void (*)(void))problem_record_from, METH_VARARGS | METH_KEYWORDS,
+     "record_from(unknowns, steps) -> dict: the states at this problem's nodes of the solution\n"
+     "with these scaled unknowns at this step count (no solve)."},
+    {"compliance", (PyCFunction)(void (*)(void))problem_compliance, METH_VARARGS | METH_KEYWORDS,
+     "compliance(s, *, cancel=None) -> (6, 6): at breakpoint s [m] of the last successful\n"
+     "solve (spatial formulation only)."},
+    {"forget", (PyCFunction)problem_forget, METH_NOARGS,
+     "Forget the last solution (the next warm solve starts cold)."},
+    {NULL, NULL, 0, NULL}};
+
+static PyGetSetDef problem_getset[] = {
+    {"formulation", (getter)problem_formulation, NULL, "What the scene compiled to (dict).", NULL},
+    {"has_solution", (getter)problem_has_solution, NULL,
+     "True once a solve succeeded (a warm start is kept).", NULL},
+    {"breakpoints", (getter)problem_breakpoints, NULL,
+     "Breakpoint arc lengths [m] (nseg + 1,): anchors, point loads, shooting nodes.", NULL},
+    {NULL, NULL, NULL, NULL, NULL}};
+
+PyTypeObject glue_problem_type = {
+    PyVarObject_HEAD_INIT(NULL, 0).tp_name = "tendonrod._core.Problem",
+    .tp_basicsize = sizeof(ProblemObject),
+    .tp_flags = Py_TPFLAGS_DEFAULT,
+    .tp_doc = "Problem(rod, tendons, loads, dist, **options): a compiled scene structure with\n"
+              "its workspace (the raw contract of _core.solve).  See tendonrod.Problem.",
+    .tp_new = PyType_GenericNew,
+    .tp_init = (initproc)problem_init,
+    .tp_dealloc = (destructor)problem_dealloc,
+    .tp_methods = problem_methods,
+    .tp_getset = problem_getset,
+};

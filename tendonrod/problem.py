@@ -1,0 +1,247 @@
+"""A scene's structure compiled once: :class:`Problem`.
+
+>>> prob = tr.Problem(scene)                       # doctest: +SKIP
+>>> sol = prob.solve()                             # cold the first time
+>>> sol = prob.solve(scene_with_other_loads)       # warm, no recompilation
+
+The *structure* of a scene is what its compiled model depends on: the rod, the tendons'
+routing, axial rigidity and anchors, which tendons are displacement- and which
+tension-controlled, the positions of the point loads, the formulation (planar or
+spatial) and the options.  Everything else is a per-call value: tendon displacements and
+tensions, pretensions, point-load forces and moments, the distributed force.  A scene of
+the same structure re-solves without recompiling, warm from the problem's last
+successful solution, whose unknowns, Jacobian and verified step count stay in C between
+calls; a scene of another structure raises ``ValueError`` naming the field that differs.
+
+One thread at a time: a Problem holds one workspace (a call from a second thread while
+one runs raises ``RuntimeError``); sweeps make one per worker.  Pickling keeps the scene
+and the options and drops the warm state.  Ctrl-C during a solve raises
+``KeyboardInterrupt`` within a few milliseconds; the problem stays usable.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from . import _core
+from ._interrupt import current_token
+from .model import PointLoad, Scene
+from .options import Options, _check_options, _replace
+
+__all__ = ["Problem"]
+
+
+def _structure(scene: Scene) -> tuple:
+    """(field path, value) pairs that fix a scene's compiled structure (cached on the
+    frozen scene)."""
+    key = scene.__dict__.get("_structure")
+    if key is None:
+        from .solver import is_planar
+
+        rob = scene.robot
+        rod = rob.rod
+        items = [(f"robot.rod.{name}", getattr(rod, name)) for name in rod.__dataclass_fields__]
+        items.append(("robot.tendons (count)", rob.n_tendons))
+        for i, t in enumerate(rob.tendons):
+            for name in ("offset", "angle", "slope", "EA"):
+                items.append((f"robot.tendons[{i}].{name}", getattr(t, name)))
+            items.append((f"robot.tendons[{i}].end", rob.tendon_end(i)))
+        for i, c in enumerate(scene.displacement_controlled()):
+            items.append((f"displacement[{i}] (control kind)", "displacement" if c else "tension"))
+        pls = scene.point_loads
+        items.append(("loads (number of point loads)", len(pls)))
+        for j, p in enumerate(pls):
+            items.append((f"point load {j} position s", min(p.s, rod.length)))
+        items.append(("planar formulation", is_planar(scene)))
+        key = tuple(items)
+        object.__setattr__(scene, "_structure", key)
+    return key
+
+
+def structure_difference(a: Scene, b: Scene) -> str | None:
+    """None if scenes ``a`` and ``b`` share one structure, else the first field that
+    differs, with both values."""
+    if a is b:
+        return None
+    ka, kb = _structure(a), _structure(b)
+    if ka == kb:
+        return None
+    for (name, va), (_, vb) in zip(ka, kb):
+        same = va == vb or (isinstance(va, float) and math.isnan(va) and math.isnan(vb))
+        if not same:
+            return f"{name} = {vb!r} (the problem's is {va!r})"
+    return f"{ka[len(kb)][0] if len(ka) > len(kb) else kb[len(ka)][0]} differs"
+
+
+def _compile(scene: Scene, options: Options):
+    from .solver import _nodes_for, pack_scene
+
+    rod, tendons, loads, dist = pack_scene(scene)
+    kw = options._raw
+    nodes = _nodes_for(scene, options)
+    if nodes is not kw["nodes"]:
+        kw = dict(kw, nodes=nodes)
+    return _core.Problem(rod, tendons, loads, dist, **kw)
+
+
+class Problem:
+    """A scene's structure compiled once into a C model and workspace.
+
+    Parameters
+    ----------
+    scene : Scene
+        The scene whose structure is compiled (and the default scene of :meth:`solve`).
+    options : Options, optional
+        Numerical options (default ``Options()``); fixed for the problem's life.
+    """
+
+    def __init__(self, scene: Scene, options: Options | None = None):
+        if not isinstance(scene, Scene):
+            raise ValueError(f"scene must be a tendonrod.Scene, got {scene!r}")
+        self._options = _check_options(options)
+        self._scene = scene
+        self._c = _compile(scene, self._options)
+        self._current = scene  # the scene whose values are set in C
+        self._last = None  # the last successful Solution
+
+    # ------------------------------------------------------------------ state
+    @property
+    def scene(self) -> Scene:
+        """The scene the problem was compiled from."""
+        return self._scene
+
+    @property
+    def options(self) -> Options:
+        """The problem's options."""
+        return self._options
+
+    @property
+    def formulation(self):
+        """What the scene compiled to (:class:`~tendonrod.Formulation`)."""
+        from .results import Formulation
+
+        return Formulation.from_dict(self._c.formulation)
+
+    @property
+    def last_solution(self):
+        """The last successful :class:`~tendonrod.Solution`, or None."""
+        return self._last
+
+    def __getstate__(self):
+        return {"scene": self._scene, "options": self._options}
+
+    def __setstate__(self, state):
+        self.__init__(state["scene"], state["options"])
+
+    def __repr__(self):
+        warm = "warm" if self._c.has_solution else "no solution yet"
+        return f"Problem({self.formulation!r}, {warm})"
+
+    # ------------------------------------------------------------------ values
+    def _set(self, scene: Scene) -> None:
+        """Make ``scene`` (same structure) the one whose values are set in C."""
+        if not isinstance(scene, Scene):
+            raise ValueError(f"scene must be a tendonrod.Scene, got {scene!r}")
+        diff = structure_difference(self._scene, scene)
+        if diff is not None:
+            raise ValueError(
+                f"scene has another structure than this Problem: {diff}; a Problem keeps "
+                f"its structure (make a new tr.Problem for this scene)"
+            )
+        from .solver import _TD, pack_scene
+
+        _, tendons, loads, dist = pack_scene(scene)
+        _, t0, _, _ = pack_scene(self._current)
+        pre = tendons[:, _TD["pretension"]]
+        self._c.set_values(
+            values=tendons[:, _TD["value"]],
+            point_loads=loads[:, 1:7],
+            dist=dist,
+            pretension=None if np.array_equal(pre, t0[:, _TD["pretension"]]) else pre,
+        )
+        self._current = scene
+
+    # ------------------------------------------------------------------ solve
+    def _run(self, guess):
+        """The raw result dict of one solve from ``guess`` (see :meth:`solve`)."""
+        cancel = current_token()
+        if guess is None:
+            return self._c.solve(warm=True, cancel=cancel)
+        if isinstance(guess, str):
+            if guess != "cold":
+                raise ValueError(
+                    f"guess must be None, 'cold', a Solution or an array, got {guess!r}"
+                )
+            return self._c.solve(warm=False, cancel=cancel)
+        from .solver import _guess_vector
+
+        vec, jac = _guess_vector(guess, self._current, self._options)
+        if vec is None:
+            return self._c.solve(warm=False, cancel=cancel)
+        return self._c.solve(guess=vec, jacobian=jac, cancel=cancel)
+
+    def solve(self, scene: Scene | None = None, *, guess=None, strict: bool = False):
+        """Solve ``scene`` (default: the problem's scene), a scene of the same structure.
+
+        Parameters
+        ----------
+        scene : Scene, optional
+            Same structure as the problem's scene; its values (actuation, loads,
+            pretensions) are set without recompiling.  Another structure raises
+            ``ValueError`` naming the field that differs.
+        guess : None, "cold", Solution or array (6 + 2 ntendon,)
+            None (default): warm from the problem's last successful solution (cold if
+            there is none).  ``"cold"``: from the core's cold guess.  A Solution (of any
+            problem) or a raw ``[n(0), m(0), tension, slack]`` vector: from it.
+        strict : bool
+            Raise :class:`~tendonrod.ConvergenceError` instead of warning on failure.
+
+        Returns
+        -------
+        Solution
+        """
+        from .solver import Solution, _report
+
+        scene = self._scene if scene is None else scene
+        if scene is not self._current:
+            self._set(scene)
+        raw = self._run(guess)
+        sol = Solution(raw, scene, self._options)
+        if sol.success:
+            self._last = sol
+        _report(sol, strict, "tendonrod.Problem.solve", stacklevel=3)
+        return sol
+
+    def compliance(self, s: float | None = None):
+        """Compliance (6, 6) at arc length ``s`` [m] (default: the tip) of the last
+        successful solution (see :func:`tendonrod.compliance`): directly from the
+        workspace when the problem is spatial and ``s`` is a breakpoint (the tip, an
+        anchor or a point load), else by a warm solve of the probe problem."""
+        if self._last is None:
+            raise RuntimeError("Problem.compliance needs a successful solve first")
+        L = self._current.robot.rod.length
+        s_val = L if s is None else float(s)
+        bp = self._c.breakpoints
+        planar = self._c.formulation["planar"]
+        if not planar and 0.0 < s_val <= L and np.any(np.abs(bp - s_val) <= 1e-12 * L):
+            return np.asarray(self._c.compliance(s_val, cancel=current_token()))
+        from .solver import compliance
+
+        return compliance(self._last.scene, s_val, guess=self._last, options=self._options)
+
+
+def _probe_scene(scene: Scene, s: float) -> Scene:
+    """``scene`` with a zero point load at ``s`` (a breakpoint for the compliance probe)."""
+    import dataclasses
+
+    L = scene.robot.rod.length
+    if s >= L * (1 - 1e-12):
+        return scene
+    return dataclasses.replace(scene, loads=list(scene.loads) + [PointLoad(s=s, force=(0, 0, 0))])
+
+
+def compliance_problem(scene: Scene, s: float, options: Options) -> Problem:
+    """The spatial, tip-only problem of ``scene`` with a breakpoint at ``s``."""
+    return Problem(_probe_scene(scene, s), _replace(options, force_spatial=True, tip_only=True))
