@@ -5,8 +5,12 @@ A chunk task is a plain dict (``chunk``, ``indices``, ``scenes``, ``measure``,
 ``options``, ``warm_start``, optionally ``batch``), so that an executor in another
 process can run it.  When only actuation and point-load values vary and the record is
 the default tip measure (:func:`sweep_can_batch`), the whole chunk is one
-:func:`tendonrod.solve_batch` call instead.  The point statuses recorded here are the
-sweep's public constants (re-exported by :mod:`tendonrod.sweep`).
+:func:`tendonrod.solve_batch` call instead.
+
+Each point record holds ``"outcome"`` (the sweep's own code, one of the ``OUTCOME_*``
+constants below) and ``"status"`` (the core's status of the point's solve, or
+:data:`STATUS_NONE`); both constants are re-exported by :mod:`tendonrod.sweep`.  The
+outcome is decided from the solve's ``success``, never from the status number.
 """
 
 from __future__ import annotations
@@ -23,14 +27,30 @@ from .model import PointLoad, Scene
 from .results import ConvergenceWarning
 from .solver import _is_planar, solve
 
-STATUS_OK = 0
-"""The solve converged."""
-STATUS_NOT_CONVERGED = 1
-"""The solver finished without converging (values: its last iterate)."""
-STATUS_ERROR = 2
-"""Building or solving the point raised (values: NaN)."""
-STATUS_NOT_RUN = -1
+OUTCOME_OK = 0
+"""The solve succeeded (its ``success`` is True; its status may carry a caveat)."""
+OUTCOME_NOT_CONVERGED = 1
+"""The solve finished without success (values: its last iterate)."""
+OUTCOME_ERROR = 2
+"""Building, solving or measuring the point raised (values: NaN)."""
+OUTCOME_NOT_RUN = -1
 """Only in results of a sweep that was interrupted before the point ran."""
+
+STATUS_NONE = -1000
+"""The ``status`` of a point without a core status: no solve returned for it (the
+build or the solve raised, or it did not run).  Outside the core's status range."""
+
+
+def _record(index, outcome, status, nit, message, data) -> dict:
+    """One point's record, as stored in the sweep's file (plain JSON types)."""
+    return {
+        "i": index,
+        "outcome": outcome,
+        "status": status,
+        "nit": nit,
+        "message": message,
+        "data": data,
+    }
 
 
 @dataclass(frozen=True)
@@ -58,16 +78,9 @@ def _run_chunk(task: dict) -> dict:
             return out
     for index, scene in zip(task["indices"], scenes):
         if isinstance(scene, _BuildFailure):  # build failed in the parent: record, go on
-            records.append(
-                {
-                    "i": index,
-                    "status": STATUS_ERROR,
-                    "nit": -1,
-                    "message": scene.message,
-                    "data": None,
-                }
-            )
+            records.append(_record(index, OUTCOME_ERROR, STATUS_NONE, -1, scene.message, None))
             continue
+        sol = None
         try:
             if threading.current_thread() is threading.main_thread():
                 # a process-pool worker (or a serial run): non-convergence is recorded per
@@ -79,28 +92,25 @@ def _run_chunk(task: dict) -> dict:
             else:
                 sol = solve(scene, guess=guess if warm else None, options=options)
             values = {k: np.asarray(v, dtype=float) for k, v in dict(measure(scene, sol)).items()}
-            ok = bool(sol.success)
+            ok = bool(sol.success)  # the verdict is the solve's, never re-derived from status
             records.append(
-                {
-                    "i": index,
-                    "status": STATUS_OK if ok else STATUS_NOT_CONVERGED,
-                    "nit": int(getattr(sol, "nit", -1)),
-                    "message": str(sol.message),
-                    "data": {k: v.tolist() for k, v in values.items()},
-                }
+                _record(
+                    index,
+                    OUTCOME_OK if ok else OUTCOME_NOT_CONVERGED,
+                    int(sol.status),
+                    int(getattr(sol, "nit", -1)),
+                    str(sol.message),
+                    {k: v.tolist() for k, v in values.items()},
+                )
             )
             if ok:
                 guess = sol
         except Exception as exc:  # noqa: BLE001 - a failed point never stops the sweep
-            records.append(
-                {
-                    "i": index,
-                    "status": STATUS_ERROR,
-                    "nit": -1,
-                    "message": f"{type(exc).__name__}: {exc}",
-                    "data": None,
-                }
-            )
+            # a solve that returned before ``measure`` raised keeps its status and nit
+            status = STATUS_NONE if sol is None else int(sol.status)
+            nit = -1 if sol is None else int(getattr(sol, "nit", -1))
+            message = f"{type(exc).__name__}: {exc}"
+            records.append(_record(index, OUTCOME_ERROR, status, nit, message, None))
     return {"chunk": task["chunk"], "records": records}
 
 
@@ -197,12 +207,13 @@ def _batch_chunk(task: dict):
             "displacement": res.displacement[k].tolist(),
         }
         records.append(
-            {
-                "i": index,
-                "status": STATUS_OK if ok else STATUS_NOT_CONVERGED,
-                "nit": int(res.nit[k]),
-                "message": str(res.message[k]),
-                "data": data,
-            }
+            _record(
+                index,
+                OUTCOME_OK if ok else OUTCOME_NOT_CONVERGED,
+                int(res.status[k]),
+                int(res.nit[k]),
+                str(res.message[k]),
+                data,
+            )
         )
     return {"chunk": task["chunk"], "records": records}

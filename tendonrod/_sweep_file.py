@@ -1,7 +1,13 @@
 """The file of a resumable :func:`tendonrod.sweep`: JSON lines, a header holding the
 sweep's fingerprint, then one line per finished chunk, each flushed to disk
 (``os.fsync``) before the next is recorded.  Reading it back drops a half-written last
-line (a killed process) and refuses a file written by a different sweep."""
+line (a killed process) and refuses a file written by a different sweep, or in another
+format version.
+
+Format versions: 1 stored one ``"status"`` per point, the sweep's own code (0 ok,
+1 not converged, 2 error).  2 (this one) stores ``"outcome"`` (that code) and
+``"status"`` (the solver core's status, or -1000 where no solve returned) separately; a
+version-1 file would be misread (its codes as core statuses), so it is refused."""
 
 from __future__ import annotations
 
@@ -13,7 +19,7 @@ from typing import Any
 
 import numpy as np
 
-_FORMAT_VERSION = 1
+_FORMAT_VERSION = 2
 
 
 def _jsonable(value: Any) -> Any:
@@ -70,13 +76,12 @@ def _read_progress(path: str, fingerprint: str, npoints: int) -> dict:
             except json.JSONDecodeError:
                 break  # torn write (killed mid-line): drop it and the rest
             if n == 0:
-                if (
-                    obj.get("tendonrod_sweep") != _FORMAT_VERSION
-                    or obj.get("fingerprint") != fingerprint
-                ):
+                _check_version(path, obj)
+                found = obj.get("fingerprint") if isinstance(obj, dict) else None
+                if found != fingerprint:
                     raise ValueError(
                         f"path {path!r} holds results of a different sweep (fingerprint "
-                        f"{obj.get('fingerprint')!r}); choose another path or delete the file"
+                        f"{found!r}); choose another path or delete the file"
                     )
             else:
                 done[int(obj["chunk"])] = obj["records"]
@@ -86,6 +91,24 @@ def _read_progress(path: str, fingerprint: str, npoints: int) -> dict:
         if good_end != len(raw):  # cut the torn tail so appends start on a clean line
             fh.truncate(good_end)
     return done
+
+
+def _check_version(path: str, header: Any) -> None:
+    """Refuse a sweep file of another format version, naming both versions."""
+    version = header.get("tendonrod_sweep") if isinstance(header, dict) else None
+    if version is None or version == _FORMAT_VERSION:
+        return  # no version: not a sweep header at all (the fingerprint check says so)
+    why = (
+        " (version 1 stored the sweep's own codes as 'status'; they are now 'outcome', "
+        "and 'status' is the solver core's)"
+        if version == 1
+        else ""
+    )
+    raise ValueError(
+        f"path {path!r} is a sweep file of format version {version!r}; this tendonrod "
+        f"reads and writes format version {_FORMAT_VERSION} only{why}; rerun the sweep "
+        "with another path or delete the file"
+    )
 
 
 def append_line(fh, obj: dict) -> None:

@@ -40,10 +40,19 @@ Files, resume
     sweep refuses to resume from it.
 
 Failures
-    A point that does not converge is recorded with ``status`` 1 and the
-    solver's message (its values are the solver's last iterate); a point that
-    raises (bad input made by the sweep, say) is recorded with ``status`` 2 and
-    the exception's message and NaN values.  Neither stops the sweep.
+    Every point has two codes.  ``outcome`` (int8) is the sweep's own:
+    :data:`OUTCOME_OK` (0) the solve succeeded; :data:`OUTCOME_NOT_CONVERGED`
+    (1) it finished without success and the values are its last iterate;
+    :data:`OUTCOME_ERROR` (2) building, solving or measuring the point raised
+    and the values are NaN; :data:`OUTCOME_NOT_RUN` (-1) the sweep was
+    interrupted before the point ran.  ``status`` (int16) is the solver core's
+    status of the point's solve (:attr:`tendonrod.Solution.status`, or
+    ``BatchResult.status`` on the batch path): 0 ok, > 0 converged with a caveat
+    (3, an equilibrium off the load path that was not confirmed, is not a
+    success), < 0 failed; :data:`STATUS_NONE` (-1000) where no solve returned.
+    The outcome is taken from the solve's ``success``, never from the status
+    number, so a status with a caveat can be :data:`OUTCOME_OK`.  The
+    ``message`` is the solver's or the exception's.  No failure stops the sweep.
 """
 
 from __future__ import annotations
@@ -60,10 +69,11 @@ from typing import Any
 import numpy as np
 
 from ._sweep_chunk import (
-    STATUS_ERROR,
-    STATUS_NOT_CONVERGED,
-    STATUS_NOT_RUN,
-    STATUS_OK,
+    OUTCOME_ERROR,
+    OUTCOME_NOT_CONVERGED,
+    OUTCOME_NOT_RUN,
+    OUTCOME_OK,
+    STATUS_NONE,
     _BuildFailure,
     _run_chunk,
     sweep_can_batch,
@@ -81,11 +91,19 @@ __all__ = [
     "get_path",
     "tip_measure",
     "ComplianceMeasure",
-    "STATUS_OK",
-    "STATUS_NOT_CONVERGED",
-    "STATUS_ERROR",
-    "STATUS_NOT_RUN",
+    "OUTCOME_OK",
+    "OUTCOME_NOT_CONVERGED",
+    "OUTCOME_ERROR",
+    "OUTCOME_NOT_RUN",
+    "STATUS_NONE",
 ]
+
+_OUTCOME_NAMES = {
+    OUTCOME_OK: "ok",
+    OUTCOME_NOT_CONVERGED: "not converged",
+    OUTCOME_ERROR: "error",
+    OUTCOME_NOT_RUN: "not run",
+}
 
 _DEFAULT_LIST_CHUNK = 32
 
@@ -139,13 +157,25 @@ class SweepResult:
         Grid shape (one axis per name) or ``(npoints,)`` for a list sweep.
     values : dict name -> ndarray
         The parameter value at every point, shape ``shape + value shape``.
-    status : ndarray of int8, shape ``shape``
-        :data:`STATUS_OK`, :data:`STATUS_NOT_CONVERGED`, :data:`STATUS_ERROR`
-        or :data:`STATUS_NOT_RUN`.
+    outcome : ndarray of int8, shape ``shape``
+        The sweep's own code per point: :data:`OUTCOME_OK` (0, the solve's
+        ``success`` is True), :data:`OUTCOME_NOT_CONVERGED` (1, the solve
+        finished without success; values are its last iterate),
+        :data:`OUTCOME_ERROR` (2, building, solving or measuring the point
+        raised; values are NaN) or :data:`OUTCOME_NOT_RUN` (-1, the sweep was
+        interrupted before the point ran).
+    status : ndarray of int16, shape ``shape``
+        The solver core's status of the point's solve
+        (:attr:`tendonrod.Solution.status`, or ``BatchResult.status`` on the
+        batch path; name it with ``tendonrod._core.strerror``): 0 ok, > 0
+        converged with a caveat, < 0 failed.  :data:`STATUS_NONE` (-1000) where
+        no solve returned: the build or the solve raised (an
+        :data:`OUTCOME_ERROR` raised by ``measure`` keeps its solve's status),
+        or the point did not run.
     message : ndarray of object (str), shape ``shape``
-        The solver's message, or the exception's.
-    nit : ndarray of int, shape ``shape``
-        Solver iterations (-1 when the point raised).
+        The solver's message, or the exception's ("not run" if it did not run).
+    nit : ndarray of int64, shape ``shape``
+        Solver iterations (-1 where no solve returned).
     data : dict name -> ndarray
         What ``measure`` returned, stacked: shape ``shape + item shape``;
         NaN where a point raised.
@@ -156,6 +186,7 @@ class SweepResult:
     names: tuple
     shape: tuple
     values: dict
+    outcome: np.ndarray
     status: np.ndarray
     message: np.ndarray
     nit: np.ndarray
@@ -164,8 +195,9 @@ class SweepResult:
 
     @property
     def success(self) -> np.ndarray:
-        """Boolean array, shape ``shape``: the point converged."""
-        return self.status == STATUS_OK
+        """Boolean array, shape ``shape``: the point's solve succeeded
+        (``outcome == OUTCOME_OK``; decided from the solve's ``success``)."""
+        return self.outcome == OUTCOME_OK
 
     def __getitem__(self, key: str) -> np.ndarray:
         if key in self.data:
@@ -178,18 +210,32 @@ class SweepResult:
         )
 
     def __repr__(self) -> str:
-        ok = int(np.count_nonzero(self.status == STATUS_OK))
+        counts = [
+            f"{int(np.count_nonzero(self.outcome == code))} {name}"
+            for code, name in _OUTCOME_NAMES.items()
+            if code != OUTCOME_OK and np.any(self.outcome == code)
+        ]
+        ok = int(np.count_nonzero(self.success))
+        failed = f" ({', '.join(counts)})" if counts else ""
         return (
-            f"SweepResult(shape={self.shape}, names={list(self.names)}, {ok}/{self.status.size} "
-            f"converged, recorded={list(self.data)}, chunksize={self.chunksize})"
+            f"SweepResult(shape={self.shape}, names={list(self.names)}, {ok}/{self.outcome.size} "
+            f"ok{failed}, recorded={list(self.data)}, chunksize={self.chunksize})"
         )
 
     def failures(self) -> list:
-        """``[(index tuple, status, message), ...]`` for every point that did not converge."""
-        idx = np.argwhere(self.status != STATUS_OK)
+        """Every point whose outcome is not :data:`OUTCOME_OK`, in C order, as
+        ``[(index, outcome, status, message), ...]``: ``index`` the point's index
+        tuple into ``shape``, ``outcome`` its ``OUTCOME_*`` code, ``status`` the
+        core's status (:data:`STATUS_NONE` if no solve returned), ``message`` the
+        solver's or the exception's message (all plain Python ints and str)."""
         return [
-            (tuple(int(i) for i in ix), int(self.status[tuple(ix)]), str(self.message[tuple(ix)]))
-            for ix in idx
+            (
+                tuple(int(i) for i in ix),
+                int(self.outcome[tuple(ix)]),
+                int(self.status[tuple(ix)]),
+                str(self.message[tuple(ix)]),
+            )
+            for ix in np.argwhere(self.outcome != OUTCOME_OK)
         ]
 
 
@@ -416,7 +462,8 @@ def _drive(executor, tasks, done, fh, bar) -> None:
 
 
 def _assemble(names, shape, point_values, done, npoints, chunksize) -> SweepResult:
-    status = np.full(npoints, STATUS_NOT_RUN, dtype=np.int8)
+    outcome = np.full(npoints, OUTCOME_NOT_RUN, dtype=np.int8)
+    status = np.full(npoints, STATUS_NONE, dtype=np.int16)
     message = np.empty(npoints, dtype=object)
     message[:] = "not run"
     nit = np.full(npoints, -1, dtype=np.int64)
@@ -424,6 +471,7 @@ def _assemble(names, shape, point_values, done, npoints, chunksize) -> SweepResu
     for recs in done.values():
         for r in recs:
             i = int(r["i"])
+            outcome[i] = r["outcome"]
             status[i] = r["status"]
             message[i] = r["message"]
             nit[i] = r["nit"]
@@ -466,6 +514,7 @@ def _assemble(names, shape, point_values, done, npoints, chunksize) -> SweepResu
         names=names,
         shape=tuple(shape),
         values=values,
+        outcome=outcome.reshape(shape),
         status=status.reshape(shape),
         message=message.reshape(shape),
         nit=nit.reshape(shape),

@@ -38,6 +38,7 @@ from hypothesis import HealthCheck, event, given, settings
 from hypothesis import strategies as st
 
 import tendonrod as tr
+from tendonrod.sweep import OUTCOME_ERROR, OUTCOME_NOT_CONVERGED, OUTCOME_OK, STATUS_NONE
 
 settings.register_profile(
     "hostile",
@@ -1889,13 +1890,19 @@ def test_sweep_hostile_points(path, values, bad):
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         r = tr.sweep(_sweep_base(), vary={path: values}, max_workers=2)
+    outcome = np.asarray(r.outcome).ravel()
     status = np.asarray(r.status).ravel()
     msgs = np.asarray(r.message).ravel()
-    assert status.shape == (len(values),)
+    assert outcome.shape == status.shape == (len(values),)
     for i in range(len(values)):
         assert isinstance(msgs[i], str) and msgs[i], (i, msgs[i])
         if i in bad:
-            assert status[i] != 0 and ("Error" in msgs[i] or "must" in msgs[i]), (i, msgs[i])
+            # refused when the point's scene is built: an error without a core status
+            assert outcome[i] == OUTCOME_ERROR and status[i] == STATUS_NONE, (i, msgs[i])
+            assert "Error" in msgs[i] or "must" in msgs[i], (i, msgs[i])
+        else:  # solved: the core's status, whatever the solver decided
+            assert outcome[i] in (OUTCOME_OK, OUTCOME_NOT_CONVERGED), (i, msgs[i])
+            assert status[i] != STATUS_NONE and r.success.ravel()[i] == (outcome[i] == 0)
 
 
 @pytest.mark.parametrize(

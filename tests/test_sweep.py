@@ -13,15 +13,17 @@ import subprocess
 import sys
 import textwrap
 import time
+import warnings
 
 import numpy as np
 import pytest
 
 import tendonrod as tr
 from tendonrod.sweep import (
-    STATUS_ERROR,
-    STATUS_NOT_CONVERGED,
-    STATUS_OK,
+    OUTCOME_ERROR,
+    OUTCOME_NOT_CONVERGED,
+    OUTCOME_OK,
+    STATUS_NONE,
     SweepResult,
     get_path,
     set_path,
@@ -192,10 +194,18 @@ def test_failed_points_recorded_and_sweep_continues():
     res = tr.sweep(
         sc, {"robot.tendons[0].offset": offsets, "loads[0].force": FORCES[:2]}, progress=False
     )
-    assert res.status[1].tolist() == [STATUS_ERROR] * 2
+    # a scene the builder cannot build: an error without a core status, NaN values
+    assert res.outcome[1].tolist() == [OUTCOME_ERROR] * 2
+    assert res.status[1].tolist() == [STATUS_NONE] * 2
     assert "offset" in res.message[1, 0] and np.isnan(res["tip_position"][1]).all()
-    assert res.success[[0, 2]].all()
-    assert [f[0] for f in res.failures()] == [(1, 0), (1, 1)]
+    assert res.success[[0, 2]].all() and (res.status[[0, 2]] == 0).all()
+    assert res.outcome.dtype == np.int8 and res.status.dtype == np.int16
+    fails = res.failures()
+    assert [f[:3] for f in fails] == [((1, 0), OUTCOME_ERROR, STATUS_NONE)] + [
+        ((1, 1), OUTCOME_ERROR, STATUS_NONE)
+    ]
+    assert all("offset" in f[3] for f in fails)
+    assert "4/6 ok (2 error)" in repr(res)
     # non-convergence: one iteration, no continuation, cold starts -- a tip load of
     # F L^2/EI = 2.5 cannot be solved in one step; the unloaded robot is solved by the
     # initial guess itself
@@ -208,8 +218,137 @@ def test_failed_points_recorded_and_sweep_continues():
         warm_start=False,
         progress=False,
     )
-    assert res2.status.tolist() == [STATUS_OK, STATUS_NOT_CONVERGED, STATUS_OK]
-    assert res2.message[1] and res2.nit[1] >= 1
+    assert res2.outcome.tolist() == [OUTCOME_OK, OUTCOME_NOT_CONVERGED, OUTCOME_OK]
+    # the non-converged point keeps its solve's (negative) core status, named by the core
+    with pytest.warns(tr.ConvergenceWarning):  # the same cold solve
+        one = tr.solve(set_path(sc, "loads[0].force", (-3.0, 0.0, 0.0)), options=opts)
+    assert not one.success and one.status < 0
+    assert res2.status.tolist() == [0, one.status, 0]
+    assert res2.message[1] == one.message and res2.nit[1] >= 1
+    assert tr._core.strerror(int(res2.status[1])) != "unknown status"
+    assert res2.failures() == [((1,), OUTCOME_NOT_CONVERGED, one.status, one.message)]
+
+
+def _series_status(scenes, chunksize, options):
+    """The core status of each point solved by hand as the sweep does (warm within a
+    chunk from the previous success, cold at each chunk boundary)."""
+    out = []
+    for c in range(0, len(scenes), chunksize):
+        guess = None
+        for sc in scenes[c : c + chunksize]:
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore", tr.ConvergenceWarning)
+                sol = tr.solve(sc, guess=guess, options=options)
+            out.append((sol.status, sol.success))
+            if sol.success:
+                guess = sol
+    return out
+
+
+@pytest.mark.parametrize("kind", ["batch", "per_point"])
+def test_status_is_the_core_status_of_each_solve(kind, monkeypatch):
+    """res.status is the status tr.solve gives the same point (same warm starts), on the
+    batch path (a load component) and the per-point path (a design parameter); res.success
+    is the solve's success and res.outcome follows it."""
+    import tendonrod._sweep_chunk as chunk_mod
+
+    sc = set_path(base_scene(), "loads[0].force", (-1.0, 0.0, 0.0))
+    # few iterations, no continuation: some points fail (warm-started from far away)
+    opts = tr.Options(tip_only=True, max_iter=4, continuation=False)
+    if kind == "batch":
+        name, values = "loads[0].force[2]", [0.0, -0.5, -200.0, -1.0, 2.0, 0.5]
+    else:
+        name, values = "robot.rod.length", [0.1, 0.104, 0.2, 0.108, 0.1, 0.112]
+    batched = []
+    real_batch = chunk_mod.solve_batch
+    monkeypatch.setattr(
+        chunk_mod, "solve_batch", lambda *a, **k: batched.append(1) or real_batch(*a, **k)
+    )
+    res = tr.sweep(sc, {name: values}, grid=False, chunksize=3, options=opts, progress=False)
+    assert bool(batched) == (kind == "batch")  # the path under test was taken
+    ref = _series_status([set_path(sc, name, v) for v in values], 3, opts)
+    assert res.status.tolist() == [st for st, _ in ref]
+    assert res.success.tolist() == [ok for _, ok in ref]
+    assert res.outcome.tolist() == [OUTCOME_OK if ok else OUTCOME_NOT_CONVERGED for _, ok in ref]
+    assert res.status.dtype == np.int16 and res.outcome.dtype == np.int8
+    assert any(ok for _, ok in ref) and not all(ok for _, ok in ref), ref  # both kinds
+
+
+class _Restated:
+    """A solve's result with ``status`` and ``success`` restated (everything else is the
+    real result's): what the core returns for a caveat (status 1, 2, 4: success) or an
+    unconfirmed off-path equilibrium (status 3: not a success)."""
+
+    def __init__(self, real, status, success):
+        self._real, self.status, self.success = real, status, success
+
+    def __getattr__(self, name):
+        return getattr(self._real, name)
+
+
+@pytest.mark.parametrize("kind", ["batch", "per_point"])
+def test_caveat_status_kept_and_outcome_from_success(kind, monkeypatch):
+    """A converged solve with a caveat status (1 truncation) counts as a success and keeps
+    its status; status 3 with success False does not: the outcome is read from the
+    solve's success, never from the status number."""
+    import tendonrod._sweep_chunk as chunk_mod
+
+    sc = base_scene()
+    restated = {1: (1, True), 2: (3, False)}  # point -> (status, success)
+    if kind == "batch":
+        real = chunk_mod.solve_batch
+
+        def fake(*a, **k):
+            res = real(*a, **k)
+            st, ok = res.status.copy(), res.success.copy()
+            for p, (s, o) in restated.items():
+                st[p], ok[p] = s, o
+            return _Restated(res, st, ok)
+
+        monkeypatch.setattr(chunk_mod, "solve_batch", fake)
+        monkeypatch.setattr(chunk_mod, "solve", None)  # the per-point path must not run
+    else:
+        real = chunk_mod.solve
+        count = iter(range(100))
+
+        def fake(scene, guess=None, **k):
+            guess = guess._real if isinstance(guess, _Restated) else guess  # warm starts
+            sol, p = real(scene, guess=guess, **k), next(count)
+            return _Restated(sol, *restated[p]) if p in restated else sol
+
+        monkeypatch.setattr(chunk_mod, "solve", fake)
+        monkeypatch.setattr(chunk_mod, "solve_batch", None)  # the batch path must not run
+    vary = (
+        {"loads[0].force": FORCES[:4]}
+        if kind == "batch"
+        else {"robot.tendons[0].EA": [1e5, 2e5, 3e5, 4e5]}
+    )
+    res = tr.sweep(sc, vary, grid=False, chunksize=4, max_workers=1, progress=False)
+    assert res.status.tolist() == [0, 1, 3, 0]
+    assert res.outcome.tolist() == [OUTCOME_OK, OUTCOME_OK, OUTCOME_NOT_CONVERGED, OUTCOME_OK]
+    assert res.success.tolist() == [True, True, False, True]
+    assert np.isfinite(res["tip_position"]).all()  # values of every solved point kept
+    assert [f[:3] for f in res.failures()] == [((2,), OUTCOME_NOT_CONVERGED, 3)]
+    assert "3/4 ok (1 not converged)" in repr(res)
+
+
+def test_measure_error_keeps_the_solve_status():
+    """measure raising after a solve returned: OUTCOME_ERROR, but the solve's status and
+    nit are kept (STATUS_NONE is only for points no solve returned for)."""
+
+    def bad_measure(scene, sol):
+        raise RuntimeError("measure broke")
+
+    res = tr.sweep(
+        base_scene(),
+        {"loads[0].force": FORCES[:2]},
+        grid=False,
+        measure=bad_measure,
+        progress=False,
+    )
+    assert res.outcome.tolist() == [OUTCOME_ERROR] * 2
+    assert res.status.tolist() == [0, 0] and (res.nit >= 0).all()
+    assert all("measure broke" in f[3] for f in res.failures())
 
 
 # --------------------------------------------------------------------------- resume
@@ -314,6 +453,35 @@ def test_torn_last_line_and_foreign_file(tmp_path):
     with pytest.raises(ValueError, match="no sweep header"):
         tr.sweep(sc, {"loads[0].force": FORCES}, grid=False, path=other, progress=False)
     assert other.read_text() == "my notes\n"
+
+
+def test_old_format_file_refused(tmp_path):
+    """Format 2 stores "outcome" and "status" per point; a format-1 file (one "status",
+    the sweep's own codes) is refused with a message naming the versions, never resumed
+    from (its codes would read as core statuses) nor overwritten."""
+    sc = base_scene()
+    path = tmp_path / "s.jsonl"
+    kw = dict(grid=False, chunksize=2, path=path, progress=False)
+    tr.sweep(sc, {"loads[0].force": FORCES[:4]}, **kw)
+    header, *chunks = [json.loads(line) for line in path.read_text().splitlines()]
+    assert header["tendonrod_sweep"] == 2
+    for rec in (r for c in chunks for r in c["records"]):
+        assert rec["outcome"] == OUTCOME_OK and rec["status"] == 0
+    # the same sweep as format 1 wrote it: version 1, the sweep's code under "status"
+    lines = [dict(header, tendonrod_sweep=1)]
+    for c in chunks:
+        recs = [{k: v for k, v in r.items() if k != "outcome"} for r in c["records"]]
+        for r, old in zip(recs, c["records"]):
+            r["status"] = old["outcome"]
+        lines.append(dict(c, records=recs))
+    old_text = "".join(json.dumps(obj) + "\n" for obj in lines)
+    path.write_text(old_text)
+    with pytest.raises(ValueError, match=r"format version 1\b.*format version 2"):
+        tr.sweep(sc, {"loads[0].force": FORCES[:4]}, **kw)
+    assert path.read_text() == old_text
+    path.write_text(json.dumps(dict(header, tendonrod_sweep=3)) + "\n")  # a newer one too
+    with pytest.raises(ValueError, match="format version 3"):
+        tr.sweep(sc, {"loads[0].force": FORCES[:4]}, **kw)
 
 
 class PlainMeasure:

@@ -284,6 +284,9 @@ def tip_compliance_vs_alpha(
     closed-form straight-robot curves of Fig. 7 for comparison (as the paper writes
     them; the exact straight-robot limit of the converging tendon is eq. 32 at
     alpha / c^3, c = sqrt(1 + a^2) -- see docs/model.md and tests/test_studies.py).
+    ``out[(routing, "failures")]`` lists the sweep's failed points as
+    :meth:`tendonrod.sweep.SweepResult.failures` gives them: ``(index, outcome,
+    status, message)``; their sigma is NaN.
     """
     rod = paper_rod_ivb() if rod is None else rod
     EI, L = rod.bending_stiffness, rod.length
