@@ -127,6 +127,18 @@ static int read_tendon(tr_model *m, int i, const double *row, double *rmax, char
                 i, t->EA, TR_EA_MIN, TR_EA_MAX);
         return TR_EINVAL;
     }
+    {
+        /* offsets: 0, or within the range the scales EI/(r L) of the solver can carry */
+        const double rb = fabs(t->b), re = fabs(t->a * row[TR_TD_END] + t->b);
+        if ((rb != 0.0 && !(rb >= TR_ROD_MIN && rb <= TR_ROD_MAX)) ||
+            (re != 0.0 && !(re >= TR_ROD_MIN && re <= TR_ROD_MAX)) || !(fabs(t->a) <= TR_ROD_MAX)) {
+            tr_msgf(msg, msglen,
+                    "tendons[%d] offset = %g m (%g m at its anchor), slope = %g: a nonzero offset "
+                    "must lie in [%g, %g] m",
+                    i, t->b, t->a * row[TR_TD_END] + t->b, t->a, TR_ROD_MIN, TR_ROD_MAX);
+            return TR_EINVAL;
+        }
+    }
     if (!(t->t > 0.0) || t->t > m->L * (1.0 + TR_BP_MERGE)) {
         tr_msgf(msg, msglen, "tendons[%d] end = %g m must lie in (0, L = %g]", i, t->t, m->L);
         return TR_EINVAL;

@@ -23,6 +23,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from . import _core
+from ._interrupt import current_token, new_token
 from .model import Scene
 from .options import Options, _check_options
 from .solver import _TD, is_planar, pack_scene
@@ -46,8 +47,9 @@ class BatchResult:
         consistent with the solution, as ``Solution.displacement``)
     status : (n,) int, the core's status (0 ok, > 0 converged with a caveat, < 0 failed;
         ``tendonrod._core.strerror``)
-    success : (n,) bool, ``status >= 0`` except status 3 (an equilibrium found off the
-        load path, which may not be the one the loading reaches: see ``message``)
+    success : (n,) bool, the core's verdict per point (as ``Solution.success``: status
+        >= 0 except 3, an equilibrium found off the load path that a second formulation
+        did not confirm: see ``message``)
     message : (n,) object array of str, the solver's message per point
     nit, nfev : (n,) int, iterations and residual evaluations per point
     residual_norm : (n,) final scaled residual max-norm
@@ -67,12 +69,9 @@ class BatchResult:
     nfev: np.ndarray
     residual_norm: np.ndarray
     cold: np.ndarray
+    success: np.ndarray
     formulation: dict
     chunksize: int
-
-    @property
-    def success(self) -> np.ndarray:
-        return (self.status >= 0) & (self.status != _core.STATUS_OFFPATH)
 
     def __len__(self) -> int:
         return int(self.status.shape[0])
@@ -251,6 +250,10 @@ def _run_chunks(packed, values, point_loads, distributed, kw, n, chunksize, thre
     out to ``threads`` worker threads; each chunk starts cold)."""
     rod, tendons, loads, dist = packed
     bounds = [(a, min(a + chunksize, n)) for a in range(0, n, chunksize)] or [(0, 0)]
+    # Ctrl-C: on this thread the core sees it itself; worker threads stop at their next
+    # poll once the token is set (a solve_batch inside a sweep worker polls the sweep's)
+    serial = threads == 1 or len(bounds) == 1
+    token = current_token() if serial else new_token()
 
     def run(b):
         a, e = b
@@ -262,13 +265,18 @@ def _run_chunks(packed, values, point_loads, distributed, kw, n, chunksize, thre
             values=None if values is None else values[a:e],
             point_loads=None if point_loads is None else point_loads[a:e],
             dists=None if distributed is None else distributed[a:e],
+            cancel=token,
             **kw,
         )
 
-    if threads == 1 or len(bounds) == 1:
+    if serial:
         return [run(b) for b in bounds]
     with cf.ThreadPoolExecutor(max_workers=min(int(threads), len(bounds))) as ex:
-        return list(ex.map(run, bounds))
+        try:
+            return list(ex.map(run, bounds))
+        except BaseException:
+            token.set()  # the workers stop at their next poll; the pool then shuts down
+            raise
 
 
 def _check_arguments(scene, options, threads, chunksize):
@@ -348,6 +356,7 @@ def _assemble(parts, n, chunksize, options) -> BatchResult:
             "nit",
             "nfev",
             "cold",
+            "success",
         )
     }
     message = np.empty(n, dtype=object)
@@ -364,6 +373,7 @@ def _assemble(parts, n, chunksize, options) -> BatchResult:
         nfev=cat["nfev"].astype(np.int64),
         residual_norm=cat["residual_norm"],
         cold=cat["cold"].astype(bool),
+        success=cat["success"].astype(bool),
         formulation=dict(parts[0]["formulation"]),
         chunksize=int(chunksize),
     )

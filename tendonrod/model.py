@@ -66,6 +66,23 @@ def _positive(owner: str, name: str, value, *, allow_inf: bool = False) -> float
     return x
 
 
+# Range of a nonzero length [m] (and of the rod's rigidities): the core's; beyond it the
+# scales EI/L^2, EI/(r L) of the solver leave the normal doubles.
+_LENGTH_MIN, _LENGTH_MAX = _core.LIMITS["rod"]
+
+
+def _length(owner: str, name: str, value, *, zero_ok: bool = False) -> float:
+    """A length [m]: > 0 (or 0 if ``zero_ok``) and within the core's range."""
+    x = _nonnegative(owner, name, value) if zero_ok else _positive(owner, name, value)
+    if x != 0.0 and not (_LENGTH_MIN <= x <= _LENGTH_MAX):
+        raise ValueError(
+            f"{owner}.{name} must lie in [{_LENGTH_MIN:g}, {_LENGTH_MAX:g}] m"
+            + (" (or be 0)" if zero_ok else "")
+            + f": double precision cannot carry the model's scales beyond, got {value!r}"
+        )
+    return x
+
+
 def _nonnegative(owner: str, name: str, value) -> float:
     x = _real(owner, name, value)
     if x < 0.0:
@@ -136,8 +153,10 @@ class Rod:
 
     def __post_init__(self):
         own = "Rod"
-        object.__setattr__(self, "length", _positive(own, "length", self.length))
-        for name in ("diameter", "E", "G"):
+        object.__setattr__(self, "length", _length(own, "length", self.length))
+        if self.diameter is not None:
+            object.__setattr__(self, "diameter", _length(own, "diameter", self.diameter))
+        for name in ("E", "G"):
             v = getattr(self, name)
             if v is not None:
                 object.__setattr__(self, name, _positive(own, name, v))
@@ -253,9 +272,14 @@ class Tendon:
 
     def __post_init__(self):
         own = "Tendon"
-        object.__setattr__(self, "offset", _nonnegative(own, "offset", self.offset))
+        object.__setattr__(self, "offset", _length(own, "offset", self.offset, zero_ok=True))
         object.__setattr__(self, "angle", _real(own, "angle", self.angle))
-        object.__setattr__(self, "slope", _real(own, "slope", self.slope))
+        slope = _real(own, "slope", self.slope)
+        if abs(slope) > _LENGTH_MAX:
+            raise ValueError(
+                f"{own}.slope must lie in [-{_LENGTH_MAX:g}, {_LENGTH_MAX:g}], got {self.slope!r}"
+            )
+        object.__setattr__(self, "slope", slope)
         EA = _positive(own, "EA", self.EA, allow_inf=True)
         if math.isfinite(EA) and not (_TENDON_EA_MIN <= EA <= _TENDON_EA_MAX):
             # a subnormal EA would make tau/EA overflow; the same range as the core
@@ -265,7 +289,7 @@ class Tendon:
             )
         object.__setattr__(self, "EA", EA)
         if self.end is not None:
-            object.__setattr__(self, "end", _positive(own, "end", self.end))
+            object.__setattr__(self, "end", _length(own, "end", self.end))
         object.__setattr__(self, "pretension", _nonnegative(own, "pretension", self.pretension))
 
     @classmethod

@@ -68,6 +68,7 @@ from typing import Any
 
 import numpy as np
 
+from ._interrupt import cancel_scope, new_token
 from ._sweep_chunk import (
     OUTCOME_ERROR,
     OUTCOME_NOT_CONVERGED,
@@ -443,10 +444,18 @@ def _run(tasks, done, fh, bar, executor, max_workers) -> None:
 
 
 def _drive(executor, tasks, done, fh, bar) -> None:
-    """Submit every chunk, record each as it finishes (file first, then the bar)."""
+    """Submit every chunk, record each as it finishes (file first, then the bar).
+    Interrupted (Ctrl-C), the chunks not started are cancelled and thread workers stop
+    at their next poll (a Cancel token); what was recorded stays, so a sweep with a
+    file resumes."""
     if not tasks:
         return
-    futures = [executor.submit(_run_chunk, t) for t in tasks]
+    token = new_token()
+    threads = isinstance(executor, cf.ThreadPoolExecutor)
+    if threads:
+        futures = [executor.submit(_run_chunk_polled, t, token) for t in tasks]
+    else:
+        futures = [executor.submit(_run_chunk, t) for t in tasks]
     try:
         for fut in cf.as_completed(futures):
             out = fut.result()
@@ -456,9 +465,16 @@ def _drive(executor, tasks, done, fh, bar) -> None:
             if bar is not None:
                 bar.update(len(out["records"]))
     except BaseException:
+        token.set()
         for f in futures:
             f.cancel()
         raise
+
+
+def _run_chunk_polled(task: dict, token) -> dict:
+    """:func:`_run_chunk` in a worker thread, its solves polling ``token``."""
+    with cancel_scope(token):
+        return _run_chunk(task)
 
 
 def _assemble(names, shape, point_values, done, npoints, chunksize) -> SweepResult:
