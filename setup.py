@@ -88,6 +88,9 @@ inc, extra_c, libdirs, libnames, extra_l = split_flags(cflags, libs)
 csrc = sorted(os.path.join("csrc", f) for f in os.listdir("csrc") if f.endswith(".c"))
 # the glue: tendonrod/_*.c (only these files speak the CPython / NumPy C-API)
 glue = sorted(os.path.join("tendonrod", f) for f in os.listdir("tendonrod") if f.endswith(".c"))
+# a changed header rebuilds every source (the structs it defines are shared)
+headers = sorted(os.path.join("csrc", f) for f in os.listdir("csrc") if f.endswith(".h"))
+headers += [os.path.join("tendonrod", "_glue.h")]
 # Extra compile/link flags for instrumented builds (make sanitize) come from the
 # environment: TR_EXTRA_CFLAGS / TR_EXTRA_LDFLAGS.
 extra_c += shlex.split(os.environ.get("TR_EXTRA_CFLAGS", ""))
@@ -96,6 +99,7 @@ extra_l += shlex.split(os.environ.get("TR_EXTRA_LDFLAGS", ""))
 ext = Extension(
     "tendonrod._core",
     sources=glue + csrc,
+    depends=headers,
     include_dirs=["csrc", "tendonrod", numpy.get_include()] + inc,
     library_dirs=libdirs,
     libraries=libnames,

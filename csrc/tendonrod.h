@@ -99,7 +99,7 @@ enum tr_control { TR_DISPLACEMENT = 0, TR_TENSION = 1 };
  * (tr_model.rhs_work: a spatial Cosserat rod with three tendons ~9).  The default budget
  * lets a hopeless solve give up after ~0.5 s whatever the formulation; converged solves
  * take 10^2-10^6 units. */
-#define TR_DEFAULT_MAX_WORK 1.5e7
+#define TR_DEFAULT_MAX_WORK 1.3e7
 /* Largest work budget and wall-clock limit accepted. */
 #define TR_MAX_WORK_CAP 1e15
 #define TR_MAX_TIME_CAP 1e9

@@ -93,7 +93,7 @@ class Options:
         Work budget of one solve, everything included (continuation, step verification,
         the confirmation of an equilibrium found off the load path), in units of one
         right-hand-side evaluation of a planar Kirchhoff rod (~33 ns here; one of a
-        spatial Cosserat rod with three tendons counts ~9).  Default 1.5e7: a hopeless
+        spatial Cosserat rod with three tendons counts ~9).  Default 1.3e7: a hopeless
         solve gives up after about 0.5 s whatever the formulation, with a message that
         says the budget ran out; converged solves take 10^2-10^6.  Deterministic: a solve
         stays bitwise reproducible.
