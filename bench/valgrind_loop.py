@@ -13,7 +13,11 @@ Exercises every path of the glue and the core that a user reaches:
   strict=True;
 - the raw _core.solve with wrong shapes, dtypes and option values (the error
   paths of the glue, where a missing free or Py_DECREF hides);
-- tr.solve_batch on two threads, with failing points among good ones.
+- tr.solve_batch on two threads, with failing points among good ones;
+- tr.Problem: values set per call, warm solves, guess modes, another structure (the
+  ValueError path), compliance from the kept state, pickling; an equilibrium found off
+  the load path and confirmed by the second formulation (allocated on first need); the
+  work budget running out; a Cancel token stopping a solve on a thread.
 Every call's outcome is checked lightly (so a wrong turn is noticed), the
 point is what valgrind sees.
 """
@@ -131,6 +135,64 @@ def batch_loop(n):
             pass
 
 
+def problem_loop(n):
+    """Problem paths, the confirmation, the budget and a cancelled solve."""
+    import pickle
+    import threading
+
+    sc = scenes()
+    rod = tr.Rod(length=0.1, diameter=1.04e-3, E=210e9, G=80e9, kirchhoff=True)
+    fs = rod.bending_stiffness / 0.1**2
+    plain = tr.Robot(rod, [])
+    for it in range(n):
+        prob = tr.Problem(sc[2])
+        assert prob.solve().success
+        for f in (0.05, 0.07):
+            moved = tr.Scene(
+                sc[2].robot,
+                displacement=[0.004, 0.0, None],
+                tension=[None, None, 0.3],
+                loads=[
+                    tr.PointLoad(s=0.2, force=(f, 0.1, 0), moment=(0, 0, 0.001)),
+                    tr.PointLoad(s=0.12, force=(0, -0.05, 0)),
+                ],
+            )
+            assert prob.solve(moved).success
+        prob.solve(guess="cold")
+        prob.compliance()
+        pickle.loads(pickle.dumps(prob))
+        try:
+            prob.solve(sc[0])
+        except ValueError:
+            pass
+        # confirmed off the load path (second formulation), and the budget running out
+        off = tr.Scene(plain, loads=[tr.PointLoad(s=0.1, force=(0, 0, 400 * fs))])
+        assert tr.solve(off).status == tr._core.STATUS_CONFIRMED
+        hopeless = tr.Scene(plain, loads=[tr.PointLoad(s=0.1, force=(1e6, 0, 0))])
+        assert (
+            tr.solve(hopeless, options=tr.Options(max_work=2e4)).status == tr._core.STATUS_EBUDGET
+        )
+        if it == 0:
+            # a solve on a thread stopped by its Cancel token
+            from tendonrod._interrupt import cancel_scope
+
+            token = tr._core.Cancel()
+            slow = tr.Options(max_work=1e15, max_nfev=10**9, max_continuation=10**6, steps=500)
+            caught = []
+
+            def run():
+                with cancel_scope(token):
+                    try:
+                        tr.solve(hopeless, options=slow)
+                    except KeyboardInterrupt:
+                        caught.append(1)
+
+            t = threading.Thread(target=run)
+            t.start()
+            token.set()
+            t.join()
+
+
 def raw_error_loop(n):
     rod, tend, loads, dist = pack_scene(scenes()[2])
     bad_calls = [
@@ -171,6 +233,7 @@ def main(argv=None):
     solve_loop(n_solve)
     raw_error_loop(max(2, n_solve // 10))
     batch_loop(max(2, n_solve // 10))
+    problem_loop(max(2, n_solve // 15))
     print(
         f"valgrind_loop: {n_uf} ufunc rounds, {n_solve} solves, "
         f"{max(2, n_solve // 10)} rounds of raw error paths: done"
