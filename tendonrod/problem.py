@@ -36,7 +36,7 @@ __all__ = ["Problem"]
 def _structure(scene: Scene) -> tuple:
     """(field path, value) pairs that fix a scene's compiled structure (cached on the
     frozen scene)."""
-    key = scene.__dict__.get("_structure")
+    key = scene.__dict__.get("_problem_structure")
     if key is None:
         from .solver import is_planar
 
@@ -56,7 +56,7 @@ def _structure(scene: Scene) -> tuple:
             items.append((f"point load {j} position s", min(p.s, rod.length)))
         items.append(("planar formulation", is_planar(scene)))
         key = tuple(items)
-        object.__setattr__(scene, "_structure", key)
+        object.__setattr__(scene, "_problem_structure", key)
     return key
 
 

@@ -185,3 +185,13 @@ def test_at_and_compliance_reuse_the_solved_state():
     C2 = tr.compliance(scene(0.3))
     # central differences with step 3e-6 (scaled) give the compliance to ~1e-9 relative
     np.testing.assert_allclose(C1, C2, rtol=0, atol=1e-7 * np.abs(C2).max())
+
+
+def test_a_scene_used_as_a_guess_elsewhere_keeps_its_structure():
+    """A scene that tr.solve already used (and cached facts about) is still recognised as
+    the same structure by a Problem: the caches of the two do not collide."""
+    sc, near = scene(0.3), scene(0.31)
+    g = tr.solve(near)
+    tr.solve(sc, guess=g)  # caches the formulation key of both scenes
+    prob = tr.Problem(sc)
+    assert prob.solve().success and prob.solve(near).success
