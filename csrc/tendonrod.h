@@ -308,7 +308,10 @@ typedef struct tr_data {
     double probe_state[12]; /* p (3), R (9) captured at probe_bp in the last evaluation */
     /* integrator workspaces */
     double *y, *k1, *k2, *k3, *k4, *yt, *yerr; /* (n_states_rec) */
-    double *ysave; /* (n_states_rec) a saved end state (step verification, recording check) */
+    double *ysave;  /* (n_states_rec) a saved end state (step verification, recording check) */
+    double *x_of_y; /* (k) the unknowns of the last shooting evaluation whose end state is y */
+    int y_steps;    /* its step count; -1: y holds no such end state (recording, doubled
+                       steps, a compliance probe, continuation) */
     gsl_odeiv2_system sys_shoot, sys_rec;
     gsl_odeiv2_step *rk8_shoot, *rk8_rec;
     gsl_odeiv2_step *ad_step_shoot, *ad_step_rec;
@@ -332,6 +335,7 @@ typedef struct tr_data {
     /* work budget and the caller's poll hook (tr_set_poll) */
     double spent;           /* work of this solve [units, see TR_DEFAULT_MAX_WORK] */
     int stop;               /* 0, or TR_EBUDGET / TR_EINTERRUPTED once a poll said stop */
+    int finishing;          /* 1 while the final outputs are computed: beyond the budget */
     int (*poll)(void *ctx); /* called about every TR_POLL_INTERVAL; nonzero: stop */
     void *poll_ctx;         /* its argument */
     double t_start, t_poll; /* wall clock at the solve's start and at the last poll [s] */
@@ -363,6 +367,11 @@ typedef struct tr_data {
     double *tension;      /* (nt) tension [N] */
     double *slack;        /* (nt) slack [m] */
     double *displacement; /* (nt) actuator displacement [m] */
+    double tip[18];       /* tip state of the solution: p (3) world [m], R (9) body-to-world
+                             row-major, internal force (3) [N] and moment (3) [N m], world */
+    int lazy;             /* 1: tr_solve fills only the tip, tensions and slacks (and the
+                             displacement of displacement-controlled tendons; NaN for the
+                             others); the node arrays stay untouched until tr_record_from */
 } tr_data;
 
 /* Allocate a workspace.  nodes: if node_s is NULL, nnode uniform nodes over
@@ -429,9 +438,13 @@ void tr_base_state(const tr_model *m, const tr_data *d, double *g);
  * polish or recording (tr_record or tr_record_tip follow).  At most max_iter
  * iterations.  TR_OK, or < 0 when the caller should run tr_solve instead. */
 int tr_solve_lean(const tr_model *m, tr_data *d, const double *x0, const double *jac, int max_iter);
-/* After tr_solve_lean, in a tip-only workspace: the tip state from the last residual
- * evaluation (no recording pass).  The actuator displacement of a tension-controlled
- * tendon, which only the recording pass integrates, is NaN. */
+/* The tip state of the current unknowns into d->tip, with the tensions, slacks and
+ * the displacement of displacement-controlled tendons (NaN for tension-controlled ones,
+ * which only the recording pass integrates): from the last shooting evaluation if it
+ * was at these unknowns, else one more evaluation. */
+int tr_tip_state(const tr_model *m, tr_data *d);
+/* tr_tip_state, and the tip node of a tip-only workspace filled from it (no recording
+ * pass), e.g. after tr_solve_lean. */
 int tr_record_tip(const tr_model *m, tr_data *d);
 
 #ifdef __cplusplus

@@ -100,7 +100,15 @@ int tr_compliance(const tr_model *m, tr_data *d, double s_probe, double C[36])
 done:
     d->probe_bp = -1;
     memset(d->probe, 0, sizeof d->probe);
-    if (status != TR_OK && d->message[0] == '\0')
+    if (status == TR_EBUDGET)
+        tr_set_message(d,
+                       "the work budget ran out while linearising (max_work = %.3g units; the "
+                       "compliance needs 2 k + 12 evaluations, k = %d unknowns): raise "
+                       "Options.max_work",
+                       d->opt.max_work, k);
+    else if (status == TR_ESINGULAR)
+        tr_set_message(d, "compliance: the Jacobian at the solution is singular");
+    else if (status != TR_OK && status != TR_EINVAL)
         tr_set_message(d, "compliance failed: %s", tr_strerror(status));
     return status;
 }

@@ -43,7 +43,7 @@ void tr_data_free(tr_data *d)
 static int alloc_buffers(const tr_model *m, tr_data *d)
 {
     const int k = d->k, nsr = m->n_states_rec, nt = m->nt, nd = m->ndisp;
-    d->x = (double *)calloc((size_t)10 * k + 1, sizeof(double));
+    d->x = (double *)calloc((size_t)11 * k + 1, sizeof(double));
     d->J = (double *)calloc((size_t)k * k + 1, sizeof(double));
     d->x_last = (double *)calloc((size_t)k * (k + 1) + 1, sizeof(double));
     d->LU = gsl_matrix_alloc(k > 0 ? k : 1, k > 0 ? k : 1);
@@ -67,6 +67,8 @@ static int alloc_buffers(const tr_model *m, tr_data *d)
     d->fs = d->x + 7 * k;
     d->work = d->x + 8 * k;
     d->hyb_f = d->x + 9 * k;
+    d->x_of_y = d->x + 10 * k;
+    d->y_steps = -1;
     d->beta = d->tau + nt;
     d->tension = d->tau + 2 * nt;
     d->slack = d->tau + 3 * nt;

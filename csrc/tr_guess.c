@@ -41,6 +41,7 @@ static void shape_guess(const tr_model *m, tr_data *d, double *x)
     const int ns = m->n_states, nf = tr_n_force(m);
     double *y = d->y, *pose = d->bp_pose;
     const double lam_load = d->lam_load;
+    d->y_steps = -1; /* y becomes the shape pass's state */
     int b, c, ok = 1;
     /* unloaded base state: base reaction zero */
     for (c = 0; c < nf; c++) d->xt[c] = 0.0;
@@ -160,6 +161,7 @@ static void init_nodes(const tr_model *m, tr_data *d, double *x)
     double *y = d->y, tsum = 0.0;
     int k, j, ok = 1, c;
     if (m->nshoot <= 1) return;
+    d->y_steps = -1; /* y becomes the node integration's state */
     d->rec = 0;
     tr_set_tensions(m, d, x);
     for (c = 0; c < m->nt; c++) tsum += d->tau[c] / m->F_s;

@@ -53,6 +53,9 @@ int tr_fd_column(const tr_model *m, tr_data *d, const double *x, const double *f
 int tr_fd_jacobian(const tr_model *m, tr_data *d)
 {
     const int k = d->k;
+    /* the end state of the solution, if y holds it, survives the perturbed evaluations */
+    const int keep =
+        d->y_steps == d->steps && memcmp(d->x_of_y, d->x, (size_t)k * sizeof(double)) == 0;
     int j, status;
     if (d->nfev + k > d->opt.max_nfev) {
         tr_set_message(d,
@@ -63,8 +66,14 @@ int tr_fd_jacobian(const tr_model *m, tr_data *d)
     }
     for (j = 0; j < k; j++) {
         /* a column whose forward trial leaves the finite domain is taken backwards */
+        if (j == 0 && keep) memcpy(d->ysave, d->y, (size_t)m->n_base * sizeof(double));
         status = tr_fd_column(m, d, d->x, d->f, j, d->J + j, (size_t)k, 1);
         if (status != TR_OK) return status;
+    }
+    if (keep) {
+        memcpy(d->y, d->ysave, (size_t)m->n_base * sizeof(double));
+        memcpy(d->x_of_y, d->x, (size_t)k * sizeof(double));
+        d->y_steps = d->steps;
     }
     d->njev++;
     d->have_J = 1;

@@ -31,6 +31,7 @@ void tr_set_poll(tr_data *d, int (*poll)(void *ctx), void *ctx)
 void tr_poll_start(tr_data *d)
 {
     d->stop = TR_OK;
+    d->finishing = 0;
     d->spent = 0.0;
     d->t_start = d->t_poll = tr_clock();
 }
@@ -39,12 +40,12 @@ int tr_poll(tr_data *d)
 {
     double now;
     if (d->stop) return d->stop;
-    /* the recording pass of a solve that ran out of budget still runs (its states are
-     * the last iterate's); only an interrupt stops it */
-    if (!d->rec && d->spent > d->opt.max_work) return d->stop = TR_EBUDGET;
+    /* the final outputs of a solve that ran out of budget are still computed (its
+     * states are the last iterate's); only an interrupt stops them */
+    if (!d->finishing && d->spent > d->opt.max_work) return d->stop = TR_EBUDGET;
     if (!d->poll && !(d->opt.max_time > 0.0)) return TR_OK;
     now = tr_clock();
-    if (!d->rec && d->opt.max_time > 0.0 && now - d->t_start > d->opt.max_time)
+    if (!d->finishing && d->opt.max_time > 0.0 && now - d->t_start > d->opt.max_time)
         return d->stop = TR_EBUDGET;
     if (d->poll && now - d->t_poll >= TR_POLL_INTERVAL) {
         d->t_poll = now;

@@ -59,6 +59,7 @@ static int record_pass(const tr_model *m, tr_data *d, int allow_rk4, int *used)
     int j, k = 0, status = TR_OK, i, used_rk4 = 0;
 
     d->rec = 1;
+    d->y_steps = -1; /* y becomes the recording state */
     tr_set_tensions(m, d, d->x);
     tr_init_state(m, d, d->x, y, m->n_states_rec);
     for (j = 0; j < nn && status == TR_OK; j++) {
@@ -149,27 +150,44 @@ int tr_record(const tr_model *m, tr_data *d)
     return status;
 }
 
+int tr_tip_state(const tr_model *m, tr_data *d)
+{
+    double *t = d->tip;
+    int i;
+    /* the last shooting evaluation at the solution left its end state in y; otherwise
+     * one more evaluation (the tip the residual and the tolerance refer to) */
+    if (!(d->y_steps == d->steps && memcmp(d->x_of_y, d->x, (size_t)d->k * sizeof(double)) == 0)) {
+        const int st = tr_residual(m, d, d->x, d->ft);
+        if (st != TR_OK) {
+            for (i = 0; i < 18; i++) t[i] = NAN;
+            return st;
+        }
+    } else {
+        tr_set_tensions(m, d, d->x);
+    }
+    tr_state_world(m, d->y, t, t + 3, t + 12, t + 15);
+    for (i = 0; i < m->nt; i++) {
+        const tr_tendon *td = &m->tendon[i];
+        d->tension[i] = d->tau[i];
+        d->slack[i] = d->beta[i];
+        d->displacement[i] = td->control == TR_DISPLACEMENT ? td->value : NAN;
+    }
+    return TR_OK;
+}
+
 int tr_record_tip(const tr_model *m, tr_data *d)
 {
-    double nw[3], mw[3];
-    int i;
+    int st;
     if (d->nnode != 1 || !(fabs(d->s[0] - m->L) <= 1e-12 * m->L)) {
         tr_set_message(d, "tr_record_tip needs a tip-only workspace");
         return TR_EINVAL;
     }
-    /* the last residual evaluation was at d->x: d->y holds its tip state and d->tau,
-     * d->beta its tensions and slacks (the recording pass would reproduce this tip:
-     * it replaces its tip node by the shooting tip) */
-    tr_state_world(m, d->y, d->pos, d->rot, nw, mw);
-    memcpy(d->force, nw, sizeof nw);
-    memcpy(d->moment, mw, sizeof mw);
-    for (i = 0; i < m->nt; i++) {
-        const tr_tendon *t = &m->tendon[i];
-        d->tension[i] = d->tau[i];
-        d->slack[i] = d->beta[i];
-        d->displacement[i] = t->control == TR_DISPLACEMENT ? t->value : NAN;
-    }
-    return TR_OK;
+    st = tr_tip_state(m, d);
+    memcpy(d->pos, d->tip, 3 * sizeof(double));
+    memcpy(d->rot, d->tip + 3, 9 * sizeof(double));
+    memcpy(d->force, d->tip + 12, 3 * sizeof(double));
+    memcpy(d->moment, d->tip + 15, 3 * sizeof(double));
+    return st;
 }
 
 int tr_record_from(const tr_model *m, tr_data *d, const double *x, int steps)

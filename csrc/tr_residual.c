@@ -264,6 +264,7 @@ int tr_residual(const tr_model *m, tr_data *d, const double *x, double *f)
     double *y = d->y;
     d->rec = 0;
     d->nfev++;
+    d->y_steps = -1;
     tr_set_tensions(m, d, x);
     tr_init_state(m, d, x, y, m->n_states);
     for (k = 0; k < m->nseg; k++) {
@@ -277,5 +278,11 @@ int tr_residual(const tr_model *m, tr_data *d, const double *x, double *f)
         }
     }
     tip_residual(m, d, y, f);
-    return isfinite(tru_maxnorm(f, d->k)) ? TR_OK : TR_ENONFINITE;
+    if (!isfinite(tru_maxnorm(f, d->k))) return TR_ENONFINITE;
+    if (!d->steps_double && d->probe_bp < 0 && d->lam_act == 1.0 && d->lam_load == 1.0) {
+        /* y is the end state of the solution with unknowns x at d->steps */
+        memcpy(d->x_of_y, x, (size_t)d->k * sizeof(double));
+        d->y_steps = d->steps;
+    }
+    return TR_OK;
 }

@@ -37,6 +37,7 @@ static int solve_begin(const tr_model *m, tr_data *d)
      * arc lengths d->s stay (inputs of the next recording pass) */
     tr_set_message(d, "%s", m->scene_message);
     for (i = 0; i < 18 * d->nnode; i++) d->pos[i] = NAN;
+    for (i = 0; i < 18; i++) d->tip[i] = NAN;
     for (i = 0; i < 3 * m->nt; i++) d->tension[i] = NAN;
     for (i = 0; i < d->k; i++) d->x[i] = NAN;
     d->have_J = 0;
@@ -238,7 +239,14 @@ static int solve_record(const tr_model *m, tr_data *d, int status)
     if (status == TR_EINTERRUPTED) return status;
     /* the states of the last iterate are recorded even when the budget ran out */
     if (d->stop == TR_EBUDGET) d->stop = TR_OK;
-    rs = tr_record(m, d);
+    d->finishing = 1;
+    rs = tr_tip_state(m, d);
+    if (!d->lazy) {
+        /* the node arrays (NaN where the recording fails: nothing stale) */
+        const int rr = tr_record(m, d);
+        if (rs == TR_OK) rs = rr;
+    }
+    d->finishing = 0;
     if (rs == TR_EINTERRUPTED) return rs;
     if (rs != TR_OK && status >= 0) {
         status = rs;

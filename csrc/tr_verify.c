@@ -35,6 +35,10 @@ static double doubling_estimate(const tr_model *m, tr_data *d)
         const double e = fabs(d->y[c] - d->ysave[c]) / m->xstate_scale[c];
         if (!(e <= est)) est = e;
     }
+    /* y holds the end state at N steps again (the solution's, for tr_tip_state) */
+    memcpy(d->y, d->ysave, (size_t)m->n_base * sizeof(double));
+    memcpy(d->x_of_y, d->x, (size_t)k * sizeof(double));
+    d->y_steps = d->steps;
     return est / (1.0 - pow(2.0, -order));
 }
 

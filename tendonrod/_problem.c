@@ -218,6 +218,11 @@ static PyObject *problem_formulation(ProblemObject *self, void *closure)
     return glue_formulation(self->m, self->d);
 }
 
+static PyObject *problem_last_success(ProblemObject *self, void *closure)
+{
+    return PyBool_FromLong(TR_SUCCEEDED(self->last_status));
+}
+
 static PyObject *problem_has_solution(ProblemObject *self, void *closure)
 {
     return PyBool_FromLong(self->d && self->d->have_last);
@@ -252,6 +257,8 @@ static PyMethodDef problem_methods[] = {
 
 static PyGetSetDef problem_getset[] = {
     {"formulation", (getter)problem_formulation, NULL, "What the scene compiled to (dict).", NULL},
+    {"last_success", (getter)problem_last_success, NULL,
+     "True when the last solve succeeded (its state is the workspace's).", NULL},
     {"has_solution", (getter)problem_has_solution, NULL,
      "True once a solve succeeded (a warm start is kept).", NULL},
     {"breakpoints", (getter)problem_breakpoints, NULL,

@@ -73,6 +73,14 @@ PyObject *glue_solve_result(const tr_model *m, const tr_data *d, int status)
         glue_set(res, "slack", glue_array(1, dims, d->slack)) < 0 ||
         glue_set(res, "displacement", glue_array(1, dims, d->displacement)) < 0)
         goto fail;
+    /* the tip state of the solution (the shooting tip, whatever the output nodes) */
+    dims[0] = 3;
+    if (glue_set(res, "tip_position", glue_array(1, dims, d->tip)) < 0 ||
+        glue_set(res, "tip_force", glue_array(1, dims, d->tip + 12)) < 0 ||
+        glue_set(res, "tip_moment", glue_array(1, dims, d->tip + 15)) < 0)
+        goto fail;
+    dims[1] = 3;
+    if (glue_set(res, "tip_rotation", glue_array(2, dims, d->tip + 3)) < 0) goto fail;
     dims[0] = 6 + 2 * nt;
     if (!(base = glue_array(1, dims, NULL))) goto fail;
     tr_base_state(m, d, (double *)PyArray_DATA((PyArrayObject *)base));

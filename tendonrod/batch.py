@@ -100,7 +100,7 @@ def _points(arr, name: str, tail: tuple, what: str, n: int | None):
             if a.dtype.kind in "cUSV":
                 raise TypeError
             a = a.astype(float)
-        except (TypeError, ValueError):
+        except (TypeError, ValueError, OverflowError):
             raise ValueError(
                 f"{name} must be an array of real numbers, got dtype {a.dtype} "
                 f"({np.asarray(arr).ravel()[:3]!r}...)"

@@ -57,6 +57,7 @@ def _real(owner: str, name: str, value, *, allow_inf: bool = False) -> float:
 
 # Range of a finite tendon EA [N]: the core's (a subnormal EA would overflow tau/EA).
 _TENDON_EA_MIN, _TENDON_EA_MAX = _core.LIMITS["EA"]
+_EA_MIN, _EA_MAX = _TENDON_EA_MIN, _TENDON_EA_MAX
 
 
 def _positive(owner: str, name: str, value, *, allow_inf: bool = False) -> float:
@@ -93,6 +94,11 @@ def _nonnegative(owner: str, name: str, value) -> float:
 def _vec3(owner: str, name: str, value) -> Vec3:
     try:
         raw = np.asarray(value)
+        if raw.dtype.kind == "O" and raw.ndim == 1:
+            # Python ints beyond int64 (2**70) are real numbers too
+            if any(isinstance(v, bool) or not isinstance(v, numbers.Real) for v in raw):
+                raise TypeError
+            raw = np.array([float(v) for v in raw])
         if raw.dtype.kind not in "fiu":
             raise TypeError
         arr = raw.astype(float)
@@ -122,8 +128,10 @@ class Rod:
     without a diameter, the rigidities the model needs must all be given.
 
     ``kirchhoff=True`` makes the backbone unshearable and inextensible (``EA`` and
-    ``GA`` are then not used and may be omitted). ``EA`` and ``GA`` may be given as
-    ``np.inf`` to make only that deformation rigid.
+    ``GA`` are then not used and may be omitted or ``np.inf``). A Cosserat rod's ``EA``
+    and ``GA`` must be finite. The solver's ranges apply: length and diameter in
+    [1e-100, 1e100] m, ``EI`` and ``GJ`` in [1e-100, 1e100] N m^2, ``EA`` and ``GA`` in
+    [1e-100, 1e150] N.
 
     Attributes
     ----------
@@ -187,6 +195,21 @@ class Rod:
                     f"Rod.{name} from diameter={self.diameter!r} and {src}={getattr(self, src)!r} "
                     f"is {v!r}: the section's rigidity must be finite and > 0"
                 )
+            # the core's ranges: EI, GJ like a length; a finite EA, GA like a tendon's EA; a
+            # Cosserat rod's EA and GA finite (kirchhoff=True makes the backbone rigid)
+            lo, hi = (_LENGTH_MIN, _LENGTH_MAX) if name in ("EI", "GJ") else (_EA_MIN, _EA_MAX)
+            if math.isinf(v):
+                raise ValueError(
+                    f"Rod.{name} = inf: a Cosserat rod's {name} must be finite; "
+                    f"kirchhoff=True makes the backbone unshearable and inextensible"
+                )
+            if not lo <= v <= hi:
+                how = (
+                    ""
+                    if getattr(self, name) is not None
+                    else f" (from diameter={self.diameter!r} and {src}={getattr(self, src)!r})"
+                )
+                raise ValueError(f"Rod.{name} = {v!r}{how} must lie in [{lo:g}, {hi:g}]")
 
     def _effective(self, name: str) -> float | None:
         explicit = getattr(self, name)

@@ -28,6 +28,14 @@ _SLACK_MODELS = _CHOICES["slack_model"]
 _RTOL_MIN = _LIMITS["rtol"][0]
 
 
+def _as_float(v) -> float:
+    """float(v), inf for a number too large for a double (2**2000)."""
+    try:
+        return float(v)
+    except OverflowError:
+        return math.inf
+
+
 @dataclass(frozen=True)
 class Options:
     """Numerical options of :func:`tendonrod.solve` (each maps onto the raw ``_core.solve``
@@ -139,7 +147,7 @@ class Options:
             lo, hi = _LIMITS[name]
             v = getattr(self, name)
             ok = isinstance(v, (numbers.Real, np.floating)) and not isinstance(v, bool)
-            if not ok or not (math.isfinite(float(v)) and lo <= float(v) <= hi):
+            if not ok or not (math.isfinite(_as_float(v)) and lo <= _as_float(v) <= hi):
                 raise ValueError(
                     f"{own}.{name} must be a real number in [{lo:g}, {hi:g}], got {v!r}"
                 )
@@ -148,10 +156,9 @@ class Options:
             lo, hi = _LIMITS[name]
             v = getattr(self, name)
             ok = isinstance(v, (numbers.Real, np.floating)) and not isinstance(v, bool)
+            x = _as_float(v) if ok else math.nan
             # rtol in [lo, hi) (lo > 0), tol in (lo, hi) (lo = 0)
-            if not ok or not (
-                math.isfinite(float(v)) and lo < float(v) < hi or float(v) == lo > 0.0
-            ):
+            if not ok or not (math.isfinite(x) and lo < x < hi or x == lo > 0.0):
                 rng = f"[{lo:g}, {hi:g})" if lo > 0.0 else f"({lo:g}, {hi:g})"
                 raise ValueError(f"{own}.{name} must be a real number in {rng}, got {v!r}")
             object.__setattr__(self, name, float(v))

@@ -217,19 +217,35 @@ class Problem:
     def compliance(self, s: float | None = None):
         """Compliance (6, 6) at arc length ``s`` [m] (default: the tip) of the last
         successful solution (see :func:`tendonrod.compliance`): directly from the
-        workspace when the problem is spatial and ``s`` is a breakpoint (the tip, an
-        anchor or a point load), else by a warm solve of the probe problem."""
+        workspace when that solution is the workspace's current state, the problem is
+        spatial and ``s`` is a breakpoint (the tip, an anchor or a point load); else by a
+        warm solve of the probe problem from that solution."""
+        from .solver import compliance, compliance_point
+
         if self._last is None:
             raise RuntimeError("Problem.compliance needs a successful solve first")
-        L = self._current.robot.rod.length
-        s_val = L if s is None else float(s)
+        L = self._last.scene.robot.rod.length
+        s_val = compliance_point(s, L)
         bp = self._c.breakpoints
-        planar = self._c.formulation["planar"]
-        if not planar and 0.0 < s_val <= L and np.any(np.abs(bp - s_val) <= 1e-12 * L):
-            return np.asarray(self._c.compliance(s_val, cancel=current_token()))
-        from .solver import compliance
-
+        here = (
+            self._c.last_success
+            and self._current is self._last.scene
+            and not self._c.formulation["planar"]
+            and np.any(np.abs(bp - s_val) <= 1e-12 * L)
+        )
+        if here:
+            return self._compliance_here(s_val)
         return compliance(self._last.scene, s_val, guess=self._last, options=self._options)
+
+    def _compliance_here(self, s: float):
+        """The compliance at breakpoint ``s`` of the workspace's solved state."""
+        from .results import ConvergenceError
+
+        try:
+            C = self._c.compliance(s, cancel=current_token())
+        except RuntimeError as exc:  # the linearisation itself failed (e.g. its budget)
+            raise ConvergenceError(f"tendonrod.compliance: {exc}", self._last) from None
+        return np.asarray(C, dtype=float).reshape(6, 6)
 
 
 def _probe_scene(scene: Scene, s: float) -> Scene:

@@ -16,6 +16,7 @@ undeformed rod along +z; all vectors in the world frame unless said otherwise.
 from __future__ import annotations
 
 import math
+import numbers
 import warnings
 
 import numpy as np
@@ -156,7 +157,7 @@ def _guess_vector(guess, scene: Scene, options: Options):
         return vec, jac
     try:
         vec = np.array(guess, dtype=float).ravel()
-    except (TypeError, ValueError):
+    except (TypeError, ValueError, OverflowError):
         raise ValueError(
             f"guess must be None, a Solution or an array of shape ({6 + 2 * nt},), got {guess!r}"
         ) from None
@@ -206,9 +207,10 @@ class Solution:
         Actuator displacement [m] consistent with the solution for every tendon (> 0
         retracts), so "actuate by tension, then lock the actuator" is two calls.
     tip_position : ndarray (3,)
-        ``position[-1]`` [m] (the node at s = L).
+        Tip position (s = L), world frame [m]; ``position[-1]`` when the output nodes end
+        at L.
     tip_rotation : ndarray (3, 3)
-        ``rotation[-1]``.
+        Tip body-to-world rotation.
     jacobian_cond : float
         Condition number of the scaled shooting Jacobian at the solution.
     continuation_steps : int
@@ -267,13 +269,15 @@ class Solution:
 
     @property
     def tip_position(self) -> np.ndarray:
-        """Tip position, world frame [m], shape (3,)."""
-        return self.position[-1]
+        """Tip position (s = L), world frame [m], shape (3,): the end state of the shooting
+        integration that the residual and the tolerance refer to, whatever the output
+        nodes (it is ``position[-1]`` when the nodes end at L)."""
+        return self.raw["tip_position"]
 
     @property
     def tip_rotation(self) -> np.ndarray:
-        """Tip body-to-world rotation, shape (3, 3)."""
-        return self.rotation[-1]
+        """Tip body-to-world rotation (s = L), shape (3, 3) (see :attr:`tip_position`)."""
+        return self.raw["tip_rotation"]
 
     @property
     def base_state(self) -> np.ndarray:
@@ -406,17 +410,36 @@ def compliance(
     options = _check_options(options)
     if not isinstance(scene, Scene):
         raise ValueError(f"scene must be a tendonrod.Scene, got {scene!r}")
-    L = scene.robot.rod.length
-    if s is None:
-        s_val = L
-    else:
-        s_val = float(np.asarray(s, dtype=float)) if np.ndim(s) == 0 else math.nan
-        if not (math.isfinite(s_val) and 0.0 < s_val <= L * (1 + 1e-12)):
-            raise ValueError(f"s must be an arc length in (0, L={L!r}], got {s!r}")
-        s_val = min(s_val, L)
+    s_val = compliance_point(s, scene.robot.rod.length)
     prob = compliance_problem(scene, s_val, options)
     sol = Solution(prob._run(guess), scene, prob.options)
     if not sol.success:
         raise ConvergenceError(f"tendonrod.compliance: the scene did not solve: {sol.message}", sol)
     prob._last = sol
-    return np.asarray(prob._c.compliance(s_val), dtype=float).reshape(6, 6)
+    return prob._compliance_here(s_val)
+
+
+# Arc lengths within this fraction of L of the base merge with it (TR_BP_MERGE): the
+# clamp takes a load there, so the compliance is not defined.
+_BASE_MERGE = 1e-12
+
+
+def compliance_point(s, L: float) -> float:
+    """The arc length [m] of a compliance probe: ``s`` (None: the tip ``L``) as a float in
+    (0, L]; ValueError naming ``s`` otherwise."""
+    if s is None:
+        return L
+    ok = not isinstance(s, (bool, np.bool_)) and (
+        isinstance(s, (numbers.Real, np.floating, np.integer))
+        or (isinstance(s, np.ndarray) and s.ndim == 0 and s.dtype.kind in "fiu")
+    )
+    try:
+        x = float(s) if ok else math.nan
+    except OverflowError:
+        x = math.inf
+    if not (math.isfinite(x) and _BASE_MERGE * L < x <= L * (1 + 1e-12)):
+        raise ValueError(
+            f"s must be an arc length in (0, L={L!r}] m (farther than {_BASE_MERGE:g} L from "
+            f"the clamped base), got {s!r}"
+        )
+    return min(x, L)

@@ -60,6 +60,7 @@ from __future__ import annotations
 import concurrent.futures as cf
 import itertools
 import math
+import numbers
 import os
 import warnings
 from collections.abc import Callable, Iterable, Mapping
@@ -81,7 +82,7 @@ from ._sweep_chunk import (
 )
 from ._sweep_file import append_line, fingerprint_of, open_progress
 from ._sweep_paths import _parse_path, get_path, set_path
-from .options import Options
+from .options import Options, _check_options
 from .results import ConvergenceWarning
 from .solver import compliance
 
@@ -298,11 +299,12 @@ def sweep(
     npoints = len(point_values)
     if chunksize is None:
         chunksize = shape[-1] if (grid and shape) else min(npoints, _DEFAULT_LIST_CHUNK)
-    chunksize = int(chunksize)
-    if chunksize < 1:
-        raise ValueError(f"chunksize must be >= 1, got {chunksize}")
-    if max_workers is not None and int(max_workers) < 1:
-        raise ValueError(f"max_workers must be >= 1, got {max_workers}")
+    # a chunk never holds more than every point
+    chunksize = min(_count("chunksize", chunksize), max(npoints, 1))
+    if max_workers is not None:
+        max_workers = _count("max_workers", max_workers)
+    if options is not None:
+        options = _check_options(options)
     if measure is None:
         measure = tip_measure
         if options is None:
@@ -333,6 +335,15 @@ def sweep(
     return _assemble(names, shape, point_values, done, npoints, chunksize)
 
 
+def _count(name: str, value) -> int:
+    """An int >= 1 (a chunk size, a number of workers); ValueError naming it."""
+    if isinstance(value, (bool, np.bool_)) or not isinstance(value, (numbers.Integral, np.integer)):
+        raise ValueError(f"{name} must be an int >= 1, got {value!r}")
+    if value < 1:
+        raise ValueError(f"{name} must be >= 1, got {value!r}")
+    return int(value)
+
+
 def _points(vary, grid: bool):
     """``(names, shape, point_values)``: the varied names, the result shape, and the
     values of every point (a list per point, in the order of ``names``)."""
@@ -343,7 +354,12 @@ def _points(vary, grid: bool):
             f"vary must be a mapping name -> sequence of values, got {type(vary).__name__}"
         )
     names = tuple(vary)
-    columns = [list(vary[n]) for n in names]
+    columns = []
+    for n in names:
+        v = vary[n]
+        if isinstance(v, (str, bytes)) or not isinstance(v, Iterable):
+            raise ValueError(f"vary[{n!r}] must be a sequence of values, got {v!r}")
+        columns.append(list(v))
     for n, col in zip(names, columns):
         if len(col) == 0:
             raise ValueError(f"vary[{n!r}]: no values")

@@ -26,10 +26,14 @@ def test_round_section_properties():
 
 
 def test_overrides_and_kirchhoff():
-    rod = tr.Rod(0.1, 1e-3, 200e9, 80e9, EI=1.5, GA=np.inf)
+    rod = tr.Rod(0.1, 1e-3, 200e9, 80e9, EI=1.5, GA=3e4)
     assert rod.bending_stiffness == 1.5
-    assert rod.shear_stiffness == math.inf
+    assert rod.shear_stiffness == 3e4
     assert rod.axial_stiffness == pytest.approx(200e9 * math.pi * 1e-6 / 4, rel=1e-15)
+    # a Cosserat rod's EA and GA are finite (the core solves v = e3 + K_se^-1 n_b);
+    # rigidity in shear and extension is kirchhoff=True
+    with pytest.raises(ValueError, match="GA"):
+        tr.Rod(0.1, 1e-3, 200e9, 80e9, GA=np.inf)
     k = tr.Rod(length=0.1, EI=2.0, GJ=1.0, kirchhoff=True)
     assert k.axial_stiffness == math.inf and k.shear_stiffness == math.inf
     with pytest.raises(dataclasses.FrozenInstanceError):
