@@ -93,7 +93,7 @@ enum tr_control { TR_DISPLACEMENT = 0, TR_TENSION = 1 };
 #define TR_MAX_ITER_CAP         1000000
 #define TR_MAX_NFEV_CAP         1000000000
 #define TR_MAX_CONTINUATION_CAP 1000000
-#define TR_MAX_NODES            10000000
+#define TR_MAX_NODES            1000000
 /* Work is counted in units of one right-hand-side evaluation of a planar Kirchhoff rod
  * without tendons (~33 ns here); an evaluation of a scene's ODE counts its relative cost
  * (tr_model.rhs_work: a spatial Cosserat rod with three tendons ~9).  The default budget

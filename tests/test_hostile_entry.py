@@ -452,7 +452,7 @@ def absurd_nodes(v):
             0,
             1,
             -1,
-            10**7 + 1,
+            10**6 + 1,
             2**70,
             2.5,
             math.nan,
@@ -541,7 +541,7 @@ def options_specs(draw, max_segments=64):
     nodes = draw(
         st.one_of(
             st.sampled_from([101, 2, 9]),
-            # arc lengths in [0, L]; not 10**7 nodes (the legal maximum): finding B7
+            # arc lengths in [0, L]; not 10**6 nodes (the legal maximum): finding B7
             # (fractions of L: build_options scales them)
             st.lists(st.floats(0.0, 1.0), min_size=1, max_size=5).map(sorted),
         )
