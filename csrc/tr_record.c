@@ -192,6 +192,7 @@ int tr_record_tip(const tr_model *m, tr_data *d)
 
 int tr_record_from(const tr_model *m, tr_data *d, const double *x, int steps)
 {
+    int i;
     if (d->model != m || steps < 1 || steps > TR_MAX_STEPS) {
         tr_set_message(d,
                        "tr_record_from: a workspace of another model, or steps = %d out of "
@@ -201,5 +202,13 @@ int tr_record_from(const tr_model *m, tr_data *d, const double *x, int steps)
     }
     tr_solve_reset(m, d, steps);
     memcpy(d->x, x, (size_t)d->k * sizeof(double));
+    for (i = 0; i < d->k; i++)
+        if (!isfinite(x[i])) {
+            /* a solve that failed before it had unknowns (a scene without a unique
+             * equilibrium): its states are NaN */
+            for (i = 0; i < 18 * d->nnode; i++) d->pos[i] = NAN;
+            for (i = 0; i < 3 * m->nt; i++) d->tension[i] = NAN;
+            return TR_ENONFINITE;
+        }
     return tr_record(m, d);
 }

@@ -111,17 +111,19 @@ done:
 
 static PyObject *problem_solve(ProblemObject *self, PyObject *args, PyObject *kwds)
 {
-    static char *kwlist[] = {"guess", "jacobian", "warm", "cancel", NULL};
+    static char *kwlist[] = {"guess", "jacobian", "warm", "cancel", "record", NULL};
     PyObject *og = Py_None, *oj = Py_None, *cancel = Py_None, *result = NULL;
     glue_args a;
     glue_poll poll;
     tr_data *d = self->d;
     const double *g = NULL, *jac = NULL;
-    int warm = 1, status;
+    int warm = 1, record = 1, status;
     memset(&a, 0, sizeof a);
     if (check_free(self) < 0) return NULL;
-    if (!PyArg_ParseTupleAndKeywords(args, kwds, "|$OOpO", kwlist, &og, &oj, &warm, &cancel))
+    if (!PyArg_ParseTupleAndKeywords(args, kwds, "|$OOpOp", kwlist, &og, &oj, &warm, &cancel,
+                                     &record))
         return NULL;
+    d->lazy = !record;
     a.nt = self->m->nt;
     if (glue_poll_init(&poll, cancel) < 0 || glue_warm_start(&a, og, oj) < 0) goto done;
     g = a.guess ? (const double *)PyArray_DATA(a.guess) : NULL;
@@ -141,6 +143,7 @@ static PyObject *problem_solve(ProblemObject *self, PyObject *args, PyObject *kw
     tr_set_poll(d, NULL, NULL);
     self->last_status = status;
     if (glue_poll_finish(&poll, status) == 0) result = glue_solve_result(self->m, d, status);
+    d->lazy = 0;
 done:
     glue_args_clear(&a);
     return result;
@@ -155,18 +158,17 @@ static PyObject *problem_record_from(ProblemObject *self, PyObject *args, PyObje
     if (check_free(self) < 0) return NULL;
     if (!PyArg_ParseTupleAndKeywords(args, kwds, "Oi", kwlist, &ox, &steps)) return NULL;
     if (values_of(ox, "unknowns", self->d->k, &x) < 0) return NULL;
-    if (glue_all_finite(x, "unknowns", -1, 0) < 0) goto done;
     self->busy = 1;
     Py_BEGIN_ALLOW_THREADS;
     status = tr_record_from(self->m, self->d, (const double *)PyArray_DATA(x), steps);
     Py_END_ALLOW_THREADS;
     self->busy = 0;
-    if (status != TR_OK) {
-        glue_err(PyExc_RuntimeError, "record_from: %s (status %d: %s)", self->d->message, status,
-                 tr_strerror(status));
+    if (status == TR_EINVAL) {
+        glue_err(PyExc_ValueError, "record_from: %s", self->d->message);
         goto done;
     }
-    result = glue_solve_result(self->m, self->d, TR_OK);
+    /* a recording that fails (the last iterate of a failed solve) has NaN states */
+    result = glue_solve_result(self->m, self->d, status);
 done:
     Py_XDECREF(x);
     return result;
@@ -242,12 +244,13 @@ static PyMethodDef problem_methods[] = {
      "values (nt actuation values, nl x 6 point-load forces and moments, the distributed\n"
      "force, nt pretensions); None keeps what is set.  ValueError naming a bad value."},
     {"solve", (PyCFunction)(void (*)(void))problem_solve, METH_VARARGS | METH_KEYWORDS,
-     "solve(*, guess=None, jacobian=None, warm=True, cancel=None) -> dict: from the guess\n"
-     "(a base_state) if given, else warm from the last successful solve (warm=True; cold if\n"
-     "there is none), else cold.  The dict of _core.solve.  Ctrl-C raises KeyboardInterrupt."},
+     "solve(*, guess=None, jacobian=None, warm=True, cancel=None, record=True) -> dict: from\n"
+     "the guess (a base_state) if given, else warm from the last successful solve (warm=True;\n"
+     "cold if there is none), else cold.  The dict of _core.solve; record=False leaves out\n"
+     "the node arrays (record_from computes them).  Ctrl-C raises KeyboardInterrupt."},
     {"record_from", (PyCFunction)(void (*)(void))problem_record_from, METH_VARARGS | METH_KEYWORDS,
      "record_from(unknowns, steps) -> dict: the states at this problem's nodes of the solution\n"
-     "with these scaled unknowns at this step count (no solve)."},
+     "with these scaled unknowns at this step count (no solve; NaN where the recording fails)."},
     {"compliance", (PyCFunction)(void (*)(void))problem_compliance, METH_VARARGS | METH_KEYWORDS,
      "compliance(s, *, cancel=None) -> (6, 6): at breakpoint s [m] of the last successful\n"
      "solve (spatial formulation only)."},

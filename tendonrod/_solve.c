@@ -59,15 +59,17 @@ PyObject *glue_solve_result(const tr_model *m, const tr_data *d, int status)
     npy_intp dims[3];
     if (!res) return NULL;
     if (set_counts(res, d, status) < 0) goto fail;
-    dims[0] = N;
-    if (glue_set(res, "s", glue_array(1, dims, d->s)) < 0) goto fail;
-    dims[1] = 3;
-    if (glue_set(res, "position", glue_array(2, dims, d->pos)) < 0 ||
-        glue_set(res, "force", glue_array(2, dims, d->force)) < 0 ||
-        glue_set(res, "moment", glue_array(2, dims, d->moment)) < 0)
-        goto fail;
-    dims[2] = 3;
-    if (glue_set(res, "rotation", glue_array(3, dims, d->rot)) < 0) goto fail;
+    if (!d->lazy) {
+        dims[0] = N;
+        if (glue_set(res, "s", glue_array(1, dims, d->s)) < 0) goto fail;
+        dims[1] = 3;
+        if (glue_set(res, "position", glue_array(2, dims, d->pos)) < 0 ||
+            glue_set(res, "force", glue_array(2, dims, d->force)) < 0 ||
+            glue_set(res, "moment", glue_array(2, dims, d->moment)) < 0)
+            goto fail;
+        dims[2] = 3;
+        if (glue_set(res, "rotation", glue_array(3, dims, d->rot)) < 0) goto fail;
+    }
     dims[0] = nt;
     if (glue_set(res, "tension", glue_array(1, dims, d->tension)) < 0 ||
         glue_set(res, "slack", glue_array(1, dims, d->slack)) < 0 ||

@@ -168,19 +168,19 @@ class Problem:
         """The raw result dict of one solve from ``guess`` (see :meth:`solve`)."""
         cancel = current_token()
         if guess is None:
-            return self._c.solve(warm=True, cancel=cancel)
+            return self._c.solve(warm=True, cancel=cancel, record=False)
         if isinstance(guess, str):
             if guess != "cold":
                 raise ValueError(
                     f"guess must be None, 'cold', a Solution or an array, got {guess!r}"
                 )
-            return self._c.solve(warm=False, cancel=cancel)
+            return self._c.solve(warm=False, cancel=cancel, record=False)
         from .solver import _guess_vector
 
         vec, jac = _guess_vector(guess, self._current, self._options)
         if vec is None:
-            return self._c.solve(warm=False, cancel=cancel)
-        return self._c.solve(guess=vec, jacobian=jac, cancel=cancel)
+            return self._c.solve(warm=False, cancel=cancel, record=False)
+        return self._c.solve(guess=vec, jacobian=jac, cancel=cancel, record=False)
 
     def solve(self, scene: Scene | None = None, *, guess=None, strict: bool = False):
         """Solve ``scene`` (default: the problem's scene), a scene of the same structure.

@@ -189,7 +189,10 @@ class Solution:
     residual_norm : float
         Norm of the scaled residual at the returned state [-].
     s : ndarray (N,)
-        Arc length of the output nodes [m].
+        Arc length of the output nodes [m].  The node arrays (``s``, ``position``,
+        ``rotation``, ``force``, ``moment``) are computed on first access by the recording
+        pass from the converged unknowns (bitwise what an eager solve records): a caller
+        who reads only the tip, the tensions and slacks pays for none of it.
     position : ndarray (N, 3)
         Backbone position, world frame [m].
     rotation : ndarray (N, 3, 3)
@@ -245,20 +248,66 @@ class Solution:
         self.nfev = int(raw.get("nfev", 0))
         self.njev = int(raw.get("njev", 0))
         self.residual_norm = float(raw.get("residual_norm", math.nan))
-        self.s = raw["s"]
-        self.position = raw["position"]
-        self.rotation = raw["rotation"]
-        self.force = raw["force"]
-        self.moment = raw["moment"]
         self.tension = raw["tension"]
         self.slack = raw["slack"]
-        self.displacement = raw["displacement"]
         self.unknowns = raw.get("unknowns")
         self.jacobian = raw.get("jacobian")
         self.jacobian_cond = float(raw.get("jacobian_cond", math.nan))
         self.continuation_steps = int(raw.get("continuation_steps", 0))
         self.truncation_estimate = float(raw.get("truncation_estimate", math.nan))
         self._formulation = None
+
+    # ------------------------------------------------------------ lazy outputs
+    # A solve computes the tip state, the tensions and slacks; the states at the output
+    # nodes (and the actuator displacement of tension-controlled tendons, which only the
+    # recording pass integrates) are computed on first access, by the recording pass
+    # from the solution's unknowns at its verified step count: bitwise what an eager
+    # solve records.  A caller who reads only tip quantities pays for none of it.
+    def _recorded(self) -> dict:
+        raw = self.raw
+        if "position" not in raw:
+            from .problem import _compile
+
+            steps = max(1, int(raw["formulation"]["steps"]))
+            rec = _compile(self.scene, self.options).record_from(self.unknowns, steps)
+            for key in ("s", "position", "rotation", "force", "moment", "displacement"):
+                raw[key] = rec[key]
+        return raw
+
+    @property
+    def s(self) -> np.ndarray:
+        """Arc length of the output nodes [m], shape (N,) (computed on first access)."""
+        return self._recorded()["s"]
+
+    @property
+    def position(self) -> np.ndarray:
+        """Backbone position at the nodes, world frame [m], shape (N, 3)."""
+        return self._recorded()["position"]
+
+    @property
+    def rotation(self) -> np.ndarray:
+        """Body-to-world rotation at the nodes, shape (N, 3, 3)."""
+        return self._recorded()["rotation"]
+
+    @property
+    def force(self) -> np.ndarray:
+        """Internal backbone force at the nodes, world frame [N], shape (N, 3)."""
+        return self._recorded()["force"]
+
+    @property
+    def moment(self) -> np.ndarray:
+        """Internal backbone moment at the nodes, world frame [N m], shape (N, 3)."""
+        return self._recorded()["moment"]
+
+    @property
+    def displacement(self) -> np.ndarray:
+        """Actuator displacement [m] of every tendon, shape (ntendon,): the prescribed one,
+        or for a tension-controlled tendon the one consistent with the solution (computed
+        on first access)."""
+        d = self.raw["displacement"]
+        if "position" not in self.raw and np.isnan(d).any():
+            d = self._recorded()["displacement"]
+        return d
 
     @property
     def formulation(self) -> Formulation:
