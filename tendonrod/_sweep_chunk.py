@@ -23,9 +23,10 @@ from dataclasses import dataclass
 import numpy as np
 
 from .batch import solve_batch
+from .compiled import is_planar
 from .model import PointLoad, Scene
 from .results import ConvergenceWarning
-from .solver import _is_planar, solve
+from .solver import solve
 
 OUTCOME_OK = 0
 """The solve succeeded (its ``success`` is True; its status may carry a caveat)."""
@@ -150,8 +151,8 @@ def _batch_chunk(task: dict):
     if options is not None and not options.tip_only:
         return None  # the per-point path warm-starts from recorded base states then
     first = scenes[0]
-    planar = _is_planar(first)
-    if any(_is_planar(s) != planar for s in scenes):
+    planar = is_planar(first)
+    if any(is_planar(s) != planar for s in scenes):
         return None  # the per-point path switches formulation within the chunk
     ctl = first.displacement_controlled()
     pos = [(type(ld), getattr(ld, "s", None)) for ld in first.loads]

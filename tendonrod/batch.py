@@ -24,9 +24,9 @@ import numpy as np
 
 from . import _core
 from ._interrupt import current_token, new_token
+from .compiled import _TD, is_planar, pack_scene
 from .model import Scene
 from .options import Options, _check_options
-from .solver import _TD, is_planar, pack_scene
 
 __all__ = ["solve_batch", "BatchResult", "DEFAULT_CHUNKSIZE"]
 

@@ -22,7 +22,7 @@ import math
 
 import numpy as np
 
-from .solver import is_planar
+from .compiled import is_planar
 
 __all__ = [
     "is_planar",

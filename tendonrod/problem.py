@@ -21,69 +21,16 @@ and the options and drops the warm state.  Ctrl-C during a solve raises
 
 from __future__ import annotations
 
-import math
-
 import numpy as np
 
-from . import _core
 from ._interrupt import current_token
+from .compiled import _TD, _compile, compliance_point, pack_scene, structure_difference
 from .model import PointLoad, Scene
 from .options import Options, _check_options, _replace
+from .results import ConvergenceError
+from .solution import Solution, _guess_vector, _report
 
-__all__ = ["Problem"]
-
-
-def _structure(scene: Scene) -> tuple:
-    """(field path, value) pairs that fix a scene's compiled structure (cached on the
-    frozen scene)."""
-    key = scene.__dict__.get("_problem_structure")
-    if key is None:
-        from .solver import is_planar
-
-        rob = scene.robot
-        rod = rob.rod
-        items = [(f"robot.rod.{name}", getattr(rod, name)) for name in rod.__dataclass_fields__]
-        items.append(("robot.tendons (count)", rob.n_tendons))
-        for i, t in enumerate(rob.tendons):
-            for name in ("offset", "angle", "slope", "EA"):
-                items.append((f"robot.tendons[{i}].{name}", getattr(t, name)))
-            items.append((f"robot.tendons[{i}].end", rob.tendon_end(i)))
-        for i, c in enumerate(scene.displacement_controlled()):
-            items.append((f"displacement[{i}] (control kind)", "displacement" if c else "tension"))
-        pls = scene.point_loads
-        items.append(("loads (number of point loads)", len(pls)))
-        for j, p in enumerate(pls):
-            items.append((f"point load {j} position s", min(p.s, rod.length)))
-        items.append(("planar formulation", is_planar(scene)))
-        key = tuple(items)
-        object.__setattr__(scene, "_problem_structure", key)
-    return key
-
-
-def structure_difference(a: Scene, b: Scene) -> str | None:
-    """None if scenes ``a`` and ``b`` share one structure, else the first field that
-    differs, with both values."""
-    if a is b:
-        return None
-    ka, kb = _structure(a), _structure(b)
-    if ka == kb:
-        return None
-    for (name, va), (_, vb) in zip(ka, kb):
-        same = va == vb or (isinstance(va, float) and math.isnan(va) and math.isnan(vb))
-        if not same:
-            return f"{name} = {vb!r} (the problem's is {va!r})"
-    return f"{ka[len(kb)][0] if len(ka) > len(kb) else kb[len(ka)][0]} differs"
-
-
-def _compile(scene: Scene, options: Options):
-    from .solver import _nodes_for, pack_scene
-
-    rod, tendons, loads, dist = pack_scene(scene)
-    kw = options._raw
-    nodes = _nodes_for(scene, options)
-    if nodes is not kw["nodes"]:
-        kw = dict(kw, nodes=nodes)
-    return _core.Problem(rod, tendons, loads, dist, **kw)
+__all__ = ["Problem", "compliance"]
 
 
 class Problem:
@@ -150,8 +97,6 @@ class Problem:
                 f"scene has another structure than this Problem: {diff}; a Problem keeps "
                 f"its structure (make a new tr.Problem for this scene)"
             )
-        from .solver import _TD, pack_scene
-
         _, tendons, loads, dist = pack_scene(scene)
         _, t0, _, _ = pack_scene(self._current)
         pre = tendons[:, _TD["pretension"]]
@@ -175,8 +120,6 @@ class Problem:
                     f"guess must be None, 'cold', a Solution or an array, got {guess!r}"
                 )
             return self._c.solve(warm=False, cancel=cancel, record=False)
-        from .solver import _guess_vector
-
         vec, jac = _guess_vector(guess, self._current, self._options)
         if vec is None:
             return self._c.solve(warm=False, cancel=cancel, record=False)
@@ -202,8 +145,6 @@ class Problem:
         -------
         Solution
         """
-        from .solver import Solution, _report
-
         scene = self._scene if scene is None else scene
         if scene is not self._current:
             self._set(scene)
@@ -220,8 +161,6 @@ class Problem:
         workspace when that solution is the workspace's current state, the problem is
         spatial and ``s`` is a breakpoint (the tip, an anchor or a point load); else by a
         warm solve of the probe problem from that solution."""
-        from .solver import compliance, compliance_point
-
         if self._last is None:
             raise RuntimeError("Problem.compliance needs a successful solve first")
         L = self._last.scene.robot.rod.length
@@ -239,8 +178,6 @@ class Problem:
 
     def _compliance_here(self, s: float):
         """The compliance at breakpoint ``s`` of the workspace's solved state."""
-        from .results import ConvergenceError
-
         try:
             C = self._c.compliance(s, cancel=current_token())
         except RuntimeError as exc:  # the linearisation itself failed (e.g. its budget)
@@ -261,3 +198,31 @@ def _probe_scene(scene: Scene, s: float) -> Scene:
 def compliance_problem(scene: Scene, s: float, options: Options) -> Problem:
     """The spatial, tip-only problem of ``scene`` with a breakpoint at ``s``."""
     return Problem(_probe_scene(scene, s), _replace(options, force_spatial=True, tip_only=True))
+
+
+def compliance(
+    scene: Scene, s: float | None = None, guess=None, options: Options | None = None
+) -> np.ndarray:
+    """Compliance matrix (6, 6) at arc length ``s`` [m] (default: the tip).
+
+    Column j is the derivative of ``[dx (3) [m], dtheta (3) [rad]]`` (position and small
+    rotation of the backbone at ``s``, world frame) with respect to component j of
+    ``[force (3) [N], moment (3) [N m]]`` applied at ``s`` in the world frame, linearised
+    at the solved state of ``scene`` with the prescribed tendon displacements and tensions
+    held fixed. Units per block: m/N, m/(N m), rad/N, rad/(N m).
+
+    One solve of the spatial formulation of ``scene`` (``guess`` and ``options`` as in
+    :func:`solve`; with a breakpoint at ``s``), then the implicit function theorem on
+    its converged shooting system.  If that solve fails, :class:`ConvergenceError` is
+    raised (a linearisation about an unconverged state means nothing).
+    """
+    options = _check_options(options)
+    if not isinstance(scene, Scene):
+        raise ValueError(f"scene must be a tendonrod.Scene, got {scene!r}")
+    s_val = compliance_point(s, scene.robot.rod.length)
+    prob = compliance_problem(scene, s_val, options)
+    sol = Solution(prob._run(guess), scene, prob.options)
+    if not sol.success:
+        raise ConvergenceError(f"tendonrod.compliance: the scene did not solve: {sol.message}", sol)
+    prob._last = sol
+    return prob._compliance_here(s_val)

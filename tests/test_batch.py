@@ -261,7 +261,7 @@ def test_value_dependent_scene_is_checked_per_point():
 def test_sweep_uses_the_batch_path_bitwise(monkeypatch):
     """tr.sweep over load and actuation values goes through solve_batch in exact mode:
     no per-point tr.solve runs, and the records equal the per-point loop bit for bit."""
-    import tendonrod.solver as solver_mod
+    import tendonrod._core as core
 
     scene = spatial_scene()
     forces = [(fx, 0.02, 0.0) for fx in np.linspace(-0.05, 0.05, 5)]
@@ -276,13 +276,16 @@ def test_sweep_uses_the_batch_path_bitwise(monkeypatch):
             sol = tr.solve(sc, guess=guess, options=opts)
             ref.append(sol)
             guess = sol if sol.success else guess
+    # every per-point solve compiles a _core.Problem (tr.solve is a one-shot Problem)
     calls = []
-    real = solver_mod._core.solve
-    monkeypatch.setattr(solver_mod._core, "solve", lambda *a, **k: calls.append(1) or real(*a, **k))
+    real = core.Problem
+    monkeypatch.setattr(core, "Problem", lambda *a, **k: calls.append(1) or real(*a, **k))
     res = tr.sweep(
         scene, {"displacement[0]": qs, "loads[0].force": forces}, progress=False, max_workers=2
     )
     assert not calls  # every chunk went through the batch
+    tr.solve(scene, options=opts)
+    assert len(calls) == 1  # the probe sees a per-point solve
     assert res.success.all()
     tip = res["tip_position"].reshape(-1, 3)
     ten = res["tension"].reshape(-1, 3)

@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 
 import tendonrod as tr
-from tendonrod.solver import _nodes_for, pack_scene
+from tendonrod.compiled import _nodes_for, pack_scene
 
 SCENES = G.scenes()
 

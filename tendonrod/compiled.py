@@ -1,0 +1,187 @@
+"""A scene compiled for the core: the flat arrays of the raw contract, the output nodes,
+the structure that fixes a compiled model, and the compiled ``_core.Problem`` itself.
+
+The first step of the one-way flow (dataclasses -> compiled model -> workspace ->
+arrays -> result objects): everything here reads a frozen :class:`~tendonrod.Scene`
+and its :class:`~tendonrod.Options`, caches what it derives on the scene, and knows
+nothing of solutions.
+"""
+
+from __future__ import annotations
+
+import math
+import numbers
+
+import numpy as np
+
+from . import _core
+from .model import Scene
+from .options import Options
+
+__all__ = ["pack_scene", "is_planar", "structure_difference", "compliance_point"]
+
+
+# Column indices of the flat arrays of the raw contract (the core's layouts).
+_ROD = {name: i for i, name in enumerate(_core.ROD_COLUMNS)}
+_TD = {name: i for i, name in enumerate(_core.TENDON_COLUMNS)}
+_LD = {name: i for i, name in enumerate(_core.LOAD_COLUMNS)}
+
+
+def pack_scene(scene: Scene):
+    """Flat float64 arrays ``(rod (6,), tendons (nt, 8), loads (nl, 7), dist (3,))`` of the
+    raw glue contract (csrc/README.md) for ``scene``."""
+    if not isinstance(scene, Scene):
+        raise ValueError(f"scene must be a tendonrod.Scene, got {scene!r}")
+    cached = scene.__dict__.get("_packed")
+    if cached is not None:
+        return cached
+    robot = scene.robot
+    r = robot.rod
+    rod = np.empty(len(_core.ROD_COLUMNS))
+    rod[_ROD["length"]], rod[_ROD["EI"]], rod[_ROD["GJ"]] = (
+        r.length,
+        r.bending_stiffness,
+        r.torsional_stiffness,
+    )
+    rod[_ROD["EA"]], rod[_ROD["GA"]] = r.axial_stiffness, r.shear_stiffness
+    rod[_ROD["kirchhoff"]] = 1.0 if r.kirchhoff else 0.0
+    nt = robot.n_tendons
+    tendons = np.empty((nt, len(_core.TENDON_COLUMNS)))
+    for i, t in enumerate(robot.tendons):
+        disp = scene.displacement[i]
+        row = tendons[i]
+        row[_TD["offset"]], row[_TD["angle"]], row[_TD["slope"]] = t.offset, t.angle, t.slope
+        row[_TD["EA"]], row[_TD["end"]], row[_TD["pretension"]] = (
+            t.EA,
+            robot.tendon_end(i),
+            t.pretension,
+        )
+        row[_TD["control"]] = 0.0 if disp is not None else 1.0
+        row[_TD["value"]] = disp if disp is not None else scene.tension[i]
+    pls = scene.point_loads
+    loads = np.empty((len(pls), len(_core.LOAD_COLUMNS)))
+    for k, p in enumerate(pls):
+        loads[k, _LD["s"]] = min(p.s, r.length)
+        loads[k, _LD["Fx"] : _LD["Fz"] + 1] = p.force
+        loads[k, _LD["Mx"] : _LD["Mz"] + 1] = p.moment
+    dist = scene.distributed_force
+    for a in (rod, tendons, loads, dist):
+        a.setflags(write=False)
+    # a Scene is frozen: pack it once (sweeps and warm starts call solve() in loops)
+    object.__setattr__(scene, "_packed", (rod, tendons, loads, dist))
+    return rod, tendons, loads, dist
+
+
+def _nodes_for(scene: Scene, options: Options):
+    nodes = options.nodes
+    if isinstance(nodes, np.ndarray):
+        L = scene.robot.rod.length
+        if nodes[-1] > L * (1.0 + 1e-12):
+            raise ValueError(f"Options.nodes must lie in [0, L={L!r}], got max {nodes[-1]!r}")
+        return np.minimum(nodes, L)
+    return nodes
+
+
+def _structure_key(scene: Scene, options: Options):
+    """What fixes the shape of the shooting problem (so a Jacobian can be reused)."""
+    key = scene.__dict__.get("_structure")
+    if key is None:
+        rob = scene.robot
+        key = (
+            rob.n_tendons,
+            scene.displacement_controlled(),
+            rob.rod.kirchhoff,
+            tuple(math.isinf(t.EA) for t in rob.tendons),
+            is_planar(scene),
+        )
+        object.__setattr__(scene, "_structure", key)
+    return key + (options.force_spatial, options.slack_model)
+
+
+def is_planar(scene: Scene) -> bool:
+    """True when ``scene`` is solved with the planar (x-z) formulation unless
+    ``Options.force_spatial``: every tendon at angle 0 or pi (|sin angle| <= 1e-12) and
+    every load in the x-z plane.  The core's rule (``_core.is_planar``), so the answer
+    is the ``formulation.planar`` a solve reports."""
+    key = scene.__dict__.get("_planar")
+    if key is None:
+        _, tendons, loads, dist = pack_scene(scene)
+        key = bool(_core.is_planar(tendons, loads, dist))
+        object.__setattr__(scene, "_planar", key)
+    return key
+
+
+def _structure(scene: Scene) -> tuple:
+    """(field path, value) pairs that fix a scene's compiled structure (cached on the
+    frozen scene)."""
+    key = scene.__dict__.get("_problem_structure")
+    if key is None:
+        rob = scene.robot
+        rod = rob.rod
+        items = [(f"robot.rod.{name}", getattr(rod, name)) for name in rod.__dataclass_fields__]
+        items.append(("robot.tendons (count)", rob.n_tendons))
+        for i, t in enumerate(rob.tendons):
+            for name in ("offset", "angle", "slope", "EA"):
+                items.append((f"robot.tendons[{i}].{name}", getattr(t, name)))
+            items.append((f"robot.tendons[{i}].end", rob.tendon_end(i)))
+        for i, c in enumerate(scene.displacement_controlled()):
+            items.append((f"displacement[{i}] (control kind)", "displacement" if c else "tension"))
+        pls = scene.point_loads
+        items.append(("loads (number of point loads)", len(pls)))
+        for j, p in enumerate(pls):
+            items.append((f"point load {j} position s", min(p.s, rod.length)))
+        items.append(("planar formulation", is_planar(scene)))
+        key = tuple(items)
+        object.__setattr__(scene, "_problem_structure", key)
+    return key
+
+
+def structure_difference(a: Scene, b: Scene) -> str | None:
+    """None if scenes ``a`` and ``b`` share one structure, else the first field that
+    differs, with both values."""
+    if a is b:
+        return None
+    ka, kb = _structure(a), _structure(b)
+    if ka == kb:
+        return None
+    for (name, va), (_, vb) in zip(ka, kb):
+        same = va == vb or (isinstance(va, float) and math.isnan(va) and math.isnan(vb))
+        if not same:
+            return f"{name} = {vb!r} (the problem's is {va!r})"
+    return f"{ka[len(kb)][0] if len(ka) > len(kb) else kb[len(ka)][0]} differs"
+
+
+# Arc lengths within this fraction of L of the base merge with it (TR_BP_MERGE): the
+# clamp takes a load there, so the compliance is not defined.
+_BASE_MERGE = 1e-12
+
+
+def compliance_point(s, L: float) -> float:
+    """The arc length [m] of a compliance probe: ``s`` (None: the tip ``L``) as a float in
+    (0, L]; ValueError naming ``s`` otherwise."""
+    if s is None:
+        return L
+    ok = not isinstance(s, (bool, np.bool_)) and (
+        isinstance(s, (numbers.Real, np.floating, np.integer))
+        or (isinstance(s, np.ndarray) and s.ndim == 0 and s.dtype.kind in "fiu")
+    )
+    try:
+        x = float(s) if ok else math.nan
+    except OverflowError:
+        x = math.inf
+    if not (math.isfinite(x) and _BASE_MERGE * L < x <= L * (1 + 1e-12)):
+        raise ValueError(
+            f"s must be an arc length in (0, L={L!r}] m (farther than {_BASE_MERGE:g} L from "
+            f"the clamped base), got {s!r}"
+        )
+    return min(x, L)
+
+
+def _compile(scene: Scene, options: Options):
+    """The ``_core.Problem`` (compiled model and workspace) of ``scene`` with ``options``."""
+    rod, tendons, loads, dist = pack_scene(scene)
+    kw = options._raw
+    nodes = _nodes_for(scene, options)
+    if nodes is not kw["nodes"]:
+        kw = dict(kw, nodes=nodes)
+    return _core.Problem(rod, tendons, loads, dist, **kw)

@@ -1,0 +1,286 @@
+"""The result of a solve: :class:`Solution`, how a warm start maps to the core's guess,
+and how a failure is reported (never silently).
+
+Frames and units: SI, radians; base at the origin, base frame = world frame, the
+undeformed rod along +z; all vectors in the world frame unless said otherwise.
+"""
+
+from __future__ import annotations
+
+import math
+import warnings
+
+import numpy as np
+
+from .compiled import _compile, _structure_key
+from .model import Scene
+from .options import Options, _replace
+from .results import ConvergenceError, ConvergenceWarning, Formulation, RodState
+
+__all__ = ["Solution"]
+
+
+def _guess_vector(guess, scene: Scene, options: Options):
+    """(guess array (6+2nt,) or None, jacobian or None) from a Solution or an array."""
+    nt = scene.robot.n_tendons
+    if guess is None:
+        return None, None
+    if isinstance(guess, Solution):
+        if guess.tension.shape != (nt,):
+            raise ValueError(
+                f"guess: a Solution with {guess.tension.shape[0]} tendons cannot "
+                f"start a scene with {nt} tendons"
+            )
+        vec = guess.base_state
+        jac = None
+        if (
+            guess.jacobian is not None
+            and guess.scene is not None
+            and _structure_key(guess.scene, guess.options) == _structure_key(scene, options)
+        ):
+            jac = guess.jacobian
+        if not np.all(np.isfinite(vec)):
+            return None, None
+        return vec, jac
+    try:
+        vec = np.array(guess, dtype=float).ravel()
+    except (TypeError, ValueError, OverflowError):
+        raise ValueError(
+            f"guess must be None, a Solution or an array of shape ({6 + 2 * nt},), got {guess!r}"
+        ) from None
+    if vec.shape != (6 + 2 * nt,) or not np.all(np.isfinite(vec)):
+        raise ValueError(
+            f"guess must be a finite array of shape ({6 + 2 * nt},) "
+            f"[n(0), m(0), tension, slack], got {guess!r}"
+        )
+    return vec, None
+
+
+class Solution:
+    """Result of :func:`solve`.
+
+    Attributes
+    ----------
+    success : bool
+        The residual fell below ``options.tol`` on an equilibrium the solver vouches for:
+        status >= 0, except status 3 (found by a direct solve after load continuation
+        stalled), which counts only when a cold solve with another shooting formulation
+        reaches the same equilibrium (the message says which).
+    status : int
+        Core status: 0 ok, > 0 finished with a caveat, < 0 failure.
+    message : str
+        Human-readable status.
+    nit, nfev, njev : int
+        Iterations, shooting evaluations (integrations), Jacobian evaluations.
+    residual_norm : float
+        Norm of the scaled residual at the returned state [-].
+    s : ndarray (N,)
+        Arc length of the output nodes [m].  The node arrays (``s``, ``position``,
+        ``rotation``, ``force``, ``moment``) are computed on first access by the recording
+        pass from the converged unknowns (bitwise what an eager solve records): a caller
+        who reads only the tip, the tensions and slacks pays for none of it.
+    position : ndarray (N, 3)
+        Backbone position, world frame [m].
+    rotation : ndarray (N, 3, 3)
+        Body-to-world rotation matrices.
+    force : ndarray (N, 3)
+        Internal backbone force n(s) (force of the distal part on the proximal part,
+        tendons excluded), world frame [N].
+    moment : ndarray (N, 3)
+        Internal backbone moment m(s), world frame [N m].
+    tension : ndarray (ntendon,)
+        Tendon tensions [N] (>= 0).
+    slack : ndarray (ntendon,)
+        Tendon slack [m] (>= 0; > 0 only where the tension is 0).
+    displacement : ndarray (ntendon,)
+        Actuator displacement [m] consistent with the solution for every tendon (> 0
+        retracts), so "actuate by tension, then lock the actuator" is two calls.
+    tip_position : ndarray (3,)
+        Tip position (s = L), world frame [m]; ``position[-1]`` when the output nodes end
+        at L.
+    tip_rotation : ndarray (3, 3)
+        Tip body-to-world rotation.
+    jacobian_cond : float
+        Condition number of the scaled shooting Jacobian at the solution.
+    continuation_steps : int
+        Continuation stages used (0: solved directly).
+    truncation_estimate : float
+        Estimate of the integrator's truncation error (scaled, relative) [-].
+    unknowns : ndarray
+        Raw converged shooting unknowns (as the core defines them).
+    jacobian : ndarray or None
+        Raw shooting Jacobian (reused by warm starts of the same formulation).
+    formulation : Formulation
+        What was solved.
+    scene : Scene
+        The scene solved.
+    options : Options
+        The options used.
+    raw : dict
+        Everything ``_core.solve`` returned.
+    """
+
+    def __init__(self, raw: dict, scene: Scene, options: Options):
+        # Kept light: solve() runs in tight loops. The glue returns float64 arrays of the
+        # documented shapes; they are used as they are.
+        self.raw = raw
+        self.scene = scene
+        self.options = options
+        self.success = bool(raw["success"])
+        self.status = int(raw["status"])
+        msg = raw.get("message", "")
+        self.message = msg.decode() if isinstance(msg, bytes) else str(msg)
+        self.nit = int(raw.get("nit", 0))
+        self.nfev = int(raw.get("nfev", 0))
+        self.njev = int(raw.get("njev", 0))
+        self.residual_norm = float(raw.get("residual_norm", math.nan))
+        self.tension = raw["tension"]
+        self.slack = raw["slack"]
+        self.unknowns = raw.get("unknowns")
+        self.jacobian = raw.get("jacobian")
+        self.jacobian_cond = float(raw.get("jacobian_cond", math.nan))
+        self.continuation_steps = int(raw.get("continuation_steps", 0))
+        self.truncation_estimate = float(raw.get("truncation_estimate", math.nan))
+        self._formulation = None
+
+    # ------------------------------------------------------------ lazy outputs
+    # A solve computes the tip state, the tensions and slacks; the states at the output
+    # nodes (and the actuator displacement of tension-controlled tendons, which only the
+    # recording pass integrates) are computed on first access, by the recording pass
+    # from the solution's unknowns at its verified step count: bitwise what an eager
+    # solve records.  A caller who reads only tip quantities pays for none of it.
+    def _recorded(self) -> dict:
+        raw = self.raw
+        if "position" not in raw:
+            steps = max(1, int(raw["formulation"]["steps"]))
+            rec = _compile(self.scene, self.options).record_from(self.unknowns, steps)
+            for key in ("s", "position", "rotation", "force", "moment", "displacement"):
+                raw[key] = rec[key]
+        return raw
+
+    @property
+    def s(self) -> np.ndarray:
+        """Arc length of the output nodes [m], shape (N,) (computed on first access)."""
+        return self._recorded()["s"]
+
+    @property
+    def position(self) -> np.ndarray:
+        """Backbone position at the nodes, world frame [m], shape (N, 3)."""
+        return self._recorded()["position"]
+
+    @property
+    def rotation(self) -> np.ndarray:
+        """Body-to-world rotation at the nodes, shape (N, 3, 3)."""
+        return self._recorded()["rotation"]
+
+    @property
+    def force(self) -> np.ndarray:
+        """Internal backbone force at the nodes, world frame [N], shape (N, 3)."""
+        return self._recorded()["force"]
+
+    @property
+    def moment(self) -> np.ndarray:
+        """Internal backbone moment at the nodes, world frame [N m], shape (N, 3)."""
+        return self._recorded()["moment"]
+
+    @property
+    def displacement(self) -> np.ndarray:
+        """Actuator displacement [m] of every tendon, shape (ntendon,): the prescribed one,
+        or for a tension-controlled tendon the one consistent with the solution (computed
+        on first access)."""
+        d = self.raw["displacement"]
+        if "position" not in self.raw and np.isnan(d).any():
+            d = self._recorded()["displacement"]
+        return d
+
+    @property
+    def formulation(self) -> Formulation:
+        """What was solved (:class:`Formulation`)."""
+        if self._formulation is None:
+            self._formulation = Formulation.from_dict(self.raw.get("formulation", {}))
+        return self._formulation
+
+    @property
+    def tip_position(self) -> np.ndarray:
+        """Tip position (s = L), world frame [m], shape (3,): the end state of the shooting
+        integration that the residual and the tolerance refer to, whatever the output
+        nodes (it is ``position[-1]`` when the nodes end at L)."""
+        return self.raw["tip_position"]
+
+    @property
+    def tip_rotation(self) -> np.ndarray:
+        """Tip body-to-world rotation (s = L), shape (3, 3) (see :attr:`tip_position`)."""
+        return self.raw["tip_rotation"]
+
+    @property
+    def base_state(self) -> np.ndarray:
+        """``[n(0), m(0), tension, slack]`` (6 + 2 ntendon,), world frame, SI: the raw guess
+        format, from the core's map of the converged unknowns (so a warm start from it
+        starts exactly at this solution)."""
+        return self.raw["base_state"]
+
+    def at(self, s) -> RodState:
+        """The state at arc length(s) ``s`` [m] (scalar or 1-D array in [0, L]).
+
+        Exact to solver accuracy: the core integrates again from this solution's
+        converged unknowns at its step count, with output nodes at ``s`` (no solve, no
+        interpolation).
+        """
+        L = self.scene.robot.rod.length
+        scalar = np.ndim(s) == 0
+        ss = np.atleast_1d(np.asarray(s, dtype=float)).ravel()
+        if (
+            ss.size == 0
+            or not np.all(np.isfinite(ss))
+            or np.any(ss < 0)
+            or np.any(ss > L * (1 + 1e-12))
+        ):
+            raise ValueError(f"s must be arc lengths in [0, L={L!r}], got {s!r}")
+        order = np.argsort(ss, kind="stable")
+        # the states of this solution at the nodes s: a recording pass from its unknowns
+        # at its verified step count (no solve)
+        opts = _replace(self.options, nodes=np.minimum(ss[order], L), tip_only=False)
+        sol = Solution(
+            _compile(self.scene, opts).record_from(self.unknowns, max(1, self.formulation.steps)),
+            self.scene,
+            opts,
+        )
+        inv = np.empty_like(order)
+        inv[order] = np.arange(order.size)
+        pos, rot = sol.position[inv], sol.rotation[inv]
+        frc, mom = sol.force[inv], sol.moment[inv]
+        if scalar:
+            return RodState(float(ss[0]), pos[0], rot[0], frc[0], mom[0])
+        return RodState(ss, pos, rot, frc, mom)
+
+    def __repr__(self):
+        head = "converged" if self.success else "NOT converged"
+        tip = np.array2string(np.asarray(self.tip_position), precision=6, separator=", ")
+        lines = [
+            f"Solution({head}: {self.message!r}, status {self.status}, nit {self.nit}, "
+            f"nfev {self.nfev}, residual {self.residual_norm:.2e}",
+            f"  tip_position {tip} m",
+        ]
+        if self.tension.size:
+            lines.append(
+                "  tension "
+                + np.array2string(self.tension, precision=6, separator=", ")
+                + " N, slack "
+                + np.array2string(self.slack, precision=3, separator=", ")
+                + " m"
+            )
+        lines.append(f"  {self.formulation!r}, {self.s.size} nodes)")
+        return "\n".join(lines)
+
+
+def _report(sol: Solution, strict: bool, who: str, stacklevel: int) -> None:
+    """A failed solve is never silent: ConvergenceError (strict) or ConvergenceWarning."""
+    if sol.success:
+        return
+    msg = (
+        f"{who} did not converge: {sol.message} (status {sol.status}, "
+        f"nit {sol.nit}, nfev {sol.nfev}, residual {sol.residual_norm:.3g})"
+    )
+    if strict:
+        raise ConvergenceError(msg, sol)
+    warnings.warn(msg, ConvergenceWarning, stacklevel=stacklevel)
