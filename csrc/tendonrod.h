@@ -310,6 +310,7 @@ typedef struct tr_data {
     double *y, *k1, *k2, *k3, *k4, *yt, *yerr; /* (n_states_rec) */
     double *ysave;  /* (n_states_rec) a saved end state (step verification, recording check) */
     double *x_of_y; /* (k) the unknowns of the last shooting evaluation whose end state is y */
+    double *f_of_y; /* (k) its residual */
     int y_steps;    /* its step count; -1: y holds no such end state (recording, doubled
                        steps, a compliance probe, continuation) */
     gsl_odeiv2_system sys_shoot, sys_rec;
@@ -344,6 +345,14 @@ typedef struct tr_data {
     double *J_last; /* (k x k) its Jacobian */
     int steps_last; /* its verified step count */
     int have_last;  /* 1 once a solve succeeded in this workspace */
+    /* the step verification that vouches for the current step count (steps = 0): the
+     * scaled unknowns it measured at, its truncation estimate and step count; and the
+     * one of the last successful solve */
+    double *x_ver, *x_ver_last; /* (k) each */
+    double est_ver, est_ver_last;
+    int steps_ver, steps_ver_last;
+    int have_ver, have_ver_last;
+    int ver_carried; /* 1: this solve's step count was vouched for by tr_verify_carried */
     /* the second formulation that confirms an equilibrium found off the load path,
      * allocated the first time a solve needs it */
     struct tr_model *confirm_m;
@@ -397,6 +406,20 @@ int tr_solve_test(const tr_model *m, const tr_data *d);
  * equilibrium found off the load path, step verification (steps = 0), conditioning
  * check, diagnosis of a failure, recording pass.  Returns d->status. */
 int tr_solve(const tr_model *m, tr_data *d, const double *guess, const double *jac);
+/* What a solve's step verification measured (steps = 0, fixed-step integrators): the
+ * verified step count, the truncation estimate there (scaled) and the scaled unknowns
+ * (k) it was measured at.  A later solve of the same model structure that starts from
+ * that solution starts at this step count, and skips the verification when it ends
+ * close enough to x (tr_verify_carried). */
+typedef struct {
+    int steps;
+    double estimate;
+    const double *x;
+} tr_verified;
+/* tr_solve from a guess that came with its verification record v (NULL: none; the
+ * automatic step count starts from v->steps). */
+int tr_solve_from(const tr_model *m, tr_data *d, const double *guess, const double *jac,
+                  const tr_verified *v);
 /* The same, warm from the last successful solve in this workspace (its unknowns,
  * Jacobian and verified step count, kept in the workspace); cold if there is none.
  * The model's values may have changed since (tr_model_set_values). */

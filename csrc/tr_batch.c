@@ -28,6 +28,8 @@ typedef struct batch_ws {
     double *P;                     /* (np) varied values of this point */
     double *gp, *xp;               /* (ng), (k) predicted base state and unknowns */
     double *J;                     /* (k x k) Jacobian of the last converged point */
+    tr_verified ver;               /* its step verification (ver.x: (k), steps 0: none) */
+    double *xver;                  /* (k) the unknowns behind ver.x */
     double *block;                 /* the one allocation behind the arrays above */
 } batch_ws;
 
@@ -49,7 +51,8 @@ static int ws_alloc(batch_ws *w, const tr_model *base, const tr_options *opt, in
     w->k = base->n_unknowns;
     w->ng = 6 + 2 * base->nt;
     w->np = np;
-    len = (size_t)TR_BATCH_HIST * (w->ng + w->k + np) + np + w->ng + w->k + (size_t)w->k * w->k;
+    len = (size_t)TR_BATCH_HIST * (w->ng + w->k + np) + np + w->ng + 2 * (size_t)w->k +
+          (size_t)w->k * w->k;
     w->block = (double *)calloc(len + 1, sizeof(double));
     w->m = tr_model_clone(base);
     if (!w->block || !w->m) {
@@ -65,6 +68,7 @@ static int ws_alloc(batch_ws *w, const tr_model *base, const tr_options *opt, in
     w->P = q, q += np;
     w->gp = q, q += w->ng;
     w->xp = q, q += w->k;
+    w->xver = q, q += w->k;
     w->J = q;
     o.tip_only = 1;
     w->d = tr_data_alloc(w->m, &o, 1, NULL, msg, msglen);
@@ -173,6 +177,10 @@ static void push_converged(batch_ws *w, const tr_model *m, const tr_data *d)
     memcpy(x, d->x, (size_t)w->k * sizeof(double));
     memcpy(p, w->P, (size_t)w->np * sizeof(double));
     memcpy(w->J, d->J, (size_t)w->k * w->k * sizeof(double));
+    w->ver.steps = d->have_ver ? d->steps_ver : 0;
+    w->ver.estimate = d->est_ver;
+    w->ver.x = w->xver;
+    if (d->have_ver) memcpy(w->xver, d->x_ver, (size_t)w->k * sizeof(double));
 }
 
 static void write_failed_point(const tr_batch_out *out, int p, int nt, int st, const char *pmsg)
@@ -236,7 +244,10 @@ static int solve_point(batch_ws *w, const tr_batch_in *in, int have, int record,
         *nfev = d->nfev;
         if (st == TR_OK || st == TR_EINTERRUPTED) return st;
     }
-    st = tr_solve(m, d, *cold ? NULL : g, *cold ? NULL : w->J);
+    if (*cold)
+        st = tr_solve(m, d, NULL, NULL);
+    else
+        st = tr_solve_from(m, d, g, w->J, w->ver.steps > 0 ? &w->ver : NULL);
     *nit += d->nit;
     *nfev += d->nfev;
     if (st < 0 && st != TR_EINTERRUPTED && !*cold && in->retry_cold) {
@@ -308,7 +319,7 @@ int tr_batch_solve(const tr_model *m, const tr_options *opt, const tr_batch_in *
             return TR_EINTERRUPTED;
         }
         write_point(out, p, w.m, w.d, st, nit, nfev, cold);
-        if (st >= 0) {
+        if (TR_SUCCEEDED(st)) {
             push_converged(&w, w.m, w.d);
             have = have < TR_BATCH_HIST ? have + 1 : TR_BATCH_HIST;
         } else {

@@ -43,9 +43,9 @@ void tr_data_free(tr_data *d)
 static int alloc_buffers(const tr_model *m, tr_data *d)
 {
     const int k = d->k, nsr = m->n_states_rec, nt = m->nt, nd = m->ndisp;
-    d->x = (double *)calloc((size_t)11 * k + 1, sizeof(double));
+    d->x = (double *)calloc((size_t)12 * k + 1, sizeof(double));
     d->J = (double *)calloc((size_t)k * k + 1, sizeof(double));
-    d->x_last = (double *)calloc((size_t)k * (k + 1) + 1, sizeof(double));
+    d->x_last = (double *)calloc((size_t)k * (k + 3) + 1, sizeof(double));
     d->LU = gsl_matrix_alloc(k > 0 ? k : 1, k > 0 ? k : 1);
     d->perm = gsl_permutation_alloc(k > 0 ? k : 1);
     d->tau = (double *)calloc((size_t)5 * nt + 1, sizeof(double));
@@ -58,6 +58,8 @@ static int alloc_buffers(const tr_model *m, tr_data *d)
         !d->tau || !d->y || !d->Yx || !d->x_last)
         return -1;
     d->J_last = d->x_last + k;
+    d->x_ver = d->J_last + k * k;
+    d->x_ver_last = d->x_ver + k;
     d->f = d->x + k;
     d->xt = d->x + 2 * k;
     d->ft = d->x + 3 * k;
@@ -68,6 +70,7 @@ static int alloc_buffers(const tr_model *m, tr_data *d)
     d->work = d->x + 8 * k;
     d->hyb_f = d->x + 9 * k;
     d->x_of_y = d->x + 10 * k;
+    d->f_of_y = d->x + 11 * k;
     d->y_steps = -1;
     d->beta = d->tau + nt;
     d->tension = d->tau + 2 * nt;

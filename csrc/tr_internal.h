@@ -71,6 +71,12 @@ enum {
 #define TR_REFINE_SAFETY 0.5
 /* Rounds of step refinement (each at least N + 1 steps, usually one suffices). */
 #define TR_REFINE_ROUNDS 16
+/* A verification record vouches for a solution whose scaled unknowns moved at most this
+ * much (relative, max-norm, see tr_verify_carried) from where it was measured. */
+#define TR_CARRY_MAX_MOVE 0.25
+/* ... with this factor of safety on the growth model's bound (measured: the growth of an
+ * independent step doubling reached 0.96 of the model's along a 1x..3x load sweep). */
+#define TR_CARRY_SAFETY 2.0
 /* Recording pass: RK4 steps of at most this fraction of the rk8 shooting step, and
  * at most L / TR_RECORD_RK4_MIN_STEPS ... */
 #define TR_RECORD_RK4_FRACTION  8.0
@@ -228,6 +234,12 @@ int tr_integrate(const tr_model *m, tr_data *d, double s0, double s1, int nsteps
 int tr_segment_steps(const tr_model *m, const tr_data *d, int seg);
 
 /* tr_residual.c */
+/* 1 when y holds the end state of the shooting evaluation at the unknowns x at the
+ * current step count (and f_of_y its residual). */
+int tr_holds_end_state(const tr_data *d, const double *x);
+/* After evaluations elsewhere (whose caller saved y in ysave first): y is the end state
+ * of x again, f its residual. */
+void tr_restore_end_state(const tr_model *m, tr_data *d, const double *x, const double *f);
 /* Tensions and slacks (d->tau, d->beta) of the unknowns x. */
 void tr_set_tensions(const tr_model *m, tr_data *d, const double *x);
 /* Base state y (dim entries) from the unknowns x, tensions already set. */
@@ -278,8 +290,12 @@ int tr_continuation(const tr_model *m, tr_data *d);
 /* tr_verify.c */
 /* Automatic initial step count of the scene. */
 int tr_auto_steps(const tr_model *m, const tr_data *d);
-/* Step doubling until the truncation estimate is <= tol (steps = 0). */
+/* Step doubling until the truncation estimate is <= tol (steps = 0); a verified count
+ * is recorded (x_ver, est_ver, steps_ver). */
 int tr_verify_steps(const tr_model *m, tr_data *d);
+/* 1 when the workspace's verification record vouches for the current solution without
+ * a new verification (d->truncation then holds the carried bound), else 0. */
+int tr_verify_carried(const tr_model *m, tr_data *d);
 /* Full Newton steps from a converged point while the step is still large. */
 void tr_polish(const tr_model *m, tr_data *d);
 

@@ -54,8 +54,7 @@ int tr_fd_jacobian(const tr_model *m, tr_data *d)
 {
     const int k = d->k;
     /* the end state of the solution, if y holds it, survives the perturbed evaluations */
-    const int keep =
-        d->y_steps == d->steps && memcmp(d->x_of_y, d->x, (size_t)k * sizeof(double)) == 0;
+    const int keep = tr_holds_end_state(d, d->x);
     int j, status;
     if (d->nfev + k > d->opt.max_nfev) {
         tr_set_message(d,
@@ -70,11 +69,7 @@ int tr_fd_jacobian(const tr_model *m, tr_data *d)
         status = tr_fd_column(m, d, d->x, d->f, j, d->J + j, (size_t)k, 1);
         if (status != TR_OK) return status;
     }
-    if (keep) {
-        memcpy(d->y, d->ysave, (size_t)m->n_base * sizeof(double));
-        memcpy(d->x_of_y, d->x, (size_t)k * sizeof(double));
-        d->y_steps = d->steps;
-    }
+    if (keep) tr_restore_end_state(m, d, d->x, d->f);
     d->njev++;
     d->have_J = 1;
     d->J_fresh = 1;

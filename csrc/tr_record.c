@@ -156,7 +156,7 @@ int tr_tip_state(const tr_model *m, tr_data *d)
     int i;
     /* the last shooting evaluation at the solution left its end state in y; otherwise
      * one more evaluation (the tip the residual and the tolerance refer to) */
-    if (!(d->y_steps == d->steps && memcmp(d->x_of_y, d->x, (size_t)d->k * sizeof(double)) == 0)) {
+    if (!tr_holds_end_state(d, d->x)) {
         const int st = tr_residual(m, d, d->x, d->ft);
         if (st != TR_OK) {
             for (i = 0; i < 18; i++) t[i] = NAN;

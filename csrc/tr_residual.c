@@ -258,6 +258,19 @@ static void node_restart(const tr_model *m, const double *x, int j, double *y, d
     }
 }
 
+int tr_holds_end_state(const tr_data *d, const double *x)
+{
+    return d->y_steps == d->steps && memcmp(d->x_of_y, x, (size_t)d->k * sizeof(double)) == 0;
+}
+
+void tr_restore_end_state(const tr_model *m, tr_data *d, const double *x, const double *f)
+{
+    memcpy(d->y, d->ysave, (size_t)m->n_base * sizeof(double));
+    memcpy(d->x_of_y, x, (size_t)d->k * sizeof(double));
+    memcpy(d->f_of_y, f, (size_t)d->k * sizeof(double));
+    d->y_steps = d->steps;
+}
+
 int tr_residual(const tr_model *m, tr_data *d, const double *x, double *f)
 {
     int k, status;
@@ -282,6 +295,7 @@ int tr_residual(const tr_model *m, tr_data *d, const double *x, double *f)
     if (!d->steps_double && d->probe_bp < 0 && d->lam_act == 1.0 && d->lam_load == 1.0) {
         /* y is the end state of the solution with unknowns x at d->steps */
         memcpy(d->x_of_y, x, (size_t)d->k * sizeof(double));
+        memcpy(d->f_of_y, f, (size_t)d->k * sizeof(double));
         d->y_steps = d->steps;
     }
     return TR_OK;

@@ -23,10 +23,16 @@
 #include "tr_internal.h"
 #include "tru_math.h"
 
-static int solve_begin(const tr_model *m, tr_data *d)
+static int solve_begin(const tr_model *m, tr_data *d, const tr_verified *v)
 {
-    int i;
-    tr_solve_reset(m, d, d->opt.steps > 0 ? d->opt.steps : tr_auto_steps(m, d));
+    int i, steps = d->opt.steps;
+    /* automatic steps: from the guess's verified count, else the scene's estimate */
+    if (steps == 0) {
+        steps =
+            v && v->steps > 0 && d->opt.integrator != TR_ADAPTIVE ? v->steps : tr_auto_steps(m, d);
+        if (steps > TR_STEP_CAP) steps = TR_STEP_CAP;
+    }
+    tr_solve_reset(m, d, steps);
     if (d->model != m) {
         tr_set_message(d, "workspace was allocated for a different model");
         return TR_EINVAL;
@@ -262,20 +268,45 @@ static int solve_record(const tr_model *m, tr_data *d, int status)
         memcpy(d->J_last, d->J, (size_t)d->k * d->k * sizeof(double));
         d->steps_last = d->steps;
         d->have_last = d->have_J;
+        memcpy(d->x_ver_last, d->x_ver, (size_t)d->k * sizeof(double));
+        d->est_ver_last = d->est_ver;
+        d->steps_ver_last = d->steps_ver;
+        d->have_ver_last = d->have_ver;
     }
     return status;
 }
 
+/* The verification record a solve starts with: the last successful solve's (warm), the
+ * guess's (v), or none. */
+static void begin_verified(tr_data *d, const tr_verified *v, int from_last)
+{
+    const size_t kb = (size_t)d->k * sizeof(double);
+    d->have_ver = d->ver_carried = 0;
+    if (from_last && d->have_ver_last) {
+        memcpy(d->x_ver, d->x_ver_last, kb);
+        d->est_ver = d->est_ver_last;
+        d->steps_ver = d->steps_ver_last;
+        d->have_ver = 1;
+    } else if (!from_last && v && v->x && v->steps > 0) {
+        memcpy(d->x_ver, v->x, kb);
+        d->est_ver = v->estimate;
+        d->steps_ver = v->steps;
+        d->have_ver = 1;
+    }
+}
+
 static int solve(const tr_model *m, tr_data *d, const double *guess, const double *jac,
-                 int from_last)
+                 const tr_verified *v, int from_last)
 {
     int status, forced;
-    status = solve_begin(m, d);
+    status = solve_begin(m, d, v);
     if (status != TR_OK) return d->status = status;
+    begin_verified(d, v, from_last);
     status = solve_direct(m, d, guess, jac, from_last, &forced);
     if (status == TR_EINVAL) return d->status = status;
     status = solve_continuation(m, d, status, forced);
-    if (status >= 0 && d->opt.steps == 0 && d->opt.integrator != TR_ADAPTIVE) {
+    if (status >= 0 && d->opt.steps == 0 && d->opt.integrator != TR_ADAPTIVE &&
+        !tr_verify_carried(m, d)) {
         const int vs = tr_verify_steps(m, d);
         if (vs != TR_OK) status = vs;
     }
@@ -293,15 +324,22 @@ static int solve(const tr_model *m, tr_data *d, const double *guess, const doubl
 
 int tr_solve(const tr_model *m, tr_data *d, const double *guess, const double *jac)
 {
-    return solve(m, d, guess, jac, 0);
+    return solve(m, d, guess, jac, NULL, 0);
+}
+
+int tr_solve_from(const tr_model *m, tr_data *d, const double *guess, const double *jac,
+                  const tr_verified *v)
+{
+    return solve(m, d, guess, jac, v, 0);
 }
 
 int tr_solve_warm(const tr_model *m, tr_data *d)
 {
-    return solve(m, d, NULL, NULL, d->have_last);
+    return solve(m, d, NULL, NULL, NULL, d->have_last);
 }
 
 void tr_forget(tr_data *d)
 {
     d->have_last = 0;
+    d->have_ver_last = 0;
 }

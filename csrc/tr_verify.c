@@ -20,7 +20,13 @@ static double doubling_estimate(const tr_model *m, tr_data *d)
     const double order = d->opt.integrator == TR_RK4 ? 4.0 : 8.0;
     double est = 0.0;
     int status, c;
-    status = tr_residual(m, d, d->x, d->f);
+    if (tr_holds_end_state(d, d->x)) {
+        /* the last evaluation was at x at N steps: its end state and residual */
+        memcpy(d->f, d->f_of_y, (size_t)k * sizeof(double));
+        status = TR_OK;
+    } else {
+        status = tr_residual(m, d, d->x, d->f);
+    }
     d->fnorm = status == TR_OK ? tru_maxnorm(d->f, k) : INFINITY;
     memcpy(d->ysave, d->y, (size_t)m->n_base * sizeof(double));
     d->steps_double = 1;
@@ -36,9 +42,7 @@ static double doubling_estimate(const tr_model *m, tr_data *d)
         if (!(e <= est)) est = e;
     }
     /* y holds the end state at N steps again (the solution's, for tr_tip_state) */
-    memcpy(d->y, d->ysave, (size_t)m->n_base * sizeof(double));
-    memcpy(d->x_of_y, d->x, (size_t)k * sizeof(double));
-    d->y_steps = d->steps;
+    tr_restore_end_state(m, d, d->x, d->f);
     return est / (1.0 - pow(2.0, -order));
 }
 
@@ -77,6 +81,10 @@ int tr_verify_steps(const tr_model *m, tr_data *d)
             /* N steps verified; the polish that follows may still reduce the
              * residual at N (a converged residual near tol is not polished yet) */
             d->steps_moved = 1;
+            memcpy(d->x_ver, d->x, (size_t)k * sizeof(double));
+            d->est_ver = est;
+            d->steps_ver = N;
+            d->have_ver = 1;
             return TR_OK;
         }
         if (N >= TR_STEP_CAP) {
@@ -95,6 +103,33 @@ int tr_verify_steps(const tr_model *m, tr_data *d)
         if (status != TR_OK) return status;
     }
     return TR_TRUNCATION;
+}
+
+/* A verification at x_v (truncation estimate e_v, N steps) vouches for a solution x at
+ * the same N that moved delta = max_i |x_i - x_v,i| / max(1, |x_v,i|) <= TR_CARRY_MAX_MOVE
+ * from it when TR_CARRY_SAFETY e_v (1 + delta)^(p+1) <= tol.  The truncation error of an order-p method
+ * is ~ (h |u|)^(p+1) with u the curvature, which the scaled moments carry (O(1) for an
+ * O(1) bend), so a relative change delta of the unknowns grows it by at most about
+ * (1 + delta)^(p+1); that bound is reported as the truncation estimate.  A sweep of
+ * small steps re-verifies once its unknowns drift that far from the last verification. */
+int tr_verify_carried(const tr_model *m, tr_data *d)
+{
+    const double order = d->opt.integrator == TR_RK4 ? 4.0 : 8.0;
+    double delta = 0.0, bound;
+    int i;
+    (void)m;
+    if (!d->have_ver || d->steps_ver != d->steps || !isfinite(d->est_ver)) return 0;
+    for (i = 0; i < d->k; i++) {
+        const double a = fabs(d->x_ver[i]);
+        const double e = fabs(d->x[i] - d->x_ver[i]) / (a > 1.0 ? a : 1.0);
+        if (!(e <= delta)) delta = e;
+    }
+    if (!(delta <= TR_CARRY_MAX_MOVE)) return 0;
+    bound = TR_CARRY_SAFETY * d->est_ver * pow(1.0 + delta, order + 1.0);
+    if (!(bound <= d->opt.tol)) return 0;
+    d->truncation = bound;
+    d->ver_carried = 1;
+    return 1;
 }
 
 /* Polish a converged point: if the Newton step from it (with the final Jacobian)

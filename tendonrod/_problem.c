@@ -111,29 +111,49 @@ done:
 
 static PyObject *problem_solve(ProblemObject *self, PyObject *args, PyObject *kwds)
 {
-    static char *kwlist[] = {"guess", "jacobian", "warm", "cancel", "record", NULL};
-    PyObject *og = Py_None, *oj = Py_None, *cancel = Py_None, *result = NULL;
+    static char *kwlist[] = {"guess", "jacobian", "verified", "warm", "cancel", "record", NULL};
+    PyObject *og = Py_None, *oj = Py_None, *ov = Py_None, *cancel = Py_None, *result = NULL;
+    PyArrayObject *xv = NULL;
     glue_args a;
     glue_poll poll;
     tr_data *d = self->d;
+    tr_verified ver = {0, 0.0, NULL};
     const double *g = NULL, *jac = NULL;
     int warm = 1, record = 1, status;
     memset(&a, 0, sizeof a);
     if (check_free(self) < 0) return NULL;
-    if (!PyArg_ParseTupleAndKeywords(args, kwds, "|$OOpOp", kwlist, &og, &oj, &warm, &cancel,
+    if (!PyArg_ParseTupleAndKeywords(args, kwds, "|$OOOpOp", kwlist, &og, &oj, &ov, &warm, &cancel,
                                      &record))
         return NULL;
-    d->lazy = !record;
     a.nt = self->m->nt;
     if (glue_poll_init(&poll, cancel) < 0 || glue_warm_start(&a, og, oj) < 0) goto done;
+    if (ov != Py_None) {
+        /* (steps, estimate, scaled unknowns) of the guess's step verification */
+        PyObject *ox;
+        if (!PyArg_ParseTuple(ov, "idO;verified must be (steps, estimate, unknowns)", &ver.steps,
+                              &ver.estimate, &ox) ||
+            values_of(ox, "verified unknowns", d->k, &xv) < 0)
+            goto done;
+        if (ver.steps < 1 || ver.steps > TR_MAX_STEPS || !(ver.estimate >= 0.0) ||
+            !isfinite(ver.estimate) || glue_all_finite(xv, "verified unknowns", -1, 0) < 0) {
+            if (!PyErr_Occurred())
+                glue_err(PyExc_ValueError,
+                         "verified: steps must be in [1, %d] and the estimate finite and >= 0, "
+                         "got steps = %d, estimate = %g",
+                         TR_MAX_STEPS, ver.steps, ver.estimate);
+            goto done;
+        }
+        ver.x = (const double *)PyArray_DATA(xv);
+    }
     g = a.guess ? (const double *)PyArray_DATA(a.guess) : NULL;
     if (a.jac && PyArray_DIM(a.jac, 0) == self->m->n_unknowns)
         jac = (const double *)PyArray_DATA(a.jac);
+    d->lazy = !record;
     tr_set_poll(d, glue_poll_hook, &poll);
     self->busy = 1;
     Py_BEGIN_ALLOW_THREADS;
     if (g)
-        status = tr_solve(self->m, d, g, jac);
+        status = tr_solve_from(self->m, d, g, jac, ver.x ? &ver : NULL);
     else if (warm)
         status = tr_solve_warm(self->m, d);
     else
@@ -143,8 +163,9 @@ static PyObject *problem_solve(ProblemObject *self, PyObject *args, PyObject *kw
     tr_set_poll(d, NULL, NULL);
     self->last_status = status;
     if (glue_poll_finish(&poll, status) == 0) result = glue_solve_result(self->m, d, status);
-    d->lazy = 0;
 done:
+    d->lazy = 0;
+    Py_XDECREF(xv);
     glue_args_clear(&a);
     return result;
 }
@@ -244,10 +265,13 @@ static PyMethodDef problem_methods[] = {
      "values (nt actuation values, nl x 6 point-load forces and moments, the distributed\n"
      "force, nt pretensions); None keeps what is set.  ValueError naming a bad value."},
     {"solve", (PyCFunction)(void (*)(void))problem_solve, METH_VARARGS | METH_KEYWORDS,
-     "solve(*, guess=None, jacobian=None, warm=True, cancel=None, record=True) -> dict: from\n"
-     "the guess (a base_state) if given, else warm from the last successful solve (warm=True;\n"
-     "cold if there is none), else cold.  The dict of _core.solve; record=False leaves out\n"
-     "the node arrays (record_from computes them).  Ctrl-C raises KeyboardInterrupt."},
+     "solve(*, guess=None, jacobian=None, verified=None, warm=True, cancel=None, record=True)\n"
+     "-> dict: from the guess (a base_state) if given, else warm from the last successful solve\n"
+     "(warm=True; cold if there is none), else cold.  verified: (steps, estimate, unknowns), the\n"
+     "'formulation' steps, 'verified_estimate' and 'verified_unknowns' of the solve the guess\n"
+     "came from (same structure): its verified step count is the start and vouches for a\n"
+     "solution close to it.  The dict of _core.solve; record=False leaves out the node arrays\n"
+     "(record_from computes them).  Ctrl-C raises KeyboardInterrupt."},
     {"record_from", (PyCFunction)(void (*)(void))problem_record_from, METH_VARARGS | METH_KEYWORDS,
      "record_from(unknowns, steps) -> dict: the states at this problem's nodes of the solution\n"
      "with these scaled unknowns at this step count (no solve; NaN where the recording fails)."},

@@ -47,6 +47,7 @@ static int set_counts(PyObject *res, const tr_data *d, int status)
                    glue_set(res, "residual_norm", PyFloat_FromDouble(d->residual_norm)) < 0 ||
                    glue_set(res, "jacobian_cond", PyFloat_FromDouble(d->jacobian_cond)) < 0 ||
                    glue_set(res, "truncation_estimate", PyFloat_FromDouble(d->truncation)) < 0 ||
+                   glue_set(res, "truncation_carried", PyBool_FromLong(d->ver_carried)) < 0 ||
                    glue_set(res, "continuation_steps", PyLong_FromLong(d->cont_steps)) < 0
                ? -1
                : 0;
@@ -89,6 +90,12 @@ PyObject *glue_solve_result(const tr_model *m, const tr_data *d, int status)
     if (glue_set(res, "base_state", base) < 0) goto fail;
     dims[0] = k;
     if (glue_set(res, "unknowns", glue_array(1, dims, d->x)) < 0) goto fail;
+    /* the step verification that vouches for the step count (NaN: none) */
+    if (glue_set(res, "verified_estimate", PyFloat_FromDouble(d->have_ver ? d->est_ver : NAN)) <
+            0 ||
+        glue_set(res, "verified_unknowns",
+                 d->have_ver ? glue_array(1, dims, d->x_ver) : (Py_INCREF(Py_None), Py_None)) < 0)
+        goto fail;
     dims[1] = k;
     if (glue_set(res, "jacobian", glue_array(2, dims, d->J)) < 0) goto fail;
     if (glue_set(res, "formulation", glue_formulation(m, d)) < 0) goto fail;
@@ -140,7 +147,11 @@ const char glue_solve_doc[] =
     "displacement-controlled tendons; from the path length for tension-controlled ones),\n"
     "base_state (6 + 2 nt,) the guess format of this solution, unknowns (k,) scaled, jacobian\n"
     "(k,k) scaled, jacobian_cond (1-norm), truncation_estimate (NaN when steps were given or\n"
-    "the integrator is adaptive), continuation_steps, formulation (dict).\n";
+    "the integrator is adaptive; truncation_carried: True when it is the bound carried from a\n"
+    "verification at a nearby solution, see verified_*), verified_estimate and verified_unknowns "
+    "(k,) (the step\n"
+    "verification that vouches for the step count, measured at those unknowns; NaN and None\n"
+    "without one), continuation_steps, formulation (dict).\n";
 
 PyObject *glue_solve(PyObject *self, PyObject *args, PyObject *kwds)
 {

@@ -120,10 +120,12 @@ class Problem:
                     f"guess must be None, 'cold', a Solution or an array, got {guess!r}"
                 )
             return self._c.solve(warm=False, cancel=cancel, record=False)
-        vec, jac = _guess_vector(guess, self._current, self._options)
+        vec, jac, verified = _guess_vector(guess, self._current, self._options)
         if vec is None:
             return self._c.solve(warm=False, cancel=cancel, record=False)
-        return self._c.solve(guess=vec, jacobian=jac, cancel=cancel, record=False)
+        return self._c.solve(
+            guess=vec, jacobian=jac, verified=verified, cancel=cancel, record=False
+        )
 
     def solve(self, scene: Scene | None = None, *, guess=None, strict: bool = False):
         """Solve ``scene`` (default: the problem's scene), a scene of the same structure.

@@ -12,7 +12,7 @@ import warnings
 
 import numpy as np
 
-from .compiled import _compile, _structure_key
+from .compiled import _compile, _structure_key, structure_difference
 from .model import Scene
 from .options import Options, _replace
 from .results import ConvergenceError, ConvergenceWarning, Formulation, RodState
@@ -20,11 +20,32 @@ from .results import ConvergenceError, ConvergenceWarning, Formulation, RodState
 __all__ = ["Solution"]
 
 
+# Options that fix the layout and scaling of the unknowns and what a step verification
+# measured: a verification record carries between solves that agree on them (and on the
+# scene's structure, which fixes the scales).
+_VERIFICATION_OPTIONS = ("integrator", "shooting_segments", "force_spatial", "slack_model")
+
+
+def _verification_of(guess: Solution, scene: Scene, options: Options):
+    """``(steps, estimate, unknowns)`` of the step verification that vouches for the
+    solution ``guess``, when it can carry to a solve of ``scene`` with ``options`` (same
+    compiled structure and unknowns); else None."""
+    xv = guess.raw.get("verified_unknowns")
+    if xv is None or guess.scene is None or options.steps != 0:
+        return None
+    if any(getattr(guess.options, f) != getattr(options, f) for f in _VERIFICATION_OPTIONS):
+        return None
+    if structure_difference(guess.scene, scene) is not None:
+        return None
+    return (int(guess.raw["formulation"]["steps"]), float(guess.raw["verified_estimate"]), xv)
+
+
 def _guess_vector(guess, scene: Scene, options: Options):
-    """(guess array (6+2nt,) or None, jacobian or None) from a Solution or an array."""
+    """(guess array (6+2nt,) or None, jacobian or None, verification record or None) from
+    a Solution or an array."""
     nt = scene.robot.n_tendons
     if guess is None:
-        return None, None
+        return None, None, None
     if isinstance(guess, Solution):
         if guess.tension.shape != (nt,):
             raise ValueError(
@@ -40,8 +61,8 @@ def _guess_vector(guess, scene: Scene, options: Options):
         ):
             jac = guess.jacobian
         if not np.all(np.isfinite(vec)):
-            return None, None
-        return vec, jac
+            return None, None, None
+        return vec, jac, _verification_of(guess, scene, options)
     try:
         vec = np.array(guess, dtype=float).ravel()
     except (TypeError, ValueError, OverflowError):
@@ -53,7 +74,7 @@ def _guess_vector(guess, scene: Scene, options: Options):
             f"guess must be a finite array of shape ({6 + 2 * nt},) "
             f"[n(0), m(0), tension, slack], got {guess!r}"
         )
-    return vec, None
+    return vec, None, None
 
 
 class Solution:
@@ -105,7 +126,16 @@ class Solution:
     continuation_steps : int
         Continuation stages used (0: solved directly).
     truncation_estimate : float
-        Estimate of the integrator's truncation error (scaled, relative) [-].
+        Estimate of the integrator's truncation error (scaled, relative) [-] at the
+        automatic step count (NaN when ``Options.steps`` is given or the integrator is
+        adaptive): measured by step doubling, or -- for a warm solve that ended close
+        to a solution whose step count was verified (``truncation_carried``) -- the
+        bound ``2 e_v (1 + delta)^(p+1)`` carried from that verification, where ``delta``
+        is how far the scaled unknowns moved (relative) and ``p`` the integrator's order.
+        Either way it is <= ``options.tol`` on success.
+    truncation_carried : bool
+        True when the step count was not verified again (see ``truncation_estimate``);
+        a sweep re-verifies once its unknowns drift more than that bound allows.
     unknowns : ndarray
         Raw converged shooting unknowns (as the core defines them).
     jacobian : ndarray or None
@@ -141,6 +171,7 @@ class Solution:
         self.jacobian_cond = float(raw.get("jacobian_cond", math.nan))
         self.continuation_steps = int(raw.get("continuation_steps", 0))
         self.truncation_estimate = float(raw.get("truncation_estimate", math.nan))
+        self.truncation_carried = bool(raw.get("truncation_carried", False))
         self._formulation = None
 
     # ------------------------------------------------------------ lazy outputs
