@@ -193,6 +193,7 @@ typedef struct tr_tendon {
     double value;      /* q [m] (> 0 retracts) or tau [N] */
     double pretension; /* tension held at q = 0 in the unloaded robot [N] */
     double cphi, sphi; /* cos phi, sin phi (planar scenes: exactly +-1, 0) */
+    double wref;       /* sqrt(1 + a^2): its path-length rate in the straight robot [-] */
     double rest;       /* unstretched length of the tendon between base and anchor [m] */
     double rest_dev;   /* rest - sref, computed without cancellation [m] */
     double sref;       /* reference path length in the undeformed robot, t sqrt(1 + a^2) [m] */

@@ -92,7 +92,7 @@ static int check_rod(const double rod[6], char *msg, size_t msglen)
  * and r(0) x t0, from cphi, sphi. */
 static void tendon_base_frame(tr_tendon *t)
 {
-    const double h = sqrt(1.0 + t->a * t->a);
+    const double h = t->wref;
     t->t0[0] = t->a * t->cphi / h;
     t->t0[1] = t->a * t->sphi / h;
     t->t0[2] = 1.0 / h;
@@ -168,6 +168,7 @@ static int read_tendon(tr_model *m, int i, const double *row, double *rmax, char
     }
     t->cphi = cos(t->phi);
     t->sphi = sin(t->phi);
+    t->wref = sqrt(1.0 + t->a * t->a);
     tendon_base_frame(t);
     return TR_OK;
 }

@@ -23,6 +23,45 @@
 #include "tru_math.h"
 
 /* ------------------------------------------------------------- spatial */
+/* x = M^-1 b for the 3 x 3 row-major M by Cramer's rule; -1 if M is singular. */
+static int solve3(const double M[9], const double b[3], double x[3])
+{
+    const double c00 = M[4] * M[8] - M[5] * M[7];
+    const double c01 = M[5] * M[6] - M[3] * M[8];
+    const double c02 = M[3] * M[7] - M[4] * M[6];
+    const double det = M[0] * c00 + M[1] * c01 + M[2] * c02;
+    if (!(fabs(det) > 0.0)) return -1;
+    x[0] = (c00 * b[0] + (M[2] * M[7] - M[1] * M[8]) * b[1] + (M[1] * M[5] - M[2] * M[4]) * b[2]) /
+           det;
+    x[1] = (c01 * b[0] + (M[0] * M[8] - M[2] * M[6]) * b[1] + (M[2] * M[3] - M[0] * M[5]) * b[2]) /
+           det;
+    x[2] = (c02 * b[0] + (M[1] * M[6] - M[0] * M[7]) * b[1] + (M[0] * M[4] - M[1] * M[3]) * b[2]) /
+           det;
+    return 0;
+}
+
+/* The inverse of the 3 x 3 row-major M by cofactors; -1 if M is singular. */
+static int inv3(const double M[9], double Mi[9])
+{
+    const double c00 = M[4] * M[8] - M[5] * M[7];
+    const double c01 = M[5] * M[6] - M[3] * M[8];
+    const double c02 = M[3] * M[7] - M[4] * M[6];
+    const double det = M[0] * c00 + M[1] * c01 + M[2] * c02;
+    double idet;
+    if (!(fabs(det) > 0.0)) return -1;
+    idet = 1.0 / det;
+    Mi[0] = c00 * idet;
+    Mi[1] = (M[2] * M[7] - M[1] * M[8]) * idet;
+    Mi[2] = (M[1] * M[5] - M[2] * M[4]) * idet;
+    Mi[3] = c01 * idet;
+    Mi[4] = (M[0] * M[8] - M[2] * M[6]) * idet;
+    Mi[5] = (M[2] * M[3] - M[0] * M[5]) * idet;
+    Mi[6] = c02 * idet;
+    Mi[7] = (M[1] * M[6] - M[0] * M[7]) * idet;
+    Mi[8] = (M[0] * M[4] - M[1] * M[3]) * idet;
+    return 0;
+}
+
 /* Per tendon, with t = w/|w|, c_t = tau/|w|, q = r x t (r^ t = q, t^T r^ = -q^T):
  *   A_i = c_t (I - t t^T)            a_i = A_i (u x w + u x r')
  *   A_i r^ = c_t (r^ + t q^T)        G = -sum A_i r^
@@ -73,7 +112,7 @@ static int rhs_spatial(const tr_model *m, const tr_data *d, double s, const doub
         if (slot >= 0) {
             /* |w| - |w_ref|, w_ref = e3 + r': (2 w_ref.dw + |dw|^2) / (|w| + |w_ref|) with
              * dw = (v - e3) + u x r computed directly (no cancellation) */
-            const double c = sqrt(1.0 + td->a * td->a);
+            const double c = td->wref;
             const double d0 = v[0] - u[2] * r1, d1 = v[1] + u[2] * r0;
             const double d2 = ev3 + u[0] * r1 - u[1] * r0;
             dy[TR_Y_LEN + slot] =
@@ -121,8 +160,9 @@ static int rhs_spatial(const tr_model *m, const tr_data *d, double s, const doub
                 for (k_ = 0; k_ < 3; k_++) {
                     TQ[3 * p_ + k_] += ctp * q[k_];
                     QQ[3 * p_ + k_] += cqp * q[k_];
-                    TT[3 * p_ + k_] += ctp * t[k_];
                 }
+                if (!kirch) /* A = sc I - TT enters the Cosserat system only */
+                    for (k_ = 0; k_ < 3; k_++) TT[3 * p_ + k_] += ctp * t[k_];
             }
         }
     }
@@ -150,7 +190,7 @@ static int rhs_spatial(const tr_model *m, const tr_data *d, double s, const doub
         memcpy(dy + TR_Y_N, rhs, 6 * sizeof(double));
     } else {
         const double kb[3] = {1.0 / EI, 1.0 / EI, 1.0 / GJ};
-        double Gm[9], Hm[9], Sr[9];
+        double Gm[9], Hm[9], Sr[9], S[9], Si[9], x[3];
         int r_, c_;
         RR[3] = RR[1];
         tru_skew3(Sr, sr);
@@ -161,28 +201,13 @@ static int rhs_spatial(const tr_model *m, const tr_data *d, double s, const doub
         Hm[0] += sr2;
         Hm[4] += sr2;
         Hm[8] += sr2;
+        /* S = I + H K_bt^-1, the moment block */
+        for (r_ = 0; r_ < 3; r_++)
+            for (c_ = 0; c_ < 3; c_++)
+                S[3 * r_ + c_] = (r_ == c_ ? 1.0 : 0.0) + Hm[3 * r_ + c_] * kb[c_];
         if (kirch) {
-            /* (I + H K_bt^-1) m' = rhs2 (Cramer), n' = rhs1 - G K_bt^-1 m' */
-            double M3[9], x[3], det;
-            for (r_ = 0; r_ < 3; r_++)
-                for (c_ = 0; c_ < 3; c_++)
-                    M3[3 * r_ + c_] = (r_ == c_ ? 1.0 : 0.0) + Hm[3 * r_ + c_] * kb[c_];
-            {
-                const double c00 = M3[4] * M3[8] - M3[5] * M3[7];
-                const double c01 = M3[5] * M3[6] - M3[3] * M3[8];
-                const double c02 = M3[3] * M3[7] - M3[4] * M3[6];
-                det = M3[0] * c00 + M3[1] * c01 + M3[2] * c02;
-                if (!(fabs(det) > 0.0)) return GSL_EBADFUNC;
-                x[0] = (c00 * rhs[3] + (M3[2] * M3[7] - M3[1] * M3[8]) * rhs[4] +
-                        (M3[1] * M3[5] - M3[2] * M3[4]) * rhs[5]) /
-                       det;
-                x[1] = (c01 * rhs[3] + (M3[0] * M3[8] - M3[2] * M3[6]) * rhs[4] +
-                        (M3[2] * M3[3] - M3[0] * M3[5]) * rhs[5]) /
-                       det;
-                x[2] = (c02 * rhs[3] + (M3[1] * M3[6] - M3[0] * M3[7]) * rhs[4] +
-                        (M3[0] * M3[4] - M3[1] * M3[3]) * rhs[5]) /
-                       det;
-            }
+            /* S m' = rhs2, n' = rhs1 - G K_bt^-1 m' */
+            if (solve3(S, rhs + 3, x) != 0) return GSL_EBADFUNC;
             {
                 const double up[3] = {x[0] * kb[0], x[1] * kb[1], x[2] * kb[2]};
                 tru_matvec3(tmp, Gm, up);
@@ -194,21 +219,42 @@ static int rhs_spatial(const tr_model *m, const tr_data *d, double s, const doub
             dy[TR_Y_M + 1] = x[1];
             dy[TR_Y_M + 2] = x[2];
         } else {
+            /* the 6 x 6 system [P Q; R S] [n'; m'] = [rhs1; rhs2] with P = I + A K_se^-1,
+             * Q = G K_bt^-1, R = B K_se^-1, by its Schur complement on S:
+             * (P - Q S^-1 R) n' = rhs1 - Q S^-1 rhs2, m' = S^-1 rhs2 - S^-1 R n'.
+             * P is I up to tau/EA, so the complement is as well conditioned as S. */
             const double ks[3] = {1.0 / m->GA, 1.0 / m->GA, 1.0 / m->EA};
-            double M6[36];
+            double Q[9], Rb[9], SR[9], Sr2[3], Z[9], z[3], np_[3];
+            if (inv3(S, Si) != 0) return GSL_EBADFUNC;
             for (r_ = 0; r_ < 3; r_++)
                 for (c_ = 0; c_ < 3; c_++) {
-                    const double id = (r_ == c_ ? 1.0 : 0.0);
                     /* A = sc I - TT;  B = r^ sum - Q T^T = Sr - TQ^T */
-                    const double Arc = sc * id - TT[3 * r_ + c_];
-                    const double Brc = Sr[3 * r_ + c_] - TQ[3 * c_ + r_];
-                    M6[6 * r_ + c_] = id + Arc * ks[c_];
-                    M6[6 * r_ + c_ + 3] = Gm[3 * r_ + c_] * kb[c_];
-                    M6[6 * (r_ + 3) + c_] = Brc * ks[c_];
-                    M6[6 * (r_ + 3) + c_ + 3] = id + Hm[3 * r_ + c_] * kb[c_];
+                    const double id = (r_ == c_ ? 1.0 : 0.0);
+                    Q[3 * r_ + c_] = Gm[3 * r_ + c_] * kb[c_];
+                    Rb[3 * r_ + c_] = (Sr[3 * r_ + c_] - TQ[3 * c_ + r_]) * ks[c_];
+                    Z[3 * r_ + c_] = id + (sc * id - TT[3 * r_ + c_]) * ks[c_];
                 }
-            if (tru_solve_dense(6, M6, rhs) != 0) return GSL_EBADFUNC;
-            memcpy(dy + TR_Y_N, rhs, 6 * sizeof(double));
+            tru_matmul3(SR, Si, Rb);
+            tru_matvec3(Sr2, Si, rhs + 3);
+            for (r_ = 0; r_ < 3; r_++) {
+                double zr = rhs[r_];
+                for (c_ = 0; c_ < 3; c_++) {
+                    const double q = Q[3 * r_ + c_];
+                    Z[3 * r_ + 0] -= q * SR[3 * c_ + 0];
+                    Z[3 * r_ + 1] -= q * SR[3 * c_ + 1];
+                    Z[3 * r_ + 2] -= q * SR[3 * c_ + 2];
+                    zr -= q * Sr2[c_];
+                }
+                z[r_] = zr;
+            }
+            if (solve3(Z, z, np_) != 0) return GSL_EBADFUNC;
+            tru_matvec3(tmp, SR, np_);
+            dy[TR_Y_N + 0] = np_[0];
+            dy[TR_Y_N + 1] = np_[1];
+            dy[TR_Y_N + 2] = np_[2];
+            dy[TR_Y_M + 0] = Sr2[0] - tmp[0];
+            dy[TR_Y_M + 1] = Sr2[1] - tmp[1];
+            dy[TR_Y_M + 2] = Sr2[2] - tmp[2];
         }
     }
 
@@ -255,7 +301,8 @@ static int rhs_planar(const tr_model *m, const tr_data *d, double s, const doubl
         const int slot = d->rec ? i : td->len_index;
         if (slot >= 0) {
             /* |w| - |w_ref| without cancellation (see rhs_spatial) */
-            const double c = sqrt(1.0 + rp * rp), d1 = v1, d3 = ev3 - kap * rho;
+            /* (rp^2 = a^2: cphi is exactly +-1 in a planar model) */
+            const double c = td->wref, d1 = v1, d3 = ev3 - kap * rho;
             dy[TR_YP_LEN + slot] = (2.0 * (rp * d1 + d3) + d1 * d1 + d3 * d3) / (nw + c);
         }
         if (!(tau > 0.0)) continue;

@@ -20,7 +20,7 @@ int tr_rest_lengths(tr_model *m, char *msg, size_t msglen)
     int i, k, any = 0;
     for (i = 0; i < m->nt; i++) {
         tr_tendon *t = &m->tendon[i];
-        t->sref = t->t * sqrt(1.0 + t->a * t->a);
+        t->sref = t->t * t->wref;
         t->rest = t->sref;
         t->rest_dev = 0.0;
         if (t->pretension != 0.0) any = 1;
@@ -77,7 +77,7 @@ int tr_rest_lengths(tr_model *m, char *msg, size_t msglen)
          * sqrt(a^2 + v3^2) - c = (v3^2 - 1) / (sqrt(a^2 + v3^2) + c), v3^2 - 1 = e (2 + e) */
         for (k = 0; k < t->end_bp; k++) {
             double e = 0.0; /* v3 - 1 */
-            const double c = sqrt(1.0 + t->a * t->a);
+            const double c = t->wref;
             if (!m->kirchhoff) {
                 /* straight state: n3 = -sum tau_p v3 / |w|, |w| = sqrt(a^2 + v3^2);
                  * fixed point in e = v3 - 1 (contracting: tau_p / EA << 1) */
