@@ -19,7 +19,8 @@
  *   warm        one model and workspace; for each set i >= 1 the values set, then
  *               tr_solve_warm (Problem.solve along the sweep).
  * Prints one line of key=value pairs: times in microseconds per solve, and the mean nfev
- * of each kind.
+ * of each kind.  Built with -DHARNESS_LIBRARY -shared -fPIC it is a library whose
+ * harness_run_text bench/solve.py calls through ctypes, alternating with Python.
  *
  *   gcc -O2 -std=c99 -D_POSIX_C_SOURCE=200809L -Icsrc $(pkg-config --cflags gsl) \
  *       bench/solve_harness.c csrc/tr_*.c -o /tmp/solve_harness $(pkg-config --libs gsl) -lm
@@ -69,24 +70,24 @@ static double median(double *t, int n)
     return t[n / 2];
 }
 
-static int read_doubles(double *v, int n)
+static int read_doubles(FILE *in, double *v, int n)
 {
     int i;
     for (i = 0; i < n; i++)
-        if (scanf("%lf", v + i) != 1) return -1;
+        if (fscanf(in, "%lf", v + i) != 1) return -1;
     return 0;
 }
 
-static int read_sweep(sweep *s)
+static int read_sweep(FILE *in, sweep *s)
 {
     int i;
-    if (scanf("%d %d %d %d", &s->nt, &s->nl, &s->nodes, &s->K) != 4 || s->nt < 0 || s->nt > MAXT ||
-        s->nl < 0 || s->nl > MAXL || s->nodes < 1 || s->K < 2 || s->K > MAXK)
+    if (fscanf(in, "%d %d %d %d", &s->nt, &s->nl, &s->nodes, &s->K) != 4 || s->nt < 0 ||
+        s->nt > MAXT || s->nl < 0 || s->nl > MAXL || s->nodes < 1 || s->K < 2 || s->K > MAXK)
         return -1;
-    if (read_doubles(s->rod, 6) || read_doubles(s->tendons, 8 * s->nt)) return -1;
+    if (read_doubles(in, s->rod, 6) || read_doubles(in, s->tendons, 8 * s->nt)) return -1;
     for (i = 0; i < s->K; i++)
-        if (read_doubles(s->values[i], s->nt) || read_doubles(s->loads[i], 7 * s->nl) ||
-            read_doubles(s->dist[i], 3))
+        if (read_doubles(in, s->values[i], s->nt) || read_doubles(in, s->loads[i], 7 * s->nl) ||
+            read_doubles(in, s->dist[i], 3))
             return -1;
     return 0;
 }
@@ -130,9 +131,12 @@ static int fail(const char *what, const tr_data *d)
     return 1;
 }
 
-int main(int argc, char **argv)
+/* The measurements of the header on the sweep read from `in`, `reps` repetitions:
+ * out = {cold_us, warm_guess_us, warm_us, nfev_cold, nfev_warm_guess, nfev_warm}.
+ * 0, or nonzero with a message on stderr.  Also called through ctypes (bench/solve.py,
+ * harness_run_text) so that Python and C alternate within one process. */
+int harness_run(FILE *in, int reps, double out[6])
 {
-    const int reps = argc > 1 ? atoi(argv[1]) : 31;
     static sweep s;
     static start starts[MAXK];
     static double tc[MAXR], tg[MAXR], tw[MAXR];
@@ -142,8 +146,8 @@ int main(int argc, char **argv)
     tr_data *d;
     int r, i, j, st;
     gsl_set_error_handler_off();
-    if (reps < 1 || reps > MAXR || read_sweep(&s) < 0) {
-        fprintf(stderr, "usage: solve_harness [reps] < sweep (see the header)\n");
+    if (reps < 1 || reps > MAXR || read_sweep(in, &s) < 0) {
+        fprintf(stderr, "solve_harness: reps out of range or a malformed sweep (see the header)\n");
         return 2;
     }
     /* the chain of solutions along the sweep: the guesses of warm_guess */
@@ -200,10 +204,35 @@ int main(int argc, char **argv)
         tr_data_free(d);
         tr_model_free(m);
     }
-    printf("cold_us=%.3f warm_guess_us=%.3f warm_us=%.3f nfev_cold=%.2f nfev_warm_guess=%.2f "
-           "nfev_warm=%.2f\n",
-           1e6 * median(tc, reps), 1e6 * median(tg, reps), 1e6 * median(tw, reps),
-           (double)nfev_c / reps, (double)nfev_g / (reps * (s.K - 1.0)),
-           (double)nfev_w / (reps * (s.K - 1.0)));
+    out[0] = 1e6 * median(tc, reps);
+    out[1] = 1e6 * median(tg, reps);
+    out[2] = 1e6 * median(tw, reps);
+    out[3] = (double)nfev_c / reps;
+    out[4] = (double)nfev_g / (reps * (s.K - 1.0));
+    out[5] = (double)nfev_w / (reps * (s.K - 1.0));
     return 0;
 }
+
+/* harness_run on a sweep given as text. */
+int harness_run_text(const char *text, int reps, double out[6])
+{
+    FILE *in = fmemopen((void *)text, strlen(text), "r");
+    int r;
+    if (!in) return 2;
+    r = harness_run(in, reps, out);
+    fclose(in);
+    return r;
+}
+
+#ifndef HARNESS_LIBRARY
+int main(int argc, char **argv)
+{
+    double out[6];
+    const int r = harness_run(stdin, argc > 1 ? atoi(argv[1]) : 31, out);
+    if (r) return r;
+    printf("cold_us=%.3f warm_guess_us=%.3f warm_us=%.3f nfev_cold=%.2f nfev_warm_guess=%.2f "
+           "nfev_warm=%.2f\n",
+           out[0], out[1], out[2], out[3], out[4], out[5]);
+    return 0;
+}
+#endif

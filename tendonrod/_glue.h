@@ -87,7 +87,7 @@ extern PyTypeObject glue_problem_type;
 /* The formulation dict of a model (and the options of a workspace, if d != NULL). */
 PyObject *glue_formulation(const tr_model *m, const tr_data *d);
 /* The solve result dict of a workspace (_solve.c). */
-PyObject *glue_solve_result(const tr_model *m, const tr_data *d, int status);
+PyObject *glue_solve_result(const tr_model *m, const tr_data *d, int status, PyObject *form);
 
 /* _solve.c, _batch.c: the entry points */
 PyObject *glue_solve(PyObject *self, PyObject *args, PyObject *kwds);

@@ -14,7 +14,15 @@ typedef struct {
     int nnode_req;   /* the nodes asked for (int form), for the repr */
     int busy;        /* 1 while a call runs with the GIL released */
     int last_status; /* status of the last solve (TR_CONTINUE before any) */
+    PyObject *form;  /* the formulation dict (all but the step count), built once */
 } ProblemObject;
+
+/* The cached formulation template of the results (NULL with an exception). */
+static PyObject *form_template(ProblemObject *self)
+{
+    if (!self->form) self->form = glue_formulation(self->m, self->d);
+    return self->form;
+}
 
 static int check_free(ProblemObject *self)
 {
@@ -33,6 +41,7 @@ static int check_free(ProblemObject *self)
 
 static void problem_dealloc(ProblemObject *self)
 {
+    Py_XDECREF(self->form);
     tr_data_free(self->d);
     tr_model_free(self->m);
     Py_TYPE(self)->tp_free((PyObject *)self);
@@ -162,7 +171,8 @@ static PyObject *problem_solve(ProblemObject *self, PyObject *args, PyObject *kw
     self->busy = 0;
     tr_set_poll(d, NULL, NULL);
     self->last_status = status;
-    if (glue_poll_finish(&poll, status) == 0) result = glue_solve_result(self->m, d, status);
+    if (glue_poll_finish(&poll, status) == 0 && form_template(self))
+        result = glue_solve_result(self->m, d, status, self->form);
 done:
     d->lazy = 0;
     Py_XDECREF(xv);
@@ -189,7 +199,7 @@ static PyObject *problem_record_from(ProblemObject *self, PyObject *args, PyObje
         goto done;
     }
     /* a recording that fails (the last iterate of a failed solve) has NaN states */
-    result = glue_solve_result(self->m, self->d, status);
+    if (form_template(self)) result = glue_solve_result(self->m, self->d, status, self->form);
 done:
     Py_XDECREF(x);
     return result;

@@ -53,7 +53,22 @@ static int set_counts(PyObject *res, const tr_data *d, int status)
                : 0;
 }
 
-PyObject *glue_solve_result(const tr_model *m, const tr_data *d, int status)
+/* The formulation of a result: a copy of `form` (the model's, cached by a Problem) with
+ * this solve's step count, or built afresh when form is NULL. */
+static PyObject *result_formulation(const tr_model *m, const tr_data *d, PyObject *form)
+{
+    PyObject *f;
+    if (!form) return glue_formulation(m, d);
+    if (!(f = PyDict_Copy(form))) return NULL;
+    if (glue_set(f, "steps", PyLong_FromLong(d->opt.integrator == TR_ADAPTIVE ? 0 : d->steps)) <
+        0) {
+        Py_DECREF(f);
+        return NULL;
+    }
+    return f;
+}
+
+PyObject *glue_solve_result(const tr_model *m, const tr_data *d, int status, PyObject *form)
 {
     PyObject *res = PyDict_New(), *base = NULL;
     const int N = d->nnode, nt = m->nt, k = d->k;
@@ -98,7 +113,7 @@ PyObject *glue_solve_result(const tr_model *m, const tr_data *d, int status)
         goto fail;
     dims[1] = k;
     if (glue_set(res, "jacobian", glue_array(2, dims, d->J)) < 0) goto fail;
-    if (glue_set(res, "formulation", glue_formulation(m, d)) < 0) goto fail;
+    if (glue_set(res, "formulation", result_formulation(m, d, form)) < 0) goto fail;
     return res;
 fail:
     Py_DECREF(res);
@@ -171,7 +186,7 @@ PyObject *glue_solve(PyObject *self, PyObject *args, PyObject *kwds)
     Py_BEGIN_ALLOW_THREADS;
     status = tr_solve(m, d, g, jac);
     Py_END_ALLOW_THREADS;
-    if (glue_poll_finish(&poll, status) == 0) result = glue_solve_result(m, d, status);
+    if (glue_poll_finish(&poll, status) == 0) result = glue_solve_result(m, d, status, NULL);
 done:
     Py_XDECREF(cancel);
     tr_data_free(d);

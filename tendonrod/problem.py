@@ -98,13 +98,15 @@ class Problem:
                 f"its structure (make a new tr.Problem for this scene)"
             )
         _, tendons, loads, dist = pack_scene(scene)
-        _, t0, _, _ = pack_scene(self._current)
-        pre = tendons[:, _TD["pretension"]]
+        pre = None
+        if scene.robot is not self._current.robot:
+            # pretensions are values too (the rest lengths follow); sent only when changed
+            old = pack_scene(self._current)[1][:, _TD["pretension"]]
+            new = tendons[:, _TD["pretension"]]
+            if new.tolist() != old.tolist():
+                pre = new
         self._c.set_values(
-            values=tendons[:, _TD["value"]],
-            point_loads=loads[:, 1:7],
-            dist=dist,
-            pretension=None if np.array_equal(pre, t0[:, _TD["pretension"]]) else pre,
+            values=tendons[:, _TD["value"]], point_loads=loads[:, 1:7], dist=dist, pretension=pre
         )
         self._current = scene
 
