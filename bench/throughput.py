@@ -55,6 +55,46 @@ RESULTS = os.path.join(HERE, "results")
 L, R_OFF = 0.2, 0.01
 FMAX = 0.1  # N, grid half-width of each tip-force component
 FAST_OPTIONS = dict(steps=4, tol=3e-9)
+GOAL_SOLVES_PER_S = 60_000  # solve_batch, tip only, 2 threads
+GOAL_TIP_ERR = 1e-8  # of L
+
+
+def bare_batch(m: int):
+    """CPU time of the bare C batch (bench/batch_harness.c, built with the extension's
+    flags) on the same m x m grid: {"cpu_s", "nit", "nfev"}, or None without a compiler."""
+    import re
+    import shlex
+    import tempfile
+
+    root = os.path.dirname(HERE)
+    cdir = os.path.join(root, "csrc")
+    csrc = sorted(os.path.join(cdir, f) for f in os.listdir(cdir) if f.endswith(".c"))
+    with tempfile.TemporaryDirectory() as tmp:
+        exe = os.path.join(tmp, "batch_harness")
+        try:
+            gc = subprocess.run(["pkg-config", "--cflags", "gsl"], capture_output=True, text=True)
+            gl = subprocess.run(["pkg-config", "--libs", "gsl"], capture_output=True, text=True)
+            subprocess.run(
+                ["gcc", "-std=c99", "-O2", "-fno-strict-aliasing", "-fPIC"]
+                + ["-D_POSIX_C_SOURCE=200809L", "-I" + cdir]
+                + shlex.split(gc.stdout)
+                + [os.path.join(HERE, "batch_harness.c"), *csrc, "-o", exe]
+                + shlex.split(gl.stdout or "-lgsl -lgslcblas")
+                + ["-lm"],
+                check=True,
+            )
+        except (OSError, subprocess.CalledProcessError):
+            return None
+        out = subprocess.run(
+            [exe, str(m), str(FAST_OPTIONS["steps"]), repr(FAST_OPTIONS["tol"]), "1", "1"],
+            capture_output=True,
+            text=True,
+            check=True,
+        ).stdout
+    us = float(re.search(r"([0-9.]+) us CPU per solve", out).group(1))
+    nit = float(re.search(r"nit ([0-9.]+)", out).group(1))
+    nfev = float(re.search(r"nfev ([0-9.]+)", out).group(1))
+    return {"cpu_s": us * 1e-6 * m * m, "nit": nit, "nfev": nfev}
 
 
 def make_scene() -> tr.Scene:
@@ -302,6 +342,22 @@ def main() -> None:
                     max_rel_tip_err=err(res.tip_position),
                 )
             )
+    # ---- the bare C batch on the same grid (bench/batch_harness.c, the extension's flags)
+    bare = bare_batch(m)
+    if bare is not None:
+        rows.append(
+            dict(
+                config="bare C tr_batch_solve (tip only)",
+                threads=1,
+                points=n,
+                wall_s=bare["cpu_s"],
+                cpu_s=bare["cpu_s"],
+                solves_per_s=n / bare["cpu_s"],
+                nit=bare["nit"],
+                nfev=bare["nfev"],
+                max_rel_tip_err=math.nan,
+            )
+        )
     la1 = load_avg()
 
     # ---- memory, in fresh processes (N and 4 N points)
@@ -410,6 +466,16 @@ def main() -> None:
             f"inputs {mm['inputs_bytes'] / 1e6:.1f} MB)"
         )
     print(f"load average before {la0:.2f}, after {la1:.2f}")
+    best = [r for r in rows if r["config"] == "solve_batch (rk8 x4, tol 3e-9, tip only)"]
+    two = [r for r in best if r["threads"] == 2]
+    if two:
+        r = two[0]
+        ok = r["solves_per_s"] >= GOAL_SOLVES_PER_S and r["max_rel_tip_err"] <= GOAL_TIP_ERR
+        print(
+            f"goal: solve_batch tip only >= {GOAL_SOLVES_PER_S:,.0f} solves/s on 2 threads at "
+            f"<= {GOAL_TIP_ERR:g} L tip error: {r['solves_per_s']:,.0f} solves/s, "
+            f"{r['max_rel_tip_err']:.1e} L: {'ok' if ok else 'MISS'}"
+        )
     print(f"wrote {path}")
 
     try:

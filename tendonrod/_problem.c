@@ -118,6 +118,29 @@ done:
     return result;
 }
 
+/* The values of one scene in one vector, [values (nt), point loads (nl x 6), dist (3)]:
+ * the per-call path of Problem.solve (one argument to check, one array to read). */
+static PyObject *problem_set_value_vector(ProblemObject *self, PyObject *arg)
+{
+    const tr_model *m = self->m;
+    PyArrayObject *v = NULL;
+    PyObject *result = NULL;
+    char msg[TR_MSGLEN];
+    const double *p;
+    if (check_free(self) < 0) return NULL;
+    if (values_of(arg, "value vector", m->nt + 6 * (npy_intp)m->nl + 3, &v) < 0) return NULL;
+    p = (const double *)PyArray_DATA(v);
+    if (tr_model_set_values(self->m, p, p + m->nt, p + m->nt + 6 * m->nl, msg, sizeof msg) !=
+        TR_OK) {
+        PyErr_SetString(PyExc_ValueError, msg);
+        goto done;
+    }
+    result = Py_NewRef(Py_None);
+done:
+    Py_DECREF(v);
+    return result;
+}
+
 static PyObject *problem_solve(ProblemObject *self, PyObject *args, PyObject *kwds)
 {
     static char *kwlist[] = {"guess", "jacobian", "verified", "warm", "cancel", "record", NULL};
@@ -274,6 +297,9 @@ static PyMethodDef problem_methods[] = {
      "set_values(*, values=None, point_loads=None, dist=None, pretension=None): the per-call\n"
      "values (nt actuation values, nl x 6 point-load forces and moments, the distributed\n"
      "force, nt pretensions); None keeps what is set.  ValueError naming a bad value."},
+    {"set_value_vector", (PyCFunction)problem_set_value_vector, METH_O,
+     "set_value_vector(v): v = [values (nt), point loads (nl x 6), dist (3)] in one float64\n"
+     "vector (the per-call values of set_values without the pretensions)."},
     {"solve", (PyCFunction)(void (*)(void))problem_solve, METH_VARARGS | METH_KEYWORDS,
      "solve(*, guess=None, jacobian=None, verified=None, warm=True, cancel=None, record=True)\n"
      "-> dict: from the guess (a base_state) if given, else warm from the last successful solve\n"

@@ -111,37 +111,44 @@ def is_planar(scene: Scene) -> bool:
     return key
 
 
-def _structure(scene: Scene) -> tuple:
-    """(field path, value) pairs that fix a scene's compiled structure (cached on the
-    frozen scene)."""
-    key = scene.__dict__.get("_problem_structure")
+def _robot_structure(robot) -> tuple:
+    """(field path, value) pairs of the robot that fix a compiled structure (cached on the
+    frozen robot, which scenes of a sweep share)."""
+    key = robot.__dict__.get("_problem_structure")
     if key is None:
-        rob = scene.robot
-        rod = rob.rod
+        rod = robot.rod
         items = [(f"robot.rod.{name}", getattr(rod, name)) for name in rod.__dataclass_fields__]
-        items.append(("robot.tendons (count)", rob.n_tendons))
-        for i, t in enumerate(rob.tendons):
+        items.append(("robot.tendons (count)", robot.n_tendons))
+        for i, t in enumerate(robot.tendons):
             for name in ("offset", "angle", "slope", "EA"):
                 items.append((f"robot.tendons[{i}].{name}", getattr(t, name)))
-            items.append((f"robot.tendons[{i}].end", rob.tendon_end(i)))
-        for i, c in enumerate(scene.displacement_controlled()):
-            items.append((f"displacement[{i}] (control kind)", "displacement" if c else "tension"))
+            items.append((f"robot.tendons[{i}].end", robot.tendon_end(i)))
+        key = tuple(items)
+        object.__setattr__(robot, "_problem_structure", key)
+    return key
+
+
+def _structure(scene: Scene) -> tuple:
+    """(field path, value) pairs of the scene itself that fix a compiled structure, the
+    robot's aside (cached on the frozen scene)."""
+    key = scene.__dict__.get("_problem_structure")
+    if key is None:
+        L = scene.robot.rod.length
+        items = [
+            (f"displacement[{i}] (control kind)", "displacement" if c else "tension")
+            for i, c in enumerate(scene.displacement_controlled())
+        ]
         pls = scene.point_loads
         items.append(("loads (number of point loads)", len(pls)))
         for j, p in enumerate(pls):
-            items.append((f"point load {j} position s", min(p.s, rod.length)))
+            items.append((f"point load {j} position s", min(p.s, L)))
         items.append(("planar formulation", is_planar(scene)))
         key = tuple(items)
         object.__setattr__(scene, "_problem_structure", key)
     return key
 
 
-def structure_difference(a: Scene, b: Scene) -> str | None:
-    """None if scenes ``a`` and ``b`` share one structure, else the first field that
-    differs, with both values."""
-    if a is b:
-        return None
-    ka, kb = _structure(a), _structure(b)
+def _first_difference(ka: tuple, kb: tuple) -> str | None:
     if ka == kb:
         return None
     for (name, va), (_, vb) in zip(ka, kb):
@@ -149,6 +156,31 @@ def structure_difference(a: Scene, b: Scene) -> str | None:
         if not same:
             return f"{name} = {vb!r} (the problem's is {va!r})"
     return f"{ka[len(kb)][0] if len(ka) > len(kb) else kb[len(ka)][0]} differs"
+
+
+def structure_difference(a: Scene, b: Scene) -> str | None:
+    """None if scenes ``a`` and ``b`` share one structure, else the first field that
+    differs, with both values."""
+    if a is b:
+        return None
+    if a.robot is not b.robot:
+        diff = _first_difference(_robot_structure(a.robot), _robot_structure(b.robot))
+        if diff is not None:
+            return diff
+    return _first_difference(_structure(a), _structure(b))
+
+
+def value_vector(scene: Scene) -> np.ndarray:
+    """The per-call values of ``scene`` in one float64 vector, [actuation values (nt),
+    point loads (nl x 6: F [N], M [N m], world), distributed force (3) [N/m]] (cached on
+    the frozen scene): what a compiled Problem takes per solve."""
+    v = scene.__dict__.get("_value_vector")
+    if v is None:
+        _, tendons, loads, dist = pack_scene(scene)
+        v = np.concatenate([tendons[:, _TD["value"]], loads[:, 1:7].ravel(), dist])
+        v.setflags(write=False)
+        object.__setattr__(scene, "_value_vector", v)
+    return v
 
 
 # Arc lengths within this fraction of L of the base merge with it (TR_BP_MERGE): the

@@ -24,7 +24,14 @@ from __future__ import annotations
 import numpy as np
 
 from ._interrupt import current_token
-from .compiled import _TD, _compile, compliance_point, pack_scene, structure_difference
+from .compiled import (
+    _TD,
+    _compile,
+    compliance_point,
+    pack_scene,
+    structure_difference,
+    value_vector,
+)
 from .model import PointLoad, Scene
 from .options import Options, _check_options, _replace
 from .results import ConvergenceError
@@ -97,17 +104,13 @@ class Problem:
                 f"scene has another structure than this Problem: {diff}; a Problem keeps "
                 f"its structure (make a new tr.Problem for this scene)"
             )
-        _, tendons, loads, dist = pack_scene(scene)
-        pre = None
         if scene.robot is not self._current.robot:
             # pretensions are values too (the rest lengths follow); sent only when changed
             old = pack_scene(self._current)[1][:, _TD["pretension"]]
-            new = tendons[:, _TD["pretension"]]
+            new = pack_scene(scene)[1][:, _TD["pretension"]]
             if new.tolist() != old.tolist():
-                pre = new
-        self._c.set_values(
-            values=tendons[:, _TD["value"]], point_loads=loads[:, 1:7], dist=dist, pretension=pre
-        )
+                self._c.set_values(pretension=new)
+        self._c.set_value_vector(value_vector(scene))
         self._current = scene
 
     # ------------------------------------------------------------------ solve

@@ -1020,7 +1020,9 @@ def test_compliance_entry(entry_worker, spec, ospec, data):
         assert not bad_s or 0.0 < float(s) <= L * (1 + 1e-12), f"tr.compliance accepted s={s!r}"
         event("compliance: ok")
     elif raised(out, tr.ConvergenceError):
-        assert "did not solve" in out[2], out
+        # the scene did not solve, or (a small max_work) the budget ran out while
+        # linearising the solved state: both say so
+        assert "did not solve" in out[2] or "ran out while linearising" in out[2], out
         event("compliance: ConvergenceError")
     elif known_b14(out, opts):
         event("compliance: B14")
