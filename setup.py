@@ -83,6 +83,10 @@ def split_flags(cflags, libs):
     return inc, extra_c, libdirs, libnames, extra_l
 
 
+# the core's C flags, one place for the extension and the benchmarks' C builds
+with open(os.path.join("csrc", "CFLAGS")) as fh:
+    CFLAGS = [ln.strip() for ln in fh if ln.strip() and not ln.startswith("#")]
+
 cflags, libs, how = find_gsl()
 inc, extra_c, libdirs, libnames, extra_l = split_flags(cflags, libs)
 csrc = sorted(os.path.join("csrc", f) for f in os.listdir("csrc") if f.endswith(".c"))
@@ -108,15 +112,7 @@ ext = Extension(
         ("NPY_NO_DEPRECATED_API", "NPY_2_0_API_VERSION"),
         ("NPY_TARGET_VERSION", "NPY_2_0_API_VERSION"),
     ],
-    extra_compile_args=[
-        "-std=c99",
-        "-O2",
-        "-Wall",
-        "-Wextra",
-        "-Wno-unused-parameter",
-        "-fno-strict-aliasing",
-    ]
-    + extra_c,
+    extra_compile_args=CFLAGS + extra_c,
     extra_link_args=extra_l,
 )
 

@@ -159,8 +159,10 @@ def sweep_of(scene):
 
 # --------------------------------------------------------------------------- the bare core
 def setup_flags() -> list[str]:
-    """The C flags of the extension build (setup.py's list; -O2 last wins there)."""
-    return ["-std=c99", "-O2", "-fno-strict-aliasing", "-fPIC", "-D_POSIX_C_SOURCE=200809L"]
+    """The C flags of the extension build (csrc/CFLAGS, as setup.py reads them)."""
+    with open(os.path.join(ROOT, "csrc", "CFLAGS")) as fh:
+        flags = [ln.strip() for ln in fh if ln.strip() and not ln.startswith("#")]
+    return flags + ["-fPIC", "-D_POSIX_C_SOURCE=200809L"]
 
 
 class Harness:

@@ -74,9 +74,10 @@ def bare_batch(m: int):
         try:
             gc = subprocess.run(["pkg-config", "--cflags", "gsl"], capture_output=True, text=True)
             gl = subprocess.run(["pkg-config", "--libs", "gsl"], capture_output=True, text=True)
+            with open(os.path.join(cdir, "CFLAGS")) as fh:
+                flags = [ln.strip() for ln in fh if ln.strip() and not ln.startswith("#")]
             subprocess.run(
-                ["gcc", "-std=c99", "-O2", "-fno-strict-aliasing", "-fPIC"]
-                + ["-D_POSIX_C_SOURCE=200809L", "-I" + cdir]
+                ["gcc", *flags, "-fPIC", "-D_POSIX_C_SOURCE=200809L", "-I" + cdir]
                 + shlex.split(gc.stdout)
                 + [os.path.join(HERE, "batch_harness.c"), *csrc, "-o", exe]
                 + shlex.split(gl.stdout or "-lgsl -lgslcblas")
