@@ -80,7 +80,7 @@ int main(int argc, char **argv)
         }
     t0 = cpu_now();
     for (c = 0; c < m; c++) {
-        tr_batch_in in = {m, NULL, F + 6 * c * m, NULL, 1, 1, pred, 0, skip};
+        tr_batch_in in = {m, NULL, F + 6 * c * m, NULL, 1, 1, pred, 0, skip, NULL, NULL};
         tr_batch_out oc = {pos + 3 * c * m, rot + 9 * c * m, t + 3 * c * m, s + 3 * c * m,
                            dd + 3 * c * m,  res + c * m,     st + c * m,    nit + c * m,
                            nfev + c * m,    cold + c * m,    NULL,          0};

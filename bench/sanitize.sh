@@ -32,11 +32,12 @@ VPY="${VPY:-$ROOT/.venv/bin/python}"
 CC="${CC:-gcc}"
 DEST="${TR_SANITIZE_DIR:-/tmp/tendonrod-sanitize}"
 
-# -O2 as in the normal build (setup.py), so floating-point results match it
-# and the suite's tolerances apply unchanged; -g for file:line in reports.
+# The optimisation flags of the normal build (csrc/CFLAGS, which setup.py reads) stay,
+# so floating-point results match it and the suite's tolerances apply unchanged; -g
+# for file:line in reports.
 # float-cast-overflow: GCC's -fsanitize=undefined leaves it out (clang's does
 # not); a double outside the int range cast to int is undefined behaviour.
-SAN_CFLAGS="-fsanitize=address,undefined,float-cast-overflow -fno-sanitize-recover=undefined,float-cast-overflow -fno-omit-frame-pointer -g -O2"
+SAN_CFLAGS="-fsanitize=address,undefined,float-cast-overflow -fno-sanitize-recover=undefined,float-cast-overflow -fno-omit-frame-pointer -g"
 SAN_LDFLAGS="-fsanitize=address,undefined,float-cast-overflow"
 
 ASAN_RT="$($CC -print-file-name=libasan.so)"

@@ -106,12 +106,13 @@ int tr_verify_steps(const tr_model *m, tr_data *d)
 }
 
 /* A verification at x_v (truncation estimate e_v, N steps) vouches for a solution x at
- * the same N that moved delta = max_i |x_i - x_v,i| / max(1, |x_v,i|) <= TR_CARRY_MAX_MOVE
- * from it when TR_CARRY_SAFETY e_v (1 + delta)^(p+1) <= tol.  The truncation error of an order-p method
- * is ~ (h |u|)^(p+1) with u the curvature, which the scaled moments carry (O(1) for an
- * O(1) bend), so a relative change delta of the unknowns grows it by at most about
- * (1 + delta)^(p+1); that bound is reported as the truncation estimate.  A sweep of
- * small steps re-verifies once its unknowns drift that far from the last verification. */
+ * the same N that moved delta = max_i |x_i - x_v,i| / max(1, |x_v,i|) from it, when
+ * delta <= TR_CARRY_MAX_MOVE and TR_CARRY_SAFETY e_v (1 + delta)^(p+1) <= tol.  The
+ * truncation error of an order-p method is ~ (h |u|)^(p+1) with u the curvature, which
+ * the scaled moments carry (O(1) for an O(1) bend), so a relative change delta of the
+ * unknowns grows it by about (1 + delta)^(p+1); that bound, with the factor of safety,
+ * is reported as the truncation estimate.  A sweep of small steps re-verifies once its
+ * unknowns drift that far from the last verification. */
 int tr_verify_carried(const tr_model *m, tr_data *d)
 {
     const double order = d->opt.integrator == TR_RK4 ? 4.0 : 8.0;

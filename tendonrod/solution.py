@@ -83,10 +83,10 @@ class Solution:
     Attributes
     ----------
     success : bool
-        The residual fell below ``options.tol`` on an equilibrium the solver vouches for:
-        status >= 0, except status 3 (found by a direct solve after load continuation
-        stalled), which counts only when a cold solve with another shooting formulation
-        reaches the same equilibrium (the message says which).
+        The core's verdict: the residual fell below ``options.tol`` on an equilibrium the
+        solver vouches for, status >= 0 except 3 (found by a direct solve after load
+        continuation stalled, and not confirmed by a cold solve with another shooting
+        formulation; a confirmed one is status 4, the message says which).
     status : int
         Core status: 0 ok, > 0 finished with a caveat, < 0 failure.
     message : str
