@@ -162,11 +162,10 @@ const char glue_solve_doc[] =
     "displacement-controlled tendons; from the path length for tension-controlled ones),\n"
     "base_state (6 + 2 nt,) the guess format of this solution, unknowns (k,) scaled, jacobian\n"
     "(k,k) scaled, jacobian_cond (1-norm), truncation_estimate (NaN when steps were given or\n"
-    "the integrator is adaptive; truncation_carried: True when it is the bound carried from a\n"
-    "verification at a nearby solution, see verified_*), verified_estimate and verified_unknowns "
-    "(k,) (the step\n"
-    "verification that vouches for the step count, measured at those unknowns; NaN and None\n"
-    "without one), continuation_steps, formulation (dict).\n";
+    "the integrator is adaptive), truncation_carried (True: that estimate is the bound carried\n"
+    "from a verification at a nearby solution), verified_estimate and verified_unknowns (k,)\n"
+    "(the step verification that vouches for the step count and the unknowns it measured at;\n"
+    "NaN and None without one), continuation_steps, formulation (dict).\n";
 
 PyObject *glue_solve(PyObject *self, PyObject *args, PyObject *kwds)
 {
