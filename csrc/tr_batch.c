@@ -239,6 +239,8 @@ static int solve_point(batch_ws *w, const tr_batch_in *in, int have, int record,
     if (!*cold && !in->exact && d->opt.steps > 0 && d->opt.integrator != TR_ADAPTIVE) {
         const int iters = d->opt.max_iter < TR_LEAN_ITER ? d->opt.max_iter : TR_LEAN_ITER;
         st = tr_solve_lean(m, d, w->xp, w->J, iters);
+        /* an unstable answer goes to the full solve, which looks for a stable one */
+        if (st == TR_OK && !tr_branch_lean(m, d)) st = TR_ENOPROGRESS;
         if (st == TR_OK) st = record ? tr_record(m, d) : tr_record_tip(m, d);
         *nit = d->nit;
         *nfev = d->nfev;
