@@ -24,6 +24,7 @@ from __future__ import annotations
 import numpy as np
 
 from ._interrupt import current_token
+from ._plausible import Checker
 from .compiled import (
     _TD,
     _compile,
@@ -59,6 +60,7 @@ class Problem:
         self._c = _compile(scene, self._options)
         self._current = scene  # the scene whose values are set in C
         self._last = None  # the last successful Solution
+        self._plausible = Checker()  # plausibility warnings: once per rule and subject
 
     # ------------------------------------------------------------------ state
     @property
@@ -151,6 +153,10 @@ class Problem:
         Returns
         -------
         Solution
+
+        A solution that looks like a slip (:mod:`tendonrod.plausibility`) gives a
+        :class:`~tendonrod.PlausibilityWarning` the first time its rule fires for this
+        problem; every solution lists its own findings in ``plausibility``.
         """
         scene = self._scene if scene is None else scene
         if scene is not self._current:
@@ -160,6 +166,7 @@ class Problem:
         if sol.success:
             self._last = sol
         _report(sol, strict, "tendonrod.Problem.solve", stacklevel=3)
+        self._plausible.check(sol, "tendonrod.Problem.solve", once=True)
         return sol
 
     def compliance(self, s: float | None = None):

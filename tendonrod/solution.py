@@ -284,6 +284,20 @@ class Solution:
             return RodState(float(ss[0]), pos[0], rot[0], frc[0], mom[0])
         return RodState(ss, pos, rot, frc, mom)
 
+    @property
+    def plausibility(self) -> tuple:
+        """The :class:`~tendonrod.plausibility.Finding` s of this solution: its scene's input
+        findings (angle, slenderness, offset) and, for a successful solve, those of the
+        solution (tension vs EI/r^2, backbone strain, curl, self-intersection); ``()``
+        when all is plausible.  Computed on first access (``tr.solve`` and
+        ``Problem.solve`` compute it to warn); see :mod:`tendonrod.plausibility`."""
+        found = self.__dict__.get("_plausibility")
+        if found is None:
+            from ._plausible import solution_findings
+
+            found = solution_findings(self)
+        return found
+
     def __repr__(self):
         head = "converged" if self.success else "NOT converged"
         tip = np.array2string(np.asarray(self.tip_position), precision=6, separator=", ")

@@ -83,6 +83,7 @@ from ._sweep_chunk import (
 from ._sweep_file import append_line, fingerprint_of, open_progress
 from ._sweep_paths import _parse_path, get_path, set_path
 from .options import Options, _check_options
+from .plausibility import Finding, PlausibilityWarning, summarize
 from .results import ConvergenceWarning
 from .solver import compliance
 
@@ -183,6 +184,10 @@ class SweepResult:
         NaN where a point raised.
     chunksize : int
         Points per warm-started chunk (results depend on it).
+    plausibility : ndarray of object, shape ``shape``
+        Each point's plausibility findings, a tuple of
+        :class:`~tendonrod.plausibility.Finding` (as ``Solution.plausibility``; ``()``
+        where all is plausible or the point did not run).
     """
 
     names: tuple
@@ -194,6 +199,7 @@ class SweepResult:
     nit: np.ndarray
     data: dict
     chunksize: int
+    plausibility: np.ndarray | None = None
 
     @property
     def success(self) -> np.ndarray:
@@ -294,6 +300,11 @@ def sweep(
     Returns
     -------
     SweepResult
+
+    Points that look like a slip (:mod:`tendonrod.plausibility`) give one
+    :class:`~tendonrod.PlausibilityWarning` per rule and subject for the whole sweep (how
+    many points, the worst and its index), never one per point;
+    ``SweepResult.plausibility`` lists every point's findings.
     """
     names, shape, point_values = _points(vary, grid)
     npoints = len(point_values)
@@ -332,7 +343,14 @@ def sweep(
             t["batch"] = True
     bar = _progress_bar(progress, npoints, done)
     _run(tasks, done, fh, bar, executor, max_workers)
-    return _assemble(names, shape, point_values, done, npoints, chunksize)
+    res = _assemble(names, shape, point_values, done, npoints, chunksize)
+    summarize(
+        res.plausibility.ravel().tolist(),
+        "tendonrod.sweep",
+        index=lambda i: f"index {tuple(int(j) for j in np.unravel_index(i, res.shape))}",
+        where="SweepResult.plausibility",
+    )
+    return res
 
 
 def _count(name: str, value) -> int:
@@ -383,18 +401,26 @@ def _build_scenes(base, names, point_values, build) -> list:
     """The scene of every point, built in the parent (cheap); a failed build becomes a
     :class:`_BuildFailure`, recorded as an error when its chunk runs."""
     scenes: list = []
-    for pv in point_values:
-        try:
-            if build is not None:
-                scene = build(base, **dict(zip(names, pv)))
-            else:
-                scene = base
-                for n, v in zip(names, pv):
-                    scene = set_path(scene, n, v)
-            scenes.append(scene)
-        except Exception as exc:  # noqa: BLE001 - recorded as a failed point
-            scenes.append(_BuildFailure(f"{type(exc).__name__}: {exc}"))
+    # a dataclass built here warns of its plausibility findings; they are per point data
+    # (the points' findings), summarised once the sweep ends
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", PlausibilityWarning)
+        for pv in point_values:
+            scenes.append(_build_one(base, names, pv, build))
     return scenes
+
+
+def _build_one(base, names, pv, build):
+    """The scene of one point, or a :class:`_BuildFailure`."""
+    try:
+        if build is not None:
+            return build(base, **dict(zip(names, pv)))
+        scene = base
+        for n, v in zip(names, pv):
+            scene = set_path(scene, n, v)
+        return scene
+    except Exception as exc:  # noqa: BLE001 - recorded as a failed point
+        return _BuildFailure(f"{type(exc).__name__}: {exc}")
 
 
 def _tasks(scenes, chunksize, done, measure, options, warm_start) -> list:
@@ -449,6 +475,7 @@ def _run(tasks, done, fh, bar, executor, max_workers) -> None:
     try:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", ConvergenceWarning)
+            warnings.simplefilter("ignore", PlausibilityWarning)  # summarised at the end
             _drive(executor, tasks, done, fh, bar)
     finally:
         if own and executor is not None:
@@ -500,6 +527,8 @@ def _assemble(names, shape, point_values, done, npoints, chunksize) -> SweepResu
     message[:] = "not run"
     nit = np.full(npoints, -1, dtype=np.int64)
     items: list = [None] * npoints
+    found = np.empty(npoints, dtype=object)
+    found.fill(())
     for recs in done.values():
         for r in recs:
             i = int(r["i"])
@@ -508,6 +537,8 @@ def _assemble(names, shape, point_values, done, npoints, chunksize) -> SweepResu
             message[i] = r["message"]
             nit[i] = r["nit"]
             items[i] = r["data"]
+            # (files written before plausibility findings were recorded have none)
+            found[i] = tuple(Finding.from_dict(f) for f in r.get("plausibility", ()))
     keys: list = []
     item_shapes: dict = {}
     for it in items:
@@ -552,4 +583,5 @@ def _assemble(names, shape, point_values, done, npoints, chunksize) -> SweepResu
         nit=nit.reshape(shape),
         data=data,
         chunksize=chunksize,
+        plausibility=found.reshape(shape),
     )
