@@ -35,7 +35,7 @@ def _verification_of(guess: Solution, scene: Scene, options: Options):
         return None
     if any(getattr(guess.options, f) != getattr(options, f) for f in _VERIFICATION_OPTIONS):
         return None
-    if structure_difference(guess.scene, scene) is not None:
+    if structure_difference(guess.scene, scene, options.force_spatial) is not None:
         return None
     return (int(guess.raw["formulation"]["steps"]), float(guess.raw["verified_estimate"]), xv)
 

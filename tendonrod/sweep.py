@@ -127,20 +127,31 @@ def tip_measure(scene: Any, sol: Any) -> dict:
 
 @dataclass(frozen=True)
 class ComplianceMeasure:
-    """Per-point record of ``tr.compliance(scene, s)`` for each s in ``s``.
+    """Per-point record of ``tr.compliance(scene, s)`` for each s in ``s``: the tangent,
+    the secant over the load step ``step``, or both.
 
-    Records ``"compliance"`` with shape (len(s), 6, 6) (world frame; rows
-    [dx, dtheta], columns [force, moment]) plus the :func:`tip_measure`
-    fields.  A picklable callable, so it works with process pools.
+    Records ``"compliance"`` (the tangent, when ``tangent``) and, when ``step`` is
+    given, ``"secant_compliance"`` (``tr.compliance(scene, s, step=step)``), each with
+    shape (len(s), 6, 6) (world frame; rows [dx, dtheta], columns [force, moment]), plus
+    the :func:`tip_measure` fields.  ``step``: a signed load step, one for all columns or
+    six ([N], [N m]); the tangent misleads near a tendon's slack switch or a limit point
+    (:func:`tendonrod.compliance`).  Picklable, so it works with process pools.
     """
 
     s: tuple = (None,)
+    step: Any = None
+    tangent: bool = True
 
     def __call__(self, scene, sol):
         out = tip_measure(scene, sol)
-        out["compliance"] = np.stack(
-            [np.asarray(compliance(scene, s=s), dtype=float) for s in self.s]
-        )
+        if self.tangent:
+            out["compliance"] = np.stack(
+                [np.asarray(compliance(scene, s=s), dtype=float) for s in self.s]
+            )
+        if self.step is not None:
+            out["secant_compliance"] = np.stack(
+                [np.asarray(compliance(scene, s=s, step=self.step), dtype=float) for s in self.s]
+            )
         return out
 
 
