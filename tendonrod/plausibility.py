@@ -34,9 +34,10 @@ rule                   what is measured                                 checked
 The checks of a solution read the backbone's states only when a bound says they
 could fire: ``|n(s)| <= sum |F| + |f| L + sum tau`` and ``|kappa| <= |m(s)| / EI`` with
 ``|m(s)|`` bounded from the loads and tensions alone (:func:`screen`), so a solve
-whose bounds stay below the limits (almost every design scene) pays about a
-microsecond; otherwise the states at the default output nodes are recorded once from
-the solution's unknowns (no solve).
+whose bounds stay below the limits (almost every design scene) pays a few
+microseconds; otherwise the states at the default output nodes are recorded once from
+the solution's unknowns (no solve), some 0.1-0.3 ms
+(``bench/results/plausibility_cost.md``).
 
 Who warns, and how often (every entry point judges with the same rules; the
 per-point findings are data, so nothing is lost when a warning is not repeated):
@@ -50,7 +51,10 @@ per-point findings are data, so nothing is lost when a warning is not repeated):
 - :attr:`tendonrod.Solution.plausibility`, ``BatchResult.plausibility`` and
   ``SweepResult.plausibility`` list every point's findings (:class:`Finding`).
 
-Silence them as any warning: ``warnings.simplefilter("ignore", tr.PlausibilityWarning)``.
+Silence them as any warning: ``warnings.filterwarnings("ignore",
+category=tr.PlausibilityWarning)``, or some of them by a regular expression that matches
+the start of their message (``"Tendon.angle"``; a solution's findings start with the
+entry point, ``"tendonrod.solve: "``); the findings are still computed and listed.
 """
 
 from __future__ import annotations
@@ -537,14 +541,32 @@ def self_intersection_finding(s, position, T, thickness: float | None, L: float)
         return None
     keep = np.concatenate([[True], np.diff(s) > 0.0])  # drop the repeated nodes at jumps
     s, P, T = s[keep], position[keep], T[keep]
-    ia, ib = np.triu_indices(len(s) - 1, 2)
-    far = T[ib] - T[ia + 1] >= _SELF_TURN
-    if not np.any(far):
+    limit = thickness if thickness is not None else _CROSSING_RTOL * L
+    # segments a < b far apart along the backbone: T[b] - T[a + 1] >= pi (T does not
+    # decrease, so this leaves out b <= a + 1, and only the rows a with T[a + 1] <=
+    # T[-2] - pi and the columns b with T[b] >= T[1] + pi can hold such pairs: that block,
+    # taken a little wider than round-off could make it, and the exact test inside)
+    tiny = 1e-12 * (1.0 + float(T[-1]))
+    a1 = int(np.searchsorted(T[1:-1], T[-2] - _SELF_TURN + tiny, side="right"))
+    b0 = int(np.searchsorted(T[:-1], T[1] + _SELF_TURN - tiny, side="left"))
+    far = T[None, b0:-1] - T[1 : a1 + 1, None] >= _SELF_TURN
+    # segments whose midpoints are farther apart than limit + both half lengths cannot be
+    # closer than limit: the exact distance only for the others (squared distances by the
+    # Gram matrix; the margin covers its round-off, so no candidate is lost)
+    mid, half = 0.5 * (P[1:] + P[:-1]), 0.5 * np.linalg.norm(P[1:] - P[:-1], axis=1)
+    ma, mb, ha, hb = mid[:a1], mid[b0:], half[:a1], half[b0:]
+    gap2 = (
+        np.einsum("ij,ij->i", ma, ma)[:, None]
+        + np.einsum("ij,ij->i", mb, mb)[None, :]
+        - 2.0 * (ma @ mb.T)
+    )
+    reach = limit + ha[:, None] + hb[None, :]
+    ia, ib = np.nonzero(far & (gap2 < reach * reach + 1e-12 * (L * L)))
+    ib = ib + b0
+    if ia.size == 0:
         return None
-    ia, ib = ia[far], ib[far]
     dist = _segment_distance(P[ia], P[ia + 1], P[ib], P[ib + 1])
     k = int(np.argmin(dist))
-    limit = thickness if thickness is not None else _CROSSING_RTOL * L
     if not dist[k] < limit:
         return None
     what = (

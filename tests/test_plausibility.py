@@ -134,6 +134,68 @@ def test_curl_and_self_intersection_of_exact_circles():
             assert found[0].value == pytest.approx(gap, abs=5e-6)
 
 
+def _closest_far_pair(s, position, T):
+    """Brute force: the smallest distance between two polyline segments whose turning
+    between them is >= 180 deg, every pair measured (no pre-filter)."""
+    ia, ib = np.triu_indices(len(s) - 1, 2)
+    far = T[ib] - T[ia + 1] >= math.pi
+    ia, ib = ia[far], ib[far]
+    if ia.size == 0:
+        return math.inf
+    P_ = position
+    return float(P._segment_distance(P_[ia], P_[ia + 1], P_[ib], P_[ib + 1]).min())
+
+
+def test_self_intersection_prefilter_loses_no_pair():
+    """The rule measures exact distances only for segment pairs whose midpoints are
+    within reach: on noisy helices whose turns pass within, near and beyond the
+    diameter of each other, it finds exactly what measuring every pair finds; and the
+    segment distance agrees with a dense sampling of both segments."""
+    rng = np.random.default_rng(1313)
+    d, L = 1e-3, 0.3
+    seen = {True: 0, False: 0}
+    for pitch in np.linspace(0.05e-3, 0.4e-3, 10):  # turns 0.3 to 2.5 mm apart in z
+        for _ in range(3):
+            phi = np.linspace(0.0, rng.uniform(2.2, 5.0) * math.pi, 151)  # 1.1 to 2.5 turns
+            P_ = np.stack([0.02 * np.cos(phi), 0.02 * np.sin(phi), pitch * phi], axis=1)
+            P_ += rng.normal(scale=0.1e-3, size=P_.shape)
+            s = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(P_, axis=0), axis=1))])
+            T = phi.copy()  # a helix's tangent turns (about) as its phase
+            want = _closest_far_pair(s, P_, T)
+            got = P.self_intersection_finding(s, P_, T, d, L)
+            assert (got is not None) is (want < d), (pitch, want, got)
+            if got is not None:
+                assert got.value == want  # the same pair, the same arithmetic
+            seen[want < d] += 1
+    # hairpins: an arm, a bend of pi + delta on radius rho, an arm converging on the
+    # first; the closest far pairs are barely more than a half turn apart
+    for _ in range(30):
+        rho, delta, arm = rng.uniform(0.3e-3, 1.5e-3), rng.uniform(0.01, 0.1), 0.01
+        s = np.linspace(0.0, 2 * arm + math.pi * rho, 301)
+        theta = np.clip((s - arm) / (math.pi * rho), 0.0, 1.0) * (math.pi + delta)
+        ds = np.diff(s)
+        x = np.concatenate([[0.0], np.cumsum(ds * np.sin(0.5 * (theta[1:] + theta[:-1])))])
+        z = np.concatenate([[0.0], np.cumsum(ds * np.cos(0.5 * (theta[1:] + theta[:-1])))])
+        P_ = np.stack([x, np.zeros_like(x), z], axis=1)
+        want = _closest_far_pair(s, P_, theta)
+        got = P.self_intersection_finding(s, P_, theta, d, L)
+        assert (got is not None) is (want < d), (rho, delta, want, got)
+        if got is not None:
+            assert got.value == want
+        seen[want < d] += 1
+    assert seen[True] >= 10 and seen[False] >= 10
+    # the segment distance against a dense sampling of two skew segments: the sampled
+    # minimum is an upper bound within (segment length / 400) of the true one
+    for _ in range(20):
+        p0, p1, q0, q1 = rng.normal(size=(4, 1, 3))
+        exact = float(P._segment_distance(p0, p1, q0, q1)[0])
+        t = np.linspace(0.0, 1.0, 401)[:, None]
+        a, b = p0 + t * (p1 - p0), q0 + t * (q1 - q0)
+        sampled = np.linalg.norm(a[:, None, :] - b[None, :, :], axis=2).min()
+        slack = (np.linalg.norm(p1 - p0) + np.linalg.norm(q1 - q0)) / 400
+        assert exact <= sampled + 1e-12 and sampled - exact <= slack
+
+
 def test_tension_rule_measures_how_close_a_tendon_comes_to_the_centre_of_curvature():
     """A lone parallel tendon at a free tip bends the rod to kappa = tau r / EI: r kappa is
     the tension over EI/r^2, the issue's rule.  A converging tendon is tilted by its slope
