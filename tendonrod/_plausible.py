@@ -3,11 +3,11 @@ solution (``tr.solve``, ``Problem.solve``, :attr:`Solution.plausibility`) or the
 of a batch (``tr.solve_batch``, the sweep's batch path), by one procedure:
 
 1. the scene's input findings (cached on its robot);
-2. for a successful solve, the tension rule on its tensions, and the bounds of
-   :func:`~tendonrod.plausibility.state_bounds` from its loads and tensions;
-3. where a bound is not clear, the states at the default output nodes, recorded once
-   from the solution's unknowns at its step count (no solve), for the strain, curl
-   and self-intersection rules.
+2. for a successful solve, the bounds of :func:`~tendonrod.plausibility.screen` from its
+   loads and tensions (:func:`~tendonrod.plausibility.screen_clear`);
+3. where they are not clear, the states at the default output nodes, recorded once
+   from the solution's unknowns at its step count (no solve), for the tension, strain,
+   curl and self-intersection rules.
 
 The recording uses its own compiled problem with the default node count, whatever the
 caller's ``Options.nodes``, so that every entry point finds the same for the same
@@ -170,7 +170,7 @@ def batch_findings(scene, options, raw: dict, values, point_loads, distributed) 
         point_loads = loads[None, :, 1:7]
     d = dist[None, :] if distributed is None else distributed
     levers = P.load_levers(
-        [min(z, L) for z in loads[:, 0].tolist()],
+        loads[:, 0].tolist(),  # arc lengths, clipped to [0, L] by pack_scene
         [np.linalg.norm(point_loads[:, k, 0:3], axis=1) for k in range(loads.shape[0])],
         [np.linalg.norm(point_loads[:, k, 3:6], axis=1) for k in range(loads.shape[0])],
         np.linalg.norm(d, axis=1),

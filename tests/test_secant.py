@@ -49,7 +49,7 @@ def test_secant_of_the_plain_cantilever_is_the_elastica():
     assert abs(C[2, 0] - (z - L) / h) <= 1e-8 * abs((z - L) / h)
     # the tip turns about +y by theta (the reference's tip angle from +z, sign: -x side)
     assert abs(C[4, 0] - abs(th) / h) <= 1e-8 * abs(th / h)
-    # nothing moves out of the plane of the load
+    # nothing moves out of the plane of the load (a planar scene: zero up to round-off)
     assert np.all(np.abs(C[[1, 3, 5], 0]) <= 1e-12 * abs(C[0, 0]))
 
 
@@ -223,8 +223,11 @@ def test_rotation_vector():
         R = np.eye(3) + math.sin(theta) * K + (1 - math.cos(theta)) * K @ K
         w = rotation_vector(R)
         if theta < math.pi - 1e-6:
+            # atan2 of the skew and symmetric parts: R's entries carry ~1e-16 of round-off,
+            # so the angle and axis are good to ~1e-15 (1e-12 leaves room)
             assert np.allclose(w, theta * a, rtol=0, atol=1e-12 * max(theta, 1e-3)), theta
         else:  # at pi, a and -a are the same rotation
+            # the axis from (R + I)/2 with R's round-off: sqrt(1e-16) ~ 1e-8 at worst
             assert min(np.linalg.norm(w - theta * a), np.linalg.norm(w + theta * a)) < 1e-7
 
 
