@@ -30,6 +30,7 @@ void tr_data_free(tr_data *d)
     free(d->Yx);
     free(d->x_last);
     tr_data_free(d->confirm_d);
+    tr_stab_free(d->stab);
     tr_model_free(d->confirm_m);
     free(d->lin_C);
     free(d->lin_act);
