@@ -25,6 +25,7 @@ from . import analytic
 from .batch import BatchResult, solve_batch
 from .model import DistributedLoad, PointLoad, Robot, Rod, Scene, Tendon
 from .options import Options
+from .plausibility import PlausibilityWarning
 from .problem import Problem
 from .results import ConvergenceError, ConvergenceWarning
 from .solver import Solution, compliance, solve
@@ -58,6 +59,7 @@ __all__ += [
     "compliance",
     "ConvergenceWarning",
     "ConvergenceError",
+    "PlausibilityWarning",
 ]
 __all__ += ["sweep", "SweepResult"]
 __all__ += ["solve_batch", "BatchResult"]

@@ -18,12 +18,14 @@ are returned.
 from __future__ import annotations
 
 import concurrent.futures as cf
+import dataclasses
 from dataclasses import dataclass
 
 import numpy as np
 
-from . import _core
+from . import _core, plausibility
 from ._interrupt import current_token, new_token
+from ._plausible import batch_findings
 from .compiled import _TD, is_planar, pack_scene
 from .model import Scene
 from .options import Options, _check_options
@@ -56,6 +58,8 @@ class BatchResult:
     cold : (n,) bool, the point was solved without a warm start
     formulation : dict, what was solved (planar, kirchhoff, n_unknowns, n_states)
     chunksize : int, points per warm-started chunk
+    plausibility : (n,) object array, each point's findings (a tuple of
+        :class:`~tendonrod.plausibility.Finding`, as ``Solution.plausibility``)
     """
 
     tip_position: np.ndarray
@@ -72,6 +76,7 @@ class BatchResult:
     success: np.ndarray
     formulation: dict
     chunksize: int
+    plausibility: np.ndarray | None = None
 
     def __len__(self) -> int:
         return int(self.status.shape[0])
@@ -191,6 +196,10 @@ def solve_batch(
     Returns
     -------
     BatchResult
+
+    Points that look like a slip (:mod:`tendonrod.plausibility`) give one
+    :class:`~tendonrod.PlausibilityWarning` per rule and subject for the whole batch (how
+    many points, the worst); ``BatchResult.plausibility`` lists every point's findings.
     """
     options, chunksize = _check_arguments(scene, options, threads, chunksize)
     rod, tendons, loads, dist = pack_scene(scene)
@@ -217,7 +226,17 @@ def solve_batch(
     )
     packed = (rod, tendons, loads, dist)
     parts = _run_chunks(packed, values, point_loads, distributed, kw, n, chunksize, threads)
-    return _assemble(parts, n, chunksize, options)
+    res = _assemble(parts, n, chunksize, options)
+    raw = {
+        "success": res.success,
+        "tension": res.tension,
+        "formulation": res.formulation,
+        "unknowns": np.concatenate([p["unknowns"] for p in parts]),
+        "steps": np.concatenate([p["steps"] for p in parts]),
+    }
+    found = batch_findings(scene, options, raw, values, point_loads, distributed)
+    plausibility.summarize(found, "tendonrod.solve_batch", where="BatchResult.plausibility")
+    return dataclasses.replace(res, plausibility=found)
 
 
 def _tendon_values(tendons, n, idisp, iten, displacement, tension):

@@ -35,7 +35,7 @@ def _verification_of(guess: Solution, scene: Scene, options: Options):
         return None
     if any(getattr(guess.options, f) != getattr(options, f) for f in _VERIFICATION_OPTIONS):
         return None
-    if structure_difference(guess.scene, scene) is not None:
+    if structure_difference(guess.scene, scene, options.force_spatial) is not None:
         return None
     return (int(guess.raw["formulation"]["steps"]), float(guess.raw["verified_estimate"]), xv)
 
@@ -345,6 +345,20 @@ class Solution:
         if scalar:
             return RodState(float(ss[0]), pos[0], rot[0], frc[0], mom[0])
         return RodState(ss, pos, rot, frc, mom)
+
+    @property
+    def plausibility(self) -> tuple:
+        """The :class:`~tendonrod.plausibility.Finding` s of this solution: its scene's input
+        findings (angle, slenderness, offset) and, for a successful solve, those of the
+        solution (tension vs EI/r^2, backbone strain, curl, self-intersection); ``()``
+        when all is plausible.  Computed on first access (``tr.solve`` and
+        ``Problem.solve`` compute it to warn); see :mod:`tendonrod.plausibility`."""
+        found = self.__dict__.get("_plausibility")
+        if found is None:
+            from ._plausible import solution_findings
+
+            found = solution_findings(self)
+        return found
 
     def __repr__(self):
         head = "converged" if self.success else "NOT converged"
