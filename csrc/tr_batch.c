@@ -195,6 +195,7 @@ static void write_failed_point(const tr_batch_out *out, int p, int nt, int k, in
     out->status[p] = st;
     out->nit[p] = out->nfev[p] = 0;
     if (out->cold) out->cold[p] = 1;
+    if (out->stable) out->stable[p] = -1;
     if (out->message) tr_msgf(out->message + (size_t)p * out->msglen, out->msglen, "%s", pmsg);
     if (out->unknowns)
         for (i = 0; i < k; i++) out->unknowns[(size_t)k * p + i] = NAN;
@@ -214,6 +215,7 @@ static void write_point(const tr_batch_out *out, int p, const tr_model *m, const
     }
     out->residual[p] = d->residual_norm;
     out->status[p] = st;
+    if (out->stable) out->stable[p] = st >= 0 ? d->stable : -1;
     out->nit[p] = nit;
     out->nfev[p] = nfev;
     if (out->cold) out->cold[p] = cold;

@@ -77,6 +77,9 @@ typedef struct tr_batch_out {
                          record its states later; may be NULL */
     int *steps;       /* (n) integrator steps of those unknowns (the tr_record_from argument; 0
                          for the adaptive integrator or where no solve ran); may be NULL */
+    int *stable;      /* (n) the stability verdict of the point (tr_branch.c): 1 stable, 0
+                         unstable, -1 not judged (no solution, Options.accept_unstable, or
+                         undecided); may be NULL */
 } tr_batch_out;
 
 /* Solve in->n points of the base model m with options opt (tip_only is forced on).

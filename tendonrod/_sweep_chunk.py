@@ -15,6 +15,7 @@ outcome is decided from the solve's ``success``, never from the status number.
 
 from __future__ import annotations
 
+import math
 import re
 import threading
 import warnings
@@ -126,6 +127,11 @@ def _run_chunk(task: dict) -> dict:
     return {"chunk": task["chunk"], "records": records}
 
 
+def _stable_value(stable) -> float:
+    """A stability verdict True / False / None as 1.0 / 0.0 / NaN."""
+    return math.nan if stable is None else float(bool(stable))
+
+
 # --------------------------------------------------------------------------- batch path
 # The paths whose values solve_batch can vary: an actuation value, or a point load's
 # force/moment (or one component of it).
@@ -217,6 +223,7 @@ def _batch_chunk(task: dict):
             "tension": res.tension[k].tolist(),
             "slack": res.slack[k].tolist(),
             "displacement": res.displacement[k].tolist(),
+            "stable": _stable_value(res.stable[k]),
         }
         records.append(
             _record(

@@ -51,7 +51,10 @@ class BatchResult:
         ``tendonrod._core.strerror``)
     success : (n,) bool, the core's verdict per point (as ``Solution.success``: status
         >= 0 except 3, an equilibrium found off the load path that a second formulation
-        did not confirm: see ``message``)
+        did not confirm, and 5, an unstable one: see ``message``)
+    stable : (n,) object array of True / False / None, the stability verdict per point
+        (as ``Solution.stable``; None where not judged: no solution, a margin within the
+        test's accuracy, a world-fixed moment, or ``Options(accept_unstable=True)``)
     message : (n,) object array of str, the solver's message per point
     nit, nfev : (n,) int, iterations and residual evaluations per point
     residual_norm : (n,) final scaled residual max-norm
@@ -74,6 +77,7 @@ class BatchResult:
     residual_norm: np.ndarray
     cold: np.ndarray
     success: np.ndarray
+    stable: np.ndarray
     formulation: dict
     chunksize: int
     plausibility: np.ndarray | None = None
@@ -376,8 +380,11 @@ def _assemble(parts, n, chunksize, options) -> BatchResult:
             "nfev",
             "cold",
             "success",
+            "stable",
         )
     }
+    stable = np.empty(n, dtype=object)
+    stable[:] = [None if v < 0 else bool(v) for v in cat["stable"]]
     message = np.empty(n, dtype=object)
     message[:] = [m for p in parts for m in p["message"]]
     return BatchResult(
@@ -393,6 +400,7 @@ def _assemble(parts, n, chunksize, options) -> BatchResult:
         residual_norm=cat["residual_norm"],
         cold=cat["cold"].astype(bool),
         success=cat["success"].astype(bool),
+        stable=stable,
         formulation=dict(parts[0]["formulation"]),
         chunksize=int(chunksize),
     )

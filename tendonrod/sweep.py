@@ -78,6 +78,7 @@ from ._sweep_chunk import (
     STATUS_NONE,
     _BuildFailure,
     _run_chunk,
+    _stable_value,
     sweep_can_batch,
 )
 from ._sweep_file import append_line, fingerprint_of, open_progress
@@ -115,13 +116,18 @@ _DEFAULT_LIST_CHUNK = 32
 # what is recorded per point
 # --------------------------------------------------------------------------
 def tip_measure(scene: Any, sol: Any) -> dict:
-    """Default per-point record: tip pose, tendon tensions, slacks, displacements."""
+    """Default per-point record: tip pose, tendon tensions, slacks, displacements, and the
+    stability verdict the solve judged (``stable``: 1.0 stable, 0.0 unstable, NaN not
+    judged -- ``Solution.stable`` None, or ``Options(accept_unstable=True)``, where the
+    sweep does not pay for a verdict the solve skipped)."""
+    verdict = sol.raw.get("stability_verdict")
     return {
         "tip_position": np.asarray(sol.tip_position, dtype=float),  # (3,) world [m]
         "tip_rotation": np.asarray(sol.tip_rotation, dtype=float),  # (3, 3) body-to-world
         "tension": np.asarray(sol.tension, dtype=float),  # (nt,) [N]
         "slack": np.asarray(sol.slack, dtype=float),  # (nt,) [m]
         "displacement": np.asarray(sol.displacement, dtype=float),  # (nt,) [m]
+        "stable": _stable_value(None if verdict is None else verdict["stable"]),
     }
 
 

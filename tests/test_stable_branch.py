@@ -18,6 +18,7 @@ import pytest
 
 import tendonrod as tr
 from tendonrod.bench import references as refs
+from tendonrod.sweep import tip_measure
 
 ROD = dict(length=0.25, diameter=1.2e-3, E=60e9, G=23e9)
 ANY = tr.Options(accept_unstable=True)
@@ -168,5 +169,10 @@ def test_every_entry_point_agrees():
             batch = tr.solve_batch(scenes[0], forces=forces, options=opts)
             assert list(batch.success) == [True, True]
             assert list(batch.stable) == [True, True]
-        sw = tr.sweep(scenes[0], {"loads[0].force[2]": [-0.5 * Pe, -1.5 * Pe]})
-        assert list(sw.success) == [True, True]
+        tip = tip_measure
+        for measure in (tip, lambda sc, sol: tip(sc, sol)):  # batched, point by point
+            sw = tr.sweep(
+                scenes[0], {"loads[0].force[2]": [-0.5 * Pe, -1.5 * Pe]}, measure=measure
+            )
+            assert list(sw.success) == [True, True]
+            assert list(sw["stable"]) == [1.0, 1.0]
