@@ -171,8 +171,6 @@ def test_every_entry_point_agrees():
             assert list(batch.stable) == [True, True]
         tip = tip_measure
         for measure in (tip, lambda sc, sol: tip(sc, sol)):  # batched, point by point
-            sw = tr.sweep(
-                scenes[0], {"loads[0].force[2]": [-0.5 * Pe, -1.5 * Pe]}, measure=measure
-            )
+            sw = tr.sweep(scenes[0], {"loads[0].force[2]": [-0.5 * Pe, -1.5 * Pe]}, measure=measure)
             assert list(sw.success) == [True, True]
             assert list(sw["stable"]) == [1.0, 1.0]
