@@ -164,26 +164,33 @@ static int from_guess(const tr_model *m, tr_data *d)
     return settle(m, d, status);
 }
 
+/* The imperfections tried in turn, in the tip's body frame: a force along x, y and the
+ * two diagonals (a robot with tendons is not isotropic: its stable buckled branch may lie
+ * between the axes), then a moment about the tangent. */
+#define TR_N_IMPERFECTIONS 5
+static const double imperfection_dir[TR_N_IMPERFECTIONS][3] = {
+    {1.0, 0.0, 0.0},
+    {0.0, 1.0, 0.0},
+    {0.70710678118654752, 0.70710678118654752, 0.0},
+    {0.70710678118654752, -0.70710678118654752, 0.0},
+    {0.0, 0.0, 1.0}};
+
 /* Load continuation with imperfection `which` at the tip (R: the tip rotation of the
  * unstable answer), then its removal.  *what: a description for the message. */
 static int imperfect(const tr_model *m, tr_data *d, int which, const double *R, char *what,
                      size_t len)
 {
-    const double F = TR_IMPERFECTION * m->F_s, M = TR_IMPERFECTION * m->M_s;
+    const int force = which < TR_N_IMPERFECTIONS - 1;
+    const double size = TR_IMPERFECTION * (force ? m->F_s : m->M_s);
     const int saved = d->jac_method;
+    double u[3];
     int c, status;
     d->probe_bp = m->nseg;
     for (c = 0; c < 6; c++) d->probe[c] = 0.0;
-    for (c = 0; c < 3; c++) {
-        if (which < 2)
-            d->probe[c] = F * R[3 * c + which];
-        else
-            d->probe[3 + c] = M * R[3 * c + 2];
-    }
+    tru_matvec3(u, R, imperfection_dir[which]);
+    for (c = 0; c < 3; c++) d->probe[(force ? 0 : 3) + c] = size * u[c];
     snprintf(what, len, "a tip %s of %.3g %s along the world direction (%.3f, %.3f, %.3f)",
-             which < 2 ? "force" : "moment", which < 2 ? F : M, which < 2 ? "N" : "N m",
-             R[which < 2 ? which : 2], R[3 + (which < 2 ? which : 2)],
-             R[6 + (which < 2 ? which : 2)]);
+             force ? "force" : "moment", size, force ? "N" : "N m", u[0], u[1], u[2]);
     d->lam_imp = 0.0;
     status = tr_continuation(m, d);
     if (status == TR_OK) {
@@ -274,13 +281,19 @@ static int via_load_path(const tr_model *m, tr_data *d, alt_ctx *a)
 static int via_imperfection(const tr_model *m, tr_data *d, alt_ctx *a)
 {
     double p[3], R[9];
+    char last[TR_MSGLEN] = "no tip pose";
     int which;
     memcpy(d->x, d->x_alt, (size_t)d->k * sizeof(double));
     tip_pose(m, d, p, R);
-    for (which = 0; which < (m->planar ? 1 : 3) && isfinite(p[0]) && !d->stop; which++) {
+    for (which = 0; which < (m->planar ? 1 : TR_N_IMPERFECTIONS) && isfinite(p[0]) && !d->stop;
+         which++) {
         char imp[160];
-        if (imperfect(m, d, which, R, imp, sizeof imp) != TR_OK) continue;
+        if (imperfect(m, d, which, R, imp, sizeof imp) != TR_OK) {
+            snprintf(last, sizeof last, "%s", d->message);
+            continue;
+        }
         judge(m, d, 0);
+        snprintf(last, sizeof last, "it ends unstable");
         if (d->stable != 0) {
             snprintf(d->branch_note, sizeof d->branch_note,
                      "the %s solve reached %s, and the load path from the unloaded robot "
@@ -291,7 +304,7 @@ static int via_imperfection(const tr_model *m, tr_data *d, alt_ctx *a)
         }
     }
     tried(a, "; tip imperfections did not lead to a stable equilibrium either (the last: %.300s)",
-          d->stable == 0 ? "it ends unstable" : d->message);
+          last);
     return 0;
 }
 

@@ -590,7 +590,8 @@ static double stiffness_scale(const tr_model *m, const tr_data *d)
 }
 
 /* The margin of one level (the grid nodes of kind >= min_kind) and the count of negative
- * modes; refine: first move to the discrete equilibrium.  *coarse: too few elements. */
+ * modes; refine: first move to the discrete equilibrium.  *coarse: 1 too few elements, 2
+ * the bordered constraints are dependent on these elements (no count). */
 static double level_margin(const tr_model *m, const tr_data *d, struct tr_stab_ws *w, int min_kind,
                            int refine, int *index, int *coarse)
 {
@@ -607,6 +608,10 @@ static double level_margin(const tr_model *m, const tr_data *d, struct tr_stab_w
     if (refine) discrete_equilibrium(m, w, nn, nb);
     neg = tr_btd_count(&w->h, 0.0, &sing);
     if (sing) neg = tr_btd_count(&w->h, -1e-9, &sing);
+    if (sing) {
+        *coarse = 2;
+        return NAN;
+    }
     if (index) *index = neg;
     return tr_btd_smallest(&w->h, neg > 0);
 }
@@ -660,9 +665,13 @@ static void slack_side_note(const tr_model *m, tr_data *d)
 /* The full test: the model's own elements, refined near zero (sets the margin). */
 static void verdict_full(const tr_model *m, tr_data *d)
 {
-    const int cosserat = !m->kirchhoff;
-    int nuni = d->stab ? d->stab->nuni : TR_STAB_ELEMENTS, coarse, st, refine = 0;
-    double mf = NAN, mc = NAN, err;
+    /* Kirchhoff elements, on a Cosserat rod too (they keep a symmetry's zero mode exact,
+     * which the Cosserat elements resolve only to their discretisation error; shear and
+     * extension move the margin by ~(1 + stiffness scale) EI/(GA L^2)), unless the
+     * bordered constraints are dependent on them (opposing inextensible tendons held by
+     * the backbone's extension): then the Cosserat elements */
+    int cosserat = 0, nuni = d->stab ? d->stab->nuni : TR_STAB_ELEMENTS, coarse, st, refine = 0;
+    double mf = NAN, mc = NAN, err, reduction = 0.0;
     struct tr_stab_ws *w;
     for (;;) {
         w = stab_ws(m, d, &d->stab, nuni, cosserat);
@@ -685,6 +694,15 @@ static void verdict_full(const tr_model *m, tr_data *d)
         mc = mf;
         if (!coarse && refine) mc = level_margin(m, d, w, 1, 1, NULL, &coarse);
         if (!coarse) break;
+        if (coarse == 2) {
+            if (cosserat || m->kirchhoff) {
+                snprintf(d->stab_reason, sizeof d->stab_reason,
+                         "not tested: the tendon constraints are dependent");
+                return;
+            }
+            cosserat = 1, refine = 0;
+            continue;
+        }
         if (2 * nuni > TR_STAB_MAX_ELEMENTS) {
             snprintf(d->stab_reason, sizeof d->stab_reason,
                      "not tested: the backbone turns too much for %d elements", nuni);
@@ -694,7 +712,10 @@ static void verdict_full(const tr_model *m, tr_data *d)
     }
     /* the discretisation error from half the elements (second order: the finer margin is
      * off by about a third of the change) */
-    err = fabs(mf - mc) / 3.0;
+    if (!m->kirchhoff && !cosserat)
+        reduction =
+            (1.0 + stiffness_scale(m, d)) * m->EI * (1.0 / m->GA + 1.0 / m->EA) / (m->L * m->L);
+    err = fabs(mf - mc) / 3.0 + reduction;
     d->stability = mf;
     if (fabs(mf) <= TR_STAB_NEUTRAL) {
         d->stable = 1;
