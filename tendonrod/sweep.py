@@ -116,10 +116,8 @@ _DEFAULT_LIST_CHUNK = 32
 # what is recorded per point
 # --------------------------------------------------------------------------
 def tip_measure(scene: Any, sol: Any) -> dict:
-    """Default per-point record: tip pose, tendon tensions, slacks, displacements, and the
-    stability verdict the solve judged (``stable``: 1.0 stable, 0.0 unstable, NaN not
-    judged -- ``Solution.stable`` None, or ``Options(accept_unstable=True)``, where the
-    sweep does not pay for a verdict the solve skipped)."""
+    """Default per-point record: tip pose, tendon tensions, slacks, displacements and the
+    solve's stability verdict (1.0 / 0.0, NaN where None or not judged)."""
     verdict = sol.raw.get("stability_verdict")
     return {
         "tip_position": np.asarray(sol.tip_position, dtype=float),  # (3,) world [m]
