@@ -17,10 +17,9 @@ Order, chunks, warm starts, determinism
     converged solution, so a chunk is a continuation path (sweep a load from
     zero upwards along the last axis and large loads become reachable).  Each
     chunk starts cold.  Results therefore depend only on the order and the
-    chunking, never on the number of workers or on which worker ran which
-    chunk: bitwise identical for the same chunking.  The default chunk is one
-    line of the last axis (grid) or 32 points (list) -- independent of the
-    machine, so that results are too.
+    chunking, never on the workers: bitwise identical for the same chunking.
+    The default chunk is one line of the last axis (grid) or 32 points (list)
+    -- independent of the machine, so that results are too.
 
 Parallelism
     Chunks are handed to a :class:`concurrent.futures.Executor`; by default a
@@ -50,8 +49,8 @@ Failures
     ``BatchResult.status`` on the batch path): 0 ok, > 0 converged with a caveat
     (3 off the load path and unconfirmed, 5 unstable: not successes), < 0 failed;
     :data:`STATUS_NONE` (-1000) where no solve returned.  The outcome follows the
-    solve's ``success``, never the status number.  The ``message`` is the
-    solver's or the exception's.  No failure stops the sweep.
+    solve's ``success``; ``message`` is the solver's or the exception's.  No
+    failure stops the sweep.
 """
 
 from __future__ import annotations
