@@ -17,9 +17,10 @@
  *   2. an unstable answer not reached along the load path follows the load path from the
  *      unloaded robot (tr_continuation);
  *   3. where that path ends unstable too (a symmetric bifurcation lies on it), a small tip
- *      imperfection (TR_IMPERFECTION EI/L^2 along the tip's body x, then y, then a moment
- *      TR_IMPERFECTION EI/L about its tangent; in-plane only for a planar model) breaks
- *      the symmetry along the load path and is then removed along the branch (lam_imp);
+ *      imperfection (TR_IMPERFECTION EI/L^2 along the tip's body x, y and the two
+ *      diagonals, then a moment TR_IMPERFECTION EI/L about its tangent; in-plane only for
+ *      a planar model) breaks the symmetry along the load path and is then removed along
+ *      the branch (lam_imp);
  *   4. where none of these reaches a stable equilibrium, the first unstable one is handed
  *      back with TR_UNSTABLE, not a success, and a message that says what was tried.
  */
@@ -91,13 +92,15 @@ void tr_branch_keep(const tr_model *m, tr_data *d)
     d->carry_margin = d->stability;
     memcpy(d->carry_x, d->x, (size_t)d->k * sizeof(double));
     values_of(m, d->carry_val, NULL);
-    snprintf(d->carry_reason, sizeof d->carry_reason, "%s", d->stab_reason);
+    /* a verdict kept from an earlier solve keeps that solve's words */
+    if (!d->stab_kept) snprintf(d->carry_reason, sizeof d->carry_reason, "%s", d->stab_reason);
 }
 
 /* The verdict of the current unknowns: kept from the last successful solve when close to
  * it (may_carry), else judged afresh. */
 static void judge(const tr_model *m, tr_data *d, int may_carry)
 {
+    d->stab_kept = 0;
     if (may_carry && d->carry_valid && d->have_J && tr_lu_factor(d) == 0 &&
         d->lu_sign == d->carry_det) {
         double change = values_of(m, NULL, d->carry_val), scaled;
@@ -110,6 +113,7 @@ static void judge(const tr_model *m, tr_data *d, int may_carry)
             d->stab_index = d->carry_index;
             d->stab_gap = d->carry_gap - scaled;
             d->stability = NAN;
+            d->stab_kept = 1;
             snprintf(d->stab_reason, sizeof d->stab_reason,
                      "%.180s (kept from the solve this one started from: a scaled change of "
                      "%.2g)",
