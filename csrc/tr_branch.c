@@ -2,12 +2,13 @@
  * tr_branch.c -- the stable branch: the stability stage of a converged solve.
  *
  * Verdict: a cold solve is judged by tr_stability_quick.  A warm solve keeps the verdict
- * of the solve it started from while it stays close to it: the shooting Jacobian's
- * determinant has kept its sign (an odd number of eigenvalues crossing zero flips it)
- * and the scaled change of the unknowns, actuation values and loads, times the load-
- * induced stiffness scale, is below TR_CARRY of that verdict's distance from zero (an
- * even number crossing together, as in the buckling of a round column, leaves the sign
- * alone but needs a change of that size); else it is judged afresh.
+ * of the last judged solve of its workspace while it stays close to it: the shooting
+ * Jacobian's determinant has kept its sign (an odd number of eigenvalues crossing zero
+ * flips it) and the scaled change since -- of the actuation values and loads, plus that
+ * of the unknowns times 1 + the load-induced stiffness scale -- is below TR_CARRY of
+ * that verdict's distance from zero (an even number crossing together, as in the
+ * buckling of a round column, leaves the sign alone but needs a change of that size);
+ * else it is judged afresh.
  *
  * Unless Options.accept_unstable:
  *   1. a warm answer whose tip lies more than TR_CONT_TIP_JUMP L from its guess's, or an
@@ -82,6 +83,9 @@ static double stiffness(const tr_model *m, const tr_data *d)
 
 void tr_branch_keep(const tr_model *m, tr_data *d)
 {
+    /* a kept verdict leaves the base it was kept from: later solves compare with the
+     * solve that judged it, so that small changes do not add up unseen */
+    if (d->stab_kept) return;
     d->carry_valid = 0;
     if (d->stable < 0 || !(d->stab_gap > 0.0) || !d->have_J || tr_lu_factor(d) != 0) return;
     d->carry_valid = 1;
@@ -92,8 +96,7 @@ void tr_branch_keep(const tr_model *m, tr_data *d)
     d->carry_margin = d->stability;
     memcpy(d->carry_x, d->x, (size_t)d->k * sizeof(double));
     values_of(m, d->carry_val, NULL);
-    /* a verdict kept from an earlier solve keeps that solve's words */
-    if (!d->stab_kept) snprintf(d->carry_reason, sizeof d->carry_reason, "%s", d->stab_reason);
+    snprintf(d->carry_reason, sizeof d->carry_reason, "%s", d->stab_reason);
 }
 
 /* The verdict of the current unknowns: kept from the last successful solve when close to
@@ -103,11 +106,16 @@ static void judge(const tr_model *m, tr_data *d, int may_carry)
     d->stab_kept = 0;
     if (may_carry && d->carry_valid && d->have_J && tr_lu_factor(d) == 0 &&
         d->lu_sign == d->carry_det) {
-        double change = values_of(m, NULL, d->carry_val), scaled;
+        /* the loads enter the second variation linearly (their change, scaled), the
+         * configuration through every term (the change of the unknowns, times 1 + the
+         * stiffness scale) */
+        const double loads = values_of(m, NULL, d->carry_val);
+        double config = 0.0, change, scaled;
         int i;
         tr_set_tensions(m, d, d->x);
-        for (i = 0; i < d->k; i++) change += fabs(d->x[i] - d->carry_x[i]) / d->k;
-        scaled = change * (1.0 + stiffness(m, d));
+        for (i = 0; i < d->k; i++) config += fabs(d->x[i] - d->carry_x[i]) / d->k;
+        change = loads + config;
+        scaled = loads + config * (1.0 + stiffness(m, d));
         if (scaled < TR_CARRY * d->carry_gap) {
             d->stable = d->carry_stable;
             d->stab_index = d->carry_index;
@@ -115,8 +123,8 @@ static void judge(const tr_model *m, tr_data *d, int may_carry)
             d->stability = NAN;
             d->stab_kept = 1;
             snprintf(d->stab_reason, sizeof d->stab_reason,
-                     "%.180s (kept from the solve this one started from: a scaled change of "
-                     "%.2g)",
+                     "%.180s (kept from an earlier solve of this workspace: a scaled change "
+                     "of %.2g since)",
                      d->carry_reason, change);
             return;
         }
