@@ -45,9 +45,13 @@ typedef struct {
     double rod[6], tendons[MAXT * 8], values[MAXK][MAXT], loads[MAXK][MAXL * 7], dist[MAXK][3];
 } sweep;
 
-/* What a solve hands to the next warm start from a guess. */
+/* What a solve hands to the next warm start from a guess (as a Solution does): its base
+ * state, Jacobian, step verification and stability verdict record. */
 typedef struct {
-    double g[6 + 2 * MAXT], J[MAXU * MAXU], xv[MAXU];
+    double g[6 + 2 * MAXT], J[MAXU * MAXU], xv[MAXU],
+        carry[5 + MAXU + MAXT + 6 * (MAXL + MAXT + 2) + 3];
+    char reason[256];
+    int have_carry;
     tr_verified ver;
 } start;
 
@@ -123,6 +127,16 @@ static void keep(const tr_model *m, const tr_data *d, start *st)
     st->ver.steps = d->have_ver ? d->steps_ver : 0;
     st->ver.estimate = d->est_ver;
     st->ver.x = st->xv;
+    st->have_carry = tr_carry_len(m, d) <= (int)(sizeof st->carry / sizeof st->carry[0]) &&
+                     tr_carry_get(m, d, st->carry);
+    snprintf(st->reason, sizeof st->reason, "%s", d->carry_reason);
+}
+
+/* tr_solve_from the start p, with its verdict record as a Solution passes it. */
+static int solve_from(const tr_model *m, tr_data *d, const start *p)
+{
+    if (p->have_carry) tr_carry_set(m, d, p->carry, tr_carry_len(m, d), p->reason);
+    return tr_solve_from(m, d, p->g, p->J, p->ver.steps > 0 ? &p->ver : NULL);
 }
 
 static int fail(const char *what, const tr_data *d)
@@ -154,9 +168,7 @@ int harness_run(FILE *in, int reps, double out[6])
     for (i = 0; i < s.K; i++) {
         if (compile(&s, i, &m, &d) < 0) return 1;
         if (d->k > MAXU) return fail("too many unknowns for this harness", d);
-        st = i == 0 ? tr_solve(m, d, NULL, NULL)
-                    : tr_solve_from(m, d, starts[i - 1].g, starts[i - 1].J,
-                                    starts[i - 1].ver.steps > 0 ? &starts[i - 1].ver : NULL);
+        st = i == 0 ? tr_solve(m, d, NULL, NULL) : solve_from(m, d, &starts[i - 1]);
         if (!TR_SUCCEEDED(st)) return fail("sweep", d);
         keep(m, d, &starts[i]);
         tr_data_free(d);
@@ -176,7 +188,7 @@ int harness_run(FILE *in, int reps, double out[6])
         for (i = 1; i < s.K; i++) {
             const start *p = &starts[i - 1];
             if (compile(&s, i, &m, &d) < 0) return 1;
-            st = tr_solve_from(m, d, p->g, p->J, p->ver.steps > 0 ? &p->ver : NULL);
+            st = solve_from(m, d, p);
             nfev_g += d->nfev;
             if (!TR_SUCCEEDED(st)) return fail("warm_guess", d);
             tr_data_free(d);

@@ -513,6 +513,13 @@ void tr_stability_quick(const tr_model *m, tr_data *d);
  * formulation.steps), as tr_record_from does for its states (quick: tr_stability_quick).
  * TR_EINVAL when steps is out of range or the workspace is another model's. */
 int tr_stability_of(const tr_model *m, tr_data *d, const double *x, int steps, int quick);
+/* The verdict record a warm solve may keep instead of judging again (tr_branch.c), flat:
+ * its length for this model; a copy of the workspace's (1, or 0 when it has none); and
+ * one set into a workspace, e.g. from the solution a guess came from (a record of another
+ * length or with values out of range is refused: -1). */
+int tr_carry_len(const tr_model *m, const tr_data *d);
+int tr_carry_get(const tr_model *m, const tr_data *d, double *rec);
+int tr_carry_set(const tr_model *m, tr_data *d, const double *rec, int len, const char *reason);
 /* The tip state of the current unknowns into d->tip, with the tensions, slacks and
  * the displacement of displacement-controlled tendons (NaN for tension-controlled ones,
  * which only the recording pass integrates): from the last shooting evaluation if it

@@ -123,8 +123,7 @@ static void judge(const tr_model *m, tr_data *d, int may_carry)
             d->stability = NAN;
             d->stab_kept = 1;
             snprintf(d->stab_reason, sizeof d->stab_reason,
-                     "%.180s (kept from an earlier solve of this workspace: a scaled change "
-                     "of %.2g since)",
+                     "%.150s (kept from the solve that judged it: a scaled change of %.2g since)",
                      d->carry_reason, change);
             return;
         }
@@ -397,4 +396,39 @@ int tr_branch_lean(const tr_model *m, tr_data *d)
     if (d->stable == 0) return 0;
     tr_branch_keep(m, d);
     return 1;
+}
+
+/* The flat record: stable, index, det sign, gap, margin, then carry_x (k), carry_val. */
+int tr_carry_len(const tr_model *m, const tr_data *d)
+{
+    return 5 + d->k + m->nt + 6 * (m->nseg + 1) + 3;
+}
+
+int tr_carry_get(const tr_model *m, const tr_data *d, double *rec)
+{
+    const int k = d->k, nv = tr_carry_len(m, d) - 5 - k;
+    if (!d->carry_valid) return 0;
+    rec[0] = d->carry_stable, rec[1] = d->carry_index, rec[2] = d->carry_det;
+    rec[3] = d->carry_gap, rec[4] = d->carry_margin;
+    memcpy(rec + 5, d->carry_x, (size_t)k * sizeof(double));
+    memcpy(rec + 5 + k, d->carry_val, (size_t)nv * sizeof(double));
+    return 1;
+}
+
+int tr_carry_set(const tr_model *m, tr_data *d, const double *rec, int len, const char *reason)
+{
+    const int k = d->k, nv = tr_carry_len(m, d) - 5 - k;
+    int i;
+    if (len != tr_carry_len(m, d) || !(rec[0] == 0.0 || rec[0] == 1.0) ||
+        !(rec[2] == 1.0 || rec[2] == -1.0) || !(rec[3] > 0.0) || !(rec[1] >= 0.0))
+        return -1;
+    for (i = 5; i < len; i++)
+        if (!isfinite(rec[i])) return -1;
+    d->carry_stable = (int)rec[0], d->carry_index = (int)rec[1], d->carry_det = (int)rec[2];
+    d->carry_gap = rec[3], d->carry_margin = rec[4];
+    memcpy(d->carry_x, rec + 5, (size_t)k * sizeof(double));
+    memcpy(d->carry_val, rec + 5 + k, (size_t)nv * sizeof(double));
+    snprintf(d->carry_reason, sizeof d->carry_reason, "%s", reason);
+    d->carry_valid = 1;
+    return 0;
 }

@@ -143,8 +143,10 @@ done:
 
 static PyObject *problem_solve(ProblemObject *self, PyObject *args, PyObject *kwds)
 {
-    static char *kwlist[] = {"guess", "jacobian", "verified", "warm", "cancel", "record", NULL};
+    static char *kwlist[] = {"guess",  "jacobian", "verified", "warm",
+                             "cancel", "record",   "carry",    NULL};
     PyObject *og = Py_None, *oj = Py_None, *ov = Py_None, *cancel = Py_None, *result = NULL;
+    PyObject *oc = Py_None;
     PyArrayObject *xv = NULL;
     glue_args a;
     glue_poll poll;
@@ -154,8 +156,8 @@ static PyObject *problem_solve(ProblemObject *self, PyObject *args, PyObject *kw
     int warm = 1, record = 1, status;
     memset(&a, 0, sizeof a);
     if (check_free(self) < 0) return NULL;
-    if (!PyArg_ParseTupleAndKeywords(args, kwds, "|$OOOpOp", kwlist, &og, &oj, &ov, &warm, &cancel,
-                                     &record))
+    if (!PyArg_ParseTupleAndKeywords(args, kwds, "|$OOOpOpO", kwlist, &og, &oj, &ov, &warm, &cancel,
+                                     &record, &oc))
         return NULL;
     a.nt = self->m->nt;
     if (glue_poll_init(&poll, cancel) < 0 || glue_warm_start(&a, og, oj) < 0) goto done;
@@ -176,6 +178,23 @@ static PyObject *problem_solve(ProblemObject *self, PyObject *args, PyObject *kw
             goto done;
         }
         ver.x = (const double *)PyArray_DATA(xv);
+    }
+    if (oc != Py_None) {
+        /* (record, reason): the verdict record of the solution the guess came from */
+        PyObject *orec;
+        PyArrayObject *rec = NULL;
+        const char *reason;
+        int bad;
+        if (!PyArg_ParseTuple(oc, "Os;carry must be (record, reason)", &orec, &reason) ||
+            values_of(orec, "carry record", tr_carry_len(self->m, d), &rec) < 0)
+            goto done;
+        bad = tr_carry_set(self->m, d, (const double *)PyArray_DATA(rec), tr_carry_len(self->m, d),
+                           reason);
+        Py_DECREF(rec);
+        if (bad) {
+            glue_err(PyExc_ValueError, "carry: not a verdict record of this problem");
+            goto done;
+        }
     }
     g = a.guess ? (const double *)PyArray_DATA(a.guess) : NULL;
     if (a.jac && PyArray_DIM(a.jac, 0) == self->m->n_unknowns)
@@ -329,18 +348,22 @@ static PyMethodDef problem_methods[] = {
      "set_value_vector(v): v = [values (nt), point loads (nl x 6), dist (3)] in one float64\n"
      "vector (the per-call values of set_values without the pretensions)."},
     {"solve", (PyCFunction)(void (*)(void))problem_solve, METH_VARARGS | METH_KEYWORDS,
-     "solve(*, guess=None, jacobian=None, verified=None, warm=True, cancel=None, record=True)\n"
+     "solve(*, guess=None, jacobian=None, verified=None, warm=True, cancel=None, record=True,\n"
+     "carry=None)\n"
      "-> dict: from the guess (a base_state) if given, else warm from the last successful solve\n"
      "(warm=True; cold if there is none), else cold.  verified: (steps, estimate, unknowns), the\n"
      "'formulation' steps, 'verified_estimate' and 'verified_unknowns' of the solve the guess\n"
      "came from (same structure): its verified step count is the start and vouches for a\n"
-     "solution close to it.  The dict of _core.solve; record=False leaves out the node arrays\n"
-     "(record_from computes them).  Ctrl-C raises KeyboardInterrupt."},
+     "solution close to it.  carry: the 'stability_carry' of that solve, its verdict record,\n"
+     "which a solution close to it keeps instead of being judged again.  The dict of\n"
+     "_core.solve; record=False leaves out the node arrays (record_from computes them).\n"
+     "Ctrl-C raises KeyboardInterrupt."},
     {"record_from", (PyCFunction)(void (*)(void))problem_record_from, METH_VARARGS | METH_KEYWORDS,
      "record_from(unknowns, steps) -> dict: the states at this problem's nodes of the solution\n"
      "with these scaled unknowns at this step count (no solve; NaN where the recording fails)."},
     {"stability", (PyCFunction)(void (*)(void))problem_stability, METH_VARARGS | METH_KEYWORDS,
-     "stability(unknowns, steps) -> dict(stable, stability, index, reason): whether the solution\n"
+     "stability(unknowns, steps, quick=False) -> dict(stable, stability, index, reason): whether\n"
+     "the solution\n"
      "with these scaled unknowns at this step count is a strict local minimum of the total\n"
      "potential energy (True / False / None with the reason), the margin (the smallest\n"
      "eigenvalue of the constrained second variation, scaled by EI/L) and the number of\n"

@@ -114,6 +114,23 @@ PyObject *glue_solve_result(const tr_model *m, const tr_data *d, int status, PyO
     dims[1] = k;
     if (glue_set(res, "jacobian", glue_array(2, dims, d->J)) < 0) goto fail;
     if (glue_set(res, "formulation", result_formulation(m, d, form)) < 0) goto fail;
+    /* the verdict record a warm solve from this one may keep (None: there is none) */
+    {
+        PyObject *rec = Py_None;
+        npy_intp n = tr_carry_len(m, d);
+        Py_INCREF(rec);
+        if (d->carry_valid && TR_SUCCEEDED(status)) {
+            Py_DECREF(rec);
+            if (!(rec = glue_array(1, &n, NULL))) goto fail;
+            tr_carry_get(m, d, (double *)PyArray_DATA((PyArrayObject *)rec));
+            {
+                PyObject *t = Py_BuildValue("(Ns)", rec, d->carry_reason);
+                if (!t) goto fail;
+                rec = t;
+            }
+        }
+        if (glue_set(res, "stability_carry", rec) < 0) goto fail;
+    }
     /* the verdict every converged solve judges (tr_branch.c); the margin may be NaN (the
      * quick test decided without it) */
     if (status >= 0 && status != TR_CONTINUE && !d->opt.accept_unstable &&

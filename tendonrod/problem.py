@@ -128,11 +128,11 @@ class Problem:
                     f"guess must be None, 'cold', a Solution or an array, got {guess!r}"
                 )
             return self._c.solve(warm=False, cancel=cancel, record=False)
-        vec, jac, verified = _guess_vector(guess, self._current, self._options)
+        vec, jac, verified, carry = _guess_vector(guess, self._current, self._options)
         if vec is None:
             return self._c.solve(warm=False, cancel=cancel, record=False)
         return self._c.solve(
-            guess=vec, jacobian=jac, verified=verified, cancel=cancel, record=False
+            guess=vec, jacobian=jac, verified=verified, carry=carry, cancel=cancel, record=False
         )
 
     def solve(self, scene: Scene | None = None, *, guess=None, strict: bool = False):

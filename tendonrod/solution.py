@@ -41,11 +41,11 @@ def _verification_of(guess: Solution, scene: Scene, options: Options):
 
 
 def _guess_vector(guess, scene: Scene, options: Options):
-    """(guess array (6+2nt,) or None, jacobian or None, verification record or None) from
-    a Solution or an array."""
+    """(guess array (6+2nt,) or None, jacobian or None, verification record or None,
+    stability verdict record or None) from a Solution or an array."""
     nt = scene.robot.n_tendons
     if guess is None:
-        return None, None, None
+        return None, None, None, None
     if isinstance(guess, Solution):
         if guess.tension.shape != (nt,):
             raise ValueError(
@@ -53,16 +53,16 @@ def _guess_vector(guess, scene: Scene, options: Options):
                 f"start a scene with {nt} tendons"
             )
         vec = guess.base_state
-        jac = None
-        if (
-            guess.jacobian is not None
-            and guess.scene is not None
-            and _structure_key(guess.scene, guess.options) == _structure_key(scene, options)
+        jac = carry = None
+        if guess.scene is not None and _structure_key(guess.scene, guess.options) == _structure_key(
+            scene, options
         ):
+            # the same compiled structure: the same unknowns, scales and values
             jac = guess.jacobian
+            carry = guess.raw.get("stability_carry")
         if not np.all(np.isfinite(vec)):
-            return None, None, None
-        return vec, jac, _verification_of(guess, scene, options)
+            return None, None, None, None
+        return vec, jac, _verification_of(guess, scene, options), carry
     try:
         vec = np.array(guess, dtype=float).ravel()
     except (TypeError, ValueError, OverflowError):
@@ -74,7 +74,7 @@ def _guess_vector(guess, scene: Scene, options: Options):
             f"guess must be a finite array of shape ({6 + 2 * nt},) "
             f"[n(0), m(0), tension, slack], got {guess!r}"
         )
-    return vec, None, None
+    return vec, None, None, None
 
 
 class Solution:
