@@ -49,7 +49,7 @@ typedef struct {
  * state, Jacobian, step verification and stability verdict record. */
 typedef struct {
     double g[6 + 2 * MAXT], J[MAXU * MAXU], xv[MAXU],
-        carry[5 + MAXU + MAXT + 6 * (MAXL + MAXT + 2) + 3];
+        carry[5 + MAXU + MAXT + 7 * (MAXL + MAXT + 2) + 3];
     char reason[256];
     int have_carry;
     tr_verified ver;

@@ -18,7 +18,8 @@ Measured, all in this process, one after the other:
     lean warm loop + quadratic predictor), 1 and 2 threads, with and without the
     recording pass (tension_tendon_displacement=False: the tip pose, tensions and
     slacks come from the last residual evaluation; only the actuator displacement of
-    the two tension-controlled tendons is then not computed);
+    the two tension-controlled tendons is then not computed), and tip only with
+    ``accept_unstable=True`` (no stability verdict per point: what judging costs);
   * max |tip - reference| / L over a sample of points, the reference solved point by
     point with the adaptive integrator (rtol 1e-13, tol 1e-12);
   * peak resident memory of the sweep, in fresh subprocesses at N and 4 N points
@@ -317,6 +318,12 @@ def main() -> None:
         ("solve_batch (default options)", tr.Options(), True),
         ("solve_batch (rk8 x4 steps, tol 3e-9)", tr.Options(**FAST_OPTIONS), True),
         ("solve_batch (rk8 x4, tol 3e-9, tip only)", tr.Options(**FAST_OPTIONS), False),
+        # the same without the stability verdict of every point: what judging costs
+        (
+            "solve_batch (rk8 x4, tol 3e-9, tip only, accept_unstable)",
+            tr.Options(accept_unstable=True, **FAST_OPTIONS),
+            False,
+        ),
     ):
         for threads in (1, 2):
             res, wall, cpu = timed(

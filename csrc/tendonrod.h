@@ -381,8 +381,8 @@ typedef struct tr_data {
     double carry_gap;    /* no eigenvalue of the verdict within this of zero [EI/L] */
     double carry_margin; /* its margin [EI/L] (NaN: not computed) */
     double *carry_x;     /* (k) its scaled unknowns */
-    double *carry_val;   /* (nt + 6 (nseg + 1) + 3) its actuation values, loads at the
-                           breakpoints and distributed force (scaled, tr_branch.c) */
+    double *carry_val;   /* (nt + 7 (nseg + 1) + 3) its actuation values, breakpoints, their
+                           loads and the distributed force (scaled, tr_branch.c) */
     char carry_reason[256];
     /* the second formulation that confirms an equilibrium found off the load path,
      * allocated the first time a solve needs it */

@@ -50,9 +50,9 @@ static void value(double x, double *v, const double *old, int *n, double *change
 }
 
 /* The scaled values the verdict depends on besides the unknowns: actuation (q / r for
- * displacements, tau L^2 / EI for tensions), breakpoint loads (F L^2 / EI, M L / EI) and
- * the distributed force (f L^3 / EI): into v (old NULL), or the sum of their absolute
- * changes from old. */
+ * displacements, tau L^2 / EI for tensions), breakpoints (s / L, weighted by 1 + their
+ * loads) and their loads (F L^2 / EI, M L / EI), the distributed force (f L^3 / EI):
+ * into v (old NULL), or the sum of their absolute changes from old. */
 static double values_of(const tr_model *m, double *v, const double *old)
 {
     double change = 0.0;
@@ -63,22 +63,18 @@ static double values_of(const tr_model *m, double *v, const double *old)
         value(t->control == TR_DISPLACEMENT ? t->value / (r > 0.0 ? r : m->L) : t->value / m->F_s,
               v, old, &n, &change);
     }
-    for (b = 0; b <= m->nseg; b++)
+    for (b = 0; b <= m->nseg; b++) {
+        /* where the loads act: a breakpoint's arc length, weighted by its loads */
+        const double w =
+            1.0 + tru_norm3(m->bpF + 3 * b) / m->F_s + tru_norm3(m->bpM + 3 * b) / m->M_s;
+        value(w * m->bp[b] / m->L, v, old, &n, &change);
         for (c = 0; c < 3; c++) {
             value(m->bpF[3 * b + c] / m->F_s, v, old, &n, &change);
             value(m->bpM[3 * b + c] / m->M_s, v, old, &n, &change);
         }
+    }
     for (c = 0; c < 3; c++) value(m->dist[c] * m->L / m->F_s, v, old, &n, &change);
     return change;
-}
-
-/* The scaled load-induced stiffness (loads and tensions), as the stability test uses. */
-static double stiffness(const tr_model *m, const tr_data *d)
-{
-    double t = tr_load_scale(m);
-    int i;
-    for (i = 0; i < m->nt; i++) t += fabs(d->tau[i]) / m->F_s;
-    return t;
 }
 
 void tr_branch_keep(const tr_model *m, tr_data *d)
@@ -115,7 +111,7 @@ static void judge(const tr_model *m, tr_data *d, int may_carry)
         tr_set_tensions(m, d, d->x);
         for (i = 0; i < d->k; i++) config += fabs(d->x[i] - d->carry_x[i]) / d->k;
         change = loads + config;
-        scaled = loads + config * (1.0 + stiffness(m, d));
+        scaled = loads + config * (1.0 + tr_stiffness_scale(m, d));
         if (scaled < TR_CARRY * d->carry_gap) {
             d->stable = d->carry_stable;
             d->stab_index = d->carry_index;
@@ -398,10 +394,11 @@ int tr_branch_lean(const tr_model *m, tr_data *d)
     return 1;
 }
 
-/* The flat record: stable, index, det sign, gap, margin, then carry_x (k), carry_val. */
+/* The flat record: stable, index, det sign, gap, margin, then carry_x (k), carry_val
+ * (values_of's list). */
 int tr_carry_len(const tr_model *m, const tr_data *d)
 {
-    return 5 + d->k + m->nt + 6 * (m->nseg + 1) + 3;
+    return 5 + d->k + m->nt + 7 * (m->nseg + 1) + 3;
 }
 
 int tr_carry_get(const tr_model *m, const tr_data *d, double *rec)

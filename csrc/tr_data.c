@@ -57,7 +57,7 @@ static int alloc_buffers(const tr_model *m, tr_data *d)
     d->lin_C = (double *)calloc((size_t)(2 * nd * nd + 4 * nd + 1), sizeof(double));
     d->lin_act = (int *)calloc((size_t)(3 * nd + 1), sizeof(int));
     d->x_guess =
-        (double *)calloc((size_t)4 * k + nt + 6 * ((size_t)m->nseg + 1) + 4, sizeof(double));
+        (double *)calloc((size_t)4 * k + nt + 7 * ((size_t)m->nseg + 1) + 4, sizeof(double));
     d->bp_pose = (double *)calloc((size_t)12 * (m->nseg + 1), sizeof(double));
     if (!d->bp_pose || !d->lin_C || !d->lin_act || !d->x || !d->J || !d->LU || !d->perm ||
         !d->tau || !d->y || !d->Yx || !d->x_last || !d->x_guess)

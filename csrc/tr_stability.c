@@ -42,6 +42,9 @@
  * zero. */
 #define TR_STAB_QUICK      12
 #define TR_STAB_QUICK_BAND 0.02
+/* The quick test measures the distance of the nearest eigenvalue from zero up to this
+ * many bands (by doubling). */
+#define TR_STAB_QUICK_GAP 64.0
 /* A margin (scaled by EI/L) within this of zero is round-off: a neutral direction. */
 #define TR_STAB_NEUTRAL 1e-7
 /* Margins (scaled) smaller than this times (1 + the load-induced stiffness scale) are
@@ -366,13 +369,15 @@ static void discrete_equilibrium(const tr_model *m, struct tr_stab_ws *w, int nn
 }
 
 /* ------------------------------------------------------------ the verdict */
-/* The scale of the load-induced stiffness, scaled by EI/L: the loads' (tr_load_scale)
- * and the tensions' (tau L^2 / EI). */
-static double stiffness_scale(const tr_model *m, const tr_data *d)
+double tr_stiffness_scale(const tr_model *m, const tr_data *d)
 {
     double t = tr_load_scale(m);
     int i;
-    for (i = 0; i < m->nt; i++) t += fabs(d->tau[i]) * m->L * m->L / m->EI;
+    for (i = 0; i < m->nt; i++) {
+        const tr_tendon *tn = m->tendon + i;
+        const double r = fmax(fabs(tn->b), fabs(tn->b + tn->a * tn->t));
+        t += fabs(d->tau[i]) * r * m->L / m->EI;
+    }
     return t;
 }
 
@@ -476,7 +481,7 @@ static void verdict_full(const tr_model *m, tr_data *d, int near_zero)
             return;
         }
         mf = level_margin(m, d, w, 0, refine, &d->stab_index, &coarse);
-        if (!coarse && !refine && fabs(mf) < TR_STAB_CHECK * (1.0 + stiffness_scale(m, d))) {
+        if (!coarse && !refine && fabs(mf) < TR_STAB_CHECK * (1.0 + tr_stiffness_scale(m, d))) {
             /* close to zero: at the discrete equilibrium, and against half the elements */
             refine = 1;
             mf = level_margin(m, d, w, 0, 1, &d->stab_index, &coarse);
@@ -506,7 +511,7 @@ static void verdict_full(const tr_model *m, tr_data *d, int near_zero)
      * off by about a third of the change) */
     if (!m->kirchhoff && !cosserat)
         reduction =
-            (1.0 + stiffness_scale(m, d)) * m->EI * (1.0 / m->GA + 1.0 / m->EA) / (m->L * m->L);
+            (1.0 + tr_stiffness_scale(m, d)) * m->EI * (1.0 / m->GA + 1.0 / m->EA) / (m->L * m->L);
     err = fabs(mf - mc) / 3.0 + reduction;
     d->stability = mf;
     if (fabs(mf) <= TR_STAB_NEUTRAL) {
@@ -537,7 +542,8 @@ static void verdict_full(const tr_model *m, tr_data *d, int near_zero)
  * request). */
 static int verdict_quick(const tr_model *m, tr_data *d)
 {
-    const double band = TR_STAB_QUICK_BAND * (1.0 + stiffness_scale(m, d));
+    const double band = TR_STAB_QUICK_BAND * (1.0 + tr_stiffness_scale(m, d));
+    double gap;
     int nuni = TR_STAB_QUICK, nn, j, n0, nlo, nhi, sing;
     struct tr_stab_ws *w;
     for (;;) {
@@ -554,12 +560,20 @@ static int verdict_quick(const tr_model *m, tr_data *d)
     nhi = tr_btd_count(&w->h, band, &sing);
     if (sing || nlo != nhi || nlo < 0) return 0;
     n0 = nlo;
+    /* how far from zero the nearest eigenvalue lies, in doublings of the band (a verdict
+     * kept by warm solves lasts as long as their change stays small against it) */
+    for (gap = band; gap < TR_STAB_QUICK_GAP * band; gap *= 2.0) {
+        nlo = tr_btd_count(&w->h, -2.0 * gap, &sing);
+        if (sing || nlo != n0) break;
+        nhi = tr_btd_count(&w->h, 2.0 * gap, &sing);
+        if (sing || nhi != n0) break;
+    }
     d->stable = n0 == 0;
     d->stab_index = n0;
-    d->stab_gap = band;
+    d->stab_gap = gap;
     snprintf(d->stab_reason, sizeof d->stab_reason,
              "%s: %d negative %s, no eigenvalue within %.2g EI/L of zero",
-             n0 ? "unstable" : "stable", n0, n0 == 1 ? "mode" : "modes", band);
+             n0 ? "unstable" : "stable", n0, n0 == 1 ? "mode" : "modes", gap);
     return 1;
 }
 

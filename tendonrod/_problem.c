@@ -180,21 +180,18 @@ static PyObject *problem_solve(ProblemObject *self, PyObject *args, PyObject *kw
         ver.x = (const double *)PyArray_DATA(xv);
     }
     if (oc != Py_None) {
-        /* (record, reason): the verdict record of the solution the guess came from */
+        /* (record, reason): the verdict record of the solution the guess came from; one of
+         * another model (its breakpoints differ) is ignored: the solve judges afresh */
         PyObject *orec;
-        PyArrayObject *rec = NULL;
+        PyArrayObject *rec;
         const char *reason;
-        int bad;
         if (!PyArg_ParseTuple(oc, "Os;carry must be (record, reason)", &orec, &reason) ||
-            values_of(orec, "carry record", tr_carry_len(self->m, d), &rec) < 0)
+            !(rec = glue_coerce(orec, "carry record")))
             goto done;
-        bad = tr_carry_set(self->m, d, (const double *)PyArray_DATA(rec), tr_carry_len(self->m, d),
-                           reason);
+        if (PyArray_SIZE(rec) == tr_carry_len(self->m, d))
+            tr_carry_set(self->m, d, (const double *)PyArray_DATA(rec), tr_carry_len(self->m, d),
+                         reason);
         Py_DECREF(rec);
-        if (bad) {
-            glue_err(PyExc_ValueError, "carry: not a verdict record of this problem");
-            goto done;
-        }
     }
     g = a.guess ? (const double *)PyArray_DATA(a.guess) : NULL;
     if (a.jac && PyArray_DIM(a.jac, 0) == self->m->n_unknowns)
@@ -355,7 +352,8 @@ static PyMethodDef problem_methods[] = {
      "'formulation' steps, 'verified_estimate' and 'verified_unknowns' of the solve the guess\n"
      "came from (same structure): its verified step count is the start and vouches for a\n"
      "solution close to it.  carry: the 'stability_carry' of that solve, its verdict record,\n"
-     "which a solution close to it keeps instead of being judged again.  The dict of\n"
+     "which a solution close to it keeps instead of being judged again (one of another model\n"
+     "is ignored).  The dict of\n"
      "_core.solve; record=False leaves out the node arrays (record_from computes them).\n"
      "Ctrl-C raises KeyboardInterrupt."},
     {"record_from", (PyCFunction)(void (*)(void))problem_record_from, METH_VARARGS | METH_KEYWORDS,

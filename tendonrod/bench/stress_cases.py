@@ -68,9 +68,8 @@ def one_tendon_scene(
 #: so no valid equilibrium is reachable; the solver must say so.
 KAPPA_R_LIMIT = {("90deg", "transverse-x"), ("90deg", "axial+z"), ("straight", "transverse-x")}
 KAPPA_R_WORDS = ("curvature", "1/r", "centre of curvature", "center of curvature", "ei/r")
-#: In-plane transverse loads whose planar equilibrium is unstable out of the plane
-#: (measured: one negative mode, C_theta_x < 0 on the straight robot; the spatial solve
-#: with a 1e-3 lateral load finds a stable state 25-49 mm out of the plane).
+#: In-plane loads whose planar equilibrium buckles laterally (one negative mode; the
+#: spatial solve with a 1e-3 lateral load finds a stable state 25-49 mm out of plane).
 LATERAL = {
     ("90deg", "transverse-x", 10.0),
     ("straight", "transverse-x", 10.0),
