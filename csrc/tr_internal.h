@@ -9,7 +9,7 @@
  *   tr_guess.c                      cold guess, node guesses, guess <-> unknowns
  *   tr_newton.c, tr_hybrid.c        Jacobian, LU, Broyden, init / iterate / test
  *   tr_continuation.c, tr_verify.c  load continuation; step verification, polish
- *   tr_record.c, tr_compliance.c    recording pass; compliance
+ *   tr_record.c, tr_compliance.c    recording pass; linearisation (Jacobians, compliance)
  *   tr_solve.c                      the driver: a list of stages
  *   tr_batch.c                      a loop over the public API
  */
@@ -187,6 +187,11 @@ static inline void tr_tendon_pull_sum(const tr_model *m, const double *tau, doub
 tr_model *tr_model_reshoot(const tr_model *m, const tr_options *opt, int nshoot, char *msg,
                            size_t msglen);
 void tr_model_sync_values(tr_model *dst, const tr_model *src);
+/* tr_model.c: design parameter (kind, index) of mp, a copy of m, set to m's value + delta
+ * with what follows from it (the tendon's base frame and reference length, every rest
+ * length), the scales kept so that the unknowns keep their meaning; delta = 0 restores
+ * m's design.  TR_OK, or TR_EINVAL when the perturbed tendon set has no rest lengths. */
+int tr_model_perturb(tr_model *mp, const tr_model *m, int kind, int index, double delta);
 
 /* tr_confirm.c: a TR_OFFPATH equilibrium in d->x confirmed (TR_CONFIRMED) or not
  * (TR_OFFPATH) by a cold solve with another shooting formulation; the message says

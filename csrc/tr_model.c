@@ -572,3 +572,38 @@ void tr_model_sync_values(tr_model *dst, const tr_model *src)
     dst->scene_status = src->scene_status;
     memcpy(dst->scene_message, src->scene_message, sizeof dst->scene_message);
 }
+
+int tr_model_perturb(tr_model *mp, const tr_model *m, int kind, int index, double delta)
+{
+    /* m's design first (a previous perturbation undone), then the one change */
+    mp->EI = m->EI;
+    mp->GJ = m->GJ;
+    mp->EA = m->EA;
+    mp->GA = m->GA;
+    memcpy(mp->tendon, m->tendon, (size_t)m->nt * sizeof(tr_tendon));
+    if (delta == 0.0) return TR_OK;
+    switch (kind) {
+    case TR_PAR_ROD_EI: mp->EI += delta; break;
+    case TR_PAR_ROD_GJ: mp->GJ += delta; break;
+    case TR_PAR_ROD_EA: mp->EA += delta; break;
+    case TR_PAR_ROD_GA: mp->GA += delta; break;
+    case TR_PAR_TENDON_EA: mp->tendon[index].EA += delta; break;
+    case TR_PAR_OFFSET:
+    case TR_PAR_SLOPE: {
+        tr_tendon *t = &mp->tendon[index];
+        if (kind == TR_PAR_OFFSET)
+            t->b += delta;
+        else
+            t->a += delta;
+        t->wref = sqrt(1.0 + t->a * t->a);
+        tendon_base_frame(t);
+        if (mp->planar) {
+            t->t0[1] = 0.0;
+            t->rt0[0] = 0.0;
+        }
+        break;
+    }
+    default: return TR_EINVAL;
+    }
+    return tr_rest_lengths(mp, NULL, 0) == TR_OK ? TR_OK : TR_EINVAL;
+}

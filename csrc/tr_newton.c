@@ -22,6 +22,7 @@ void tr_solve_reset(const tr_model *m, tr_data *d, int steps)
     d->lam_act = d->lam_load = 1.0;
     d->truncation = NAN;
     d->jacobian_cond = NAN;
+    d->tip_angle = NAN;
     d->probe_bp = -1;
     d->steps = steps;
     d->jac_method = d->opt.jacobian_method;

@@ -23,9 +23,10 @@ __version__ = "0.1.0"
 
 from . import analytic
 from .batch import BatchResult, solve_batch
+from .linearization import Jacobian
 from .model import DistributedLoad, PointLoad, Robot, Rod, Scene, Tendon
 from .options import Options
-from .problem import Problem
+from .problem import Problem, jacobian
 from .results import ConvergenceError, ConvergenceWarning
 from .solver import Solution, compliance, solve
 from .sweep import SweepResult, sweep  # the attribute tendonrod.sweep is this function
@@ -56,6 +57,8 @@ __all__ += [
     "Problem",
     "solve",
     "compliance",
+    "jacobian",
+    "Jacobian",
     "ConvergenceWarning",
     "ConvergenceError",
 ]

@@ -260,6 +260,116 @@ static PyObject *problem_compliance(ProblemObject *self, PyObject *args, PyObjec
     return glue_array(2, dims, C);
 }
 
+/* The (np, 2) [kind, index] rows of the parameters of a linearisation into par. */
+static int params_of(PyArrayObject *a, tr_param *par, npy_intp np)
+{
+    const double *v = (const double *)PyArray_DATA(a);
+    npy_intp j;
+    for (j = 0; j < 2 * np; j++)
+        if (!(v[j] == floor(v[j]) && fabs(v[j]) < 1e9)) {
+            glue_err(PyExc_ValueError, "params must hold integers [kind, index], got %g", v[j]);
+            return -1;
+        }
+    for (j = 0; j < np; j++) {
+        par[j].kind = (int)v[2 * j];
+        par[j].index = (int)v[2 * j + 1];
+    }
+    return 0;
+}
+
+static PyObject *problem_linearize(ProblemObject *self, PyObject *args, PyObject *kwds)
+{
+    static char *kwlist[] = {"params", "rows", "forward", "unknowns", "steps", "cancel", NULL};
+    PyObject *op, *orows, *cancel = Py_None, *result = NULL, *pose = NULL, *ten = NULL, *sl = NULL;
+    PyObject *sw = NULL, *ox = Py_None;
+    PyArrayObject *pa = NULL, *ra = NULL, *xa = NULL;
+    tr_param *par = NULL;
+    int *rows = NULL, *at_switch = NULL, status, forward = 0, steps = 0;
+    npy_intp np_, nrow, i, nt = self->m ? self->m->nt : 0, dims[3];
+    glue_poll poll;
+    if (check_free(self) < 0) return NULL;
+    if (!PyArg_ParseTupleAndKeywords(args, kwds, "OO|$pOiO", kwlist, &op, &orows, &forward, &ox,
+                                     &steps, &cancel))
+        return NULL;
+    if (ox != Py_None) {
+        /* the state of a converged solution of this structure, set without solving */
+        if (values_of(ox, "unknowns", self->d->k, &xa) < 0) return NULL;
+        status = tr_state_from(self->m, self->d, (const double *)PyArray_DATA(xa), steps);
+        Py_DECREF(xa);
+        self->last_status = TR_CONTINUE; /* the workspace no longer holds its last solve */
+        if (status != TR_OK) {
+            glue_err(PyExc_ValueError, "linearize: %s", self->d->message);
+            return NULL;
+        }
+    } else if (!TR_SUCCEEDED(self->last_status)) {
+        PyErr_SetString(PyExc_RuntimeError,
+                        "linearize needs a successful solve of this Problem first");
+        return NULL;
+    }
+    if (glue_poll_init(&poll, cancel) < 0 || !(pa = glue_coerce(op, "params")) ||
+        !(ra = glue_coerce(orows, "rows")))
+        goto done;
+    if (!(PyArray_NDIM(pa) == 2 && PyArray_DIM(pa, 1) == 2) || PyArray_NDIM(ra) != 1) {
+        PyErr_SetString(PyExc_ValueError, "params must be (np, 2) [kind, index], rows (nrow,)");
+        goto done;
+    }
+    np_ = PyArray_DIM(pa, 0);
+    nrow = PyArray_DIM(ra, 0);
+    par = (tr_param *)PyMem_Calloc((size_t)np_ + 1, sizeof(tr_param));
+    rows = (int *)PyMem_Calloc((size_t)(nrow + nt) + 1, sizeof(int));
+    if (!par || !rows) {
+        PyErr_NoMemory();
+        goto done;
+    }
+    at_switch = rows + nrow;
+    if (params_of(pa, par, np_) < 0) goto done;
+    for (i = 0; i < nrow; i++) {
+        const double r = ((const double *)PyArray_DATA(ra))[i];
+        if (!(r == floor(r) && fabs(r) < 1e9)) {
+            glue_err(PyExc_ValueError, "rows must hold breakpoint indices, got %g", r);
+            goto done;
+        }
+        rows[i] = (int)r;
+    }
+    dims[0] = np_;
+    dims[1] = nrow;
+    dims[2] = 6;
+    if (!(pose = glue_array(3, dims, NULL))) goto done;
+    dims[1] = nt;
+    if (!(ten = glue_array(2, dims, NULL)) || !(sl = glue_array(2, dims, NULL))) goto done;
+    tr_set_poll(self->d, glue_poll_hook, &poll);
+    self->busy = 1;
+    Py_BEGIN_ALLOW_THREADS;
+    status = tr_linearize(self->m, self->d, par, (int)np_, rows, (int)nrow,
+                          (double *)PyArray_DATA((PyArrayObject *)pose),
+                          (double *)PyArray_DATA((PyArrayObject *)ten),
+                          (double *)PyArray_DATA((PyArrayObject *)sl), at_switch,
+                          forward ? TR_DIFF_FORWARD : TR_DIFF_CENTRAL);
+    Py_END_ALLOW_THREADS;
+    self->busy = 0;
+    tr_set_poll(self->d, NULL, NULL);
+    if (glue_poll_finish(&poll, status) < 0) goto done;
+    if (status != TR_OK) {
+        glue_err(status == TR_EINVAL ? PyExc_ValueError : PyExc_RuntimeError, "%s",
+                 self->d->message);
+        goto done;
+    }
+    if (!(sw = PyTuple_New(nt))) goto done;
+    for (i = 0; i < nt; i++) PyTuple_SET_ITEM(sw, i, PyLong_FromLong(at_switch[i]));
+    result = Py_BuildValue("{s:O,s:O,s:O,s:O,s:i}", "pose", pose, "tension", ten, "slack", sl,
+                           "at_switch", sw, "k", self->d->k);
+done:
+    Py_XDECREF(pose);
+    Py_XDECREF(ten);
+    Py_XDECREF(sl);
+    Py_XDECREF(sw);
+    Py_XDECREF(pa);
+    Py_XDECREF(ra);
+    PyMem_Free(par);
+    PyMem_Free(rows);
+    return result;
+}
+
 static PyObject *problem_forget(ProblemObject *self, PyObject *unused)
 {
     if (check_free(self) < 0) return NULL;
@@ -314,6 +424,18 @@ static PyMethodDef problem_methods[] = {
     {"compliance", (PyCFunction)(void (*)(void))problem_compliance, METH_VARARGS | METH_KEYWORDS,
      "compliance(s, *, cancel=None) -> (6, 6): at breakpoint s [m] of the last successful\n"
      "solve (spatial formulation only)."},
+    {"linearize", (PyCFunction)(void (*)(void))problem_linearize, METH_VARARGS | METH_KEYWORDS,
+     "linearize(params, rows, *, forward=False, unknowns=None, steps=0, cancel=None) -> dict:\n"
+     "the linearisation (tr_linearize; forward: first-order differences) of the last successful\n"
+     "solve, or of the converged solution with these scaled unknowns at this step count (then\n"
+     "the workspace no longer holds its last solve), with respect to params, (np, 2) rows\n"
+     "[kind, index] (kinds: PARAM_KINDS),\n"
+     "reporting the poses at breakpoint indices rows (nrow,): pose (np, nrow, 6) [dx (3) m,\n"
+     "dtheta (3) rad] world frame per unit parameter, tension (np, nt) [N per unit], slack\n"
+     "(np, nt) [m per unit], at_switch\n"
+     "(nt ints: the side of its taut/slack switch a tendon there was given, +1 taut, -1 slack,\n"
+     "0 not at the switch), k (unknowns).  ValueError\n"
+     "for a parameter the model lacks."},
     {"forget", (PyCFunction)problem_forget, METH_NOARGS,
      "Forget the last solution (the next warm solve starts cold)."},
     {NULL, NULL, 0, NULL}};
