@@ -492,11 +492,13 @@ typedef struct {
  *   dtension (np x nt) or NULL: each tendon's tension change [N] per unit of parameter j;
  *   dslack (np x nt) or NULL: each tendon's slack change [m] per unit of parameter j (nonzero
  *     only for a slack displacement-controlled tendon, or one given its slack side);
- *   at_switch (nt) or NULL: the side of its taut/slack switch whose derivatives a tendon
- *     within the difference stencil of that switch was given (a tension-controlled one: at
- *     tension 0): +1 the taut side, -1 the slack side, 0 not at the switch.  The side it is
- *     on, the taut one when exactly at the switch -- unless the taut side leaves the
- *     Jacobian singular (indeterminate tensions), then the slack one.
+ *   at_switch (nt) or NULL: on entry, the side wanted for a displacement-controlled tendon
+ *     within the difference stencil of its switch (+1 taut, -1 slack, 0 the side it is on;
+ *     others ignore it); on return, the side of its taut/slack switch whose derivatives
+ *     each tendon was given (a tension-controlled one: at tension 0): +1 the taut side, -1
+ *     the slack side, 0 not at the switch.  Unless asked otherwise, the side it is on, the
+ *     taut one when exactly at the switch; where the taut side leaves the Jacobian singular
+ *     (indeterminate tensions), the slack one.
  * TR_OK; TR_EINVAL (a parameter this model does not have, or a probe load on a planar
  * model; message set); TR_ESINGULAR; TR_EBUDGET / TR_EINTERRUPTED; an integration
  * failure.  The workspace's unknowns stay those of the solution; its Jacobian d->J

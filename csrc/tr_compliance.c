@@ -314,13 +314,20 @@ static void tendon_rates(const tr_model *m, const tr_data *d, const tr_param *p,
 }
 
 static int linearize(const tr_model *m, tr_data *d, const tr_param *par, int np, const int *rows,
-                     int nrow, double *dpose, double *dtension, double *dslack, int forward)
+                     int nrow, double *dpose, double *dtension, double *dslack, const int *want,
+                     int forward)
 {
     const double hu = forward ? TR_FD_H : TR_CD_H;
     const int k = d->k;
     int i, j, r, c, status;
     lin_dir dir;
-    for (i = 0; i < m->nt; i++) d->lin_side[i] = switch_side(m, d, i);
+    for (i = 0; i < m->nt; i++) {
+        /* the side asked for, for a displacement-controlled tendon at its switch */
+        const int side = switch_side(m, d, i);
+        const int asked =
+            want && side != 0 && m->tendon[i].control == TR_DISPLACEMENT ? want[i] : 0;
+        d->lin_side[i] = asked > 0 ? 1 : asked < 0 ? -1 : side;
+    }
     status = eval_moved(m, d, NULL, 0.0, d->fs, d->lin_pose);
     if (status != TR_OK) return status;
     status = factored_jacobian(m, d, rows, nrow, forward);
@@ -388,8 +395,8 @@ int tr_linearize(const tr_model *m, tr_data *d, const tr_param *par, int np, con
     }
     d->lam_act = d->lam_load = 1.0;
     tr_poll_start(d); /* a budget of its own; the caller's interrupt still applies */
-    status =
-        linearize(m, d, par, np, rows, nrow, dpose, dtension, dslack, scheme == TR_DIFF_FORWARD);
+    status = linearize(m, d, par, np, rows, nrow, dpose, dtension, dslack, at_switch,
+                       scheme == TR_DIFF_FORWARD);
     for (i = 0; at_switch && i < m->nt; i++) at_switch[i] = d->lin_side[i];
     tr_set_tensions(m, d, d->x);
     if (status == TR_EBUDGET)

@@ -22,6 +22,7 @@ gsl_version: str = _core.gsl_version
 __version__ = "0.1.0"
 
 from . import analytic
+from .actuation import ActuationResult, actuate
 from .batch import BatchResult, solve_batch
 from .linearization import Jacobian
 from .model import DistributedLoad, PointLoad, Robot, Rod, Scene, Tendon
@@ -59,6 +60,8 @@ __all__ += [
     "compliance",
     "jacobian",
     "Jacobian",
+    "actuate",
+    "ActuationResult",
     "ConvergenceWarning",
     "ConvergenceError",
 ]

@@ -279,17 +279,18 @@ static int params_of(PyArrayObject *a, tr_param *par, npy_intp np)
 
 static PyObject *problem_linearize(ProblemObject *self, PyObject *args, PyObject *kwds)
 {
-    static char *kwlist[] = {"params", "rows", "forward", "unknowns", "steps", "cancel", NULL};
+    static char *kwlist[] = {"params", "rows", "forward", "unknowns",
+                             "steps",  "side", "cancel",  NULL};
     PyObject *op, *orows, *cancel = Py_None, *result = NULL, *pose = NULL, *ten = NULL, *sl = NULL;
-    PyObject *sw = NULL, *ox = Py_None;
-    PyArrayObject *pa = NULL, *ra = NULL, *xa = NULL;
+    PyObject *sw = NULL, *ox = Py_None, *oside = Py_None;
+    PyArrayObject *pa = NULL, *ra = NULL, *xa = NULL, *sa = NULL;
     tr_param *par = NULL;
     int *rows = NULL, *at_switch = NULL, status, forward = 0, steps = 0;
     npy_intp np_, nrow, i, nt = self->m ? self->m->nt : 0, dims[3];
     glue_poll poll;
     if (check_free(self) < 0) return NULL;
-    if (!PyArg_ParseTupleAndKeywords(args, kwds, "OO|$pOiO", kwlist, &op, &orows, &forward, &ox,
-                                     &steps, &cancel))
+    if (!PyArg_ParseTupleAndKeywords(args, kwds, "OO|$pOiOO", kwlist, &op, &orows, &forward, &ox,
+                                     &steps, &oside, &cancel))
         return NULL;
     if (ox != Py_None) {
         /* the state of a converged solution of this structure, set without solving */
@@ -323,6 +324,22 @@ static PyObject *problem_linearize(ProblemObject *self, PyObject *args, PyObject
     }
     at_switch = rows + nrow;
     if (params_of(pa, par, np_) < 0) goto done;
+    if (oside != Py_None) {
+        /* the side wanted for each tendon at its switch (+1, -1, 0) */
+        if (!(sa = glue_coerce(oside, "side"))) goto done;
+        if (PyArray_NDIM(sa) != 1 || PyArray_DIM(sa, 0) != nt) {
+            glue_err(PyExc_ValueError, "side must have shape (%ld,) (one per tendon)", (long)nt);
+            goto done;
+        }
+        for (i = 0; i < nt; i++) {
+            const double v = ((const double *)PyArray_DATA(sa))[i];
+            if (!(v == 1.0 || v == -1.0 || v == 0.0)) {
+                glue_err(PyExc_ValueError, "side must hold +1, -1 or 0, got %g", v);
+                goto done;
+            }
+            at_switch[i] = (int)v;
+        }
+    }
     for (i = 0; i < nrow; i++) {
         const double r = ((const double *)PyArray_DATA(ra))[i];
         if (!(r == floor(r) && fabs(r) < 1e9)) {
@@ -365,6 +382,7 @@ done:
     Py_XDECREF(sw);
     Py_XDECREF(pa);
     Py_XDECREF(ra);
+    Py_XDECREF(sa);
     PyMem_Free(par);
     PyMem_Free(rows);
     return result;
@@ -425,7 +443,8 @@ static PyMethodDef problem_methods[] = {
      "compliance(s, *, cancel=None) -> (6, 6): at breakpoint s [m] of the last successful\n"
      "solve (spatial formulation only)."},
     {"linearize", (PyCFunction)(void (*)(void))problem_linearize, METH_VARARGS | METH_KEYWORDS,
-     "linearize(params, rows, *, forward=False, unknowns=None, steps=0, cancel=None) -> dict:\n"
+     "linearize(params, rows, *, forward=False, unknowns=None, steps=0, side=None, cancel=None)\n"
+     "-> dict:\n"
      "the linearisation (tr_linearize; forward: first-order differences) of the last successful\n"
      "solve, or of the converged solution with these scaled unknowns at this step count (then\n"
      "the workspace no longer holds its last solve), with respect to params, (np, 2) rows\n"
@@ -434,7 +453,8 @@ static PyMethodDef problem_methods[] = {
      "dtheta (3) rad] world frame per unit parameter, tension (np, nt) [N per unit], slack\n"
      "(np, nt) [m per unit], at_switch\n"
      "(nt ints: the side of its taut/slack switch a tendon there was given, +1 taut, -1 slack,\n"
-     "0 not at the switch), k (unknowns).  ValueError\n"
+     "0 not at the switch; side (nt,) asks +1 / -1 for a displacement-controlled tendon at its\n"
+     "switch, 0 the side it is on), k (unknowns).  ValueError\n"
      "for a parameter the model lacks."},
     {"forget", (PyCFunction)problem_forget, METH_NOARGS,
      "Forget the last solution (the next warm solve starts cold)."},

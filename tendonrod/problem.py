@@ -185,7 +185,7 @@ class Problem:
         return compliance(self._last.scene, s_val, guess=self._last, options=self._options)
 
     def jacobian(
-        self, s=None, *, design=(), load: bool = True, method: str = "central"
+        self, s=None, *, design=(), load: bool = True, method: str = "central", side=None
     ) -> Jacobian:
         """The linearisation (:class:`~tendonrod.Jacobian`) of the last successful
         solution at arc length(s) ``s`` [m] (default: the tip), with respect to every
@@ -199,23 +199,29 @@ class Problem:
         design parameter or tension-controlled tendon and six per interior ``s`` for the
         loads.  Otherwise, and for the loads of a planar problem (whose out-of-plane
         compliance needs the spatial formulation), one more warm solve of the scene with
-        zero point loads at ``s``.
+        zero point loads at ``s``.  ``side`` (ntendon,) of +1 / -1 / 0 asks for the taut or
+        the slack side's derivatives of a displacement-controlled tendon at its taut/slack
+        switch (0: the side it is on; see :attr:`Jacobian.switch_side`).
         """
         if self._last is None:
             raise RuntimeError("Problem.jacobian needs a successful solve first")
         sol = self._last
         here = self._c.last_success and self._current is sol.scene
-        return self._jacobian(sol, s, design, load, method, here)
+        return self._jacobian(sol, s, design, load, method, here, side=side)
 
-    def _jacobian(self, sol, s, design, load, method, here, state=None) -> Jacobian:
+    def _jacobian(self, sol, s, design, load, method, here, state=None, side=None) -> Jacobian:
         """The linearisation of ``sol``: the workspace's state (``here``), or the state
         (unknowns, steps) of ``sol`` set without solving, or a probe problem's."""
         forward = _forward(method)
+        side = _sides(side, sol.scene.robot.n_tendons)
         s_vals, scalar, names, rows, params = self._jacobian_plan(s, design, load)
         if rows is None or not (here or state is not None):
             prob = _solved_probe(sol, s_vals, self._options, spatial=False)
-            return _with_solution(prob.jacobian(s, design=design, load=load, method=method), sol)
+            jac = prob.jacobian(s, design=design, load=load, method=method, side=side)
+            return _with_solution(jac, sol)
         kw = {} if state is None else {"unknowns": state[0], "steps": state[1]}
+        if side is not None:
+            kw["side"] = side
         try:
             raw = self._c.linearize(params, rows, forward=forward, cancel=current_token(), **kw)
         except RuntimeError as exc:  # the linearisation itself failed (e.g. its budget)
@@ -372,6 +378,19 @@ def _load_block(sol, s_vals, options: Options, forward: bool) -> np.ndarray:
     return np.stack([raw["pose"][6 * r : 6 * r + 6, r, :].T for r in range(len(rows))])
 
 
+def _sides(side, nt: int):
+    """``side`` as a float array (nt,) of +1 / -1 / 0, or None; ValueError naming it."""
+    if side is None:
+        return None
+    try:
+        arr = np.array(side, dtype=float).reshape(-1)
+    except (TypeError, ValueError):
+        arr = None
+    if arr is None or arr.shape != (nt,) or not np.all(np.isin(arr, (-1.0, 0.0, 1.0))):
+        raise ValueError(f"side must hold +1, -1 or 0 for each of the {nt} tendon(s), got {side!r}")
+    return arr
+
+
 def _forward(method) -> bool:
     """True for method "forward", False for "central"; ValueError naming ``method``."""
     if method not in ("central", "forward"):
@@ -425,6 +444,7 @@ def jacobian(
     design=(),
     load: bool = True,
     method: str = "central",
+    side=None,
     guess=None,
     options=None,
 ) -> Jacobian:
@@ -451,6 +471,12 @@ def jacobian(
         :mod:`tendonrod.linearization`).
     load : bool
         Compute the compliance block (default True).
+    method : {"central", "forward"}
+        The differences of the shooting map: central (default) or first-order (half the
+        evaluations, truncation near 1e-8).
+    side : array (ntendon,) of +1 / -1 / 0, optional
+        For a displacement-controlled tendon at its taut/slack switch: the taut (+1) or
+        slack (-1) side's derivatives; 0 (default) the side it is on.
     guess, options
         As in :func:`tendonrod.solve`.
 
@@ -490,16 +516,17 @@ def jacobian(
     s_vals, _ = _arc_lengths(s, L)
     _design_names(scene, design)
     _forward(method)
+    _sides(side, scene.robot.n_tendons)
     probed = _probe_scene(scene, s_vals)
     if isinstance(scene_or_solution, _Solution) and probed is scene and options is sol.options:
         # the solution's own structure: linearise its state, no solve
         prob = Problem(scene, options)
         prob._last = sol
         state = (sol.unknowns, max(1, sol.formulation.steps))
-        return prob._jacobian(sol, s, design, load, method, False, state)
+        return prob._jacobian(sol, s, design, load, method, False, state, side)
     prob = Problem(probed, options)
     psol = Solution(prob._run(guess), prob.scene, prob.options)
     if not psol.success:
         raise ConvergenceError(f"tendonrod.jacobian: the scene did not solve: {psol.message}", psol)
     prob._last = psol
-    return prob.jacobian(s, design=design, load=load, method=method)
+    return prob.jacobian(s, design=design, load=load, method=method, side=side)

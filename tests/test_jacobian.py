@@ -248,6 +248,26 @@ def test_at_switch_one_sided_taut_side():
     assert np.all(dt > 0)
 
 
+@pytest.mark.parametrize("side", [1, -1])
+def test_side_asked_at_the_switch(side):
+    """One tendon at q = 0 on the straight, unloaded robot: exactly at its switch.  The
+    side asked for is given, and matches the one-sided full-solve difference toward it
+    (pulling: the taut side bends the rod; paying out: the slack side moves nothing)."""
+    rod = tr.Rod(length=0.2, diameter=0.8e-3, E=207e9, G=79.6e9, kirchhoff=True)
+    scene = tr.Scene(tr.Robot(rod, [tr.Tendon(offset=0.01, EA=3e3)]), displacement=[0.0])
+    base = tr.solve(scene, options=TIGHT, strict=True)
+    jac = tr.jacobian(tr.solve(scene, strict=True), side=[side])
+    assert jac.switch_side.tolist() == [side]
+    h = side * 1e-5 * 0.01
+    ref, dt = _fd(lambda d: _with_value(scene, 0, d), h, base, 0.2, one_sided=True)
+    # the slack side's column vanishes: compare against the 1/r = 100 rad/m of the taut one
+    _close(jac.actuation[:, 0], ref, 0.2, f"side {side}", natural=1.0 / 0.01)
+    # tension per unit q: 1e-6 of the tendon's own stiffness EA / L [N/m] (0 on the slack side)
+    assert np.allclose(jac.tension[0, 0], dt[0], rtol=1e-6, atol=1e-6 * 3e3 / 0.2)
+    with pytest.raises(ValueError, match="side"):
+        tr.jacobian(base, side=[2])
+
+
 def test_tension_controlled_at_zero_is_flagged_and_one_sided():
     rod = tr.Rod(length=0.2, diameter=0.8e-3, E=207e9, G=79.6e9, kirchhoff=True)
     scene = tr.Scene(tr.Robot(rod, [tr.Tendon(offset=0.01)]), tension=[0.0])
