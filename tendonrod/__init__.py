@@ -24,6 +24,7 @@ __version__ = "0.1.0"
 from . import analytic
 from .actuation import ActuationResult, actuate
 from .batch import BatchResult, solve_batch
+from .fit import FitResult, fit
 from .linearization import Jacobian
 from .model import DistributedLoad, PointLoad, Robot, Rod, Scene, Tendon
 from .options import Options
@@ -62,6 +63,8 @@ __all__ += [
     "Jacobian",
     "actuate",
     "ActuationResult",
+    "fit",
+    "FitResult",
     "ConvergenceWarning",
     "ConvergenceError",
 ]
