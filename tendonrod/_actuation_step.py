@@ -77,8 +77,9 @@ class Iteration:
         act (on the slack side pulling one moves nothing, and the iteration would never
         pull it back): in least squares every slack one (steps then keep it from paying
         out again, see :meth:`lm`); in the least change those held taut (a finite floor,
-        which then keeps them there).  A slack tendon moves nothing, so the target
-        residual stays where it was."""
+        which then keeps them there), and those below their scene value, drawn toward it
+        (up to the switch at most: a pull the least change gets for free).  A slack
+        tendon moves nothing, so the target residual stays where it was."""
         cn = self.c.copy()
         for j, i in enumerate(self.run.idx):
             slack = self.sol.slack[i]
@@ -86,6 +87,8 @@ class Iteration:
                 continue
             if self.lsq or np.isfinite(self.floor0[i]):
                 cn[j] += slack + 1e-12 * self.scale[j]
+            elif self.c0[j] > self.c[j]:
+                cn[j] = min(self.c[j] + slack + 1e-12 * self.scale[j], self.c0[j])
         if np.array_equal(cn, self.c):
             return
         sn, rn, Dn = self.run.solve(cn)
@@ -97,11 +100,13 @@ class Iteration:
 
     def _wanted_sides(self):
         """The side of its switch whose derivatives each tendon at it is to get: the taut
-        one for the displacement controls of least squares and those the least change
-        holds taut (their steps keep them there), the side it is on for the others."""
+        one for the displacement controls of least squares, those the least change holds
+        taut (their steps keep them there) and those it would pull toward their scene
+        value (pulling acts through the taut side); the side it is on for the others."""
         side = np.zeros(len(self.disp))
-        for i in self.run.idx:
-            if self.disp[i] and (self.lsq or np.isfinite(self.floor0[i])):
+        for j, i in enumerate(self.run.idx):
+            pull = not self.lsq and self.c0[j] > self.c[j]
+            if self.disp[i] and (self.lsq or np.isfinite(self.floor0[i]) or pull):
                 side[i] = 1.0
         return side
 
@@ -132,10 +137,18 @@ class Iteration:
         return g
 
     def _box(self, n, delta):
-        """Rows (G, h) of the trust region |u_j| <= delta and of tension controls >= 0."""
+        """Rows (G, h) of the trust region |u_j| <= delta, of tension controls >= 0 and,
+        for a slack displacement control linearised on its slack side, of pulls no
+        longer than its slack (beyond it the tendon acts, which that side cannot see)."""
         bound = np.flatnonzero(self.is_tension)
-        G = np.vstack([np.eye(n), -np.eye(n), np.eye(n)[bound]])
-        h = np.r_[np.full(2 * n, -delta), -(self.c / self.scale)[bound]]
+        slack = [
+            j
+            for j, i in enumerate(self.run.idx)
+            if self.disp[i] and self.sol.slack[i] > 0.0 and self.side[i] <= 0
+        ]
+        room = np.array([self.sol.slack[self.run.idx[j]] / self.scale[j] for j in slack])
+        G = np.vstack([np.eye(n), -np.eye(n), np.eye(n)[bound], -np.eye(n)[slack]])
+        h = np.r_[np.full(2 * n, -delta), -(self.c / self.scale)[bound], -room]
         return G, h
 
     def _accepted(self, cn, sn, rn, Dn, grad_rows=None):

@@ -253,6 +253,27 @@ def test_minimum_change_leaves_unneeded_slack_tendons():
 
 
 # ----------------------------------------------------------------------------- least squares
+def test_minimum_change_across_slack_tendons_under_weight():
+    """Four tendons under their own weight, all at q = 0 (exactly at their switch): the tip
+    position of the robot with tendon 0 pulled 3 mm and tendon 2 paid out 3 mm (reachable
+    by construction) needs two tendons pulled and the others slack at the least change.
+    Reached, and reproduced by a forward solve; the controls are the construction's, to
+    the accuracy the target fixes them (a slack tendon's own control is free up to its
+    switch: the least change holds it there)."""
+    rod = tr.Rod(length=0.2, diameter=0.8e-3, E=207e9, G=79.6e9)
+    tendons = [tr.Tendon(offset=0.01, angle=i * math.pi / 2, EA=2e3) for i in range(4)]
+    weight = tr.DistributedLoad(force=(0.0, 0.0, -0.5))
+    scene = tr.Scene(tr.Robot(rod, tendons), displacement=[0.0] * 4, loads=[weight])
+    goal = tr.solve(dataclasses.replace(scene, displacement=[3e-3, 0.0, -3e-3, 0.0]), strict=True)
+    sol = tr.actuate(scene, tip_position=tuple(goal.tip_position))
+    assert sol.success, sol.message
+    fwd = _forward(scene, sol)
+    assert np.max(np.abs(fwd.tip_position - goal.tip_position)) <= REPRO * 0.2
+    # tendon 0 carries the goal's tension (1e-6 relative: the target tolerance 1e-10 L
+    # through the tension's sensitivity to the tip position)
+    assert sol.tension[0] == pytest.approx(goal.tension[0], rel=1e-6)
+
+
 def test_least_squares_is_stationary():
     """One tendon, a tip position off its reachable curve: the closest point."""
     rod = _rod()
