@@ -8,7 +8,7 @@ Exercises every path of the glue and the core that a user reaches:
 - tr.solve on scenes that converge (planar/spatial, Kirchhoff/Cosserat,
   displacement/tension control, point and distributed loads, two segments),
   warm starts from a previous solution, tip_only, explicit nodes, every
-  integrator, sol.at(s), tr.compliance;
+  integrator, sol.at(s), sol.stable, tr.compliance;
 - solves that fail (iteration cap, impossible displacement) and raise with
   strict=True;
 - the raw _core.solve with wrong shapes, dtypes and option values (the error
@@ -109,6 +109,9 @@ def solve_loop(n):
                 ),
             )
             sol.at(0.07)
+            # the stability verdict (hyper-dual element Hessians, block LDL^T, bordered
+            # tendons, the discrete equilibrium where the margin is small)
+            assert sol.stable is not None or sol.stability_reason
             if sc[i].robot.n_tendons:
                 tr.compliance(sc[i])
         if it % 11 == 0:

@@ -183,6 +183,8 @@ tr_options tr_default_options(void);
 int tr_options_check(const tr_options *opt, char *msg, size_t msglen);
 
 /* ----------------------------------------------------------------- model */
+struct tr_stab_ws;
+
 typedef struct tr_tendon {
     double b;          /* offset at s = 0 [m] */
     double phi;        /* angle of the routing plane about e3, body frame [rad] */
@@ -388,7 +390,15 @@ typedef struct tr_data {
                              row-major, internal force (3) [N] and moment (3) [N m], world */
     double tip_angle;     /* planar formulation: the tip tangent's angle from +z toward +x
                              [rad], unwrapped along s (the integrated theta); spatial: NaN */
-    int lazy;             /* 1: tr_solve fills only the tip, tensions and slacks (and the
+    /* stability of the solution (tr_stability.c): stable 1 / 0 / -1 (not tested or
+     * critical within the test's accuracy, stab_reason says which), the margin (the
+     * smallest eigenvalue of the constrained second variation, scaled by EI/L) and the
+     * number of negative modes */
+    struct tr_stab_ws *stab; /* its workspace, allocated the first time */
+    int stable, stab_index;
+    double stability;
+    char stab_reason[256];
+    int lazy; /* 1: tr_solve fills only the tip, tensions and slacks (and the
                              displacement of displacement-controlled tendons; NaN for the
                              others); the node arrays stay untouched until tr_record_from */
 } tr_data;
@@ -525,6 +535,13 @@ void tr_base_state(const tr_model *m, const tr_data *d, double *g);
  * polish or recording (tr_record or tr_record_tip follow).  At most max_iter
  * iterations.  TR_OK, or < 0 when the caller should run tr_solve instead. */
 int tr_solve_lean(const tr_model *m, tr_data *d, const double *x0, const double *jac, int max_iter);
+/* The stability verdict of the current unknowns (a solution): d->stable, d->stability,
+ * d->stab_index, d->stab_reason (bench/results/stability_design.md). */
+void tr_stability(const tr_model *m, tr_data *d);
+/* The same for the solution with scaled unknowns x (k) at a step count (a solution's
+ * formulation.steps), as tr_record_from does for its states.  TR_EINVAL when steps is
+ * out of range or the workspace is another model's. */
+int tr_stability_of(const tr_model *m, tr_data *d, const double *x, int steps);
 /* The tip state of the current unknowns into d->tip, with the tensions, slacks and
  * the displacement of displacement-controlled tendons (NaN for tension-controlled ones,
  * which only the recording pass integrates): from the last shooting evaluation if it

@@ -31,6 +31,7 @@ void tr_data_free(tr_data *d)
     tr_model_free(d->lin_m);
     free(d->x_last);
     tr_data_free(d->confirm_d);
+    tr_stab_free(d->stab);
     tr_model_free(d->confirm_m);
     free(d->lin_C);
     free(d->lin_act);

@@ -292,6 +292,28 @@ int tr_hybrid_run(const tr_model *m, tr_data *d, int max_iter);
  * loads. */
 int tr_continuation(const tr_model *m, tr_data *d);
 
+/* tr_inertia.c: a symmetric block-tridiagonal matrix (nblk blocks of nb <= TR_BTD_MAXB:
+ * D (nblk x nb^2) diagonal blocks, E (nblk x nb^2) the block coupling j to j + 1),
+ * a diagonal M (nblk nb), and nbord bordered columns B ((nblk nb) x nbord, row-major)
+ * with compliances cb (nbord; 0: a constraint); the rest is workspace of the same
+ * sizes (P, Pe, Pv, U: the factors; X: A^-1 B; S, Se, Sv: the Schur complement). */
+#define TR_BTD_MAXB 6
+typedef struct {
+    int nblk, nb, nbord;
+    double *D, *E, *Mw, *B, *cb;
+    double *Pe, *Pv, *U, *X, *S, *Se, *Sv;
+} tr_btd;
+/* The number of eigenvalues of the bordered pencil (H, M) below lam (*singular: a
+ * pivot was zero, no count). */
+int tr_btd_count(tr_btd *w, double lam, int *singular);
+/* X = (H - lam M)^-1 X (n x ncol) with the factors of the last tr_btd_count. */
+void tr_btd_solve(tr_btd *w, double *X, int ncol);
+/* The smallest eigenvalue of the bordered pencil (below0: the count at 0 is > 0). */
+double tr_btd_smallest(tr_btd *w, int below0);
+
+/* tr_stability.c: its workspace, freed with the data */
+void tr_stab_free(struct tr_stab_ws *w);
+
 /* tr_verify.c */
 /* Automatic initial step count of the scene. */
 int tr_auto_steps(const tr_model *m, const tr_data *d);

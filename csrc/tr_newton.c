@@ -4,6 +4,7 @@
  * to convergence with a stagnation test, and the lean warm solve.
  */
 #include <math.h>
+#include <stdio.h>
 #include <string.h>
 #include <gsl/gsl_errno.h>
 #include <gsl/gsl_linalg.h>
@@ -27,6 +28,9 @@ void tr_solve_reset(const tr_model *m, tr_data *d, int steps)
     d->steps = steps;
     d->jac_method = d->opt.jacobian_method;
     d->nfev_confirm = 0;
+    d->stable = d->stab_index = -1;
+    d->stability = NAN;
+    snprintf(d->stab_reason, sizeof d->stab_reason, "not tested: no solution");
     tr_poll_start(d);
 }
 

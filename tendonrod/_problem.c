@@ -228,6 +228,34 @@ done:
     return result;
 }
 
+static PyObject *problem_stability(ProblemObject *self, PyObject *args, PyObject *kwds)
+{
+    static char *kwlist[] = {"unknowns", "steps", NULL};
+    PyObject *ox, *result = NULL;
+    PyArrayObject *x = NULL;
+    int steps, status;
+    tr_data *d = self->d;
+    if (check_free(self) < 0) return NULL;
+    if (!PyArg_ParseTupleAndKeywords(args, kwds, "Oi", kwlist, &ox, &steps)) return NULL;
+    if (values_of(ox, "unknowns", d->k, &x) < 0) return NULL;
+    self->busy = 1;
+    Py_BEGIN_ALLOW_THREADS;
+    status = tr_stability_of(self->m, d, (const double *)PyArray_DATA(x), steps);
+    Py_END_ALLOW_THREADS;
+    self->busy = 0;
+    if (status == TR_EINVAL) {
+        glue_err(PyExc_ValueError, "stability: %s", d->message);
+        goto done;
+    }
+    result =
+        Py_BuildValue("{s:N,s:d,s:i,s:s}", "stable",
+                      d->stable < 0 ? Py_NewRef(Py_None) : PyBool_FromLong(d->stable), "stability",
+                      d->stability, "index", d->stab_index, "reason", d->stab_reason);
+done:
+    Py_XDECREF(x);
+    return result;
+}
+
 static PyObject *problem_compliance(ProblemObject *self, PyObject *args, PyObject *kwds)
 {
     static char *kwlist[] = {"s", "cancel", NULL};
@@ -439,6 +467,12 @@ static PyMethodDef problem_methods[] = {
     {"record_from", (PyCFunction)(void (*)(void))problem_record_from, METH_VARARGS | METH_KEYWORDS,
      "record_from(unknowns, steps) -> dict: the states at this problem's nodes of the solution\n"
      "with these scaled unknowns at this step count (no solve; NaN where the recording fails)."},
+    {"stability", (PyCFunction)(void (*)(void))problem_stability, METH_VARARGS | METH_KEYWORDS,
+     "stability(unknowns, steps) -> dict(stable, stability, index, reason): whether the solution\n"
+     "with these scaled unknowns at this step count is a strict local minimum of the total\n"
+     "potential energy (True / False / None with the reason), the margin (the smallest\n"
+     "eigenvalue of the constrained second variation, scaled by EI/L) and the number of\n"
+     "negative modes (no solve)."},
     {"compliance", (PyCFunction)(void (*)(void))problem_compliance, METH_VARARGS | METH_KEYWORDS,
      "compliance(s, *, cancel=None) -> (6, 6): at breakpoint s [m] of the last successful\n"
      "solve (spatial formulation only)."},

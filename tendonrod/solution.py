@@ -224,6 +224,61 @@ class Solution:
             d = self._recorded()["displacement"]
         return d
 
+    # ------------------------------------------------------------ stability
+    # Whether the solution is a strict local minimum of the total potential energy among
+    # the configurations that hold the base and the prescribed displacements: the
+    # constrained Hessian of a discretised energy (bench/results/stability_design.md),
+    # computed in C on first access from the solution's unknowns.
+    def _stability(self) -> dict:
+        raw = self.raw
+        st = raw.get("stability_verdict")
+        if st is None:
+            if self.unknowns is None or not self.success:
+                st = {
+                    "stable": None,
+                    "stability": math.nan,
+                    "index": -1,
+                    "reason": "not tested: no solution" if not self.success else "not tested",
+                }
+            else:
+                steps = max(1, int(raw["formulation"]["steps"]))
+                st = _compile(self.scene, self.options).stability(self.unknowns, steps)
+            raw["stability_verdict"] = st
+        return st
+
+    @property
+    def stable(self) -> bool | None:
+        """True when the solution is a strict (or, along a symmetry, neutral) local minimum
+        of the total potential energy -- rod strain energy, the work of prescribed tensions,
+        the stretch energy of displacement-controlled tendons, dead loads -- among the
+        configurations that hold the clamped base and the prescribed displacements; False
+        when some admissible perturbation lowers it; None when the test does not apply or
+        cannot decide (a point moment fixed in the world, which is not conservative for
+        spatial perturbations; a margin within the test's discretisation error of zero;
+        no solution): :attr:`stability_reason` says which.  A displacement-controlled
+        tendon exactly at its taut/slack switch is tested on its slack side."""
+        return self._stability()["stable"]
+
+    @property
+    def stability(self) -> float:
+        """The margin [-]: the smallest eigenvalue of the constrained second variation in
+        the norm (1/L) int |dtheta|^2 ds, scaled by EI/L (positive: stable; ~0 at a
+        critical point or along a symmetry; NaN where not tested).  For a straight
+        cantilever under a compressive dead load P it is (pi^2/4)(1 - P/P_E), P_E the
+        Euler load pi^2 EI / (4 L^2)."""
+        return self._stability()["stability"]
+
+    @property
+    def stability_index(self) -> int:
+        """The number of independent perturbations that lower the energy (0 when stable;
+        -1 where not tested)."""
+        return self._stability()["index"]
+
+    @property
+    def stability_reason(self) -> str:
+        """What the stability test concluded, in words."""
+        return self._stability()["reason"]
+
     @property
     def formulation(self) -> Formulation:
         """What was solved (:class:`Formulation`)."""

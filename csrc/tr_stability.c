@@ -1,0 +1,704 @@
+/*
+ * tr_stability.c -- is the solved equilibrium a strict local minimum of the total
+ * potential energy?  The constrained Hessian of a discretised energy (design and
+ * validation: bench/results/stability_design.md).
+ *
+ * The solution is recorded at the nodes of a grid (uniform plus every breakpoint); the
+ * coordinates are each node's body-frame rotation perturbation (and, on a Cosserat
+ * rod, its position perturbation), the base clamped.  Per element: bending and torsion
+ * from the log of the relative rotation; on a Kirchhoff rod the position follows the
+ * element's midpoint direction (dead loads act through the force beyond each element),
+ * on a Cosserat rod shear and extension from the chord in the midpoint frame (dead
+ * loads are then linear in the coordinates); each taut tendon adds its tension times
+ * the length of its polyline through the eyelets.  A displacement-controlled tendon
+ * adds EA/l (g g^T) for its stretch (finite EA) or makes g^T x = 0 a constraint
+ * (inextensible), g the gradient of its length.  Element Hessians come exact to
+ * round-off from hyper-dual numbers (tr_hd.h); the Hessian is block tridiagonal plus
+ * those bordered terms, so its inertia follows from a block LDL^T (a Sturm sequence)
+ * and Haynsworth's inertia additivity, and the margin (the smallest eigenvalue in the
+ * norm (1/L) int |dtheta|^2 + |dp|^2/L^2 ds, scaled by EI/L) from a bisection on the
+ * inertia of H - lambda M.  The margin at half the elements gives the discretisation
+ * error; a margin within it is "critical", one at round-off level "neutral".
+ */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "tendonrod.h"
+#include "tr_hd.h"
+#include "tr_internal.h"
+#include "tru_math.h"
+
+/* Uniform elements of the first grid (even), and the most a refinement may use. */
+#define TR_STAB_ELEMENTS     24
+#define TR_STAB_MAX_ELEMENTS 768
+/* A margin (scaled by EI/L) within this of zero is round-off: a neutral direction. */
+#define TR_STAB_NEUTRAL 1e-7
+/* Margins (scaled) smaller than this times (1 + the load-induced stiffness scale) are
+ * refined (discrete equilibrium) and checked against the grid of half the elements (the
+ * error estimate); larger ones are far beyond the discretisation error (at 24 elements
+ * on the Euler column, 0.5 to 41 times its load, below 1e-3 of that scale). */
+#define TR_STAB_CHECK 0.05
+/* Newton steps to the discrete equilibrium where a margin is refined. */
+#define TR_STAB_NEWTON 2
+
+/* The largest element rotation the grid may carry [rad]: keeps the discretisation in
+ * its second-order regime (finer grids are built until it holds). */
+#define TR_STAB_MAX_ROT 0.35
+
+/* ------------------------------------------------------------ element energy */
+#define NB_MAX TR_BTD_MAXB /* coordinates per node: rotation (3), position (3) if Cosserat */
+
+typedef struct {
+    const tr_model *m;
+    int cosserat;
+    double h, sa, sb;      /* element length, arc lengths of its nodes [m] */
+    const double *Ra, *Rb; /* (9) rotations of its nodes, body-to-world, row-major */
+    const double *pa, *pb; /* (3) positions [m] */
+    double F[3];           /* Kirchhoff: dead force beyond the element, world [N] */
+    double vhat[3];        /* Cosserat: the strain at which the element's shear and
+                                 extension are free, set so that its internal force at the
+                                 recorded state is the solution's (see assemble) */
+    const double *tau;     /* (nt) tensions [N] */
+} elem;
+
+/* R (I + e^ + e^2/2): a rotation perturbed by the body-frame rotation vector e whose
+ * value part is zero (exact in hyper-dual arithmetic: e^3 vanishes).  With
+ * (e^2)_ij = e_i e_j - delta_ij |e|^2, and R constant, no product of two hyper-duals
+ * but the six e_i e_j is needed. */
+static void perturbed(tr_hd *out, const double *R, const tr_hd *e)
+{
+    tr_hd P[9], ee[6];
+    int i, j, k;
+    ee[0] = hd_mul(e[0], e[0]), ee[1] = hd_mul(e[1], e[1]), ee[2] = hd_mul(e[2], e[2]);
+    ee[3] = hd_mul(e[0], e[1]), ee[4] = hd_mul(e[0], e[2]), ee[5] = hd_mul(e[1], e[2]);
+    /* I + e^ + (e e^T - |e|^2 I) / 2 */
+    P[0] = hd_add(hd_c(1.0), hd_scale(hd_add(ee[1], ee[2]), -0.5));
+    P[4] = hd_add(hd_c(1.0), hd_scale(hd_add(ee[0], ee[2]), -0.5));
+    P[8] = hd_add(hd_c(1.0), hd_scale(hd_add(ee[0], ee[1]), -0.5));
+    P[1] = hd_sub(hd_scale(ee[3], 0.5), e[2]), P[3] = hd_add(hd_scale(ee[3], 0.5), e[2]);
+    P[2] = hd_add(hd_scale(ee[4], 0.5), e[1]), P[6] = hd_sub(hd_scale(ee[4], 0.5), e[1]);
+    P[5] = hd_sub(hd_scale(ee[5], 0.5), e[0]), P[7] = hd_add(hd_scale(ee[5], 0.5), e[0]);
+    for (i = 0; i < 3; i++)
+        for (j = 0; j < 3; j++) {
+            tr_hd acc = hd_c(0.0);
+            for (k = 0; k < 3; k++) acc = hd_add(acc, hd_scale(P[3 * k + j], R[3 * i + k]));
+            out[3 * i + j] = acc;
+        }
+}
+
+/* The rotation vector of Q (log map), smooth through Q = I. */
+static void rot_log(tr_hd *w, const tr_hd *Q)
+{
+    tr_hd v[3], s2, f;
+    const tr_hd cc = hd_scale(hd_sub(hd_add(hd_add(Q[0], Q[4]), Q[8]), hd_c(1.0)), 0.5);
+    v[0] = hd_scale(hd_sub(Q[7], Q[5]), 0.5);
+    v[1] = hd_scale(hd_sub(Q[2], Q[6]), 0.5);
+    v[2] = hd_scale(hd_sub(Q[3], Q[1]), 0.5);
+    s2 = hd_dot3(v, v);
+    if (s2.v < 1e-6 && cc.v > 0.0) {
+        /* theta / sin(theta) = asin(x) / x, x^2 = s2: its series (the x^10 term < 1e-16) */
+        f = hd_add(hd_c(35.0 / 1152.0), hd_scale(s2, 63.0 / 2816.0));
+        f = hd_add(hd_c(5.0 / 112.0), hd_mul(s2, f));
+        f = hd_add(hd_c(3.0 / 40.0), hd_mul(s2, f));
+        f = hd_add(hd_c(1.0 / 6.0), hd_mul(s2, f));
+        f = hd_add(hd_c(1.0), hd_mul(s2, f));
+    } else {
+        const tr_hd sn = hd_sqrt(s2);
+        f = hd_div(hd_atan2(sn, cc), sn);
+    }
+    w[0] = hd_mul(f, v[0]), w[1] = hd_mul(f, v[1]), w[2] = hd_mul(f, v[2]);
+}
+
+/* exp(W^) e3 for a rotation vector W, smooth through W = 0. */
+static void exp_e3(tr_hd *out, const tr_hd *W)
+{
+    const tr_hd p2 = hd_dot3(W, W);
+    tr_hd A, B;
+    if (p2.v < 1e-4) {
+        A = hd_add(
+            hd_c(1.0),
+            hd_mul(p2, hd_add(hd_c(-1.0 / 6.0),
+                              hd_mul(p2, hd_add(hd_c(1.0 / 120.0), hd_scale(p2, -1.0 / 5040.0))))));
+        B = hd_add(hd_c(0.5), hd_mul(p2, hd_add(hd_c(-1.0 / 24.0),
+                                                hd_mul(p2, hd_add(hd_c(1.0 / 720.0),
+                                                                  hd_scale(p2, -1.0 / 40320.0))))));
+    } else {
+        const tr_hd p = hd_sqrt(p2);
+        const tr_hd sp = hd_fn(p, sin(p.v), cos(p.v), -sin(p.v));
+        const tr_hd cp = hd_fn(p, cos(p.v), -sin(p.v), -cos(p.v));
+        A = hd_div(sp, p);
+        B = hd_div(hd_sub(hd_c(1.0), cp), p2);
+    }
+    out[0] = hd_add(hd_mul(A, W[1]), hd_mul(B, hd_mul(W[0], W[2])));
+    out[1] = hd_add(hd_scale(hd_mul(A, W[0]), -1.0), hd_mul(B, hd_mul(W[1], W[2])));
+    out[2] = hd_add(hd_c(1.0), hd_mul(B, hd_sub(hd_mul(W[2], W[2]), p2)));
+}
+
+/* Eyelet offset of tendon t at arc length s, body frame [m]. */
+static void eyelet(double *r, const tr_tendon *t, double s)
+{
+    const double rho = t->a * s + t->b;
+    r[0] = rho * t->cphi, r[1] = rho * t->sphi, r[2] = 0.0;
+}
+
+/* The kinematics of element e at the perturbations xa, xb of its nodes: the node
+ * rotations, Ra^T, the relative rotation vector w, W = w / 2 and the midpoint
+ * direction d = Ra exp(W^) e3 (world). */
+typedef struct {
+    tr_hd Ra[9], Rb[9], Ra_t[9], w[3], W[3], d[3];
+} kin;
+
+static void elem_kin(const elem *e, const tr_hd *xa, const tr_hd *xb, kin *k)
+{
+    tr_hd Q[9], dm[3];
+    int i, c;
+    perturbed(k->Ra, e->Ra, xa);
+    perturbed(k->Rb, e->Rb, xb);
+    for (i = 0; i < 3; i++)
+        for (c = 0; c < 3; c++) k->Ra_t[3 * i + c] = k->Ra[3 * c + i];
+    hd_matmul3(Q, k->Ra_t, k->Rb);
+    rot_log(k->w, Q);
+    for (c = 0; c < 3; c++) k->W[c] = hd_scale(k->w[c], 0.5);
+    exp_e3(dm, k->W);
+    hd_matvec3(k->d, k->Ra, dm);
+}
+
+/* Rm^T x for the midpoint frame Rm = Ra exp(W^): exp(-W^) Ra^T x.  The columns of
+ * exp(-W^): its image of e3 from exp_e3, of e1 and e2 by a cyclic relabelling of the
+ * axes (a proper rotation of the coordinates). */
+static void mid_t(const kin *k, const tr_hd *x, tr_hd *out)
+{
+    tr_hd y[3], Wn[3], Wp[3], col[3], e1[3], e2[3], E3[9];
+    int c;
+    hd_matvec3(y, k->Ra_t, x);
+    for (c = 0; c < 3; c++) Wn[c] = hd_scale(k->W[c], -1.0);
+    Wp[0] = Wn[1], Wp[1] = Wn[2], Wp[2] = Wn[0];
+    exp_e3(col, Wp); /* exp(-W^) e1 in the relabelled axes (y, z, x) */
+    e1[0] = col[2], e1[1] = col[0], e1[2] = col[1];
+    Wp[0] = Wn[2], Wp[1] = Wn[0], Wp[2] = Wn[1];
+    exp_e3(col, Wp); /* exp(-W^) e2 in the axes (z, x, y) */
+    e2[0] = col[1], e2[1] = col[2], e2[2] = col[0];
+    exp_e3(col, Wn);
+    for (c = 0; c < 3; c++) E3[3 * c] = e1[c], E3[3 * c + 1] = e2[c], E3[3 * c + 2] = col[c];
+    hd_matvec3(out, E3, y);
+}
+
+/* The centre line's chord of element e: p_b - p_a (Cosserat coordinates), or h d. */
+static void centre_chord(const elem *e, const kin *k, const tr_hd *xa, const tr_hd *xb,
+                         tr_hd *chord)
+{
+    int c;
+    for (c = 0; c < 3; c++)
+        chord[c] = e->cosserat ? hd_sub(hd_add(hd_c(e->pb[c]), xb[3 + c]),
+                                        hd_add(hd_c(e->pa[c]), xa[3 + c]))
+                               : hd_scale(k->d[c], e->h);
+}
+
+/* Cosserat: the strain v = Rm^T (p_b - p_a) / h of element e. */
+static void cosserat_strain(const elem *e, const tr_hd *xa, const tr_hd *xb, tr_hd *v)
+{
+    kin k;
+    tr_hd chord[3];
+    int c;
+    elem_kin(e, xa, xb, &k);
+    centre_chord(e, &k, xa, xb, chord);
+    mid_t(&k, chord, v);
+    for (c = 0; c < 3; c++) v[c] = hd_scale(v[c], 1.0 / e->h);
+}
+
+/* Rm^T x at the recorded state (no perturbation), x world. */
+static void midframe_t(const elem *e, const double *x, double *out)
+{
+    kin k;
+    tr_hd xz[NB_MAX], xh[3], o[3];
+    int c;
+    for (c = 0; c < NB_MAX; c++) xz[c] = hd_c(0.0);
+    elem_kin(e, xz, xz, &k);
+    for (c = 0; c < 3; c++) xh[c] = hd_c(x[c]);
+    mid_t(&k, xh, o);
+    for (c = 0; c < 3; c++) out[c] = o[c].v;
+}
+
+/* Energy of element e as a function of the perturbations xa, xb (nb each) of its
+ * nodes; only == -1: the whole energy, only >= 0: the length of tendon only's chord. */
+static tr_hd elem_energy(const elem *e, const tr_hd *xa, const tr_hd *xb, int only)
+{
+    const tr_model *m = e->m;
+    const double K[3] = {m->EI, m->EI, m->GJ};
+    tr_hd E = hd_c(0.0), chord[3];
+    kin k;
+    int i, c;
+    elem_kin(e, xa, xb, &k);
+    centre_chord(e, &k, xa, xb, chord);
+    if (only < 0) {
+        for (c = 0; c < 3; c++) E = hd_add(E, hd_scale(hd_mul(k.w[c], k.w[c]), 0.5 * K[c] / e->h));
+        if (e->cosserat) {
+            const double ks[3] = {m->GA, m->GA, m->EA};
+            tr_hd v[3];
+            mid_t(&k, chord, v);
+            for (c = 0; c < 3; c++) {
+                const tr_hd dv = hd_sub(hd_scale(v[c], 1.0 / e->h), hd_c(e->vhat[c]));
+                E = hd_add(E, hd_scale(hd_mul(dv, dv), 0.5 * e->h * ks[c]));
+            }
+        } else {
+            /* dead loads through the element's direction: -h F . d */
+            for (c = 0; c < 3; c++) E = hd_sub(E, hd_scale(k.d[c], e->h * e->F[c]));
+        }
+    }
+    for (i = 0; i < m->nt; i++) {
+        const tr_tendon *t = m->tendon + i;
+        double ra[3], rb[3];
+        tr_hd Rra[3], Rrb[3], ci[3], rah[3], rbh[3], len;
+        if (only >= 0 && i != only) continue;
+        if (only < 0 && !(e->tau[i] > 0.0)) continue;
+        if (!(e->sb <= t->t * (1.0 + 1e-12))) continue;
+        eyelet(ra, t, e->sa);
+        eyelet(rb, t, e->sb);
+        for (c = 0; c < 3; c++) rah[c] = hd_c(ra[c]), rbh[c] = hd_c(rb[c]);
+        hd_matvec3(Rra, k.Ra, rah);
+        hd_matvec3(Rrb, k.Rb, rbh);
+        for (c = 0; c < 3; c++) ci[c] = hd_sub(hd_add(chord[c], Rrb[c]), Rra[c]);
+        len = hd_sqrt(hd_dot3(ci, ci));
+        if (only >= 0) return len;
+        E = hd_add(E, hd_scale(len, e->tau[i]));
+    }
+    return only >= 0 ? hd_c(0.0) : E;
+}
+
+/* ------------------------------------------------------------ the workspace */
+struct tr_stab_ws {
+    int nuni;         /* uniform elements of the fine grid */
+    int ngrid;        /* nodes of the fine grid: uniform ones and every breakpoint */
+    double *s;        /* (ngrid) their arc lengths [m] */
+    int *kind;        /* (ngrid) 1: in the coarse grid too (even uniform node or breakpoint) */
+    int *node;        /* (ngrid) the grid nodes of the level being assembled */
+    tr_data *rec;     /* recording workspace on the grid */
+    double *R, *p;    /* (ngrid x 9), (ngrid x 3) the configuration: recorded, then moved
+                        to the discrete equilibrium */
+    double *tau;      /* (nt) the tensions, idem */
+    double *g, *dx;   /* (ngrid nb) gradient of the energy, Newton step */
+    double *F, *vhat; /* (ngrid x 3) per element: the dead force beyond it (Kirchhoff), its
+                         free strain (Cosserat), from the recorded state */
+    int *col;         /* (nt) bordered column of each tendon, -1: none */
+    tr_btd h;         /* the Hessian and its factors */
+};
+
+void tr_stab_free(struct tr_stab_ws *w)
+{
+    if (!w) return;
+    tr_data_free(w->rec);
+    free(w->s);
+    free(w->kind); /* with node */
+    free(w->R);    /* with every other array */
+    free(w);
+}
+
+/* The grid: nuni uniform elements and every breakpoint, sorted, merged within 1e-12 L. */
+static struct tr_stab_ws *stab_alloc(const tr_model *m, const tr_options *opt, int nuni)
+{
+    struct tr_stab_ws *w = (struct tr_stab_ws *)calloc(1, sizeof *w);
+    const int cap = nuni + m->nseg + 2, nb = m->kirchhoff ? 3 : 6, nt = m->nt > 0 ? m->nt : 1;
+    const size_t nblk = (size_t)cap * nb * nb, nv = (size_t)cap * nb;
+    size_t len;
+    double *q;
+    int i, b, n = 0;
+    char msg[TR_MSGLEN];
+    tr_options o = *opt;
+    if (!w) return NULL;
+    w->nuni = nuni;
+    w->s = (double *)malloc((size_t)cap * sizeof(double));
+    w->kind = (int *)malloc(((size_t)cap * 2 + nt) * sizeof(int));
+    len = 18 * (size_t)cap + nt + 2 * nv + 5 * nblk + 2 * nv + 2 * nv * nt + 2 * (size_t)nt +
+          2 * (size_t)nt * nt;
+    w->R = (double *)calloc(len, sizeof(double));
+    if (!w->s || !w->kind || !w->R) {
+        tr_stab_free(w);
+        return NULL;
+    }
+    w->node = w->kind + cap;
+    w->col = w->node + cap;
+    q = w->R + 9 * cap;
+    w->p = q, q += 3 * cap;
+    w->F = q, q += 3 * cap;
+    w->vhat = q, q += 3 * cap;
+    w->tau = q, q += nt;
+    w->g = q, q += nv;
+    w->dx = q, q += nv;
+    w->h.D = q, q += nblk;
+    w->h.E = q, q += nblk;
+    w->h.Pv = q, q += nblk;
+    w->h.U = q, q += nblk;
+    w->h.S = q, q += nblk; /* (nt x nt <= the space of a block array) */
+    w->h.Mw = q, q += nv;
+    w->h.Pe = q, q += nv;
+    w->h.B = q, q += nv * nt;
+    w->h.X = q, q += nv * nt;
+    w->h.cb = q, q += nt;
+    w->h.Se = q, q += nt;
+    w->h.Sv = q;
+    if ((size_t)nt * nt > nblk) {
+        /* many tendons on a short grid: the Schur complement gets its own space */
+        w->h.S = w->h.Sv + (size_t)nt * nt;
+    }
+    for (i = 0, b = 1; i <= nuni || b < m->nseg;) {
+        const double su = i <= nuni ? m->L * i / nuni : INFINITY;
+        const double sb = b < m->nseg ? m->bp[b] : INFINITY;
+        if (sb < su - 1e-12 * m->L) {
+            w->s[n] = sb, w->kind[n++] = 1, b++;
+        } else if (fabs(sb - su) <= 1e-12 * m->L) {
+            w->s[n] = sb, w->kind[n++] = 1, b++, i++;
+        } else {
+            w->s[n] = i == nuni ? m->L : su, w->kind[n++] = i % 2 == 0, i++;
+        }
+    }
+    w->ngrid = n;
+    o.tip_only = 0;
+    w->rec = tr_data_alloc(m, &o, n, w->s, msg, sizeof msg);
+    if (!w->rec) {
+        tr_stab_free(w);
+        return NULL;
+    }
+    return w;
+}
+
+/* ------------------------------------------------------------ assembly */
+/* Element k of the level (nodes w->node[k], w->node[k + 1]) at the configuration. */
+static void element(const tr_model *m, const struct tr_stab_ws *w, int k, elem *e)
+{
+    const int a = w->node[k], b = w->node[k + 1];
+    int c;
+    e->m = m, e->cosserat = !m->kirchhoff, e->sa = w->s[a], e->sb = w->s[b];
+    e->h = e->sb - e->sa, e->Ra = w->R + 9 * a, e->Rb = w->R + 9 * b, e->pa = w->p + 3 * a;
+    e->pb = w->p + 3 * b, e->tau = w->tau;
+    for (c = 0; c < 3; c++) e->F[c] = w->F[3 * k + c], e->vhat[c] = w->vhat[3 * k + c];
+}
+
+/* The level's elements from the recorded state: the dead force beyond each (point forces
+ * at later nodes, the distributed force with their trapezoid weights), the free strain of
+ * each Cosserat element; the configuration and tensions reset to the recorded ones.
+ * Returns 0, or -1 when an element turns by more than TR_STAB_MAX_ROT. */
+static int level_setup(const tr_model *m, const tr_data *d, struct tr_stab_ws *w, int nn)
+{
+    double Fb[3] = {0, 0, 0};
+    int k, c, j;
+    memcpy(w->R, w->rec->rot, (size_t)9 * w->ngrid * sizeof(double));
+    memcpy(w->p, w->rec->pos, (size_t)3 * w->ngrid * sizeof(double));
+    if (m->nt > 0) memcpy(w->tau, d->tau, (size_t)m->nt * sizeof(double));
+    for (k = nn - 2; k >= 0; k--) {
+        const int a = w->node[k], b = w->node[k + 1];
+        const double hb = w->s[b] - w->s[a];
+        const double hn = k + 2 < nn ? w->s[w->node[k + 2]] - w->s[b] : 0.0;
+        const double *Ra = w->R + 9 * a, *Rb = w->R + 9 * b;
+        double Qtr = 0.0;
+        elem e;
+        for (j = 1; j <= m->nseg; j++)
+            if (m->bp[j] == w->s[b])
+                for (c = 0; c < 3; c++) Fb[c] += d->lam_load * m->bpF[3 * j + c];
+        for (c = 0; c < 3; c++) Fb[c] += d->lam_load * m->dist[c] * 0.5 * (hb + hn);
+        for (c = 0; c < 3; c++) w->F[3 * k + c] = Fb[c], w->vhat[3 * k + c] = 0.0;
+        for (c = 0; c < 9; c++) Qtr += Ra[c] * Rb[c]; /* trace of Ra^T Rb */
+        if (!(acos(fmax(-1.0, fmin(1.0, 0.5 * (Qtr - 1.0)))) <= TR_STAB_MAX_ROT)) return -1;
+        if (!m->kirchhoff) {
+            /* The chord of a curved element is shorter than its arc by ~ (h kappa)^2 / 24,
+             * which the axial stiffness EA would turn into a large spurious force: the
+             * element's free strain is set so that its internal force at the recorded
+             * state is the solution's at the element's middle, n_b = K_se (v - vhat). */
+            const double *fa = w->rec->force + 3 * a, *fb = w->rec->force + 3 * b;
+            const double ks[3] = {m->GA, m->GA, m->EA};
+            tr_hd xz[NB_MAX], v0[3];
+            double nbody[3], nw[3];
+            element(m, w, k, &e);
+            for (c = 0; c < NB_MAX; c++) xz[c] = hd_c(0.0);
+            cosserat_strain(&e, xz, xz, v0);
+            for (c = 0; c < 3; c++) nw[c] = 0.5 * (fa[c] + fb[c]);
+            midframe_t(&e, nw, nbody);
+            for (c = 0; c < 3; c++) w->vhat[3 * k + c] = v0[c].v - nbody[c] / ks[c];
+        }
+    }
+    return 0;
+}
+
+/* The Hessian (scaled by L/EI), the gradient, the mass and the bordered columns of the
+ * level at the configuration into w->h, w->g. */
+static void assemble(const tr_model *m, struct tr_stab_ws *w, int nn, int nb)
+{
+    const double sc = m->L / m->EI;
+    const int nblk = nn - 1, n = nblk * nb, nb2 = nb * nb;
+    tr_btd *h = &w->h;
+    int nbord = 0, k, i, j, c;
+    for (i = 0; i < nblk * nb2; i++) h->D[i] = h->E[i] = 0.0;
+    for (i = 0; i < n; i++) w->g[i] = 0.0;
+    /* the bordered columns: taut displacement-controlled tendons, with the compliance of
+     * their stretch scaled like the Hessian, EI l / (L EA) (0: inextensible) */
+    for (i = 0; i < m->nt; i++) {
+        const tr_tendon *t = m->tendon + i;
+        w->col[i] = -1;
+        if (t->control != TR_DISPLACEMENT || !(w->tau[i] > 0.0)) continue;
+        w->col[i] = nbord;
+        h->cb[nbord++] = isfinite(t->EA) ? m->EI * t->rest / (m->L * t->EA) : 0.0;
+    }
+    for (i = 0; i < n * (nbord > 0 ? nbord : 1); i++) h->B[i] = 0.0;
+    h->nblk = nblk, h->nb = nb, h->nbord = nbord;
+    /* the norm (1/L) int |dtheta|^2 ds: trapezoid weights / L on the rotations, none on
+     * the positions of a Cosserat rod (so the margin means the same on both models) */
+    for (j = 1; j < nn; j++) {
+        const double hl = w->s[w->node[j]] - w->s[w->node[j - 1]];
+        const double hr = j + 1 < nn ? w->s[w->node[j + 1]] - w->s[w->node[j]] : 0.0;
+        for (c = 0; c < nb; c++) h->Mw[(j - 1) * nb + c] = c < 3 ? 0.5 * (hl + hr) / m->L : 0.0;
+    }
+    for (k = 0; k < nn - 1; k++) {
+        const int off = k > 0 ? nb : 0, ne = off + nb;
+        tr_hd xa[NB_MAX], xb[NB_MAX];
+        elem e;
+        int p, q;
+        element(m, w, k, &e);
+        for (p = 0; p < ne; p++)
+            for (q = p; q < ne; q++) {
+                tr_hd E;
+                int ip, iq, bp_, bq_;
+                for (c = 0; c < nb; c++) xa[c] = xb[c] = hd_c(0.0);
+                if (p < off)
+                    xa[p].a = 1.0;
+                else
+                    xb[p - off].a = 1.0;
+                if (q < off)
+                    xa[q].b += 1.0;
+                else
+                    xb[q - off].b += 1.0;
+                E = elem_energy(&e, xa, xb, -1);
+                /* scatter: coordinate p of node a (p < off, block k - 1) or b (block k) */
+                bp_ = p < off ? k - 1 : k, ip = p < off ? p : p - off;
+                bq_ = q < off ? k - 1 : k, iq = q < off ? q : q - off;
+                if (p == q) w->g[bp_ * nb + ip] += sc * E.a;
+                if (bp_ == bq_) {
+                    h->D[bp_ * nb2 + ip * nb + iq] += sc * E.c;
+                    if (ip != iq) h->D[bp_ * nb2 + iq * nb + ip] += sc * E.c;
+                } else {
+                    h->E[bp_ * nb2 + ip * nb + iq] += sc * E.c;
+                }
+            }
+        if (nb == 6) {
+            /* Cosserat: the dead loads are linear in the positions (no Hessian) but part of
+             * the gradient: the force at node b, F_beyond(k) - F_beyond(k + 1) */
+            for (c = 0; c < 3; c++)
+                w->g[k * nb + 3 + c] -=
+                    sc * (w->F[3 * k + c] - (k + 2 < nn ? w->F[3 * (k + 1) + c] : 0.0));
+        }
+        for (i = 0; i < m->nt; i++) {
+            if (w->col[i] < 0 || !(e.sb <= m->tendon[i].t * (1.0 + 1e-12))) continue;
+            for (p = 0; p < ne; p++) {
+                const int bp_ = p < off ? k - 1 : k, ip = p < off ? p : p - off;
+                for (c = 0; c < nb; c++) xa[c] = xb[c] = hd_c(0.0);
+                if (p < off)
+                    xa[p].a = 1.0;
+                else
+                    xb[p - off].a = 1.0;
+                h->B[(bp_ * nb + ip) * nbord + w->col[i]] += elem_energy(&e, xa, xb, i).a;
+            }
+        }
+    }
+}
+
+/* R exp(w^) for a rotation vector w (Rodrigues), in place. */
+static void rotate(double *R, const double *w)
+{
+    const double th = sqrt(w[0] * w[0] + w[1] * w[1] + w[2] * w[2]);
+    const double A = th < 1e-8 ? 1.0 - th * th / 6.0 : sin(th) / th;
+    const double B = th < 1e-8 ? 0.5 - th * th / 24.0 : (1.0 - cos(th)) / (th * th);
+    double E[9], Rn[9];
+    int i, j, k;
+    E[0] = 1.0 - B * (w[1] * w[1] + w[2] * w[2]), E[4] = 1.0 - B * (w[0] * w[0] + w[2] * w[2]);
+    E[8] = 1.0 - B * (w[0] * w[0] + w[1] * w[1]);
+    E[1] = -A * w[2] + B * w[0] * w[1], E[3] = A * w[2] + B * w[0] * w[1];
+    E[2] = A * w[1] + B * w[0] * w[2], E[6] = -A * w[1] + B * w[0] * w[2];
+    E[5] = -A * w[0] + B * w[1] * w[2], E[7] = A * w[0] + B * w[1] * w[2];
+    for (i = 0; i < 3; i++)
+        for (j = 0; j < 3; j++) {
+            double acc = 0.0;
+            for (k = 0; k < 3; k++) acc += R[3 * i + k] * E[3 * k + j];
+            Rn[3 * i + j] = acc;
+        }
+    memcpy(R, Rn, sizeof Rn);
+}
+
+/* Newton steps on the discretised energy from the recorded state: the state that the
+ * continuum solution samples is an equilibrium of the discretisation only to O(h^2),
+ * and a Hessian there turns an exact zero mode (a symmetry) into an O(h^2) one.  The
+ * bordered tendons keep their discrete length (or stretch law), their tensions the
+ * multipliers.  Stops quietly where a pivot is singular (the last assembly stands). */
+static void discrete_equilibrium(const tr_model *m, struct tr_stab_ws *w, int nn, int nb)
+{
+    const double sc = m->L / m->EI;
+    tr_btd *h = &w->h;
+    int it, i, r, c, q, sing;
+    for (it = 0; it < TR_STAB_NEWTON; it++) {
+        const int n = (nn - 1) * nb, nbord = h->nbord;
+        double mu[64], Sm[64 * 64];
+        tr_btd_count(h, 0.0, &sing);
+        if (sing) return;
+        for (i = 0; i < n; i++) w->dx[i] = w->g[i];
+        tr_btd_solve(h, w->dx, 1); /* y = H^-1 g */
+        if (nbord > 0 && nbord <= 64) {
+            /* S mu = B^T y, S = -C - B^T X (X = H^-1 B from the count) */
+            for (r = 0; r < nbord; r++) {
+                double acc = 0.0;
+                for (q = 0; q < n; q++) acc += h->B[q * nbord + r] * w->dx[q];
+                mu[r] = acc;
+                for (c = 0; c < nbord; c++) {
+                    double s2 = 0.0;
+                    for (q = 0; q < n; q++) s2 += h->B[q * nbord + r] * h->X[q * nbord + c];
+                    Sm[r * nbord + c] = -s2 - (r == c ? h->cb[r] : 0.0);
+                }
+            }
+            if (tru_solve_dense(nbord, Sm, mu) != 0) return;
+            for (q = 0; q < n; q++)
+                for (c = 0; c < nbord; c++) w->dx[q] += h->X[q * nbord + c] * mu[c];
+            for (i = 0; i < m->nt; i++)
+                if (w->col[i] >= 0) w->tau[i] += mu[w->col[i]] / sc;
+        }
+        /* x -= dx: node j (1..nn-1) is block j - 1 */
+        for (i = 1; i < nn; i++) {
+            const int g = w->node[i];
+            double dw[3];
+            for (c = 0; c < 3; c++) dw[c] = -w->dx[(i - 1) * nb + c];
+            rotate(w->R + 9 * g, dw);
+            if (nb == 6)
+                for (c = 0; c < 3; c++) w->p[3 * g + c] -= w->dx[(i - 1) * nb + 3 + c];
+        }
+        assemble(m, w, nn, nb);
+    }
+}
+
+/* ------------------------------------------------------------ the verdict */
+/* The scale of the load-induced stiffness, scaled by EI/L: the loads' (tr_load_scale)
+ * and the tensions' (tau L^2 / EI). */
+static double stiffness_scale(const tr_model *m, const tr_data *d)
+{
+    double t = tr_load_scale(m);
+    int i;
+    for (i = 0; i < m->nt; i++) t += fabs(d->tau[i]) * m->L * m->L / m->EI;
+    return t;
+}
+
+/* The margin of one level (the grid nodes of kind >= min_kind) and the count of negative
+ * modes; refine: first move to the discrete equilibrium.  *coarse: too few elements. */
+static double level_margin(const tr_model *m, const tr_data *d, struct tr_stab_ws *w, int min_kind,
+                           int refine, int *index, int *coarse)
+{
+    const int nb = m->kirchhoff ? 3 : 6;
+    int nn = 0, j, sing, neg;
+    *coarse = 0;
+    for (j = 0; j < w->ngrid; j++)
+        if (w->kind[j] >= min_kind) w->node[nn++] = j;
+    if (level_setup(m, d, w, nn) < 0) {
+        *coarse = 1;
+        return NAN;
+    }
+    assemble(m, w, nn, nb);
+    if (refine) discrete_equilibrium(m, w, nn, nb);
+    neg = tr_btd_count(&w->h, 0.0, &sing);
+    if (sing) neg = tr_btd_count(&w->h, -1e-9, &sing);
+    if (index) *index = neg;
+    return tr_btd_smallest(&w->h, neg > 0);
+}
+
+void tr_stability(const tr_model *m, tr_data *d)
+{
+    struct tr_stab_ws *w = d->stab;
+    int nuni = w ? w->nuni : TR_STAB_ELEMENTS, b, i, coarse, st, refine = 0;
+    double mf = NAN, mc = NAN, err;
+    d->stable = -1;
+    d->stability = NAN;
+    d->stab_index = -1;
+    d->stab_reason[0] = '\0';
+    for (b = 1; b <= m->nseg; b++)
+        if (m->bpM[3 * b] != 0.0 || m->bpM[3 * b + 1] != 0.0 || m->bpM[3 * b + 2] != 0.0) {
+            snprintf(d->stab_reason, sizeof d->stab_reason,
+                     "not tested: a point moment fixed in the world (at s = %g m) is not "
+                     "conservative for spatial perturbations",
+                     m->bp[b]);
+            return;
+        }
+    tr_set_tensions(m, d, d->x);
+    for (;;) {
+        if (!w || w->nuni != nuni) {
+            tr_stab_free(w);
+            w = d->stab = stab_alloc(m, &d->opt, nuni);
+            if (!w) {
+                snprintf(d->stab_reason, sizeof d->stab_reason, "not tested: out of memory");
+                return;
+            }
+        }
+        st = tr_record_from(m, w->rec, d->x, d->steps);
+        if (st != TR_OK) {
+            snprintf(d->stab_reason, sizeof d->stab_reason,
+                     "not tested: the solution could not be recorded (%s)", tr_strerror(st));
+            return;
+        }
+        mf = level_margin(m, d, w, 0, refine, &d->stab_index, &coarse);
+        if (!coarse && !refine && fabs(mf) < TR_STAB_CHECK * (1.0 + stiffness_scale(m, d))) {
+            /* close to zero: at the discrete equilibrium, and against half the elements */
+            refine = 1;
+            mf = level_margin(m, d, w, 0, 1, &d->stab_index, &coarse);
+        }
+        mc = mf;
+        if (!coarse && refine) mc = level_margin(m, d, w, 1, 1, NULL, &coarse);
+        if (!coarse) break;
+        if (2 * nuni > TR_STAB_MAX_ELEMENTS) {
+            snprintf(d->stab_reason, sizeof d->stab_reason,
+                     "not tested: the backbone turns too much for %d elements", nuni);
+            return;
+        }
+        nuni *= 2;
+    }
+    /* the discretisation error from half the elements (second order: the finer margin is
+     * off by about a third of the change) */
+    err = fabs(mf - mc) / 3.0;
+    d->stability = mf;
+    if (fabs(mf) <= TR_STAB_NEUTRAL) {
+        d->stable = 1;
+        snprintf(d->stab_reason, sizeof d->stab_reason,
+                 "neutrally stable: a direction of zero stiffness (margin %.2g EI/L), such as "
+                 "a symmetry of the scene",
+                 mf);
+    } else if (fabs(mf) <= 2.0 * err) {
+        snprintf(d->stab_reason, sizeof d->stab_reason,
+                 "critical within the accuracy of the test: margin %.3g EI/L, discretisation "
+                 "error about %.2g",
+                 mf, err);
+    } else {
+        d->stable = mf > 0.0;
+        snprintf(d->stab_reason, sizeof d->stab_reason, "%s: margin %.4g EI/L (%d negative %s)",
+                 mf > 0.0 ? "stable" : "unstable", mf, d->stab_index,
+                 d->stab_index == 1 ? "mode" : "modes");
+    }
+    for (i = 0; i < m->nt; i++)
+        if (m->tendon[i].control == TR_DISPLACEMENT && d->tau[i] == 0.0 && d->beta[i] == 0.0) {
+            const size_t len = strlen(d->stab_reason);
+            snprintf(d->stab_reason + len, sizeof d->stab_reason - len,
+                     "; tendon %d is at its taut/slack switch: the slack side is tested", i);
+        }
+}
+
+int tr_stability_of(const tr_model *m, tr_data *d, const double *x, int steps)
+{
+    int i;
+    if (d->model != m || steps < 1 || steps > TR_MAX_STEPS) {
+        tr_set_message(d,
+                       "tr_stability_of: a workspace of another model, or steps = %d out of "
+                       "range",
+                       steps);
+        return TR_EINVAL;
+    }
+    tr_solve_reset(m, d, steps);
+    memcpy(d->x, x, (size_t)d->k * sizeof(double));
+    for (i = 0; i < d->k; i++)
+        if (!isfinite(x[i])) {
+            snprintf(d->stab_reason, sizeof d->stab_reason, "not tested: no solution");
+            return TR_OK;
+        }
+    tr_stability(m, d);
+    return TR_OK;
+}
