@@ -45,8 +45,8 @@ from solve import scenes, sweep_of  # noqa: E402  (bench/solve.py: the Fig. 11c 
 
 OUT = os.path.join(HERE, "results")
 SCENE = "fig11c 3 tendons, out-of-plane load"
-GOAL_JACOBIAN_WARM = 2.0  # issue 15: tr.jacobian <= 2 warm solves
-GOAL_ACTUATE_COLD = 5.0  # issue 15: tr.actuate <= 5 cold solves
+GOAL_JACOBIAN_WARM = 2.0  # the goal: tr.jacobian within 2 warm solves
+GOAL_ACTUATE_COLD = 5.0  # the goal: tr.actuate within 5 cold solves
 
 
 def median_time(fn, reps: int) -> float:
@@ -214,7 +214,7 @@ def main(argv=None):
     lines += [
         "",
         "What the numbers say (the route measured: Newton / SQP steps on `Problem.jacobian` "
-        "around warm solves; the augmented shooting system the issue offers as the "
+        "around warm solves; the augmented shooting system offered as the "
         "alternative is not built, so the two are not compared):",
         "",
         "- `Problem.jacobian` costs 2 k + 1 shooting evaluations with central differences "

@@ -21,7 +21,7 @@ from scipy.spatial.transform import Rotation
 
 import tendonrod as tr
 
-# the acceptance of a reached target: 1e-9 of L and 1e-9 rad (the contract); the
+# the acceptance of a reached target: 1e-9 of L and 1e-9 rad (the contract of tr.actuate); the
 # iteration stops at 1e-10 and a cold forward solve differs from its warm one by about the
 # solver's tolerance 1e-10, so 1e-9 leaves a margin of ~5
 REPRO = 1e-9

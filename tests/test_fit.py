@@ -20,7 +20,7 @@ from tendonrod.paper import PROTOTYPE as P
 G = 9.81
 EI = P.EI_parallel
 EA = P.k_parallel * P.L  # k = EA / L for a parallel tendon
-NOISE = 1e-4  # [m] tracker noise (the 0.1 mm)
+NOISE = 1e-4  # [m] tracker noise, as an optical tracker's (0.1 mm)
 
 
 def member(EI_value, EA_value=None):
