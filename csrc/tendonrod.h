@@ -204,6 +204,9 @@ typedef struct tr_tendon {
     int len_index;     /* slot of its path-length excess (path length minus the reference
                           sref, integrated as |w| - |w_ref| without cancellation) in the
                           shooting state, -1 if none */
+    int target_row;    /* -1, or the row of the model's target whose residual takes the place
+                          of this displacement-controlled tendon's length constraint (its
+                          displacement then follows from the solution; tr_model_set_target) */
     double t0[3];      /* unit tangent at s = 0 of the straight robot, body frame */
     double rt0[3];     /* r(0) x t0, body frame [m] */
 } tr_tendon;
@@ -243,6 +246,11 @@ typedef struct tr_model {
                                    TR_EINDETERMINATE, TR_ENOEQUILIBRIUM, TR_EPRETENSION;
                                    tr_solve then fails at once with scene_message */
     char scene_message[512]; /* the message for scene_status */
+    int target_kind;         /* TR_TARGET_NONE, or the tip target whose rows replace the length
+                                constraints of the tendons with target_row >= 0 */
+    double target[9];        /* angle: theta [rad]; position: p (3) world [m]; direction: the
+                                unit tip tangent (3) world and a unit basis b1 (3), b2 (3) of
+                                the plane normal to it */
 } tr_model;
 
 /* Compile a scene.  rod = [L, EI, GJ, EA, GA, kirchhoff]; tendons (nt x 8) rows
@@ -272,6 +280,22 @@ int tr_model_set_values(tr_model *m, const double *value, const double *load, co
  * recomputed and the scene checks redone (m->scene_status).  TR_EINVAL with a message
  * when a value is not finite or negative; the model is then unchanged. */
 int tr_model_set_pretension(tr_model *m, const double *pretension, char *msg, size_t msglen);
+/* Inverse actuation inside the shooting system: the kinds of tip target. */
+enum tr_target_kind {
+    TR_TARGET_NONE = 0,
+    TR_TARGET_ANGLE = 1,     /* planar: the tip angle theta [rad] (unwrapped), 1 component */
+    TR_TARGET_DIRECTION = 2, /* spatial: the tip tangent (3, normalised), 2 components */
+    TR_TARGET_POSITION = 3   /* spatial: the tip position (3) world [m], 3 components */
+};
+/* Replace the length constraints of the n displacement-controlled tendons `tendons` by
+ * the residuals of a tip target (values: theta, or 3 numbers), one component each (n
+ * must be the target's component count); TR_TARGET_NONE restores every constraint.
+ * Their prescribed displacements then only start the solve; tr_solve reports the
+ * displacements the solution needs.  TR_EINVAL with a message for a kind this
+ * formulation lacks, a wrong count, a tendon that is not displacement-controlled, or
+ * values that are not finite; the model is then unchanged. */
+int tr_model_set_target(tr_model *m, int kind, const double *values, const int *tendons, int n,
+                        char *msg, size_t msglen);
 /* 1 when a scene of these flat arrays (as for tr_model_alloc) lies in the x-z plane:
  * every tendon at |sin phi| <= TR_PLANAR_SIN, no load with Fy, Mx or Mz, dist_y = 0. */
 int tr_is_planar(const double *tendons, int nt, const double *loads, int nl, const double dist[3]);

@@ -193,6 +193,14 @@ void tr_model_sync_values(tr_model *dst, const tr_model *src);
  * m's design.  TR_OK, or TR_EINVAL when the perturbed tendon set has no rest lengths. */
 int tr_model_perturb(tr_model *mp, const tr_model *m, int kind, int index, double delta);
 
+/* tr_target.c: the scaled residual of row `row` of the model's tip target at the end
+ * state y (target rows: angle [rad], position / L, direction in log coordinates [rad]);
+ * and the displacement [m] that target tendon i's solution needs (its length constraint
+ * solved for q, from its path-length excess len [m] at its anchor and the tension and
+ * slack set in d). */
+double tr_target_residual(const tr_model *m, const double *y, int row);
+double tr_target_displacement(const tr_model *m, const tr_data *d, int i, double len);
+
 /* tr_confirm.c: a TR_OFFPATH equilibrium in d->x confirmed (TR_CONFIRMED) or not
  * (TR_OFFPATH) by a cold solve with another shooting formulation; the message says
  * which.  d->stop when the budget or an interrupt stopped it. */

@@ -365,6 +365,7 @@ int tr_model_alloc(tr_model **out, const double rod[6], const double *tendons, i
     for (i = 0; i < nt; i++) {
         status = read_tendon(m, i, tendons + TR_TD_NCOL * i, &rmax, msg, msglen);
         if (status != TR_OK) goto fail;
+        m->tendon[i].target_row = -1;
         if (m->tendon[i].control == TR_DISPLACEMENT) {
             m->tendon[i].gamma_index = m->tendon[i].len_index = ndisp++;
         } else {
@@ -564,7 +565,10 @@ void tr_model_sync_values(tr_model *dst, const tr_model *src)
         dst->tendon[i].pretension = src->tendon[i].pretension;
         dst->tendon[i].rest = src->tendon[i].rest;
         dst->tendon[i].rest_dev = src->tendon[i].rest_dev;
+        dst->tendon[i].target_row = src->tendon[i].target_row;
     }
+    dst->target_kind = src->target_kind;
+    memcpy(dst->target, src->target, sizeof dst->target);
     memcpy(dst->load, src->load, (size_t)TR_LD_NCOL * src->nl * sizeof(double));
     sum_breakpoint_loads(dst);
     memcpy(dst->dist, src->dist, sizeof dst->dist);

@@ -107,7 +107,9 @@ static int record_pass(const tr_model *m, tr_data *d, int allow_rk4, int *used)
         const tr_tendon *t = &m->tendon[i];
         d->tension[i] = d->tau[i];
         d->slack[i] = d->beta[i];
-        if (t->control == TR_DISPLACEMENT)
+        if (t->control == TR_DISPLACEMENT && t->target_row >= 0)
+            d->displacement[i] = tr_target_displacement(m, d, i, y[lenbase + i]);
+        else if (t->control == TR_DISPLACEMENT)
             d->displacement[i] = t->value;
         else
             d->displacement[i] = t->rest_dev +
@@ -153,6 +155,7 @@ int tr_record(const tr_model *m, tr_data *d)
 int tr_tip_state(const tr_model *m, tr_data *d)
 {
     double *t = d->tip;
+    const int lenbase = m->planar ? TR_YP_LEN : TR_Y_LEN;
     int i;
     /* the last shooting evaluation at the solution left its end state in y; otherwise
      * one more evaluation (the tip the residual and the tolerance refer to) */
@@ -172,7 +175,10 @@ int tr_tip_state(const tr_model *m, tr_data *d)
         const tr_tendon *td = &m->tendon[i];
         d->tension[i] = d->tau[i];
         d->slack[i] = d->beta[i];
-        d->displacement[i] = td->control == TR_DISPLACEMENT ? td->value : NAN;
+        d->displacement[i] = td->control != TR_DISPLACEMENT ? NAN
+                             : td->target_row >= 0
+                                 ? tr_target_displacement(m, d, i, d->y[lenbase + td->len_index])
+                                 : td->value;
     }
     return TR_OK;
 }

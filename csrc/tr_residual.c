@@ -218,6 +218,10 @@ static void tip_residual(const tr_model *m, tr_data *d, const double *y, double 
         const tr_tendon *t = &m->tendon[i];
         double E;
         if (t->control != TR_DISPLACEMENT) continue;
+        if (t->target_row >= 0) {
+            f[off + t->gamma_index] = tr_target_residual(m, y, t->target_row);
+            continue;
+        }
         /* s_i - (1 + tau/EA) rest with s_i = sref + excess, rest = sref + rest_dev */
         E = y[lenbase + (d->rec ? i : t->len_index)] + d->lam_act * t->value + d->beta[i] -
             t->rest_dev - (isfinite(t->EA) ? d->tau[i] / t->EA : 0.0) * t->rest;

@@ -141,6 +141,45 @@ done:
     return result;
 }
 
+static PyObject *problem_set_target(ProblemObject *self, PyObject *args)
+{
+    int kind, i, n, status, idx[3];
+    PyObject *ov, *ot;
+    PyArrayObject *v = NULL, *t = NULL;
+    char msg[TR_MSGLEN];
+    double val[3] = {0.0, 0.0, 0.0};
+    if (check_free(self) < 0) return NULL;
+    if (!PyArg_ParseTuple(args, "iOO", &kind, &ov, &ot)) return NULL;
+    if (!(v = glue_coerce(ov, "values")) || !(t = glue_coerce(ot, "tendons"))) goto fail;
+    n = (int)PyArray_SIZE(t);
+    if (PyArray_NDIM(v) != 1 || PyArray_DIM(v, 0) > 3 || PyArray_NDIM(t) != 1 || n > 3) {
+        PyErr_SetString(PyExc_ValueError, "values and tendons must be 1-D with at most 3 entries");
+        goto fail;
+    }
+    for (i = 0; i < PyArray_DIM(v, 0); i++) val[i] = ((const double *)PyArray_DATA(v))[i];
+    for (i = 0; i < n; i++) {
+        const double x = ((const double *)PyArray_DATA(t))[i];
+        if (!(x == floor(x) && fabs(x) < 1e9)) {
+            glue_err(PyExc_ValueError, "tendons must hold tendon indices, got %g", x);
+            goto fail;
+        }
+        idx[i] = (int)x;
+    }
+    status = tr_model_set_target(self->m, kind, val, idx, n, msg, sizeof msg);
+    Py_DECREF(v);
+    Py_DECREF(t);
+    if (status != TR_OK) {
+        PyErr_SetString(PyExc_ValueError, msg);
+        return NULL;
+    }
+    self->last_status = TR_CONTINUE; /* the last solve solved another system */
+    Py_RETURN_NONE;
+fail:
+    Py_XDECREF(v);
+    Py_XDECREF(t);
+    return NULL;
+}
+
 static PyObject *problem_solve(ProblemObject *self, PyObject *args, PyObject *kwds)
 {
     static char *kwlist[] = {"guess", "jacobian", "verified", "warm", "cancel", "record", NULL};
@@ -456,6 +495,12 @@ static PyMethodDef problem_methods[] = {
     {"set_value_vector", (PyCFunction)problem_set_value_vector, METH_O,
      "set_value_vector(v): v = [values (nt), point loads (nl x 6), dist (3)] in one float64\n"
      "vector (the per-call values of set_values without the pretensions)."},
+    {"set_target", (PyCFunction)problem_set_target, METH_VARARGS,
+     "set_target(kind, values, tendons): the residual of a tip target (kind 1 angle [rad]\n"
+     "(planar), 2 direction (3), 3 position (3) [m] world; 0 none) replaces the length\n"
+     "constraints of the displacement-controlled tendons `tendons`, one per component\n"
+     "(tr_model_set_target); a solve then reports the displacements that reach it.\n"
+     "ValueError naming what is wrong."},
     {"solve", (PyCFunction)(void (*)(void))problem_solve, METH_VARARGS | METH_KEYWORDS,
      "solve(*, guess=None, jacobian=None, verified=None, warm=True, cancel=None, record=True)\n"
      "-> dict: from the guess (a base_state) if given, else warm from the last successful solve\n"

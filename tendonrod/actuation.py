@@ -1,13 +1,18 @@
 """Inverse actuation: :func:`actuate`, the tendon controls that bring the tip to a target
 under the scene's loads.
 
-Every iterate is an equilibrium the solver converged to (a warm :class:`~tendonrod.Problem`
-solve), and every step comes from the linearisation of that equilibrium
+A square target whose controls are all displacements (a planar tip angle, a spatial tip
+direction or position, one actuated tendon per component) is first solved inside the
+shooting system: its residual takes the place of those tendons' length constraints and
+one Newton solve finds the controls and the equilibrium together
+(``_core.Problem.set_target``, ``csrc/tr_target.c``).  Everything else, and whatever that
+solve leaves (it needs the actuated tendons taut and a well-conditioned target), goes by
+steps on the linearisation: every iterate an equilibrium the solver converged to (a warm
+:class:`~tendonrod.Problem` solve), every step from the linearisation of that equilibrium
 (:meth:`Problem.jacobian <tendonrod.Problem.jacobian>`, forward differences): Newton's
 method on the target, damped by a trust region (Levenberg-Marquardt) where the target has
 at least as many components as there are controls, a sequential quadratic program where
-it has fewer.  An augmented shooting system that solves for the controls and the shooting
-unknowns at once is not built; ``bench/results/jacobian_actuate.md`` measures this route
+it has fewer.  ``bench/results/jacobian_actuate.md`` measures both
 (``bench/jacobian_actuate.py``).
 
 Units: a target's residual is dimensionless, positions divided by the rod length L and
@@ -27,6 +32,7 @@ import numpy as np
 
 from ._actuation_step import Iteration
 from ._actuation_target import Target
+from ._interrupt import current_token
 from .compiled import is_planar
 from .model import Scene
 from .options import _check_options
@@ -47,6 +53,11 @@ class ActuationResult:
         ``"square"`` (as many controls as target components: Newton), ``"minimum-change"``
         (more controls: the least change from the scene's values, tensions held), or
         ``"least-squares"`` (fewer controls: the least-squares target residual).
+    route : str
+        ``"augmented"``: a square target with displacement controls was first solved inside
+        the shooting system (its residual in place of the actuated tendons' length
+        constraints, one Newton solve); ``"linearisation"``: steps on the linearisation
+        only.
     target : dict
         The target as given (``{"tip_angle": ...}`` etc.).
     tendons : tuple of int
@@ -75,6 +86,7 @@ class ActuationResult:
     """
 
     kind: str
+    route: str
     target: dict
     tendons: tuple
     controls: np.ndarray
@@ -192,6 +204,7 @@ def actuate(
     guess=None,
     options=None,
     strict: bool = False,
+    method: str = "auto",
 ) -> Solution:
     """The controls of the tendons ``tendons`` that bring the tip to a target under the
     scene's loads: displacements for displacement-controlled tendons, tensions for
@@ -227,6 +240,10 @@ def actuate(
         As in :func:`tendonrod.solve` (``guess`` starts the first solve).
     strict : bool
         Raise :class:`ConvergenceError` instead of warning when ``success`` is False.
+    method : {"auto", "linearisation"}
+        ``"auto"``: a square target with displacement controls is first solved inside the
+        shooting system (see the module notes), the rest by steps on the linearisation;
+        ``"linearisation"``: steps on the linearisation only.
 
     Returns
     -------
@@ -260,6 +277,8 @@ def actuate(
             raise ValueError(f"{name} must be finite and >= 0 (tol in (0, 1)), got {v!r}")
     if isinstance(max_iter, bool) or not isinstance(max_iter, (int, np.integer)) or max_iter < 1:
         raise ValueError(f"max_iter must be an int >= 1, got {max_iter!r}")
+    if method not in ("auto", "linearisation"):
+        raise ValueError(f"method must be 'auto' or 'linearisation', got {method!r}")
     planar = is_planar(scene) and not options.force_spatial
     target = Target(scene, planar, tip_angle, tip_direction, tip_position, tip_pose)
     idx, c0, scale, is_tension, q_scale, tau_scale = _control_set(scene, tendons)
@@ -293,12 +312,60 @@ def actuate(
         for i in range(nt):
             if sol.tension[i] > 0.0 and (disp[i] or i in idx):
                 floor0[i] = float(min_tension)
+    c = c0.copy()
+    report["route"] = "linearisation"
+    if method == "auto" and kind == "square" and np.abs(r).max() > tol:
+        # the target inside the shooting system first; the iteration polishes or takes over
+        aug = _augmented(run, target, idx, disp, planar)
+        if aug is not None:
+            sol, r, D, c = aug
+            report["route"] = "augmented"
     # slack displacement controls drawn to their switch, where pulling them acts (the
     # least change pays those it does not need out again at the end)
-    sol, r, D, c = _take_up_slack(run, sol, r, D, c0.copy())
+    sol, r, D, c = _take_up_slack(run, sol, r, D, c)
     it = Iteration(run, sol, r, D, c, c0, scale, is_tension, tau_scale, floor0, tol)
     out = it.iterate(max_iter, report)
     return _finish(*out[:-1], strict, out[-1])
+
+
+# The core's kinds of tip target (tr_target_kind).
+_TARGET_KIND = {"tip_angle": 1, "tip_direction": 2, "tip_position": 3}
+
+
+def _augmented(run, target, idx, disp, planar):
+    """The target solved inside the shooting system (``_core.Problem.set_target``): its
+    residual takes the place of the length constraints of the actuated tendons, one per
+    component, and one Newton solve, warm from the scene's equilibrium, finds the
+    controls and the equilibrium together.  For as many displacement controls as target
+    components, a planar tip angle or a spatial direction or position.  (sol, r, D, c) at
+    the controls found (a forward warm solve of them), or None where it does not apply or
+    does not converge to taut actuated tendons (a slack one would leave the system
+    singular), for the iteration to take over."""
+    kind = _TARGET_KIND.get(target.name)
+    if (
+        kind is None
+        or (kind == 1) != planar
+        or len(idx) != target.m
+        or not all(disp[i] for i in idx)
+    ):
+        return None
+    values = [target.theta] if kind == 1 else (target.t if kind == 2 else target.p)
+    core = run.prob._c
+    try:
+        core.set_target(kind, np.asarray(values, dtype=float), np.asarray(idx, dtype=float))
+    except ValueError:
+        return None
+    run.solves += 1
+    try:
+        raw = core.solve(warm=True, record=False, cancel=current_token())
+    finally:
+        core.set_target(0, np.zeros(1), np.zeros(0))
+    q = np.asarray(raw["displacement"], dtype=float)[idx]
+    taut = np.asarray(raw["tension"], dtype=float)[idx] > 0.0
+    if not (raw["success"] and np.all(np.isfinite(q)) and np.all(taut)):
+        return None
+    sol, r, D = run.solve(q)
+    return None if r is None else (sol, r, D, q)
 
 
 def _take_up_slack(run, sol, r, D, c):
@@ -347,9 +414,13 @@ def _finish(
             f"found is {distance:.3g} away (positions / L, angles in rad) after {iterations} "
             f"iterations"
         )
+    route = report.get("route", "linearisation")
     msg += f"; {iterations} iterations, {run.solves} solves, {run.jacobians} linearisations"
+    if route == "augmented":
+        msg += " (the target solved inside the shooting system first)"
     result = ActuationResult(
         kind=kind,
+        route=route,
         target=report["target"],
         tendons=report["tendons"],
         controls=np.array(c, dtype=float),

@@ -274,6 +274,42 @@ def test_minimum_change_across_slack_tendons_under_weight():
     assert sol.tension[0] == pytest.approx(goal.tension[0], rel=1e-6)
 
 
+def test_the_two_routes_agree_on_a_square_target():
+    """Two displacement controls for a tip direction: the augmented shooting system (the
+    target inside the solve) and steps on the linearisation are independent routes to the
+    same unique controls."""
+    scene = fig11c_locked_scene()
+    goal = tr.solve(dataclasses.replace(scene, displacement=[2e-3, -1e-3, 0.0]), strict=True)
+    target = tuple(goal.tip_rotation[:, 2])
+    aug = tr.actuate(scene, tip_direction=target, tendons=[0, 1])
+    lin = tr.actuate(scene, tip_direction=target, tendons=[0, 1], method="linearisation")
+    assert aug.success and lin.success, (aug.message, lin.message)
+    assert aug.actuation.route == "augmented" and lin.actuation.route == "linearisation"
+    # both reach the target to 1e-10 rad; the controls (~1e-3 m, ~1 rad per 1e-2 m) then
+    # agree to ~1e-12 m: 1e-9 relative leaves a margin
+    np.testing.assert_allclose(aug.actuation.controls, [2e-3, -1e-3], rtol=1e-9)
+    np.testing.assert_allclose(lin.actuation.controls, [2e-3, -1e-3], rtol=1e-9)
+    with pytest.raises(ValueError, match="method"):
+        tr.actuate(scene, tip_direction=target, method="newton")
+
+
+def test_core_target_refuses_what_it_cannot_solve():
+    scene = fig11c_locked_scene()
+    prob = tr.Problem(scene)
+    prob.solve()
+    c = prob._c
+    for kind, values, tendons, what in (
+        (1, [0.5], [0], "planar"),  # a tip angle on a spatial formulation
+        (2, [1.0, 0.0, 1.0], [0], "components"),  # two components, one tendon
+        (3, [0.0, 0.0, 0.1], [0, 1, 1], "twice"),
+        (3, [0.0, 0.0, 0.1], [0, 1, 5], "tendon 5"),
+        (2, [0.0, 0.0, 0.0], [0, 1], "zero"),
+        (7, [0.0], [], "kind"),
+    ):
+        with pytest.raises(ValueError, match=what):
+            c.set_target(kind, np.array(values, dtype=float), np.array(tendons, dtype=float))
+
+
 def test_least_squares_is_stationary():
     """One tendon, a tip position off its reachable curve: the closest point."""
     rod = _rod()
@@ -352,5 +388,11 @@ def test_result_record():
     assert rec.target == {"tip_angle": 0.5} and rec.tendons == (0,)
     assert rec.controls.shape == (1,) and rec.controls[0] == sol.displacement[0]
     assert rec.residual.shape == (1,) and rec.distance <= 1e-10 and rec.reached
-    assert rec.solves >= rec.iterations >= 1 and rec.jacobians >= 1
+    assert rec.solves >= rec.iterations >= 1
+    # one displacement control for one component: solved inside the shooting system, with
+    # no linearisation
+    assert rec.route == "augmented" and rec.jacobians == 0
+    # a tension control for the same target takes the linearisation's route
+    ten = tr.actuate(dataclasses.replace(scene, displacement=[None], tension=[0.0]), tip_angle=0.5)
+    assert ten.success and ten.actuation.route == "linearisation" and ten.actuation.jacobians >= 1
     assert "target reached" in rec.message
