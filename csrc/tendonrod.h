@@ -44,6 +44,10 @@ enum tr_status {
                                 counted as success (TR_SUCCEEDED) */
     TR_CONFIRMED = 4,       /* as TR_OFFPATH, but a cold solve with another shooting
                                 formulation reaches the same equilibrium: a success */
+    TR_UNSTABLE = 5,        /* converged, but to an unstable equilibrium, and no stable one
+                                was reached from the guess, along the load path or past a
+                                symmetric bifurcation on it (tr_branch.c); NOT counted as
+                                success (Options.accept_unstable: such a solve succeeds) */
     TR_CONTINUE = 100,      /* iteration in progress (tr_solve_iterate/test only) */
     TR_EINVAL = -1,         /* invalid model or option value */
     TR_ENOMEM = -2,         /* allocation failed */
@@ -67,7 +71,8 @@ const char *tr_strerror(int status);
  * caveat about accuracy or conditioning.  TR_OFFPATH is excluded: its equilibrium is
  * real but may not be the one the loading reaches, so it is handed back as data with
  * success = false (and its message), never as a success. */
-#define TR_SUCCEEDED(status) ((status) >= 0 && (status) != TR_OFFPATH && (status) != TR_CONTINUE)
+#define TR_SUCCEEDED(status)                                                                       \
+    ((status) >= 0 && (status) != TR_OFFPATH && (status) != TR_UNSTABLE && (status) != TR_CONTINUE)
 
 /* --------------------------------------------------------------- options */
 enum tr_integrator { TR_RK4 = 0, TR_RK8 = 1, TR_ADAPTIVE = 2 };
@@ -176,6 +181,10 @@ typedef struct tr_options {
                              (a hopeless solve gives up within ~0.5 s) */
     double max_time;       /* wall-clock limit per solve [s], 0: none; default 0.  Opt-in and
                              not deterministic (the machine's speed decides where it stops) */
+    int accept_unstable;   /* 1: a converged unstable equilibrium is a success and the solve
+                             judges no stability (tr_stability on request); default 0: every
+                             solve judges its answer and never succeeds on an unstable one
+                             (tr_branch.c) */
 } tr_options;
 
 tr_options tr_default_options(void);
@@ -387,6 +396,24 @@ typedef struct tr_data {
     int steps_ver, steps_ver_last;
     int have_ver, have_ver_last;
     int ver_carried; /* 1: this solve's step count was vouched for by tr_verify_carried */
+    /* the stable branch (tr_branch.c) */
+    double lam_hom;            /* continuation from the guess: residual - (1 - lam_hom) f_guess */
+    double lam_imp;            /* an imperfection at probe_bp, scaled by 1 - lam_imp */
+    double *x_guess, *f_guess; /* (k) the unknowns this solve started from, their residual */
+    double *x_alt;             /* (k) an unstable answer, kept while a stable one is sought */
+    double tip_guess[3];       /* tip position at x_guess, world [m]; NaN: not known */
+    int via_path;              /* 1: the answer came from a continuation */
+    int ramp_stable;           /* 1: a continuation stage must end stable (tr_ramp) */
+    int cont_total;            /* continuation stages of the attempts before this one */
+    int lu_sign;               /* sign of det J at the last tr_lu_factor (0: singular) */
+    /* the verdict of the last successful solve, kept by a warm solve close to it */
+    int carry_valid, carry_stable, carry_index, carry_det;
+    double carry_gap;    /* no eigenvalue of the verdict within this of zero [EI/L] */
+    double carry_margin; /* its margin [EI/L] (NaN: not computed) */
+    double *carry_x;     /* (k) its scaled unknowns */
+    double *carry_val;   /* (nt + 6 (nseg + 1) + 3) its actuation values, loads at the
+                           breakpoints and distributed force (scaled, tr_branch.c) */
+    char carry_reason[256];
     /* the second formulation that confirms an equilibrium found off the load path,
      * allocated the first time a solve needs it */
     struct tr_model *confirm_m;
@@ -418,11 +445,14 @@ typedef struct tr_data {
      * critical within the test's accuracy, stab_reason says which), the margin (the
      * smallest eigenvalue of the constrained second variation, scaled by EI/L) and the
      * number of negative modes */
-    struct tr_stab_ws *stab; /* its workspace, allocated the first time */
+    struct tr_stab_ws *stab;       /* its workspace, allocated the first time */
+    struct tr_stab_ws *stab_quick; /* the quick test's */
     int stable, stab_index;
     double stability;
+    double stab_gap; /* no eigenvalue within this of zero [EI/L] (0: not known) */
     char stab_reason[256];
-    int lazy; /* 1: tr_solve fills only the tip, tensions and slacks (and the
+    char branch_note[512]; /* how tr_branch reached a stable answer ("": it did not act) */
+    int lazy;              /* 1: tr_solve fills only the tip, tensions and slacks (and the
                              displacement of displacement-controlled tendons; NaN for the
                              others); the node arrays stay untouched until tr_record_from */
 } tr_data;
@@ -562,10 +592,13 @@ int tr_solve_lean(const tr_model *m, tr_data *d, const double *x0, const double 
 /* The stability verdict of the current unknowns (a solution): d->stable, d->stability,
  * d->stab_index, d->stab_reason (bench/results/stability_design.md). */
 void tr_stability(const tr_model *m, tr_data *d);
+/* The same verdict, first by a coarse test that decides without the margin (d->stability
+ * NaN) when no eigenvalue is near zero, else by tr_stability. */
+void tr_stability_quick(const tr_model *m, tr_data *d);
 /* The same for the solution with scaled unknowns x (k) at a step count (a solution's
- * formulation.steps), as tr_record_from does for its states.  TR_EINVAL when steps is
- * out of range or the workspace is another model's. */
-int tr_stability_of(const tr_model *m, tr_data *d, const double *x, int steps);
+ * formulation.steps), as tr_record_from does for its states (quick: tr_stability_quick).
+ * TR_EINVAL when steps is out of range or the workspace is another model's. */
+int tr_stability_of(const tr_model *m, tr_data *d, const double *x, int steps, int quick);
 /* The tip state of the current unknowns into d->tip, with the tensions, slacks and
  * the displacement of displacement-controlled tendons (NaN for tension-controlled ones,
  * which only the recording pass integrates): from the last shooting evaluation if it

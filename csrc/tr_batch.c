@@ -183,7 +183,8 @@ static void push_converged(batch_ws *w, const tr_model *m, const tr_data *d)
     if (d->have_ver) memcpy(w->xver, d->x_ver, (size_t)w->k * sizeof(double));
 }
 
-static void write_failed_point(const tr_batch_out *out, int p, int nt, int st, const char *pmsg)
+static void write_failed_point(const tr_batch_out *out, int p, int nt, int k, int st,
+                               const char *pmsg)
 {
     int i;
     for (i = 0; i < 3; i++) out->tip_pos[3 * p + i] = NAN;
@@ -194,7 +195,11 @@ static void write_failed_point(const tr_batch_out *out, int p, int nt, int st, c
     out->status[p] = st;
     out->nit[p] = out->nfev[p] = 0;
     if (out->cold) out->cold[p] = 1;
+    if (out->stable) out->stable[p] = -1;
     if (out->message) tr_msgf(out->message + (size_t)p * out->msglen, out->msglen, "%s", pmsg);
+    if (out->unknowns)
+        for (i = 0; i < k; i++) out->unknowns[(size_t)k * p + i] = NAN;
+    if (out->steps) out->steps[p] = 0;
 }
 
 static void write_point(const tr_batch_out *out, int p, const tr_model *m, const tr_data *d, int st,
@@ -210,11 +215,15 @@ static void write_point(const tr_batch_out *out, int p, const tr_model *m, const
     }
     out->residual[p] = d->residual_norm;
     out->status[p] = st;
+    if (out->stable) out->stable[p] = st >= 0 ? d->stable : -1;
     out->nit[p] = nit;
     out->nfev[p] = nfev;
     if (out->cold) out->cold[p] = cold;
     if (st != TR_OK && out->message)
         tr_msgf(out->message + (size_t)p * out->msglen, out->msglen, "%s", d->message);
+    if (out->unknowns)
+        memcpy(out->unknowns + (size_t)d->k * p, d->x, (size_t)d->k * sizeof(double));
+    if (out->steps) out->steps[p] = d->opt.integrator == TR_ADAPTIVE ? 0 : d->steps;
 }
 
 /* Solve one point whose values are set: lean first where it applies, then tr_solve,
@@ -239,6 +248,8 @@ static int solve_point(batch_ws *w, const tr_batch_in *in, int have, int record,
     if (!*cold && !in->exact && d->opt.steps > 0 && d->opt.integrator != TR_ADAPTIVE) {
         const int iters = d->opt.max_iter < TR_LEAN_ITER ? d->opt.max_iter : TR_LEAN_ITER;
         st = tr_solve_lean(m, d, w->xp, w->J, iters);
+        /* an unstable answer goes to the full solve, which looks for a stable one */
+        if (st == TR_OK && !tr_branch_lean(m, d)) st = TR_ENOPROGRESS;
         if (st == TR_OK) st = record ? tr_record(m, d) : tr_record_tip(m, d);
         *nit = d->nit;
         *nfev = d->nfev;
@@ -306,7 +317,7 @@ int tr_batch_solve(const tr_model *m, const tr_options *opt, const tr_batch_in *
         if (tr_model_set_values(w.m, v, l, dd, pmsg, sizeof pmsg) != TR_OK) {
             char full[TR_MSGLEN + 32];
             tr_msgf(full, sizeof full, "point %d: %s", p, pmsg);
-            write_failed_point(out, p, m->nt, TR_EINVAL, full);
+            write_failed_point(out, p, m->nt, m->n_unknowns, TR_EINVAL, full);
             continue;
         }
         gather(m, in, p, w.P);
@@ -314,7 +325,8 @@ int tr_batch_solve(const tr_model *m, const tr_options *opt, const tr_batch_in *
         if (st == TR_EINTERRUPTED) {
             /* this point and the rest are not solved */
             for (; p < in->n; p++)
-                write_failed_point(out, p, m->nt, TR_EINTERRUPTED, "interrupted by the caller");
+                write_failed_point(out, p, m->nt, m->n_unknowns, TR_EINTERRUPTED,
+                                   "interrupted by the caller");
             ws_free(&w);
             return TR_EINTERRUPTED;
         }

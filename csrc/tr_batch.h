@@ -72,6 +72,14 @@ typedef struct tr_batch_out {
     char *message;        /* (n x msglen) the solver's message for every point whose status
                                is not TR_OK (left untouched for TR_OK points); may be NULL */
     size_t msglen;
+    double *unknowns; /* (n x m->n_unknowns) the point's final shooting unknowns (scaled, as the
+                         core defines them; NaN where no solve ran), so that tr_record_from can
+                         record its states later; may be NULL */
+    int *steps;       /* (n) integrator steps of those unknowns (the tr_record_from argument; 0
+                         for the adaptive integrator or where no solve ran); may be NULL */
+    int *stable;      /* (n) the stability verdict of the point (tr_branch.c): 1 stable, 0
+                         unstable, -1 not judged (no solution, Options.accept_unstable, or
+                         undecided); may be NULL */
 } tr_batch_out;
 
 /* Solve in->n points of the base model m with options opt (tip_only is forced on).

@@ -393,7 +393,7 @@ int tr_linearize(const tr_model *m, tr_data *d, const tr_param *par, int np, con
         tr_model_sync_values(d->lin_m, m);
         tr_model_perturb(d->lin_m, m, TR_PAR_VALUE, 0, 0.0);
     }
-    d->lam_act = d->lam_load = 1.0;
+    d->lam_act = d->lam_load = d->lam_hom = 1.0;
     tr_poll_start(d); /* a budget of its own; the caller's interrupt still applies */
     status = linearize(m, d, par, np, rows, nrow, dpose, dtension, dslack, at_switch,
                        scheme == TR_DIFF_FORWARD);

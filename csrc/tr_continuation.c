@@ -21,9 +21,7 @@ static void tip_of(const tr_model *m, tr_data *d, const double *x, double p[3])
     tr_state_world(m, d->y, p, R, n, mo);
 }
 
-/* Ramp *lamp (d->lam_act or d->lam_load) from its solved value to 1 with an
- * adaptive step (halve on failure, double on success) and a secant predictor. */
-static int ramp(const tr_model *m, tr_data *d, double *lamp, const char *what, double dmax)
+int tr_ramp(const tr_model *m, tr_data *d, double *lamp, const char *what, double dmax)
 {
     const int k = d->k;
     const int iter_cap = d->opt.max_iter < TR_CONT_ITER ? d->opt.max_iter : TR_CONT_ITER;
@@ -31,7 +29,7 @@ static int ramp(const tr_model *m, tr_data *d, double *lamp, const char *what, d
     double tip[3], tip_new[3];
     int have_prev = 0, status, i;
     /* the tip of the solved start, to catch a load stage that jumps to another branch */
-    if (lamp == &d->lam_load)
+    if (lamp != &d->lam_act)
         tip_of(m, d, d->x, tip);
     else
         tip[0] = tip[1] = tip[2] = 0.0;
@@ -75,15 +73,21 @@ static int ramp(const tr_model *m, tr_data *d, double *lamp, const char *what, d
             /* a stage whose tip jumps by more than TR_CONT_TIP_JUMP L left the branch it
              * started on (exponentially sensitive shapes can do that in one Newton
              * iteration): reject it and take a smaller step */
-            if (lamp == &d->lam_load)
+            if (lamp != &d->lam_act)
                 tip_of(m, d, d->x, tip_new);
             else
                 tip_new[0] = tip_new[1] = tip_new[2] = 0.0;
-            if (lamp == &d->lam_load &&
+            if (lamp != &d->lam_act &&
                 hypot(hypot(tip_new[0] - tip[0], tip_new[1] - tip[1]), tip_new[2] - tip[2]) >
                     TR_CONT_TIP_JUMP * m->L &&
                 dlam > TR_CONT_DLAM_MIN * 4.0)
                 status = TR_ENOPROGRESS;
+        }
+        if (status == TR_OK && d->ramp_stable) {
+            /* a stage that ends unstable crossed a bifurcation or a limit point on the
+             * way: smaller steps stay on the stable branch, or stall where it ends */
+            tr_stability_quick(m, d);
+            if (d->stable == 0) status = TR_ENOPROGRESS;
         }
         if (status == TR_OK) {
             memcpy(tip, tip_new, sizeof tip);
@@ -135,19 +139,17 @@ static int continuation_run(const tr_model *m, tr_data *d)
         return TR_ECONTINUATION;
     }
     status =
-        ramp(m, d, &d->lam_act, "actuation (tendon displacements and tensions, loads off)", 1.0);
+        tr_ramp(m, d, &d->lam_act, "actuation (tendon displacements and tensions, loads off)", 1.0);
     if (status != TR_OK) return status;
     /* load steps of at most TR_RAMP_LOAD (scaled F L^2/EI + M L/EI) keep the path on the
      * branch that grows from the unloaded robot */
     {
         const double ls = tr_load_scale(m);
-        return ramp(m, d, &d->lam_load, "loads (at full actuation)",
-                    ls > TR_RAMP_LOAD ? TR_RAMP_LOAD / ls : 1.0);
+        return tr_ramp(m, d, &d->lam_load, "loads (at full actuation)",
+                       ls > TR_RAMP_LOAD ? TR_RAMP_LOAD / ls : 1.0);
     }
 }
 
-/* Continuation steps use full Newton (fresh Jacobian every iteration): a
- * Broyden Jacobian carried across a taut/slack switch misleads the step. */
 int tr_continuation(const tr_model *m, tr_data *d)
 {
     const int saved = d->jac_method;

@@ -30,8 +30,10 @@ void tr_data_free(tr_data *d)
     free(d->Yx);
     tr_model_free(d->lin_m);
     free(d->x_last);
+    free(d->x_guess);
     tr_data_free(d->confirm_d);
     tr_stab_free(d->stab);
+    tr_stab_free(d->stab_quick);
     tr_model_free(d->confirm_m);
     free(d->lin_C);
     free(d->lin_act);
@@ -55,10 +57,16 @@ static int alloc_buffers(const tr_model *m, tr_data *d)
     d->Yx = (double *)calloc((size_t)6 * m->nseg * k + 42 * ((size_t)m->nseg + 1), sizeof(double));
     d->lin_C = (double *)calloc((size_t)(2 * nd * nd + 4 * nd + 1), sizeof(double));
     d->lin_act = (int *)calloc((size_t)(3 * nd + nt + 1), sizeof(int));
+    d->x_guess =
+        (double *)calloc((size_t)4 * k + nt + 6 * ((size_t)m->nseg + 1) + 4, sizeof(double));
     d->bp_pose = (double *)calloc((size_t)12 * (m->nseg + 1), sizeof(double));
     if (!d->bp_pose || !d->lin_C || !d->lin_act || !d->x || !d->J || !d->LU || !d->perm ||
-        !d->tau || !d->y || !d->Yx || !d->x_last)
+        !d->tau || !d->y || !d->Yx || !d->x_last || !d->x_guess)
         return -1;
+    d->f_guess = d->x_guess + k;
+    d->x_alt = d->x_guess + 2 * k;
+    d->carry_x = d->x_guess + 3 * k;
+    d->carry_val = d->x_guess + 4 * k;
     d->J_last = d->x_last + k;
     d->x_ver = d->J_last + k * k;
     d->x_ver_last = d->x_ver + k;
@@ -238,7 +246,7 @@ tr_data *tr_data_alloc(const tr_model *m, const tr_options *opt, int nnode, cons
         if (!d->hyb) goto nomem;
     }
     d->probe_bp = -1;
-    d->lam_act = d->lam_load = 1.0;
+    d->lam_act = d->lam_load = d->lam_hom = 1.0;
     d->truncation = NAN;
     d->jacobian_cond = NAN;
     d->residual_norm = NAN;

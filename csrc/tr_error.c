@@ -16,6 +16,7 @@ const char *tr_strerror(int status)
     case TR_CONFIRMED:
         return "converged off the load path (continuation stalled), confirmed by a second "
                "formulation";
+    case TR_UNSTABLE: return "converged to an unstable equilibrium";
     case TR_CONTINUE: return "iteration in progress";
     case TR_EINVAL: return "invalid model or option";
     case TR_ENOMEM: return "out of memory";

@@ -231,6 +231,13 @@ int tr_btd_count(tr_btd *w, double lam, int *singular)
             for (c = 0; c < r; c++)
                 S[r * nbord + c] = S[c * nbord + r] = 0.5 * (S[r * nbord + c] + S[c * nbord + r]);
         sym_eig(nbord, S, w->Se, w->Sv);
+        {
+            /* a (numerically) singular S: dependent constraints, no count */
+            double smax = 0.0;
+            for (r = 0; r < nbord; r++) smax = fmax(smax, fabs(w->Se[r]));
+            for (r = 0; r < nbord; r++)
+                if (!(fabs(w->Se[r]) > 1e-12 * smax)) *singular = 1;
+        }
         for (r = 0; r < nbord; r++) negS += w->Se[r] < 0.0;
         neg += negS - nbord;
     }

@@ -9,6 +9,8 @@
  *   tr_guess.c                      cold guess, node guesses, guess <-> unknowns
  *   tr_newton.c, tr_hybrid.c        Jacobian, LU, Broyden, init / iterate / test
  *   tr_continuation.c, tr_verify.c  load continuation; step verification, polish
+ *   tr_branch.c                     the stable branch: the verdict of a converged solve,
+ *                                   and where it is unstable the way to a stable one
  *   tr_record.c, tr_compliance.c    recording pass; linearisation (Jacobians, compliance)
  *   tr_solve.c                      the driver: a list of stages
  *   tr_batch.c                      a loop over the public API
@@ -297,8 +299,22 @@ int tr_newton_run(const tr_model *m, tr_data *d, int max_iter, int stall, double
 int tr_hybrid_run(const tr_model *m, tr_data *d, int max_iter);
 
 /* tr_continuation.c: from the unloaded straight robot, ramp the actuation, then the
- * loads. */
+ * loads.  Continuation steps use full Newton (fresh Jacobian every iteration): a
+ * Broyden Jacobian carried across a taut/slack switch misleads the step. */
 int tr_continuation(const tr_model *m, tr_data *d);
+/* Ramp *lamp (d->lam_act, lam_load, lam_hom or lam_imp) from its solved value to 1 with
+ * an adaptive step (halved on failure, doubled on success, at most dmax) and a secant
+ * predictor; a stage whose tip jumps by more than TR_CONT_TIP_JUMP L is refused (but for
+ * the actuation), and with d->ramp_stable one that ends unstable.  TR_OK, or a failure with the message naming `what`. */
+int tr_ramp(const tr_model *m, tr_data *d, double *lamp, const char *what, double dmax);
+/* tr_branch.c: the stability stage of a solve that converged to status (from a cold
+ * start: cold); returns the status the solve goes on with. */
+int tr_branch(const tr_model *m, tr_data *d, int status, int cold);
+/* Keep the verdict of a successful solve for the next warm one. */
+void tr_branch_keep(const tr_model *m, tr_data *d);
+/* The verdict of a lean solve (tr_solve_lean) that converged: 1 when it may stand (kept
+ * for the next), 0 when it is unstable and the full solve must take over. */
+int tr_branch_lean(const tr_model *m, tr_data *d);
 
 /* tr_inertia.c: a symmetric block-tridiagonal matrix (nblk blocks of nb <= TR_BTD_MAXB:
  * D (nblk x nb^2) diagonal blocks, E (nblk x nb^2) the block coupling j to j + 1),

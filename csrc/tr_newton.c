@@ -20,7 +20,10 @@ void tr_solve_reset(const tr_model *m, tr_data *d, int steps)
     d->steps_moved = 0;
     d->steps_double = 0;
     d->message[0] = '\0';
-    d->lam_act = d->lam_load = 1.0;
+    d->lam_act = d->lam_load = d->lam_hom = 1.0;
+    d->lam_imp = 0.0;
+    d->via_path = d->ramp_stable = 0;
+    d->tip_guess[0] = d->tip_guess[1] = d->tip_guess[2] = NAN;
     d->truncation = NAN;
     d->jacobian_cond = NAN;
     d->tip_angle = NAN;
@@ -30,6 +33,8 @@ void tr_solve_reset(const tr_model *m, tr_data *d, int steps)
     d->nfev_confirm = 0;
     d->stable = d->stab_index = -1;
     d->stability = NAN;
+    d->stab_gap = 0.0;
+    d->branch_note[0] = '\0';
     snprintf(d->stab_reason, sizeof d->stab_reason, "not tested: no solution");
     tr_poll_start(d);
 }
@@ -88,9 +93,12 @@ int tr_lu_factor(tr_data *d)
     int i, signum;
     double dmax = 0.0, dmin = INFINITY;
     for (i = 0; i < k * k; i++) d->LU->data[(i / k) * d->LU->tda + i % k] = d->J[i];
+    d->lu_sign = 0;
     if (gsl_linalg_LU_decomp(d->LU, d->perm, &signum) != GSL_SUCCESS) return -1;
+    d->lu_sign = signum;
     for (i = 0; i < k; i++) {
         const double a = fabs(gsl_matrix_get(d->LU, i, i));
+        if (gsl_matrix_get(d->LU, i, i) < 0.0) d->lu_sign = -d->lu_sign;
         if (a > dmax) dmax = a;
         if (a < dmin) dmin = a;
     }

@@ -25,6 +25,7 @@ tr_options tr_default_options(void)
     o.shooting_segments = 1;
     o.max_work = TR_DEFAULT_MAX_WORK;
     o.max_time = 0.0;
+    o.accept_unstable = 0;
     return o;
 }
 

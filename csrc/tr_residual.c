@@ -62,7 +62,8 @@ void tr_init_state(const tr_model *m, const tr_data *d, const double *x, double 
     }
 }
 
-/* Loads at breakpoint b (world): point loads scaled by lam_load, plus the probe. */
+/* Loads at breakpoint b (world): point loads scaled by lam_load, plus the probe (scaled
+ * by 1 - lam_imp while an imperfection is removed). */
 static void bp_load(const tr_model *m, const tr_data *d, int b, double F[3], double M[3])
 {
     int c;
@@ -72,8 +73,8 @@ static void bp_load(const tr_model *m, const tr_data *d, int b, double F[3], dou
     }
     if (b == d->probe_bp)
         for (c = 0; c < 3; c++) {
-            F[c] += d->probe[c];
-            M[c] += d->probe[3 + c];
+            F[c] += (1.0 - d->lam_imp) * d->probe[c];
+            M[c] += (1.0 - d->lam_imp) * d->probe[3 + c];
         }
 }
 
@@ -296,9 +297,11 @@ int tr_residual(const tr_model *m, tr_data *d, const double *x, double *f)
         }
     }
     tip_residual(m, d, y, f);
+    if (d->lam_hom != 1.0) /* continuation from the guess */
+        for (k = 0; k < d->k; k++) f[k] -= (1.0 - d->lam_hom) * d->f_guess[k];
     if (!isfinite(tru_maxnorm(f, d->k))) return TR_ENONFINITE;
     if (!d->steps_double && d->probe_bp < 0 && !d->capture && d->lam_act == 1.0 &&
-        d->lam_load == 1.0) {
+        d->lam_load == 1.0 && d->lam_hom == 1.0) {
         /* y is the end state of the solution with unknowns x at d->steps */
         memcpy(d->x_of_y, x, (size_t)d->k * sizeof(double));
         memcpy(d->f_of_y, f, (size_t)d->k * sizeof(double));

@@ -8,6 +8,9 @@
  *                    find an equilibrium off the path (TR_OFFPATH, not a success) ...
  *   4. confirm:      ... unless a cold solve with another shooting formulation reaches
  *                    the same equilibrium (TR_CONFIRMED, tr_confirm.c)
+ *   4b. branch:      the stability verdict; an unstable answer, or a warm one that jumped
+ *                    from its guess, is replaced by a stable one where one is reached
+ *                    (tr_branch.c), else TR_UNSTABLE
  *   5. verify:       automatic steps: step doubling until the truncation estimate <= tol
  *   6. condition:    a fresh Jacobian at a cold solution, polish, condition number
  *   7. diagnose:     what a failure is likely due to
@@ -73,6 +76,13 @@ static int solve_direct(const tr_model *m, tr_data *d, const double *guess, cons
     int status = from_last ? init_from_last(m, d) : tr_solve_init(m, d, guess, jac);
     *forced = 0;
     if (status != TR_OK) return status;
+    if (guess || from_last) {
+        /* the start, for a continuation from the guess (tr_branch.c) */
+        double R[9], n[3], mo[3];
+        memcpy(d->x_guess, d->x, (size_t)d->k * sizeof(double));
+        memcpy(d->f_guess, d->f, (size_t)d->k * sizeof(double));
+        tr_state_world(m, d->y, d->tip_guess, R, n, mo);
+    }
     if (!guess && !from_last && d->opt.continuation && d->opt.max_continuation > 0 &&
         tr_load_scale(m) > TR_DIRECT_LOAD_MAX) {
         /* large loads from a cold start: a direct Newton iteration can land on a looped,
@@ -95,7 +105,10 @@ static int solve_continuation(const tr_model *m, tr_data *d, int status, int for
         return status;
     memcpy(first, d->message, TR_MSGLEN);
     st2 = tr_continuation(m, d);
-    if (st2 == TR_OK) return TR_OK;
+    if (st2 == TR_OK) {
+        d->via_path = 1;
+        return TR_OK;
+    }
     memcpy(second, d->message, TR_MSGLEN);
     tr_set_message(d, "%s; then %s", first, second);
     if (st2 == TR_EMAXFEV || d->stop) return st2;
@@ -258,9 +271,13 @@ static int solve_record(const tr_model *m, tr_data *d, int status)
         status = rs;
         tr_set_message(d, "the recording pass failed: %s", tr_strerror(rs));
     }
-    if (status == TR_OK)
+    if (status == TR_OK) {
         tr_message_converged(d->message, TR_MSGLEN, d->nit, d->residual_norm, d->opt.tol);
-    else if (status == TR_TRUNCATION && d->message[0] == '\0')
+        if (d->branch_note[0]) {
+            const size_t len = strlen(d->message);
+            snprintf(d->message + len, TR_MSGLEN - len, "; %s", d->branch_note);
+        }
+    } else if (status == TR_TRUNCATION && d->message[0] == '\0')
         tr_set_message(d, "%s", tr_strerror(status));
     if (TR_SUCCEEDED(status)) {
         /* kept for the next warm solve */
@@ -272,6 +289,7 @@ static int solve_record(const tr_model *m, tr_data *d, int status)
         d->est_ver_last = d->est_ver;
         d->steps_ver_last = d->steps_ver;
         d->have_ver_last = d->have_ver;
+        tr_branch_keep(m, d);
     }
     return status;
 }
@@ -305,6 +323,7 @@ static int solve(const tr_model *m, tr_data *d, const double *guess, const doubl
     status = solve_direct(m, d, guess, jac, from_last, &forced);
     if (status == TR_EINVAL) return d->status = status;
     status = solve_continuation(m, d, status, forced);
+    status = tr_branch(m, d, status, !guess && !from_last);
     if (status >= 0 && d->opt.steps == 0 && d->opt.integrator != TR_ADAPTIVE &&
         !tr_verify_carried(m, d)) {
         const int vs = tr_verify_steps(m, d);

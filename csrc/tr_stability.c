@@ -33,6 +33,8 @@
 /* Uniform elements of the first grid (even), and the most a refinement may use. */
 #define TR_STAB_ELEMENTS     24
 #define TR_STAB_MAX_ELEMENTS 768
+/* Uniform elements of the quick test's grid (even). */
+#define TR_STAB_QUICK 12
 /* A margin (scaled by EI/L) within this of zero is round-off: a neutral direction. */
 #define TR_STAB_NEUTRAL 1e-7
 /* Margins (scaled) smaller than this times (1 + the load-induced stiffness scale) are
@@ -270,6 +272,7 @@ static tr_hd elem_energy(const elem *e, const tr_hd *xa, const tr_hd *xb, int on
 /* ------------------------------------------------------------ the workspace */
 struct tr_stab_ws {
     int nuni;         /* uniform elements of the fine grid */
+    int nb, cosserat; /* coordinates per node; 1: Cosserat elements (else Kirchhoff) */
     int ngrid;        /* nodes of the fine grid: uniform ones and every breakpoint */
     double *s;        /* (ngrid) their arc lengths [m] */
     int *kind;        /* (ngrid) 1: in the coarse grid too (even uniform node or breakpoint) */
@@ -296,10 +299,11 @@ void tr_stab_free(struct tr_stab_ws *w)
 }
 
 /* The grid: nuni uniform elements and every breakpoint, sorted, merged within 1e-12 L. */
-static struct tr_stab_ws *stab_alloc(const tr_model *m, const tr_options *opt, int nuni)
+static struct tr_stab_ws *stab_alloc(const tr_model *m, const tr_options *opt, int nuni,
+                                     int cosserat)
 {
     struct tr_stab_ws *w = (struct tr_stab_ws *)calloc(1, sizeof *w);
-    const int cap = nuni + m->nseg + 2, nb = m->kirchhoff ? 3 : 6, nt = m->nt > 0 ? m->nt : 1;
+    const int cap = nuni + m->nseg + 2, nb = cosserat ? 6 : 3, nt = m->nt > 0 ? m->nt : 1;
     const size_t nblk = (size_t)cap * nb * nb, nv = (size_t)cap * nb;
     size_t len;
     double *q;
@@ -307,7 +311,7 @@ static struct tr_stab_ws *stab_alloc(const tr_model *m, const tr_options *opt, i
     char msg[TR_MSGLEN];
     tr_options o = *opt;
     if (!w) return NULL;
-    w->nuni = nuni;
+    w->nuni = nuni, w->nb = nb, w->cosserat = cosserat;
     w->s = (double *)malloc((size_t)cap * sizeof(double));
     w->kind = (int *)malloc(((size_t)cap * 2 + nt) * sizeof(int));
     len = 18 * (size_t)cap + nt + 2 * nv + 5 * nblk + 2 * nv + 2 * nv * nt + 2 * (size_t)nt +
@@ -369,7 +373,7 @@ static void element(const tr_model *m, const struct tr_stab_ws *w, int k, elem *
 {
     const int a = w->node[k], b = w->node[k + 1];
     int c;
-    e->m = m, e->cosserat = !m->kirchhoff, e->sa = w->s[a], e->sb = w->s[b];
+    e->m = m, e->cosserat = w->cosserat, e->sa = w->s[a], e->sb = w->s[b];
     e->h = e->sb - e->sa, e->Ra = w->R + 9 * a, e->Rb = w->R + 9 * b, e->pa = w->p + 3 * a;
     e->pb = w->p + 3 * b, e->tau = w->tau;
     for (c = 0; c < 3; c++) e->F[c] = w->F[3 * k + c], e->vhat[c] = w->vhat[3 * k + c];
@@ -400,7 +404,7 @@ static int level_setup(const tr_model *m, const tr_data *d, struct tr_stab_ws *w
         for (c = 0; c < 3; c++) w->F[3 * k + c] = Fb[c], w->vhat[3 * k + c] = 0.0;
         for (c = 0; c < 9; c++) Qtr += Ra[c] * Rb[c]; /* trace of Ra^T Rb */
         if (!(acos(fmax(-1.0, fmin(1.0, 0.5 * (Qtr - 1.0)))) <= TR_STAB_MAX_ROT)) return -1;
-        if (!m->kirchhoff) {
+        if (w->cosserat) {
             /* The chord of a curved element is shorter than its arc by ~ (h kappa)^2 / 24,
              * which the axial stiffness EA would turn into a large spurious force: the
              * element's free strain is set so that its internal force at the recorded
@@ -536,7 +540,10 @@ static void discrete_equilibrium(const tr_model *m, struct tr_stab_ws *w, int nn
     for (it = 0; it < TR_STAB_NEWTON; it++) {
         const int n = (nn - 1) * nb, nbord = h->nbord;
         double mu[64], Sm[64 * 64];
+        /* a symmetry's zero mode makes H singular at the equilibrium: a slight shift
+         * (1e-8 EI/L on the rotations) keeps the step defined, and damps only along it */
         tr_btd_count(h, 0.0, &sing);
+        if (sing) tr_btd_count(h, -1e-8, &sing);
         if (sing) return;
         for (i = 0; i < n; i++) w->dx[i] = w->g[i];
         tr_btd_solve(h, w->dx, 1); /* y = H^-1 g */
@@ -587,7 +594,7 @@ static double stiffness_scale(const tr_model *m, const tr_data *d)
 static double level_margin(const tr_model *m, const tr_data *d, struct tr_stab_ws *w, int min_kind,
                            int refine, int *index, int *coarse)
 {
-    const int nb = m->kirchhoff ? 3 : 6;
+    const int nb = w->nb;
     int nn = 0, j, sing, neg;
     *coarse = 0;
     for (j = 0; j < w->ngrid; j++)
@@ -604,32 +611,64 @@ static double level_margin(const tr_model *m, const tr_data *d, struct tr_stab_w
     return tr_btd_smallest(&w->h, neg > 0);
 }
 
-void tr_stability(const tr_model *m, tr_data *d)
+/* A world-fixed point moment: not conservative for spatial perturbations (reason set). */
+static int not_conservative(const tr_model *m, tr_data *d)
 {
-    struct tr_stab_ws *w = d->stab;
-    int nuni = w ? w->nuni : TR_STAB_ELEMENTS, b, i, coarse, st, refine = 0;
-    double mf = NAN, mc = NAN, err;
-    d->stable = -1;
-    d->stability = NAN;
-    d->stab_index = -1;
-    d->stab_reason[0] = '\0';
+    int b;
     for (b = 1; b <= m->nseg; b++)
         if (m->bpM[3 * b] != 0.0 || m->bpM[3 * b + 1] != 0.0 || m->bpM[3 * b + 2] != 0.0) {
             snprintf(d->stab_reason, sizeof d->stab_reason,
                      "not tested: a point moment fixed in the world (at s = %g m) is not "
                      "conservative for spatial perturbations",
                      m->bp[b]);
-            return;
+            return 1;
         }
-    tr_set_tensions(m, d, d->x);
+    return 0;
+}
+
+/* The workspace *wp for nuni uniform elements (reallocated when it has another count). */
+static struct tr_stab_ws *stab_ws(const tr_model *m, tr_data *d, struct tr_stab_ws **wp, int nuni,
+                                  int cosserat)
+{
+    if (!*wp || (*wp)->nuni != nuni || (*wp)->cosserat != cosserat) {
+        tr_stab_free(*wp);
+        *wp = stab_alloc(m, &d->opt, nuni, cosserat);
+    }
+    return *wp;
+}
+
+static void verdict_reset(tr_data *d)
+{
+    d->stable = -1;
+    d->stability = NAN;
+    d->stab_index = -1;
+    d->stab_gap = 0.0;
+    d->stab_reason[0] = '\0';
+}
+
+static void slack_side_note(const tr_model *m, tr_data *d)
+{
+    int i;
+    for (i = 0; i < m->nt; i++)
+        if (m->tendon[i].control == TR_DISPLACEMENT && d->tau[i] == 0.0 && d->beta[i] == 0.0) {
+            const size_t len = strlen(d->stab_reason);
+            snprintf(d->stab_reason + len, sizeof d->stab_reason - len,
+                     "; tendon %d is at its taut/slack switch: the slack side is tested", i);
+        }
+}
+
+/* The full test: the model's own elements, refined near zero (sets the margin). */
+static void verdict_full(const tr_model *m, tr_data *d)
+{
+    const int cosserat = !m->kirchhoff;
+    int nuni = d->stab ? d->stab->nuni : TR_STAB_ELEMENTS, coarse, st, refine = 0;
+    double mf = NAN, mc = NAN, err;
+    struct tr_stab_ws *w;
     for (;;) {
-        if (!w || w->nuni != nuni) {
-            tr_stab_free(w);
-            w = d->stab = stab_alloc(m, &d->opt, nuni);
-            if (!w) {
-                snprintf(d->stab_reason, sizeof d->stab_reason, "not tested: out of memory");
-                return;
-            }
+        w = stab_ws(m, d, &d->stab, nuni, cosserat);
+        if (!w) {
+            snprintf(d->stab_reason, sizeof d->stab_reason, "not tested: out of memory");
+            return;
         }
         st = tr_record_from(m, w->rec, d->x, d->steps);
         if (st != TR_OK) {
@@ -670,19 +709,67 @@ void tr_stability(const tr_model *m, tr_data *d)
                  mf, err);
     } else {
         d->stable = mf > 0.0;
+        d->stab_gap = fabs(mf) - 2.0 * err;
         snprintf(d->stab_reason, sizeof d->stab_reason, "%s: margin %.4g EI/L (%d negative %s)",
                  mf > 0.0 ? "stable" : "unstable", mf, d->stab_index,
                  d->stab_index == 1 ? "mode" : "modes");
     }
-    for (i = 0; i < m->nt; i++)
-        if (m->tendon[i].control == TR_DISPLACEMENT && d->tau[i] == 0.0 && d->beta[i] == 0.0) {
-            const size_t len = strlen(d->stab_reason);
-            snprintf(d->stab_reason + len, sizeof d->stab_reason - len,
-                     "; tendon %d is at its taut/slack switch: the slack side is tested", i);
-        }
 }
 
-int tr_stability_of(const tr_model *m, tr_data *d, const double *x, int steps)
+/* The quick test: Kirchhoff elements on a coarse grid (TR_STAB_QUICK elements, doubled
+ * while an element turns too much), no refinement; decides only when no eigenvalue lies
+ * within the band of the full test's refinement, +-TR_STAB_CHECK (1 + stiffness scale),
+ * where neither the model reduction (shear and extension, O((d/L)^2)) nor the coarse
+ * grid's error (at 12 elements on the Euler column, below 4e-3 of that scale) can move
+ * one across zero.  Returns 1 when decided (the margin stays NaN: the full test gives
+ * it on request). */
+static int verdict_quick(const tr_model *m, tr_data *d)
+{
+    const double band = TR_STAB_CHECK * (1.0 + stiffness_scale(m, d));
+    int nuni = TR_STAB_QUICK, nn, j, n0, nlo, nhi, sing;
+    struct tr_stab_ws *w;
+    for (;;) {
+        w = stab_ws(m, d, &d->stab_quick, nuni, 0);
+        if (!w || tr_record_from(m, w->rec, d->x, d->steps) != TR_OK) return 0;
+        for (nn = j = 0; j < w->ngrid; j++) w->node[nn++] = j;
+        if (level_setup(m, d, w, nn) == 0) break;
+        if (2 * nuni > TR_STAB_MAX_ELEMENTS) return 0;
+        nuni *= 2;
+    }
+    assemble(m, w, nn, 3);
+    nlo = tr_btd_count(&w->h, -band, &sing);
+    if (sing) return 0;
+    nhi = tr_btd_count(&w->h, band, &sing);
+    if (sing || nlo != nhi || nlo < 0) return 0;
+    n0 = nlo;
+    d->stable = n0 == 0;
+    d->stab_index = n0;
+    d->stab_gap = band;
+    snprintf(d->stab_reason, sizeof d->stab_reason,
+             "%s: %d negative %s, no eigenvalue within %.2g EI/L of zero",
+             n0 ? "unstable" : "stable", n0, n0 == 1 ? "mode" : "modes", band);
+    return 1;
+}
+
+void tr_stability(const tr_model *m, tr_data *d)
+{
+    verdict_reset(d);
+    if (not_conservative(m, d)) return;
+    tr_set_tensions(m, d, d->x);
+    verdict_full(m, d);
+    slack_side_note(m, d);
+}
+
+void tr_stability_quick(const tr_model *m, tr_data *d)
+{
+    verdict_reset(d);
+    if (not_conservative(m, d)) return;
+    tr_set_tensions(m, d, d->x);
+    if (!verdict_quick(m, d)) verdict_full(m, d);
+    slack_side_note(m, d);
+}
+
+int tr_stability_of(const tr_model *m, tr_data *d, const double *x, int steps, int quick)
 {
     int i;
     if (d->model != m || steps < 1 || steps > TR_MAX_STEPS) {
@@ -699,6 +786,9 @@ int tr_stability_of(const tr_model *m, tr_data *d, const double *x, int steps)
             snprintf(d->stab_reason, sizeof d->stab_reason, "not tested: no solution");
             return TR_OK;
         }
-    tr_stability(m, d);
+    if (quick)
+        tr_stability_quick(m, d);
+    else
+        tr_stability(m, d);
     return TR_OK;
 }

@@ -28,6 +28,7 @@ from .fit import FitResult, fit
 from .linearization import Jacobian
 from .model import DistributedLoad, PointLoad, Robot, Rod, Scene, Tendon
 from .options import Options
+from .plausibility import PlausibilityWarning
 from .problem import Problem, jacobian
 from .results import ConvergenceError, ConvergenceWarning
 from .solver import Solution, compliance, solve
@@ -67,6 +68,7 @@ __all__ += [
     "FitResult",
     "ConvergenceWarning",
     "ConvergenceError",
+    "PlausibilityWarning",
 ]
 __all__ += ["sweep", "SweepResult"]
 __all__ += ["solve_batch", "BatchResult"]

@@ -47,7 +47,7 @@ static int take_flag(PyObject *kw, const char *key, int dflt, int *out)
 
 /* Output arrays of a batch of n points. */
 typedef struct {
-    PyObject *pos, *rot, *ten, *sla, *dis, *res, *sta, *nit, *nfe, *cld;
+    PyObject *pos, *rot, *ten, *sla, *dis, *res, *sta, *nit, *nfe, *cld, *unk, *stp, *stb;
     char *mbuf; /* (n x TR_MSGLEN) messages, zeroed */
 } batch_arrays;
 
@@ -63,12 +63,15 @@ static void arrays_clear(batch_arrays *b)
     Py_XDECREF(b->nit);
     Py_XDECREF(b->nfe);
     Py_XDECREF(b->cld);
+    Py_XDECREF(b->unk);
+    Py_XDECREF(b->stp);
+    Py_XDECREF(b->stb);
     free(b->mbuf);
 }
 
-static int arrays_alloc(batch_arrays *b, npy_intp n, int nt, tr_batch_out *out)
+static int arrays_alloc(batch_arrays *b, npy_intp n, int nt, int k, tr_batch_out *out)
 {
-    npy_intp d2[2] = {n, 3}, d3[3] = {n, 3, 3}, dt[2] = {n, nt}, d1[1] = {n};
+    npy_intp d2[2] = {n, 3}, d3[3] = {n, 3, 3}, dt[2] = {n, nt}, d1[1] = {n}, dk[2] = {n, k};
     b->pos = PyArray_SimpleNew(2, d2, NPY_DOUBLE);
     b->rot = PyArray_SimpleNew(3, d3, NPY_DOUBLE);
     b->ten = PyArray_SimpleNew(2, dt, NPY_DOUBLE);
@@ -79,10 +82,13 @@ static int arrays_alloc(batch_arrays *b, npy_intp n, int nt, tr_batch_out *out)
     b->nit = PyArray_SimpleNew(1, d1, NPY_INT);
     b->nfe = PyArray_SimpleNew(1, d1, NPY_INT);
     b->cld = PyArray_SimpleNew(1, d1, NPY_INT);
+    b->unk = PyArray_SimpleNew(2, dk, NPY_DOUBLE);
+    b->stp = PyArray_SimpleNew(1, d1, NPY_INT);
+    b->stb = PyArray_SimpleNew(1, d1, NPY_INT);
     /* zeroed: pages of points that converged are never written, so never resident */
     b->mbuf = (char *)calloc((size_t)(n > 0 ? n : 1), TR_MSGLEN);
     if (!b->pos || !b->rot || !b->ten || !b->sla || !b->dis || !b->res || !b->sta || !b->nit ||
-        !b->nfe || !b->cld)
+        !b->nfe || !b->cld || !b->unk || !b->stp || !b->stb)
         return -1;
     if (!b->mbuf) {
         PyErr_NoMemory();
@@ -99,6 +105,9 @@ static int arrays_alloc(batch_arrays *b, npy_intp n, int nt, tr_batch_out *out)
     out->nit = GLUE_DATA(b->nit, int);
     out->nfev = GLUE_DATA(b->nfe, int);
     out->cold = GLUE_DATA(b->cld, int);
+    out->unknowns = GLUE_DATA(b->unk, double);
+    out->steps = GLUE_DATA(b->stp, int);
+    out->stable = GLUE_DATA(b->stb, int);
 #undef GLUE_DATA
     out->message = b->mbuf;
     out->msglen = TR_MSGLEN;
@@ -144,6 +153,9 @@ static PyObject *batch_result(const batch_arrays *b, npy_intp n, const tr_model 
         PyDict_SetItemString(result, "nit", b->nit) < 0 ||
         PyDict_SetItemString(result, "nfev", b->nfe) < 0 ||
         PyDict_SetItemString(result, "cold", b->cld) < 0 ||
+        PyDict_SetItemString(result, "unknowns", b->unk) < 0 ||
+        PyDict_SetItemString(result, "steps", b->stp) < 0 ||
+        PyDict_SetItemString(result, "stable", b->stb) < 0 ||
         PyDict_SetItemString(result, "message", msgs) < 0 ||
         PyDict_SetItemString(result, "success", succ) < 0 ||
         PyDict_SetItemString(result, "formulation", form) < 0)
@@ -181,7 +193,9 @@ const char glue_solve_batch_doc[] =
     "Returns a dict of arrays over the n points: tip_position (n,3) [m], tip_rotation (n,3,3),\n"
     "tension, slack, displacement (n,nt), residual_norm (n,), status, nit, nfev, cold (n,)\n"
     "int32, message (list of n str), formulation (dict: planar,\n"
-    "kirchhoff, n_unknowns, n_states).\n";
+    "kirchhoff, n_unknowns, n_states), unknowns (n, n_unknowns) each point's final scaled\n"
+    "unknowns and steps (n,) int32 their step count (Problem.record_from's arguments), stable\n"
+    "(n,) int32 each point's stability verdict (1 stable, 0 unstable, -1 not judged).\n";
 
 PyObject *glue_solve_batch(PyObject *self, PyObject *args, PyObject *kwds)
 {
@@ -235,7 +249,8 @@ PyObject *glue_solve_batch(PyObject *self, PyObject *args, PyObject *kwds)
                      (long)n);
         goto done;
     }
-    if (glue_build(&a, NULL, &m, NULL) < 0 || arrays_alloc(&b, n, a.nt, &out) < 0) goto done;
+    if (glue_build(&a, NULL, &m, NULL) < 0 || arrays_alloc(&b, n, a.nt, m->n_unknowns, &out) < 0)
+        goto done;
     in.n = (int)n;
     in.value = values ? (const double *)PyArray_DATA(values) : NULL;
     in.load = pl ? (const double *)PyArray_DATA(pl) : NULL;

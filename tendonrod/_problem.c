@@ -269,17 +269,17 @@ done:
 
 static PyObject *problem_stability(ProblemObject *self, PyObject *args, PyObject *kwds)
 {
-    static char *kwlist[] = {"unknowns", "steps", NULL};
+    static char *kwlist[] = {"unknowns", "steps", "quick", NULL};
     PyObject *ox, *result = NULL;
     PyArrayObject *x = NULL;
-    int steps, status;
+    int steps, status, quick = 0;
     tr_data *d = self->d;
     if (check_free(self) < 0) return NULL;
-    if (!PyArg_ParseTupleAndKeywords(args, kwds, "Oi", kwlist, &ox, &steps)) return NULL;
+    if (!PyArg_ParseTupleAndKeywords(args, kwds, "Oi|p", kwlist, &ox, &steps, &quick)) return NULL;
     if (values_of(ox, "unknowns", d->k, &x) < 0) return NULL;
     self->busy = 1;
     Py_BEGIN_ALLOW_THREADS;
-    status = tr_stability_of(self->m, d, (const double *)PyArray_DATA(x), steps);
+    status = tr_stability_of(self->m, d, (const double *)PyArray_DATA(x), steps, quick);
     Py_END_ALLOW_THREADS;
     self->busy = 0;
     if (status == TR_EINVAL) {

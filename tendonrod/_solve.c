@@ -116,6 +116,15 @@ PyObject *glue_solve_result(const tr_model *m, const tr_data *d, int status, PyO
     dims[1] = k;
     if (glue_set(res, "jacobian", glue_array(2, dims, d->J)) < 0) goto fail;
     if (glue_set(res, "formulation", result_formulation(m, d, form)) < 0) goto fail;
+    /* the verdict every converged solve judges (tr_branch.c); the margin may be NaN (the
+     * quick test decided without it) */
+    if (status >= 0 && status != TR_CONTINUE && !d->opt.accept_unstable &&
+        glue_set(res, "stability_verdict",
+                 Py_BuildValue("{s:N,s:d,s:i,s:s}", "stable",
+                               d->stable < 0 ? Py_NewRef(Py_None) : PyBool_FromLong(d->stable),
+                               "stability", d->stability, "index", d->stab_index, "reason",
+                               d->stab_reason)) < 0)
+        goto fail;
     return res;
 fail:
     Py_DECREF(res);

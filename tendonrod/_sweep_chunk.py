@@ -15,6 +15,7 @@ outcome is decided from the solve's ``success``, never from the status number.
 
 from __future__ import annotations
 
+import math
 import re
 import threading
 import warnings
@@ -25,6 +26,7 @@ import numpy as np
 from .batch import solve_batch
 from .compiled import is_planar
 from .model import PointLoad, Scene
+from .plausibility import PlausibilityWarning
 from .results import ConvergenceWarning
 from .solver import solve
 
@@ -42,8 +44,9 @@ STATUS_NONE = -1000
 build or the solve raised, or it did not run).  Outside the core's status range."""
 
 
-def _record(index, outcome, status, nit, message, data) -> dict:
-    """One point's record, as stored in the sweep's file (plain JSON types)."""
+def _record(index, outcome, status, nit, message, data, findings=()) -> dict:
+    """One point's record, as stored in the sweep's file (plain JSON types; ``findings``
+    the point's plausibility findings, stored as dicts)."""
     return {
         "i": index,
         "outcome": outcome,
@@ -51,6 +54,7 @@ def _record(index, outcome, status, nit, message, data) -> dict:
         "nit": nit,
         "message": message,
         "data": data,
+        "plausibility": [f.to_dict() for f in findings],
     }
 
 
@@ -74,7 +78,12 @@ def _run_chunk(task: dict) -> dict:
     if task.get("batch"):
         # the whole chunk in one C call; None: its scenes do not share one design, so it
         # is solved point by point below
-        out = _batch_chunk(task)
+        if threading.current_thread() is threading.main_thread():
+            with warnings.catch_warnings():  # recorded per point (see below)
+                warnings.simplefilter("ignore", PlausibilityWarning)
+                out = _batch_chunk(task)
+        else:
+            out = _batch_chunk(task)
         if out is not None:
             return out
     for index, scene in zip(task["indices"], scenes):
@@ -85,10 +94,12 @@ def _run_chunk(task: dict) -> dict:
         try:
             if threading.current_thread() is threading.main_thread():
                 # a process-pool worker (or a serial run): non-convergence is recorded per
-                # point, so silence the warning here.  Thread-pool workers must not touch the
-                # (process-global) filters; sweep() silences them once, in the calling thread.
+                # point, so silence the warnings here (plausibility findings too: sweep()
+                # summarises them).  Thread-pool workers must not touch the (process-global)
+                # filters; sweep() silences them once, in the calling thread.
                 with warnings.catch_warnings():
                     warnings.simplefilter("ignore", ConvergenceWarning)
+                    warnings.simplefilter("ignore", PlausibilityWarning)
                     sol = solve(scene, guess=guess if warm else None, options=options)
             else:
                 sol = solve(scene, guess=guess if warm else None, options=options)
@@ -102,6 +113,7 @@ def _run_chunk(task: dict) -> dict:
                     int(getattr(sol, "nit", -1)),
                     str(sol.message),
                     {k: v.tolist() for k, v in values.items()},
+                    sol.plausibility,
                 )
             )
             if ok:
@@ -113,6 +125,11 @@ def _run_chunk(task: dict) -> dict:
             message = f"{type(exc).__name__}: {exc}"
             records.append(_record(index, OUTCOME_ERROR, status, nit, message, None))
     return {"chunk": task["chunk"], "records": records}
+
+
+def _stable_value(stable) -> float:
+    """A stability verdict True / False / None as 1.0 / 0.0 / NaN."""
+    return math.nan if stable is None else float(bool(stable))
 
 
 # --------------------------------------------------------------------------- batch path
@@ -206,6 +223,7 @@ def _batch_chunk(task: dict):
             "tension": res.tension[k].tolist(),
             "slack": res.slack[k].tolist(),
             "displacement": res.displacement[k].tolist(),
+            "stable": _stable_value(res.stable[k]),
         }
         records.append(
             _record(
@@ -215,6 +233,7 @@ def _batch_chunk(task: dict):
                 int(res.nit[k]),
                 str(res.message[k]),
                 data,
+                res.plausibility[k],
             )
         )
     return {"chunk": task["chunk"], "records": records}

@@ -18,12 +18,14 @@ are returned.
 from __future__ import annotations
 
 import concurrent.futures as cf
+import dataclasses
 from dataclasses import dataclass
 
 import numpy as np
 
-from . import _core
+from . import _core, plausibility
 from ._interrupt import current_token, new_token
+from ._plausible import batch_findings
 from .compiled import _TD, is_planar, pack_scene
 from .model import Scene
 from .options import Options, _check_options
@@ -49,13 +51,18 @@ class BatchResult:
         ``tendonrod._core.strerror``)
     success : (n,) bool, the core's verdict per point (as ``Solution.success``: status
         >= 0 except 3, an equilibrium found off the load path that a second formulation
-        did not confirm: see ``message``)
+        did not confirm, and 5, an unstable one: see ``message``)
+    stable : (n,) object array of True / False / None, the stability verdict per point
+        (as ``Solution.stable``; None where not judged: no solution, a margin within the
+        test's accuracy, a world-fixed moment, or ``Options(accept_unstable=True)``)
     message : (n,) object array of str, the solver's message per point
     nit, nfev : (n,) int, iterations and residual evaluations per point
     residual_norm : (n,) final scaled residual max-norm
     cold : (n,) bool, the point was solved without a warm start
     formulation : dict, what was solved (planar, kirchhoff, n_unknowns, n_states)
     chunksize : int, points per warm-started chunk
+    plausibility : (n,) object array, each point's findings (a tuple of
+        :class:`~tendonrod.plausibility.Finding`, as ``Solution.plausibility``)
     """
 
     tip_position: np.ndarray
@@ -70,8 +77,10 @@ class BatchResult:
     residual_norm: np.ndarray
     cold: np.ndarray
     success: np.ndarray
+    stable: np.ndarray
     formulation: dict
     chunksize: int
+    plausibility: np.ndarray | None = None
 
     def __len__(self) -> int:
         return int(self.status.shape[0])
@@ -191,6 +200,10 @@ def solve_batch(
     Returns
     -------
     BatchResult
+
+    Points that look like a slip (:mod:`tendonrod.plausibility`) give one
+    :class:`~tendonrod.PlausibilityWarning` per rule and subject for the whole batch (how
+    many points, the worst); ``BatchResult.plausibility`` lists every point's findings.
     """
     options, chunksize = _check_arguments(scene, options, threads, chunksize)
     rod, tendons, loads, dist = pack_scene(scene)
@@ -217,7 +230,17 @@ def solve_batch(
     )
     packed = (rod, tendons, loads, dist)
     parts = _run_chunks(packed, values, point_loads, distributed, kw, n, chunksize, threads)
-    return _assemble(parts, n, chunksize, options)
+    res = _assemble(parts, n, chunksize, options)
+    raw = {
+        "success": res.success,
+        "tension": res.tension,
+        "formulation": res.formulation,
+        "unknowns": np.concatenate([p["unknowns"] for p in parts]),
+        "steps": np.concatenate([p["steps"] for p in parts]),
+    }
+    found = batch_findings(scene, options, raw, values, point_loads, distributed)
+    plausibility.summarize(found, "tendonrod.solve_batch", where="BatchResult.plausibility")
+    return dataclasses.replace(res, plausibility=found)
 
 
 def _tendon_values(tendons, n, idisp, iten, displacement, tension):
@@ -357,8 +380,11 @@ def _assemble(parts, n, chunksize, options) -> BatchResult:
             "nfev",
             "cold",
             "success",
+            "stable",
         )
     }
+    stable = np.empty(n, dtype=object)
+    stable[:] = [None if v < 0 else bool(v) for v in cat["stable"]]
     message = np.empty(n, dtype=object)
     message[:] = [m for p in parts for m in p["message"]]
     return BatchResult(
@@ -374,6 +400,7 @@ def _assemble(parts, n, chunksize, options) -> BatchResult:
         residual_norm=cat["residual_norm"],
         cold=cat["cold"].astype(bool),
         success=cat["success"].astype(bool),
+        stable=stable,
         formulation=dict(parts[0]["formulation"]),
         chunksize=int(chunksize),
     )

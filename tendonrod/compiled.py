@@ -95,7 +95,9 @@ def _structure_key(scene: Scene, options: Options):
             is_planar(scene),
         )
         object.__setattr__(scene, "_structure", key)
-    return key + (options.force_spatial, options.slack_model)
+    # solved spatially, planar and spatial scenes share one shape
+    planar = key[-1] and not options.force_spatial
+    return key[:-1] + (planar, options.force_spatial, options.slack_model)
 
 
 def is_planar(scene: Scene) -> bool:
@@ -158,16 +160,20 @@ def _first_difference(ka: tuple, kb: tuple) -> str | None:
     return f"{ka[len(kb)][0] if len(ka) > len(kb) else kb[len(ka)][0]} differs"
 
 
-def structure_difference(a: Scene, b: Scene) -> str | None:
+def structure_difference(a: Scene, b: Scene, spatial: bool = False) -> str | None:
     """None if scenes ``a`` and ``b`` share one structure, else the first field that
-    differs, with both values."""
+    differs, with both values.  ``spatial``: both are solved with the spatial
+    formulation (``Options.force_spatial``), so whether each is planar does not matter."""
     if a is b:
         return None
     if a.robot is not b.robot:
         diff = _first_difference(_robot_structure(a.robot), _robot_structure(b.robot))
         if diff is not None:
             return diff
-    return _first_difference(_structure(a), _structure(b))
+    sa, sb = _structure(a), _structure(b)
+    if spatial:  # the last item is the planar formulation
+        sa, sb = sa[:-1], sb[:-1]
+    return _first_difference(sa, sb)
 
 
 def value_vector(scene: Scene) -> np.ndarray:

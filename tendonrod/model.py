@@ -24,7 +24,7 @@ from dataclasses import KW_ONLY, dataclass
 
 import numpy as np
 
-from . import _core
+from . import _core, plausibility
 
 __all__ = ["Rod", "Tendon", "Robot", "PointLoad", "DistributedLoad", "Scene"]
 
@@ -210,6 +210,7 @@ class Rod:
                     else f" (from diameter={self.diameter!r} and {src}={getattr(self, src)!r})"
                 )
                 raise ValueError(f"Rod.{name} = {v!r}{how} must lie in [{lo:g}, {hi:g}]")
+        plausibility.warn(filter(None, [plausibility.slenderness_finding(self)]))
 
     def _effective(self, name: str) -> float | None:
         explicit = getattr(self, name)
@@ -314,6 +315,7 @@ class Tendon:
         if self.end is not None:
             object.__setattr__(self, "end", _length(own, "end", self.end))
         object.__setattr__(self, "pretension", _nonnegative(own, "pretension", self.pretension))
+        plausibility.warn(filter(None, [plausibility.angle_finding(self.angle)]))
 
     @classmethod
     def converging(
@@ -398,6 +400,7 @@ class Robot:
                     f"cannot cross the centre line"
                 )
         self._check_pretension()
+        plausibility.warn(plausibility.offset_findings(self))
 
     @property
     def n_tendons(self) -> int:

@@ -108,6 +108,15 @@ class Options:
     max_time : float
         Wall-clock limit of one solve [s]; 0 (default) for none.  Opt-in and not
         deterministic: where a solve stops depends on the machine.
+    accept_unstable : bool
+        False (default): every solve judges the stability of its answer and never reports
+        success on an unstable equilibrium -- a cold solve that lands on one follows the
+        load path from the unloaded robot instead (breaking a symmetric bifurcation with a
+        small imperfection it names in the message), a warm one continues from its guess;
+        where no stable equilibrium is found the solve fails with the unstable one as data
+        (status 5, :attr:`Solution.stable` False).  True: a converged equilibrium is a
+        success whatever its stability, which the solve does not judge
+        (:attr:`Solution.stable` computes it on first access).
     """
 
     integrator: str = _DEFAULTS["integrator"]
@@ -126,6 +135,7 @@ class Options:
     shooting_segments: int = _DEFAULTS["shooting_segments"]
     max_work: float = _DEFAULTS["max_work"]
     max_time: float = _DEFAULTS["max_time"]
+    accept_unstable: bool = _DEFAULTS["accept_unstable"]
 
     def __post_init__(self):
         own = "Options"
@@ -162,7 +172,7 @@ class Options:
                 rng = f"[{lo:g}, {hi:g})" if lo > 0.0 else f"({lo:g}, {hi:g})"
                 raise ValueError(f"{own}.{name} must be a real number in {rng}, got {v!r}")
             object.__setattr__(self, name, float(v))
-        for name in ("continuation", "force_spatial", "tip_only"):
+        for name in ("continuation", "force_spatial", "tip_only", "accept_unstable"):
             v = getattr(self, name)
             if not isinstance(v, (bool, np.bool_)):
                 raise ValueError(f"{own}.{name} must be True or False, got {v!r}")

@@ -24,6 +24,8 @@ from __future__ import annotations
 import numpy as np
 
 from ._interrupt import current_token
+from ._plausible import Checker
+from ._secant import load_steps, secant_compliance
 from .compiled import (
     _TD,
     _compile,
@@ -60,6 +62,7 @@ class Problem:
         self._c = _compile(scene, self._options)
         self._current = scene  # the scene whose values are set in C
         self._last = None  # the last successful Solution
+        self._plausible = Checker()  # plausibility warnings: once per rule and subject
 
     # ------------------------------------------------------------------ state
     @property
@@ -99,7 +102,7 @@ class Problem:
         """Make ``scene`` (same structure) the one whose values are set in C."""
         if not isinstance(scene, Scene):
             raise ValueError(f"scene must be a tendonrod.Scene, got {scene!r}")
-        diff = structure_difference(self._scene, scene)
+        diff = structure_difference(self._scene, scene, self._options.force_spatial)
         if diff is not None:
             raise ValueError(
                 f"scene has another structure than this Problem: {diff}; a Problem keeps "
@@ -152,6 +155,10 @@ class Problem:
         Returns
         -------
         Solution
+
+        A solution that looks like a slip (:mod:`tendonrod.plausibility`) gives a
+        :class:`~tendonrod.PlausibilityWarning` the first time its rule fires for this
+        problem; every solution lists its own findings in ``plausibility``.
         """
         scene = self._scene if scene is None else scene
         if scene is not self._current:
@@ -161,18 +168,25 @@ class Problem:
         if sol.success:
             self._last = sol
         _report(sol, strict, "tendonrod.Problem.solve", stacklevel=3)
+        self._plausible.check(sol, "tendonrod.Problem.solve", once=True)
         return sol
 
-    def compliance(self, s: float | None = None):
+    def compliance(self, s: float | None = None, *, step=None):
         """Compliance (6, 6) at arc length ``s`` [m] (default: the tip) of the last
-        successful solution (see :func:`tendonrod.compliance`): directly from the
-        workspace when that solution is the workspace's current state, the problem is
-        spatial and ``s`` is a breakpoint (the tip, an anchor or a point load); else by a
-        warm solve of the probe problem from that solution."""
+        successful solution (see :func:`tendonrod.compliance`).  The tangent
+        (``step=None``): directly from the workspace when that solution is the
+        workspace's current state, the problem is spatial and ``s`` is a breakpoint (the
+        tip, an anchor or a point load); else by a warm solve of the probe problem from
+        that solution.  The secant over the load step ``step``: its perturbed scenes
+        solved warm from that solution."""
         if self._last is None:
             raise RuntimeError("Problem.compliance needs a successful solve first")
         L = self._last.scene.robot.rod.length
         s_val = compliance_point(s, L)
+        if step is not None:
+            return compliance(
+                self._last.scene, s_val, guess=self._last, options=self._options, step=step
+            )
         bp = self._c.breakpoints
         here = (
             self._c.last_success
@@ -294,14 +308,17 @@ class Problem:
         return np.asarray(C, dtype=float).reshape(6, 6)
 
 
-def _probe_scene(scene: Scene, s) -> Scene:
-    """``scene`` with a zero point load at each arc length of ``s`` (a float or an array)
-    short of the tip: breakpoints for the probes of a linearisation."""
+def _probe_scene(scene: Scene, s, always: bool = False) -> Scene:
+    """``scene`` with a zero point load at each arc length of ``s`` (a float or an array):
+    breakpoints for the probes of a linearisation or a compliance (the tip is one already,
+    so a point load there only with ``always``)."""
     import dataclasses
 
     L = scene.robot.rod.length
     extra = [
-        PointLoad(s=float(x), force=(0, 0, 0)) for x in np.atleast_1d(s) if x < L * (1 - 1e-12)
+        PointLoad(s=float(x), force=(0, 0, 0))
+        for x in np.atleast_1d(s)
+        if always or x < L * (1 - 1e-12)
     ]
     if not extra:
         return scene
@@ -410,25 +427,56 @@ def compliance_problem(scene: Scene, s: float, options: Options) -> Problem:
 
 
 def compliance(
-    scene: Scene, s: float | None = None, guess=None, options: Options | None = None
+    scene: Scene,
+    s: float | None = None,
+    guess=None,
+    options: Options | None = None,
+    *,
+    step=None,
 ) -> np.ndarray:
-    """Compliance matrix (6, 6) at arc length ``s`` [m] (default: the tip).
+    """Compliance matrix (6, 6) at arc length ``s`` [m] (default: the tip): the tangent
+    (``step=None``) or the secant over a finite load step ``step``.
 
-    Column j is the derivative of ``[dx (3) [m], dtheta (3) [rad]]`` (position and small
-    rotation of the backbone at ``s``, world frame) with respect to component j of
-    ``[force (3) [N], moment (3) [N m]]`` applied at ``s`` in the world frame, linearised
-    at the solved state of ``scene`` with the prescribed tendon displacements and tensions
-    held fixed. Units per block: m/N, m/(N m), rad/N, rad/(N m).
+    Column j is the response of ``[dx (3) [m], dtheta (3) [rad]]`` (position and rotation
+    of the backbone at ``s``, world frame) to component j of ``[force (3) [N], moment (3)
+    [N m]]`` applied at ``s`` in the world frame, with the prescribed tendon displacements
+    and tensions held fixed.  Units per block: m/N, m/(N m), rad/N, rad/(N m).
 
-    One solve of the spatial formulation of ``scene`` (``guess`` and ``options`` as in
-    :func:`solve`; with a breakpoint at ``s``), then the implicit function theorem on
-    its converged shooting system.  If that solve fails, :class:`ConvergenceError` is
-    raised (a linearisation about an unconverged state means nothing).
+    - ``step=None``: the tangent, the derivative at the solved state of ``scene``: one
+      solve of its spatial formulation (``guess`` and ``options`` as in :func:`solve`;
+      with a breakpoint at ``s``), then the implicit function theorem on the converged
+      shooting system.
+    - ``step=h`` (a real number for all six columns, or six: ``[Fx, Fy, Fz]`` [N] and
+      ``[Mx, My, Mz]`` [N m]; signed, nonzero): the secant ``(x(F0 + h_j e_j) - x(F0)) /
+      h_j``, F0 the scene's loads, x(F) the pose at ``s`` under F, ``dtheta`` the rotation
+      vector of ``R(F0 + h_j e_j) R(F0)^T``.  The scene is solved (as above), then each
+      perturbed scene warm from that solution through the same compiled problem; seven
+      solves in all.  Its difference from the tangent is ``h_j x''(F0) / 2 + O(h^2)``.
+
+    When the tangent misleads: it is exact only for loads small enough that the state
+    stays on one smooth branch.  A tendon within a hair of its taut/slack switch (slack by
+    micrometres, or taut with almost no tension) responds one-sidedly: the tangent sees
+    only the side the solution sits on.  A four-tendon robot whose side tendons are slack
+    by 31 um under backbone compression gets the bare rod's out-of-plane tangent, 2.6x
+    softer than the secant at 0.1 N (the tendon takes up its slack and stiffens the
+    robot); the Fig. 17 robot just below its critical load gets the taut tangent, far
+    stiffer than it is over any load step that crosses the switch.  Near a limit point
+    or buckling the tangent is large or negative.  For a design figure at a given load,
+    ask for the secant at that load step, with the sign the load has.
+
+    If a solve fails, :class:`ConvergenceError` is raised (a linearisation about an
+    unconverged state means nothing, nor does a secant to one).
     """
     options = _check_options(options)
     if not isinstance(scene, Scene):
         raise ValueError(f"scene must be a tendonrod.Scene, got {scene!r}")
     s_val = compliance_point(s, scene.robot.rod.length)
+    if step is not None:
+        steps = load_steps(step)
+        # an output node at s (a recording reads the pose there; the solves record nothing)
+        opts = _replace(options, force_spatial=True, tip_only=False, nodes=np.array([s_val]))
+        prob = Problem(_probe_scene(scene, s_val, always=True), opts)
+        return secant_compliance(prob, guess, s_val, steps)
     prob = compliance_problem(scene, s_val, options)
     sol = Solution(prob._run(guess), scene, prob.options)
     if not sol.success:

@@ -35,7 +35,7 @@ def _verification_of(guess: Solution, scene: Scene, options: Options):
         return None
     if any(getattr(guess.options, f) != getattr(options, f) for f in _VERIFICATION_OPTIONS):
         return None
-    if structure_difference(guess.scene, scene) is not None:
+    if structure_difference(guess.scene, scene, options.force_spatial) is not None:
         return None
     return (int(guess.raw["formulation"]["steps"]), float(guess.raw["verified_estimate"]), xv)
 
@@ -86,7 +86,9 @@ class Solution:
         The core's verdict: the residual fell below ``options.tol`` on an equilibrium the
         solver vouches for, status >= 0 except 3 (found by a direct solve after load
         continuation stalled, and not confirmed by a cold solve with another shooting
-        formulation; a confirmed one is status 4, the message says which).
+        formulation; a confirmed one is status 4, the message says which) and 5 (an
+        unstable equilibrium, and no stable one was reached: see :attr:`stable` and
+        ``Options.accept_unstable``).
     status : int
         Core status: 0 ok, > 0 finished with a caveat, < 0 failure.
     message : str
@@ -227,23 +229,28 @@ class Solution:
     # ------------------------------------------------------------ stability
     # Whether the solution is a strict local minimum of the total potential energy among
     # the configurations that hold the base and the prescribed displacements: the
-    # constrained Hessian of a discretised energy (bench/results/stability_design.md),
-    # computed in C on first access from the solution's unknowns.
-    def _stability(self) -> dict:
+    # constrained Hessian of a discretised energy (bench/results/stability_design.md).
+    # Every converged solve judges it in C (its verdict is in raw["stability_verdict"],
+    # the margin NaN where a quick test decided); with Options(accept_unstable=True) it
+    # is computed on first access; the margin, where the verdict lacks it, too.
+    def _stability(self, margin: bool = False) -> dict:
         raw = self.raw
         st = raw.get("stability_verdict")
-        if st is None:
-            if self.unknowns is None or not self.success:
-                st = {
+        if st is None or (margin and math.isnan(st["stability"]) and st["stable"] is not None):
+            if self.unknowns is None or self.status < 0:
+                full = {
                     "stable": None,
                     "stability": math.nan,
                     "index": -1,
-                    "reason": "not tested: no solution" if not self.success else "not tested",
+                    "reason": "not tested: no solution",
                 }
             else:
                 steps = max(1, int(raw["formulation"]["steps"]))
-                st = _compile(self.scene, self.options).stability(self.unknowns, steps)
-            raw["stability_verdict"] = st
+                full = _compile(self.scene, self.options).stability(self.unknowns, steps)
+            if st is None:
+                st = raw["stability_verdict"] = full
+            else:
+                st["stability"] = full["stability"]
         return st
 
     @property
@@ -266,7 +273,7 @@ class Solution:
         critical point or along a symmetry; NaN where not tested).  For a straight
         cantilever under a compressive dead load P it is (pi^2/4)(1 - P/P_E), P_E the
         Euler load pi^2 EI / (4 L^2)."""
-        return self._stability()["stability"]
+        return self._stability(margin=True)["stability"]
 
     @property
     def stability_index(self) -> int:
@@ -345,6 +352,20 @@ class Solution:
         if scalar:
             return RodState(float(ss[0]), pos[0], rot[0], frc[0], mom[0])
         return RodState(ss, pos, rot, frc, mom)
+
+    @property
+    def plausibility(self) -> tuple:
+        """The :class:`~tendonrod.plausibility.Finding` s of this solution: its scene's input
+        findings (angle, slenderness, offset) and, for a successful solve, those of the
+        solution (tension vs EI/r^2, backbone strain, curl, self-intersection); ``()``
+        when all is plausible.  Computed on first access (``tr.solve`` and
+        ``Problem.solve`` compute it to warn); see :mod:`tendonrod.plausibility`."""
+        found = self.__dict__.get("_plausibility")
+        if found is None:
+            from ._plausible import solution_findings
+
+            found = solution_findings(self)
+        return found
 
     def __repr__(self):
         head = "converged" if self.success else "NOT converged"

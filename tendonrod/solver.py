@@ -63,8 +63,14 @@ def solve(
     Returns
     -------
     Solution
+
+    A solution that looks like a slip (backbone strain over 2 %, a curl beyond 360 deg,
+    a backbone through itself, a tension near EI/r^2) gives a
+    :class:`~tendonrod.PlausibilityWarning`; ``sol.plausibility`` lists the findings
+    (:mod:`tendonrod.plausibility`).
     """
     prob = Problem(scene, options)
     sol = Solution(prob._run(guess), scene, prob.options)
     _report(sol, strict, "tendonrod.solve", stacklevel=3)
+    prob._plausible.check(sol, "tendonrod.solve", once=False)
     return sol

@@ -78,11 +78,13 @@ from ._sweep_chunk import (
     STATUS_NONE,
     _BuildFailure,
     _run_chunk,
+    _stable_value,
     sweep_can_batch,
 )
 from ._sweep_file import append_line, fingerprint_of, open_progress
 from ._sweep_paths import _parse_path, get_path, set_path
 from .options import Options, _check_options
+from .plausibility import Finding, PlausibilityWarning, summarize
 from .results import ConvergenceWarning
 from .solver import compliance
 
@@ -114,32 +116,48 @@ _DEFAULT_LIST_CHUNK = 32
 # what is recorded per point
 # --------------------------------------------------------------------------
 def tip_measure(scene: Any, sol: Any) -> dict:
-    """Default per-point record: tip pose, tendon tensions, slacks, displacements."""
+    """Default per-point record: tip pose, tendon tensions, slacks, displacements, and the
+    stability verdict the solve judged (``stable``: 1.0 stable, 0.0 unstable, NaN not
+    judged -- ``Solution.stable`` None, or ``Options(accept_unstable=True)``, where the
+    sweep does not pay for a verdict the solve skipped)."""
+    verdict = sol.raw.get("stability_verdict")
     return {
         "tip_position": np.asarray(sol.tip_position, dtype=float),  # (3,) world [m]
         "tip_rotation": np.asarray(sol.tip_rotation, dtype=float),  # (3, 3) body-to-world
         "tension": np.asarray(sol.tension, dtype=float),  # (nt,) [N]
         "slack": np.asarray(sol.slack, dtype=float),  # (nt,) [m]
         "displacement": np.asarray(sol.displacement, dtype=float),  # (nt,) [m]
+        "stable": _stable_value(None if verdict is None else verdict["stable"]),
     }
 
 
 @dataclass(frozen=True)
 class ComplianceMeasure:
-    """Per-point record of ``tr.compliance(scene, s)`` for each s in ``s``.
+    """Per-point record of ``tr.compliance(scene, s)`` for each s in ``s``: the tangent,
+    the secant over the load step ``step``, or both.
 
-    Records ``"compliance"`` with shape (len(s), 6, 6) (world frame; rows
-    [dx, dtheta], columns [force, moment]) plus the :func:`tip_measure`
-    fields.  A picklable callable, so it works with process pools.
+    Records ``"compliance"`` (the tangent, when ``tangent``) and, when ``step`` is
+    given, ``"secant_compliance"`` (``tr.compliance(scene, s, step=step)``), each with
+    shape (len(s), 6, 6) (world frame; rows [dx, dtheta], columns [force, moment]), plus
+    the :func:`tip_measure` fields.  ``step``: a signed load step, one for all columns or
+    six ([N], [N m]); the tangent misleads near a tendon's slack switch or a limit point
+    (:func:`tendonrod.compliance`).  Picklable, so it works with process pools.
     """
 
     s: tuple = (None,)
+    step: Any = None
+    tangent: bool = True
 
     def __call__(self, scene, sol):
         out = tip_measure(scene, sol)
-        out["compliance"] = np.stack(
-            [np.asarray(compliance(scene, s=s), dtype=float) for s in self.s]
-        )
+        if self.tangent:
+            out["compliance"] = np.stack(
+                [np.asarray(compliance(scene, s=s), dtype=float) for s in self.s]
+            )
+        if self.step is not None:
+            out["secant_compliance"] = np.stack(
+                [np.asarray(compliance(scene, s=s, step=self.step), dtype=float) for s in self.s]
+            )
         return out
 
 
@@ -183,6 +201,10 @@ class SweepResult:
         NaN where a point raised.
     chunksize : int
         Points per warm-started chunk (results depend on it).
+    plausibility : ndarray of object, shape ``shape``
+        Each point's plausibility findings, a tuple of
+        :class:`~tendonrod.plausibility.Finding` (as ``Solution.plausibility``; ``()``
+        where all is plausible or the point did not run).
     """
 
     names: tuple
@@ -194,6 +216,7 @@ class SweepResult:
     nit: np.ndarray
     data: dict
     chunksize: int
+    plausibility: np.ndarray | None = None
 
     @property
     def success(self) -> np.ndarray:
@@ -294,6 +317,11 @@ def sweep(
     Returns
     -------
     SweepResult
+
+    Points that look like a slip (:mod:`tendonrod.plausibility`) give one
+    :class:`~tendonrod.PlausibilityWarning` per rule and subject for the whole sweep (how
+    many points, the worst and its index), never one per point;
+    ``SweepResult.plausibility`` lists every point's findings.
     """
     names, shape, point_values = _points(vary, grid)
     npoints = len(point_values)
@@ -332,7 +360,14 @@ def sweep(
             t["batch"] = True
     bar = _progress_bar(progress, npoints, done)
     _run(tasks, done, fh, bar, executor, max_workers)
-    return _assemble(names, shape, point_values, done, npoints, chunksize)
+    res = _assemble(names, shape, point_values, done, npoints, chunksize)
+    summarize(
+        res.plausibility.ravel().tolist(),
+        "tendonrod.sweep",
+        index=lambda i: f"index {tuple(int(j) for j in np.unravel_index(i, res.shape))}",
+        where="SweepResult.plausibility",
+    )
+    return res
 
 
 def _count(name: str, value) -> int:
@@ -383,18 +418,26 @@ def _build_scenes(base, names, point_values, build) -> list:
     """The scene of every point, built in the parent (cheap); a failed build becomes a
     :class:`_BuildFailure`, recorded as an error when its chunk runs."""
     scenes: list = []
-    for pv in point_values:
-        try:
-            if build is not None:
-                scene = build(base, **dict(zip(names, pv)))
-            else:
-                scene = base
-                for n, v in zip(names, pv):
-                    scene = set_path(scene, n, v)
-            scenes.append(scene)
-        except Exception as exc:  # noqa: BLE001 - recorded as a failed point
-            scenes.append(_BuildFailure(f"{type(exc).__name__}: {exc}"))
+    # a dataclass built here warns of its plausibility findings; they are per point data
+    # (the points' findings), summarised once the sweep ends
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", PlausibilityWarning)
+        for pv in point_values:
+            scenes.append(_build_one(base, names, pv, build))
     return scenes
+
+
+def _build_one(base, names, pv, build):
+    """The scene of one point, or a :class:`_BuildFailure`."""
+    try:
+        if build is not None:
+            return build(base, **dict(zip(names, pv)))
+        scene = base
+        for n, v in zip(names, pv):
+            scene = set_path(scene, n, v)
+        return scene
+    except Exception as exc:  # noqa: BLE001 - recorded as a failed point
+        return _BuildFailure(f"{type(exc).__name__}: {exc}")
 
 
 def _tasks(scenes, chunksize, done, measure, options, warm_start) -> list:
@@ -449,6 +492,7 @@ def _run(tasks, done, fh, bar, executor, max_workers) -> None:
     try:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", ConvergenceWarning)
+            warnings.simplefilter("ignore", PlausibilityWarning)  # summarised at the end
             _drive(executor, tasks, done, fh, bar)
     finally:
         if own and executor is not None:
@@ -500,6 +544,8 @@ def _assemble(names, shape, point_values, done, npoints, chunksize) -> SweepResu
     message[:] = "not run"
     nit = np.full(npoints, -1, dtype=np.int64)
     items: list = [None] * npoints
+    found = np.empty(npoints, dtype=object)
+    found.fill(())
     for recs in done.values():
         for r in recs:
             i = int(r["i"])
@@ -508,6 +554,8 @@ def _assemble(names, shape, point_values, done, npoints, chunksize) -> SweepResu
             message[i] = r["message"]
             nit[i] = r["nit"]
             items[i] = r["data"]
+            # (files written before plausibility findings were recorded have none)
+            found[i] = tuple(Finding.from_dict(f) for f in r.get("plausibility", ()))
     keys: list = []
     item_shapes: dict = {}
     for it in items:
@@ -552,4 +600,5 @@ def _assemble(names, shape, point_values, done, npoints, chunksize) -> SweepResu
         nit=nit.reshape(shape),
         data=data,
         chunksize=chunksize,
+        plausibility=found.reshape(shape),
     )

@@ -543,7 +543,11 @@ def test_fig17_compliance_jumps_after_slack():
 
 def test_fig18_opposing_pretensioned_tendon_stays_taut():
     """Fig. 18: a second, opposing tendon with pretension (Cosserat backbone, so the
-    pretension is defined); actuate by tension to 90 deg, lock the actuators, load 0.5 N."""
+    pretension is defined); actuate by tension to 90 deg, lock the actuators, load 0.5 N.
+    The loaded planar equilibrium is unstable out of its plane (lateral buckling: the
+    pair locks the tip angle while the load compresses the proximal half at about twice
+    the Euler load): the default solve says so and the in-plane comparison below is made
+    with accept_unstable (test_fig18_loaded_state_buckles_out_of_plane)."""
     tau_p = 2.0
     robot = tr.Robot(
         COSS17,
@@ -561,6 +565,7 @@ def test_fig18_opposing_pretensioned_tendon_stays_taut():
     loaded = quiet_solve(
         tr.Scene(robot, displacement=list(q), loads=[tr.PointLoad(s=L17, force=(0, 0, -0.5))]),
         guess=locked,
+        options=tr.Options(accept_unstable=True),
     )
     assert np.all(loaded.tension > 0) and np.all(loaded.slack == 0)
     # both taut: s_2 - s_1 = 2 r theta_L is fixed by the locked actuators (the backbone's
@@ -584,6 +589,39 @@ def test_fig18_opposing_pretensioned_tendon_stays_taut():
     d_two = np.linalg.norm(loaded.tip_position - act.tip_position)
     d_one = np.linalg.norm(single.tip_position - quiet_solve(_fig17_scene(0.0)).tip_position)
     assert d_two < d_one, (d_two, d_one)  # measured: 65 mm vs 113 mm
+
+
+def test_fig18_loaded_state_buckles_out_of_plane():
+    """The Fig. 18 robot (opposing pretensioned pair locked at 90 deg) under 0.5 N: the
+    planar equilibrium has one unstable mode.  Independent check: the tangent compliance
+    (the implicit-function route on the shooting Jacobian, not the energy Hessian) has a
+    negative out-of-plane entry, C_yy < 0 -- the tip moves against a lateral force.  The
+    default planar solve does not report it as a success and says how to leave the plane;
+    the spatial solve with a 1 mN lateral imperfection reaches a stable, laterally
+    buckled state far from the plane."""
+    tau_p = 2.0
+    robot = tr.Robot(
+        COSS17,
+        [
+            tr.Tendon(offset=R_OFF, pretension=tau_p),
+            tr.Tendon(offset=R_OFF, angle=np.pi, pretension=tau_p),
+        ],
+    )
+    d_tau = EI17 * (math.pi / 2) / (R_OFF * L17)
+    q = quiet_solve(tr.Scene(robot, tension=[tau_p + d_tau, tau_p])).displacement
+    scene = tr.Scene(robot, displacement=list(q), loads=[tr.PointLoad(s=L17, force=(0, 0, -0.5))])
+    anyway = tr.Options(accept_unstable=True)
+    planar = tr.solve(scene, options=anyway, strict=True)
+    assert planar.stable is False and planar.stability_index == 1
+    C = tr.compliance(scene, options=anyway)
+    assert C[1, 1] < 0, C[1, 1]  # measured -0.78 m/N
+    with pytest.warns(tr.ConvergenceWarning, match="force_spatial"):
+        default = tr.solve(scene)
+    assert not default.success and default.status == 5 and default.stable is False
+    side = tr.Scene(robot, displacement=list(q), loads=[tr.PointLoad(s=L17, force=(0, 1e-3, -0.5))])
+    out = tr.solve(side, options=tr.Options(force_spatial=True), strict=True)
+    assert out.stable is True
+    assert abs(out.tip_position[1]) > 0.25 * L17  # measured 109 mm: buckled out of plane
 
 
 # =============================================================== balance, round trips, formulation

@@ -99,11 +99,12 @@ def test_carried_bound_is_honest_along_a_sweep(make):
 
 
 def test_a_far_jump_verifies_again():
-    """From 1x to 4x the load in one warm solve the unknowns move far: no carry."""
+    """From 1x to 3x the load in one warm solve the unknowns move far: no carry.  (At 4x
+    the planar state is unstable out of its plane: lateral buckling, C_yy < 0.)"""
     scene = fig11a()
     prob = tr.Problem(scene)
     prob.solve(strict=True)
-    sol = prob.solve(with_load(scene, 4.0), strict=True)
+    sol = prob.solve(with_load(scene, 3.0), strict=True)
     assert not sol.truncation_carried
     assert sol.truncation_estimate <= TOL
 

@@ -16,6 +16,7 @@ from ..options import Options
 from ..solver import compliance
 from . import references as refs
 from .common import FIG11, EI_of, rod_of, solve_quiet
+from .stress_plausible import plausibility_cases
 from .stress_ramps import ramp_fig17, ramp_large_load
 
 __all__ = ["StressCase", "stress_cases", "one_tendon_scene", "KAPPA_R_LIMIT", "KAPPA_R_WORDS"]
@@ -536,6 +537,7 @@ _GROUPS = (
     _slenderness_cases,
     _offset_cases,
     _tiny_cases,
+    lambda: plausibility_cases(StressCase),
 )
 
 
