@@ -35,10 +35,11 @@ from ._actuation_target import Target
 from ._interrupt import current_token
 from .compiled import is_planar
 from .model import Scene
-from .options import _check_options
+from .options import _check_options, _replace
 from .problem import Problem
 from .results import ConvergenceError, ConvergenceWarning
 from .solution import Solution
+from .solver import solve
 
 __all__ = ["actuate", "ActuationResult"]
 
@@ -155,7 +156,9 @@ class _Run:
         self.scene, self.options, self.target = scene, options, target
         self.idx, self.scale = idx, scale
         self.k = tau_scale / q_scale
-        self.prob = Problem(scene, options)
+        # the iterates are not judged for stability (a verdict per iterate would cost more
+        # than the iterate); the state returned is, by a solve with the caller's options
+        self.prob = Problem(scene, _replace(options, accept_unstable=True))
         self.solves = self.jacobians = 0
 
     def solve(self, c, guess=None):
@@ -386,11 +389,26 @@ def _take_up_slack(run, sol, r, D, c):
     return s2, r2, D2, cn
 
 
+def _judged(run, sol, r):
+    """The final state solved again, warm from itself, with the caller's options, which
+    judge its stability: (that solution, its target residual), or (the failed solve, r)
+    when the equilibrium reaching the target is unstable (its message says so)."""
+    run.solves += 1
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", ConvergenceWarning)
+        final = solve(sol.scene, guess=sol, options=run.options)
+    if not final.success:
+        return final, r
+    return final, run.target.residual(final)[0]
+
+
 def _finish(
     sol, c, r, report, constrained, active, lam, mus, iterations, converged, tol, strict, why
 ):
     """The returned Solution: the final equilibrium with ``actuation`` and the verdict."""
     run, kind = report["run"], report["kind"]
+    if sol.success and r is not None and not run.options.accept_unstable:
+        sol, r = _judged(run, sol, r)
     distance = float(np.abs(r).max()) if r is not None else math.inf
     reached = distance <= tol
     optimal = report.get("optimal", False)

@@ -389,6 +389,8 @@ def test_result_record():
     assert rec.controls.shape == (1,) and rec.controls[0] == sol.displacement[0]
     assert rec.residual.shape == (1,) and rec.distance <= 1e-10 and rec.reached
     assert rec.solves >= rec.iterations >= 1
+    # the iterates are solved without a stability verdict; the state returned has one
+    assert sol.stable is True and sol.options.accept_unstable is False
     # one displacement control for one component: solved inside the shooting system, with
     # no linearisation
     assert rec.route == "augmented" and rec.jacobians == 0
