@@ -408,6 +408,7 @@ typedef struct tr_data {
     int lu_sign;               /* sign of det J at the last tr_lu_factor (0: singular) */
     /* the verdict of the last successful solve, kept by a warm solve close to it */
     int carry_valid, carry_stable, carry_index, carry_det;
+    int stab_kept;       /* 1: this solve's verdict was kept from the last one */
     double carry_gap;    /* no eigenvalue of the verdict within this of zero [EI/L] */
     double carry_margin; /* its margin [EI/L] (NaN: not computed) */
     double *carry_x;     /* (k) its scaled unknowns */

@@ -17,9 +17,10 @@
  *   2. an unstable answer not reached along the load path follows the load path from the
  *      unloaded robot (tr_continuation);
  *   3. where that path ends unstable too (a symmetric bifurcation lies on it), a small tip
- *      imperfection (TR_IMPERFECTION EI/L^2 along the tip's body x, then y, then a moment
- *      TR_IMPERFECTION EI/L about its tangent; in-plane only for a planar model) breaks
- *      the symmetry along the load path and is then removed along the branch (lam_imp);
+ *      imperfection (TR_IMPERFECTION EI/L^2 along the tip's body x, y and the two
+ *      diagonals, then a moment TR_IMPERFECTION EI/L about its tangent; in-plane only for
+ *      a planar model) breaks the symmetry along the load path and is then removed along
+ *      the branch (lam_imp);
  *   4. where none of these reaches a stable equilibrium, the first unstable one is handed
  *      back with TR_UNSTABLE, not a success, and a message that says what was tried.
  */
@@ -91,13 +92,15 @@ void tr_branch_keep(const tr_model *m, tr_data *d)
     d->carry_margin = d->stability;
     memcpy(d->carry_x, d->x, (size_t)d->k * sizeof(double));
     values_of(m, d->carry_val, NULL);
-    snprintf(d->carry_reason, sizeof d->carry_reason, "%s", d->stab_reason);
+    /* a verdict kept from an earlier solve keeps that solve's words */
+    if (!d->stab_kept) snprintf(d->carry_reason, sizeof d->carry_reason, "%s", d->stab_reason);
 }
 
 /* The verdict of the current unknowns: kept from the last successful solve when close to
  * it (may_carry), else judged afresh. */
 static void judge(const tr_model *m, tr_data *d, int may_carry)
 {
+    d->stab_kept = 0;
     if (may_carry && d->carry_valid && d->have_J && tr_lu_factor(d) == 0 &&
         d->lu_sign == d->carry_det) {
         double change = values_of(m, NULL, d->carry_val), scaled;
@@ -110,6 +113,7 @@ static void judge(const tr_model *m, tr_data *d, int may_carry)
             d->stab_index = d->carry_index;
             d->stab_gap = d->carry_gap - scaled;
             d->stability = NAN;
+            d->stab_kept = 1;
             snprintf(d->stab_reason, sizeof d->stab_reason,
                      "%.180s (kept from the solve this one started from: a scaled change of "
                      "%.2g)",
@@ -164,26 +168,33 @@ static int from_guess(const tr_model *m, tr_data *d)
     return settle(m, d, status);
 }
 
+/* The imperfections tried in turn, in the tip's body frame: a force along x, y and the
+ * two diagonals (a robot with tendons is not isotropic: its stable buckled branch may lie
+ * between the axes), then a moment about the tangent. */
+#define TR_N_IMPERFECTIONS 5
+static const double imperfection_dir[TR_N_IMPERFECTIONS][3] = {
+    {1.0, 0.0, 0.0},
+    {0.0, 1.0, 0.0},
+    {0.70710678118654752, 0.70710678118654752, 0.0},
+    {0.70710678118654752, -0.70710678118654752, 0.0},
+    {0.0, 0.0, 1.0}};
+
 /* Load continuation with imperfection `which` at the tip (R: the tip rotation of the
  * unstable answer), then its removal.  *what: a description for the message. */
 static int imperfect(const tr_model *m, tr_data *d, int which, const double *R, char *what,
                      size_t len)
 {
-    const double F = TR_IMPERFECTION * m->F_s, M = TR_IMPERFECTION * m->M_s;
+    const int force = which < TR_N_IMPERFECTIONS - 1;
+    const double size = TR_IMPERFECTION * (force ? m->F_s : m->M_s);
     const int saved = d->jac_method;
+    double u[3];
     int c, status;
     d->probe_bp = m->nseg;
     for (c = 0; c < 6; c++) d->probe[c] = 0.0;
-    for (c = 0; c < 3; c++) {
-        if (which < 2)
-            d->probe[c] = F * R[3 * c + which];
-        else
-            d->probe[3 + c] = M * R[3 * c + 2];
-    }
+    tru_matvec3(u, R, imperfection_dir[which]);
+    for (c = 0; c < 3; c++) d->probe[(force ? 0 : 3) + c] = size * u[c];
     snprintf(what, len, "a tip %s of %.3g %s along the world direction (%.3f, %.3f, %.3f)",
-             which < 2 ? "force" : "moment", which < 2 ? F : M, which < 2 ? "N" : "N m",
-             R[which < 2 ? which : 2], R[3 + (which < 2 ? which : 2)],
-             R[6 + (which < 2 ? which : 2)]);
+             force ? "force" : "moment", size, force ? "N" : "N m", u[0], u[1], u[2]);
     d->lam_imp = 0.0;
     status = tr_continuation(m, d);
     if (status == TR_OK) {
@@ -274,13 +285,19 @@ static int via_load_path(const tr_model *m, tr_data *d, alt_ctx *a)
 static int via_imperfection(const tr_model *m, tr_data *d, alt_ctx *a)
 {
     double p[3], R[9];
+    char last[TR_MSGLEN] = "no tip pose";
     int which;
     memcpy(d->x, d->x_alt, (size_t)d->k * sizeof(double));
     tip_pose(m, d, p, R);
-    for (which = 0; which < (m->planar ? 1 : 3) && isfinite(p[0]) && !d->stop; which++) {
+    for (which = 0; which < (m->planar ? 1 : TR_N_IMPERFECTIONS) && isfinite(p[0]) && !d->stop;
+         which++) {
         char imp[160];
-        if (imperfect(m, d, which, R, imp, sizeof imp) != TR_OK) continue;
+        if (imperfect(m, d, which, R, imp, sizeof imp) != TR_OK) {
+            snprintf(last, sizeof last, "%s", d->message);
+            continue;
+        }
         judge(m, d, 0);
+        snprintf(last, sizeof last, "it ends unstable");
         if (d->stable != 0) {
             snprintf(d->branch_note, sizeof d->branch_note,
                      "the %s solve reached %s, and the load path from the unloaded robot "
@@ -291,7 +308,7 @@ static int via_imperfection(const tr_model *m, tr_data *d, alt_ctx *a)
         }
     }
     tried(a, "; tip imperfections did not lead to a stable equilibrium either (the last: %.300s)",
-          d->stable == 0 ? "it ends unstable" : d->message);
+          last);
     return 0;
 }
 

@@ -32,6 +32,7 @@ void tr_solve_reset(const tr_model *m, tr_data *d, int steps)
     d->jac_method = d->opt.jacobian_method;
     d->nfev_confirm = 0;
     d->stable = d->stab_index = -1;
+    d->stab_kept = 0;
     d->stability = NAN;
     d->stab_gap = 0.0;
     d->branch_note[0] = '\0';

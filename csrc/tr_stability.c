@@ -4,13 +4,12 @@
  * validation: bench/results/stability_design.md).
  *
  * The solution is recorded at the nodes of a grid (uniform plus every breakpoint); the
- * coordinates are each node's body-frame rotation perturbation (and, on a Cosserat
- * rod, its position perturbation), the base clamped.  Per element: bending and torsion
- * from the log of the relative rotation; on a Kirchhoff rod the position follows the
- * element's midpoint direction (dead loads act through the force beyond each element),
- * on a Cosserat rod shear and extension from the chord in the midpoint frame (dead
- * loads are then linear in the coordinates); each taut tendon adds its tension times
- * the length of its polyline through the eyelets.  A displacement-controlled tendon
+ * coordinates are each node's body-frame rotation perturbation (and, with Cosserat
+ * elements, its position perturbation), the base clamped.  The element energies are
+ * tr_element.c's; Kirchhoff elements serve Cosserat rods too (they keep a symmetry's zero
+ * mode exact; shear and extension move the margin by ~EI/(GA L^2) of the load scale),
+ * Cosserat elements only where the tendon constraints are dependent on the Kirchhoff
+ * ones.  A displacement-controlled tendon
  * adds EA/l (g g^T) for its stretch (finite EA) or makes g^T x = 0 a constraint
  * (inextensible), g the gradient of its length.  Element Hessians come exact to
  * round-off from hyper-dual numbers (tr_hd.h); the Hessian is block tridiagonal plus
@@ -18,7 +17,9 @@
  * and Haynsworth's inertia additivity, and the margin (the smallest eigenvalue in the
  * norm (1/L) int |dtheta|^2 + |dp|^2/L^2 ds, scaled by EI/L) from a bisection on the
  * inertia of H - lambda M.  The margin at half the elements gives the discretisation
- * error; a margin within it is "critical", one at round-off level "neutral".
+ * error; a margin within it is "critical", one at round-off level "neutral".  The quick
+ * test (tr_stability_quick) decides from the inertia at +-band on a coarse grid alone
+ * where no eigenvalue lies near zero, and leaves the margin to the full test.
  */
 #include <math.h>
 #include <stdio.h>
@@ -26,6 +27,7 @@
 #include <string.h>
 
 #include "tendonrod.h"
+#include "tr_element.h"
 #include "tr_hd.h"
 #include "tr_internal.h"
 #include "tru_math.h"
@@ -48,226 +50,6 @@
 /* The largest element rotation the grid may carry [rad]: keeps the discretisation in
  * its second-order regime (finer grids are built until it holds). */
 #define TR_STAB_MAX_ROT 0.35
-
-/* ------------------------------------------------------------ element energy */
-#define NB_MAX TR_BTD_MAXB /* coordinates per node: rotation (3), position (3) if Cosserat */
-
-typedef struct {
-    const tr_model *m;
-    int cosserat;
-    double h, sa, sb;      /* element length, arc lengths of its nodes [m] */
-    const double *Ra, *Rb; /* (9) rotations of its nodes, body-to-world, row-major */
-    const double *pa, *pb; /* (3) positions [m] */
-    double F[3];           /* Kirchhoff: dead force beyond the element, world [N] */
-    double vhat[3];        /* Cosserat: the strain at which the element's shear and
-                                 extension are free, set so that its internal force at the
-                                 recorded state is the solution's (see assemble) */
-    const double *tau;     /* (nt) tensions [N] */
-} elem;
-
-/* R (I + e^ + e^2/2): a rotation perturbed by the body-frame rotation vector e whose
- * value part is zero (exact in hyper-dual arithmetic: e^3 vanishes).  With
- * (e^2)_ij = e_i e_j - delta_ij |e|^2, and R constant, no product of two hyper-duals
- * but the six e_i e_j is needed. */
-static void perturbed(tr_hd *out, const double *R, const tr_hd *e)
-{
-    tr_hd P[9], ee[6];
-    int i, j, k;
-    ee[0] = hd_mul(e[0], e[0]), ee[1] = hd_mul(e[1], e[1]), ee[2] = hd_mul(e[2], e[2]);
-    ee[3] = hd_mul(e[0], e[1]), ee[4] = hd_mul(e[0], e[2]), ee[5] = hd_mul(e[1], e[2]);
-    /* I + e^ + (e e^T - |e|^2 I) / 2 */
-    P[0] = hd_add(hd_c(1.0), hd_scale(hd_add(ee[1], ee[2]), -0.5));
-    P[4] = hd_add(hd_c(1.0), hd_scale(hd_add(ee[0], ee[2]), -0.5));
-    P[8] = hd_add(hd_c(1.0), hd_scale(hd_add(ee[0], ee[1]), -0.5));
-    P[1] = hd_sub(hd_scale(ee[3], 0.5), e[2]), P[3] = hd_add(hd_scale(ee[3], 0.5), e[2]);
-    P[2] = hd_add(hd_scale(ee[4], 0.5), e[1]), P[6] = hd_sub(hd_scale(ee[4], 0.5), e[1]);
-    P[5] = hd_sub(hd_scale(ee[5], 0.5), e[0]), P[7] = hd_add(hd_scale(ee[5], 0.5), e[0]);
-    for (i = 0; i < 3; i++)
-        for (j = 0; j < 3; j++) {
-            tr_hd acc = hd_c(0.0);
-            for (k = 0; k < 3; k++) acc = hd_add(acc, hd_scale(P[3 * k + j], R[3 * i + k]));
-            out[3 * i + j] = acc;
-        }
-}
-
-/* The rotation vector of Q (log map), smooth through Q = I. */
-static void rot_log(tr_hd *w, const tr_hd *Q)
-{
-    tr_hd v[3], s2, f;
-    const tr_hd cc = hd_scale(hd_sub(hd_add(hd_add(Q[0], Q[4]), Q[8]), hd_c(1.0)), 0.5);
-    v[0] = hd_scale(hd_sub(Q[7], Q[5]), 0.5);
-    v[1] = hd_scale(hd_sub(Q[2], Q[6]), 0.5);
-    v[2] = hd_scale(hd_sub(Q[3], Q[1]), 0.5);
-    s2 = hd_dot3(v, v);
-    if (s2.v < 1e-6 && cc.v > 0.0) {
-        /* theta / sin(theta) = asin(x) / x, x^2 = s2: its series (the x^10 term < 1e-16) */
-        f = hd_add(hd_c(35.0 / 1152.0), hd_scale(s2, 63.0 / 2816.0));
-        f = hd_add(hd_c(5.0 / 112.0), hd_mul(s2, f));
-        f = hd_add(hd_c(3.0 / 40.0), hd_mul(s2, f));
-        f = hd_add(hd_c(1.0 / 6.0), hd_mul(s2, f));
-        f = hd_add(hd_c(1.0), hd_mul(s2, f));
-    } else {
-        const tr_hd sn = hd_sqrt(s2);
-        f = hd_div(hd_atan2(sn, cc), sn);
-    }
-    w[0] = hd_mul(f, v[0]), w[1] = hd_mul(f, v[1]), w[2] = hd_mul(f, v[2]);
-}
-
-/* exp(W^) e3 for a rotation vector W, smooth through W = 0. */
-static void exp_e3(tr_hd *out, const tr_hd *W)
-{
-    const tr_hd p2 = hd_dot3(W, W);
-    tr_hd A, B;
-    if (p2.v < 1e-4) {
-        A = hd_add(
-            hd_c(1.0),
-            hd_mul(p2, hd_add(hd_c(-1.0 / 6.0),
-                              hd_mul(p2, hd_add(hd_c(1.0 / 120.0), hd_scale(p2, -1.0 / 5040.0))))));
-        B = hd_add(hd_c(0.5), hd_mul(p2, hd_add(hd_c(-1.0 / 24.0),
-                                                hd_mul(p2, hd_add(hd_c(1.0 / 720.0),
-                                                                  hd_scale(p2, -1.0 / 40320.0))))));
-    } else {
-        const tr_hd p = hd_sqrt(p2);
-        const tr_hd sp = hd_fn(p, sin(p.v), cos(p.v), -sin(p.v));
-        const tr_hd cp = hd_fn(p, cos(p.v), -sin(p.v), -cos(p.v));
-        A = hd_div(sp, p);
-        B = hd_div(hd_sub(hd_c(1.0), cp), p2);
-    }
-    out[0] = hd_add(hd_mul(A, W[1]), hd_mul(B, hd_mul(W[0], W[2])));
-    out[1] = hd_add(hd_scale(hd_mul(A, W[0]), -1.0), hd_mul(B, hd_mul(W[1], W[2])));
-    out[2] = hd_add(hd_c(1.0), hd_mul(B, hd_sub(hd_mul(W[2], W[2]), p2)));
-}
-
-/* Eyelet offset of tendon t at arc length s, body frame [m]. */
-static void eyelet(double *r, const tr_tendon *t, double s)
-{
-    const double rho = t->a * s + t->b;
-    r[0] = rho * t->cphi, r[1] = rho * t->sphi, r[2] = 0.0;
-}
-
-/* The kinematics of element e at the perturbations xa, xb of its nodes: the node
- * rotations, Ra^T, the relative rotation vector w, W = w / 2 and the midpoint
- * direction d = Ra exp(W^) e3 (world). */
-typedef struct {
-    tr_hd Ra[9], Rb[9], Ra_t[9], w[3], W[3], d[3];
-} kin;
-
-static void elem_kin(const elem *e, const tr_hd *xa, const tr_hd *xb, kin *k)
-{
-    tr_hd Q[9], dm[3];
-    int i, c;
-    perturbed(k->Ra, e->Ra, xa);
-    perturbed(k->Rb, e->Rb, xb);
-    for (i = 0; i < 3; i++)
-        for (c = 0; c < 3; c++) k->Ra_t[3 * i + c] = k->Ra[3 * c + i];
-    hd_matmul3(Q, k->Ra_t, k->Rb);
-    rot_log(k->w, Q);
-    for (c = 0; c < 3; c++) k->W[c] = hd_scale(k->w[c], 0.5);
-    exp_e3(dm, k->W);
-    hd_matvec3(k->d, k->Ra, dm);
-}
-
-/* Rm^T x for the midpoint frame Rm = Ra exp(W^): exp(-W^) Ra^T x.  The columns of
- * exp(-W^): its image of e3 from exp_e3, of e1 and e2 by a cyclic relabelling of the
- * axes (a proper rotation of the coordinates). */
-static void mid_t(const kin *k, const tr_hd *x, tr_hd *out)
-{
-    tr_hd y[3], Wn[3], Wp[3], col[3], e1[3], e2[3], E3[9];
-    int c;
-    hd_matvec3(y, k->Ra_t, x);
-    for (c = 0; c < 3; c++) Wn[c] = hd_scale(k->W[c], -1.0);
-    Wp[0] = Wn[1], Wp[1] = Wn[2], Wp[2] = Wn[0];
-    exp_e3(col, Wp); /* exp(-W^) e1 in the relabelled axes (y, z, x) */
-    e1[0] = col[2], e1[1] = col[0], e1[2] = col[1];
-    Wp[0] = Wn[2], Wp[1] = Wn[0], Wp[2] = Wn[1];
-    exp_e3(col, Wp); /* exp(-W^) e2 in the axes (z, x, y) */
-    e2[0] = col[1], e2[1] = col[2], e2[2] = col[0];
-    exp_e3(col, Wn);
-    for (c = 0; c < 3; c++) E3[3 * c] = e1[c], E3[3 * c + 1] = e2[c], E3[3 * c + 2] = col[c];
-    hd_matvec3(out, E3, y);
-}
-
-/* The centre line's chord of element e: p_b - p_a (Cosserat coordinates), or h d. */
-static void centre_chord(const elem *e, const kin *k, const tr_hd *xa, const tr_hd *xb,
-                         tr_hd *chord)
-{
-    int c;
-    for (c = 0; c < 3; c++)
-        chord[c] = e->cosserat ? hd_sub(hd_add(hd_c(e->pb[c]), xb[3 + c]),
-                                        hd_add(hd_c(e->pa[c]), xa[3 + c]))
-                               : hd_scale(k->d[c], e->h);
-}
-
-/* Cosserat: the strain v = Rm^T (p_b - p_a) / h of element e. */
-static void cosserat_strain(const elem *e, const tr_hd *xa, const tr_hd *xb, tr_hd *v)
-{
-    kin k;
-    tr_hd chord[3];
-    int c;
-    elem_kin(e, xa, xb, &k);
-    centre_chord(e, &k, xa, xb, chord);
-    mid_t(&k, chord, v);
-    for (c = 0; c < 3; c++) v[c] = hd_scale(v[c], 1.0 / e->h);
-}
-
-/* Rm^T x at the recorded state (no perturbation), x world. */
-static void midframe_t(const elem *e, const double *x, double *out)
-{
-    kin k;
-    tr_hd xz[NB_MAX], xh[3], o[3];
-    int c;
-    for (c = 0; c < NB_MAX; c++) xz[c] = hd_c(0.0);
-    elem_kin(e, xz, xz, &k);
-    for (c = 0; c < 3; c++) xh[c] = hd_c(x[c]);
-    mid_t(&k, xh, o);
-    for (c = 0; c < 3; c++) out[c] = o[c].v;
-}
-
-/* Energy of element e as a function of the perturbations xa, xb (nb each) of its
- * nodes; only == -1: the whole energy, only >= 0: the length of tendon only's chord. */
-static tr_hd elem_energy(const elem *e, const tr_hd *xa, const tr_hd *xb, int only)
-{
-    const tr_model *m = e->m;
-    const double K[3] = {m->EI, m->EI, m->GJ};
-    tr_hd E = hd_c(0.0), chord[3];
-    kin k;
-    int i, c;
-    elem_kin(e, xa, xb, &k);
-    centre_chord(e, &k, xa, xb, chord);
-    if (only < 0) {
-        for (c = 0; c < 3; c++) E = hd_add(E, hd_scale(hd_mul(k.w[c], k.w[c]), 0.5 * K[c] / e->h));
-        if (e->cosserat) {
-            const double ks[3] = {m->GA, m->GA, m->EA};
-            tr_hd v[3];
-            mid_t(&k, chord, v);
-            for (c = 0; c < 3; c++) {
-                const tr_hd dv = hd_sub(hd_scale(v[c], 1.0 / e->h), hd_c(e->vhat[c]));
-                E = hd_add(E, hd_scale(hd_mul(dv, dv), 0.5 * e->h * ks[c]));
-            }
-        } else {
-            /* dead loads through the element's direction: -h F . d */
-            for (c = 0; c < 3; c++) E = hd_sub(E, hd_scale(k.d[c], e->h * e->F[c]));
-        }
-    }
-    for (i = 0; i < m->nt; i++) {
-        const tr_tendon *t = m->tendon + i;
-        double ra[3], rb[3];
-        tr_hd Rra[3], Rrb[3], ci[3], rah[3], rbh[3], len;
-        if (only >= 0 && i != only) continue;
-        if (only < 0 && !(e->tau[i] > 0.0)) continue;
-        if (!(e->sb <= t->t * (1.0 + 1e-12))) continue;
-        eyelet(ra, t, e->sa);
-        eyelet(rb, t, e->sb);
-        for (c = 0; c < 3; c++) rah[c] = hd_c(ra[c]), rbh[c] = hd_c(rb[c]);
-        hd_matvec3(Rra, k.Ra, rah);
-        hd_matvec3(Rrb, k.Rb, rbh);
-        for (c = 0; c < 3; c++) ci[c] = hd_sub(hd_add(chord[c], Rrb[c]), Rra[c]);
-        len = hd_sqrt(hd_dot3(ci, ci));
-        if (only >= 0) return len;
-        E = hd_add(E, hd_scale(len, e->tau[i]));
-    }
-    return only >= 0 ? hd_c(0.0) : E;
-}
 
 /* ------------------------------------------------------------ the workspace */
 struct tr_stab_ws {
@@ -369,7 +151,7 @@ static struct tr_stab_ws *stab_alloc(const tr_model *m, const tr_options *opt, i
 
 /* ------------------------------------------------------------ assembly */
 /* Element k of the level (nodes w->node[k], w->node[k + 1]) at the configuration. */
-static void element(const tr_model *m, const struct tr_stab_ws *w, int k, elem *e)
+static void element(const tr_model *m, const struct tr_stab_ws *w, int k, tr_elem *e)
 {
     const int a = w->node[k], b = w->node[k + 1];
     int c;
@@ -396,7 +178,7 @@ static int level_setup(const tr_model *m, const tr_data *d, struct tr_stab_ws *w
         const double hn = k + 2 < nn ? w->s[w->node[k + 2]] - w->s[b] : 0.0;
         const double *Ra = w->R + 9 * a, *Rb = w->R + 9 * b;
         double Qtr = 0.0;
-        elem e;
+        tr_elem e;
         for (j = 1; j <= m->nseg; j++)
             if (m->bp[j] == w->s[b])
                 for (c = 0; c < 3; c++) Fb[c] += d->lam_load * m->bpF[3 * j + c];
@@ -411,13 +193,13 @@ static int level_setup(const tr_model *m, const tr_data *d, struct tr_stab_ws *w
              * state is the solution's at the element's middle, n_b = K_se (v - vhat). */
             const double *fa = w->rec->force + 3 * a, *fb = w->rec->force + 3 * b;
             const double ks[3] = {m->GA, m->GA, m->EA};
-            tr_hd xz[NB_MAX], v0[3];
+            tr_hd xz[TR_ELEM_NB], v0[3];
             double nbody[3], nw[3];
             element(m, w, k, &e);
-            for (c = 0; c < NB_MAX; c++) xz[c] = hd_c(0.0);
-            cosserat_strain(&e, xz, xz, v0);
+            for (c = 0; c < TR_ELEM_NB; c++) xz[c] = hd_c(0.0);
+            tr_elem_strain(&e, xz, xz, v0);
             for (c = 0; c < 3; c++) nw[c] = 0.5 * (fa[c] + fb[c]);
-            midframe_t(&e, nw, nbody);
+            tr_elem_midframe_t(&e, nw, nbody);
             for (c = 0; c < 3; c++) w->vhat[3 * k + c] = v0[c].v - nbody[c] / ks[c];
         }
     }
@@ -454,8 +236,8 @@ static void assemble(const tr_model *m, struct tr_stab_ws *w, int nn, int nb)
     }
     for (k = 0; k < nn - 1; k++) {
         const int off = k > 0 ? nb : 0, ne = off + nb;
-        tr_hd xa[NB_MAX], xb[NB_MAX];
-        elem e;
+        tr_hd xa[TR_ELEM_NB], xb[TR_ELEM_NB];
+        tr_elem e;
         int p, q;
         element(m, w, k, &e);
         for (p = 0; p < ne; p++)
@@ -471,7 +253,7 @@ static void assemble(const tr_model *m, struct tr_stab_ws *w, int nn, int nb)
                     xa[q].b += 1.0;
                 else
                     xb[q - off].b += 1.0;
-                E = elem_energy(&e, xa, xb, -1);
+                E = tr_elem_energy(&e, xa, xb, -1);
                 /* scatter: coordinate p of node a (p < off, block k - 1) or b (block k) */
                 bp_ = p < off ? k - 1 : k, ip = p < off ? p : p - off;
                 bq_ = q < off ? k - 1 : k, iq = q < off ? q : q - off;
@@ -499,7 +281,7 @@ static void assemble(const tr_model *m, struct tr_stab_ws *w, int nn, int nb)
                     xa[p].a = 1.0;
                 else
                     xb[p - off].a = 1.0;
-                h->B[(bp_ * nb + ip) * nbord + w->col[i]] += elem_energy(&e, xa, xb, i).a;
+                h->B[(bp_ * nb + ip) * nbord + w->col[i]] += tr_elem_energy(&e, xa, xb, i).a;
             }
         }
     }
@@ -590,7 +372,8 @@ static double stiffness_scale(const tr_model *m, const tr_data *d)
 }
 
 /* The margin of one level (the grid nodes of kind >= min_kind) and the count of negative
- * modes; refine: first move to the discrete equilibrium.  *coarse: too few elements. */
+ * modes; refine: first move to the discrete equilibrium.  *coarse: 1 too few elements, 2
+ * the bordered constraints are dependent on these elements (no count). */
 static double level_margin(const tr_model *m, const tr_data *d, struct tr_stab_ws *w, int min_kind,
                            int refine, int *index, int *coarse)
 {
@@ -607,6 +390,10 @@ static double level_margin(const tr_model *m, const tr_data *d, struct tr_stab_w
     if (refine) discrete_equilibrium(m, w, nn, nb);
     neg = tr_btd_count(&w->h, 0.0, &sing);
     if (sing) neg = tr_btd_count(&w->h, -1e-9, &sing);
+    if (sing) {
+        *coarse = 2;
+        return NAN;
+    }
     if (index) *index = neg;
     return tr_btd_smallest(&w->h, neg > 0);
 }
@@ -660,9 +447,13 @@ static void slack_side_note(const tr_model *m, tr_data *d)
 /* The full test: the model's own elements, refined near zero (sets the margin). */
 static void verdict_full(const tr_model *m, tr_data *d)
 {
-    const int cosserat = !m->kirchhoff;
-    int nuni = d->stab ? d->stab->nuni : TR_STAB_ELEMENTS, coarse, st, refine = 0;
-    double mf = NAN, mc = NAN, err;
+    /* Kirchhoff elements, on a Cosserat rod too (they keep a symmetry's zero mode exact,
+     * which the Cosserat elements resolve only to their discretisation error; shear and
+     * extension move the margin by ~(1 + stiffness scale) EI/(GA L^2)), unless the
+     * bordered constraints are dependent on them (opposing inextensible tendons held by
+     * the backbone's extension): then the Cosserat elements */
+    int cosserat = 0, nuni = d->stab ? d->stab->nuni : TR_STAB_ELEMENTS, coarse, st, refine = 0;
+    double mf = NAN, mc = NAN, err, reduction = 0.0;
     struct tr_stab_ws *w;
     for (;;) {
         w = stab_ws(m, d, &d->stab, nuni, cosserat);
@@ -685,6 +476,15 @@ static void verdict_full(const tr_model *m, tr_data *d)
         mc = mf;
         if (!coarse && refine) mc = level_margin(m, d, w, 1, 1, NULL, &coarse);
         if (!coarse) break;
+        if (coarse == 2) {
+            if (cosserat || m->kirchhoff) {
+                snprintf(d->stab_reason, sizeof d->stab_reason,
+                         "not tested: the tendon constraints are dependent");
+                return;
+            }
+            cosserat = 1, refine = 0;
+            continue;
+        }
         if (2 * nuni > TR_STAB_MAX_ELEMENTS) {
             snprintf(d->stab_reason, sizeof d->stab_reason,
                      "not tested: the backbone turns too much for %d elements", nuni);
@@ -694,7 +494,10 @@ static void verdict_full(const tr_model *m, tr_data *d)
     }
     /* the discretisation error from half the elements (second order: the finer margin is
      * off by about a third of the change) */
-    err = fabs(mf - mc) / 3.0;
+    if (!m->kirchhoff && !cosserat)
+        reduction =
+            (1.0 + stiffness_scale(m, d)) * m->EI * (1.0 / m->GA + 1.0 / m->EA) / (m->L * m->L);
+    err = fabs(mf - mc) / 3.0 + reduction;
     d->stability = mf;
     if (fabs(mf) <= TR_STAB_NEUTRAL) {
         d->stable = 1;

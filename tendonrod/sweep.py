@@ -17,10 +17,9 @@ Order, chunks, warm starts, determinism
     converged solution, so a chunk is a continuation path (sweep a load from
     zero upwards along the last axis and large loads become reachable).  Each
     chunk starts cold.  Results therefore depend only on the order and the
-    chunking, never on the number of workers or on which worker ran which
-    chunk: bitwise identical for the same chunking.  The default chunk is one
-    line of the last axis (grid) or 32 points (list) -- independent of the
-    machine, so that results are too.
+    chunking, never on the workers: bitwise identical for the same chunking.
+    The default chunk is one line of the last axis (grid) or 32 points (list)
+    -- independent of the machine, so that results are too.
 
 Parallelism
     Chunks are handed to a :class:`concurrent.futures.Executor`; by default a
@@ -48,11 +47,10 @@ Failures
     interrupted before the point ran.  ``status`` (int16) is the solver core's
     status of the point's solve (:attr:`tendonrod.Solution.status`, or
     ``BatchResult.status`` on the batch path): 0 ok, > 0 converged with a caveat
-    (3, an equilibrium off the load path that was not confirmed, is not a
-    success), < 0 failed; :data:`STATUS_NONE` (-1000) where no solve returned.
-    The outcome is taken from the solve's ``success``, never from the status
-    number, so a status with a caveat can be :data:`OUTCOME_OK`.  The
-    ``message`` is the solver's or the exception's.  No failure stops the sweep.
+    (3 off the load path and unconfirmed, 5 unstable: not successes), < 0 failed;
+    :data:`STATUS_NONE` (-1000) where no solve returned.  The outcome follows the
+    solve's ``success``; ``message`` is the solver's or the exception's.  No
+    failure stops the sweep.
 """
 
 from __future__ import annotations
@@ -116,18 +114,16 @@ _DEFAULT_LIST_CHUNK = 32
 # what is recorded per point
 # --------------------------------------------------------------------------
 def tip_measure(scene: Any, sol: Any) -> dict:
-    """Default per-point record: tip pose, tendon tensions, slacks, displacements, and the
-    stability verdict the solve judged (``stable``: 1.0 stable, 0.0 unstable, NaN not
-    judged -- ``Solution.stable`` None, or ``Options(accept_unstable=True)``, where the
-    sweep does not pay for a verdict the solve skipped)."""
-    verdict = sol.raw.get("stability_verdict")
+    """Default per-point record: tip pose, tendon tensions, slacks, displacements and the
+    solve's stability verdict (1.0 / 0.0, NaN where None or not judged)."""
+    verdict = sol.raw.get("stability_verdict") or {"stable": None}
     return {
         "tip_position": np.asarray(sol.tip_position, dtype=float),  # (3,) world [m]
         "tip_rotation": np.asarray(sol.tip_rotation, dtype=float),  # (3, 3) body-to-world
         "tension": np.asarray(sol.tension, dtype=float),  # (nt,) [N]
         "slack": np.asarray(sol.slack, dtype=float),  # (nt,) [m]
         "displacement": np.asarray(sol.displacement, dtype=float),  # (nt,) [m]
-        "stable": _stable_value(None if verdict is None else verdict["stable"]),
+        "stable": _stable_value(verdict["stable"]),
     }
 
 

@@ -62,12 +62,8 @@ def test_perfect_column_goes_to_the_exact_elastica(kirchhoff, f):
     sol = tr.solve(column(rod, P), strict=True)
     assert sol.success and "broke the symmetry" in sol.message
     # the buckled state may turn about the load's line: an exact zero mode, resolved to
-    # round-off on the Kirchhoff discretisation (neutral: stable); on the Cosserat one the
-    # margin stays at the size of its discretisation error (4.5e-4 EI/L): "critical"
-    if kirchhoff:
-        assert sol.stable is True and abs(sol.stability) <= 1e-7
-    else:
-        assert sol.stable is None and "critical" in sol.stability_reason
+    # round-off (the test's Kirchhoff elements, on the Cosserat rod too): neutral, stable
+    assert sol.stable is True and abs(sol.stability) <= 1e-7
     x, z, _ = refs.elastica_compressive(rod.length, rod.bending_stiffness, P)
     tol = (1e-8 if kirchhoff else 5e-5) * rod.length
     assert abs(math.hypot(*sol.tip_position[:2]) - abs(x)) < tol

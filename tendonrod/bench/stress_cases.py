@@ -16,6 +16,7 @@ from ..options import Options
 from ..solver import compliance
 from . import references as refs
 from .common import FIG11, EI_of, rod_of, solve_quiet
+from .stress_buckling import buckling_cases
 from .stress_plausible import plausibility_cases
 from .stress_ramps import ramp_fig17, ramp_large_load
 
@@ -67,6 +68,14 @@ def one_tendon_scene(
 #: so no valid equilibrium is reachable; the solver must say so.
 KAPPA_R_LIMIT = {("90deg", "transverse-x"), ("90deg", "axial+z"), ("straight", "transverse-x")}
 KAPPA_R_WORDS = ("curvature", "1/r", "centre of curvature", "center of curvature", "ei/r")
+#: In-plane transverse loads whose planar equilibrium is unstable out of the plane
+#: (measured: one negative mode, C_theta_x < 0 on the straight robot; the spatial solve
+#: with a 1e-3 lateral load finds a stable state 25-49 mm out of the plane).
+LATERAL = {
+    ("90deg", "transverse-x", 10.0),
+    ("straight", "transverse-x", 10.0),
+    ("straight", "transverse-x", 30.0),
+}
 
 
 def stress_cases() -> list[StressCase]:
@@ -187,6 +196,12 @@ def _load_cases() -> list[StressCase]:
                 ):
                     # (the 90 deg robot under -x reaches tau = EI/r^2 at F L^2/EI ~ 26 on its path)
                     wp, words = False, KAPPA_R_WORDS
+                elif (tl, lab, mag) in LATERAL:
+                    # in-plane transverse loads that the taut tendon resists: the planar
+                    # equilibrium is unstable out of its plane (lateral buckling; the
+                    # spatial solve with a small lateral load reaches a stable, laterally
+                    # buckled state): a planar solve must say so
+                    wp, words = False, ("force_spatial",)
                 elif mag == 100.0 and (tl, lab) == ("90deg", "transverse+x"):
                     # the tendon goes nearly slack and the path snaps at F L^2/EI ~ 58
                     # (limit point); no continuous loading path reaches 100
@@ -538,6 +553,7 @@ _GROUPS = (
     _offset_cases,
     _tiny_cases,
     lambda: plausibility_cases(StressCase),
+    lambda: buckling_cases(StressCase),
 )
 
 

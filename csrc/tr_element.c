@@ -1,0 +1,216 @@
+/*
+ * tr_element.c -- one element of the discretised rod (tr_element.h): bending and torsion
+ * from the log of the relative rotation of its nodes; on a Kirchhoff element the position
+ * follows the midpoint direction (dead loads act through the force beyond the element),
+ * on a Cosserat one shear and extension from the chord in the midpoint frame; each taut
+ * tendon adds its tension times the length of its chord between the eyelets.  Exact to
+ * round-off in hyper-dual arithmetic, so that its Hessian is too.
+ */
+#include <math.h>
+
+#include "tr_element.h"
+#include "tru_math.h"
+
+/* R (I + e^ + e^2/2): a rotation perturbed by the body-frame rotation vector e whose
+ * value part is zero (exact in hyper-dual arithmetic: e^3 vanishes).  With
+ * (e^2)_ij = e_i e_j - delta_ij |e|^2, and R constant, no product of two hyper-duals
+ * but the six e_i e_j is needed. */
+static void perturbed(tr_hd *out, const double *R, const tr_hd *e)
+{
+    tr_hd P[9], ee[6];
+    int i, j, k;
+    ee[0] = hd_mul(e[0], e[0]), ee[1] = hd_mul(e[1], e[1]), ee[2] = hd_mul(e[2], e[2]);
+    ee[3] = hd_mul(e[0], e[1]), ee[4] = hd_mul(e[0], e[2]), ee[5] = hd_mul(e[1], e[2]);
+    /* I + e^ + (e e^T - |e|^2 I) / 2 */
+    P[0] = hd_add(hd_c(1.0), hd_scale(hd_add(ee[1], ee[2]), -0.5));
+    P[4] = hd_add(hd_c(1.0), hd_scale(hd_add(ee[0], ee[2]), -0.5));
+    P[8] = hd_add(hd_c(1.0), hd_scale(hd_add(ee[0], ee[1]), -0.5));
+    P[1] = hd_sub(hd_scale(ee[3], 0.5), e[2]), P[3] = hd_add(hd_scale(ee[3], 0.5), e[2]);
+    P[2] = hd_add(hd_scale(ee[4], 0.5), e[1]), P[6] = hd_sub(hd_scale(ee[4], 0.5), e[1]);
+    P[5] = hd_sub(hd_scale(ee[5], 0.5), e[0]), P[7] = hd_add(hd_scale(ee[5], 0.5), e[0]);
+    for (i = 0; i < 3; i++)
+        for (j = 0; j < 3; j++) {
+            tr_hd acc = hd_c(0.0);
+            for (k = 0; k < 3; k++) acc = hd_add(acc, hd_scale(P[3 * k + j], R[3 * i + k]));
+            out[3 * i + j] = acc;
+        }
+}
+
+/* The rotation vector of Q (log map), smooth through Q = I. */
+static void rot_log(tr_hd *w, const tr_hd *Q)
+{
+    tr_hd v[3], s2, f;
+    const tr_hd cc = hd_scale(hd_sub(hd_add(hd_add(Q[0], Q[4]), Q[8]), hd_c(1.0)), 0.5);
+    v[0] = hd_scale(hd_sub(Q[7], Q[5]), 0.5);
+    v[1] = hd_scale(hd_sub(Q[2], Q[6]), 0.5);
+    v[2] = hd_scale(hd_sub(Q[3], Q[1]), 0.5);
+    s2 = hd_dot3(v, v);
+    if (s2.v < 1e-6 && cc.v > 0.0) {
+        /* theta / sin(theta) = asin(x) / x, x^2 = s2: its series (the x^10 term < 1e-16) */
+        f = hd_add(hd_c(35.0 / 1152.0), hd_scale(s2, 63.0 / 2816.0));
+        f = hd_add(hd_c(5.0 / 112.0), hd_mul(s2, f));
+        f = hd_add(hd_c(3.0 / 40.0), hd_mul(s2, f));
+        f = hd_add(hd_c(1.0 / 6.0), hd_mul(s2, f));
+        f = hd_add(hd_c(1.0), hd_mul(s2, f));
+    } else {
+        const tr_hd sn = hd_sqrt(s2);
+        f = hd_div(hd_atan2(sn, cc), sn);
+    }
+    w[0] = hd_mul(f, v[0]), w[1] = hd_mul(f, v[1]), w[2] = hd_mul(f, v[2]);
+}
+
+/* exp(W^) e3 for a rotation vector W, smooth through W = 0. */
+static void exp_e3(tr_hd *out, const tr_hd *W)
+{
+    const tr_hd p2 = hd_dot3(W, W);
+    tr_hd A, B;
+    if (p2.v < 1e-4) {
+        A = hd_add(
+            hd_c(1.0),
+            hd_mul(p2, hd_add(hd_c(-1.0 / 6.0),
+                              hd_mul(p2, hd_add(hd_c(1.0 / 120.0), hd_scale(p2, -1.0 / 5040.0))))));
+        B = hd_add(hd_c(0.5), hd_mul(p2, hd_add(hd_c(-1.0 / 24.0),
+                                                hd_mul(p2, hd_add(hd_c(1.0 / 720.0),
+                                                                  hd_scale(p2, -1.0 / 40320.0))))));
+    } else {
+        const tr_hd p = hd_sqrt(p2);
+        const tr_hd sp = hd_fn(p, sin(p.v), cos(p.v), -sin(p.v));
+        const tr_hd cp = hd_fn(p, cos(p.v), -sin(p.v), -cos(p.v));
+        A = hd_div(sp, p);
+        B = hd_div(hd_sub(hd_c(1.0), cp), p2);
+    }
+    out[0] = hd_add(hd_mul(A, W[1]), hd_mul(B, hd_mul(W[0], W[2])));
+    out[1] = hd_add(hd_scale(hd_mul(A, W[0]), -1.0), hd_mul(B, hd_mul(W[1], W[2])));
+    out[2] = hd_add(hd_c(1.0), hd_mul(B, hd_sub(hd_mul(W[2], W[2]), p2)));
+}
+
+/* Eyelet offset of tendon t at arc length s, body frame [m]. */
+static void eyelet(double *r, const tr_tendon *t, double s)
+{
+    const double rho = t->a * s + t->b;
+    r[0] = rho * t->cphi, r[1] = rho * t->sphi, r[2] = 0.0;
+}
+
+/* The kinematics of element e at the perturbations xa, xb of its nodes: the node
+ * rotations, Ra^T, the relative rotation vector w, W = w / 2 and the midpoint
+ * direction d = Ra exp(W^) e3 (world). */
+typedef struct {
+    tr_hd Ra[9], Rb[9], Ra_t[9], w[3], W[3], d[3];
+} kin;
+
+static void elem_kin(const tr_elem *e, const tr_hd *xa, const tr_hd *xb, kin *k)
+{
+    tr_hd Q[9], dm[3];
+    int i, c;
+    perturbed(k->Ra, e->Ra, xa);
+    perturbed(k->Rb, e->Rb, xb);
+    for (i = 0; i < 3; i++)
+        for (c = 0; c < 3; c++) k->Ra_t[3 * i + c] = k->Ra[3 * c + i];
+    hd_matmul3(Q, k->Ra_t, k->Rb);
+    rot_log(k->w, Q);
+    for (c = 0; c < 3; c++) k->W[c] = hd_scale(k->w[c], 0.5);
+    exp_e3(dm, k->W);
+    hd_matvec3(k->d, k->Ra, dm);
+}
+
+/* Rm^T x for the midpoint frame Rm = Ra exp(W^): exp(-W^) Ra^T x.  The columns of
+ * exp(-W^): its image of e3 from exp_e3, of e1 and e2 by a cyclic relabelling of the
+ * axes (a proper rotation of the coordinates). */
+static void mid_t(const kin *k, const tr_hd *x, tr_hd *out)
+{
+    tr_hd y[3], Wn[3], Wp[3], col[3], e1[3], e2[3], E3[9];
+    int c;
+    hd_matvec3(y, k->Ra_t, x);
+    for (c = 0; c < 3; c++) Wn[c] = hd_scale(k->W[c], -1.0);
+    Wp[0] = Wn[1], Wp[1] = Wn[2], Wp[2] = Wn[0];
+    exp_e3(col, Wp); /* exp(-W^) e1 in the relabelled axes (y, z, x) */
+    e1[0] = col[2], e1[1] = col[0], e1[2] = col[1];
+    Wp[0] = Wn[2], Wp[1] = Wn[0], Wp[2] = Wn[1];
+    exp_e3(col, Wp); /* exp(-W^) e2 in the axes (z, x, y) */
+    e2[0] = col[1], e2[1] = col[2], e2[2] = col[0];
+    exp_e3(col, Wn);
+    for (c = 0; c < 3; c++) E3[3 * c] = e1[c], E3[3 * c + 1] = e2[c], E3[3 * c + 2] = col[c];
+    hd_matvec3(out, E3, y);
+}
+
+/* The centre line's chord of element e: p_b - p_a (Cosserat coordinates), or h d. */
+static void centre_chord(const tr_elem *e, const kin *k, const tr_hd *xa, const tr_hd *xb,
+                         tr_hd *chord)
+{
+    int c;
+    for (c = 0; c < 3; c++)
+        chord[c] = e->cosserat ? hd_sub(hd_add(hd_c(e->pb[c]), xb[3 + c]),
+                                        hd_add(hd_c(e->pa[c]), xa[3 + c]))
+                               : hd_scale(k->d[c], e->h);
+}
+
+/* Cosserat: the strain v = Rm^T (p_b - p_a) / h of element e. */
+void tr_elem_strain(const tr_elem *e, const tr_hd *xa, const tr_hd *xb, tr_hd *v)
+{
+    kin k;
+    tr_hd chord[3];
+    int c;
+    elem_kin(e, xa, xb, &k);
+    centre_chord(e, &k, xa, xb, chord);
+    mid_t(&k, chord, v);
+    for (c = 0; c < 3; c++) v[c] = hd_scale(v[c], 1.0 / e->h);
+}
+
+/* Rm^T x at the recorded state (no perturbation), x world. */
+void tr_elem_midframe_t(const tr_elem *e, const double *x, double *out)
+{
+    kin k;
+    tr_hd xz[TR_ELEM_NB], xh[3], o[3];
+    int c;
+    for (c = 0; c < TR_ELEM_NB; c++) xz[c] = hd_c(0.0);
+    elem_kin(e, xz, xz, &k);
+    for (c = 0; c < 3; c++) xh[c] = hd_c(x[c]);
+    mid_t(&k, xh, o);
+    for (c = 0; c < 3; c++) out[c] = o[c].v;
+}
+
+/* Energy of element e as a function of the perturbations xa, xb (nb each) of its
+ * nodes; only == -1: the whole energy, only >= 0: the length of tendon only's chord. */
+tr_hd tr_elem_energy(const tr_elem *e, const tr_hd *xa, const tr_hd *xb, int only)
+{
+    const tr_model *m = e->m;
+    const double K[3] = {m->EI, m->EI, m->GJ};
+    tr_hd E = hd_c(0.0), chord[3];
+    kin k;
+    int i, c;
+    elem_kin(e, xa, xb, &k);
+    centre_chord(e, &k, xa, xb, chord);
+    if (only < 0) {
+        for (c = 0; c < 3; c++) E = hd_add(E, hd_scale(hd_mul(k.w[c], k.w[c]), 0.5 * K[c] / e->h));
+        if (e->cosserat) {
+            const double ks[3] = {m->GA, m->GA, m->EA};
+            tr_hd v[3];
+            mid_t(&k, chord, v);
+            for (c = 0; c < 3; c++) {
+                const tr_hd dv = hd_sub(hd_scale(v[c], 1.0 / e->h), hd_c(e->vhat[c]));
+                E = hd_add(E, hd_scale(hd_mul(dv, dv), 0.5 * e->h * ks[c]));
+            }
+        } else {
+            /* dead loads through the element's direction: -h F . d */
+            for (c = 0; c < 3; c++) E = hd_sub(E, hd_scale(k.d[c], e->h * e->F[c]));
+        }
+    }
+    for (i = 0; i < m->nt; i++) {
+        const tr_tendon *t = m->tendon + i;
+        double ra[3], rb[3];
+        tr_hd Rra[3], Rrb[3], ci[3], rah[3], rbh[3], len;
+        if (only >= 0 && i != only) continue;
+        if (only < 0 && !(e->tau[i] > 0.0)) continue;
+        if (!(e->sb <= t->t * (1.0 + 1e-12))) continue;
+        eyelet(ra, t, e->sa);
+        eyelet(rb, t, e->sb);
+        for (c = 0; c < 3; c++) rah[c] = hd_c(ra[c]), rbh[c] = hd_c(rb[c]);
+        hd_matvec3(Rra, k.Ra, rah);
+        hd_matvec3(Rrb, k.Rb, rbh);
+        for (c = 0; c < 3; c++) ci[c] = hd_sub(hd_add(chord[c], Rrb[c]), Rra[c]);
+        len = hd_sqrt(hd_dot3(ci, ci));
+        if (only >= 0) return len;
+        E = hd_add(E, hd_scale(len, e->tau[i]));
+    }
+    return only >= 0 ? hd_c(0.0) : E;
+}
