@@ -213,6 +213,9 @@ typedef struct tr_tendon {
     int len_index;     /* slot of its path-length excess (path length minus the reference
                           sref, integrated as |w| - |w_ref| without cancellation) in the
                           shooting state, -1 if none */
+    int target_row;    /* -1, or the row of the model's target whose residual takes the place
+                          of this displacement-controlled tendon's length constraint (its
+                          displacement then follows from the solution; tr_model_set_target) */
     double t0[3];      /* unit tangent at s = 0 of the straight robot, body frame */
     double rt0[3];     /* r(0) x t0, body frame [m] */
 } tr_tendon;
@@ -252,6 +255,11 @@ typedef struct tr_model {
                                    TR_EINDETERMINATE, TR_ENOEQUILIBRIUM, TR_EPRETENSION;
                                    tr_solve then fails at once with scene_message */
     char scene_message[512]; /* the message for scene_status */
+    int target_kind;         /* TR_TARGET_NONE, or the tip target whose rows replace the length
+                                constraints of the tendons with target_row >= 0 */
+    double target[9];        /* angle: theta [rad]; position: p (3) world [m]; direction: the
+                                unit tip tangent (3) world and a unit basis b1 (3), b2 (3) of
+                                the plane normal to it */
 } tr_model;
 
 /* Compile a scene.  rod = [L, EI, GJ, EA, GA, kirchhoff]; tendons (nt x 8) rows
@@ -281,6 +289,22 @@ int tr_model_set_values(tr_model *m, const double *value, const double *load, co
  * recomputed and the scene checks redone (m->scene_status).  TR_EINVAL with a message
  * when a value is not finite or negative; the model is then unchanged. */
 int tr_model_set_pretension(tr_model *m, const double *pretension, char *msg, size_t msglen);
+/* Inverse actuation inside the shooting system: the kinds of tip target. */
+enum tr_target_kind {
+    TR_TARGET_NONE = 0,
+    TR_TARGET_ANGLE = 1,     /* planar: the tip angle theta [rad] (unwrapped), 1 component */
+    TR_TARGET_DIRECTION = 2, /* spatial: the tip tangent (3, normalised), 2 components */
+    TR_TARGET_POSITION = 3   /* spatial: the tip position (3) world [m], 3 components */
+};
+/* Replace the length constraints of the n displacement-controlled tendons `tendons` by
+ * the residuals of a tip target (values: theta, or 3 numbers), one component each (n
+ * must be the target's component count); TR_TARGET_NONE restores every constraint.
+ * Their prescribed displacements then only start the solve; tr_solve reports the
+ * displacements the solution needs.  TR_EINVAL with a message for a kind this
+ * formulation lacks, a wrong count, a tendon that is not displacement-controlled, or
+ * values that are not finite; the model is then unchanged. */
+int tr_model_set_target(tr_model *m, int kind, const double *values, const int *tendons, int n,
+                        char *msg, size_t msglen);
 /* 1 when a scene of these flat arrays (as for tr_model_alloc) lies in the x-z plane:
  * every tendon at |sin phi| <= TR_PLANAR_SIN, no load with Fy, Mx or Mz, dist_y = 0. */
 int tr_is_planar(const double *tendons, int nt, const double *loads, int nl, const double dist[3]);
@@ -308,16 +332,18 @@ typedef struct tr_data {
     int jac_method;  /* tr_jacobian_method in use (continuation: TR_JAC_NEWTON) */
     int steps_moved; /* 1 once the step verification ran: polish the residual below tol */
     /* evaluation context */
-    double lam_act;         /* continuation: actuation (q, prescribed tau) scaled by it */
-    double lam_load;        /* continuation: point and distributed loads scaled by it */
-    double *tau, *beta;     /* (nt) current tension [N] / slack [m] */
-    int seg;                /* segment being integrated */
-    int rec;                /* 1: recording layout (all path lengths) */
-    int steps;              /* current total fixed steps */
-    int steps_double;       /* 1: every segment takes twice its steps (step-doubling estimate) */
-    int probe_bp;           /* breakpoint of the compliance probe, -1 none */
-    double probe[6];        /* probe load (world F, M) added at probe_bp */
-    double probe_state[12]; /* p (3), R (9) captured at probe_bp in the last evaluation */
+    double lam_act;     /* continuation: actuation (q, prescribed tau) scaled by it */
+    double lam_load;    /* continuation: point and distributed loads scaled by it */
+    double *tau, *beta; /* (nt) current tension [N] / slack [m] */
+    int seg;            /* segment being integrated */
+    int rec;            /* 1: recording layout (all path lengths) */
+    int steps;          /* current total fixed steps */
+    int steps_double;   /* 1: every segment takes twice its steps (step-doubling estimate) */
+    int probe_bp;       /* breakpoint of the probe load of a linearisation, -1 none */
+    double probe[6];    /* probe load (world F, M) added at probe_bp */
+    double *capture;    /* NULL, or ((nseg + 1) x 12): an evaluation stores p (3) world [m],
+                               R (9) row-major at each breakpoint b = 1..nseg in row b (the state
+                               just proximal of the breakpoint's jump) -- a linearisation */
     /* integrator workspaces */
     double *y, *k1, *k2, *k3, *k4, *yt, *yerr; /* (n_states_rec) */
     double *ysave;  /* (n_states_rec) a saved end state (step verification, recording check) */
@@ -342,9 +368,14 @@ typedef struct tr_data {
     int *lin_map;    /* (ndisp) active-set index -> tendon gamma index */
     double *bp_pose; /* ((nseg + 1) x 12) p, R at each breakpoint (cold-start shape pass) */
     gsl_multiroot_fdfsolver *hyb; /* hybridsj workspace (jacobian_method = TR_JAC_HYBRID) */
-    /* compliance */
-    double *Yx; /* (6 x k) d(output)/d(unknowns) */
-    double *Fp; /* (k x 6) d(residual)/d(probe load) */
+    /* linearisation (tr_linearize) */
+    double *Yx;             /* (6 nseg x k) d(pose at the breakpoints)/d(unknowns) */
+    double *lin_pose;       /* (3 x (nseg + 1) x 12) poses at the breakpoints: the solution's,
+                                and those of the two other points of a difference stencil */
+    struct tr_model *lin_m; /* a copy of the model whose design values a linearisation
+                                perturbs, allocated the first time one needs it */
+    int *lin_side;          /* (nt) the side of its taut/slack switch a tendon's derivatives
+                               take (tr_linearize's at_switch) */
     /* work budget and the caller's poll hook (tr_set_poll) */
     double spent;           /* work of this solve [units, see TR_DEFAULT_MAX_WORK] */
     int stop;               /* 0, or TR_EBUDGET / TR_EINTERRUPTED once a poll said stop */
@@ -409,6 +440,8 @@ typedef struct tr_data {
     double *displacement; /* (nt) actuator displacement [m] */
     double tip[18];       /* tip state of the solution: p (3) world [m], R (9) body-to-world
                              row-major, internal force (3) [N] and moment (3) [N m], world */
+    double tip_angle;     /* planar formulation: the tip tangent's angle from +z toward +x
+                             [rad], unwrapped along s (the integrated theta); spatial: NaN */
     /* stability of the solution (tr_stability.c): stable 1 / 0 / -1 (not tested or
      * critical within the test's accuracy, stab_reason says which), the margin (the
      * smallest eigenvalue of the constrained second variation, scaled by EI/L) and the
@@ -479,12 +512,66 @@ int tr_record(const tr_model *m, tr_data *d);
  * formulation.steps): the states of that solution at this workspace's nodes, without
  * solving again. */
 int tr_record_from(const tr_model *m, tr_data *d, const double *x, int steps);
+/* The state of a solution with scaled unknowns x (k) at a step count, set in the workspace
+ * without solving (what tr_record_from records, tr_linearize linearises): TR_OK, TR_EINVAL
+ * (another model's workspace, steps out of range), TR_ENONFINITE (x not finite). */
+int tr_state_from(const tr_model *m, tr_data *d, const double *x, int steps);
 /* Scaled residual at x (k) with the current step count; f (k). */
 int tr_residual(const tr_model *m, tr_data *d, const double *x, double *f);
 /* Compliance (6 x 6, row-major): [dx (3), dtheta (3)] per [F (3), M (3)] applied at
  * the breakpoint s_probe (which must be a load position of the model or L), world
- * frame, linearised at the solution (call tr_solve first). */
+ * frame, linearised at the solution (call tr_solve first): tr_linearize with the six
+ * probe loads at s_probe. */
 int tr_compliance(const tr_model *m, tr_data *d, double s_probe, double C[36]);
+
+/* ---------------------------------------------------------- linearisation */
+/* What a parameter of tr_linearize is. */
+enum tr_param_kind {
+    TR_PAR_VALUE,     /* tendon `index`'s actuation value: q [m] (displacement-controlled) or
+                         tau [N] (tension-controlled) */
+    TR_PAR_LOAD,      /* a probe load at breakpoint index / 6 (1..nseg), component index % 6 of
+                         [F (3) N, M (3) N m], world frame (spatial formulation only) */
+    TR_PAR_ROD_EI,    /* the rod's EI [N m^2] */
+    TR_PAR_ROD_GJ,    /* the rod's GJ [N m^2] */
+    TR_PAR_ROD_EA,    /* the rod's EA [N] (Cosserat rods only) */
+    TR_PAR_ROD_GA,    /* the rod's GA [N] (Cosserat rods only) */
+    TR_PAR_TENDON_EA, /* tendon `index`'s EA [N] (finite) */
+    TR_PAR_OFFSET,    /* tendon `index`'s offset b [m] (not for a pretensioned set) */
+    TR_PAR_SLOPE,     /* tendon `index`'s slope a [-] (not for a pretensioned set) */
+    TR_PAR_NKIND
+};
+typedef struct {
+    int kind;  /* tr_param_kind */
+    int index; /* tendon index, load slot (6 b + component), unused for the rod */
+} tr_param;
+
+/* The linearisation of a solved scene (call tr_solve first; its unknowns d->x are the
+ * state) with respect to np parameters, by the implicit function theorem on the
+ * shooting map: central differences give the Jacobian of the residual and of the poses
+ * at the breakpoints with respect to the unknowns; each parameter's effect on the
+ * residual and the poses (two more evaluations, none for a prescribed displacement or a
+ * probe load at the tip) then moves the unknowns by a linear solve.  No nonlinear solve.
+ *   rows (nrow): breakpoint indices 1..nseg whose pose derivatives are reported;
+ *   dpose (np x nrow x 6): [dx (3) world [m], dtheta (3) world rotation-vector increment
+ *     [rad]] at each row's breakpoint per unit of parameter j;
+ *   dtension (np x nt) or NULL: each tendon's tension change [N] per unit of parameter j;
+ *   dslack (np x nt) or NULL: each tendon's slack change [m] per unit of parameter j (nonzero
+ *     only for a slack displacement-controlled tendon, or one given its slack side);
+ *   at_switch (nt) or NULL: on entry, the side wanted for a displacement-controlled tendon
+ *     within the difference stencil of its switch (+1 taut, -1 slack, 0 the side it is on;
+ *     others ignore it); on return, the side of its taut/slack switch whose derivatives
+ *     each tendon was given (a tension-controlled one: at tension 0): +1 the taut side, -1
+ *     the slack side, 0 not at the switch.  Unless asked otherwise, the side it is on, the
+ *     taut one when exactly at the switch; where the taut side leaves the Jacobian singular
+ *     (indeterminate tensions), the slack one.
+ * TR_OK; TR_EINVAL (a parameter this model does not have, or a probe load on a planar
+ * model; message set); TR_ESINGULAR; TR_EBUDGET / TR_EINTERRUPTED; an integration
+ * failure.  The workspace's unknowns stay those of the solution; its Jacobian d->J
+ * becomes the central-difference one. */
+enum tr_diff_scheme { TR_DIFF_CENTRAL = 0, TR_DIFF_FORWARD = 1 };
+int tr_linearize(const tr_model *m, tr_data *d, const tr_param *par, int np, const int *rows,
+                 int nrow, double *dpose, double *dtension, double *dslack, int *at_switch,
+                 int scheme);
 
 /* The message of a converged solve (nit iterations, final scaled residual): the one
  * wording of a success, for entry points that store no message per converged point. */

@@ -28,6 +28,7 @@ void tr_data_free(tr_data *d)
     if (d->ad_ev_shoot) gsl_odeiv2_evolve_free(d->ad_ev_shoot);
     if (d->ad_ev_rec) gsl_odeiv2_evolve_free(d->ad_ev_rec);
     free(d->Yx);
+    tr_model_free(d->lin_m);
     free(d->x_last);
     free(d->x_guess);
     tr_data_free(d->confirm_d);
@@ -53,9 +54,9 @@ static int alloc_buffers(const tr_model *m, tr_data *d)
     d->perm = gsl_permutation_alloc(k > 0 ? k : 1);
     d->tau = (double *)calloc((size_t)5 * nt + 1, sizeof(double));
     d->y = (double *)calloc((size_t)8 * nsr, sizeof(double));
-    d->Yx = (double *)calloc((size_t)12 * k + 1, sizeof(double));
+    d->Yx = (double *)calloc((size_t)6 * m->nseg * k + 42 * ((size_t)m->nseg + 1), sizeof(double));
     d->lin_C = (double *)calloc((size_t)(2 * nd * nd + 4 * nd + 1), sizeof(double));
-    d->lin_act = (int *)calloc((size_t)(3 * nd + 1), sizeof(int));
+    d->lin_act = (int *)calloc((size_t)(3 * nd + nt + 1), sizeof(int));
     d->x_guess =
         (double *)calloc((size_t)4 * k + nt + 7 * ((size_t)m->nseg + 1) + 4, sizeof(double));
     d->bp_pose = (double *)calloc((size_t)12 * (m->nseg + 1), sizeof(double));
@@ -92,7 +93,7 @@ static int alloc_buffers(const tr_model *m, tr_data *d)
     d->yt = d->y + 5 * nsr;
     d->yerr = d->y + 6 * nsr;
     d->ysave = d->y + 7 * nsr;
-    d->Fp = d->Yx + 6 * k;
+    d->lin_pose = d->Yx + (size_t)6 * m->nseg * k;
     d->lin_A = d->lin_C + nd * nd;
     d->lin_rhs = d->lin_A + nd * nd;
     d->lin_sol = d->lin_rhs + nd;
@@ -100,6 +101,7 @@ static int alloc_buffers(const tr_model *m, tr_data *d)
     d->lin_tmp = d->lin_pre + nd;
     d->lin_map = d->lin_act + nd;
     d->switched = d->lin_map + nd;
+    d->lin_side = d->switched + nd;
     return 0;
 }
 

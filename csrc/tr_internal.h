@@ -11,7 +11,7 @@
  *   tr_continuation.c, tr_verify.c  load continuation; step verification, polish
  *   tr_branch.c                     the stable branch: the verdict of a converged solve,
  *                                   and where it is unstable the way to a stable one
- *   tr_record.c, tr_compliance.c    recording pass; compliance
+ *   tr_record.c, tr_compliance.c    recording pass; linearisation (Jacobians, compliance)
  *   tr_solve.c                      the driver: a list of stages
  *   tr_batch.c                      a loop over the public API
  */
@@ -189,6 +189,19 @@ static inline void tr_tendon_pull_sum(const tr_model *m, const double *tau, doub
 tr_model *tr_model_reshoot(const tr_model *m, const tr_options *opt, int nshoot, char *msg,
                            size_t msglen);
 void tr_model_sync_values(tr_model *dst, const tr_model *src);
+/* tr_model.c: design parameter (kind, index) of mp, a copy of m, set to m's value + delta
+ * with what follows from it (the tendon's base frame and reference length, every rest
+ * length), the scales kept so that the unknowns keep their meaning; delta = 0 restores
+ * m's design.  TR_OK, or TR_EINVAL when the perturbed tendon set has no rest lengths. */
+int tr_model_perturb(tr_model *mp, const tr_model *m, int kind, int index, double delta);
+
+/* tr_target.c: the scaled residual of row `row` of the model's tip target at the end
+ * state y (target rows: angle [rad], position / L, direction in log coordinates [rad]);
+ * and the displacement [m] that target tendon i's solution needs (its length constraint
+ * solved for q, from its path-length excess len [m] at its anchor and the tension and
+ * slack set in d). */
+double tr_target_residual(const tr_model *m, const double *y, int row);
+double tr_target_displacement(const tr_model *m, const tr_data *d, int i, double len);
 
 /* tr_confirm.c: a TR_OFFPATH equilibrium in d->x confirmed (TR_CONFIRMED) or not
  * (TR_OFFPATH) by a cold solve with another shooting formulation; the message says

@@ -365,6 +365,7 @@ int tr_model_alloc(tr_model **out, const double rod[6], const double *tendons, i
     for (i = 0; i < nt; i++) {
         status = read_tendon(m, i, tendons + TR_TD_NCOL * i, &rmax, msg, msglen);
         if (status != TR_OK) goto fail;
+        m->tendon[i].target_row = -1;
         if (m->tendon[i].control == TR_DISPLACEMENT) {
             m->tendon[i].gamma_index = m->tendon[i].len_index = ndisp++;
         } else {
@@ -564,11 +565,49 @@ void tr_model_sync_values(tr_model *dst, const tr_model *src)
         dst->tendon[i].pretension = src->tendon[i].pretension;
         dst->tendon[i].rest = src->tendon[i].rest;
         dst->tendon[i].rest_dev = src->tendon[i].rest_dev;
+        dst->tendon[i].target_row = src->tendon[i].target_row;
     }
+    dst->target_kind = src->target_kind;
+    memcpy(dst->target, src->target, sizeof dst->target);
     memcpy(dst->load, src->load, (size_t)TR_LD_NCOL * src->nl * sizeof(double));
     sum_breakpoint_loads(dst);
     memcpy(dst->dist, src->dist, sizeof dst->dist);
     dst->has_dist = src->has_dist;
     dst->scene_status = src->scene_status;
     memcpy(dst->scene_message, src->scene_message, sizeof dst->scene_message);
+}
+
+int tr_model_perturb(tr_model *mp, const tr_model *m, int kind, int index, double delta)
+{
+    /* m's design first (a previous perturbation undone), then the one change */
+    mp->EI = m->EI;
+    mp->GJ = m->GJ;
+    mp->EA = m->EA;
+    mp->GA = m->GA;
+    memcpy(mp->tendon, m->tendon, (size_t)m->nt * sizeof(tr_tendon));
+    if (delta == 0.0) return TR_OK;
+    switch (kind) {
+    case TR_PAR_ROD_EI: mp->EI += delta; break;
+    case TR_PAR_ROD_GJ: mp->GJ += delta; break;
+    case TR_PAR_ROD_EA: mp->EA += delta; break;
+    case TR_PAR_ROD_GA: mp->GA += delta; break;
+    case TR_PAR_TENDON_EA: mp->tendon[index].EA += delta; break;
+    case TR_PAR_OFFSET:
+    case TR_PAR_SLOPE: {
+        tr_tendon *t = &mp->tendon[index];
+        if (kind == TR_PAR_OFFSET)
+            t->b += delta;
+        else
+            t->a += delta;
+        t->wref = sqrt(1.0 + t->a * t->a);
+        tendon_base_frame(t);
+        if (mp->planar) {
+            t->t0[1] = 0.0;
+            t->rt0[0] = 0.0;
+        }
+        break;
+    }
+    default: return TR_EINVAL;
+    }
+    return tr_rest_lengths(mp, NULL, 0) == TR_OK ? TR_OK : TR_EINVAL;
 }

@@ -26,6 +26,7 @@ void tr_solve_reset(const tr_model *m, tr_data *d, int steps)
     d->tip_guess[0] = d->tip_guess[1] = d->tip_guess[2] = NAN;
     d->truncation = NAN;
     d->jacobian_cond = NAN;
+    d->tip_angle = NAN;
     d->probe_bp = -1;
     d->steps = steps;
     d->jac_method = d->opt.jacobian_method;

@@ -107,7 +107,9 @@ static int record_pass(const tr_model *m, tr_data *d, int allow_rk4, int *used)
         const tr_tendon *t = &m->tendon[i];
         d->tension[i] = d->tau[i];
         d->slack[i] = d->beta[i];
-        if (t->control == TR_DISPLACEMENT)
+        if (t->control == TR_DISPLACEMENT && t->target_row >= 0)
+            d->displacement[i] = tr_target_displacement(m, d, i, y[lenbase + i]);
+        else if (t->control == TR_DISPLACEMENT)
             d->displacement[i] = t->value;
         else
             d->displacement[i] = t->rest_dev +
@@ -153,6 +155,7 @@ int tr_record(const tr_model *m, tr_data *d)
 int tr_tip_state(const tr_model *m, tr_data *d)
 {
     double *t = d->tip;
+    const int lenbase = m->planar ? TR_YP_LEN : TR_Y_LEN;
     int i;
     /* the last shooting evaluation at the solution left its end state in y; otherwise
      * one more evaluation (the tip the residual and the tolerance refer to) */
@@ -160,17 +163,22 @@ int tr_tip_state(const tr_model *m, tr_data *d)
         const int st = tr_residual(m, d, d->x, d->ft);
         if (st != TR_OK) {
             for (i = 0; i < 18; i++) t[i] = NAN;
+            d->tip_angle = NAN;
             return st;
         }
     } else {
         tr_set_tensions(m, d, d->x);
     }
     tr_state_world(m, d->y, t, t + 3, t + 12, t + 15);
+    d->tip_angle = m->planar ? d->y[TR_YP_TH] : NAN;
     for (i = 0; i < m->nt; i++) {
         const tr_tendon *td = &m->tendon[i];
         d->tension[i] = d->tau[i];
         d->slack[i] = d->beta[i];
-        d->displacement[i] = td->control == TR_DISPLACEMENT ? td->value : NAN;
+        d->displacement[i] = td->control != TR_DISPLACEMENT ? NAN
+                             : td->target_row >= 0
+                                 ? tr_target_displacement(m, d, i, d->y[lenbase + td->len_index])
+                                 : td->value;
     }
     return TR_OK;
 }
@@ -190,25 +198,33 @@ int tr_record_tip(const tr_model *m, tr_data *d)
     return st;
 }
 
-int tr_record_from(const tr_model *m, tr_data *d, const double *x, int steps)
+int tr_state_from(const tr_model *m, tr_data *d, const double *x, int steps)
 {
     int i;
     if (d->model != m || steps < 1 || steps > TR_MAX_STEPS) {
         tr_set_message(d,
-                       "tr_record_from: a workspace of another model, or steps = %d out of "
-                       "range",
+                       "a state from unknowns: a workspace of another model, or steps = %d "
+                       "out of range",
                        steps);
         return TR_EINVAL;
     }
     tr_solve_reset(m, d, steps);
     memcpy(d->x, x, (size_t)d->k * sizeof(double));
     for (i = 0; i < d->k; i++)
-        if (!isfinite(x[i])) {
-            /* a solve that failed before it had unknowns (a scene without a unique
-             * equilibrium): its states are NaN */
-            for (i = 0; i < 18 * d->nnode; i++) d->pos[i] = NAN;
-            for (i = 0; i < 3 * m->nt; i++) d->tension[i] = NAN;
-            return TR_ENONFINITE;
-        }
+        if (!isfinite(x[i])) return TR_ENONFINITE;
+    return TR_OK;
+}
+
+int tr_record_from(const tr_model *m, tr_data *d, const double *x, int steps)
+{
+    int i;
+    const int st = tr_state_from(m, d, x, steps);
+    if (st == TR_ENONFINITE) {
+        /* a solve that failed before it had unknowns (a scene without a unique
+         * equilibrium): its states are NaN */
+        for (i = 0; i < 18 * d->nnode; i++) d->pos[i] = NAN;
+        for (i = 0; i < 3 * m->nt; i++) d->tension[i] = NAN;
+    }
+    if (st != TR_OK) return st;
     return tr_record(m, d);
 }

@@ -184,10 +184,11 @@ void tr_apply_jump(const tr_model *m, const tr_data *d, int b, double *y)
     }
 }
 
-static void capture_probe(const tr_model *m, tr_data *d, const double *y)
+/* A linearisation's record of the pose at breakpoint b (before its jump). */
+static void capture_pose(const tr_model *m, tr_data *d, int b, const double *y)
 {
-    double n[3], mo[3];
-    tr_state_world(m, y, d->probe_state, d->probe_state + 3, n, mo);
+    double n[3], mo[3], *pose = d->capture + 12 * b;
+    tr_state_world(m, y, pose, pose + 3, n, mo);
 }
 
 /* Tip residual (scaled) into f. */
@@ -218,6 +219,10 @@ static void tip_residual(const tr_model *m, tr_data *d, const double *y, double 
         const tr_tendon *t = &m->tendon[i];
         double E;
         if (t->control != TR_DISPLACEMENT) continue;
+        if (t->target_row >= 0) {
+            f[off + t->gamma_index] = tr_target_residual(m, y, t->target_row);
+            continue;
+        }
         /* s_i - (1 + tau/EA) rest with s_i = sref + excess, rest = sref + rest_dev */
         E = y[lenbase + (d->rec ? i : t->len_index)] + d->lam_act * t->value + d->beta[i] -
             t->rest_dev - (isfinite(t->EA) ? d->tau[i] / t->EA : 0.0) * t->rest;
@@ -285,7 +290,7 @@ int tr_residual(const tr_model *m, tr_data *d, const double *x, double *f)
         d->seg = k;
         status = tr_integrate(m, d, m->bp[k], m->bp[k + 1], tr_segment_steps(m, d, k), y);
         if (status != TR_OK) return status;
-        if (k + 1 == d->probe_bp) capture_probe(m, d, y);
+        if (d->capture) capture_pose(m, d, k + 1, y);
         if (k + 1 < m->nseg) {
             tr_apply_jump(m, d, k + 1, y);
             if (m->bp_node[k + 1] > 0) node_restart(m, x, m->bp_node[k + 1], y, f);
@@ -295,8 +300,8 @@ int tr_residual(const tr_model *m, tr_data *d, const double *x, double *f)
     if (d->lam_hom != 1.0) /* continuation from the guess */
         for (k = 0; k < d->k; k++) f[k] -= (1.0 - d->lam_hom) * d->f_guess[k];
     if (!isfinite(tru_maxnorm(f, d->k))) return TR_ENONFINITE;
-    if (!d->steps_double && d->probe_bp < 0 && d->lam_act == 1.0 && d->lam_load == 1.0 &&
-        d->lam_hom == 1.0) {
+    if (!d->steps_double && d->probe_bp < 0 && !d->capture && d->lam_act == 1.0 &&
+        d->lam_load == 1.0 && d->lam_hom == 1.0) {
         /* y is the end state of the solution with unknowns x at d->steps */
         memcpy(d->x_of_y, x, (size_t)d->k * sizeof(double));
         memcpy(d->f_of_y, f, (size_t)d->k * sizeof(double));

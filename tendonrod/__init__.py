@@ -22,11 +22,14 @@ gsl_version: str = _core.gsl_version
 __version__ = "0.1.0"
 
 from . import analytic
+from .actuation import ActuationResult, actuate
 from .batch import BatchResult, solve_batch
+from .fit import FitResult, fit
+from .linearization import Jacobian
 from .model import DistributedLoad, PointLoad, Robot, Rod, Scene, Tendon
 from .options import Options
 from .plausibility import PlausibilityWarning
-from .problem import Problem
+from .problem import Problem, jacobian
 from .results import ConvergenceError, ConvergenceWarning
 from .solver import Solution, compliance, solve
 from .sweep import SweepResult, sweep  # the attribute tendonrod.sweep is this function
@@ -57,6 +60,12 @@ __all__ += [
     "Problem",
     "solve",
     "compliance",
+    "jacobian",
+    "Jacobian",
+    "actuate",
+    "ActuationResult",
+    "fit",
+    "FitResult",
     "ConvergenceWarning",
     "ConvergenceError",
     "PlausibilityWarning",

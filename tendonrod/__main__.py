@@ -1,4 +1,5 @@
-"""Command line: ``python -m tendonrod {solve,figures,bench} ...`` (``--help`` on each).
+"""Command line: ``python -m tendonrod {solve,actuate,figures,bench} ...`` (``--help`` on
+each).
 
 Exit codes: 0 success; 1 a solve did not converge (or a figure failed); 2 bad
 input (malformed scene file, unknown option, unreadable file).
@@ -72,6 +73,22 @@ def _cmd_solve(args) -> int:
         print(f"tendonrod solve: error: {args.scene}: {exc}", file=sys.stderr)
         return EXIT_BAD_INPUT
     elapsed = time.perf_counter() - t0
+    written = _write_solution(args, spec, sol, elapsed, "solution", {})
+    status = "converged" if sol.success else "DID NOT CONVERGE"
+    print(
+        f"{args.scene}: {status} ({sol.message}); tip at {np.round(sol.tip_position, 6).tolist()} m; "
+        f"wrote {', '.join(written)} to {args.out}"
+    )
+    return EXIT_OK if sol.success else EXIT_NOT_CONVERGED
+
+
+def _write_solution(args, spec, sol, elapsed, name, extra) -> list:
+    """Write NAME.json (summary, with ``extra``), NAME.npz (arrays) and, with --plot,
+    NAME.png to args.out; the names written."""
+    import numpy as np
+
+    import tendonrod as tr
+
     os.makedirs(args.out, exist_ok=True)
     summary = {
         "scene": os.path.abspath(args.scene),
@@ -90,15 +107,16 @@ def _cmd_solve(args) -> int:
         "slack_m": sol.slack,
         "displacement_m": sol.displacement,
         "units": {"length": "m", "force": "N", "moment": "N m", "angle": "rad"},
-        "arrays": "solution.npz: s (N,) [m], position (N,3) [m] world, rotation (N,3,3) body-to-world, "
+        "arrays": f"{name}.npz: s (N,) [m], position (N,3) [m] world, rotation (N,3,3) body-to-world, "
         "force (N,3) [N] world, moment (N,3) [N m] world, tension (nt,) [N], "
         "slack (nt,) [m], displacement (nt,) [m]",
     }
-    with open(os.path.join(args.out, "solution.json"), "w", encoding="utf-8") as fh:
+    summary.update(extra)
+    with open(os.path.join(args.out, f"{name}.json"), "w", encoding="utf-8") as fh:
         json.dump(_jsonable(summary), fh, indent=2)
         fh.write("\n")
     np.savez(
-        os.path.join(args.out, "solution.npz"),
+        os.path.join(args.out, f"{name}.npz"),
         s=sol.s,
         position=sol.position,
         rotation=sol.rotation,
@@ -108,7 +126,7 @@ def _cmd_solve(args) -> int:
         slack=sol.slack,
         displacement=sol.displacement,
     )
-    written = ["solution.json", "solution.npz"]
+    written = [f"{name}.json", f"{name}.npz"]
     if args.plot:
         import matplotlib
 
@@ -122,20 +140,111 @@ def _cmd_solve(args) -> int:
             ax = fig.add_subplot(111)
         else:
             ax = fig.add_subplot(111, projection="3d")
-        trplot.robot(sol, spec.scene, ax=ax)
+        trplot.robot(sol, sol.scene, ax=ax)
         import textwrap
 
         ax.set_title(
             textwrap.fill(spec.title or os.path.basename(args.scene), 60), fontsize="small"
         )
         fig.tight_layout()
-        fig.savefig(os.path.join(args.out, "solution.png"), dpi=120)
+        fig.savefig(os.path.join(args.out, f"{name}.png"), dpi=120)
         plt.close(fig)
-        written.append("solution.png")
-    status = "converged" if sol.success else "DID NOT CONVERGE"
+        written.append(f"{name}.png")
+    return written
+
+
+# --------------------------------------------------------------------------- actuate
+def _cli_target(args, spec):
+    """The target of tendonrod.actuate: the command line's, else the file's [target]
+    table; (kwargs, None) or (None, message naming the option or key)."""
+    from tendonrod.scenefile import SceneFileError, parse_angle
+
+    given = {}
+    try:
+        if args.tip_angle is not None:
+            given["tip_angle"] = parse_angle(args.tip_angle, "--tip-angle")
+    except SceneFileError as exc:
+        return None, f"{exc.key}: {exc.problem}"
+    if args.tip_direction is not None:
+        given["tip_direction"] = tuple(args.tip_direction)
+    if args.tip_position is not None:
+        given["tip_position"] = tuple(args.tip_position)
+    if len(given) > 1:
+        return None, "give one of --tip-angle, --tip-direction, --tip-position"
+    target = dict(spec.target or {})
+    if given:
+        for kind in ("tip_angle", "tip_direction", "tip_position"):
+            target.pop(kind, None)
+        target.update(given)
+    if not any(k in target for k in ("tip_angle", "tip_direction", "tip_position")):
+        return None, (
+            "no target: give --tip-angle, --tip-direction or --tip-position, or a [target] "
+            "table in the scene file"
+        )
+    if args.tendons is not None:
+        try:
+            target["tendons"] = [int(i) for i in args.tendons.split(",") if i.strip()]
+        except ValueError:
+            return None, f"--tendons: expected comma-separated tendon indices, got {args.tendons!r}"
+    if args.min_tension is not None:
+        target["min_tension"] = args.min_tension
+    return target, None
+
+
+def _cmd_actuate(args) -> int:
+    import warnings
+
+    import numpy as np
+
+    import tendonrod as tr
+    from tendonrod.scenefile import SceneFileError, load_scene
+
+    try:
+        spec = load_scene(args.scene)
+    except SceneFileError as exc:
+        print(f"tendonrod actuate: error: {exc}", file=sys.stderr)
+        return EXIT_BAD_INPUT
+    except OSError as exc:
+        print(
+            f"tendonrod actuate: error: cannot read scene file {args.scene!r}: "
+            f"{exc.strerror or exc}",
+            file=sys.stderr,
+        )
+        return EXIT_BAD_INPUT
+    target, problem = _cli_target(args, spec)
+    if problem:
+        print(f"tendonrod actuate: error: {args.scene}: {problem}", file=sys.stderr)
+        return EXIT_BAD_INPUT
+    t0 = time.perf_counter()
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", tr.ConvergenceWarning)
+            sol = tr.actuate(spec.scene, options=spec.options, **target)
+    except ValueError as exc:
+        print(f"tendonrod actuate: error: {args.scene}: {exc}", file=sys.stderr)
+        return EXIT_BAD_INPUT
+    elapsed = time.perf_counter() - t0
+    a = sol.actuation
+    extra = {
+        "target": target,
+        "actuation": {
+            "kind": a.kind,
+            "tendons": a.tendons,
+            "controls": a.controls,
+            "controls_units": "m for displacement-controlled tendons, N for tension-controlled",
+            "residual": a.residual,
+            "distance": a.distance,
+            "reached": a.reached,
+            "iterations": a.iterations,
+            "solves": a.solves,
+            "message": a.message,
+        },
+    }
+    written = _write_solution(args, spec, sol, elapsed, "solution", extra)
+    status = "target reached" if sol.success else "TARGET NOT REACHED"
     print(
-        f"{args.scene}: {status} ({sol.message}); tip at {np.round(sol.tip_position, 6).tolist()} m; "
-        f"wrote {', '.join(written)} to {args.out}"
+        f"{args.scene}: {status} ({a.message}); controls {np.round(a.controls, 9).tolist()} "
+        f"of tendons {list(a.tendons)}; wrote {', '.join(written)} to {args.out}"
     )
     return EXIT_OK if sol.success else EXIT_NOT_CONVERGED
 
@@ -242,7 +351,7 @@ def build_parser() -> argparse.ArgumentParser:
         "with prescribed tendon displacements or tensions.",
         epilog="Exit codes: 0 ok, 1 did not converge / a figure failed, 2 bad input.",
     )
-    sub = p.add_subparsers(dest="command", metavar="{solve,figures,bench}")
+    sub = p.add_subparsers(dest="command", metavar="{solve,actuate,figures,bench}")
     sub.required = True
 
     ps = sub.add_parser(
@@ -258,6 +367,36 @@ def build_parser() -> argparse.ArgumentParser:
     ps.add_argument("--out", required=True, help="output directory (created if missing)")
     ps.add_argument("--plot", action="store_true", help="also write solution.png")
     ps.set_defaults(func=_cmd_solve)
+
+    pa = sub.add_parser(
+        "actuate",
+        help="find the tendon controls that reach a tip target under the scene's loads",
+        description="Find the controls (displacements or tensions, each tendon's kind in "
+        "the scene file) of the chosen tendons that bring the tip to a target under the "
+        "scene's loads (tendonrod.actuate), and write solution.json (summary, controls, "
+        "residual), solution.npz and, with --plot, solution.png. The target comes from "
+        "the options below or from a [target] table in the scene file "
+        "(examples/README.md).",
+        epilog="Exit codes: 0 target reached, 1 not reached (the closest state is still "
+        "written), 2 bad input (the message names the option or key).",
+    )
+    pa.add_argument("scene", help="scene file (TOML)")
+    pa.add_argument("--out", required=True, help="output directory (created if missing)")
+    pa.add_argument(
+        "--tip-angle", help="planar scenes: tip angle from +z toward +x, e.g. 45deg or 0.8rad"
+    )
+    pa.add_argument(
+        "--tip-direction", type=float, nargs=3, metavar=("X", "Y", "Z"), help="tip tangent, world"
+    )
+    pa.add_argument(
+        "--tip-position", type=float, nargs=3, metavar=("X", "Y", "Z"), help="tip position [m]"
+    )
+    pa.add_argument(
+        "--tendons", help="comma-separated indices of the actuated tendons (default all)"
+    )
+    pa.add_argument("--min-tension", type=float, help="[N] floor of the taut tendons' tensions")
+    pa.add_argument("--plot", action="store_true", help="also write solution.png")
+    pa.set_defaults(func=_cmd_actuate)
 
     pf = sub.add_parser(
         "figures",

@@ -141,6 +141,45 @@ done:
     return result;
 }
 
+static PyObject *problem_set_target(ProblemObject *self, PyObject *args)
+{
+    int kind, i, n, status, idx[3];
+    PyObject *ov, *ot;
+    PyArrayObject *v = NULL, *t = NULL;
+    char msg[TR_MSGLEN];
+    double val[3] = {0.0, 0.0, 0.0};
+    if (check_free(self) < 0) return NULL;
+    if (!PyArg_ParseTuple(args, "iOO", &kind, &ov, &ot)) return NULL;
+    if (!(v = glue_coerce(ov, "values")) || !(t = glue_coerce(ot, "tendons"))) goto fail;
+    n = (int)PyArray_SIZE(t);
+    if (PyArray_NDIM(v) != 1 || PyArray_DIM(v, 0) > 3 || PyArray_NDIM(t) != 1 || n > 3) {
+        PyErr_SetString(PyExc_ValueError, "values and tendons must be 1-D with at most 3 entries");
+        goto fail;
+    }
+    for (i = 0; i < PyArray_DIM(v, 0); i++) val[i] = ((const double *)PyArray_DATA(v))[i];
+    for (i = 0; i < n; i++) {
+        const double x = ((const double *)PyArray_DATA(t))[i];
+        if (!(x == floor(x) && fabs(x) < 1e9)) {
+            glue_err(PyExc_ValueError, "tendons must hold tendon indices, got %g", x);
+            goto fail;
+        }
+        idx[i] = (int)x;
+    }
+    status = tr_model_set_target(self->m, kind, val, idx, n, msg, sizeof msg);
+    Py_DECREF(v);
+    Py_DECREF(t);
+    if (status != TR_OK) {
+        PyErr_SetString(PyExc_ValueError, msg);
+        return NULL;
+    }
+    self->last_status = TR_CONTINUE; /* the last solve solved another system */
+    Py_RETURN_NONE;
+fail:
+    Py_XDECREF(v);
+    Py_XDECREF(t);
+    return NULL;
+}
+
 static PyObject *problem_solve(ProblemObject *self, PyObject *args, PyObject *kwds)
 {
     static char *kwlist[] = {"guess",  "jacobian", "verified", "warm",
@@ -304,6 +343,134 @@ static PyObject *problem_compliance(ProblemObject *self, PyObject *args, PyObjec
     return glue_array(2, dims, C);
 }
 
+/* The (np, 2) [kind, index] rows of the parameters of a linearisation into par. */
+static int params_of(PyArrayObject *a, tr_param *par, npy_intp np)
+{
+    const double *v = (const double *)PyArray_DATA(a);
+    npy_intp j;
+    for (j = 0; j < 2 * np; j++)
+        if (!(v[j] == floor(v[j]) && fabs(v[j]) < 1e9)) {
+            glue_err(PyExc_ValueError, "params must hold integers [kind, index], got %g", v[j]);
+            return -1;
+        }
+    for (j = 0; j < np; j++) {
+        par[j].kind = (int)v[2 * j];
+        par[j].index = (int)v[2 * j + 1];
+    }
+    return 0;
+}
+
+static PyObject *problem_linearize(ProblemObject *self, PyObject *args, PyObject *kwds)
+{
+    static char *kwlist[] = {"params", "rows", "forward", "unknowns",
+                             "steps",  "side", "cancel",  NULL};
+    PyObject *op, *orows, *cancel = Py_None, *result = NULL, *pose = NULL, *ten = NULL, *sl = NULL;
+    PyObject *sw = NULL, *ox = Py_None, *oside = Py_None;
+    PyArrayObject *pa = NULL, *ra = NULL, *xa = NULL, *sa = NULL;
+    tr_param *par = NULL;
+    int *rows = NULL, *at_switch = NULL, status, forward = 0, steps = 0;
+    npy_intp np_, nrow, i, nt = self->m ? self->m->nt : 0, dims[3];
+    glue_poll poll;
+    if (check_free(self) < 0) return NULL;
+    if (!PyArg_ParseTupleAndKeywords(args, kwds, "OO|$pOiOO", kwlist, &op, &orows, &forward, &ox,
+                                     &steps, &oside, &cancel))
+        return NULL;
+    if (ox != Py_None) {
+        /* the state of a converged solution of this structure, set without solving */
+        if (values_of(ox, "unknowns", self->d->k, &xa) < 0) return NULL;
+        status = tr_state_from(self->m, self->d, (const double *)PyArray_DATA(xa), steps);
+        Py_DECREF(xa);
+        self->last_status = TR_CONTINUE; /* the workspace no longer holds its last solve */
+        if (status != TR_OK) {
+            glue_err(PyExc_ValueError, "linearize: %s", self->d->message);
+            return NULL;
+        }
+    } else if (!TR_SUCCEEDED(self->last_status)) {
+        PyErr_SetString(PyExc_RuntimeError,
+                        "linearize needs a successful solve of this Problem first");
+        return NULL;
+    }
+    if (glue_poll_init(&poll, cancel) < 0 || !(pa = glue_coerce(op, "params")) ||
+        !(ra = glue_coerce(orows, "rows")))
+        goto done;
+    if (!(PyArray_NDIM(pa) == 2 && PyArray_DIM(pa, 1) == 2) || PyArray_NDIM(ra) != 1) {
+        PyErr_SetString(PyExc_ValueError, "params must be (np, 2) [kind, index], rows (nrow,)");
+        goto done;
+    }
+    np_ = PyArray_DIM(pa, 0);
+    nrow = PyArray_DIM(ra, 0);
+    par = (tr_param *)PyMem_Calloc((size_t)np_ + 1, sizeof(tr_param));
+    rows = (int *)PyMem_Calloc((size_t)(nrow + nt) + 1, sizeof(int));
+    if (!par || !rows) {
+        PyErr_NoMemory();
+        goto done;
+    }
+    at_switch = rows + nrow;
+    if (params_of(pa, par, np_) < 0) goto done;
+    if (oside != Py_None) {
+        /* the side wanted for each tendon at its switch (+1, -1, 0) */
+        if (!(sa = glue_coerce(oside, "side"))) goto done;
+        if (PyArray_NDIM(sa) != 1 || PyArray_DIM(sa, 0) != nt) {
+            glue_err(PyExc_ValueError, "side must have shape (%ld,) (one per tendon)", (long)nt);
+            goto done;
+        }
+        for (i = 0; i < nt; i++) {
+            const double v = ((const double *)PyArray_DATA(sa))[i];
+            if (!(v == 1.0 || v == -1.0 || v == 0.0)) {
+                glue_err(PyExc_ValueError, "side must hold +1, -1 or 0, got %g", v);
+                goto done;
+            }
+            at_switch[i] = (int)v;
+        }
+    }
+    for (i = 0; i < nrow; i++) {
+        const double r = ((const double *)PyArray_DATA(ra))[i];
+        if (!(r == floor(r) && fabs(r) < 1e9)) {
+            glue_err(PyExc_ValueError, "rows must hold breakpoint indices, got %g", r);
+            goto done;
+        }
+        rows[i] = (int)r;
+    }
+    dims[0] = np_;
+    dims[1] = nrow;
+    dims[2] = 6;
+    if (!(pose = glue_array(3, dims, NULL))) goto done;
+    dims[1] = nt;
+    if (!(ten = glue_array(2, dims, NULL)) || !(sl = glue_array(2, dims, NULL))) goto done;
+    tr_set_poll(self->d, glue_poll_hook, &poll);
+    self->busy = 1;
+    Py_BEGIN_ALLOW_THREADS;
+    status = tr_linearize(self->m, self->d, par, (int)np_, rows, (int)nrow,
+                          (double *)PyArray_DATA((PyArrayObject *)pose),
+                          (double *)PyArray_DATA((PyArrayObject *)ten),
+                          (double *)PyArray_DATA((PyArrayObject *)sl), at_switch,
+                          forward ? TR_DIFF_FORWARD : TR_DIFF_CENTRAL);
+    Py_END_ALLOW_THREADS;
+    self->busy = 0;
+    tr_set_poll(self->d, NULL, NULL);
+    if (glue_poll_finish(&poll, status) < 0) goto done;
+    if (status != TR_OK) {
+        glue_err(status == TR_EINVAL ? PyExc_ValueError : PyExc_RuntimeError, "%s",
+                 self->d->message);
+        goto done;
+    }
+    if (!(sw = PyTuple_New(nt))) goto done;
+    for (i = 0; i < nt; i++) PyTuple_SET_ITEM(sw, i, PyLong_FromLong(at_switch[i]));
+    result = Py_BuildValue("{s:O,s:O,s:O,s:O,s:i}", "pose", pose, "tension", ten, "slack", sl,
+                           "at_switch", sw, "k", self->d->k);
+done:
+    Py_XDECREF(pose);
+    Py_XDECREF(ten);
+    Py_XDECREF(sl);
+    Py_XDECREF(sw);
+    Py_XDECREF(pa);
+    Py_XDECREF(ra);
+    Py_XDECREF(sa);
+    PyMem_Free(par);
+    PyMem_Free(rows);
+    return result;
+}
+
 static PyObject *problem_forget(ProblemObject *self, PyObject *unused)
 {
     if (check_free(self) < 0) return NULL;
@@ -344,6 +511,12 @@ static PyMethodDef problem_methods[] = {
     {"set_value_vector", (PyCFunction)problem_set_value_vector, METH_O,
      "set_value_vector(v): v = [values (nt), point loads (nl x 6), dist (3)] in one float64\n"
      "vector (the per-call values of set_values without the pretensions)."},
+    {"set_target", (PyCFunction)problem_set_target, METH_VARARGS,
+     "set_target(kind, values, tendons): the residual of a tip target (kind 1 angle [rad]\n"
+     "(planar), 2 direction (3), 3 position (3) [m] world; 0 none) replaces the length\n"
+     "constraints of the displacement-controlled tendons `tendons`, one per component\n"
+     "(tr_model_set_target); a solve then reports the displacements that reach it.\n"
+     "ValueError naming what is wrong."},
     {"solve", (PyCFunction)(void (*)(void))problem_solve, METH_VARARGS | METH_KEYWORDS,
      "solve(*, guess=None, jacobian=None, verified=None, warm=True, cancel=None, record=True,\n"
      "carry=None)\n"
@@ -369,6 +542,20 @@ static PyMethodDef problem_methods[] = {
     {"compliance", (PyCFunction)(void (*)(void))problem_compliance, METH_VARARGS | METH_KEYWORDS,
      "compliance(s, *, cancel=None) -> (6, 6): at breakpoint s [m] of the last successful\n"
      "solve (spatial formulation only)."},
+    {"linearize", (PyCFunction)(void (*)(void))problem_linearize, METH_VARARGS | METH_KEYWORDS,
+     "linearize(params, rows, *, forward=False, unknowns=None, steps=0, side=None, cancel=None)\n"
+     "-> dict:\n"
+     "the linearisation (tr_linearize; forward: first-order differences) of the last successful\n"
+     "solve, or of the converged solution with these scaled unknowns at this step count (then\n"
+     "the workspace no longer holds its last solve), with respect to params, (np, 2) rows\n"
+     "[kind, index] (kinds: PARAM_KINDS),\n"
+     "reporting the poses at breakpoint indices rows (nrow,): pose (np, nrow, 6) [dx (3) m,\n"
+     "dtheta (3) rad] world frame per unit parameter, tension (np, nt) [N per unit], slack\n"
+     "(np, nt) [m per unit], at_switch\n"
+     "(nt ints: the side of its taut/slack switch a tendon there was given, +1 taut, -1 slack,\n"
+     "0 not at the switch; side (nt,) asks +1 / -1 for a displacement-controlled tendon at its\n"
+     "switch, 0 the side it is on), k (unknowns).  ValueError\n"
+     "for a parameter the model lacks."},
     {"forget", (PyCFunction)problem_forget, METH_NOARGS,
      "Forget the last solution (the next warm solve starts cold)."},
     {NULL, NULL, 0, NULL}};

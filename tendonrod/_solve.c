@@ -98,7 +98,9 @@ PyObject *glue_solve_result(const tr_model *m, const tr_data *d, int status, PyO
         glue_set(res, "tip_moment", glue_array(1, dims, d->tip + 15)) < 0)
         goto fail;
     dims[1] = 3;
-    if (glue_set(res, "tip_rotation", glue_array(2, dims, d->tip + 3)) < 0) goto fail;
+    if (glue_set(res, "tip_rotation", glue_array(2, dims, d->tip + 3)) < 0 ||
+        glue_set(res, "tip_angle", PyFloat_FromDouble(d->tip_angle)) < 0)
+        goto fail;
     dims[0] = 6 + 2 * nt;
     if (!(base = glue_array(1, dims, NULL))) goto fail;
     tr_base_state(m, d, (double *)PyArray_DATA((PyArrayObject *)base));

@@ -34,12 +34,13 @@ from .compiled import (
     structure_difference,
     value_vector,
 )
+from .linearization import PARAM_KIND, Jacobian, design_parameter
 from .model import PointLoad, Scene
 from .options import Options, _check_options, _replace
 from .results import ConvergenceError
 from .solution import Solution, _guess_vector, _report
 
-__all__ = ["Problem", "compliance"]
+__all__ = ["Problem", "compliance", "jacobian"]
 
 
 class Problem:
@@ -197,6 +198,107 @@ class Problem:
             return self._compliance_here(s_val)
         return compliance(self._last.scene, s_val, guess=self._last, options=self._options)
 
+    def jacobian(
+        self, s=None, *, design=(), load: bool = True, method: str = "central", side=None
+    ) -> Jacobian:
+        """The linearisation (:class:`~tendonrod.Jacobian`) of the last successful
+        solution at arc length(s) ``s`` [m] (default: the tip), with respect to every
+        tendon's control value, the probe loads at ``s`` (``load``) and the design
+        parameters ``design`` (names as in :mod:`tendonrod.linearization`); see
+        :func:`tendonrod.jacobian`.
+
+        When that solution is the workspace's state and every ``s`` is a breakpoint (the
+        tip, an anchor, a point load), this reuses the workspace: no solve, k + 1 shooting
+        evaluations (k unknowns; twice as many with ``method="central"``) plus one per
+        design parameter or tension-controlled tendon and six per interior ``s`` for the
+        loads.  Otherwise, and for the loads of a planar problem (whose out-of-plane
+        compliance needs the spatial formulation), one more warm solve of the scene with
+        zero point loads at ``s``.  ``side`` (ntendon,) of +1 / -1 / 0 asks for the taut or
+        the slack side's derivatives of a displacement-controlled tendon at its taut/slack
+        switch (0: the side it is on; see :attr:`Jacobian.switch_side`).
+        """
+        if self._last is None:
+            raise RuntimeError("Problem.jacobian needs a successful solve first")
+        sol = self._last
+        here = self._c.last_success and self._current is sol.scene
+        return self._jacobian(sol, s, design, load, method, here, side=side)
+
+    def _jacobian(self, sol, s, design, load, method, here, state=None, side=None) -> Jacobian:
+        """The linearisation of ``sol``: the workspace's state (``here``), or the state
+        (unknowns, steps) of ``sol`` set without solving, or a probe problem's."""
+        forward = _forward(method)
+        side = _sides(side, sol.scene.robot.n_tendons)
+        s_vals, scalar, names, rows, params = self._jacobian_plan(s, design, load)
+        if rows is None or not (here or state is not None):
+            prob = _solved_probe(sol, s_vals, self._options, spatial=False)
+            jac = prob.jacobian(s, design=design, load=load, method=method, side=side)
+            return _with_solution(jac, sol)
+        kw = {} if state is None else {"unknowns": state[0], "steps": state[1]}
+        if side is not None:
+            kw["side"] = side
+        try:
+            raw = self._c.linearize(params, rows, forward=forward, cancel=current_token(), **kw)
+        except RuntimeError as exc:  # the linearisation itself failed (e.g. its budget)
+            raise ConvergenceError(f"tendonrod.jacobian: {exc}", sol) from None
+        nt, nd, nr = sol.scene.robot.n_tendons, len(names), len(rows)
+        pose = raw["pose"]  # (np, nrow, 6)
+        act = pose[:nt].transpose(1, 2, 0)  # (nrow, 6, nt)
+        des = pose[nt : nt + nd].transpose(1, 2, 0)
+        C = None
+        if load and len(params) > nt + nd:
+            C = np.stack([pose[nt + nd + 6 * r : nt + nd + 6 * r + 6, r, :].T for r in range(nr)])
+        elif load:
+            C = _load_block(sol, s_vals, self._options, forward)
+        ten = raw["tension"]
+        return Jacobian(
+            s=float(s_vals[0]) if scalar else s_vals,
+            actuation=act[0] if scalar else act,
+            tension=ten[:nt].T.copy(),
+            slack=raw["slack"][:nt].T.copy(),
+            load=None if C is None else (C[0] if scalar else C),
+            design=des[0] if scalar else des,
+            design_tension=ten[nt : nt + nd].T.copy(),
+            design_names=tuple(n for n, _, _ in names),
+            control=tuple(
+                "displacement" if c else "tension" for c in sol.scene.displacement_controlled()
+            ),
+            at_switch=np.array(raw["at_switch"]) != 0,
+            switch_side=np.array(raw["at_switch"], dtype=int),
+            solution=sol,
+        )
+
+    def _jacobian_plan(self, s, design, load: bool):
+        """(arc lengths, scalar?, design names, breakpoint rows or None, raw parameter
+        array) of a linearisation, cached per request (a control loop asks the same)."""
+        key = (
+            s if s is None or isinstance(s, float) else None,
+            design if isinstance(design, (str, tuple)) else None,
+            load,
+        )
+        plans = self.__dict__.setdefault("_plans", {})
+        if key[0] is s and key[1] is design and key in plans:
+            return plans[key]
+        scene = self._scene
+        L = scene.robot.rod.length
+        s_vals, scalar = _arc_lengths(s, L)
+        names = _design_names(scene, design)
+        rows = _rows(self._c.breakpoints, s_vals, L)
+        nt = scene.robot.n_tendons
+        params = [(PARAM_KIND["value"], i) for i in range(nt)]
+        params += [(kind, index) for _, kind, index in names]
+        if load and rows is not None and not self._c.formulation["planar"]:
+            params += [(PARAM_KIND["load"], 6 * r + c) for r in rows for c in range(6)]
+        plan = (
+            s_vals,
+            scalar,
+            names,
+            None if rows is None else np.array(rows, dtype=float),
+            np.array(params, dtype=float).reshape(-1, 2),
+        )
+        if key[0] is s and key[1] is design:
+            plans[key] = plan
+        return plan
+
     def _compliance_here(self, s: float):
         """The compliance at breakpoint ``s`` of the workspace's solved state."""
         try:
@@ -206,15 +308,117 @@ class Problem:
         return np.asarray(C, dtype=float).reshape(6, 6)
 
 
-def _probe_scene(scene: Scene, s: float, always: bool = False) -> Scene:
-    """``scene`` with a zero point load at ``s`` (a breakpoint for the compliance probe;
-    the tip is one already, so there only with ``always``)."""
+def _probe_scene(scene: Scene, s, always: bool = False) -> Scene:
+    """``scene`` with a zero point load at each arc length of ``s`` (a float or an array):
+    breakpoints for the probes of a linearisation or a compliance (the tip is one already,
+    so a point load there only with ``always``)."""
     import dataclasses
 
     L = scene.robot.rod.length
-    if s >= L * (1 - 1e-12) and not always:
+    extra = [
+        PointLoad(s=float(x), force=(0, 0, 0))
+        for x in np.atleast_1d(s)
+        if always or x < L * (1 - 1e-12)
+    ]
+    if not extra:
         return scene
-    return dataclasses.replace(scene, loads=list(scene.loads) + [PointLoad(s=s, force=(0, 0, 0))])
+    return dataclasses.replace(scene, loads=list(scene.loads) + extra)
+
+
+def _arc_lengths(s, L: float):
+    """(the arc lengths of ``s`` as a float array (N,), whether ``s`` was a scalar):
+    None is the tip; each one checked as a probe point (ValueError naming ``s``)."""
+    if s is None or np.ndim(s) == 0:
+        return np.array([compliance_point(s, L)]), True
+    arr = np.asarray(s)
+    if arr.ndim != 1 or arr.size == 0:
+        raise ValueError(f"s must be an arc length or a 1-D array of them, got {s!r}")
+    return np.array([compliance_point(x, L) for x in arr]), False
+
+
+def _rows(bp: np.ndarray, s_vals: np.ndarray, L: float):
+    """The breakpoint index of each arc length, or None when one is not a breakpoint."""
+    rows = []
+    for x in s_vals:
+        hit = np.flatnonzero(np.abs(bp[1:] - x) <= 1e-12 * L)
+        if hit.size == 0:
+            return None
+        rows.append(int(hit[-1]) + 1)
+    return rows
+
+
+def _design_names(scene: Scene, design) -> list:
+    """(canonical path, kind, index) of each design parameter name (ValueError naming a
+    bad one); a single name may be given as a string."""
+    if isinstance(design, str):
+        design = [design]
+    try:
+        names = list(design)
+    except TypeError:
+        raise ValueError(f"design must be a sequence of parameter names, got {design!r}") from None
+    out = [design_parameter(scene, n) for n in names]
+    paths = [p for p, _, _ in out]
+    if len(set(paths)) != len(paths):
+        raise ValueError(f"design names a parameter twice: {names!r}")
+    return out
+
+
+def _solved_probe(sol, s_vals, options: Options, spatial: bool) -> Problem:
+    """A Problem of ``sol``'s scene with breakpoints at ``s_vals`` (spatial if asked),
+    solved warm from ``sol``; ConvergenceError if that solve fails."""
+    opts = _replace(options, force_spatial=True) if spatial else options
+    prob = Problem(_probe_scene(sol.scene, s_vals), opts)
+    psol = Solution(prob._run(sol), prob.scene, prob.options)
+    if not psol.success:
+        raise ConvergenceError(
+            f"tendonrod.jacobian: the scene did not solve again with probes at s: {psol.message}",
+            psol,
+        )
+    prob._last = psol
+    return prob
+
+
+def _load_block(sol, s_vals, options: Options, forward: bool) -> np.ndarray:
+    """The compliance (N, 6, 6) at each arc length of ``s_vals`` of a planar solution,
+    from its spatial formulation (out-of-plane probes leave the plane)."""
+    prob = _solved_probe(sol, s_vals, _replace(options, tip_only=True), spatial=True)
+    rows = _rows(prob._c.breakpoints, s_vals, sol.scene.robot.rod.length)
+    params = [(PARAM_KIND["load"], 6 * r + c) for r in rows for c in range(6)]
+    try:
+        raw = prob._c.linearize(
+            np.array(params, dtype=float).reshape(-1, 2),
+            np.array(rows, dtype=float),
+            cancel=current_token(),
+        )
+    except RuntimeError as exc:
+        raise ConvergenceError(f"tendonrod.jacobian: {exc}", sol) from None
+    return np.stack([raw["pose"][6 * r : 6 * r + 6, r, :].T for r in range(len(rows))])
+
+
+def _sides(side, nt: int):
+    """``side`` as a float array (nt,) of +1 / -1 / 0, or None; ValueError naming it."""
+    if side is None:
+        return None
+    try:
+        arr = np.array(side, dtype=float).reshape(-1)
+    except (TypeError, ValueError):
+        arr = None
+    if arr is None or arr.shape != (nt,) or not np.all(np.isin(arr, (-1.0, 0.0, 1.0))):
+        raise ValueError(f"side must hold +1, -1 or 0 for each of the {nt} tendon(s), got {side!r}")
+    return arr
+
+
+def _forward(method) -> bool:
+    """True for method "forward", False for "central"; ValueError naming ``method``."""
+    if method not in ("central", "forward"):
+        raise ValueError(f"method must be 'central' or 'forward', got {method!r}")
+    return method == "forward"
+
+
+def _with_solution(jac: Jacobian, sol) -> Jacobian:
+    import dataclasses
+
+    return dataclasses.replace(jac, solution=sol)
 
 
 def compliance_problem(scene: Scene, s: float, options: Options) -> Problem:
@@ -279,3 +483,98 @@ def compliance(
         raise ConvergenceError(f"tendonrod.compliance: the scene did not solve: {sol.message}", sol)
     prob._last = sol
     return prob._compliance_here(s_val)
+
+
+def jacobian(
+    scene_or_solution,
+    s=None,
+    *,
+    design=(),
+    load: bool = True,
+    method: str = "central",
+    side=None,
+    guess=None,
+    options=None,
+) -> Jacobian:
+    """The linearisation of a solved scene at arc length ``s`` [m] (default: the tip):
+    how the backbone point at ``s`` and the tendon tensions move per unit change of each
+    tendon's control value, of a load applied at ``s`` and of named design parameters.
+
+    By the implicit function theorem on the converged shooting system: linear solves
+    with its Jacobian, no further nonlinear solve -- the derivatives of the solution the
+    solver converged to, exact to its tolerance (central differences of the shooting map
+    at step 3e-6 in the solver's scaled units, a truncation error near 1e-11).
+
+    Parameters
+    ----------
+    scene_or_solution : Scene or Solution
+        A scene (solved first, from ``guess``) or a converged solution (its state is
+        taken again in one or two shooting evaluations).
+    s : float or array (N,), optional
+        Arc length(s) in (0, L] [m]; default the tip.  Off the tip, anchors and point
+        loads, the scene is solved once more with zero point loads there.
+    design : sequence of str
+        Design parameters to differentiate with respect to, by name (``"EI"``,
+        ``"robot.tendons[0].EA"``, ``"tendons[1].offset"``; see
+        :mod:`tendonrod.linearization`).
+    load : bool
+        Compute the compliance block (default True).
+    method : {"central", "forward"}
+        The differences of the shooting map: central (default) or first-order (half the
+        evaluations, truncation near 1e-8).
+    side : array (ntendon,) of +1 / -1 / 0, optional
+        For a displacement-controlled tendon at its taut/slack switch: the taut (+1) or
+        slack (-1) side's derivatives; 0 (default) the side it is on.
+    guess, options
+        As in :func:`tendonrod.solve`.
+
+    Returns
+    -------
+    Jacobian
+        ``actuation`` (6, ntendon), ``tension`` (ntendon, ntendon), ``load`` (6, 6),
+        ``design`` (6, ndesign), ``design_tension`` (ntendon, ndesign), ``at_switch``.
+
+    Raises
+    ------
+    ConvergenceError
+        If the scene does not solve (a linearisation about an unconverged state means
+        nothing).
+    ValueError
+        For a bad ``s``, an unknown design parameter, or a Solution that did not converge.
+    """
+    from .solution import Solution as _Solution
+
+    if isinstance(scene_or_solution, _Solution):
+        sol = scene_or_solution
+        if not sol.success:
+            raise ValueError(
+                "scene_or_solution: a Solution that did not converge cannot be linearised "
+                f"(status {sol.status}: {sol.message})"
+            )
+        scene = sol.scene
+        options = sol.options if options is None else options
+        guess = sol if guess is None else guess
+    elif isinstance(scene_or_solution, Scene):
+        scene = scene_or_solution
+    else:
+        raise ValueError(
+            f"scene_or_solution must be a tendonrod.Scene or Solution, got {scene_or_solution!r}"
+        )
+    L = scene.robot.rod.length
+    s_vals, _ = _arc_lengths(s, L)
+    _design_names(scene, design)
+    _forward(method)
+    _sides(side, scene.robot.n_tendons)
+    probed = _probe_scene(scene, s_vals)
+    if isinstance(scene_or_solution, _Solution) and probed is scene and options is sol.options:
+        # the solution's own structure: linearise its state, no solve
+        prob = Problem(scene, options)
+        prob._last = sol
+        state = (sol.unknowns, max(1, sol.formulation.steps))
+        return prob._jacobian(sol, s, design, load, method, False, state, side)
+    prob = Problem(probed, options)
+    psol = Solution(prob._run(guess), prob.scene, prob.options)
+    if not psol.success:
+        raise ConvergenceError(f"tendonrod.jacobian: the scene did not solve: {psol.message}", psol)
+    prob._last = psol
+    return prob.jacobian(s, design=design, load=load, method=method, side=side)

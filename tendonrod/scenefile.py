@@ -35,6 +35,13 @@ problem, e.g. ``robot.toml: tendon[2].displacement: expected a number, got
 
     [options]             # any field of tr.Options, passed through by name
 
+    [target]              # optional: what ``python -m tendonrod actuate`` reaches
+    tip_angle = "45deg"   # [rad] a number, or a string "45deg" / "0.8rad" (planar scenes)
+    # tip_direction = [1.0, 0.0, 1.0]   # or the tip tangent, world frame
+    # tip_position = [0.1, 0.0, 0.15]   # or the tip position [m], world frame
+    tendons = [0]         # the actuated tendons (default: all)
+    min_tension = 0.0     # [N] (more controls than target components)
+
 Functions: :func:`load_scene` (path -> :class:`SceneSpec`), :func:`parse_scene`
 (dict -> :class:`SceneSpec`).  Errors are :class:`SceneFileError` (a
 ``ValueError``) with ``.key`` and ``.problem``.
@@ -58,7 +65,14 @@ if sys.version_info >= (3, 11):
 else:  # pragma: no cover - exercised on Python 3.10 only
     import tomli as tomllib
 
-__all__ = ["SceneFileError", "SceneSpec", "load_scene", "parse_scene", "TOP_LEVEL_KEYS"]
+__all__ = [
+    "SceneFileError",
+    "SceneSpec",
+    "load_scene",
+    "parse_scene",
+    "parse_angle",
+    "TOP_LEVEL_KEYS",
+]
 
 
 class SceneFileError(ValueError):
@@ -86,15 +100,20 @@ class SceneSpec:
         The file's ``title`` (empty if absent).
     source : str or None
         The path the scene was read from.
+    target : dict or None
+        The ``[target]`` table as keyword arguments of :func:`tendonrod.actuate`
+        (angles in radians), or None.
     """
 
     scene: Any
     options: Any = None
     title: str = ""
     source: str | None = None
+    target: Any = None
 
 
-TOP_LEVEL_KEYS = ("title", "rod", "tendon", "load", "distributed", "options")
+TOP_LEVEL_KEYS = ("title", "rod", "tendon", "load", "distributed", "options", "target")
+TARGET_KINDS = ("tip_angle", "tip_direction", "tip_position")
 _ROD_NUMBERS = ("length", "diameter", "E", "G", "EI", "GJ", "EA", "GA")
 _ROD_BOOLS = ("kirchhoff",)
 _TENDON_NUMBERS = ("offset", "angle", "slope", "EA", "end", "pretension", "displacement", "tension")
@@ -274,6 +293,65 @@ def _parse_options(raw: Any):
     return _build(Options, dict(table), "options")
 
 
+def parse_angle(value: Any, key: str) -> float:
+    """An angle [rad] from a number (radians) or a string with a unit, ``"45deg"``,
+    ``"45 deg"``, ``"0.8rad"`` (a bare number in a string: radians); SceneFileError
+    naming ``key`` otherwise."""
+    if isinstance(value, str):
+        text = value.strip().lower()
+        for unit, factor in (("deg", math.pi / 180.0), ("rad", 1.0), ("", 1.0)):
+            if text.endswith(unit):
+                try:
+                    number = float(text[: len(text) - len(unit)])
+                except ValueError:
+                    break
+                if math.isfinite(number):
+                    return number * factor
+                break
+        raise SceneFileError(
+            key, f"expected an angle such as 45deg or 0.8rad (or a number in rad), got {value!r}"
+        )
+    number = _number(value, key)
+    if not math.isfinite(number):
+        raise SceneFileError(key, f"expected a finite angle, got {value!r}")
+    return number
+
+
+def _parse_target(raw: Any, n_tendons: int) -> dict:
+    """The [target] table as keyword arguments of tendonrod.actuate."""
+    table = _table(raw, "target")
+    _unknown(table, TARGET_KINDS + ("tendons", "min_tension", "tol"), "target")
+    kinds = [k for k in TARGET_KINDS if k in table]
+    if len(kinds) != 1:
+        raise SceneFileError(
+            "target", f"give exactly one of {', '.join(TARGET_KINDS)}; got {kinds or 'none'}"
+        )
+    kind = kinds[0]
+    key = f"target.{kind}"
+    out: dict = {}
+    if kind == "tip_angle":
+        out[kind] = parse_angle(table[kind], key)
+    else:
+        out[kind] = _vector3(table[kind], key)
+    if "tendons" in table:
+        idx = table["tendons"]
+        if not isinstance(idx, list) or not idx:
+            raise SceneFileError(
+                "target.tendons", f"expected an array of tendon indices, got {idx!r}"
+            )
+        for j, i in enumerate(idx):
+            if isinstance(i, bool) or not isinstance(i, int) or not 0 <= i < n_tendons:
+                raise SceneFileError(
+                    f"target.tendons[{j}]",
+                    f"expected a tendon index in 0..{n_tendons - 1}, got {i!r}",
+                )
+        out["tendons"] = list(idx)
+    for name in ("min_tension", "tol"):
+        if name in table:
+            out[name] = _number(table[name], f"target.{name}")
+    return out
+
+
 def parse_scene(data: Mapping[str, Any], source: str | None = None) -> SceneSpec:
     """Build a :class:`SceneSpec` from an already parsed TOML document (a dict).
 
@@ -309,11 +387,12 @@ def parse_scene(data: Mapping[str, Any], source: str | None = None) -> SceneSpec
             Scene, {"robot": robot, "displacement": qs, "tension": taus, "loads": loads}, "scene"
         )
         options = _parse_options(data["options"]) if "options" in data else None
+        target = _parse_target(data["target"], len(tendons)) if "target" in data else None
     except SceneFileError as exc:
         if source is not None and exc.path is None:
             raise SceneFileError(exc.key, exc.problem, source) from exc.__cause__
         raise
-    return SceneSpec(scene=scene, options=options, title=title, source=source)
+    return SceneSpec(scene=scene, options=options, title=title, source=source, target=target)
 
 
 def load_scene(path: str | os.PathLike) -> SceneSpec:

@@ -301,6 +301,13 @@ class Solution:
         return self.raw["tip_position"]
 
     @property
+    def tip_angle(self) -> float:
+        """Tip angle [rad] of a planar solve: the signed angle of the tip tangent from the
+        base axis (+z) toward +x, unwrapped along s (a curl past 180 degrees reads past
+        pi); NaN for the spatial formulation (see :attr:`tip_rotation`)."""
+        return float(self.raw.get("tip_angle", math.nan))
+
+    @property
     def tip_rotation(self) -> np.ndarray:
         """Tip body-to-world rotation (s = L), shape (3, 3) (see :attr:`tip_position`)."""
         return self.raw["tip_rotation"]

@@ -1,6 +1,7 @@
 """Command line: --help everywhere, exit codes 0 / 1 / 2, messages naming the key of a
 malformed scene file (left untouched), solve outputs, figures, bench dispatch."""
 
+import dataclasses
 import json
 import math
 import os
@@ -135,6 +136,66 @@ def test_solve_not_converged_exit_1(tmp_path, capsys):
     assert rc == EXIT_NOT_CONVERGED
     assert "DID NOT CONVERGE" in stdout
     assert json.loads((tmp_path / "o" / "solution.json").read_text())["success"] is False
+
+
+def _tip_angle(R) -> float:
+    return math.atan2(R[0, 2], R[2, 2])
+
+
+@pytest.mark.parametrize("extra, degrees", [([], 45.0), (["--tip-angle", "30deg"], 30.0)])
+def test_actuate_reaches_the_target(tmp_path, capsys, extra, degrees):
+    scene_file = EXAMPLES / "actuate_under_load.toml"
+    rc, stdout, _ = run_main(["actuate", str(scene_file), "--out", str(tmp_path)] + extra, capsys)
+    assert rc == EXIT_OK, stdout
+    summary = json.loads((tmp_path / "solution.json").read_text())
+    assert summary["actuation"]["reached"] is True
+    # the displacement written, given to a forward solve of the file's scene, gives the
+    # angle (1e-9 rad: the target tolerance 1e-10 plus the two solves' accuracy)
+    from tendonrod.scenefile import load_scene
+
+    scene = load_scene(scene_file).scene
+    q = summary["displacement_m"]
+    fwd = tr.solve(dataclasses.replace(scene, displacement=q), strict=True)
+    assert abs(_tip_angle(fwd.tip_rotation) - math.radians(degrees)) <= 1e-9
+
+
+def test_actuate_unreachable_exit_1(tmp_path, capsys):
+    # one tendon at +x cannot hold the tip at -80 deg against a load toward -x... it
+    # can only go slack: the closest state is written, with its distance
+    rc, stdout, _ = run_main(
+        ["actuate", str(EXAMPLES / "actuate_under_load.toml"), "--out", str(tmp_path)]
+        + ["--tip-angle=-80deg"],
+        capsys,
+    )
+    assert rc == EXIT_NOT_CONVERGED and "TARGET NOT REACHED" in stdout
+    summary = json.loads((tmp_path / "solution.json").read_text())
+    assert summary["success"] is False and summary["actuation"]["distance"] > 0.1
+
+
+@pytest.mark.parametrize(
+    "edit, args, key",
+    [
+        (None, ["--tip-angle", "60dg"], "--tip-angle"),
+        (None, ["--tip-angle", "1", "--tip-position", "0", "0", "0.2"], "one of"),
+        (None, ["--tendons", "a"], "--tendons"),
+        (('tip_angle = "45deg"', 'tip_anlge = "45deg"'), [], "target.tip_anlge"),
+        (('tip_angle = "45deg"', 'tip_angle = "45deg"\ntip_position = [0, 0, 0.2]'), [], "target"),
+        (('tip_angle = "45deg"', 'tip_angle = "45deg"\ntendons = [3]'), [], "target.tendons[0]"),
+        (('tip_angle = "45deg"', "tip_angle = true"), [], "target.tip_angle"),
+        (('[target]\ntip_angle = "45deg"', ""), [], "no target"),
+    ],
+)
+def test_actuate_bad_input_exit_2(tmp_path, capsys, edit, args, key):
+    text = (EXAMPLES / "actuate_under_load.toml").read_text()
+    if edit is not None:
+        assert edit[0] in text
+        text = text.replace(edit[0], edit[1], 1)
+    scene = tmp_path / "bad.toml"
+    scene.write_text(text)
+    rc, _, err = run_main(["actuate", str(scene), "--out", str(tmp_path / "out")] + args, capsys)
+    assert rc == EXIT_BAD_INPUT
+    assert key in err and "bad.toml" in err
+    assert not (tmp_path / "out").exists()  # nothing written for bad input
 
 
 def test_figures_closed_form_subset(tmp_path, capsys):

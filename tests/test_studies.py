@@ -125,6 +125,21 @@ def test_actuate_parallel_is_constant_curvature():
     assert act.displacements[0] == pytest.approx(0.01 * math.pi / 2, rel=1e-9)
 
 
+def test_actuate_any_tendon_of_a_spatial_robot():
+    """Three tendons at 120 deg: tendon 0 (at +x) reaches 45 deg in the x-z plane; the
+    others cannot (no pull toward +x), and say so instead of failing inside a solve."""
+    rod = S.paper_rod_ivb()
+    tendons = [tr.Tendon(offset=0.01, angle=2 * math.pi * k / 3) for k in range(3)]
+    robot = tr.Robot(rod, tendons)
+    act = S.actuate(robot, math.pi / 4)
+    # 1e-10 rad: the 1e-11 rad target tolerance plus the solver's accuracy
+    assert act.theta == pytest.approx(math.pi / 4, abs=1e-10)
+    assert act.tensions[1] == act.tensions[2] == 0.0
+    for k in (1, 2):
+        with pytest.raises(RuntimeError, match=f"tendon {k} cannot reach.*closest reachable"):
+            S.actuate(robot, math.pi / 4, tendon=k)
+
+
 def test_compliance_map_small_angle_limit_matches_closed_forms():
     # actuated to a tiny angle so the tendon is taut; the linearisation then matches the
     # straight-robot closed forms up to O(theta) geometric terms

@@ -1,19 +1,22 @@
 """The paper's robots and how they are actuated: parameter sets, rods, one-tendon
 robots, the tip angle, sigma from a compliance matrix, and :func:`actuate` (pull a
-tendon until the unloaded tip reaches a target angle, then lock it)."""
+tendon until the unloaded tip reaches a target angle, by :func:`tendonrod.actuate`, then
+lock it)."""
 
 from __future__ import annotations
 
 import dataclasses
 import math
+import warnings
 from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
 
-from .. import analytic
+from ..actuation import actuate as actuate_tip
+from ..compiled import is_planar
 from ..model import Robot, Rod, Scene, Tendon
-from ..solver import solve
+from ..results import ConvergenceWarning
 
 __all__ = [
     "G_ACCEL",
@@ -129,69 +132,40 @@ def actuate(
     tol: float = 1e-11,
     max_iter: int = 60,
 ) -> Actuation:
-    """Pull ``tendon`` until the unloaded tip angle (x-z plane, towards +x) is ``theta``.
+    """Pull ``tendon`` until the unloaded tip angle (x-z plane, towards +x) is ``theta``,
+    by :func:`tendonrod.actuate` on the tension of that tendon.
 
-    The other tendons keep ``tensions`` (default 0 N).  Solves by the secant
-    method on the tendon's tension, starting from the closed form (eqs. 37-38);
-    ``tol`` [rad] on the tip angle (1e-11: far below anything plotted, above the
-    solver's 1e-10 scaled tolerance times a curvature of order 1).
+    The other tendons keep ``tensions`` (default 0 N).  ``tol`` [rad] on the tip angle
+    (1e-11: far below anything plotted, above the solver's 1e-10 scaled tolerance times a
+    curvature of order 1).  A planar robot is driven by the unwrapped tip angle; any other
+    by the tip direction (sin theta, 0, cos theta).  RuntimeError with
+    :func:`tendonrod.actuate`'s message when the tendon cannot reach ``theta`` (e.g. it
+    has no moment arm in the x-z plane).
     """
     nt = robot.n_tendons
     base = np.zeros(nt) if tensions is None else np.array(tensions, dtype=float)
     if base.shape != (nt,):
         raise ValueError(f"tensions must have one entry per tendon ({nt}), got {tensions!r}")
-    t = robot.tendons[tendon]
-    EI, L = robot.rod.bending_stiffness, robot.rod.length
-    arm = t.offset * math.cos(t.angle)
-    tau0 = float(
-        analytic.actuation_tension_for_angle(theta, L, EI, t.slope * math.cos(t.angle), arm)
-    )
-    if not math.isfinite(tau0):
-        raise ValueError(
-            f"tendon {tendon} has no moment arm in the x-z plane; cannot reach theta={theta!r}"
-        )
-
-    def scene_for(tau):
-        taus = base.copy()
-        taus[tendon] += tau
-        return Scene(robot, tension=list(taus))
-
-    guess = None
-
-    def f(tau):
-        nonlocal guess
-        sol = solve(scene_for(tau), guess=guess, options=options, strict=True)
-        guess = sol
-        return tip_angle(sol) - theta, sol
-
-    x0, (f0, s0) = tau0, f(tau0)
-    if abs(f0) <= tol:
-        x1, f1, s1 = x0, f0, s0
+    if not (isinstance(tendon, (int, np.integer)) and 0 <= tendon < nt):
+        raise ValueError(f"tendon must be a tendon index in 0..{nt - 1}, got {tendon!r}")
+    scene = Scene(robot, tension=list(base))
+    if is_planar(scene):
+        target = {"tip_angle": float(theta)}
     else:
-        x1 = tau0 * (1.0 + 1e-3) + 1e-9
-        f1, s1 = f(x1)
-        for _ in range(max_iter):
-            if abs(f1) <= tol:
-                break
-            if f1 == f0:
-                raise RuntimeError(
-                    f"actuate: secant stalled at tension {x1!r} N (tip angle error {f1!r} rad)"
-                )
-            x0, x1, f0 = x1, x1 - f1 * (x1 - x0) / (f1 - f0), f1
-            f1, s1 = f(x1)
-        else:
-            raise RuntimeError(
-                f"actuate: no tension reaching theta={theta!r} rad in {max_iter} "
-                f"iterations (last error {f1!r} rad)"
-            )
-    sol = s1
-    taus = base.copy()
-    taus[tendon] += x1
+        target = {"tip_direction": (math.sin(theta), 0.0, math.cos(theta))}
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", ConvergenceWarning)
+        sol = actuate_tip(
+            scene, tendons=[tendon], tol=tol, max_iter=max_iter, options=options, **target
+        )
+    if not (sol.success and sol.actuation.reached):
+        why = sol.message if not sol.success else sol.actuation.message
+        raise RuntimeError(f"actuate: tendon {tendon} cannot reach theta={theta!r} rad: {why}")
+    taus = np.array(sol.tension, dtype=float)
     q = np.array(sol.displacement, dtype=float)
-    locked = Scene(robot, displacement=list(q))
     return Actuation(
-        tension_scene=scene_for(x1),
-        locked_scene=locked,
+        tension_scene=Scene(robot, tension=list(taus)),
+        locked_scene=Scene(robot, displacement=list(q)),
         solution=sol,
         tensions=taus,
         displacements=q,

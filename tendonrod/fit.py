@@ -1,0 +1,307 @@
+"""Calibration: :func:`fit`, design parameters fitted to measured positions over a set of
+loaded scenes, by nonlinear least squares (SciPy's ``least_squares``, the optional
+``fit`` extra) on the design Jacobians of :func:`tendonrod.jacobian`.
+
+Every evaluation solves each scene at the current parameter values (warm from its last
+solution) and linearises it: the residuals' Jacobian is the design block of the
+linearisation, by the implicit function theorem, not differences of full solves.
+"""
+
+from __future__ import annotations
+
+import math
+import warnings
+from dataclasses import dataclass
+
+import numpy as np
+
+from .linearization import design_parameter, design_value, with_design
+from .model import Scene
+from .options import _check_options
+from .problem import _probe_scene, jacobian
+from .results import ConvergenceError, ConvergenceWarning
+from .solver import solve
+
+__all__ = ["fit", "FitResult"]
+
+
+@dataclass(frozen=True, eq=False)
+class FitResult:
+    """What :func:`fit` found.
+
+    Attributes
+    ----------
+    names : tuple of str
+        Canonical paths of the fitted parameters (see :mod:`tendonrod.linearization`).
+    values : ndarray (p,)
+        Fitted values (SI units of each parameter).
+    stderr : ndarray (p,)
+        Their standard errors: square roots of the covariance's diagonal.
+    covariance : ndarray (p, p)
+        ``s^2 (J^T J)^-1`` with the Jacobian J of the residuals [m per unit] at the fit and
+        ``s^2`` the residual variance ``|r|^2 / (N - p)`` (``sigma`` None), or
+        ``(J^T W J)^-1`` with the weights ``1 / sigma^2`` (``sigma`` given: known noise).
+    initial : ndarray (p,)
+        The starting values.
+    residuals : ndarray (nscene, ns, 3)
+        Model minus measurement at the fit [m], world frame (ns = 1 for tip positions).
+    rms : float
+        Root mean square of the residuals' components [m].
+    success : bool
+        SciPy's verdict (a convergence test met) and every scene solved.
+    message : str
+        SciPy's message, or what failed.
+    nfev, njev : int
+        Evaluations of the residuals (each a solve per scene) and of their Jacobian (a
+        linearisation per scene).
+    solutions : tuple of Solution
+        Each scene solved at the fitted values.
+    """
+
+    names: tuple
+    values: np.ndarray
+    stderr: np.ndarray
+    covariance: np.ndarray
+    initial: np.ndarray
+    residuals: np.ndarray
+    rms: float
+    success: bool
+    message: str
+    nfev: int
+    njev: int
+    solutions: tuple
+
+    def as_dict(self) -> dict:
+        """``{name: (value, stderr)}``."""
+        return {n: (float(v), float(e)) for n, v, e in zip(self.names, self.values, self.stderr)}
+
+    def __repr__(self):
+        body = ", ".join(
+            f"{n}={v:.6g} +- {e:.2g}" for n, v, e in zip(self.names, self.values, self.stderr)
+        )
+        return f"FitResult({body}; rms {self.rms:.3g} m, success={self.success})"
+
+
+def _scenes(scenes) -> list:
+    try:
+        out = list(scenes)
+    except TypeError:
+        raise ValueError(f"scenes must be a sequence of tendonrod.Scene, got {scenes!r}") from None
+    if not out or not all(isinstance(sc, Scene) for sc in out):
+        raise ValueError(f"scenes must be a non-empty sequence of tendonrod.Scene, got {scenes!r}")
+    return out
+
+
+def _arc_lengths(s, scenes):
+    """The marker arc lengths (ns,) or None (the tip); ValueError naming ``s``."""
+    if s is None:
+        return None
+    arr = np.atleast_1d(np.asarray(s, dtype=float))
+    L = min(sc.robot.rod.length for sc in scenes)
+    if arr.ndim != 1 or arr.size == 0 or not np.all((arr > 0.0) & (arr <= L)):
+        raise ValueError(f"s must be arc lengths in (0, L = {L:g}] m, got {s!r}")
+    return arr
+
+
+def _measured(measured, n: int, ns: int) -> np.ndarray:
+    try:
+        arr = np.array(measured, dtype=float)
+    except (TypeError, ValueError):
+        raise ValueError(f"measured must be an array of positions [m], got {measured!r}") from None
+    if arr.shape == (n, 3) and ns == 1:
+        arr = arr[:, None, :]
+    if arr.shape != (n, ns, 3) or not np.all(np.isfinite(arr)):
+        want = f"({n}, 3)" if ns == 1 else f"({n}, {ns}, 3)"
+        raise ValueError(f"measured must be finite with shape {want}, got shape {arr.shape}")
+    return arr
+
+
+def _sigma(sigma, shape) -> np.ndarray | None:
+    if sigma is None:
+        return None
+    try:
+        arr = np.broadcast_to(np.asarray(sigma, dtype=float), shape)
+    except ValueError:
+        raise ValueError(
+            f"sigma must broadcast to the measurements {shape}, got {sigma!r}"
+        ) from None
+    if not np.all(np.isfinite(arr) & (arr > 0.0)):
+        raise ValueError(f"sigma must be finite and > 0 [m], got {sigma!r}")
+    return arr
+
+
+class _Model:
+    """The scenes at parameter values, solved warm and linearised, cached per value."""
+
+    def __init__(self, scenes, paths, s, options):
+        self.paths, self.s, self.options = paths, s, options
+        # zero point loads at the markers: breakpoints, so the linearisation reports there
+        self.scenes = [sc if s is None else _probe_scene(sc, s) for sc in scenes]
+        self.guess = [None] * len(scenes)
+        self.key = None
+        self.sols = None
+        self.nfev = self.njev = 0
+
+    def solve(self, p):
+        key = tuple(float(v) for v in p)
+        if key == self.key:
+            return self.sols
+        sols = []
+        for i, sc in enumerate(self.scenes):
+            scene = with_design(sc, dict(zip(self.paths, p)))
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore", ConvergenceWarning)
+                sol = solve(scene, guess=self.guess[i], options=self.options)
+            if not sol.success:
+                raise ConvergenceError(
+                    f"tendonrod.fit: scene {i} did not solve at {dict(zip(self.paths, key))}: "
+                    f"{sol.message}",
+                    sol,
+                )
+            sols.append(sol)
+        self.guess = sols
+        self.key, self.sols = key, sols
+        self.nfev += 1
+        return sols
+
+    def positions(self, p) -> np.ndarray:
+        """(nscene, ns, 3) [m]."""
+        out = []
+        for sol in self.solve(p):
+            if self.s is None:
+                out.append(np.asarray(sol.tip_position)[None, :])
+            else:
+                out.append(np.array([sol.at(x).position for x in self.s]))
+        return np.array(out)
+
+    def jacobian(self, p) -> np.ndarray:
+        """(nscene, ns, 3, p) [m per unit of each parameter]."""
+        self.njev += 1
+        out = []
+        for sol in self.solve(p):
+            jac = jacobian(sol, s=self.s, design=self.paths, load=False)
+            d = np.asarray(jac.design)
+            out.append(d[None, :3, :] if self.s is None else d[:, :3, :])
+        return np.array(out)
+
+
+def fit(
+    scenes,
+    measured,
+    parameters,
+    *,
+    s=None,
+    sigma=None,
+    x0=None,
+    options=None,
+    max_nfev: int = 50,
+    xtol: float = 1e-10,
+) -> FitResult:
+    """Fit design parameters to positions measured on a set of loaded scenes.
+
+    Parameters
+    ----------
+    scenes : sequence of Scene
+        The experiments: one robot design under different loads or actuations.  The
+        parameters are set in every scene (each keeps everything else).
+    measured : array (nscene, 3) or (nscene, ns, 3)
+        Measured tip positions [m] (``s`` None), or positions of markers at the arc
+        lengths ``s``, world frame.
+    parameters : sequence of str
+        Design parameter names (``"EI"``, ``"tendons[0].EA"``, ``"tendons[0].offset"``,
+        ... as in :mod:`tendonrod.linearization`).
+    s : array (ns,), optional
+        Marker arc lengths [m] (default: the tip).
+    sigma : float or array, optional
+        The measurement noise [m] (standard deviation; broadcast to ``measured``): the
+        residuals are weighted by ``1 / sigma`` and the covariance taken as known noise.
+        Default: unweighted, the covariance scaled by the residual variance.
+    x0 : sequence (p,), optional
+        Starting values (default: the first scene's values).
+    options : Options, optional
+        Solver options of every solve.
+    max_nfev : int
+        Most residual evaluations (each a solve of every scene).
+    xtol : float
+        SciPy's relative step tolerance on the parameters.
+
+    Returns
+    -------
+    FitResult
+        Values, standard errors, covariance, residuals [m], the solutions at the fit.
+
+    Raises
+    ------
+    ValueError
+        For bad input (naming the argument).
+    ImportError
+        Without SciPy (``pip install tendonrod[fit]``).
+    ConvergenceError
+        If a scene does not solve at some parameter values.
+    """
+    try:
+        from scipy.optimize import least_squares
+    except ImportError as exc:  # pragma: no cover - scipy is in the test environment
+        raise ImportError("tendonrod.fit needs SciPy: pip install 'tendonrod[fit]'") from exc
+    scenes = _scenes(scenes)
+    if isinstance(parameters, str):
+        parameters = [parameters]
+    try:
+        names = list(parameters)
+    except TypeError:
+        raise ValueError(f"parameters must be a sequence of names, got {parameters!r}") from None
+    if not names:
+        raise ValueError("parameters must name at least one design parameter")
+    paths = []
+    for sc in scenes:
+        paths = [design_parameter(sc, n)[0] for n in names]
+    if len(set(paths)) != len(paths):
+        raise ValueError(f"parameters names a parameter twice: {names!r}")
+    sv = _arc_lengths(s, scenes)
+    ns = 1 if sv is None else len(sv)
+    meas = _measured(measured, len(scenes), ns)
+    sig = _sigma(sigma, meas.shape)
+    if isinstance(max_nfev, bool) or not isinstance(max_nfev, int) or max_nfev < 1:
+        raise ValueError(f"max_nfev must be an int >= 1, got {max_nfev!r}")
+    if not (isinstance(xtol, (int, float)) and 0.0 < xtol < 1.0):
+        raise ValueError(f"xtol must be in (0, 1), got {xtol!r}")
+    p0 = np.array([design_value(scenes[0], p) for p in paths] if x0 is None else x0, dtype=float)
+    if p0.shape != (len(paths),) or not np.all(np.isfinite(p0) & (p0 != 0.0)):
+        raise ValueError(f"x0 must hold {len(paths)} finite nonzero values, got {x0!r}")
+    options = _check_options(options)
+    model = _Model(scenes, paths, sv, options)
+    w = 1.0 if sig is None else 1.0 / sig
+    # unknowns: the parameters relative to their starting values (all of order 1)
+    scale = np.abs(p0)
+
+    def resid(x):
+        return ((model.positions(x * scale) - meas) * w).ravel()
+
+    def jac(x):
+        J = model.jacobian(x * scale) * (w[..., None] if sig is not None else 1.0)
+        return J.reshape(-1, len(paths)) * scale
+
+    res = least_squares(resid, p0 / scale, jac=jac, method="lm", xtol=xtol, max_nfev=max_nfev)
+    p = res.x * scale
+    r = model.positions(p) - meas
+    J = model.jacobian(p).reshape(-1, len(paths))
+    if sig is not None:
+        Jw = J / sig.reshape(-1, 1)
+        cov = np.linalg.pinv(Jw.T @ Jw)
+    else:
+        dof = max(r.size - len(paths), 1)
+        cov = np.linalg.pinv(J.T @ J) * float(r.ravel() @ r.ravel()) / dof
+    return FitResult(
+        names=tuple(paths),
+        values=p,
+        stderr=np.sqrt(np.maximum(np.diag(cov), 0.0)),
+        covariance=cov,
+        initial=p0,
+        residuals=r,
+        rms=float(math.sqrt(np.mean(r**2))),
+        success=bool(res.success),
+        message=str(res.message),
+        nfev=model.nfev,
+        njev=model.njev,
+        solutions=tuple(model.solve(p)),
+    )
