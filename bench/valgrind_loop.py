@@ -175,6 +175,28 @@ def problem_loop(n):
         assert (
             tr.solve(hopeless, options=tr.Options(max_work=2e4)).status == tr._core.STATUS_EBUDGET
         )
+        # the stable branch: a buckled column (direct answer unstable, the load path and a
+        # symmetry-breaking imperfection), a warm ramp across the bifurcation keeping and
+        # renewing verdicts, an unstable planar scene that fails honestly, and the verdict
+        # record handed from a Solution to a warm solve
+        wire = tr.Rod(0.25, 1.2e-3, 60e9, 23e9, kirchhoff=True)
+        pe = math.pi**2 * wire.bending_stiffness / (4 * 0.25**2)
+
+        def column(f):
+            return tr.Scene(tr.Robot(wire, []), loads=[tr.PointLoad(s=0.25, force=(0, 0, -f * pe))])
+
+        assert tr.solve(column(1.5)).stable is True
+        ramp = tr.Problem(column(0.8))
+        for f in (0.8, 0.9, 1.1, 1.2):
+            assert ramp.solve(column(f)).stable is not False
+        fig11a = tr.Scene(
+            tr.Robot(rod, [tr.Tendon(offset=0.01)]),
+            displacement=[0.01 * math.pi / 2],
+            loads=[tr.PointLoad(s=0.1, force=(-4.0, 0, 0))],
+        )
+        assert tr.solve(fig11a).status == tr._core.STATUS_UNSTABLE
+        first = tr.solve(sc[2])
+        assert tr.solve(sc[2], guess=first).success
         if it == 0:
             # a solve on a thread stopped by its Cancel token
             from tendonrod._interrupt import cancel_scope
