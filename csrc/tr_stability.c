@@ -534,6 +534,33 @@ static void verdict_full(const tr_model *m, tr_data *d, int near_zero)
     }
 }
 
+/* One eigenvalue in the quick test's band: a symmetry's zero mode?  At the discrete
+ * equilibrium of the quick grid (where a symmetry's zero mode is exact to round-off) it
+ * is neutral when that one eigenvalue lies within TR_STAB_NEUTRAL of zero and no other
+ * within the band: stable when none lies below, the margin left to the full test.
+ * Returns 1 when decided. */
+static int quick_neutral(const tr_model *m, tr_data *d, struct tr_stab_ws *w, int nn, double band)
+{
+    int lo, hi, a, b, sing;
+    discrete_equilibrium(m, w, nn, 3);
+    lo = tr_btd_count(&w->h, -band, &sing);
+    if (sing) return 0;
+    hi = tr_btd_count(&w->h, band, &sing);
+    if (sing || hi - lo != 1) return 0;
+    a = tr_btd_count(&w->h, -TR_STAB_NEUTRAL, &sing);
+    if (sing || a != lo) return 0;
+    b = tr_btd_count(&w->h, TR_STAB_NEUTRAL, &sing);
+    if (sing || b != hi) return 0;
+    d->stable = lo == 0;
+    d->stab_index = lo;
+    d->stab_gap = 0.0; /* a zero mode: a kept verdict would not see it move */
+    snprintf(d->stab_reason, sizeof d->stab_reason,
+             "%s: a direction of zero stiffness (a symmetry of the scene), %d negative %s, no "
+             "other eigenvalue within %.2g EI/L of zero",
+             lo ? "unstable" : "neutrally stable", lo, lo == 1 ? "mode" : "modes", band);
+    return 1;
+}
+
 /* The quick test: Kirchhoff elements on a coarse grid (TR_STAB_QUICK elements, doubled
  * while an element turns too much), no refinement; decides only when no eigenvalue lies
  * within +-TR_STAB_QUICK_BAND (1 + stiffness scale), where neither the model reduction
@@ -558,7 +585,9 @@ static int verdict_quick(const tr_model *m, tr_data *d)
     nlo = tr_btd_count(&w->h, -band, &sing);
     if (sing) return 0;
     nhi = tr_btd_count(&w->h, band, &sing);
-    if (sing || nlo != nhi || nlo < 0) return 0;
+    if (sing || nlo < 0) return 0;
+    if (nhi - nlo == 1 && quick_neutral(m, d, w, nn, band)) return 1;
+    if (nlo != nhi) return 0;
     n0 = nlo;
     /* how far from zero the nearest eigenvalue lies, in doublings of the band (a verdict
      * kept by warm solves lasts as long as their change stays small against it) */
