@@ -16,6 +16,7 @@ import numpy as np
 
 from . import _core
 from .model import Scene
+from .mounting import base_pose, vectors_in
 from .options import Options
 
 __all__ = ["pack_scene", "is_planar", "structure_difference", "compliance_point"]
@@ -29,7 +30,8 @@ _LD = {name: i for i, name in enumerate(_core.LOAD_COLUMNS)}
 
 def pack_scene(scene: Scene):
     """Flat float64 arrays ``(rod (6,), tendons (nt, 8), loads (nl, 7), dist (3,))`` of the
-    raw glue contract (csrc/README.md) for ``scene``."""
+    raw glue contract (csrc/README.md) for ``scene``: forces and moments in the base frame
+    (the world frame unless the robot is mounted)."""
     if not isinstance(scene, Scene):
         raise ValueError(f"scene must be a tendonrod.Scene, got {scene!r}")
     cached = scene.__dict__.get("_packed")
@@ -65,6 +67,11 @@ def pack_scene(scene: Scene):
         loads[k, _LD["Fx"] : _LD["Fz"] + 1] = p.force
         loads[k, _LD["Mx"] : _LD["Mz"] + 1] = p.moment
     dist = scene.distributed_force
+    pose = base_pose(robot)
+    if pose is not None:
+        for c in (_LD["Fx"], _LD["Mx"]):
+            loads[:, c : c + 3] = vectors_in(pose, loads[:, c : c + 3])
+        dist = vectors_in(pose, dist)
     for a in (rod, tendons, loads, dist):
         a.setflags(write=False)
     # a Scene is frozen: pack it once (sweeps and warm starts call solve() in loops)
@@ -119,7 +126,12 @@ def _robot_structure(robot) -> tuple:
     key = robot.__dict__.get("_problem_structure")
     if key is None:
         rod = robot.rod
-        items = [(f"robot.rod.{name}", getattr(rod, name)) for name in rod.__dataclass_fields__]
+        # the density only sets a value (the weight), not the structure
+        items = [
+            (f"robot.rod.{name}", getattr(rod, name))
+            for name in rod.__dataclass_fields__
+            if name != "density"
+        ]
         items.append(("robot.tendons (count)", robot.n_tendons))
         for i, t in enumerate(robot.tendons):
             for name in ("offset", "angle", "slope", "EA"):

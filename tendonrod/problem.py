@@ -36,6 +36,7 @@ from .compiled import (
 )
 from .linearization import PARAM_KIND, Jacobian, design_parameter
 from .model import PointLoad, Scene
+from .mounting import base_pose, pairs_out, require_unmounted
 from .options import Options, _check_options, _replace
 from .results import ConvergenceError
 from .solution import Solution, _guess_vector, _report
@@ -305,7 +306,12 @@ class Problem:
             C = self._c.compliance(s, cancel=current_token())
         except RuntimeError as exc:  # the linearisation itself failed (e.g. its budget)
             raise ConvergenceError(f"tendonrod.compliance: {exc}", self._last) from None
-        return np.asarray(C, dtype=float).reshape(6, 6)
+        C = np.asarray(C, dtype=float).reshape(6, 6)
+        pose = base_pose(self._last.scene.robot)
+        if pose is None:
+            return C
+        # base-frame [dx, dtheta] per base-frame [F, M]: T C T^T, T = diag(R0, R0)
+        return pairs_out(pose, pairs_out(pose, C, axis=0), axis=1)
 
 
 def _probe_scene(scene: Scene, s, always: bool = False) -> Scene:
@@ -560,6 +566,7 @@ def jacobian(
         raise ValueError(
             f"scene_or_solution must be a tendonrod.Scene or Solution, got {scene_or_solution!r}"
         )
+    require_unmounted(scene.robot, "tendonrod.jacobian")
     L = scene.robot.rod.length
     s_vals, _ = _arc_lengths(s, L)
     _design_names(scene, design)
