@@ -26,7 +26,7 @@ import numpy as np
 from . import _core, plausibility
 from ._interrupt import current_token, new_token
 from ._plausible import batch_findings
-from .compiled import _TD, is_planar, pack_scene
+from .compiled import _TD, _with_dloads, is_planar, pack_scene
 from .model import Scene
 from .mounting import base_pose, points_out, rotations_out, vectors_in
 from .options import Options, _check_options
@@ -234,6 +234,7 @@ def solve_batch(
         exact=bool(exact),
         skip_tension_displacement=not tension_tendon_displacement,
     )
+    kw = _with_dloads(kw, scene)
     packed = (rod, tendons, loads, dist)
     parts = _run_chunks(packed, values, point_loads, distributed, kw, n, chunksize, threads)
     res = _assemble(parts, n, chunksize, options)

@@ -79,6 +79,32 @@ def pack_scene(scene: Scene):
     return rod, tendons, loads, dist
 
 
+def pack_dloads(scene: Scene) -> np.ndarray:
+    """The partial distributed loads of ``scene`` as the core's rows (nd, 5)
+    ``[start, end, f (3)]`` [m, m, N/m], forces in the base frame (cached)."""
+    cached = scene.__dict__.get("_packed_dloads")
+    if cached is not None:
+        return cached
+    L = scene.robot.rod.length
+    parts = scene.partial_loads
+    rows = np.empty((len(parts), 5))
+    for k, ld in enumerate(parts):
+        rows[k, 0], rows[k, 1] = ld.start, L if ld.end is None else min(ld.end, L)
+        rows[k, 2:5] = ld.force
+    pose = base_pose(scene.robot)
+    if pose is not None:
+        rows[:, 2:5] = vectors_in(pose, rows[:, 2:5])
+    rows.setflags(write=False)
+    object.__setattr__(scene, "_packed_dloads", rows)
+    return rows
+
+
+def _with_dloads(kw: dict, scene: Scene) -> dict:
+    """``kw`` with the scene's partial distributed loads (none: ``kw`` itself)."""
+    rows = pack_dloads(scene)
+    return dict(kw, dloads=rows) if rows.shape[0] else kw
+
+
 def _nodes_for(scene: Scene, options: Options):
     nodes = options.nodes
     if isinstance(nodes, np.ndarray):
@@ -115,7 +141,7 @@ def is_planar(scene: Scene) -> bool:
     key = scene.__dict__.get("_planar")
     if key is None:
         _, tendons, loads, dist = pack_scene(scene)
-        key = bool(_core.is_planar(tendons, loads, dist))
+        key = bool(_core.is_planar(tendons, loads, dist, pack_dloads(scene)))
         object.__setattr__(scene, "_planar", key)
     return key
 
@@ -156,6 +182,8 @@ def _structure(scene: Scene) -> tuple:
         items.append(("loads (number of point loads)", len(pls)))
         for j, p in enumerate(pls):
             items.append((f"point load {j} position s", min(p.s, L)))
+        for j, row in enumerate(pack_dloads(scene).tolist()):
+            items.append((f"partial distributed load {j} [start, end, force]", tuple(row)))
         items.append(("planar formulation", is_planar(scene)))
         key = tuple(items)
         object.__setattr__(scene, "_problem_structure", key)
@@ -234,4 +262,4 @@ def _compile(scene: Scene, options: Options):
     nodes = _nodes_for(scene, options)
     if nodes is not kw["nodes"]:
         kw = dict(kw, nodes=nodes)
-    return _core.Problem(rod, tendons, loads, dist, **kw)
+    return _core.Problem(rod, tendons, loads, dist, **_with_dloads(kw, scene))

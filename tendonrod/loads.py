@@ -34,12 +34,26 @@ class PointLoad:
 
 @dataclass(frozen=True)
 class DistributedLoad:
-    """A uniform distributed force ``force`` [N/m] (world frame) over the whole rod."""
+    """A uniform distributed force ``force`` [N/m] (world frame) on the arc lengths
+    ``start <= s <= end`` [m] (defaults: the whole rod; ``end`` None is the tip;
+    ``end <= L`` is checked in :class:`Scene`).  A load over part of the rod makes
+    ``start`` and ``end`` breakpoints of the integration, and its force is part of a
+    compiled problem's structure; one over the whole rod is a per-solve value."""
 
     force: Vec3 = (0.0, 0.0, 0.0)
+    start: float = 0.0
+    end: float | None = None
 
     def __post_init__(self):
         object.__setattr__(self, "force", _vec3("DistributedLoad", "force", self.force))
+        object.__setattr__(self, "start", _nonnegative("DistributedLoad", "start", self.start))
+        if self.end is not None:
+            end = _nonnegative("DistributedLoad", "end", self.end)
+            if not end > self.start:
+                raise ValueError(
+                    f"DistributedLoad.end must be > start = {self.start!r}, got {self.end!r}"
+                )
+            object.__setattr__(self, "end", end)
 
 
 @dataclass(frozen=True)

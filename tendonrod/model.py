@@ -519,6 +519,14 @@ class Scene:
             if isinstance(ld, (PointLoad, PointMass)):
                 if ld.s > L * (1.0 + _GEOM_RTOL):
                     raise ValueError(f"Scene.loads[{k}].s must be in [0, L={L!r}], got {ld.s!r}")
+            elif isinstance(ld, DistributedLoad) and ld.end is not None:
+                if ld.end > L * (1.0 + _GEOM_RTOL):
+                    raise ValueError(f"Scene.loads[{k}].end must be <= L={L!r}, got {ld.end!r}")
+            elif isinstance(ld, DistributedLoad) and ld.start >= L:
+                raise ValueError(
+                    f"Scene.loads[{k}].start must be < L={L!r} (its end is the tip), "
+                    f"got {ld.start!r}"
+                )
             elif not isinstance(ld, DistributedLoad):
                 raise ValueError(
                     f"Scene.loads[{k}] must be a PointLoad, DistributedLoad or PointMass, "
@@ -539,13 +547,24 @@ class Scene:
             PointLoad(ld.s, force=(ld.mass * g[0], ld.mass * g[1], ld.mass * g[2])) for ld in masses
         )
 
+    def _whole(self, ld: DistributedLoad) -> bool:
+        L = self.robot.rod.length
+        return ld.start == 0.0 and (ld.end is None or ld.end >= L)
+
+    @property
+    def partial_loads(self) -> tuple[DistributedLoad, ...]:
+        """The distributed loads over part of the rod, in the order given."""
+        return tuple(
+            ld for ld in self.loads if isinstance(ld, DistributedLoad) and not self._whole(ld)
+        )
+
     @property
     def distributed_force(self) -> np.ndarray:
-        """Sum of the distributed loads and the rod's weight ``rho A g`` [N/m], world
-        frame, shape (3,)."""
+        """Sum of the distributed loads over the whole rod and the rod's weight
+        ``rho A g`` [N/m], world frame, shape (3,) (:attr:`partial_loads` aside)."""
         f = np.zeros(3)
         for ld in self.loads:
-            if isinstance(ld, DistributedLoad):
+            if isinstance(ld, DistributedLoad) and self._whole(ld):
                 f += ld.force
         w = self.robot.rod.mass_per_length
         if w != 0.0 and self.gravity != (0.0, 0.0, 0.0):

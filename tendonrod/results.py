@@ -47,7 +47,8 @@ class Formulation:
     n_states : int
         ODE states integrated.
     n_segments : int
-        Integration segments (split at point loads and tendon anchors).
+        Integration segments (split at point loads, tendon anchors and the ends of
+        partial distributed loads).
     n_length_states : int
         Tendon path-length states (one per displacement-controlled tendon).
     n_stretch_terms : int

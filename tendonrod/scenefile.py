@@ -32,8 +32,10 @@ problem, e.g. ``robot.toml: tendon[2].displacement: expected a number, got
     force = [0.0, 0.0, -1.0]    # [N]
     moment = [0.0, 0.0, 0.0]    # [N m] (optional)
 
-    [distributed]         # uniform distributed force over the whole length, world frame
+    [distributed]         # uniform distributed force, world frame
     force = [0.0, 0.0, -0.25]   # [N/m]
+    start = 0.0           # [m] optional: over [start, end] (default: the whole rod)
+    end = 0.2             # [m]
 
     [[mass]]              # point mass at arc length s (weighs only under gravity)
     s = 0.1               # [m]
@@ -302,6 +304,8 @@ def _parse_distributed(raw: Any):
     for name, value in table.items():
         if name in ("force", "moment"):
             kwargs[name] = _vector3(value, f"distributed.{name}")
+        elif name in ("start", "end"):
+            kwargs[name] = _number(value, f"distributed.{name}")
         else:
             kwargs[name] = value
     return _build(DistributedLoad, kwargs, "distributed")

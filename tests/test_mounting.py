@@ -111,6 +111,7 @@ def _spatial_scene(robot, R):
             tr.DistributedLoad(force=R @ [0.0, 0.3, 0.0]),
             tr.PointMass(s=0.2, mass=0.003),
             tr.PointMass(s=0.07, mass=0.002),
+            tr.DistributedLoad(force=R @ [0.2, 0.0, -0.1], start=0.05, end=0.15),
         ],
         gravity=R @ [0.0, -3.0, -9.81],
     )
@@ -206,6 +207,11 @@ def test_global_balance_with_masses_and_gravity(pair):
     F = L * w + sum(np.asarray(ld.force) for ld in scene.point_loads)
     # Simpson over 2001 nodes: error ~(L/2000)^4 x the fourth derivative, < 1e-15
     M = simpson(np.cross(st.position - _PB, w), x=s, axis=0)
+    # the partial load on [0.05, 0.15], integrated on its own interval (its ends are kinks)
+    part = scene.loads[-1]
+    sp = np.linspace(part.start, part.end, 1001)
+    F = F + (part.end - part.start) * np.asarray(part.force)
+    M = M + simpson(np.cross(b.at(sp).position - _PB, part.force), x=sp, axis=0)
     for ld in scene.point_loads:
         M = M + np.cross(b.at(ld.s).position - _PB, ld.force) + np.asarray(ld.moment)
     # ... balance the base reaction: the backbone's n(0), m(0) and the tendons' pulls at
