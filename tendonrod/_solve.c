@@ -17,6 +17,7 @@ PyObject *glue_formulation(const tr_model *m, const tr_data *d)
         glue_set(form, "n_length_states", PyLong_FromLong(m->ndisp)) < 0 ||
         glue_set(form, "n_stretch_terms", PyLong_FromLong(m->n_stretch)) < 0 ||
         glue_set(form, "distributed_load", PyBool_FromLong(m->has_dist || m->has_pdist)) < 0 ||
+        glue_set(form, "n_partial_loads", PyLong_FromLong(m->nd)) < 0 ||
         glue_set(form, "shooting_segments", PyLong_FromLong(m->nshoot)) < 0)
         goto fail;
     if (d && (glue_set(form, "tip_only", PyBool_FromLong(d->opt.tip_only)) < 0 ||

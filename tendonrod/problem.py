@@ -81,7 +81,10 @@ class Problem:
         """What the scene compiled to (:class:`~tendonrod.Formulation`)."""
         from .results import Formulation
 
-        return Formulation.from_dict(self._c.formulation)
+        form = self._c.formulation
+        if self._current.robot.mounted:
+            form = dict(form, mounted=True)
+        return Formulation.from_dict(form)
 
     @property
     def last_solution(self):

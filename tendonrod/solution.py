@@ -297,7 +297,10 @@ class Solution:
     def formulation(self) -> Formulation:
         """What was solved (:class:`Formulation`)."""
         if self._formulation is None:
-            self._formulation = Formulation.from_dict(self.raw.get("formulation", {}))
+            form = self.raw.get("formulation", {})
+            if self._pose is not None:
+                form = dict(form, mounted=True)
+            self._formulation = Formulation.from_dict(form)
         return self._formulation
 
     @property

@@ -82,6 +82,8 @@ def test_horizontal_rod_own_weight_small_load_matches_w_L4_over_8EI():
     # and it stays in the vertical plane of the axis, to round-off of the rotation
     assert abs(np.cross(_AXIS, tip)[2]) <= 1e-15 * rod.length
     assert sol.formulation.planar  # gravity lies in the base frame's x-z plane
+    assert sol.formulation.mounted and sol.formulation.distributed_load
+    assert "mounted base" in repr(sol.formulation)
 
 
 def test_horizontal_rod_large_sag_with_tip_mass_matches_collocation_elastica():
@@ -164,7 +166,9 @@ def test_rotated_base_entry_points_agree(pair):
     Ca, Cb = tr.compliance(a.scene), tr.compliance(b.scene)
     assert np.abs(Cb - T @ Ca @ T.T).max() <= 1e-9 * np.abs(Ca).max()
     # a compiled Problem and a batch run the same pipeline as tr.solve on the same scene
-    p = tr.Problem(b.scene).solve()
+    prob = tr.Problem(b.scene)
+    assert prob.formulation.mounted
+    p = prob.solve()
     np.testing.assert_array_equal(p.tip_position, b.tip_position)
     np.testing.assert_array_equal(p.tip_rotation, b.tip_rotation)
     res = tr.solve_batch(b.scene, tension=[[0.3], [0.35]], exact=True)

@@ -28,7 +28,9 @@ def test_small_load_matches_superposed_beam_formula(a, b):
 
     sol = tr.solve(_scene(tr.DistributedLoad(force=(w, 0, 0), start=a, end=b)))
     assert sol.success
-    assert sol.formulation.planar and sol.formulation.n_segments == 1 + (a > 0) + (b < L)
+    form = sol.formulation
+    assert form.planar and form.n_segments == 1 + (a > 0) + (b < L)
+    assert form.n_partial_loads == 1 and form.distributed_load and not form.mounted
     # 1e-6 relative: bounds the nonlinear correction (~(w L^3/EI)^2) and the solver
     # tolerance (1e-10 of the scaled residual) with room
     assert sol.tip_position[0] == pytest.approx(tail(a) - tail(b), rel=1e-6)
