@@ -36,7 +36,7 @@ from .compiled import (
 )
 from .linearization import PARAM_KIND, Jacobian, design_parameter
 from .model import PointLoad, Scene
-from .mounting import base_pose, pairs_out, require_unmounted
+from .mounting import base_pose, pairs_out
 from .options import Options, _check_options, _replace
 from .results import ConvergenceError
 from .solution import Solution, _guess_vector, _report
@@ -254,6 +254,11 @@ class Problem:
         elif load:
             C = _load_block(sol, s_vals, self._options, forward)
         ten = raw["tension"]
+        mount = base_pose(sol.scene.robot)
+        if mount is not None:  # base-frame [dx, dtheta] rows (and [F, M] columns) to world
+            act, des = pairs_out(mount, act, axis=1), pairs_out(mount, des, axis=1)
+            if C is not None:
+                C = pairs_out(mount, pairs_out(mount, C, axis=1), axis=2)
         return Jacobian(
             s=float(s_vals[0]) if scalar else s_vals,
             actuation=act[0] if scalar else act,
@@ -569,7 +574,6 @@ def jacobian(
         raise ValueError(
             f"scene_or_solution must be a tendonrod.Scene or Solution, got {scene_or_solution!r}"
         )
-    require_unmounted(scene.robot, "tendonrod.jacobian")
     L = scene.robot.rod.length
     s_vals, _ = _arc_lengths(s, L)
     _design_names(scene, design)
