@@ -153,6 +153,7 @@ enum tr_load_col {
     TR_LD_M = 4,
     TR_LD_NCOL = 7
 }; /* s [m], F (3) [N], M (3) [N m] */
+enum tr_dload_col { TR_DL_S0, TR_DL_S1, TR_DL_F, TR_DL_NCOL = 5 }; /* start, end [m], F (3) [N/m] */
 
 typedef struct tr_options {
     int integrator;      /* tr_integrator; default TR_RK8 (3-8 steps reach 1e-8 on a 90 deg bend) */
@@ -230,6 +231,11 @@ typedef struct tr_model {
     double *load;             /* (nl x 7) [s, F (3) world N, M (3) world N m] as given */
     double dist[3];           /* uniform distributed force, world [N/m] */
     int has_dist;             /* 1 if dist != 0 */
+    int nd;                   /* number of partial distributed loads */
+    double *dload;            /* (nd x 5) [s0, s1 [m], f (3) world N/m] as given: f on [s0, s1] */
+    double *seg_pdist;        /* (nseg x 3) sum of the partial distributed forces on each
+                                   segment, world [N/m] (breakpoints at every s0, s1) */
+    int has_pdist;            /* 1 if some partial distributed force != 0 */
     int nseg;                 /* number of integration segments */
     double *bp;               /* (nseg + 1) breakpoints, bp[0] = 0, bp[nseg] = L [m] */
     double *bpF, *bpM;        /* (nseg + 1) x 3 point force [N] / moment [N m] sums at each
@@ -271,6 +277,13 @@ typedef struct tr_model {
 int tr_model_alloc(tr_model **out, const double rod[6], const double *tendons, int nt,
                    const double *loads, int nl, const double dist[3], const tr_options *opt,
                    char *msg, size_t msglen);
+/* tr_model_alloc with nd partial distributed loads dloads (nd x 5) rows
+ * [s0, s1, fx, fy, fz]: the force per length f [N/m], world frame, on [s0, s1]
+ * (0 <= s0 < s1 <= L), beside the uniform dist; s0 and s1 become breakpoints.
+ * tr_model_alloc is this with nd = 0. */
+int tr_model_alloc_dist(tr_model **out, const double rod[6], const double *tendons, int nt,
+                        const double *loads, int nl, const double dist[3], const double *dloads,
+                        int nd, const tr_options *opt, char *msg, size_t msglen);
 void tr_model_free(tr_model *m);
 /* A deep copy of m (NULL when out of memory): a model whose values can be set while m
  * stays shared. */
@@ -308,6 +321,10 @@ int tr_model_set_target(tr_model *m, int kind, const double *values, const int *
 /* 1 when a scene of these flat arrays (as for tr_model_alloc) lies in the x-z plane:
  * every tendon at |sin phi| <= TR_PLANAR_SIN, no load with Fy, Mx or Mz, dist_y = 0. */
 int tr_is_planar(const double *tendons, int nt, const double *loads, int nl, const double dist[3]);
+/* tr_is_planar with partial distributed loads (nd x 5, as for tr_model_alloc_dist): each
+ * with f_y = 0 too. */
+int tr_is_planar_dist(const double *tendons, int nt, const double *loads, int nl,
+                      const double dist[3], const double *dloads, int nd);
 
 /* ------------------------------------------------------------------ data */
 #define TR_MSGLEN 1024

@@ -106,6 +106,20 @@ static void shape_guess(const tr_model *m, tr_data *d, double *x)
             }
             for (c = 0; c < 3; c++) F[c] += lam_load * (m->L - m->bp[b]) * m->dist[c];
         }
+        if (m->has_pdist) {
+            /* the same trapezoid, each segment with its own partial force */
+            for (bb = b + 1; bb <= m->nseg; bb++) {
+                const double h = m->bp[bb] - m->bp[bb - 1], *f = m->seg_pdist + 3 * (bb - 1);
+                double mid[3];
+                for (c = 0; c < 3; c++)
+                    mid[c] = 0.5 * (pose[12 * bb + c] + pose[12 * (bb - 1) + c]) - pb[c];
+                tru_cross3(tmp, mid, f);
+                for (c = 0; c < 3; c++) {
+                    M[c] += lam_load * h * tmp[c];
+                    F[c] += lam_load * h * f[c];
+                }
+            }
+        }
         if (b == 0) {
             /* base reaction (world = base frame) */
             base_unknowns(m, F, M, x);
@@ -198,6 +212,22 @@ static double rr_integral(const tr_tendon *ti, const tr_tendon *tj, double T)
                   ti->b * tj->b * T);
 }
 
+/* q(s) = int_s^L (x - s) f_p(x) dx of the partial distributed forces f_p (world): the
+ * moment of those distal of s about the straight centreline at s is e3 x q =
+ * (-q_y, q_x, 0). */
+static void pdist_first_moment(const tr_model *m, double s, double q[3])
+{
+    int k, c;
+    q[0] = q[1] = q[2] = 0.0;
+    for (k = 0; k < m->nseg; k++) {
+        const double hi = m->bp[k + 1], lo = m->bp[k] > s ? m->bp[k] : s;
+        double w;
+        if (hi <= s) continue;
+        w = 0.5 * ((hi - s) * (hi - s) - (lo - s) * (lo - s));
+        for (c = 0; c < 3; c++) q[c] += w * m->seg_pdist[3 * k + c];
+    }
+}
+
 /* int_0^T (m1 r_i2 - m2 r_i1) ds, m = moment of the loads distal of s about the
  * centreline of the straight robot (world = body): the path-length change the
  * loads alone cause is this / EI.  Integrands are polynomials of degree <= 3 in s on
@@ -222,6 +252,18 @@ static double load_path_integral(const tr_model *m, const tr_data *d, const tr_t
             const double s = gx[g] * T, rho = ti->a * s + ti->b, h = 0.5 * (m->L - s) * (m->L - s);
             const double m1 = -h * m->dist[1], m2 = h * m->dist[0];
             sum += 0.5 * T * (m1 * rho * ti->sphi - m2 * rho * ti->cphi);
+        }
+    }
+    if (m->has_pdist) {
+        /* piecewise quadratic moment: 2-point Gauss on each segment below T */
+        for (b = 0; b < m->nseg && m->bp[b] < T; b++) {
+            const double lo = m->bp[b], hi = m->bp[b + 1] < T ? m->bp[b + 1] : T;
+            for (g = 0; g < 2; g++) {
+                const double s = lo + gx[g] * (hi - lo), rho = ti->a * s + ti->b;
+                double q[3];
+                pdist_first_moment(m, s, q);
+                sum += 0.5 * (hi - lo) * (-q[1] * rho * ti->sphi - q[0] * rho * ti->cphi);
+            }
         }
     }
     return d->lam_load * sum;
@@ -257,6 +299,14 @@ static void cold_guess(const tr_model *m, tr_data *d, double *x)
     for (c = 0; c < 3; c++) F[c] += m->L * m->dist[c];
     M[0] += -0.5 * m->L * m->L * m->dist[1];
     M[1] += 0.5 * m->L * m->L * m->dist[0];
+    if (m->has_pdist) {
+        double q[3];
+        for (b = 0; b < m->nseg; b++)
+            for (c = 0; c < 3; c++) F[c] += (m->bp[b + 1] - m->bp[b]) * m->seg_pdist[3 * b + c];
+        pdist_first_moment(m, 0.0, q);
+        M[0] += -q[1];
+        M[1] += q[0];
+    }
     for (c = 0; c < 3; c++) {
         F[c] *= d->lam_load;
         M[c] *= d->lam_load;

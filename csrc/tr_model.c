@@ -31,6 +31,8 @@ void tr_model_free(tr_model *m)
     free(m->seg_act);
     free(m->bp_node);
     free(m->bp_jump);
+    free(m->dload);
+    free(m->seg_pdist);
     free(m);
 }
 
@@ -210,13 +212,56 @@ static void sum_breakpoint_loads(tr_model *m)
     }
 }
 
-/* Breakpoints: 0, L, the shooting nodes j L / M, tendon anchors and point loads
- * (a zero load still makes one: compliance probes need it), merged within
- * TR_BP_MERGE L; then the per-breakpoint tables and the active tendons per segment. */
+/* The partial distributed loads from the flat rows dloads (nd x 5) into m->dload;
+ * TR_EINVAL with a message naming the row when a value is not finite or the interval
+ * is not 0 <= s0 < s1 <= L. */
+static int read_dloads(tr_model *m, const double *dloads, char *msg, size_t msglen)
+{
+    int i, c;
+    for (i = 0; i < m->nd; i++) {
+        const double *row = dloads + TR_DL_NCOL * i;
+        for (c = 0; c < TR_DL_NCOL; c++)
+            if (!isfinite(row[c])) {
+                tr_msgf(msg, msglen, "dloads[%d][%d] = %g must be finite", i, c, row[c]);
+                return TR_EINVAL;
+            }
+        if (!(row[TR_DL_S0] >= 0.0 && row[TR_DL_S0] < row[TR_DL_S1] &&
+              row[TR_DL_S1] <= m->L * (1.0 + TR_BP_MERGE))) {
+            tr_msgf(msg, msglen,
+                    "dloads[%d] [s0, s1] = [%g, %g] m must satisfy 0 <= s0 < s1 <= L = %g", i,
+                    row[TR_DL_S0], row[TR_DL_S1], m->L);
+            return TR_EINVAL;
+        }
+        memcpy(m->dload + TR_DL_NCOL * i, row, TR_DL_NCOL * sizeof(double));
+        if (m->dload[TR_DL_NCOL * i + TR_DL_S1] > m->L) m->dload[TR_DL_NCOL * i + TR_DL_S1] = m->L;
+        for (c = 0; c < 3; c++)
+            if (row[TR_DL_F + c] != 0.0) m->has_pdist = 1;
+    }
+    return TR_OK;
+}
+
+/* Partial distributed-force sums per segment, world frame, from m->dload: a load acts
+ * on the segments between the breakpoints nearest its s0 and s1. */
+static void sum_segment_dloads(tr_model *m)
+{
+    int i, k, c;
+    memset(m->seg_pdist, 0, (size_t)3 * (m->nseg > 0 ? m->nseg : 1) * sizeof(double));
+    for (i = 0; i < m->nd; i++) {
+        const double *row = m->dload + TR_DL_NCOL * i;
+        const int k0 = find_bp(m, row[TR_DL_S0]), k1 = find_bp(m, row[TR_DL_S1]);
+        for (k = k0; k < k1; k++)
+            for (c = 0; c < 3; c++) m->seg_pdist[3 * k + c] += row[TR_DL_F + c];
+    }
+}
+
+/* Breakpoints: 0, L, the shooting nodes j L / M, tendon anchors, point loads and the
+ * ends of the partial distributed loads (a zero load still makes one: compliance probes
+ * need it), merged within TR_BP_MERGE L; then the per-breakpoint tables and the active
+ * tendons per segment. */
 static int place_breakpoints(tr_model *m)
 {
     const int nt = m->nt, nl = m->nl;
-    double *cand = (double *)malloc((size_t)(nt + nl + 2 + m->nshoot) * sizeof(double));
+    double *cand = (double *)malloc((size_t)(nt + nl + 2 * m->nd + 2 + m->nshoot) * sizeof(double));
     int i, k, nc = 0, nb = 0, nact = 0;
     if (!cand) return TR_ENOMEM;
     cand[nc++] = 0.0;
@@ -224,6 +269,7 @@ static int place_breakpoints(tr_model *m)
     for (i = 1; i < m->nshoot; i++) cand[nc++] = m->L * ((double)i / m->nshoot);
     for (i = 0; i < nt; i++) cand[nc++] = m->tendon[i].t;
     for (i = 0; i < nl; i++) cand[nc++] = m->load[TR_LD_NCOL * i + TR_LD_S];
+    for (i = 0; i < 2 * m->nd; i++) cand[nc++] = m->dload[TR_DL_NCOL * (i / 2) + i % 2];
     qsort(cand, nc, sizeof(double), cmp_double);
     m->bp = (double *)malloc((size_t)nc * sizeof(double));
     if (!m->bp) {
@@ -244,7 +290,9 @@ static int place_breakpoints(tr_model *m)
     m->seg_act = (int *)calloc((size_t)(nt > 0 ? nt * m->nseg : 1), sizeof(int));
     m->bp_node = (int *)calloc((size_t)m->nseg + 1, sizeof(int));
     m->bp_jump = (int *)calloc((size_t)m->nseg + 1, sizeof(int));
-    if (!m->bpF || !m->bpM || !m->seg_act_start || !m->seg_act || !m->bp_node || !m->bp_jump)
+    m->seg_pdist = (double *)calloc((size_t)3 * (m->nseg > 0 ? m->nseg : 1), sizeof(double));
+    if (!m->bpF || !m->bpM || !m->seg_act_start || !m->seg_act || !m->bp_node || !m->bp_jump ||
+        !m->seg_pdist)
         return TR_ENOMEM;
     for (i = 1; i < m->nshoot; i++) m->bp_node[find_bp(m, m->L * ((double)i / m->nshoot))] = i;
     for (i = 0; i < nt; i++) m->bp_jump[find_bp(m, m->tendon[i].t)] = 1;
@@ -254,6 +302,7 @@ static int place_breakpoints(tr_model *m)
         m->tendon[i].t = m->bp[m->tendon[i].end_bp];
     }
     sum_breakpoint_loads(m);
+    sum_segment_dloads(m);
     for (k = 0; k < m->nseg; k++) {
         m->seg_act_start[k] = nact;
         for (i = 0; i < nt; i++)
@@ -273,6 +322,15 @@ int tr_is_planar(const double *tendons, int nt, const double *loads, int nl, con
         if (row[TR_LD_F + 1] != 0.0 || row[TR_LD_M] != 0.0 || row[TR_LD_M + 2] != 0.0) return 0;
     }
     return dist[1] == 0.0;
+}
+
+int tr_is_planar_dist(const double *tendons, int nt, const double *loads, int nl,
+                      const double dist[3], const double *dloads, int nd)
+{
+    int i;
+    for (i = 0; i < nd; i++)
+        if (dloads[TR_DL_NCOL * i + TR_DL_F + 1] != 0.0) return 0;
+    return tr_is_planar(tendons, nt, loads, nl, dist);
 }
 
 /* The formulation (planar tendons get exactly cos phi = +-1, sin phi = 0), the
@@ -327,13 +385,21 @@ int tr_model_alloc(tr_model **out, const double rod[6], const double *tendons, i
                    const double *loads, int nl, const double dist[3], const tr_options *opt,
                    char *msg, size_t msglen)
 {
+    return tr_model_alloc_dist(out, rod, tendons, nt, loads, nl, dist, NULL, 0, opt, msg, msglen);
+}
+
+int tr_model_alloc_dist(tr_model **out, const double rod[6], const double *tendons, int nt,
+                        const double *loads, int nl, const double dist[3], const double *dloads,
+                        int nd, const tr_options *opt, char *msg, size_t msglen)
+{
     tr_model *m = NULL;
     int i, status, ndisp = 0;
     double rmax = 0.0;
 
     *out = NULL;
     if (msg && msglen) msg[0] = '\0';
-    if (nt < 0 || nl < 0 || (nt > 0 && !tendons) || (nl > 0 && !loads) || !rod || !dist || !opt) {
+    if (nt < 0 || nl < 0 || nd < 0 || (nt > 0 && !tendons) || (nl > 0 && !loads) ||
+        (nd > 0 && !dloads) || !rod || !dist || !opt) {
         tr_msgf(msg, msglen, "invalid arguments to tr_model_alloc (negative count or NULL array)");
         return TR_EINVAL;
     }
@@ -361,7 +427,9 @@ int tr_model_alloc(tr_model **out, const double rod[6], const double *tendons, i
     m->nshoot = opt->shooting_segments;
     m->tendon = (tr_tendon *)calloc(nt > 0 ? nt : 1, sizeof(tr_tendon));
     m->load = (double *)calloc(nl > 0 ? TR_LD_NCOL * nl : 1, sizeof(double));
-    if (!m->tendon || !m->load) goto nomem;
+    m->nd = nd;
+    m->dload = (double *)calloc(nd > 0 ? TR_DL_NCOL * nd : 1, sizeof(double));
+    if (!m->tendon || !m->load || !m->dload) goto nomem;
     for (i = 0; i < nt; i++) {
         status = read_tendon(m, i, tendons + TR_TD_NCOL * i, &rmax, msg, msglen);
         if (status != TR_OK) goto fail;
@@ -373,11 +441,14 @@ int tr_model_alloc(tr_model **out, const double rod[6], const double *tendons, i
         }
     }
     status = read_loads(m, loads, msg, msglen);
+    if (status == TR_OK) status = read_dloads(m, dloads, msg, msglen);
     if (status != TR_OK) goto fail;
     memcpy(m->dist, dist, 3 * sizeof(double));
     m->has_dist = (dist[0] != 0.0 || dist[1] != 0.0 || dist[2] != 0.0);
     if (place_breakpoints(m) != TR_OK) goto nomem;
-    formulate(m, !opt->force_spatial && tr_is_planar(tendons, nt, m->load, nl, dist), ndisp, rmax);
+    formulate(
+        m, !opt->force_spatial && tr_is_planar_dist(tendons, nt, m->load, nl, dist, m->dload, nd),
+        ndisp, rmax);
 
     status = tr_rest_lengths(m, m->scene_message, sizeof m->scene_message);
     if (status == TR_OK)
@@ -423,8 +494,10 @@ tr_model *tr_model_clone(const tr_model *m)
     c->seg_act = (int *)dup_array(m->seg_act, (size_t)m->nt * m->nseg, sizeof(int));
     c->bp_node = (int *)dup_array(m->bp_node, nb, sizeof(int));
     c->bp_jump = (int *)dup_array(m->bp_jump, nb, sizeof(int));
+    c->dload = (double *)dup_array(m->dload, (size_t)TR_DL_NCOL * m->nd, sizeof(double));
+    c->seg_pdist = (double *)dup_array(m->seg_pdist, (size_t)3 * m->nseg, sizeof(double));
     if (!c->tendon || !c->load || !c->bp || !c->bpF || !c->bpM || !c->seg_act_start ||
-        !c->seg_act || !c->bp_node || !c->bp_jump) {
+        !c->seg_act || !c->bp_node || !c->bp_jump || !c->dload || !c->seg_pdist) {
         tr_model_free(c);
         return NULL;
     }
@@ -550,8 +623,8 @@ tr_model *tr_model_reshoot(const tr_model *m, const tr_options *opt, int nshoot,
     }
     o.shooting_segments = nshoot;
     o.force_spatial = !m->planar;
-    if (tr_model_alloc(&out, rod, tendons, m->nt, m->load, m->nl, m->dist, &o, msg, msglen) !=
-        TR_OK)
+    if (tr_model_alloc_dist(&out, rod, tendons, m->nt, m->load, m->nl, m->dist, m->dload, m->nd, &o,
+                            msg, msglen) != TR_OK)
         out = NULL;
     free(tendons);
     return out;

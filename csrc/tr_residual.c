@@ -237,6 +237,9 @@ double tr_load_scale(const tr_model *m)
     int b;
     for (b = 1; b <= m->nseg; b++)
         F += tru_norm3(m->bpF + 3 * b) / m->F_s + tru_norm3(m->bpM + 3 * b) / m->M_s;
+    if (m->has_pdist)
+        for (b = 0; b < m->nseg; b++)
+            F += (m->bp[b + 1] - m->bp[b]) * tru_norm3(m->seg_pdist + 3 * b) / m->F_s;
     return F;
 }
 

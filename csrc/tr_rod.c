@@ -180,6 +180,14 @@ static int rhs_spatial(const tr_model *m, const tr_data *d, double s, const doub
         rhs[1] -= tmp[1];
         rhs[2] -= tmp[2];
     }
+    if (m->has_pdist) {
+        const double lam = d->lam_load, *f = m->seg_pdist + 3 * d->seg;
+        const double fw[3] = {lam * f[0], lam * f[1], lam * f[2]};
+        tru_mattvec3(tmp, R, fw);
+        rhs[0] -= tmp[0];
+        rhs[1] -= tmp[1];
+        rhs[2] -= tmp[2];
+    }
     tru_cross3(tmp, u, mb);
     tru_cross3(tmp2, v, nb);
     rhs[3] = -tmp[0] - tmp2[0] - bsum[0];
@@ -334,6 +342,12 @@ static int rhs_planar(const tr_model *m, const tr_data *d, double s, const doubl
     if (m->has_dist) {
         const double lam = d->lam_load;
         const double fx = lam * m->dist[0], fz = lam * m->dist[2];
+        r1 -= ct * fx - st * fz;
+        r3 -= st * fx + ct * fz;
+    }
+    if (m->has_pdist) {
+        const double lam = d->lam_load, *f = m->seg_pdist + 3 * d->seg;
+        const double fx = lam * f[0], fz = lam * f[2];
         r1 -= ct * fx - st * fz;
         r3 -= st * fx + ct * fz;
     }

@@ -173,6 +173,14 @@ static void element(const tr_model *m, const struct tr_stab_ws *w, int k, tr_ele
  * at later nodes, the distributed force with their trapezoid weights), the free strain of
  * each Cosserat element; the configuration and tensions reset to the recorded ones.
  * Returns 0, or -1 when an element turns by more than TR_STAB_MAX_ROT. */
+/* The segment [bp[k], bp[k+1]) holding arc length s (the last one for s >= L). */
+static int segment_at(const tr_model *m, double s)
+{
+    int k = 0;
+    while (k + 1 < m->nseg && m->bp[k + 1] <= s) k++;
+    return k;
+}
+
 static int level_setup(const tr_model *m, const tr_data *d, struct tr_stab_ws *w, int nn)
 {
     double Fb[3] = {0, 0, 0};
@@ -191,6 +199,13 @@ static int level_setup(const tr_model *m, const tr_data *d, struct tr_stab_ws *w
             if (m->bp[j] == w->s[b])
                 for (c = 0; c < 3; c++) Fb[c] += d->lam_load * m->bpF[3 * j + c];
         for (c = 0; c < 3; c++) Fb[c] += d->lam_load * m->dist[c] * 0.5 * (hb + hn);
+        if (m->has_pdist) {
+            /* half of each adjacent element's partial force, from the segment it lies on */
+            const double *fa = m->seg_pdist + 3 * segment_at(m, w->s[a] + 0.5 * hb);
+            const double *fn = hn > 0.0 ? m->seg_pdist + 3 * segment_at(m, w->s[b] + 0.5 * hn) : fa;
+            for (c = 0; c < 3; c++)
+                Fb[c] += d->lam_load * 0.5 * (fa[c] * hb + (hn > 0.0 ? fn[c] * hn : 0.0));
+        }
         for (c = 0; c < 3; c++) w->F[3 * k + c] = Fb[c], w->vhat[3 * k + c] = 0.0;
         for (c = 0; c < 9; c++) Qtr += Ra[c] * Rb[c]; /* trace of Ra^T Rb */
         if (!(acos(fmax(-1.0, fmin(1.0, 0.5 * (Qtr - 1.0)))) <= TR_STAB_MAX_ROT)) return -1;

@@ -173,6 +173,9 @@ int tr_auto_steps(const tr_model *m, const tr_data *d)
     double F = m->L * tru_norm3(m->dist), lam;
     int b, n;
     for (b = 1; b <= m->nseg; b++) F += tru_norm3(m->bpF + 3 * b);
+    if (m->has_pdist)
+        for (b = 0; b < m->nseg; b++)
+            F += (m->bp[b + 1] - m->bp[b]) * tru_norm3(m->seg_pdist + 3 * b);
     lam = m->L * sqrt(F / m->EI);
     n = (int)ceil(fmin(per * lam, (double)TR_AUTO_MAX));
     return n > base ? n : base;

@@ -26,7 +26,7 @@ from .actuation import ActuationResult, actuate
 from .batch import BatchResult, solve_batch
 from .fit import FitResult, fit
 from .linearization import Jacobian
-from .model import DistributedLoad, PointLoad, Robot, Rod, Scene, Tendon
+from .model import DistributedLoad, PointLoad, PointMass, Robot, Rod, Scene, Tendon
 from .options import Options
 from .plausibility import PlausibilityWarning
 from .problem import Problem, jacobian
@@ -54,6 +54,7 @@ __all__ += [
     "Robot",
     "Scene",
     "PointLoad",
+    "PointMass",
     "DistributedLoad",
     "Options",
     "Solution",

@@ -21,6 +21,7 @@ void glue_args_clear(glue_args *a)
     Py_CLEAR(a->guess);
     Py_CLEAR(a->jac);
     Py_CLEAR(a->nodes);
+    Py_CLEAR(a->dloads);
 }
 
 void glue_err(PyObject *type, const char *fmt, ...)
@@ -265,6 +266,14 @@ int glue_options(glue_args *a, PyObject *kw, const char *fn)
             if (parse_nodes(a, value) < 0) return -1;
             continue;
         }
+        if (strcmp(k, "dloads") == 0) {
+            Py_CLEAR(a->dloads);
+            if (table(value, "dloads", TR_DL_NCOL, "[s0, s1, fx, fy, fz]", &a->dloads, &a->nd) <
+                    0 ||
+                (a->nd > 0 && glue_all_finite(a->dloads, "dloads", -1, 0) < 0))
+                return -1;
+            continue;
+        }
         for (i = 0; i < sizeof options / sizeof options[0]; i++)
             if (strcmp(k, options[i].name) == 0) break;
         if (i == sizeof options / sizeof options[0]) {
@@ -323,10 +332,11 @@ int glue_build(glue_args *a, const double *extra_load, tr_model **mp, tr_data **
         loads = tmp;
         nl++;
     }
-    status =
-        tr_model_alloc(mp, (const double *)PyArray_DATA(a->rod),
-                       a->nt > 0 ? (const double *)PyArray_DATA(a->tendons) : NULL, a->nt, loads,
-                       nl, (const double *)PyArray_DATA(a->dist), &a->opt, msg, sizeof msg);
+    status = tr_model_alloc_dist(mp, (const double *)PyArray_DATA(a->rod),
+                                 a->nt > 0 ? (const double *)PyArray_DATA(a->tendons) : NULL, a->nt,
+                                 loads, nl, (const double *)PyArray_DATA(a->dist),
+                                 a->nd > 0 ? (const double *)PyArray_DATA(a->dloads) : NULL, a->nd,
+                                 &a->opt, msg, sizeof msg);
     PyMem_Free(tmp);
     if (status != TR_OK) {
         if (status == TR_ENOMEM)

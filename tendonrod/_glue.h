@@ -30,7 +30,8 @@ int glue_add_ufuncs(PyObject *module);
 typedef struct {
     PyArrayObject *rod, *tendons, *loads, *dist; /* the scene's flat arrays */
     PyArrayObject *guess, *jac, *nodes;          /* optional */
-    int nt, nl, nnode;
+    PyArrayObject *dloads; /* optional (nd, 5) partial distributed loads [s0, s1, f (3)] */
+    int nt, nl, nnode, nd;
     tr_options opt;
 } glue_args;
 
@@ -55,7 +56,7 @@ PyObject *glue_take(PyObject *kw, const char *key);
 int glue_scene(glue_args *a, PyObject *rod, PyObject *tendons, PyObject *loads, PyObject *dist);
 /* The solver options in the dict kw (every remaining key must be one): a->opt starts
  * from tr_default_options() and is checked by tr_options_check; "nodes" sets
- * a->nnode / a->nodes.  `fn` names the entry point in errors.  0 or -1. */
+ * a->nnode / a->nodes, "dloads" the partial distributed loads a->dloads / a->nd.  `fn` names the entry point in errors.  0 or -1. */
 int glue_options(glue_args *a, PyObject *kw, const char *fn);
 /* The optional guess (6 + 2 nt,) and jacobian (square) of a warm start.  0 or -1. */
 int glue_warm_start(glue_args *a, PyObject *guess, PyObject *jacobian);

@@ -17,6 +17,7 @@ import numbers
 import numpy as np
 
 from .model import PointLoad
+from .mounting import base_pose, points_out, rotations_out
 from .results import ConvergenceError
 from .solution import Solution
 
@@ -75,7 +76,8 @@ def _pose(prob, sol, s: float, L: float):
         return np.asarray(sol.tip_position), np.asarray(sol.tip_rotation)
     rec = prob._c.record_from(sol.unknowns, max(1, sol.formulation.steps))
     k = int(np.argmin(np.abs(rec["s"] - s)))
-    return rec["position"][k], rec["rotation"][k]
+    pose = base_pose(prob.scene.robot)
+    return points_out(pose, rec["position"][k]), rotations_out(pose, rec["rotation"][k])
 
 
 def secant_compliance(prob, guess, s: float, steps: np.ndarray) -> np.ndarray:

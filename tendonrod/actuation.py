@@ -35,6 +35,7 @@ from ._actuation_target import Target
 from ._interrupt import current_token
 from .compiled import is_planar
 from .model import Scene
+from .mounting import require_unmounted
 from .options import _check_options, _replace
 from .problem import Problem
 from .results import ConvergenceError, ConvergenceWarning
@@ -272,6 +273,7 @@ def actuate(
     """
     if not isinstance(scene, Scene):
         raise ValueError(f"scene must be a tendonrod.Scene, got {scene!r}")
+    require_unmounted(scene.robot, "tendonrod.actuate")
     options = _check_options(options)
     for name, v, lo in (("min_tension", min_tension, 0.0), ("tol", tol, 0.0)):
         if isinstance(v, bool) or not isinstance(v, (int, float, np.floating, np.integer)):

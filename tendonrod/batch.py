@@ -26,8 +26,9 @@ import numpy as np
 from . import _core, plausibility
 from ._interrupt import current_token, new_token
 from ._plausible import batch_findings
-from .compiled import _TD, is_planar, pack_scene
+from .compiled import _TD, _with_dloads, is_planar, pack_scene
 from .model import Scene
+from .mounting import base_pose, points_out, rotations_out, vectors_in
 from .options import Options, _check_options
 
 __all__ = ["solve_batch", "BatchResult", "DEFAULT_CHUNKSIZE"]
@@ -213,6 +214,11 @@ def solve_batch(
     n, displacement, tension, forces, moments, distributed = _per_point_arrays(
         displacement, tension, forces, moments, distributed, len(idisp), len(iten), loads.shape[0]
     )
+    pose = base_pose(scene.robot)  # the core solves in the base frame
+    if pose is not None:
+        forces, moments, distributed = (
+            None if w is None else vectors_in(pose, w) for w in (forces, moments, distributed)
+        )
     values = _tendon_values(tendons, n, idisp, iten, displacement, tension)
     point_loads = _point_load_values(loads, n, forces, moments)
     force_spatial = _force_spatial(scene, options, point_loads, distributed)
@@ -228,9 +234,16 @@ def solve_batch(
         exact=bool(exact),
         skip_tension_displacement=not tension_tendon_displacement,
     )
+    kw = _with_dloads(kw, scene)
     packed = (rod, tendons, loads, dist)
     parts = _run_chunks(packed, values, point_loads, distributed, kw, n, chunksize, threads)
     res = _assemble(parts, n, chunksize, options)
+    if pose is not None:
+        res = dataclasses.replace(
+            res,
+            tip_position=points_out(pose, res.tip_position),
+            tip_rotation=rotations_out(pose, res.tip_rotation),
+        )
     raw = {
         "success": res.success,
         "tension": res.tension,

@@ -16,6 +16,7 @@ import numpy as np
 
 from . import _core
 from .model import Scene
+from .mounting import base_pose, vectors_in
 from .options import Options
 
 __all__ = ["pack_scene", "is_planar", "structure_difference", "compliance_point"]
@@ -29,7 +30,8 @@ _LD = {name: i for i, name in enumerate(_core.LOAD_COLUMNS)}
 
 def pack_scene(scene: Scene):
     """Flat float64 arrays ``(rod (6,), tendons (nt, 8), loads (nl, 7), dist (3,))`` of the
-    raw glue contract (csrc/README.md) for ``scene``."""
+    raw glue contract (csrc/README.md) for ``scene``: forces and moments in the base frame
+    (the world frame unless the robot is mounted)."""
     if not isinstance(scene, Scene):
         raise ValueError(f"scene must be a tendonrod.Scene, got {scene!r}")
     cached = scene.__dict__.get("_packed")
@@ -65,11 +67,42 @@ def pack_scene(scene: Scene):
         loads[k, _LD["Fx"] : _LD["Fz"] + 1] = p.force
         loads[k, _LD["Mx"] : _LD["Mz"] + 1] = p.moment
     dist = scene.distributed_force
+    pose = base_pose(robot)
+    if pose is not None:
+        for c in (_LD["Fx"], _LD["Mx"]):
+            loads[:, c : c + 3] = vectors_in(pose, loads[:, c : c + 3])
+        dist = vectors_in(pose, dist)
     for a in (rod, tendons, loads, dist):
         a.setflags(write=False)
     # a Scene is frozen: pack it once (sweeps and warm starts call solve() in loops)
     object.__setattr__(scene, "_packed", (rod, tendons, loads, dist))
     return rod, tendons, loads, dist
+
+
+def pack_dloads(scene: Scene) -> np.ndarray:
+    """The partial distributed loads of ``scene`` as the core's rows (nd, 5)
+    ``[start, end, f (3)]`` [m, m, N/m], forces in the base frame (cached)."""
+    cached = scene.__dict__.get("_packed_dloads")
+    if cached is not None:
+        return cached
+    L = scene.robot.rod.length
+    parts = scene.partial_loads
+    rows = np.empty((len(parts), 5))
+    for k, ld in enumerate(parts):
+        rows[k, 0], rows[k, 1] = ld.start, L if ld.end is None else min(ld.end, L)
+        rows[k, 2:5] = ld.force
+    pose = base_pose(scene.robot)
+    if pose is not None:
+        rows[:, 2:5] = vectors_in(pose, rows[:, 2:5])
+    rows.setflags(write=False)
+    object.__setattr__(scene, "_packed_dloads", rows)
+    return rows
+
+
+def _with_dloads(kw: dict, scene: Scene) -> dict:
+    """``kw`` with the scene's partial distributed loads (none: ``kw`` itself)."""
+    rows = pack_dloads(scene)
+    return dict(kw, dloads=rows) if rows.shape[0] else kw
 
 
 def _nodes_for(scene: Scene, options: Options):
@@ -108,7 +141,7 @@ def is_planar(scene: Scene) -> bool:
     key = scene.__dict__.get("_planar")
     if key is None:
         _, tendons, loads, dist = pack_scene(scene)
-        key = bool(_core.is_planar(tendons, loads, dist))
+        key = bool(_core.is_planar(tendons, loads, dist, pack_dloads(scene)))
         object.__setattr__(scene, "_planar", key)
     return key
 
@@ -119,7 +152,12 @@ def _robot_structure(robot) -> tuple:
     key = robot.__dict__.get("_problem_structure")
     if key is None:
         rod = robot.rod
-        items = [(f"robot.rod.{name}", getattr(rod, name)) for name in rod.__dataclass_fields__]
+        # the density only sets a value (the weight), not the structure
+        items = [
+            (f"robot.rod.{name}", getattr(rod, name))
+            for name in rod.__dataclass_fields__
+            if name != "density"
+        ]
         items.append(("robot.tendons (count)", robot.n_tendons))
         for i, t in enumerate(robot.tendons):
             for name in ("offset", "angle", "slope", "EA"):
@@ -144,6 +182,8 @@ def _structure(scene: Scene) -> tuple:
         items.append(("loads (number of point loads)", len(pls)))
         for j, p in enumerate(pls):
             items.append((f"point load {j} position s", min(p.s, L)))
+        for j, row in enumerate(pack_dloads(scene).tolist()):
+            items.append((f"partial distributed load {j} [start, end, force]", tuple(row)))
         items.append(("planar formulation", is_planar(scene)))
         key = tuple(items)
         object.__setattr__(scene, "_problem_structure", key)
@@ -222,4 +262,4 @@ def _compile(scene: Scene, options: Options):
     nodes = _nodes_for(scene, options)
     if nodes is not kw["nodes"]:
         kw = dict(kw, nodes=nodes)
-    return _core.Problem(rod, tendons, loads, dist, **kw)
+    return _core.Problem(rod, tendons, loads, dist, **_with_dloads(kw, scene))

@@ -17,6 +17,7 @@ import numpy as np
 
 from .linearization import design_parameter, design_value, with_design
 from .model import Scene
+from .mounting import require_unmounted
 from .options import _check_options
 from .problem import _probe_scene, jacobian
 from .results import ConvergenceError, ConvergenceWarning
@@ -89,6 +90,8 @@ def _scenes(scenes) -> list:
         raise ValueError(f"scenes must be a sequence of tendonrod.Scene, got {scenes!r}") from None
     if not out or not all(isinstance(sc, Scene) for sc in out):
         raise ValueError(f"scenes must be a non-empty sequence of tendonrod.Scene, got {scenes!r}")
+    for sc in out:
+        require_unmounted(sc.robot, "tendonrod.fit")
     return out
 
 

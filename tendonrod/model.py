@@ -3,9 +3,10 @@
 Everything here is pure Python and describes *what* is solved; :mod:`tendonrod.solver`
 packs it into the flat arrays of the C core. Conventions (see ``docs/model.md``):
 
-- SI units (m, N, N m, Pa), angles in radians.
-- The base sits at the origin, the base frame is the world frame, and the undeformed
-  rod lies along +z. Loads are given in the world frame.
+- SI units (m, N, N m, Pa, kg/m^3, m/s^2), angles in radians.
+- The base sits at ``Robot.base_position`` with its frame's axes the columns of
+  ``Robot.base_rotation`` (default: the origin and the world frame); the undeformed
+  rod lies along the base frame's +z. Loads and gravity are given in the world frame.
 - Tendon ``i`` runs at the body-frame offset
   ``r_i(s) = (slope * s + offset) * (cos angle, sin angle, 0)`` and is anchored at
   arc length ``end`` (``None``: the tip). A positive displacement retracts (pulls)
@@ -18,101 +19,32 @@ the field and its value, so bad input never reaches the C core.
 from __future__ import annotations
 
 import math
-import numbers
 from collections.abc import Sequence
 from dataclasses import KW_ONLY, dataclass
 
 import numpy as np
 
-from . import _core, plausibility
+from . import plausibility
+from ._fields import (
+    _EA_MAX,
+    _EA_MIN,
+    _LENGTH_MAX,
+    _LENGTH_MIN,
+    _TENDON_EA_MAX,
+    _TENDON_EA_MIN,
+    Vec3,
+    _length,
+    _nonnegative,
+    _positive,
+    _real,
+    _rotation,
+    _vec3,
+)
+from .loads import DistributedLoad, PointLoad, PointMass
 
-__all__ = ["Rod", "Tendon", "Robot", "PointLoad", "DistributedLoad", "Scene"]
+__all__ = ["Rod", "Tendon", "Robot", "PointLoad", "DistributedLoad", "PointMass", "Scene"]
 
-Vec3 = tuple[float, float, float]
-
-
-# --------------------------------------------------------------------------- helpers
-def _real(owner: str, name: str, value, *, allow_inf: bool = False) -> float:
-    """``value`` as a float, or ValueError naming ``owner.name`` and the value."""
-    if isinstance(value, (bool, np.bool_)) or not isinstance(
-        value, (numbers.Real, np.floating, np.integer)
-    ):
-        try:
-            arr = np.asarray(value)
-        except Exception:  # pragma: no cover - exotic objects
-            arr = None
-        if arr is None or arr.shape != () or arr.dtype.kind not in "fiu":
-            raise ValueError(f"{owner}.{name} must be a real number, got {value!r}")
-        value = arr.item()
-    try:
-        x = float(value)
-    except OverflowError:
-        raise ValueError(f"{owner}.{name} must be finite, got {value!r}") from None
-    if math.isnan(x):
-        raise ValueError(f"{owner}.{name} must not be NaN, got {value!r}")
-    if math.isinf(x) and not allow_inf:
-        raise ValueError(f"{owner}.{name} must be finite, got {value!r}")
-    return x
-
-
-# Range of a finite tendon EA [N]: the core's (a subnormal EA would overflow tau/EA).
-_TENDON_EA_MIN, _TENDON_EA_MAX = _core.LIMITS["EA"]
-_EA_MIN, _EA_MAX = _TENDON_EA_MIN, _TENDON_EA_MAX
-
-
-def _positive(owner: str, name: str, value, *, allow_inf: bool = False) -> float:
-    x = _real(owner, name, value, allow_inf=allow_inf)
-    if not x > 0.0:
-        raise ValueError(f"{owner}.{name} must be > 0, got {value!r}")
-    return x
-
-
-# Range of a nonzero length [m] (and of the rod's rigidities): the core's; beyond it the
-# scales EI/L^2, EI/(r L) of the solver leave the normal doubles.
-_LENGTH_MIN, _LENGTH_MAX = _core.LIMITS["rod"]
-
-
-def _length(owner: str, name: str, value, *, zero_ok: bool = False) -> float:
-    """A length [m]: > 0 (or 0 if ``zero_ok``) and within the core's range."""
-    x = _nonnegative(owner, name, value) if zero_ok else _positive(owner, name, value)
-    if x != 0.0 and not (_LENGTH_MIN <= x <= _LENGTH_MAX):
-        raise ValueError(
-            f"{owner}.{name} must lie in [{_LENGTH_MIN:g}, {_LENGTH_MAX:g}] m"
-            + (" (or be 0)" if zero_ok else "")
-            + f": double precision cannot carry the model's scales beyond, got {value!r}"
-        )
-    return x
-
-
-def _nonnegative(owner: str, name: str, value) -> float:
-    x = _real(owner, name, value)
-    if x < 0.0:
-        raise ValueError(f"{owner}.{name} must be >= 0, got {value!r}")
-    return x
-
-
-def _vec3(owner: str, name: str, value) -> Vec3:
-    try:
-        raw = np.asarray(value)
-        if raw.dtype.kind == "O" and raw.ndim == 1:
-            # Python ints beyond int64 (2**70) are real numbers too
-            if any(isinstance(v, bool) or not isinstance(v, numbers.Real) for v in raw):
-                raise TypeError
-            raw = np.array([float(v) for v in raw])
-        if raw.dtype.kind not in "fiu":
-            raise TypeError
-        arr = raw.astype(float)
-    except OverflowError:
-        raise ValueError(f"{owner}.{name} must be finite, got {value!r}") from None
-    except (TypeError, ValueError):
-        raise ValueError(
-            f"{owner}.{name} must be a 3-vector of real numbers, got {value!r}"
-        ) from None
-    if arr.shape != (3,):
-        raise ValueError(f"{owner}.{name} must be a 3-vector (shape (3,)), got {value!r}")
-    if not np.all(np.isfinite(arr)):
-        raise ValueError(f"{owner}.{name} must be finite, got {value!r}")
-    return (float(arr[0]), float(arr[1]), float(arr[2]))
+_IDENTITY = ((1.0, 0.0, 0.0), (0.0, 1.0, 0.0), (0.0, 0.0, 1.0))
 
 
 # --------------------------------------------------------------------------- rod
@@ -143,6 +75,9 @@ class Rod:
         Explicit rigidities [N m^2, N m^2, N, N]; ``None``: from the section.
     kirchhoff : bool
         Unshearable, inextensible backbone (``v = e3`` exactly).
+    density : float or None
+        Mass density rho [kg/m^3] (>= 0, needs ``diameter``): the rod's weight under the
+        scene's gravity is the distributed force ``rho A g`` [N/m]; ``None``: weightless.
 
     The effective values are the properties :attr:`bending_stiffness` etc. (also
     spelled :attr:`EI_eff`...), used by the solver.
@@ -158,9 +93,17 @@ class Rod:
     EA: float | None = None
     GA: float | None = None
     kirchhoff: bool = False
+    density: float | None = None
 
     def __post_init__(self):
         own = "Rod"
+        if self.density is not None:
+            object.__setattr__(self, "density", _nonnegative(own, "density", self.density))
+            if self.diameter is None:
+                raise ValueError(
+                    f"Rod.density={self.density!r} needs a diameter (the section area), "
+                    f"got diameter=None"
+                )
         object.__setattr__(self, "length", _length(own, "length", self.length))
         if self.diameter is not None:
             object.__setattr__(self, "diameter", _length(own, "diameter", self.diameter))
@@ -251,6 +194,13 @@ class Rod:
     def shear_stiffness(self) -> float:
         """Effective shear rigidity GA [N] (``inf`` for a Kirchhoff rod)."""
         return math.inf if self.kirchhoff else self._effective("GA")
+
+    @property
+    def mass_per_length(self) -> float:
+        """rho A [kg/m]: ``density * pi d^2 / 4`` (0 without a density)."""
+        if self.density is None:
+            return 0.0
+        return self.density * (math.pi * self.diameter * self.diameter / 4.0)
 
     EI_eff = bending_stiffness
     GJ_eff = torsional_stiffness
@@ -366,12 +316,25 @@ class Robot:
     negative radius would be the same channel at ``angle + pi``, so describe it
     that way); pretension is only accepted on sets that are balanced on every
     segment between anchors and have some axial compliance.
+
+    The base is clamped at ``base_position`` [m] (world frame) with the base frame's
+    axes the columns of ``base_rotation`` (3x3, orthonormal to 1e-12, det +1): the
+    undeformed rod lies along its third column.  Results are in the world frame.
     """
 
     rod: Rod
     tendons: tuple[Tendon, ...] = ()
+    _: KW_ONLY
+    base_position: Vec3 = (0.0, 0.0, 0.0)
+    base_rotation: tuple = _IDENTITY
 
     def __post_init__(self):
+        object.__setattr__(
+            self, "base_position", _vec3("Robot", "base_position", self.base_position)
+        )
+        object.__setattr__(
+            self, "base_rotation", _rotation("Robot", "base_rotation", self.base_rotation)
+        )
         if not isinstance(self.rod, Rod):
             raise ValueError(f"Robot.rod must be a tendonrod.Rod, got {self.rod!r}")
         try:
@@ -401,6 +364,11 @@ class Robot:
                 )
         self._check_pretension()
         plausibility.warn(plausibility.offset_findings(self))
+
+    @property
+    def mounted(self) -> bool:
+        """True when the base is not the world origin and frame."""
+        return self.base_rotation != _IDENTITY or self.base_position != (0.0, 0.0, 0.0)
 
     @property
     def n_tendons(self) -> int:
@@ -451,36 +419,6 @@ class Robot:
                 )
 
 
-# --------------------------------------------------------------------------- loads
-@dataclass(frozen=True)
-class PointLoad:
-    """A point force and moment at arc length ``s`` [m] (0 <= s <= L, checked in :class:`Scene`).
-
-    ``force`` [N] and ``moment`` [N m] are 3-vectors in the world frame; the force acts on
-    the backbone centre line at ``s``.
-    """
-
-    s: float
-    force: Vec3 = (0.0, 0.0, 0.0)
-    moment: Vec3 = (0.0, 0.0, 0.0)
-
-    def __post_init__(self):
-        object.__setattr__(self, "s", _nonnegative("PointLoad", "s", self.s))
-        object.__setattr__(self, "force", _vec3("PointLoad", "force", self.force))
-        object.__setattr__(self, "moment", _vec3("PointLoad", "moment", self.moment))
-
-
-@dataclass(frozen=True)
-class DistributedLoad:
-    """A uniform distributed force ``force`` [N/m] (world frame) over the whole rod, e.g.
-    gravity ``(0, 0, -rho*A*g)``."""
-
-    force: Vec3 = (0.0, 0.0, 0.0)
-
-    def __post_init__(self):
-        object.__setattr__(self, "force", _vec3("DistributedLoad", "force", self.force))
-
-
 # --------------------------------------------------------------------------- scene
 def _actuation(name: str, values, n: int) -> tuple[float | None, ...]:
     if values is None:
@@ -518,14 +456,18 @@ class Scene:
     its tension is then unknown and it may go slack) or ``tension[i]`` [N] (>= 0);
     the other list holds ``None`` at that place. Both lists may be omitted for a robot
     without tendons. ``loads`` is a sequence of :class:`PointLoad` (world frame, at
-    0 <= s <= L) and :class:`DistributedLoad` (summed) objects.
+    0 <= s <= L), :class:`DistributedLoad` (summed) and :class:`PointMass` objects.
+    ``gravity`` [m/s^2] (world frame, default none) weighs the rod (``Rod.density``)
+    as the distributed force ``rho A g`` and each point mass as the point force
+    ``mass * g``.
     """
 
     robot: Robot
     _: KW_ONLY
     displacement: Sequence[float | None] | None = None
     tension: Sequence[float | None] | None = None
-    loads: Sequence[PointLoad | DistributedLoad] = ()
+    loads: Sequence[PointLoad | DistributedLoad | PointMass] = ()
+    gravity: Vec3 = (0.0, 0.0, 0.0)
 
     def __post_init__(self):
         if not isinstance(self.robot, Robot):
@@ -561,38 +503,72 @@ class Scene:
                 )
         object.__setattr__(self, "displacement", disp)
         object.__setattr__(self, "tension", tens)
+        object.__setattr__(self, "gravity", _vec3("Scene", "gravity", self.gravity))
         loads = self.loads
-        if isinstance(loads, (PointLoad, DistributedLoad)):
+        if isinstance(loads, (PointLoad, DistributedLoad, PointMass)):
             loads = (loads,)
         try:
             loads = tuple(loads)
         except TypeError:
             raise ValueError(
-                f"Scene.loads must be a sequence of PointLoad/DistributedLoad, got {self.loads!r}"
+                f"Scene.loads must be a sequence of PointLoad/DistributedLoad/PointMass, "
+                f"got {self.loads!r}"
             ) from None
         L = self.robot.rod.length
         for k, ld in enumerate(loads):
-            if isinstance(ld, PointLoad):
+            if isinstance(ld, (PointLoad, PointMass)):
                 if ld.s > L * (1.0 + _GEOM_RTOL):
                     raise ValueError(f"Scene.loads[{k}].s must be in [0, L={L!r}], got {ld.s!r}")
+            elif isinstance(ld, DistributedLoad) and ld.end is not None:
+                if ld.end > L * (1.0 + _GEOM_RTOL):
+                    raise ValueError(f"Scene.loads[{k}].end must be <= L={L!r}, got {ld.end!r}")
+            elif isinstance(ld, DistributedLoad) and ld.start >= L:
+                raise ValueError(
+                    f"Scene.loads[{k}].start must be < L={L!r} (its end is the tip), "
+                    f"got {ld.start!r}"
+                )
             elif not isinstance(ld, DistributedLoad):
                 raise ValueError(
-                    f"Scene.loads[{k}] must be a PointLoad or DistributedLoad, got {ld!r}"
+                    f"Scene.loads[{k}] must be a PointLoad, DistributedLoad or PointMass, "
+                    f"got {ld!r}"
                 )
         object.__setattr__(self, "loads", loads)
 
     @property
     def point_loads(self) -> tuple[PointLoad, ...]:
-        """The point loads, in the order given."""
-        return tuple(ld for ld in self.loads if isinstance(ld, PointLoad))
+        """The point loads, in the order given, then the weights ``mass * gravity`` of the
+        point masses in theirs (none without gravity)."""
+        pls = tuple(ld for ld in self.loads if isinstance(ld, PointLoad))
+        g = self.gravity
+        if g == (0.0, 0.0, 0.0):
+            return pls
+        masses = [ld for ld in self.loads if isinstance(ld, PointMass)]
+        return pls + tuple(
+            PointLoad(ld.s, force=(ld.mass * g[0], ld.mass * g[1], ld.mass * g[2])) for ld in masses
+        )
+
+    def _whole(self, ld: DistributedLoad) -> bool:
+        L = self.robot.rod.length
+        return ld.start == 0.0 and (ld.end is None or ld.end >= L)
+
+    @property
+    def partial_loads(self) -> tuple[DistributedLoad, ...]:
+        """The distributed loads over part of the rod, in the order given."""
+        return tuple(
+            ld for ld in self.loads if isinstance(ld, DistributedLoad) and not self._whole(ld)
+        )
 
     @property
     def distributed_force(self) -> np.ndarray:
-        """Sum of the distributed loads [N/m], world frame, shape (3,)."""
+        """Sum of the distributed loads over the whole rod and the rod's weight
+        ``rho A g`` [N/m], world frame, shape (3,) (:attr:`partial_loads` aside)."""
         f = np.zeros(3)
         for ld in self.loads:
-            if isinstance(ld, DistributedLoad):
+            if isinstance(ld, DistributedLoad) and self._whole(ld):
                 f += ld.force
+        w = self.robot.rod.mass_per_length
+        if w != 0.0 and self.gravity != (0.0, 0.0, 0.0):
+            f += w * np.asarray(self.gravity)
         return f
 
     def displacement_controlled(self) -> tuple[bool, ...]:

@@ -36,6 +36,7 @@ from .compiled import (
 )
 from .linearization import PARAM_KIND, Jacobian, design_parameter
 from .model import PointLoad, Scene
+from .mounting import base_pose, pairs_out
 from .options import Options, _check_options, _replace
 from .results import ConvergenceError
 from .solution import Solution, _guess_vector, _report
@@ -80,7 +81,10 @@ class Problem:
         """What the scene compiled to (:class:`~tendonrod.Formulation`)."""
         from .results import Formulation
 
-        return Formulation.from_dict(self._c.formulation)
+        form = self._c.formulation
+        if self._current.robot.mounted:
+            form = dict(form, mounted=True)
+        return Formulation.from_dict(form)
 
     @property
     def last_solution(self):
@@ -250,6 +254,11 @@ class Problem:
         elif load:
             C = _load_block(sol, s_vals, self._options, forward)
         ten = raw["tension"]
+        mount = base_pose(sol.scene.robot)
+        if mount is not None:  # base-frame [dx, dtheta] rows (and [F, M] columns) to world
+            act, des = pairs_out(mount, act, axis=1), pairs_out(mount, des, axis=1)
+            if C is not None:
+                C = pairs_out(mount, pairs_out(mount, C, axis=1), axis=2)
         return Jacobian(
             s=float(s_vals[0]) if scalar else s_vals,
             actuation=act[0] if scalar else act,
@@ -305,7 +314,12 @@ class Problem:
             C = self._c.compliance(s, cancel=current_token())
         except RuntimeError as exc:  # the linearisation itself failed (e.g. its budget)
             raise ConvergenceError(f"tendonrod.compliance: {exc}", self._last) from None
-        return np.asarray(C, dtype=float).reshape(6, 6)
+        C = np.asarray(C, dtype=float).reshape(6, 6)
+        pose = base_pose(self._last.scene.robot)
+        if pose is None:
+            return C
+        # base-frame [dx, dtheta] per base-frame [F, M]: T C T^T, T = diag(R0, R0)
+        return pairs_out(pose, pairs_out(pose, C, axis=0), axis=1)
 
 
 def _probe_scene(scene: Scene, s, always: bool = False) -> Scene:

@@ -47,7 +47,8 @@ class Formulation:
     n_states : int
         ODE states integrated.
     n_segments : int
-        Integration segments (split at point loads and tendon anchors).
+        Integration segments (split at point loads, tendon anchors and the ends of
+        partial distributed loads).
     n_length_states : int
         Tendon path-length states (one per displacement-controlled tendon).
     n_stretch_terms : int
@@ -66,6 +67,11 @@ class Formulation:
         How the shooting Jacobian was formed.
     shooting_segments : int
         Shooting segments (1: single shooting).
+    n_partial_loads : int
+        Distributed loads over part of the rod (each adds its ends as breakpoints).
+    mounted : bool
+        The robot's base is not the world's origin and frame: solved in the base frame,
+        results carried into the world frame.
     """
 
     planar: bool
@@ -82,6 +88,8 @@ class Formulation:
     slack_model: str
     jacobian_method: str = ""
     shooting_segments: int = 1
+    n_partial_loads: int = 0
+    mounted: bool = False
 
     @classmethod
     def from_dict(cls, d: dict) -> Formulation:
@@ -107,6 +115,10 @@ class Formulation:
             extra.append(f"{self.n_stretch_terms} stretch term(s)")
         if self.distributed_load:
             extra.append("distributed load")
+        if self.n_partial_loads:
+            extra.append(f"{self.n_partial_loads} over part of the rod")
+        if self.mounted:
+            extra.append("mounted base")
         if self.tip_only:
             extra.append("tip only")
         more = (", " + ", ".join(extra)) if extra else ""

@@ -7,6 +7,8 @@ problem, e.g. ``robot.toml: tendon[2].displacement: expected a number, got
 ``examples/README.md``; ``examples/*.toml`` are working examples.  In short::
 
     title = "free text, optional"
+    gravity = [0.0, 0.0, -9.81]   # [m/s^2] world frame, optional: weighs rod.density
+                                  # [kg/m^3] and the [[mass]] point masses
 
     [rod]                 # tr.Rod: length [m], diameter [m], E [Pa], G [Pa],
     length = 0.2          # optional overrides EI, GJ [N m^2], EA, GA [N];
@@ -30,8 +32,18 @@ problem, e.g. ``robot.toml: tendon[2].displacement: expected a number, got
     force = [0.0, 0.0, -1.0]    # [N]
     moment = [0.0, 0.0, 0.0]    # [N m] (optional)
 
-    [distributed]         # uniform distributed force over the whole length, world frame
+    [distributed]         # uniform distributed force, world frame
     force = [0.0, 0.0, -0.25]   # [N/m]
+    start = 0.0           # [m] optional: over [start, end] (default: the whole rod)
+    end = 0.2             # [m]
+
+    [[mass]]              # point mass at arc length s (weighs only under gravity)
+    s = 0.1               # [m]
+    mass = 0.002          # [kg]
+
+    [base]                # the base pose (default: the origin, base frame = world)
+    position = [0.0, 0.0, 0.0]                         # [m] world frame
+    rotation = [[0, 0, 1], [0, 1, 0], [-1, 0, 0]]      # columns: base axes in the world
 
     [options]             # any field of tr.Options, passed through by name
 
@@ -57,7 +69,7 @@ from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import Any
 
-from .model import DistributedLoad, PointLoad, Robot, Rod, Scene, Tendon
+from .model import DistributedLoad, PointLoad, PointMass, Robot, Rod, Scene, Tendon
 from .options import Options
 
 if sys.version_info >= (3, 11):
@@ -112,9 +124,20 @@ class SceneSpec:
     target: Any = None
 
 
-TOP_LEVEL_KEYS = ("title", "rod", "tendon", "load", "distributed", "options", "target")
+TOP_LEVEL_KEYS = (
+    "title",
+    "rod",
+    "tendon",
+    "load",
+    "distributed",
+    "gravity",
+    "mass",
+    "base",
+    "options",
+    "target",
+)
 TARGET_KINDS = ("tip_angle", "tip_direction", "tip_position")
-_ROD_NUMBERS = ("length", "diameter", "E", "G", "EI", "GJ", "EA", "GA")
+_ROD_NUMBERS = ("length", "diameter", "E", "G", "EI", "GJ", "EA", "GA", "density")
 _ROD_BOOLS = ("kirchhoff",)
 _TENDON_NUMBERS = ("offset", "angle", "slope", "EA", "end", "pretension", "displacement", "tension")
 _TENDON_STRINGS = ("routing",)
@@ -281,9 +304,45 @@ def _parse_distributed(raw: Any):
     for name, value in table.items():
         if name in ("force", "moment"):
             kwargs[name] = _vector3(value, f"distributed.{name}")
+        elif name in ("start", "end"):
+            kwargs[name] = _number(value, f"distributed.{name}")
         else:
             kwargs[name] = value
     return _build(DistributedLoad, kwargs, "distributed")
+
+
+def _parse_mass(raw: Any, j: int, length: float):
+    key = f"mass[{j}]"
+    table = _table(raw, key)
+    _unknown(table, ("s", "mass"), key)
+    kwargs = {}
+    for name in ("s", "mass"):
+        if name not in table:
+            raise SceneFileError(f"{key}.{name}", "missing (required)")
+        kwargs[name] = _number(table[name], f"{key}.{name}")
+    if not 0.0 <= kwargs["s"] <= length:
+        raise SceneFileError(
+            f"{key}.s",
+            f"must lie on the rod, 0 <= s <= rod.length = {length!r}; got {kwargs['s']!r}",
+        )
+    return _build(PointMass, kwargs, key)
+
+
+def _parse_base(raw: Any) -> dict:
+    table = _table(raw, "base")
+    _unknown(table, ("position", "rotation"), "base")
+    out = {}
+    if "position" in table:
+        out["base_position"] = _vector3(table["position"], "base.position")
+    if "rotation" in table:
+        rot = table["rotation"]
+        if not isinstance(rot, list) or len(rot) != 3:
+            raise SceneFileError(
+                "base.rotation", f"expected an array of 3 rows of 3 numbers, got {rot!r}"
+            )
+        rows = tuple(_vector3(row, f"base.rotation[{j}]") for j, row in enumerate(rot))
+        out["base_rotation"] = rows
+    return out
 
 
 def _parse_options(raw: Any):
@@ -382,10 +441,18 @@ def parse_scene(data: Mapping[str, Any], source: str | None = None) -> SceneSpec
         loads = [_parse_load(raw, j, rod.length) for j, raw in enumerate(raw_loads)]
         if "distributed" in data:
             loads.append(_parse_distributed(data["distributed"]))
+        raw_masses = data.get("mass", [])
+        if not isinstance(raw_masses, list):
+            raise SceneFileError("mass", "expected an array of tables ([[mass]] sections)")
+        loads += [_parse_mass(raw, j, rod.length) for j, raw in enumerate(raw_masses)]
+        base = _parse_base(data["base"]) if "base" in data else {}
         robot = _build(Robot, {"rod": rod, "tendons": tendons}, "tendon")
-        scene = _build(
-            Scene, {"robot": robot, "displacement": qs, "tension": taus, "loads": loads}, "scene"
-        )
+        if base:
+            robot = _build(Robot, {"rod": rod, "tendons": tendons, **base}, "base")
+        scene_kw = {"robot": robot, "displacement": qs, "tension": taus, "loads": loads}
+        if "gravity" in data:
+            scene_kw["gravity"] = _vector3(data["gravity"], "gravity")
+        scene = _build(Scene, scene_kw, "scene")
         options = _parse_options(data["options"]) if "options" in data else None
         target = _parse_target(data["target"], len(tendons)) if "target" in data else None
     except SceneFileError as exc:

@@ -1,8 +1,10 @@
 """The result of a solve: :class:`Solution`, how a warm start maps to the core's guess,
 and how a failure is reported (never silently).
 
-Frames and units: SI, radians; base at the origin, base frame = world frame, the
-undeformed rod along +z; all vectors in the world frame unless said otherwise.
+Frames and units: SI, radians; the undeformed rod along the base frame's +z; all
+vectors in the world frame unless said otherwise.  The core solves in the base frame
+(``raw`` holds its base-frame arrays); the properties carry them into the world frame
+(:mod:`tendonrod.mounting`; the identity for an unmounted robot).
 """
 
 from __future__ import annotations
@@ -14,6 +16,7 @@ import numpy as np
 
 from .compiled import _compile, _structure_key, structure_difference
 from .model import Scene
+from .mounting import base_pose, pairs_out, points_out, rotations_out, vectors_in, vectors_out
 from .options import Options, _replace
 from .results import ConvergenceError, ConvergenceWarning, Formulation, RodState
 
@@ -52,7 +55,7 @@ def _guess_vector(guess, scene: Scene, options: Options):
                 f"guess: a Solution with {guess.tension.shape[0]} tendons cannot "
                 f"start a scene with {nt} tendons"
             )
-        vec = guess.base_state
+        vec = guess.raw["base_state"]  # base frame, as the core takes it
         jac = carry = None
         if guess.scene is not None and _structure_key(guess.scene, guess.options) == _structure_key(
             scene, options
@@ -74,6 +77,9 @@ def _guess_vector(guess, scene: Scene, options: Options):
             f"guess must be a finite array of shape ({6 + 2 * nt},) "
             f"[n(0), m(0), tension, slack], got {guess!r}"
         )
+    pose = base_pose(scene.robot)
+    if pose is not None:  # n(0), m(0) given in the world frame
+        vec = np.concatenate([vectors_in(pose, vec[:3]), vectors_in(pose, vec[3:6]), vec[6:]])
     return vec, None, None, None
 
 
@@ -175,6 +181,7 @@ class Solution:
         self.truncation_estimate = float(raw.get("truncation_estimate", math.nan))
         self.truncation_carried = bool(raw.get("truncation_carried", False))
         self._formulation = None
+        self._pose = None if scene is None else base_pose(scene.robot)
 
     # ------------------------------------------------------------ lazy outputs
     # A solve computes the tip state, the tensions and slacks; the states at the output
@@ -199,22 +206,22 @@ class Solution:
     @property
     def position(self) -> np.ndarray:
         """Backbone position at the nodes, world frame [m], shape (N, 3)."""
-        return self._recorded()["position"]
+        return points_out(self._pose, self._recorded()["position"])
 
     @property
     def rotation(self) -> np.ndarray:
         """Body-to-world rotation at the nodes, shape (N, 3, 3)."""
-        return self._recorded()["rotation"]
+        return rotations_out(self._pose, self._recorded()["rotation"])
 
     @property
     def force(self) -> np.ndarray:
         """Internal backbone force at the nodes, world frame [N], shape (N, 3)."""
-        return self._recorded()["force"]
+        return vectors_out(self._pose, self._recorded()["force"])
 
     @property
     def moment(self) -> np.ndarray:
         """Internal backbone moment at the nodes, world frame [N m], shape (N, 3)."""
-        return self._recorded()["moment"]
+        return vectors_out(self._pose, self._recorded()["moment"])
 
     @property
     def displacement(self) -> np.ndarray:
@@ -290,7 +297,10 @@ class Solution:
     def formulation(self) -> Formulation:
         """What was solved (:class:`Formulation`)."""
         if self._formulation is None:
-            self._formulation = Formulation.from_dict(self.raw.get("formulation", {}))
+            form = self.raw.get("formulation", {})
+            if self._pose is not None:
+                form = dict(form, mounted=True)
+            self._formulation = Formulation.from_dict(form)
         return self._formulation
 
     @property
@@ -298,26 +308,29 @@ class Solution:
         """Tip position (s = L), world frame [m], shape (3,): the end state of the shooting
         integration that the residual and the tolerance refer to, whatever the output
         nodes (it is ``position[-1]`` when the nodes end at L)."""
-        return self.raw["tip_position"]
+        return points_out(self._pose, self.raw["tip_position"])
 
     @property
     def tip_angle(self) -> float:
         """Tip angle [rad] of a planar solve: the signed angle of the tip tangent from the
-        base axis (+z) toward +x, unwrapped along s (a curl past 180 degrees reads past
+        base axis (base +z) toward base +x, unwrapped along s (a curl past 180 degrees reads past
         pi); NaN for the spatial formulation (see :attr:`tip_rotation`)."""
         return float(self.raw.get("tip_angle", math.nan))
 
     @property
     def tip_rotation(self) -> np.ndarray:
         """Tip body-to-world rotation (s = L), shape (3, 3) (see :attr:`tip_position`)."""
-        return self.raw["tip_rotation"]
+        return rotations_out(self._pose, self.raw["tip_rotation"])
 
     @property
     def base_state(self) -> np.ndarray:
         """``[n(0), m(0), tension, slack]`` (6 + 2 ntendon,), world frame, SI: the raw guess
         format, from the core's map of the converged unknowns (so a warm start from it
         starts exactly at this solution)."""
-        return self.raw["base_state"]
+        b = self.raw["base_state"]
+        if self._pose is None:
+            return b
+        return np.concatenate([pairs_out(self._pose, b[:6]), b[6:]])
 
     def at(self, s) -> RodState:
         """The state at arc length(s) ``s`` [m] (scalar or 1-D array in [0, L]).

@@ -12,8 +12,10 @@ from here: the packing of a scene in :mod:`tendonrod.compiled`, :class:`Solution
 :func:`compliance` in :mod:`tendonrod.problem`, the options in :mod:`tendonrod.options`,
 the records a solution carries in :mod:`tendonrod.results`.
 
-Frames and units: SI, radians; base at the origin, base frame = world frame, the
-undeformed rod along +z; all vectors in the world frame unless said otherwise.
+Frames and units: SI, radians; the base at ``Robot.base_position`` with the base frame's
+axes the columns of ``Robot.base_rotation`` (default: the origin and the world frame), the
+undeformed rod along the base frame's +z; all vectors in the world frame unless said
+otherwise (the core solves in the base frame, :mod:`tendonrod.mounting`).
 """
 
 from __future__ import annotations

@@ -1,0 +1,133 @@
+"""Validation of scene fields: each helper returns the value as a float (or 3-vector)
+or raises ValueError naming ``owner.name`` and the value given."""
+
+from __future__ import annotations
+
+import math
+import numbers
+
+import numpy as np
+
+from . import _core
+
+Vec3 = tuple[float, float, float]
+
+
+# --------------------------------------------------------------------------- helpers
+def _real(owner: str, name: str, value, *, allow_inf: bool = False) -> float:
+    """``value`` as a float, or ValueError naming ``owner.name`` and the value."""
+    if isinstance(value, (bool, np.bool_)) or not isinstance(
+        value, (numbers.Real, np.floating, np.integer)
+    ):
+        try:
+            arr = np.asarray(value)
+        except Exception:  # pragma: no cover - exotic objects
+            arr = None
+        if arr is None or arr.shape != () or arr.dtype.kind not in "fiu":
+            raise ValueError(f"{owner}.{name} must be a real number, got {value!r}")
+        value = arr.item()
+    try:
+        x = float(value)
+    except OverflowError:
+        raise ValueError(f"{owner}.{name} must be finite, got {value!r}") from None
+    if math.isnan(x):
+        raise ValueError(f"{owner}.{name} must not be NaN, got {value!r}")
+    if math.isinf(x) and not allow_inf:
+        raise ValueError(f"{owner}.{name} must be finite, got {value!r}")
+    return x
+
+
+# Range of a finite tendon EA [N]: the core's (a subnormal EA would overflow tau/EA).
+_TENDON_EA_MIN, _TENDON_EA_MAX = _core.LIMITS["EA"]
+_EA_MIN, _EA_MAX = _TENDON_EA_MIN, _TENDON_EA_MAX
+
+
+def _positive(owner: str, name: str, value, *, allow_inf: bool = False) -> float:
+    x = _real(owner, name, value, allow_inf=allow_inf)
+    if not x > 0.0:
+        raise ValueError(f"{owner}.{name} must be > 0, got {value!r}")
+    return x
+
+
+# Range of a nonzero length [m] (and of the rod's rigidities): the core's; beyond it the
+# scales EI/L^2, EI/(r L) of the solver leave the normal doubles.
+_LENGTH_MIN, _LENGTH_MAX = _core.LIMITS["rod"]
+
+
+def _length(owner: str, name: str, value, *, zero_ok: bool = False) -> float:
+    """A length [m]: > 0 (or 0 if ``zero_ok``) and within the core's range."""
+    x = _nonnegative(owner, name, value) if zero_ok else _positive(owner, name, value)
+    if x != 0.0 and not (_LENGTH_MIN <= x <= _LENGTH_MAX):
+        raise ValueError(
+            f"{owner}.{name} must lie in [{_LENGTH_MIN:g}, {_LENGTH_MAX:g}] m"
+            + (" (or be 0)" if zero_ok else "")
+            + f": double precision cannot carry the model's scales beyond, got {value!r}"
+        )
+    return x
+
+
+def _nonnegative(owner: str, name: str, value) -> float:
+    x = _real(owner, name, value)
+    if x < 0.0:
+        raise ValueError(f"{owner}.{name} must be >= 0, got {value!r}")
+    return x
+
+
+def _vec3(owner: str, name: str, value) -> Vec3:
+    try:
+        raw = np.asarray(value)
+        if raw.dtype.kind == "O" and raw.ndim == 1:
+            # Python ints beyond int64 (2**70) are real numbers too
+            if any(isinstance(v, bool) or not isinstance(v, numbers.Real) for v in raw):
+                raise TypeError
+            raw = np.array([float(v) for v in raw])
+        if raw.dtype.kind not in "fiu":
+            raise TypeError
+        arr = raw.astype(float)
+    except OverflowError:
+        raise ValueError(f"{owner}.{name} must be finite, got {value!r}") from None
+    except (TypeError, ValueError):
+        raise ValueError(
+            f"{owner}.{name} must be a 3-vector of real numbers, got {value!r}"
+        ) from None
+    if arr.shape != (3,):
+        raise ValueError(f"{owner}.{name} must be a 3-vector (shape (3,)), got {value!r}")
+    if not np.all(np.isfinite(arr)):
+        raise ValueError(f"{owner}.{name} must be finite, got {value!r}")
+    return (float(arr[0]), float(arr[1]), float(arr[2]))
+
+
+# A base rotation must be orthonormal to this absolute tolerance on every entry of
+# R^T R - I: the integrated rotations keep orthonormality to ~1e-12 with the reference
+# integrator (DESIGN.md), so a base rotation no worse than that adds no error of its own
+# beyond the solver's, while a hand-typed 0.7071 (error 1e-5) is refused.
+ROTATION_ATOL = 1e-12
+
+
+def _rotation(owner: str, name: str, value) -> tuple:
+    """A proper rotation matrix (3x3, orthonormal to ROTATION_ATOL, det +1) as a tuple of
+    row tuples, or ValueError naming ``owner.name`` and the value."""
+    try:
+        arr = np.asarray(value)
+        if arr.dtype.kind not in "fiu":
+            raise TypeError
+        arr = arr.astype(float)
+    except (TypeError, ValueError, OverflowError):
+        raise ValueError(f"{owner}.{name} must be a 3x3 rotation matrix, got {value!r}") from None
+    if arr.shape != (3, 3):
+        raise ValueError(
+            f"{owner}.{name} must be a 3x3 rotation matrix (shape (3, 3)), got {value!r}"
+        )
+    if not np.all(np.isfinite(arr)):
+        raise ValueError(f"{owner}.{name} must be finite, got {value!r}")
+    err = float(np.max(np.abs(arr.T @ arr - np.eye(3))))
+    if not err <= ROTATION_ATOL:
+        raise ValueError(
+            f"{owner}.{name} must be orthonormal (max |R^T R - I| <= {ROTATION_ATOL:g}), "
+            f"got {value!r} (max |R^T R - I| = {err:.3g})"
+        )
+    if np.linalg.det(arr) < 0.0:
+        raise ValueError(
+            f"{owner}.{name} must be a proper rotation (det +1), got {value!r} (a reflection)"
+        )
+    return tuple(tuple(float(x) for x in row) for row in arr)
