@@ -42,21 +42,12 @@ import tendonrod as tr
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, HERE)
-from solve import scenes, sweep_of  # noqa: E402  (bench/solve.py: the Fig. 11c scene)
+from solve import median_time, scenes, sweep_of  # noqa: E402  (bench/solve.py: the scene, timing)
 
 OUT = os.path.join(HERE, "results")
 SCENE = "fig11c 3 tendons, out-of-plane load"
 GOAL_JACOBIAN_WARM = 2.0  # the goal: tr.jacobian within 2 warm solves
 GOAL_ACTUATE_COLD = 5.0  # the goal: tr.actuate within 5 cold solves
-
-
-def median_time(fn, reps: int) -> float:
-    ts = []
-    for _ in range(reps):
-        t0 = time.perf_counter()
-        fn()
-        ts.append(time.perf_counter() - t0)
-    return statistics.median(ts)
 
 
 def warm_solve(sw) -> float:
