@@ -7,6 +7,11 @@ components in radians.  No arccos: a tip angle is the planar formulation's unwra
 angle, a direction its log map on the unit sphere about the target (the great-circle angle
 by atan2), a rotation the rotation vector of R R_target^T (from its skew part and trace
 through atan2).
+
+A mounted robot's targets are given in the world frame and compared in its base frame
+(where the planar formulation's plane and tip angle are defined): positions ``R0^T (p -
+p0)``, directions and rotations ``R0^T t``, ``R0^T R``; the derivatives by the tip's world
+[dx, dtheta] follow through ``blockdiag(R0^T, R0^T)``.
 """
 
 from __future__ import annotations
@@ -14,6 +19,8 @@ from __future__ import annotations
 import math
 
 import numpy as np
+
+from .mounting import base_pose
 
 __all__ = ["Target"]
 
@@ -83,6 +90,9 @@ class Target:
             )
         ((self.name, value),) = given.items()
         self.given = dict(given)
+        pose = base_pose(scene.robot)
+        self.pose = pose
+        self._R0t = None if pose is None else pose[1].T
         self.L = scene.robot.rod.length
         self.planar = planar
         if self.name == "tip_angle":
@@ -97,6 +107,8 @@ class Target:
             self.m = 1
         elif self.name == "tip_direction":
             self.t = _unit(value, "tip_direction")
+            if pose is not None:
+                self.t = self._R0t @ self.t
             e = np.eye(3)[int(np.argmin(np.abs(self.t)))]
             b1 = np.cross(self.t, e)
             b1 /= np.linalg.norm(b1)
@@ -134,7 +146,9 @@ class Target:
                     and np.linalg.det(Ra) > 0
                 ):
                     raise ValueError(f"tip_pose: rotation must be a rotation matrix, got {R!r}")
-                self.R = Ra
+                self.R = Ra if pose is None else self._R0t @ Ra
+            if pose is not None:
+                self.p = self._R0t @ (self.p - pose[0])
             rows = [0, 1, 2]
             if planar and self.p[1] == 0.0:
                 rows = [0, 2]
@@ -145,12 +159,23 @@ class Target:
             self.m = len(rows)
 
     def residual(self, sol):
-        """(r (m,), D (m, 6)): the residual and its derivative by the tip's [dx, dtheta]."""
+        """(r (m,), D (m, 6)): the residual and its derivative by the tip's [dx, dtheta]
+        (world frame)."""
+        r, D = self._residual_base(sol)
+        if self.pose is not None:
+            D = np.hstack([D[:, :3] @ self._R0t, D[:, 3:] @ self._R0t])
+        return r, D
+
+    def _residual_base(self, sol):
+        """The residual and its derivative by the tip's [dx, dtheta] in the base frame."""
         if self.name == "tip_angle":
             D = np.zeros((1, 6))
             D[0, 4] = 1.0
             return np.array([sol.tip_angle - self.theta]), D
         R = np.asarray(sol.tip_rotation)
+        p = np.asarray(sol.tip_position)
+        if self.pose is not None:
+            R, p = self._R0t @ R, self._R0t @ (p - self.pose[0])
         if self.name == "tip_direction":
             # the tip direction's coordinates on the unit sphere about the target (its log
             # map): the angle alpha between them along the great circle, in the direction
@@ -175,7 +200,7 @@ class Target:
             return f * Bt, D
         r6 = np.zeros(6)
         D6 = np.zeros((6, 6))
-        r6[:3] = (np.asarray(sol.tip_position) - self.p) / self.L
+        r6[:3] = (p - self.p) / self.L
         D6[:3, :3] = np.eye(3) / self.L
         if self.R is not None:
             phi = _rotvec(R @ self.R.T)

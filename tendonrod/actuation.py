@@ -35,7 +35,6 @@ from ._actuation_target import Target
 from ._interrupt import current_token
 from .compiled import is_planar
 from .model import Scene
-from .mounting import require_unmounted
 from .options import _check_options, _replace
 from .problem import Problem
 from .results import ConvergenceError, ConvergenceWarning
@@ -220,7 +219,9 @@ def actuate(
         The robot, its loads, the control kind of each tendon and the starting values.
     tip_angle : float, optional
         [rad] planar scenes: the signed angle of the tip tangent from the base axis (+z)
-        toward +x, unwrapped along s (:attr:`Solution.tip_angle`; beyond pi for a curl).
+        toward +x, unwrapped along s (:attr:`Solution.tip_angle`; beyond pi for a curl);
+        base frame for a mounted robot, whose other targets are in the world frame (they
+        are compared in the base frame, where the core solves).
     tip_direction : (3,), optional
         The tip tangent (body z axis) in the world frame; normalised.  Its residual is the
         tip tangent's log map on the unit sphere about the target (two components: the
@@ -273,7 +274,6 @@ def actuate(
     """
     if not isinstance(scene, Scene):
         raise ValueError(f"scene must be a tendonrod.Scene, got {scene!r}")
-    require_unmounted(scene.robot, "tendonrod.actuate")
     options = _check_options(options)
     for name, v, lo in (("min_tension", min_tension, 0.0), ("tol", tol, 0.0)):
         if isinstance(v, bool) or not isinstance(v, (int, float, np.floating, np.integer)):

@@ -17,7 +17,6 @@ import numpy as np
 
 from .linearization import design_parameter, design_value, with_design
 from .model import Scene
-from .mounting import require_unmounted
 from .options import _check_options
 from .problem import _probe_scene, jacobian
 from .results import ConvergenceError, ConvergenceWarning
@@ -90,8 +89,6 @@ def _scenes(scenes) -> list:
         raise ValueError(f"scenes must be a sequence of tendonrod.Scene, got {scenes!r}") from None
     if not out or not all(isinstance(sc, Scene) for sc in out):
         raise ValueError(f"scenes must be a non-empty sequence of tendonrod.Scene, got {scenes!r}")
-    for sc in out:
-        require_unmounted(sc.robot, "tendonrod.fit")
     return out
 
 
@@ -209,7 +206,7 @@ def fit(
         parameters are set in every scene (each keeps everything else).
     measured : array (nscene, 3) or (nscene, ns, 3)
         Measured tip positions [m] (``s`` None), or positions of markers at the arc
-        lengths ``s``, world frame.
+        lengths ``s``, world frame (a mounted robot's too: its base pose is part of the model).
     parameters : sequence of str
         Design parameter names (``"EI"``, ``"tendons[0].EA"``, ``"tendons[0].offset"``,
         ... as in :mod:`tendonrod.linearization`).

@@ -58,15 +58,3 @@ def pairs_out(pose, x: np.ndarray, axis: int = -1) -> np.ndarray:
     R = pose[1]
     out = np.concatenate([x[..., :3] @ R.T, x[..., 3:] @ R.T], axis=-1)
     return np.moveaxis(out, -1, axis)
-
-
-def require_unmounted(robot, where: str) -> None:
-    """ValueError naming the base pose when ``where`` (an entry point whose targets or
-    linearisations are not yet carried through the base frame) gets a mounted robot."""
-    if robot.mounted:
-        raise ValueError(
-            f"{where} does not take a mounted robot yet: Robot.base_position="
-            f"{robot.base_position!r}, base_rotation={robot.base_rotation!r}; use the "
-            f"unmounted robot (its world frame is the base frame) and map the results with "
-            f"p0 + R0 x"
-        )
