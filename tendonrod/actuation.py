@@ -164,9 +164,9 @@ class _Run:
     def solve(self, c, guess=None):
         """(Solution, r, D) at controls c: a warm solve from the last success."""
         self.solves += 1
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore", ConvergenceWarning)
-            sol = self.prob.solve(_with_controls(self.scene, self.idx, c), guess=guess)
+        # iterates are neither reported nor checked for plausibility: the state returned
+        # is, by the final solve with the caller's options
+        sol = self.prob._solve_quiet(_with_controls(self.scene, self.idx, c), guess)
         if not sol.success:
             return sol, None, None
         r, D = self.target.residual(sol)

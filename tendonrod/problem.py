@@ -164,15 +164,20 @@ class Problem:
         :class:`~tendonrod.PlausibilityWarning` the first time its rule fires for this
         problem; every solution lists its own findings in ``plausibility``.
         """
+        sol = self._solve_quiet(scene, guess)
+        _report(sol, strict, "tendonrod.Problem.solve", stacklevel=3)
+        self._plausible.check(sol, "tendonrod.Problem.solve", once=True)
+        return sol
+
+    def _solve_quiet(self, scene: Scene | None, guess) -> Solution:
+        """The Solution of one solve, neither reported nor checked for plausibility: for
+        iterations whose intermediate states the caller judges only at the end."""
         scene = self._scene if scene is None else scene
         if scene is not self._current:
             self._set(scene)
-        raw = self._run(guess)
-        sol = Solution(raw, scene, self._options)
+        sol = Solution(self._run(guess), scene, self._options)
         if sol.success:
             self._last = sol
-        _report(sol, strict, "tendonrod.Problem.solve", stacklevel=3)
-        self._plausible.check(sol, "tendonrod.Problem.solve", once=True)
         return sol
 
     def compliance(self, s: float | None = None, *, step=None):
