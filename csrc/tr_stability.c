@@ -30,53 +30,8 @@
 #include "tr_element.h"
 #include "tr_hd.h"
 #include "tr_internal.h"
+#include "tr_stab.h"
 #include "tru_math.h"
-
-/* Uniform elements of the first grid (even), and the most a refinement may use. */
-#define TR_STAB_ELEMENTS     24
-#define TR_STAB_MAX_ELEMENTS 768
-/* Uniform elements of the quick test's grid (even), and the band (times 1 + the
- * stiffness scale) in which it leaves the verdict to the full test: its discretisation
- * error is below 7.6e-3 of that scale on the Euler column from 0.5 to 41 times its load
- * (four times the 24-element figure), so no eigenvalue outside the band can be across
- * zero. */
-#define TR_STAB_QUICK      12
-#define TR_STAB_QUICK_BAND 0.02
-/* The quick test measures the distance of the nearest eigenvalue from zero up to this
- * many bands (by doubling). */
-#define TR_STAB_QUICK_GAP 64.0
-/* A margin (scaled by EI/L) within this of zero is round-off: a neutral direction. */
-#define TR_STAB_NEUTRAL 1e-7
-/* Margins (scaled) smaller than this times (1 + the load-induced stiffness scale) are
- * refined (discrete equilibrium) and checked against the grid of half the elements (the
- * error estimate); larger ones are far beyond the discretisation error (at 24 elements
- * on the Euler column, 0.5 to 41 times its load, below 1e-3 of that scale). */
-#define TR_STAB_CHECK 0.05
-/* Newton steps to the discrete equilibrium where a margin is refined. */
-#define TR_STAB_NEWTON 2
-
-/* The largest element rotation the grid may carry [rad]: keeps the discretisation in
- * its second-order regime (finer grids are built until it holds). */
-#define TR_STAB_MAX_ROT 0.35
-
-/* ------------------------------------------------------------ the workspace */
-struct tr_stab_ws {
-    int nuni;         /* uniform elements of the fine grid */
-    int nb, cosserat; /* coordinates per node; 1: Cosserat elements (else Kirchhoff) */
-    int ngrid;        /* nodes of the fine grid: uniform ones and every breakpoint */
-    double *s;        /* (ngrid) their arc lengths [m] */
-    int *kind;        /* (ngrid) 1: in the coarse grid too (even uniform node or breakpoint) */
-    int *node;        /* (ngrid) the grid nodes of the level being assembled */
-    tr_data *rec;     /* recording workspace on the grid */
-    double *R, *p;    /* (ngrid x 9), (ngrid x 3) the configuration: recorded, then moved
-                        to the discrete equilibrium */
-    double *tau;      /* (nt) the tensions, idem */
-    double *g, *dx;   /* (ngrid nb) gradient of the energy, Newton step */
-    double *F, *vhat; /* (ngrid x 3) per element: the dead force beyond it (Kirchhoff), its
-                         free strain (Cosserat), from the recorded state */
-    int *col;         /* (nt) bordered column of each tendon, -1: none */
-    tr_btd h;         /* the Hessian and its factors */
-};
 
 void tr_stab_free(struct tr_stab_ws *w)
 {
@@ -105,7 +60,7 @@ static struct tr_stab_ws *stab_alloc(const tr_model *m, const tr_options *opt, i
     w->s = (double *)malloc((size_t)cap * sizeof(double));
     w->kind = (int *)malloc(((size_t)cap * 2 + nt) * sizeof(int));
     len = 18 * (size_t)cap + nt + 2 * nv + 5 * nblk + 2 * nv + 2 * nv * nt + 2 * (size_t)nt +
-          2 * (size_t)nt * nt;
+          2 * (size_t)nt * nt + 10 * nv;
     w->R = (double *)calloc(len, sizeof(double));
     if (!w->s || !w->kind || !w->R) {
         tr_stab_free(w);
@@ -131,11 +86,13 @@ static struct tr_stab_ws *stab_alloc(const tr_model *m, const tr_options *opt, i
     w->h.X = q, q += nv * nt;
     w->h.cb = q, q += nt;
     w->h.Se = q, q += nt;
-    w->h.Sv = q;
+    w->h.Sv = q, q += (size_t)nt * nt;
     if ((size_t)nt * nt > nblk) {
         /* many tendons on a short grid: the Schur complement gets its own space */
-        w->h.S = w->h.Sv + (size_t)nt * nt;
+        w->h.S = q;
     }
+    q += (size_t)nt * nt;
+    w->sw_buf = q; /* 10 nv */
     for (i = 0, b = 1; i <= nuni || b < m->nseg;) {
         const double su = i <= nuni ? m->L * i / nuni : INFINITY;
         const double sb = b < m->nseg ? m->bp[b] : INFINITY;
@@ -181,7 +138,7 @@ static int segment_at(const tr_model *m, double s)
     return k;
 }
 
-static int level_setup(const tr_model *m, const tr_data *d, struct tr_stab_ws *w, int nn)
+int tr_stab_level_setup(const tr_model *m, const tr_data *d, struct tr_stab_ws *w, int nn)
 {
     double Fb[3] = {0, 0, 0};
     int k, c, j;
@@ -231,7 +188,7 @@ static int level_setup(const tr_model *m, const tr_data *d, struct tr_stab_ws *w
 
 /* The Hessian (scaled by L/EI), the gradient, the mass and the bordered columns of the
  * level at the configuration into w->h, w->g. */
-static void assemble(const tr_model *m, struct tr_stab_ws *w, int nn, int nb)
+void tr_stab_assemble(const tr_model *m, struct tr_stab_ws *w, int nn, int nb)
 {
     const double sc = m->L / m->EI;
     const int nblk = nn - 1, n = nblk * nb, nb2 = nb * nb;
@@ -244,7 +201,9 @@ static void assemble(const tr_model *m, struct tr_stab_ws *w, int nn, int nb)
     for (i = 0; i < m->nt; i++) {
         const tr_tendon *t = m->tendon + i;
         w->col[i] = -1;
-        if (t->control != TR_DISPLACEMENT || !(w->tau[i] > 0.0)) continue;
+        if (t->control != TR_DISPLACEMENT ||
+            !(w->tau[i] > 0.0 || (i < 64 && (w->sw_mask >> i & 1ULL))))
+            continue;
         w->col[i] = nbord;
         h->cb[nbord++] = isfinite(t->EA) ? m->EI * t->rest / (m->L * t->EA) : 0.0;
     }
@@ -337,7 +296,7 @@ static void rotate(double *R, const double *w)
  * and a Hessian there turns an exact zero mode (a symmetry) into an O(h^2) one.  The
  * bordered tendons keep their discrete length (or stretch law), their tensions the
  * multipliers.  Stops quietly where a pivot is singular (the last assembly stands). */
-static void discrete_equilibrium(const tr_model *m, struct tr_stab_ws *w, int nn, int nb)
+void tr_stab_discrete_equilibrium(const tr_model *m, struct tr_stab_ws *w, int nn, int nb)
 {
     const double sc = m->L / m->EI;
     tr_btd *h = &w->h;
@@ -379,7 +338,7 @@ static void discrete_equilibrium(const tr_model *m, struct tr_stab_ws *w, int nn
             if (nb == 6)
                 for (c = 0; c < 3; c++) w->p[3 * g + c] -= w->dx[(i - 1) * nb + 3 + c];
         }
-        assemble(m, w, nn, nb);
+        tr_stab_assemble(m, w, nn, nb);
     }
 }
 
@@ -407,12 +366,12 @@ static double level_margin(const tr_model *m, const tr_data *d, struct tr_stab_w
     *coarse = 0;
     for (j = 0; j < w->ngrid; j++)
         if (w->kind[j] >= min_kind) w->node[nn++] = j;
-    if (level_setup(m, d, w, nn) < 0) {
+    if (tr_stab_level_setup(m, d, w, nn) < 0) {
         *coarse = 1;
         return NAN;
     }
-    assemble(m, w, nn, nb);
-    if (refine) discrete_equilibrium(m, w, nn, nb);
+    tr_stab_assemble(m, w, nn, nb);
+    if (refine) tr_stab_discrete_equilibrium(m, w, nn, nb);
     neg = tr_btd_count(&w->h, 0.0, &sing);
     if (sing) neg = tr_btd_count(&w->h, -1e-9, &sing);
     if (sing) {
@@ -439,8 +398,8 @@ static int not_conservative(const tr_model *m, tr_data *d)
 }
 
 /* The workspace *wp for nuni uniform elements (reallocated when it has another count). */
-static struct tr_stab_ws *stab_ws(const tr_model *m, tr_data *d, struct tr_stab_ws **wp, int nuni,
-                                  int cosserat)
+struct tr_stab_ws *tr_stab_workspace(const tr_model *m, tr_data *d, struct tr_stab_ws **wp,
+                                     int nuni, int cosserat)
 {
     if (!*wp || (*wp)->nuni != nuni || (*wp)->cosserat != cosserat) {
         tr_stab_free(*wp);
@@ -484,7 +443,7 @@ static void verdict_full(const tr_model *m, tr_data *d, int near_zero)
     double mf = NAN, mc = NAN, err, reduction = 0.0;
     struct tr_stab_ws *w;
     for (;;) {
-        w = stab_ws(m, d, &d->stab, nuni, cosserat);
+        w = tr_stab_workspace(m, d, &d->stab, nuni, cosserat);
         if (!w) {
             snprintf(d->stab_reason, sizeof d->stab_reason, "not tested: out of memory");
             return;
@@ -557,7 +516,7 @@ static void verdict_full(const tr_model *m, tr_data *d, int near_zero)
 static int quick_neutral(const tr_model *m, tr_data *d, struct tr_stab_ws *w, int nn, double band)
 {
     int lo, hi, a, b, sing;
-    discrete_equilibrium(m, w, nn, 3);
+    tr_stab_discrete_equilibrium(m, w, nn, 3);
     lo = tr_btd_count(&w->h, -band, &sing);
     if (sing) return 0;
     hi = tr_btd_count(&w->h, band, &sing);
@@ -589,14 +548,14 @@ static int verdict_quick(const tr_model *m, tr_data *d)
     int nuni = TR_STAB_QUICK, nn, j, n0, nlo, nhi, sing;
     struct tr_stab_ws *w;
     for (;;) {
-        w = stab_ws(m, d, &d->stab_quick, nuni, 0);
+        w = tr_stab_workspace(m, d, &d->stab_quick, nuni, 0);
         if (!w || tr_record_from(m, w->rec, d->x, d->steps) != TR_OK) return 0;
         for (nn = j = 0; j < w->ngrid; j++) w->node[nn++] = j;
-        if (level_setup(m, d, w, nn) == 0) break;
+        if (tr_stab_level_setup(m, d, w, nn) == 0) break;
         if (2 * nuni > TR_STAB_MAX_ELEMENTS) return 0;
         nuni *= 2;
     }
-    assemble(m, w, nn, 3);
+    tr_stab_assemble(m, w, nn, 3);
     nlo = tr_btd_count(&w->h, -band, &sing);
     if (sing) return 0;
     nhi = tr_btd_count(&w->h, band, &sing);
@@ -621,13 +580,23 @@ static int verdict_quick(const tr_model *m, tr_data *d)
     return 1;
 }
 
+/* Unstable with tendons at their switch: the sides they resist tested too (tr_switch.c);
+ * otherwise the note that the slack side was tested. */
+static void switch_or_note(const tr_model *m, tr_data *d)
+{
+    if (d->stable == 0 && tr_switch_count(m, d) > 0)
+        tr_switch_verdict(m, d);
+    else
+        slack_side_note(m, d);
+}
+
 void tr_stability(const tr_model *m, tr_data *d)
 {
     verdict_reset(d);
     if (not_conservative(m, d)) return;
     tr_set_tensions(m, d, d->x);
     verdict_full(m, d, 0);
-    slack_side_note(m, d);
+    switch_or_note(m, d);
 }
 
 void tr_stability_quick(const tr_model *m, tr_data *d)
@@ -636,7 +605,7 @@ void tr_stability_quick(const tr_model *m, tr_data *d)
     if (not_conservative(m, d)) return;
     tr_set_tensions(m, d, d->x);
     if (!verdict_quick(m, d)) verdict_full(m, d, 1);
-    slack_side_note(m, d);
+    switch_or_note(m, d);
 }
 
 int tr_stability_of(const tr_model *m, tr_data *d, const double *x, int steps, int quick)
