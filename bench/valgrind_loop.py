@@ -189,6 +189,15 @@ def problem_loop(n):
         ramp = tr.Problem(column(0.8))
         for f in (0.8, 0.9, 1.1, 1.2):
             assert ramp.solve(column(f)).stable is not False
+        # tendons locked at their taut/slack switch hold the column past its Euler load
+        # (every face of the switch tendons' cones tested: tr_switch.c)
+        locked = tr.Robot(
+            wire, [tr.Tendon(offset=0.01, angle=k * math.pi / 2, EA=3e3) for k in range(4)]
+        )
+        held = tr.Scene(
+            locked, displacement=[0.0] * 4, loads=[tr.PointLoad(s=0.25, force=(0, 0, -1.5 * pe))]
+        )
+        assert tr.solve(held).stable is True
         fig11a = tr.Scene(
             tr.Robot(rod, [tr.Tendon(offset=0.01)]),
             displacement=[0.01 * math.pi / 2],
