@@ -398,3 +398,28 @@ def test_result_record():
     ten = tr.actuate(dataclasses.replace(scene, displacement=[None], tension=[0.0]), tip_angle=0.5)
     assert ten.success and ten.actuation.route == "linearisation" and ten.actuation.jacobians >= 1
     assert "target reached" in rec.message
+
+
+def test_a_target_held_only_by_an_unstable_equilibrium_is_not_reached():
+    """A column at 1.5 times its Euler load with two opposing tension-controlled tendons:
+    a straight tip (angle 0) is an equilibrium only with equal tensions, and unstable
+    there (a tendon at a prescribed tension does not hold a bend back).  No bent state of
+    a clamped column under this load turns its tip back to the axis (that needs the
+    guided column's load, 4 P_E), so the target is reachable only by the unstable state:
+    tr.actuate must not return it as a success, and returns the closest stable state."""
+    rod = _rod()
+    EI, L = rod.bending_stiffness, rod.length
+    P_E = math.pi**2 * EI / (4 * L**2)
+    robot = tr.Robot(rod, [tr.Tendon(offset=0.01), tr.Tendon(offset=0.01, angle=math.pi)])
+    scene = tr.Scene(robot, tension=[1.0, 1.0], loads=[tr.PointLoad(s=L, force=(0, 0, -1.5 * P_E))])
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", tr.ConvergenceWarning)
+        sol = tr.actuate(scene, tip_angle=0.0)
+    assert not sol.success and not sol.actuation.reached
+    # what is returned is a stable equilibrium, the buckled column (tip angle 1.72 rad)
+    assert sol.stable is True
+    assert sol.actuation.distance > 1.0
+    # the unstable straight state does exist: with the verdict switched off, a cold solve
+    # of the scene's own controls stops at it
+    straight = tr.solve(scene, options=tr.Options(accept_unstable=True))
+    assert straight.stable is False and abs(straight.tip_angle) < 1e-12
