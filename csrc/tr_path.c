@@ -42,6 +42,11 @@
  * (relative to the step that contains the point). */
 #define TR_PATH_REFINE     80
 #define TR_PATH_REFINE_TOL 1e-13
+/* An indicator still above this fraction of its values at the step's ends when the
+ * bracket has shrunk jumps rather than vanishes (a singular point, not a special one). */
+#define TR_PATH_JUMP 1e-3
+/* A special point where a tendon carries this fraction of EI/r^2 is that singularity. */
+#define TR_PATH_TAU_LIMIT 0.999
 /* A special point is located again with the steps doubled (at most this many times) until
  * its parameter moves by at most this much relative. */
 #define TR_PATH_LOCATE_ROUNDS 5
@@ -64,6 +69,7 @@ typedef struct {
     int branch;        /* 0, or 1 after a switch */
     int switched;      /* 1: the step just switched branches */
     int last;          /* 1: the new point is at p1; 2: back at p0 */
+    int jump;          /* 1: the last located sign change was a jump (refine) */
     char msg[TR_MSGLEN];
 } path_ws;
 
@@ -349,8 +355,10 @@ static int refine(path_ws *w, tr_model *m, tr_data *d, const tr_path_spec *sp, i
                   double sb, double gb, double *tlam_out)
 {
     const int n = w->n, k = w->k;
-    double a = 0.0, b = sb, s = 0.5 * sb, det, gs, target;
+    const double gmax = fmax(fabs(ga), fabs(gb));
+    double a = 0.0, b = sb, s = 0.5 * sb, det, gs = gb, target;
     int it, i, st;
+    w->jump = 0;
     for (it = 0; it < TR_PATH_REFINE; it++) {
         s = (a * gb - b * ga) / (gb - ga);
         if (!(s > fmin(a, b) && s < fmax(a, b))) s = 0.5 * (a + b);
@@ -372,6 +380,12 @@ static int refine(path_ws *w, tr_model *m, tr_data *d, const tr_path_spec *sp, i
         if (fabs(b - a) <= TR_PATH_REFINE_TOL * fabs(sb)) break;
     }
     *tlam_out = w->t[k];
+    /* a smooth indicator vanishes where it changes sign; one that stays large on both
+     * sides of a shrunk bracket jumps: the equations are singular there */
+    if (fabs(gs) > TR_PATH_JUMP * gmax) {
+        w->jump = 1;
+        return TR_ESINGULAR;
+    }
     return TR_OK;
 }
 
@@ -483,6 +497,31 @@ static int switch_branch(path_ws *w, tr_model *m, tr_data *d, const tr_path_spec
     return st;
 }
 
+/* The tendon whose tension at w->X reaches TR_PATH_TAU_LIMIT of EI/r^2 (where a tendon
+ * anchored at a moment-free end would pass the backbone's centre of curvature: the
+ * equations are singular there), with the message set; -1 if none. */
+static int tendon_at_limit(path_ws *w, const tr_model *m, tr_data *d, const tr_path_spec *sp)
+{
+    int i;
+    tr_set_tensions(m, d, w->X);
+    for (i = 0; i < m->nt; i++) {
+        const tr_tendon *t = m->tendon + i;
+        const double rb = t->b, re = t->b + t->a * t->t, r = rb > re ? rb : re;
+        const double lim = m->EI / (r * r);
+        if (r > 0.0 && d->tau[i] >= TR_PATH_TAU_LIMIT * lim) {
+            tr_set_message(d,
+                           "the path ends at %.10g: tendon %d reaches %.10g N = EI/r^2 (%.10g N), "
+                           "where the backbone curvature tau r/EI at a moment-free end reaches "
+                           "1/r and the tendon would pass the centre of curvature: the "
+                           "equations are singular there (no valid equilibrium lies past it on "
+                           "this branch)",
+                           par_of(sp, w->X[w->k]), i, d->tau[i], lim);
+            return i;
+        }
+    }
+    return -1;
+}
+
 /* d->message = "<head>: <what st means>; <the message so far>". */
 static void wrap_message(tr_data *d, int st, const char *head)
 {
@@ -537,12 +576,33 @@ static int special_between(path_ws *w, tr_model *m, tr_data *d, const tr_path_sp
     if (!(bif || lim)) return TR_OK;
     memcpy(w->Xb, w->X, (size_t)n * sizeof(double));
     sb = dot(w->ta, w->Xb, n) - dot(w->ta, w->Xa, n);
+    /* a special point has the work budget of a point of its own */
+    if (!d->stop) {
+        tr_poll_start(d);
+        d->nfev = 0;
+    }
     st = locate(w, m, d, sp, kind, kind == TR_PT_LIMIT ? w->ta[k] : w->deta, sb,
                 kind == TR_PT_LIMIT ? w->tb[k] : w->detb, &tlam);
     if (st == TR_OK) st = verify(w, m, d, sp);
-    if (st == TR_OK) st = store(w, m, d, sp, o, kind, w->branch, tlam);
+    if (st == TR_OK && tendon_at_limit(w, m, d, sp) >= 0)
+        st = TR_ECONTINUATION;
+    else if (st == TR_OK)
+        st = store(w, m, d, sp, o, kind, w->branch, tlam);
     d->steps = steps;
     d->y_steps = -1;
+    if (st == TR_ECONTINUATION) return st; /* a tendon at EI/r^2 (message set) */
+    if (st == TR_ESINGULAR && w->jump) {
+        tr_set_message(d,
+                       "the path ends at %.10g: there the %s changes sign without vanishing, so "
+                       "the equilibrium equations are singular on this branch (not a %s point), "
+                       "e.g. a tendon reaching the backbone's centre of curvature (its path-length "
+                       "rate 1 - kappa r -> 0) or tension EI/r^2",
+                       par_of(sp, w->X[k]),
+                       kind == TR_PT_LIMIT ? "tangent's parameter component"
+                                           : "Jacobian determinant",
+                       kind == TR_PT_LIMIT ? "limit" : "bifurcation");
+        return TR_ECONTINUATION;
+    }
     if (st != TR_OK) {
         char head[128];
         snprintf(head, sizeof head, "locating the %s point near %.10g failed",

@@ -213,3 +213,34 @@ def test_plot_path():
     assert "--" in styles  # the unstable stretch
     assert any(ln.get_marker() == "o" for ln in ax.lines)  # the limit point
     plt.close(fig)
+
+
+def _robot90():
+    from tendonrod.bench.stress_cases import _fig11, one_tendon_scene
+
+    p11, L, EI, r, fs = _fig11()
+    return one_tendon_scene(p11, math.pi / 2), EI, r, fs
+
+
+def test_path_stops_where_the_tendon_reaches_ei_over_r2():
+    """The 90 deg robot of Fig. 11 pushed by -x: the tendon tension climbs to EI/r^2, where
+    the equations become singular (det J vanishes there); the path ends at that point
+    with the tendon and the limit named, not with a bifurcation.  The last point carries
+    the limit to 1e-6 relative (TR_PATH_TAU_LIMIT is 0.999; measured 1.5e-9)."""
+    scene, EI, r, fs = _robot90()
+    p = tr.path(scene, "loads[0].force[0]", (0.0, -60 * fs), max_step=1.0)
+    assert not p.success and p.special_points == []
+    assert "tendon 0" in p.message and "EI/r^2" in p.message, p.message
+    assert abs(p.tension[-1, 0] / (EI / r**2) - 1.0) < 1e-6
+
+
+def test_path_stops_where_the_equations_are_singular():
+    """The same robot pushed by +x: the bending gathers at the base until r kappa(0) = 1
+    at F L^2/EI ~ 50 (the tendon would pass the centre of curvature there, at a tension
+    far below EI/r^2); det J jumps sign there without vanishing, and the path ends saying
+    so, not with a bifurcation (the stress suite's 'snap near 58' is this point)."""
+    scene, EI, r, fs = _robot90()
+    p = tr.path(scene, "loads[0].force[0]", (0.0, 60 * fs), max_step=2.0)
+    assert not p.success and p.special_points == []
+    assert "singular" in p.message, p.message
+    assert 49.0 < p.value[-1] / fs < 50.5
