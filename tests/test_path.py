@@ -244,3 +244,15 @@ def test_path_stops_where_the_equations_are_singular():
     assert not p.success and p.special_points == []
     assert "singular" in p.message, p.message
     assert 49.0 < p.value[-1] / fs < 50.5
+
+
+def test_cancel_stops_a_path():
+    """A set Cancel token (what a worker thread polls) stops the path at once with
+    KeyboardInterrupt, as it stops a solve (the C core polls it throughout)."""
+    from tendonrod._interrupt import cancel_scope, new_token
+
+    scene, EI, L, Pe = column()
+    token = new_token()
+    token.set()
+    with cancel_scope(token), pytest.raises(KeyboardInterrupt):
+        tr.path(scene, "loads[0].force[2]", (0.0, -3.0 * Pe), switch=1)
