@@ -44,7 +44,9 @@ def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--rounds", type=int, default=5)
     args = ap.parse_args()
-    print(f"{'scene':8s} {'points':>6s} {'path/point ms':>14s} {'warm solve ms':>14s} {'ratio':>6s}")
+    print(
+        f"{'scene':8s} {'points':>6s} {'path/point ms':>14s} {'warm solve ms':>14s} {'ratio':>6s}"
+    )
     for name, make in (("euler", euler), ("fig17", fig17)):
         scene, par, span, kw = make()
         per_point, per_solve = [], []
