@@ -204,10 +204,16 @@ def _parameter(scene: Scene, parameter, p0: float, p1: float):
             and mid[moved[0]] == 0.5 * (p0 + p1)
         ):
             return _SLOT, int(moved[0]), s0
+        what = (
+            "changes nothing the solver sees"
+            if moved.size == 0 and np.array_equal(pre0, pre1)
+            else f"changes {moved.size} value(s) of the compiled problem, not one, or a "
+            "pretension, or not in proportion"
+        )
         raise ValueError(
-            f"parameter {parameter!r}: varying it changes {moved.size} value(s) of the "
-            "compiled problem or a pretension; tr.path varies exactly one actuation, load "
-            "or distributed-load component (or a rigidity: 'robot.tendons[i].EA')"
+            f"parameter {parameter!r}: varying it {what}; tr.path varies exactly one "
+            "actuation, load or distributed-load component (or a rigidity: "
+            "'robot.tendons[i].EA')"
         )
     try:
         _, kind, index = design_parameter(scene, parameter)
