@@ -202,6 +202,15 @@ static double dot(const double *a, const double *b, int n)
     return s;
 }
 
+/* A fresh work budget (and time limit) for the next point; the poll clock runs on, so
+ * that a path of quick points still polls every TR_POLL_INTERVAL. */
+static void point_budget(tr_data *d)
+{
+    d->spent = 0.0;
+    d->t_start = tr_clock();
+    d->nfev = 0;
+}
+
 /* Newton on F = 0, c . X = target from w->X (in place).  TR_OK when converged (scaled
  * residual <= tol, then one more step kept if it reduces the residual). */
 static int correct(path_ws *w, tr_model *m, tr_data *d, const tr_path_spec *sp, const double *c,
@@ -333,8 +342,7 @@ static int store(path_ws *w, tr_model *m, tr_data *d, const tr_path_spec *sp, tr
     o->truncation[row] = d->truncation;
     o->n = row + 1;
     /* each point has the work budget of a solve */
-    tr_poll_start(d);
-    d->nfev = 0;
+    point_budget(d);
     return TR_OK;
 }
 
@@ -468,8 +476,7 @@ static int path_start(path_ws *w, tr_model *m, tr_data *d, const tr_path_spec *s
         tr_set_message(d, "the start at %.10g has no tangent: %s", sp->p0, tr_strerror(st));
         return TR_ECONTINUATION;
     }
-    tr_poll_start(d);
-    d->nfev = 0;
+    point_budget(d);
     return store(w, m, d, sp, o, TR_PT_REGULAR, 0, w->t[k]);
 }
 
@@ -577,10 +584,7 @@ static int special_between(path_ws *w, tr_model *m, tr_data *d, const tr_path_sp
     memcpy(w->Xb, w->X, (size_t)n * sizeof(double));
     sb = dot(w->ta, w->Xb, n) - dot(w->ta, w->Xa, n);
     /* a special point has the work budget of a point of its own */
-    if (!d->stop) {
-        tr_poll_start(d);
-        d->nfev = 0;
-    }
+    if (!d->stop) point_budget(d);
     st = locate(w, m, d, sp, kind, kind == TR_PT_LIMIT ? w->ta[k] : w->deta, sb,
                 kind == TR_PT_LIMIT ? w->tb[k] : w->detb, &tlam);
     if (st == TR_OK) st = verify(w, m, d, sp);
