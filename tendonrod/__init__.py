@@ -28,6 +28,7 @@ from .fit import FitResult, fit
 from .linearization import Jacobian
 from .model import DistributedLoad, PointLoad, PointMass, Robot, Rod, Scene, Tendon
 from .options import Options
+from .path import Path, SpecialPoint, path  # the attribute tendonrod.path is this function
 from .plausibility import PlausibilityWarning
 from .problem import Problem, jacobian
 from .results import ConvergenceError, ConvergenceWarning
@@ -73,3 +74,4 @@ __all__ += [
 ]
 __all__ += ["sweep", "SweepResult"]
 __all__ += ["solve_batch", "BatchResult"]
+__all__ += ["path", "Path", "SpecialPoint"]

@@ -102,6 +102,7 @@ static PyMethodDef core_methods[] = {
      glue_solve_batch_doc},
     {"strerror", (PyCFunction)glue_strerror, METH_O, glue_strerror_doc},
     {"is_planar", (PyCFunction)glue_is_planar, METH_VARARGS, glue_is_planar_doc},
+    {"path", (PyCFunction)(void (*)(void))glue_path, METH_VARARGS | METH_KEYWORDS, glue_path_doc},
     {NULL, NULL, 0, NULL}};
 
 static int add_type(PyObject *module, const char *name, PyTypeObject *type)

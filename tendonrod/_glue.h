@@ -98,5 +98,8 @@ PyObject *glue_is_planar(PyObject *self, PyObject *args);
 PyObject *glue_solve_batch(PyObject *self, PyObject *args, PyObject *kwds);
 extern const char glue_solve_doc[], glue_compliance_doc[], glue_strerror_doc[];
 extern const char glue_is_planar_doc[], glue_solve_batch_doc[];
+/* _path.c: the load path of a scene (tr_path) */
+PyObject *glue_path(PyObject *self, PyObject *args, PyObject *kwds);
+extern const char glue_path_doc[];
 
 #endif

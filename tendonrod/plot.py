@@ -11,6 +11,7 @@ nondimensional group, and returns the Axes.  Nothing here calls
 - :func:`shapes` -- several backbones in the x-z plane (deflection curves).
 - :func:`sweep_lines` -- a recorded quantity of a sweep against one varied parameter.
 - :func:`tension_vs_load` -- tendon tensions against a load.
+- :func:`path` -- a load path (:func:`tendonrod.path`): parameter against a tip displacement.
 
 The paper's own charts and figures are in :mod:`tendonrod.paper.charts` and
 :mod:`tendonrod.paper.figures`.
@@ -26,6 +27,7 @@ from .compiled import is_planar
 
 __all__ = [
     "is_planar",
+    "path",
     "robot",
     "shapes",
     "sweep_lines",
@@ -278,3 +280,17 @@ def tension_vs_load(F, tension, ax=None, labels=None, ylabel: str = "tendon tens
     ax.grid(alpha=0.3)
     ax.legend(fontsize="small")
     return ax
+
+
+def path(
+    p, displacement: str = "x", ax=None, scale: float = 1.0, ylabel=None, color=None, **kwargs
+):
+    """Plot a :class:`tendonrod.Path`: its parameter (divided by ``scale``, e.g. EI/L^2 for
+    a force) against a tip displacement [m] (``"x"``, ``"y"``, ``"z"``: that component of
+    the tip position minus its start value; ``"norm"``: the distance from the start's tip).
+    Stable stretches solid, unstable dashed, undecided dotted; limit points as circles,
+    bifurcation points as squares.  ``ylabel`` (default the parameter's path) should give
+    the unit.  Returns the Axes."""
+    from ._plot_path import draw
+
+    return draw(p, _ax(ax), displacement, float(scale), ylabel, color, **kwargs)
