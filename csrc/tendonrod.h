@@ -154,6 +154,20 @@ enum tr_load_col {
     TR_LD_NCOL = 7
 }; /* s [m], F (3) [N], M (3) [N m] */
 enum tr_dload_col { TR_DL_S0, TR_DL_S1, TR_DL_F, TR_DL_NCOL = 5 }; /* start, end [m], F (3) [N/m] */
+/* Backbone sections (tr_model_alloc_ext): section j spans [end of j - 1 (0 for j = 0),
+ * end of j] with its own rigidities and its precurvature u* (body frame, the curvature
+ * and twist of its unstressed shape, constant on the section); the last end is L. */
+enum tr_section_col {
+    TR_SC_END, /* arc length where the section ends [m] */
+    TR_SC_EI,  /* [N m^2] */
+    TR_SC_GJ,  /* [N m^2] */
+    TR_SC_EA,  /* [N] (inf on a Kirchhoff rod) */
+    TR_SC_GA,  /* [N] (inf on a Kirchhoff rod) */
+    TR_SC_U,   /* precurvature ux, uy, uz [1/m] (3 columns) */
+    TR_SC_NCOL = 8
+};
+/* Per integration segment: the rigidities and precurvature of the section it lies in. */
+enum tr_segrod_col { TR_SR_EI, TR_SR_GJ, TR_SR_EA, TR_SR_GA, TR_SR_U, TR_SR_NCOL = 7 };
 
 typedef struct tr_options {
     int integrator;      /* tr_integrator; default TR_RK8 (3-8 steps reach 1e-8 on a 90 deg bend) */
@@ -217,7 +231,7 @@ typedef struct tr_tendon {
     int target_row;    /* -1, or the row of the model's target whose residual takes the place
                           of this displacement-controlled tendon's length constraint (its
                           displacement then follows from the solution; tr_model_set_target) */
-    double t0[3];      /* unit tangent at s = 0 of the straight robot, body frame */
+    double t0[3];      /* unit tangent at s = 0 of the unstressed robot, body frame */
     double rt0[3];     /* r(0) x t0, body frame [m] */
 } tr_tendon;
 
@@ -261,6 +275,12 @@ typedef struct tr_model {
                                    TR_EINDETERMINATE, TR_ENOEQUILIBRIUM, TR_EPRETENSION;
                                    tr_solve then fails at once with scene_message */
     char scene_message[512]; /* the message for scene_status */
+    int nsec;                /* backbone sections given (0: one uniform straight section, the
+                                rod row; the rod row's values are the scales either way) */
+    double *sec;             /* (nsec x TR_SC_NCOL) the sections as given */
+    double *seg_rod;         /* (nseg x TR_SR_NCOL) rigidities and precurvature of each
+                                integration segment (section ends are breakpoints) */
+    int precurved;           /* 1 if some section has a nonzero precurvature */
     int target_kind;         /* TR_TARGET_NONE, or the tip target whose rows replace the length
                                 constraints of the tendons with target_row >= 0 */
     double target[9];        /* angle: theta [rad]; position: p (3) world [m]; direction: the
@@ -284,6 +304,16 @@ int tr_model_alloc(tr_model **out, const double rod[6], const double *tendons, i
 int tr_model_alloc_dist(tr_model **out, const double rod[6], const double *tendons, int nt,
                         const double *loads, int nl, const double dist[3], const double *dloads,
                         int nd, const tr_options *opt, char *msg, size_t msglen);
+/* tr_model_alloc_dist with nsec backbone sections (nsec x TR_SC_NCOL rows, ends increasing,
+ * the last at L; NULL / 0: the uniform straight rod of the rod row).  Each section end is a
+ * breakpoint.  The rod row still sets L, the Kirchhoff flag and the scales (EI/L^2, EI/L). */
+int tr_model_alloc_ext(tr_model **out, const double rod[6], const double *tendons, int nt,
+                       const double *loads, int nl, const double dist[3], const double *dloads,
+                       int nd, const double *sections, int nsec, const tr_options *opt, char *msg,
+                       size_t msglen);
+/* 1 when the sections (as for tr_model_alloc_ext) keep a planar scene planar: no
+ * precurvature ux or uz. */
+int tr_sections_planar(const double *sections, int nsec);
 void tr_model_free(tr_model *m);
 /* A deep copy of m (NULL when out of memory): a model whose values can be set while m
  * stays shared. */

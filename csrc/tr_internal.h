@@ -208,6 +208,17 @@ double tr_target_displacement(const tr_model *m, const tr_data *d, int i, double
  * which.  d->stop when the budget or an interrupt stopped it. */
 int tr_confirm_offpath(const tr_model *m, tr_data *d);
 
+/* tr_backbone.c: the sections (nsec rows) read into m->sec, m->nsec and m->precurved
+ * (TR_OK or TR_EINVAL with a message); m->seg_rod of every integration segment (after the
+ * breakpoints); tendon t's base tangent t0 and r(0) x t0 in the unstressed robot; its
+ * reference path length [m] from the base to its anchor in the unstressed robot; and the
+ * check that no tendon offset reaches the precurvature's centre (TR_OK or TR_EINVAL). */
+int tr_read_sections(tr_model *m, const double *sections, int nsec, char *msg, size_t msglen);
+void tr_fill_segment_rods(tr_model *m);
+void tr_tendon_base_frame(const tr_model *m, tr_tendon *t);
+double tr_reference_length(const tr_model *m, const tr_tendon *t);
+int tr_check_routing(const tr_model *m, char *msg, size_t msglen);
+
 /* tr_tendons.c: rest lengths that give the pretensions (TR_OK, TR_EPRETENSION or
  * TR_EINVAL with a message), and the check for opposing inextensible tendons on a
  * Kirchhoff backbone (TR_OK, TR_EINDETERMINATE or TR_ENOEQUILIBRIUM). */

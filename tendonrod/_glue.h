@@ -31,7 +31,8 @@ typedef struct {
     PyArrayObject *rod, *tendons, *loads, *dist; /* the scene's flat arrays */
     PyArrayObject *guess, *jac, *nodes;          /* optional */
     PyArrayObject *dloads; /* optional (nd, 5) partial distributed loads [s0, s1, f (3)] */
-    int nt, nl, nnode, nd;
+    PyArrayObject *sections; /* optional (nsec, 8) backbone sections [end, EI, GJ, EA, GA, u*] */
+    int nt, nl, nnode, nd, nsec;
     tr_options opt;
 } glue_args;
 
