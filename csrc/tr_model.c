@@ -302,7 +302,8 @@ static int place_breakpoints(tr_model *m)
         return TR_ENOMEM;
     /* a section joint changes the strains under the same force and moment: the taut
      * tendons kink there (the implicit jump) */
-    for (i = 0; i + 1 < m->nsec; i++) m->bp_jump[find_bp(m, m->sec[TR_SC_NCOL * i + TR_SC_END])] = 1;
+    for (i = 0; i + 1 < m->nsec; i++)
+        m->bp_jump[find_bp(m, m->sec[TR_SC_NCOL * i + TR_SC_END])] = 1;
     tr_fill_segment_rods(m);
     for (i = 1; i < m->nshoot; i++) m->bp_node[find_bp(m, m->L * ((double)i / m->nshoot))] = i;
     for (i = 0; i < nt; i++) m->bp_jump[find_bp(m, m->tendon[i].t)] = 1;
@@ -403,8 +404,8 @@ int tr_model_alloc_dist(tr_model **out, const double rod[6], const double *tendo
                         const double *loads, int nl, const double dist[3], const double *dloads,
                         int nd, const tr_options *opt, char *msg, size_t msglen)
 {
-    return tr_model_alloc_ext(out, rod, tendons, nt, loads, nl, dist, dloads, nd, NULL, 0, opt,
-                              msg, msglen);
+    return tr_model_alloc_ext(out, rod, tendons, nt, loads, nl, dist, dloads, nd, NULL, 0, opt, msg,
+                              msglen);
 }
 
 int tr_model_alloc_ext(tr_model **out, const double rod[6], const double *tendons, int nt,
@@ -527,8 +528,9 @@ tr_model *tr_model_clone(const tr_model *m)
     c->seg_pdist = (double *)dup_array(m->seg_pdist, (size_t)3 * m->nseg, sizeof(double));
     c->sec = (double *)dup_array(m->sec, (size_t)TR_SC_NCOL * m->nsec, sizeof(double));
     c->seg_rod = (double *)dup_array(m->seg_rod, (size_t)TR_SR_NCOL * m->nseg, sizeof(double));
-    if (!c->sec || !c->seg_rod || !c->tendon || !c->load || !c->bp || !c->bpF || !c->bpM || !c->seg_act_start ||
-        !c->seg_act || !c->bp_node || !c->bp_jump || !c->dload || !c->seg_pdist) {
+    if (!c->sec || !c->seg_rod || !c->tendon || !c->load || !c->bp || !c->bpF || !c->bpM ||
+        !c->seg_act_start || !c->seg_act || !c->bp_node || !c->bp_jump || !c->dload ||
+        !c->seg_pdist) {
         tr_model_free(c);
         return NULL;
     }
@@ -689,15 +691,29 @@ int tr_model_perturb(tr_model *mp, const tr_model *m, int kind, int index, doubl
     mp->EA = m->EA;
     mp->GA = m->GA;
     memcpy(mp->tendon, m->tendon, (size_t)m->nt * sizeof(tr_tendon));
-    if (m->nsec == 0) tr_fill_segment_rods(mp);
+    memcpy(mp->sec, m->sec, (size_t)TR_SC_NCOL * m->nsec * sizeof(double));
+    tr_fill_segment_rods(mp);
     if (delta == 0.0) return TR_OK;
-    /* a sectioned backbone has a rigidity per section, not one for the rod */
-    if (m->nsec > 0 && kind >= TR_PAR_ROD_EI && kind <= TR_PAR_ROD_GA) return TR_EINVAL;
+    /* a backbone of several sections has a rigidity per section, not one for the rod; a
+     * single (precurved) section is the rod */
+    if (m->nsec > 1 && kind >= TR_PAR_ROD_EI && kind <= TR_PAR_ROD_GA) return TR_EINVAL;
     switch (kind) {
-    case TR_PAR_ROD_EI: mp->EI += delta; break;
-    case TR_PAR_ROD_GJ: mp->GJ += delta; break;
-    case TR_PAR_ROD_EA: mp->EA += delta; break;
-    case TR_PAR_ROD_GA: mp->GA += delta; break;
+    case TR_PAR_ROD_EI:
+        mp->EI += delta;
+        if (m->nsec == 1) mp->sec[TR_SC_EI] += delta;
+        break;
+    case TR_PAR_ROD_GJ:
+        mp->GJ += delta;
+        if (m->nsec == 1) mp->sec[TR_SC_GJ] += delta;
+        break;
+    case TR_PAR_ROD_EA:
+        mp->EA += delta;
+        if (m->nsec == 1) mp->sec[TR_SC_EA] += delta;
+        break;
+    case TR_PAR_ROD_GA:
+        mp->GA += delta;
+        if (m->nsec == 1) mp->sec[TR_SC_GA] += delta;
+        break;
     case TR_PAR_TENDON_EA: mp->tendon[index].EA += delta; break;
     case TR_PAR_OFFSET:
     case TR_PAR_SLOPE: {
@@ -717,6 +733,6 @@ int tr_model_perturb(tr_model *mp, const tr_model *m, int kind, int index, doubl
     }
     default: return TR_EINVAL;
     }
-    if (m->nsec == 0) tr_fill_segment_rods(mp);
+    tr_fill_segment_rods(mp);
     return tr_rest_lengths(mp, NULL, 0) == TR_OK ? TR_OK : TR_EINVAL;
 }

@@ -429,7 +429,8 @@ void tr_tendon_tangent(const tr_model *m, int i, double s, const double *y, doub
         r[2] = 0.0;
     } else {
         const double *nb = y + TR_Y_N, *mb = y + TR_Y_M;
-        const double u[3] = {mb[0] / sr[TR_SR_EI] + sr[TR_SR_U], mb[1] / sr[TR_SR_EI] + sr[TR_SR_U + 1],
+        const double u[3] = {mb[0] / sr[TR_SR_EI] + sr[TR_SR_U],
+                             mb[1] / sr[TR_SR_EI] + sr[TR_SR_U + 1],
                              mb[2] / sr[TR_SR_GJ] + sr[TR_SR_U + 2]};
         const double rho = td->a * s + td->b;
         double v[3] = {0.0, 0.0, 1.0};

@@ -340,13 +340,12 @@ int glue_build(glue_args *a, const double *extra_load, tr_model **mp, tr_data **
         loads = tmp;
         nl++;
     }
-    status = tr_model_alloc_ext(
-        mp, (const double *)PyArray_DATA(a->rod),
-        a->nt > 0 ? (const double *)PyArray_DATA(a->tendons) : NULL, a->nt, loads, nl,
-        (const double *)PyArray_DATA(a->dist),
-        a->nd > 0 ? (const double *)PyArray_DATA(a->dloads) : NULL, a->nd,
-        a->nsec > 0 ? (const double *)PyArray_DATA(a->sections) : NULL, a->nsec, &a->opt, msg,
-        sizeof msg);
+    status = tr_model_alloc_ext(mp, (const double *)PyArray_DATA(a->rod),
+                                a->nt > 0 ? (const double *)PyArray_DATA(a->tendons) : NULL, a->nt,
+                                loads, nl, (const double *)PyArray_DATA(a->dist),
+                                a->nd > 0 ? (const double *)PyArray_DATA(a->dloads) : NULL, a->nd,
+                                a->nsec > 0 ? (const double *)PyArray_DATA(a->sections) : NULL,
+                                a->nsec, &a->opt, msg, sizeof msg);
     PyMem_Free(tmp);
     if (status != TR_OK) {
         if (status == TR_ENOMEM)

@@ -30,7 +30,7 @@ int glue_add_ufuncs(PyObject *module);
 typedef struct {
     PyArrayObject *rod, *tendons, *loads, *dist; /* the scene's flat arrays */
     PyArrayObject *guess, *jac, *nodes;          /* optional */
-    PyArrayObject *dloads; /* optional (nd, 5) partial distributed loads [s0, s1, f (3)] */
+    PyArrayObject *dloads;   /* optional (nd, 5) partial distributed loads [s0, s1, f (3)] */
     PyArrayObject *sections; /* optional (nsec, 8) backbone sections [end, EI, GJ, EA, GA, u*] */
     int nt, nl, nnode, nd, nsec;
     tr_options opt;

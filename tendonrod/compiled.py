@@ -15,6 +15,7 @@ import numbers
 import numpy as np
 
 from . import _core
+from .backbone import pack_sections
 from .model import Scene
 from .mounting import base_pose, vectors_in
 from .options import Options
@@ -100,9 +101,13 @@ def pack_dloads(scene: Scene) -> np.ndarray:
 
 
 def _with_dloads(kw: dict, scene: Scene) -> dict:
-    """``kw`` with the scene's partial distributed loads (none: ``kw`` itself)."""
+    """``kw`` with the scene's partial distributed loads and backbone sections (none:
+    ``kw`` itself)."""
     rows = pack_dloads(scene)
-    return dict(kw, dloads=rows) if rows.shape[0] else kw
+    secs = pack_sections(scene.robot.rod)
+    if rows.shape[0]:
+        kw = dict(kw, dloads=rows)
+    return kw if secs is None else dict(kw, sections=secs)
 
 
 def _nodes_for(scene: Scene, options: Options):
@@ -141,7 +146,8 @@ def is_planar(scene: Scene) -> bool:
     key = scene.__dict__.get("_planar")
     if key is None:
         _, tendons, loads, dist = pack_scene(scene)
-        key = bool(_core.is_planar(tendons, loads, dist, pack_dloads(scene)))
+        secs = pack_sections(scene.robot.rod)
+        key = bool(_core.is_planar(tendons, loads, dist, pack_dloads(scene), secs))
         object.__setattr__(scene, "_planar", key)
     return key
 

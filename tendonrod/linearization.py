@@ -48,6 +48,11 @@ def design_parameter(scene: Scene, name) -> tuple[str, int, int]:
         )
     if m.group(1):
         field = m.group(1)
+        if robot.rod.segments:
+            raise ValueError(
+                f"design parameter {name!r}: a segmented rod has one {field} per segment, "
+                f"not one for the rod"
+            )
         if field in ("EA", "GA") and robot.rod.kirchhoff:
             raise ValueError(
                 f"design parameter {name!r}: a Kirchhoff rod (kirchhoff=True) has no "

@@ -24,7 +24,7 @@ from dataclasses import KW_ONLY, dataclass
 
 import numpy as np
 
-from . import plausibility
+from . import backbone, plausibility
 from ._fields import (
     _EA_MAX,
     _EA_MIN,
@@ -78,6 +78,9 @@ class Rod:
     density : float or None
         Mass density rho [kg/m^3] (>= 0, needs ``diameter``): the rod's weight under the
         scene's gravity is the distributed force ``rho A g`` [N/m]; ``None``: weightless.
+    precurvature, segments : 3 floats [1/m], tuple of Rod
+        Body-frame curvature u* of the unstressed shape (``m_b = K_bt (u - u*)``), and the
+        segments of :meth:`segmented`; see :mod:`tendonrod.backbone`.
 
     The effective values are the properties :attr:`bending_stiffness` etc. (also
     spelled :attr:`EI_eff`...), used by the solver.
@@ -94,9 +97,14 @@ class Rod:
     GA: float | None = None
     kirchhoff: bool = False
     density: float | None = None
+    precurvature: Vec3 = (0.0, 0.0, 0.0)
+    segments: tuple = ()
 
     def __post_init__(self):
         own = "Rod"
+        pc, segs = backbone.check_backbone(self)
+        object.__setattr__(self, "precurvature", pc)
+        object.__setattr__(self, "segments", segs)
         if self.density is not None:
             object.__setattr__(self, "density", _nonnegative(own, "density", self.density))
             if self.diameter is None:
@@ -201,6 +209,12 @@ class Rod:
         if self.density is None:
             return 0.0
         return self.density * (math.pi * self.diameter * self.diameter / 4.0)
+
+    @classmethod
+    def segmented(cls, parts) -> Rod:
+        """A backbone of the segments ``parts`` (Rods, base first; see
+        :func:`tendonrod.backbone.segmented`)."""
+        return backbone.segmented(cls, parts)
 
     EI_eff = bending_stiffness
     GJ_eff = torsional_stiffness
@@ -384,6 +398,13 @@ class Robot:
         pre = [i for i, t in enumerate(self.tendons) if t.pretension > 0.0]
         if not pre:
             return
+        parts = self.rod.segments or (self.rod,)
+        if any(p.precurvature != (0.0, 0.0, 0.0) for p in parts):
+            raise ValueError(
+                f"Robot.tendons[{pre[0]}].pretension={self.tendons[pre[0]].pretension!r}: "
+                f"pretension on a precurved backbone is not supported (the tendons' pull along "
+                f"curved channels loads the unstressed shape); prescribe tensions or displacements"
+            )
         # balance on every segment between anchors: sum tau_p r_i(s) = 0 for all s there,
         # i.e. both the offset and the slope moments vanish for the tendons present.
         ends = sorted({self.tendon_end(i) for i in range(self.n_tendons)})
@@ -553,10 +574,11 @@ class Scene:
 
     @property
     def partial_loads(self) -> tuple[DistributedLoad, ...]:
-        """The distributed loads over part of the rod, in the order given."""
+        """The distributed loads over part of the rod, in the order given, then the weights
+        of a segmented rod's segments (:func:`tendonrod.backbone.segment_weights`)."""
         return tuple(
             ld for ld in self.loads if isinstance(ld, DistributedLoad) and not self._whole(ld)
-        )
+        ) + backbone.segment_weights(self.robot.rod, self.gravity)
 
     @property
     def distributed_force(self) -> np.ndarray:

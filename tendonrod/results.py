@@ -72,6 +72,11 @@ class Formulation:
     mounted : bool
         The robot's base is not the world's origin and frame: solved in the base frame,
         results carried into the world frame.
+    n_sections : int
+        Backbone sections compiled (0: a straight uniform rod; a precurved rod has 1, a
+        segmented one one per segment, each joint a breakpoint).
+    precurved : bool
+        Some section has a precurvature (the constitutive law ``m_b = K_bt (u - u*)``).
     """
 
     planar: bool
@@ -90,6 +95,8 @@ class Formulation:
     shooting_segments: int = 1
     n_partial_loads: int = 0
     mounted: bool = False
+    n_sections: int = 0
+    precurved: bool = False
 
     @classmethod
     def from_dict(cls, d: dict) -> Formulation:
@@ -119,6 +126,10 @@ class Formulation:
             extra.append(f"{self.n_partial_loads} over part of the rod")
         if self.mounted:
             extra.append("mounted base")
+        if self.precurved:
+            extra.append("precurved")
+        if self.n_sections > 1:
+            extra.append(f"{self.n_sections} backbone sections")
         if self.tip_only:
             extra.append("tip only")
         more = (", " + ", ".join(extra)) if extra else ""
