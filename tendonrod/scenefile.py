@@ -16,6 +16,11 @@ problem, e.g. ``robot.toml: tendon[2].displacement: expected a number, got
     E = 207e9
     G = 79.6e9
     kirchhoff = true
+    precurvature = [0.0, 5.0, 0.0]  # [1/m] body frame, optional: the unstressed curvature
+
+    [[segment]]           # optional: the backbone in segments along s, base first; each a
+    length = 0.05         # [rod] table of its own (length required), keys it omits taken
+    diameter = 1.2e-3     # from [rod] (whose length, if given, must be their sum)
 
     [[tendon]]            # one table per tendon; messages count them from 0: tendon[0], ...
     offset = 0.01         # [m] radial offset at the base
@@ -127,6 +132,7 @@ class SceneSpec:
 TOP_LEVEL_KEYS = (
     "title",
     "rod",
+    "segment",
     "tendon",
     "load",
     "distributed",
@@ -204,22 +210,44 @@ def _build(cls, kwargs: dict, key: str):
         raise SceneFileError(key, str(exc)) from exc
 
 
-def _parse_rod(raw: Any) -> Any:
-    rod = _table(raw, "rod")
-    fields = {f.name for f in dataclasses.fields(Rod)}
-    _unknown(rod, fields, "rod")
+def _rod_kwargs(rod: Mapping, key: str) -> dict:
+    fields = {f.name for f in dataclasses.fields(Rod)} - {"segments"}
+    _unknown(rod, fields, key)
     kwargs = {}
     for name, value in rod.items():
         if name in _ROD_BOOLS:
-            kwargs[name] = _boolean(value, f"rod.{name}")
+            kwargs[name] = _boolean(value, f"{key}.{name}")
         elif name in _ROD_NUMBERS:
-            kwargs[name] = _number(value, f"rod.{name}")
+            kwargs[name] = _number(value, f"{key}.{name}")
+        elif name == "precurvature":
+            kwargs[name] = _vector3(value, f"{key}.{name}")
         else:  # a field added to tr.Rod after this reader: pass through, the class validates
             kwargs[name] = value
-    for required in ("length",):
-        if required not in kwargs:
-            raise SceneFileError(f"rod.{required}", "missing (required)")
-    return _build(Rod, kwargs, "rod")
+    return kwargs
+
+
+def _parse_rod(raw: Any, raw_segments: Any = None) -> Any:
+    kwargs = _rod_kwargs(_table(raw, "rod"), "rod")
+    if raw_segments is None:
+        if "length" not in kwargs:
+            raise SceneFileError("rod.length", "missing (required)")
+        return _build(Rod, kwargs, "rod")
+    if not isinstance(raw_segments, list) or not raw_segments:
+        raise SceneFileError("segment", "expected an array of tables ([[segment]] sections)")
+    inherited = {k: v for k, v in kwargs.items() if k != "length"}
+    parts = []
+    for j, raw_seg in enumerate(raw_segments):
+        key = f"segment[{j}]"
+        seg = _rod_kwargs(_table(raw_seg, key), key)
+        if "length" not in seg:
+            raise SceneFileError(f"{key}.length", "missing (required)")
+        parts.append(_build(Rod, {**inherited, **seg}, key))
+    rod = _build(Rod.segmented, {"parts": parts}, "segment")
+    if "length" in kwargs and abs(kwargs["length"] - rod.length) > 1e-12 * rod.length:
+        raise SceneFileError(
+            "rod.length", f"{kwargs['length']!r} m differs from the segments' sum {rod.length!r} m"
+        )
+    return rod
 
 
 def _parse_tendon(raw: Any, j: int, length: float):
@@ -425,7 +453,7 @@ def parse_scene(data: Mapping[str, Any], source: str | None = None) -> SceneSpec
             raise SceneFileError("title", f"expected a string, got {title!r} ({_kind(title)})")
         if "rod" not in data:
             raise SceneFileError("rod", "missing (required): a [rod] table with at least length")
-        rod = _parse_rod(data["rod"])
+        rod = _parse_rod(data["rod"], data.get("segment"))
         raw_tendons = data.get("tendon", [])
         if not isinstance(raw_tendons, list):
             raise SceneFileError("tendon", "expected an array of tables ([[tendon]] sections)")

@@ -259,3 +259,27 @@ def test_jacobian_design_EI_of_precurved_rod_against_finite_differences():
     with pytest.raises(ValueError, match="segmented"):
         seg = tr.Rod.segmented([tr.Rod(0.1, EI=EI, GJ=GJ, kirchhoff=True)] * 2)
         tr.jacobian(tr.Scene(tr.Robot(seg)), design=["EI"])
+
+
+def test_scene_file_segments_and_precurvature():
+    from tendonrod.scenefile import SceneFileError, parse_scene
+
+    doc = {
+        "rod": {"E": 60e9, "G": 23e9, "kirchhoff": True, "precurvature": [0.0, 2.0, 0.0]},
+        "segment": [
+            {"length": 0.05, "diameter": 1.5e-3},
+            {"length": 0.15, "diameter": 1.0e-3, "precurvature": [0.0, 4.0, 1.0]},
+        ],
+        "tendon": [{"offset": 0.003, "tension": 1.0}],
+    }
+    rod = parse_scene(doc).scene.robot.rod
+    assert rod.length == pytest.approx(0.2) and len(rod.segments) == 2
+    assert rod.segments[0].precurvature == (0.0, 2.0, 0.0)  # inherited from [rod]
+    assert rod.segments[1].precurvature == (0.0, 4.0, 1.0)
+    bad = dict(doc, segment=[{"length": 0.05, "precurvature": [0.0, 4.0]}])
+    with pytest.raises(SceneFileError, match=r"segment\[0\]\.precurvature"):
+        parse_scene(bad)
+    with pytest.raises(SceneFileError, match=r"segment\[1\]\.length"):
+        parse_scene(dict(doc, segment=[{"length": 0.05, "diameter": 1e-3}, {"diameter": 1e-3}]))
+    with pytest.raises(SceneFileError, match=r"rod\.length"):
+        parse_scene(dict(doc, rod=dict(doc["rod"], length=0.3)))
