@@ -166,6 +166,15 @@ enum tr_section_col {
     TR_SC_U,   /* precurvature ux, uy, uz [1/m] (3 columns) */
     TR_SC_NCOL = 8
 };
+/* General tendon routing (tr_model_alloc_ext): rows [tendon index, kind, s0, s1 [m],
+ * p (8)].  A tendon without rows runs linearly (offset, angle, slope of its row).
+ *   TR_ROUTE_HELIX, one row on [0, end]: the angle turns at p0 = dphi/ds [rad/m],
+ *     r(s) = (a s + b)(cos(phi + p0 s), sin(phi + p0 s), 0);
+ *   TR_ROUTE_PIECE, rows tiling [0, end] in order: on [s0, s1], with h = s - s0,
+ *     r(s) = (p0 + p1 h + p2 h^2 + p3 h^3, p4 + p5 h + p6 h^2 + p7 h^3, 0) [m]
+ *     (a cubic spline, or straight pieces between disks); every s0, s1 is a breakpoint. */
+enum tr_route_col { TR_RT_TENDON, TR_RT_KIND, TR_RT_S0, TR_RT_S1, TR_RT_P, TR_RT_NCOL = 12 };
+enum tr_route_kind { TR_ROUTE_LINEAR = 0, TR_ROUTE_HELIX = 1, TR_ROUTE_PIECE = 2 };
 /* Per integration segment: the rigidities and precurvature of the section it lies in. */
 enum tr_segrod_col { TR_SR_EI, TR_SR_GJ, TR_SR_EA, TR_SR_GA, TR_SR_U, TR_SR_NCOL = 7 };
 
@@ -231,6 +240,8 @@ typedef struct tr_tendon {
     int target_row;    /* -1, or the row of the model's target whose residual takes the place
                           of this displacement-controlled tendon's length constraint (its
                           displacement then follows from the solution; tr_model_set_target) */
+    int route;         /* tr_route_kind of its path */
+    double twist;      /* TR_ROUTE_HELIX: dphi/ds [rad/m] */
     double t0[3];      /* unit tangent at s = 0 of the unstressed robot, body frame */
     double rt0[3];     /* r(0) x t0, body frame [m] */
 } tr_tendon;
@@ -281,6 +292,11 @@ typedef struct tr_model {
     double *seg_rod;         /* (nseg x TR_SR_NCOL) rigidities and precurvature of each
                                 integration segment (section ends are breakpoints) */
     int precurved;           /* 1 if some section has a nonzero precurvature */
+    int nroute;              /* routing rows given */
+    double *route;           /* (nroute x TR_RT_NCOL) as given */
+    int *seg_piece;          /* (nseg x nt) the routing row of tendon i on segment k, -1 if
+                                none (linear tendons); NULL without general routing */
+    int n_routed;            /* tendons with a general (helical, piecewise) path */
     int target_kind;         /* TR_TARGET_NONE, or the tip target whose rows replace the length
                                 constraints of the tendons with target_row >= 0 */
     double target[9];        /* angle: theta [rad]; position: p (3) world [m]; direction: the
@@ -305,12 +321,14 @@ int tr_model_alloc_dist(tr_model **out, const double rod[6], const double *tendo
                         const double *loads, int nl, const double dist[3], const double *dloads,
                         int nd, const tr_options *opt, char *msg, size_t msglen);
 /* tr_model_alloc_dist with nsec backbone sections (nsec x TR_SC_NCOL rows, ends increasing,
- * the last at L; NULL / 0: the uniform straight rod of the rod row).  Each section end is a
- * breakpoint.  The rod row still sets L, the Kirchhoff flag and the scales (EI/L^2, EI/L). */
+ * the last at L; NULL / 0: the uniform straight rod of the rod row) and nroute routing rows
+ * (nroute x TR_RT_NCOL; NULL / 0: every tendon linear).  Each section end and routing knot
+ * is a breakpoint.  The rod row still sets L, the Kirchhoff flag and the scales (EI/L^2,
+ * EI/L).  A helical or piecewise tendon makes the scene spatial. */
 int tr_model_alloc_ext(tr_model **out, const double rod[6], const double *tendons, int nt,
                        const double *loads, int nl, const double dist[3], const double *dloads,
-                       int nd, const double *sections, int nsec, const tr_options *opt, char *msg,
-                       size_t msglen);
+                       int nd, const double *sections, int nsec, const double *routes, int nroute,
+                       const tr_options *opt, char *msg, size_t msglen);
 /* 1 when the sections (as for tr_model_alloc_ext) keep a planar scene planar: no
  * precurvature ux or uz. */
 int tr_sections_planar(const double *sections, int nsec);

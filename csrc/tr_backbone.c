@@ -111,31 +111,22 @@ void tr_fill_segment_rods(tr_model *m)
     }
 }
 
-/* Tendon t's body-frame offset r (3) and its derivative rp (3) at s. */
-static void tendon_offset(const tr_tendon *t, double s, double r[3], double rp[3])
+/* Tendon i's tangent in the unstressed robot on segment k, w_ref = e3 + u* x r + r' (body
+ * frame). */
+static void tendon_wref(const tr_model *m, int i, int k, double s, double w[3])
 {
-    const double rho = t->a * s + t->b;
-    r[0] = rho * t->cphi;
-    r[1] = rho * t->sphi;
-    r[2] = 0.0;
-    rp[0] = t->a * t->cphi;
-    rp[1] = t->a * t->sphi;
-    rp[2] = 0.0;
-}
-
-/* The tendon's tangent in the unstressed robot, w_ref = e3 + u* x r + r' (body frame). */
-static void tendon_wref(const tr_tendon *t, const double us[3], double s, double w[3])
-{
+    const double *us = m->seg_rod + TR_SR_NCOL * k + TR_SR_U;
     double r[3], rp[3];
-    tendon_offset(t, s, r, rp);
+    tr_tendon_offset(m, i, k, s, r, rp);
     w[0] = rp[0] + us[1] * r[2] - us[2] * r[1];
     w[1] = rp[1] + us[2] * r[0] - us[0] * r[2];
     w[2] = 1.0 + us[0] * r[1] - us[1] * r[0];
 }
 
-void tr_tendon_base_frame(const tr_model *m, tr_tendon *t)
+void tr_tendon_base_frame(const tr_model *m, int i)
 {
-    if (!m->precurved) {
+    tr_tendon *t = &m->tendon[i];
+    if (!m->precurved && t->route == TR_ROUTE_LINEAR) {
         const double h = t->wref;
         t->t0[0] = t->a * t->cphi / h;
         t->t0[1] = t->a * t->sphi / h;
@@ -146,8 +137,8 @@ void tr_tendon_base_frame(const tr_model *m, tr_tendon *t)
     } else {
         double w[3], r[3], rp[3], h;
         int c;
-        tendon_wref(t, m->seg_rod + TR_SR_U, 0.0, w);
-        tendon_offset(t, 0.0, r, rp);
+        tendon_wref(m, i, 0, 0.0, w);
+        tr_tendon_offset(m, i, 0, 0.0, r, rp);
         h = sqrt(w[0] * w[0] + w[1] * w[1] + w[2] * w[2]);
         for (c = 0; c < 3; c++) t->t0[c] = w[c] / h;
         t->rt0[0] = r[1] * t->t0[2] - r[2] * t->t0[1];
@@ -156,20 +147,20 @@ void tr_tendon_base_frame(const tr_model *m, tr_tendon *t)
     }
 }
 
-double tr_reference_length(const tr_model *m, const tr_tendon *t)
+double tr_reference_length(const tr_model *m, int i)
 {
+    const tr_tendon *t = &m->tendon[i];
     double sum = 0.0;
     int k, p, g;
-    if (!m->precurved) return t->t * t->wref;
+    if (!m->precurved && t->route == TR_ROUTE_LINEAR) return t->t * t->wref;
     for (k = 0; k < t->end_bp; k++) {
-        const double *us = m->seg_rod + TR_SR_NCOL * k + TR_SR_U;
         const double h = (m->bp[k + 1] - m->bp[k]) / TR_REF_PANELS;
         for (p = 0; p < TR_REF_PANELS; p++) {
             const double mid = m->bp[k] + (p + 0.5) * h;
             for (g = 0; g < 8; g++) {
                 const double x = g < 4 ? -gl_x[g] : gl_x[g - 4], wg = gl_w[g % 4];
                 double w[3];
-                tendon_wref(t, us, mid + 0.5 * h * x, w);
+                tendon_wref(m, i, k, mid + 0.5 * h * x, w);
                 sum += 0.5 * h * wg * sqrt(w[0] * w[0] + w[1] * w[1] + w[2] * w[2]);
             }
         }
@@ -180,18 +171,18 @@ double tr_reference_length(const tr_model *m, const tr_tendon *t)
 int tr_check_routing(const tr_model *m, char *msg, size_t msglen)
 {
     int i, k, e;
-    if (!m->precurved) return TR_OK;
+    if (!m->precurved && m->n_routed == 0) return TR_OK;
     for (i = 0; i < m->nt; i++) {
         const tr_tendon *t = &m->tendon[i];
         for (k = 0; k < t->end_bp; k++)
             for (e = 0; e < 2; e++) {
                 double w[3];
-                tendon_wref(t, m->seg_rod + TR_SR_NCOL * k + TR_SR_U, m->bp[k + e], w);
+                tendon_wref(m, i, k, m->bp[k + e], w);
                 if (!(w[2] > 0.0)) {
                     tr_msgf(msg, msglen,
-                            "tendons[%d]: its offset at s = %g m reaches the centre of the "
-                            "precurved backbone's curvature (1 + (u* x r)_z = %g <= 0): the "
-                            "channel would fold back",
+                            "tendons[%d]: its channel at s = %g m does not advance along the "
+                            "unstressed backbone (1 + (u* x r)_z = %g <= 0: an offset beyond "
+                            "the precurvature's centre): the channel would fold back",
                             i, m->bp[k + e], w[2]);
                     return TR_EINVAL;
                 }

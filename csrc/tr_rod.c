@@ -102,18 +102,31 @@ static int rhs_spatial(const tr_model *m, const tr_data *d, double s, const doub
     for (c = a0; c < a1; c++) {
         const int i = m->seg_act[c];
         const tr_tendon *td = &m->tendon[i];
-        const double rho = td->a * s + td->b;
-        const double r0 = rho * td->cphi, r1 = rho * td->sphi;
-        const double rp0 = td->a * td->cphi, rp1 = td->a * td->sphi;
+        const int lin = td->route == TR_ROUTE_LINEAR;
+        double r0, r1, rp0, rp1, rpp[2] = {0.0, 0.0};
         const double tau = d->tau[i];
         const int slot = d->rec ? i : td->len_index;
+        if (lin) {
+            const double rho = td->a * s + td->b;
+            r0 = rho * td->cphi;
+            r1 = rho * td->sphi;
+            rp0 = td->a * td->cphi;
+            rp1 = td->a * td->sphi;
+        } else {
+            double rr[2], rp[2];
+            tr_route_eval(m, td, i, d->seg, s, rr, rp, rpp);
+            r0 = rr[0];
+            r1 = rr[1];
+            rp0 = rp[0];
+            rp1 = rp[1];
+        }
         /* w = v + u x r + r'  (r = (r0, r1, 0)) */
         const double w0 = v[0] - u[2] * r1 + rp0;
         const double w1 = v[1] + u[2] * r0 + rp1;
         const double w2 = v[2] + u[0] * r1 - u[1] * r0;
         const double nw = sqrt(w0 * w0 + w1 * w1 + w2 * w2);
         double t[3], q[3], cv[3], ct, tc, ai[3];
-        if (slot >= 0 && !pc) {
+        if (slot >= 0 && !pc && lin) {
             /* |w| - |w_ref|, w_ref = e3 + r': (2 w_ref.dw + |dw|^2) / (|w| + |w_ref|) with
              * dw = (v - e3) + u x r computed directly (no cancellation) */
             const double c = td->wref;
@@ -122,7 +135,7 @@ static int rhs_spatial(const tr_model *m, const tr_data *d, double s, const doub
             dy[TR_Y_LEN + slot] =
                 (2.0 * (rp0 * d0 + rp1 * d1 + d2) + d0 * d0 + d1 * d1 + d2 * d2) / (nw + c);
         } else if (slot >= 0) {
-            /* precurved: w_ref = e3 + u* x r + r', dw = (v - e3) + (u - u*) x r */
+            /* precurved or routed: w_ref = e3 + u* x r + r', dw = (v - e3) + (u - u*) x r */
             const double wr0 = rp0 - us[2] * r1, wr1 = rp1 + us[2] * r0;
             const double wr2 = 1.0 + us[0] * r1 - us[1] * r0;
             const double c = sqrt(wr0 * wr0 + wr1 * wr1 + wr2 * wr2);
@@ -147,6 +160,10 @@ static int rhs_spatial(const tr_model *m, const tr_data *d, double s, const doub
             cv[0] = u[1] * e2 - u[2] * e1;
             cv[1] = u[2] * e0 - u[0] * e2;
             cv[2] = u[0] * e1 - u[1] * e0;
+        }
+        if (!lin) { /* + r'' */
+            cv[0] += rpp[0];
+            cv[1] += rpp[1];
         }
         tc = t[0] * cv[0] + t[1] * cv[1] + t[2] * cv[2];
         ai[0] = ct * (cv[0] - t[0] * tc);
@@ -411,7 +428,8 @@ void tr_tendon_tangent(const tr_model *m, int i, double s, const double *y, doub
 {
     const tr_tendon *td = &m->tendon[i];
     /* the segment just proximal of its anchor */
-    const double *sr = m->seg_rod + TR_SR_NCOL * (td->end_bp > 0 ? td->end_bp - 1 : 0);
+    const int seg = td->end_bp > 0 ? td->end_bp - 1 : 0;
+    const double *sr = m->seg_rod + TR_SR_NCOL * seg;
     double w[3], nw;
     if (m->planar) {
         const double kap = y[TR_YP_M] / sr[TR_SR_EI] + sr[TR_SR_U + 1];
@@ -432,19 +450,16 @@ void tr_tendon_tangent(const tr_model *m, int i, double s, const double *y, doub
         const double u[3] = {mb[0] / sr[TR_SR_EI] + sr[TR_SR_U],
                              mb[1] / sr[TR_SR_EI] + sr[TR_SR_U + 1],
                              mb[2] / sr[TR_SR_GJ] + sr[TR_SR_U + 2]};
-        const double rho = td->a * s + td->b;
-        double v[3] = {0.0, 0.0, 1.0};
+        double v[3] = {0.0, 0.0, 1.0}, rp[3];
         if (!m->kirchhoff) {
             v[0] = nb[0] / sr[TR_SR_GA];
             v[1] = nb[1] / sr[TR_SR_GA];
             v[2] = 1.0 + nb[2] / sr[TR_SR_EA];
         }
-        r[0] = rho * td->cphi;
-        r[1] = rho * td->sphi;
-        r[2] = 0.0;
+        tr_tendon_offset(m, i, seg, s, r, rp);
         tru_cross3(w, u, r);
-        w[0] += v[0] + td->a * td->cphi;
-        w[1] += v[1] + td->a * td->sphi;
+        w[0] += v[0] + rp[0];
+        w[1] += v[1] + rp[1];
         w[2] += v[2];
     }
     nw = tru_norm3(w);
@@ -504,15 +519,13 @@ void tr_section_pulls(const tr_model *m, const tr_data *d, int seg, double s, co
     if (J6) memset(J6, 0, 36 * sizeof(double));
     for (c = m->seg_act_start[seg]; c < m->seg_act_start[seg + 1]; c++) {
         const int i = m->seg_act[c];
-        const tr_tendon *td = &m->tendon[i];
         const double tau = d->tau[i];
-        const double rho = td->a * s + td->b;
-        const double r[3] = {rho * td->cphi, rho * td->sphi, 0.0};
-        double w[3], nw, th[3], rt[3];
+        double r[3], rp[3], w[3], nw, th[3], rt[3];
         if (!(tau > 0.0)) continue;
+        tr_tendon_offset(m, i, seg, s, r, rp);
         tru_cross3(w, u, r);
-        w[0] += v[0] + td->a * td->cphi;
-        w[1] += v[1] + td->a * td->sphi;
+        w[0] += v[0] + rp[0];
+        w[1] += v[1] + rp[1];
         w[2] += v[2];
         nw = tru_norm3(w);
         for (q = 0; q < 3; q++) th[q] = w[q] / nw;

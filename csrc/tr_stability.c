@@ -424,16 +424,18 @@ static double level_margin(const tr_model *m, const tr_data *d, struct tr_stab_w
 }
 
 /* Scenes the test does not judge (reason set): a world-fixed point moment (not conservative
- * for spatial perturbations), a precurved or sectioned backbone. */
+ * for spatial perturbations), a precurved or sectioned backbone, general tendon paths. */
 static int not_conservative(const tr_model *m, tr_data *d)
 {
     int b;
-    if (m->nsec > 0) {
-        /* the elements' energy is that of a straight uniform backbone */
+    if (m->nsec > 0 || m->n_routed > 0) {
+        /* the elements' energy is that of a straight uniform backbone with linear tendons */
         snprintf(d->stab_reason, sizeof d->stab_reason,
                  "not tested: the stability test's elements hold the energy of a straight, "
-                 "uniform backbone, and this one is %s",
-                 m->precurved ? "precurved" : "made of sections");
+                 "uniform backbone with linearly routed tendons, and %s",
+                 m->n_routed > 0 ? "this robot has helical or piecewise tendon paths"
+                 : m->precurved  ? "this backbone is precurved"
+                                 : "this backbone is made of sections");
         return 1;
     }
     for (b = 1; b <= m->nseg; b++)

@@ -20,12 +20,19 @@ int tr_rest_lengths(tr_model *m, char *msg, size_t msglen)
     int i, k, any = 0;
     for (i = 0; i < m->nt; i++) {
         tr_tendon *t = &m->tendon[i];
-        t->sref = tr_reference_length(m, t);
+        t->sref = tr_reference_length(m, i);
         t->rest = t->sref;
         t->rest_dev = 0.0;
         if (t->pretension != 0.0) any = 1;
     }
     if (!any) return TR_OK;
+    if (m->n_routed > 0) {
+        tr_msgf(msg, msglen,
+                "pretension with helical or piecewise tendon paths is not supported (the balance "
+                "of the unloaded robot is not checked for them); prescribe the tensions or "
+                "displacements instead");
+        return TR_EPRETENSION;
+    }
     if (m->precurved) {
         tr_msgf(msg, msglen,
                 "pretension on a precurved backbone is not supported: its unloaded, pretensioned "
@@ -133,7 +140,9 @@ int tr_check_indeterminate(const tr_model *m, char *msg, size_t msglen)
         if (m->sec[TR_SC_NCOL * i + TR_SC_U + 2] != 0.0) return TR_OK;
     for (i = 0; i < m->nt && n < 64; i++) {
         const tr_tendon *t = &m->tendon[i];
-        if (t->control == TR_DISPLACEMENT && !isfinite(t->EA)) idx[n++] = i;
+        /* the pairs compare linear routes (b and a along phi) */
+        if (t->control == TR_DISPLACEMENT && !isfinite(t->EA) && t->route == TR_ROUTE_LINEAR)
+            idx[n++] = i;
     }
     for (i = 0; i < n; i++)
         for (j = i + 1; j < n; j++) {

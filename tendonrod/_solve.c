@@ -20,6 +20,7 @@ PyObject *glue_formulation(const tr_model *m, const tr_data *d)
         glue_set(form, "n_partial_loads", PyLong_FromLong(m->nd)) < 0 ||
         glue_set(form, "n_sections", PyLong_FromLong(m->nsec)) < 0 ||
         glue_set(form, "precurved", PyBool_FromLong(m->precurved)) < 0 ||
+        glue_set(form, "n_routed_tendons", PyLong_FromLong(m->n_routed)) < 0 ||
         glue_set(form, "shooting_segments", PyLong_FromLong(m->nshoot)) < 0)
         goto fail;
     if (d && (glue_set(form, "tip_only", PyBool_FromLong(d->opt.tip_only)) < 0 ||
@@ -289,28 +290,28 @@ PyObject *glue_strerror(PyObject *self, PyObject *arg)
 }
 
 const char glue_is_planar_doc[] =
-    "is_planar(tendons, loads, dist, dloads=None, sections=None) -> bool: whether a scene of\n"
-    "these arrays (as for solve; dloads the (nd, 5) partial distributed loads, sections the\n"
-    "(nsec, 8) backbone sections) "
+    "is_planar(tendons, loads, dist, dloads=None, sections=None, routes=None) -> bool: whether\n"
+    "a scene of these arrays (as for solve; dloads the (nd, 5) partial distributed loads,\n"
+    "sections the (nsec, 8) backbone sections, routes the (nroute, 12) tendon paths) "
     "lies in the x-z plane and is solved with the planar formulation (unless force_spatial):\n"
     "every tendon at |sin angle| <= LIMITS['planar_sin'], no load with Fy, Mx or Mz, dist_y = 0.";
 
 PyObject *glue_is_planar(PyObject *self, PyObject *args)
 {
     glue_args a;
-    PyObject *tendons, *loads, *dist, *dloads = NULL, *secs = NULL, *kw = NULL, *rod = NULL;
-    PyObject *result = NULL;
+    PyObject *tendons, *loads, *dist, *dloads = NULL, *secs = NULL, *routes = NULL, *kw = NULL;
+    PyObject *rod = NULL, *result = NULL;
     double r[TR_ROD_NCOL] = {1, 1, 1, 1, 1, 0};
     npy_intp six = TR_ROD_NCOL;
     memset(&a, 0, sizeof a);
-    if (!PyArg_ParseTuple(args, "OOO|OO", &tendons, &loads, &dist, &dloads, &secs)) return NULL;
+    if (!PyArg_ParseTuple(args, "OOO|OOO", &tendons, &loads, &dist, &dloads, &secs, &routes))
+        return NULL;
     if (!(rod = glue_array(1, &six, r))) return NULL;
-    if (dloads == Py_None) dloads = NULL;
-    if (secs == Py_None) secs = NULL;
-    if ((dloads || secs) &&
-        !(kw = secs ? (dloads ? Py_BuildValue("{s:O,s:O}", "dloads", dloads, "sections", secs)
-                              : Py_BuildValue("{s:O}", "sections", secs))
-                    : Py_BuildValue("{s:O}", "dloads", dloads))) {
+    if (!(kw = PyDict_New()) ||
+        (dloads && dloads != Py_None && glue_set(kw, "dloads", Py_NewRef(dloads)) < 0) ||
+        (secs && secs != Py_None && glue_set(kw, "sections", Py_NewRef(secs)) < 0) ||
+        (routes && routes != Py_None && glue_set(kw, "routes", Py_NewRef(routes)) < 0)) {
+        Py_XDECREF(kw);
         Py_DECREF(rod);
         return NULL;
     }
@@ -321,7 +322,8 @@ PyObject *glue_is_planar(PyObject *self, PyObject *args)
                               (const double *)PyArray_DATA(a.dist),
                               a.nd > 0 ? (const double *)PyArray_DATA(a.dloads) : NULL, a.nd) &&
             tr_sections_planar(a.nsec > 0 ? (const double *)PyArray_DATA(a.sections) : NULL,
-                               a.nsec));
+                               a.nsec) &&
+            a.nroute == 0);
     Py_XDECREF(kw);
     Py_DECREF(rod);
     glue_args_clear(&a);

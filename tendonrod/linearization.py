@@ -71,6 +71,11 @@ def design_parameter(scene: Scene, name) -> tuple[str, int, int]:
             f"design parameter {name!r}: tendon {i} is inextensible (EA = inf); give it a "
             f"finite EA to differentiate or fit it"
         )
+    if field in ("offset", "slope") and robot.tendons[i].path is not None:
+        raise ValueError(
+            f"design parameter {name!r}: tendon {i} follows a Path; its offset and slope are "
+            f"derived from it, not parameters"
+        )
     if field in ("offset", "slope") and any(t.pretension != 0.0 for t in robot.tendons):
         raise ValueError(
             f"design parameter {name!r}: the routing of one tendon of a pretensioned set "

@@ -77,6 +77,9 @@ class Formulation:
         segmented one one per segment, each joint a breakpoint).
     precurved : bool
         Some section has a precurvature (the constitutive law ``m_b = K_bt (u - u*)``).
+    n_routed_tendons : int
+        Tendons with a helical or piecewise (spline, disk-by-disk) path: their r, r', r''
+        enter the right-hand side, their knots are breakpoints, the scene is spatial.
     """
 
     planar: bool
@@ -97,6 +100,7 @@ class Formulation:
     mounted: bool = False
     n_sections: int = 0
     precurved: bool = False
+    n_routed_tendons: int = 0
 
     @classmethod
     def from_dict(cls, d: dict) -> Formulation:
@@ -130,6 +134,8 @@ class Formulation:
             extra.append("precurved")
         if self.n_sections > 1:
             extra.append(f"{self.n_sections} backbone sections")
+        if self.n_routed_tendons:
+            extra.append(f"{self.n_routed_tendons} routed tendon(s)")
         if self.tip_only:
             extra.append("tip only")
         more = (", " + ", ".join(extra)) if extra else ""
