@@ -213,3 +213,60 @@ def test_bad_routes_name_themselves():
                 tr.Tendon.helical(0.004, math.pi, turns=1, length=L, pretension=1.0),
             ],
         )
+
+
+def test_plot_draws_helical_tendons_and_segment_joints():
+    plt = pytest.importorskip("matplotlib.pyplot")
+    import matplotlib
+
+    matplotlib.use("Agg")
+    from tendonrod import plot
+
+    seg = tr.Rod.segmented(
+        [
+            tr.Rod(0.08, EI=0.1, GJ=0.07, kirchhoff=True, precurvature=(0.0, 3.0, 0.0)),
+            tr.Rod(0.12, EI=EI, GJ=GJ, kirchhoff=True),
+        ]
+    )
+    t = tr.Tendon.helical(0.004, 0.0, turns=1.0, length=L)
+    sol = tr.solve(tr.Scene(tr.Robot(seg, [t]), tension=[1.0]))
+    ax = plot.robot(sol, disks=0, loads=False)
+    lines = ax.get_lines()
+    # backbone, the tendon, the joint marker
+    assert len(lines) == 3
+    _, y, _ = lines[1].get_data_3d()
+    # the helical tendon winds once around the backbone, which stays near y = 0 (a
+    # planar precurvature, tension mostly in the x-z plane): it visits both sides in y
+    assert np.ptp(y) > 1.5 * 0.004
+    assert lines[2].get_marker() == "o"
+    plt.close("all")
+
+
+def test_scene_file_routing_keys():
+    from tendonrod.scenefile import SceneFileError, parse_scene
+
+    rod = {"length": L, "EI": EI, "GJ": GJ, "kirchhoff": True}
+    doc = {
+        "rod": rod,
+        "tendon": [
+            {"offset": 0.004, "routing": "helical", "turns": 1.0, "tension": 1.0},
+            {
+                "routing": "disks",
+                "path": [[0.0, 0.0, 0.004], [0.1, -0.004, 0.0], [L, 0.0, -0.004]],
+                "tension": 0.5,
+            },
+        ],
+    }
+    sc = parse_scene(doc).scene
+    t0, t1 = sc.robot.tendons
+    assert t0.twist == pytest.approx(2 * math.pi / L) and t1.path.kind == "disks"
+    assert tr.solve(sc).success
+    bad = {"rod": rod, "tendon": [{"offset": 0.004, "turns": 1.0, "tension": 1.0}]}
+    with pytest.raises(SceneFileError, match=r"tendon\[0\]\.turns"):
+        parse_scene(bad)
+    bad = {"rod": rod, "tendon": [{"routing": "spline", "path": [[0.0, 0.0]], "tension": 1.0}]}
+    with pytest.raises(SceneFileError, match=r"tendon\[0\]\.path"):
+        parse_scene(bad)
+    bad = {"rod": rod, "tendon": [{"offset": 0.004, "routing": "helical", "tension": 1.0}]}
+    with pytest.raises(SceneFileError, match="turns, pitch"):
+        parse_scene(bad)
