@@ -276,30 +276,33 @@ typedef struct tr_model {
     int n_states;     /* shooting states: n_base + ndisp path lengths */
     int n_states_rec; /* recording states: n_base + nt path lengths */
     int n_stretch;    /* displacement-controlled tendons with finite EA */
-    double F_s, M_s, tau_s;  /* scales: force EI/L^2 [N], moment EI/L [N m],
+    double F_s, M_s, tau_s;   /* scales: force EI/L^2 [N], moment EI/L [N m],
                                    tension EI/(r_max L) [N] */
-    double len_s;            /* scale of slack and length residuals: r_max (L if 0) [m] */
-    double xstate_scale[18]; /* absolute scale of each base state (adaptive control) */
-    double rhs_work;         /* cost of one right-hand-side evaluation [work units, see
+    double len_s;             /* scale of slack and length residuals: r_max (L if 0) [m] */
+    double xstate_scale[18];  /* absolute scale of each base state (adaptive control) */
+    double rhs_work;          /* cost of one right-hand-side evaluation [work units, see
                                 TR_DEFAULT_MAX_WORK], from the formulation */
-    int scene_status;        /* 0, or why this (well-formed) scene has no unique solution:
+    int scene_status;         /* 0, or why this (well-formed) scene has no unique solution:
                                    TR_EINDETERMINATE, TR_ENOEQUILIBRIUM, TR_EPRETENSION;
                                    tr_solve then fails at once with scene_message */
-    char scene_message[512]; /* the message for scene_status */
-    int nsec;                /* backbone sections given (0: one uniform straight section, the
+    char scene_message[512];  /* the message for scene_status */
+    int nsec;                 /* backbone sections given (0: one uniform straight section, the
                                 rod row; the rod row's values are the scales either way) */
-    double *sec;             /* (nsec x TR_SC_NCOL) the sections as given */
-    double *seg_rod;         /* (nseg x TR_SR_NCOL) rigidities and precurvature of each
+    double *sec;              /* (nsec x TR_SC_NCOL) the sections as given */
+    double *seg_rod;          /* (nseg x TR_SR_NCOL) rigidities and precurvature of each
                                 integration segment (section ends are breakpoints) */
-    int precurved;           /* 1 if some section has a nonzero precurvature */
-    int nroute;              /* routing rows given */
-    double *route;           /* (nroute x TR_RT_NCOL) as given */
-    int *seg_piece;          /* (nseg x nt) the routing row of tendon i on segment k, -1 if
+    int precurved;            /* 1 if some section has a nonzero precurvature */
+    int general;              /* 1 with sections or general routing: the right-hand side reads
+                                seg_rod and the routes (0: rod_k and linear tendons) */
+    double rod_k[TR_SR_NCOL]; /* EI, GJ, EA, GA of the rod row and u* = 0 */
+    int nroute;               /* routing rows given */
+    double *route;            /* (nroute x TR_RT_NCOL) as given */
+    int *seg_piece;           /* (nseg x nt) the routing row of tendon i on segment k, -1 if
                                 none (linear tendons); NULL without general routing */
-    int n_routed;            /* tendons with a general (helical, piecewise) path */
-    int target_kind;         /* TR_TARGET_NONE, or the tip target whose rows replace the length
+    int n_routed;             /* tendons with a general (helical, piecewise) path */
+    int target_kind;          /* TR_TARGET_NONE, or the tip target whose rows replace the length
                                 constraints of the tendons with target_row >= 0 */
-    double target[9];        /* angle: theta [rad]; position: p (3) world [m]; direction: the
+    double target[9];         /* angle: theta [rad]; position: p (3) world [m]; direction: the
                                 unit tip tangent (3) world and a unit basis b1 (3), b2 (3) of
                                 the plane normal to it */
 } tr_model;

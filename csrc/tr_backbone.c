@@ -86,6 +86,12 @@ int tr_read_sections(tr_model *m, const double *sections, int nsec, char *msg, s
 void tr_fill_segment_rods(tr_model *m)
 {
     int k, j = 0;
+    m->rod_k[TR_SR_EI] = m->EI;
+    m->rod_k[TR_SR_GJ] = m->GJ;
+    m->rod_k[TR_SR_EA] = m->EA;
+    m->rod_k[TR_SR_GA] = m->GA;
+    m->rod_k[TR_SR_U] = m->rod_k[TR_SR_U + 1] = m->rod_k[TR_SR_U + 2] = 0.0;
+    m->general = m->nsec > 0 || m->n_routed > 0;
     for (k = 0; k < m->nseg; k++) {
         double *sr = m->seg_rod + TR_SR_NCOL * k;
         if (m->nsec == 0) {

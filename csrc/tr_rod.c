@@ -22,6 +22,11 @@
 #include "tr_internal.h"
 #include "tru_math.h"
 
+/* Both kernels take `gen` = m->general: 0 for a uniform straight rod with linear tendons
+ * (the rod's own rigidities, no precurvature, no routes), 1 for sections or routes.  (A
+ * specialisation per value, forced by always_inline into noinline wrappers, measured 15 %
+ * slower per spatial evaluation than these predictable branches: bench/compare_core.py.) */
+
 /* ------------------------------------------------------------- spatial */
 /* x = M^-1 b for the 3 x 3 row-major M by Cramer's rule; -1 if M is singular. */
 static int solve3(const double M[9], const double b[3], double x[3])
@@ -71,12 +76,13 @@ static int inv3(const double M[9], double Mi[9])
  * assembled once.  One function, longer than the house's 120 lines: it is the hot
  * kernel (78 % of a spatial solve's instructions), and its stages share a dozen
  * accumulators that a split would pass through memory. */
-static int rhs_spatial(const tr_model *m, const tr_data *d, double s, const double *y, double *dy)
+static int rhs_spatial(const tr_model *m, const tr_data *d, double s, const double *y, double *dy,
+                       const int gen)
 {
     const double *R = y + TR_Y_R, *nb = y + TR_Y_N, *mb = y + TR_Y_M;
-    const double *sg = m->seg_rod + TR_SR_NCOL * d->seg, *us = sg + TR_SR_U;
+    const double *sg = gen ? m->seg_rod + TR_SR_NCOL * d->seg : m->rod_k, *us = sg + TR_SR_U;
     const double EI = sg[TR_SR_EI], GJ = sg[TR_SR_GJ];
-    const int kirch = m->kirchhoff, pc = m->precurved;
+    const int kirch = m->kirchhoff, pc = gen && m->precurved;
     /* u - u* = K_bt^-1 m_b */
     const double du[3] = {mb[0] / EI, mb[1] / EI, mb[2] / GJ};
     const double u[3] = {pc ? du[0] + us[0] : du[0], pc ? du[1] + us[1] : du[1],
@@ -102,7 +108,7 @@ static int rhs_spatial(const tr_model *m, const tr_data *d, double s, const doub
     for (c = a0; c < a1; c++) {
         const int i = m->seg_act[c];
         const tr_tendon *td = &m->tendon[i];
-        const int lin = td->route == TR_ROUTE_LINEAR;
+        const int lin = !gen || td->route == TR_ROUTE_LINEAR;
         double r0, r1, rp0, rp1, rpp[2] = {0.0, 0.0};
         const double tau = d->tau[i];
         const int slot = d->rec ? i : td->len_index;
@@ -305,14 +311,15 @@ static int rhs_spatial(const tr_model *m, const tr_data *d, double s, const doub
 /* -------------------------------------------------------------- planar */
 /* x-z plane, rotation about +y by theta: R = [[c,0,s],[0,1,0],[-s,0,c]].
  * Body vectors (x, z) components, moments about y; tendon offset rho e_x. */
-static int rhs_planar(const tr_model *m, const tr_data *d, double s, const double *y, double *dy)
+static int rhs_planar(const tr_model *m, const tr_data *d, double s, const double *y, double *dy,
+                      const int gen)
 {
     const double th = y[TR_YP_TH], n1 = y[TR_YP_N1], n3 = y[TR_YP_N3], m2 = y[TR_YP_M];
-    const double *sr = m->seg_rod + TR_SR_NCOL * d->seg;
+    const double *sr = gen ? m->seg_rod + TR_SR_NCOL * d->seg : m->rod_k;
     const double EI = sr[TR_SR_EI];
-    const int kirch = m->kirchhoff, pc = m->precurved;
-    /* kap - kap* = m2 / EI */
-    const double dkap = m2 / EI, kap = pc ? dkap + sr[TR_SR_U + 1] : dkap;
+    const int kirch = m->kirchhoff;
+    /* kap - kap* = m2 / EI (kap* = 0 but on a precurved section) */
+    const double dkap = m2 / EI, kap = gen ? dkap + sr[TR_SR_U + 1] : dkap;
     const double ct = cos(th), st = sin(th);
     double v1 = 0.0, v3 = 1.0;
     double A11 = 0, A13 = 0, A33 = 0, G1 = 0, G3 = 0, B1 = 0, B3 = 0, H = 0;
@@ -339,13 +346,13 @@ static int rhs_planar(const tr_model *m, const tr_data *d, double s, const doubl
         const double nw = sqrt(w1 * w1 + w3 * w3);
         const double tau = d->tau[i];
         const int slot = d->rec ? i : td->len_index;
-        if (slot >= 0 && !pc) {
+        if (slot >= 0 && !gen) {
             /* |w| - |w_ref| without cancellation (see rhs_spatial) */
             /* (rp^2 = a^2: cphi is exactly +-1 in a planar model) */
             const double c = td->wref, d1 = v1, d3 = ev3 - kap * rho;
             dy[TR_YP_LEN + slot] = (2.0 * (rp * d1 + d3) + d1 * d1 + d3 * d3) / (nw + c);
         } else if (slot >= 0) {
-            /* precurved: w_ref = (r', 1 - kap* rho), dw = (v1, v3 - 1 - (kap - kap*) rho) */
+            /* sections: w_ref = (r', 1 - kap* rho), dw = (v1, v3 - 1 - (kap - kap*) rho) */
             const double wr3 = 1.0 - sr[TR_SR_U + 1] * rho, c = sqrt(rp * rp + wr3 * wr3);
             const double d1 = v1, d3 = ev3 - dkap * rho;
             dy[TR_YP_LEN + slot] = (2.0 * (rp * d1 + wr3 * d3) + d1 * d1 + d3 * d3) / (nw + c);
@@ -420,7 +427,9 @@ int tr_rhs(double s, const double y[], double dyds[], void *params)
     tr_data *d = (tr_data *)params;
     const tr_model *m = d->model;
     d->spent += m->rhs_work;
-    return m->planar ? rhs_planar(m, d, s, y, dyds) : rhs_spatial(m, d, s, y, dyds);
+    if (m->planar)
+        return m->general ? rhs_planar(m, d, s, y, dyds, 1) : rhs_planar(m, d, s, y, dyds, 0);
+    return m->general ? rhs_spatial(m, d, s, y, dyds, 1) : rhs_spatial(m, d, s, y, dyds, 0);
 }
 
 void tr_tendon_tangent(const tr_model *m, int i, double s, const double *y, double that[3],
