@@ -30,7 +30,11 @@ sys.path.insert(0, HERE)
 
 import solve as bench_solve  # noqa: E402  (bench/solve.py: scenes, sweeps, harness input)
 
-SCENES = ("fig11c 3 tendons, out-of-plane load", "fig11a transverse (planar)", "Till T3 (tip 0.2 N y)")
+SCENES = (
+    "fig11c 3 tendons, out-of-plane load",
+    "fig11a transverse (planar)",
+    "Till T3 (tip 0.2 N y)",
+)
 
 
 def build(root: str, out: str) -> ctypes.CDLL:
