@@ -33,13 +33,20 @@ int tr_rest_lengths(tr_model *m, char *msg, size_t msglen)
                 "displacements instead");
         return TR_EPRETENSION;
     }
-    if (m->precurved) {
-        tr_msgf(msg, msglen,
-                "pretension on a precurved backbone is not supported: its unloaded, pretensioned "
-                "shape is not the unstressed one in general (the tendons' pull along the curved "
-                "channels loads it); prescribe the tensions or displacements instead");
-        return TR_EPRETENSION;
-    }
+    /* A precurvature bending about body x, y keeps every radial channel's tangent at
+     * e3 + u* x r along e3: a balanced set then holds the unstressed arc, compressed
+     * uniformly (n_b = -sum tau_p e3, m_b = 0), and the steps below are exact for parallel
+     * tendons.  A pretwist turns the channels: the pretensioned robot twists. */
+    for (k = 0; k < m->nsec; k++)
+        if (m->sec[TR_SC_NCOL * k + TR_SC_U + 2] != 0.0) {
+            tr_msgf(msg, msglen,
+                    "pretension on a pretwisted backbone (sections[%d] uz = %g 1/m) is not "
+                    "supported: the pull along its turning channels twists the unloaded robot, "
+                    "so the pretensions are not held in the unstressed shape; prescribe the "
+                    "tensions or displacements instead",
+                    k, m->sec[TR_SC_NCOL * k + TR_SC_U + 2]);
+            return TR_EPRETENSION;
+        }
     /* balance on every segment (checked at both ends: r is linear in s) */
     for (k = 0; k < m->nseg; k++) {
         int e;

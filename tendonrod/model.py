@@ -319,11 +319,12 @@ class Robot:
                 f"Robot.tendons[{pre[0]}].pretension={self.tendons[pre[0]].pretension!r}: "
                 f"pretension with helical or path-routed tendons is not supported"
             )
-        if any(p.precurvature != (0.0, 0.0, 0.0) for p in parts):
+        if any(p.precurvature[2] != 0.0 for p in parts):
             raise ValueError(
                 f"Robot.tendons[{pre[0]}].pretension={self.tendons[pre[0]].pretension!r}: "
-                f"pretension on a precurved backbone is not supported (the tendons' pull along "
-                f"curved channels loads the unstressed shape); prescribe tensions or displacements"
+                f"pretension on a pretwisted backbone (precurvature uz != 0) is not supported "
+                f"(its turning channels twist the unloaded robot); prescribe tensions or "
+                f"displacements"
             )
         # balance on every segment between anchors: sum tau_p r_i(s) = 0 for all s there,
         # i.e. both the offset and the slope moments vanish for the tendons present.

@@ -223,7 +223,7 @@ def test_bad_backbone_fields_name_themselves():
         tr.Rod(
             L, EI=EI, GJ=GJ, kirchhoff=True, segments=(tr.Rod(0.1, EI=EI, GJ=GJ, kirchhoff=True),)
         )
-    rod = tr.Rod(L, EI=EI, GJ=GJ, EA=1e5, GA=1e5, precurvature=(0.0, 3.0, 0.0))
+    rod = tr.Rod(L, EI=EI, GJ=GJ, EA=1e5, GA=1e5, precurvature=(0.0, 3.0, 0.5))
     with pytest.raises(ValueError, match="pretension"):
         tr.Robot(
             rod,
@@ -283,3 +283,19 @@ def test_scene_file_segments_and_precurvature():
         parse_scene(dict(doc, segment=[{"length": 0.05, "diameter": 1e-3}, {"diameter": 1e-3}]))
     with pytest.raises(SceneFileError, match=r"rod\.length"):
         parse_scene(dict(doc, rod=dict(doc["rod"], length=0.3)))
+
+
+def test_pretension_on_a_precurved_arc_holds_the_compressed_arc():
+    """Two opposing parallel tendons with pretension tau_p on an arc u* = (0, k*, 0) of a
+    Cosserat rod: at q = 0 both hold tau_p and the robot is the unstressed arc compressed
+    to v3 = 1 - 2 tau_p / EA (whole section unloaded, n_b = -2 tau_p e3, m_b = 0)."""
+    ks, b, tp, EA = 4.0, 0.004, 3.0, 1e5
+    rod = tr.Rod(L, EI=EI, GJ=GJ, EA=EA, GA=5e4, precurvature=(0.0, ks, 0.0))
+    robot = tr.Robot(rod, [tr.Tendon(b, 0.0, pretension=tp), tr.Tendon(b, math.pi, pretension=tp)])
+    sol = tr.solve(tr.Scene(robot, displacement=[0.0, 0.0]))
+    assert sol.success
+    v3 = 1.0 - 2.0 * tp / EA
+    p = v3 * np.array([(1 - math.cos(ks * L)) / ks, 0.0, math.sin(ks * L) / ks])
+    # exact state: the solver's tolerance 1e-10 (scaled)
+    assert np.abs(sol.position[-1] - p).max() < 1e-9 * L
+    assert sol.tension == pytest.approx([tp, tp], rel=1e-9)
