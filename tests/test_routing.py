@@ -294,3 +294,22 @@ def test_routed_segmented_scene_through_multiple_shooting_and_batch():
     # the same equations and tolerance (1e-10 scaled), other shooting formulations
     assert np.abs(a.position[-1] - b.position[-1]).max() < 1e-9 * L
     assert np.abs(res.tip_position[0] - a.position[-1]).max() < 1e-9 * L
+
+
+def test_actuate_precurved_and_helical():
+    """tr.actuate inside the shooting system: on an arc u* = (0, k*, 0) the tip angle
+    theta needs q = L b (theta/L - k*) exactly; a helical robot's tip position from a
+    forward solve gives back that solve's displacements."""
+    ks, b = 3.0, 0.004
+    rod = tr.Rod(L, EI=EI, GJ=GJ, kirchhoff=True, precurvature=(0.0, ks, 0.0))
+    r = tr.actuate(tr.Scene(tr.Robot(rod, [tr.Tendon(b)]), displacement=[0.0]), tip_angle=1.0)
+    assert r.success
+    assert r.displacement[0] == pytest.approx(L * b * (1.0 / L - ks), rel=1e-9)  # tol 1e-10
+    tendons = [tr.Tendon.helical(b, 0.0, turns=0.5, length=L), tr.Tendon(b, 2.0), tr.Tendon(b, 4.0)]
+    robot = tr.Robot(rod, tendons)
+    q = [2e-4, 1e-4, 3e-4]
+    f = tr.solve(tr.Scene(robot, displacement=q))
+    r2 = tr.actuate(tr.Scene(robot, displacement=[0.0] * 3), tip_position=tuple(f.position[-1]))
+    assert r2.success
+    # the target's residual and the solve's tolerance are both 1e-10 (scaled)
+    assert r2.displacement == pytest.approx(q, rel=1e-7)
