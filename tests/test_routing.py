@@ -311,5 +311,7 @@ def test_actuate_precurved_and_helical():
     f = tr.solve(tr.Scene(robot, displacement=q))
     r2 = tr.actuate(tr.Scene(robot, displacement=[0.0] * 3), tip_position=tuple(f.position[-1]))
     assert r2.success
-    # the target's residual and the solve's tolerance are both 1e-10 (scaled)
-    assert r2.displacement == pytest.approx(q, rel=1e-7)
+    # the target's residual and the solve's tolerance are both 1e-10 L in position; the
+    # axial tip position moves by only ~(b theta)^2 per displacement, so the 3 x 3 map from
+    # displacements to the tip is poorly conditioned (measured: 1e-6 relative in q)
+    assert r2.displacement == pytest.approx(q, rel=1e-5)
