@@ -154,6 +154,29 @@ enum tr_load_col {
     TR_LD_NCOL = 7
 }; /* s [m], F (3) [N], M (3) [N m] */
 enum tr_dload_col { TR_DL_S0, TR_DL_S1, TR_DL_F, TR_DL_NCOL = 5 }; /* start, end [m], F (3) [N/m] */
+/* Backbone sections (tr_model_alloc_ext): section j spans [end of j - 1 (0 for j = 0),
+ * end of j] with its own rigidities and its precurvature u* (body frame, the curvature
+ * and twist of its unstressed shape, constant on the section); the last end is L. */
+enum tr_section_col {
+    TR_SC_END, /* arc length where the section ends [m] */
+    TR_SC_EI,  /* [N m^2] */
+    TR_SC_GJ,  /* [N m^2] */
+    TR_SC_EA,  /* [N] (inf on a Kirchhoff rod) */
+    TR_SC_GA,  /* [N] (inf on a Kirchhoff rod) */
+    TR_SC_U,   /* precurvature ux, uy, uz [1/m] (3 columns) */
+    TR_SC_NCOL = 8
+};
+/* General tendon routing (tr_model_alloc_ext): rows [tendon index, kind, s0, s1 [m],
+ * p (8)].  A tendon without rows runs linearly (offset, angle, slope of its row).
+ *   TR_ROUTE_HELIX, one row on [0, end]: the angle turns at p0 = dphi/ds [rad/m],
+ *     r(s) = (a s + b)(cos(phi + p0 s), sin(phi + p0 s), 0);
+ *   TR_ROUTE_PIECE, rows tiling [0, end] in order: on [s0, s1], with h = s - s0,
+ *     r(s) = (p0 + p1 h + p2 h^2 + p3 h^3, p4 + p5 h + p6 h^2 + p7 h^3, 0) [m]
+ *     (a cubic spline, or straight pieces between disks); every s0, s1 is a breakpoint. */
+enum tr_route_col { TR_RT_TENDON, TR_RT_KIND, TR_RT_S0, TR_RT_S1, TR_RT_P, TR_RT_NCOL = 12 };
+enum tr_route_kind { TR_ROUTE_LINEAR = 0, TR_ROUTE_HELIX = 1, TR_ROUTE_PIECE = 2 };
+/* Per integration segment: the rigidities and precurvature of the section it lies in. */
+enum tr_segrod_col { TR_SR_EI, TR_SR_GJ, TR_SR_EA, TR_SR_GA, TR_SR_U, TR_SR_NCOL = 7 };
 
 typedef struct tr_options {
     int integrator;      /* tr_integrator; default TR_RK8 (3-8 steps reach 1e-8 on a 90 deg bend) */
@@ -217,7 +240,9 @@ typedef struct tr_tendon {
     int target_row;    /* -1, or the row of the model's target whose residual takes the place
                           of this displacement-controlled tendon's length constraint (its
                           displacement then follows from the solution; tr_model_set_target) */
-    double t0[3];      /* unit tangent at s = 0 of the straight robot, body frame */
+    int route;         /* tr_route_kind of its path */
+    double twist;      /* TR_ROUTE_HELIX: dphi/ds [rad/m] */
+    double t0[3];      /* unit tangent at s = 0 of the unstressed robot, body frame */
     double rt0[3];     /* r(0) x t0, body frame [m] */
 } tr_tendon;
 
@@ -251,19 +276,33 @@ typedef struct tr_model {
     int n_states;     /* shooting states: n_base + ndisp path lengths */
     int n_states_rec; /* recording states: n_base + nt path lengths */
     int n_stretch;    /* displacement-controlled tendons with finite EA */
-    double F_s, M_s, tau_s;  /* scales: force EI/L^2 [N], moment EI/L [N m],
+    double F_s, M_s, tau_s;   /* scales: force EI/L^2 [N], moment EI/L [N m],
                                    tension EI/(r_max L) [N] */
-    double len_s;            /* scale of slack and length residuals: r_max (L if 0) [m] */
-    double xstate_scale[18]; /* absolute scale of each base state (adaptive control) */
-    double rhs_work;         /* cost of one right-hand-side evaluation [work units, see
+    double len_s;             /* scale of slack and length residuals: r_max (L if 0) [m] */
+    double xstate_scale[18];  /* absolute scale of each base state (adaptive control) */
+    double rhs_work;          /* cost of one right-hand-side evaluation [work units, see
                                 TR_DEFAULT_MAX_WORK], from the formulation */
-    int scene_status;        /* 0, or why this (well-formed) scene has no unique solution:
+    int scene_status;         /* 0, or why this (well-formed) scene has no unique solution:
                                    TR_EINDETERMINATE, TR_ENOEQUILIBRIUM, TR_EPRETENSION;
                                    tr_solve then fails at once with scene_message */
-    char scene_message[512]; /* the message for scene_status */
-    int target_kind;         /* TR_TARGET_NONE, or the tip target whose rows replace the length
+    char scene_message[512];  /* the message for scene_status */
+    int nsec;                 /* backbone sections given (0: one uniform straight section, the
+                                rod row; the rod row's values are the scales either way) */
+    double *sec;              /* (nsec x TR_SC_NCOL) the sections as given */
+    double *seg_rod;          /* (nseg x TR_SR_NCOL) rigidities and precurvature of each
+                                integration segment (section ends are breakpoints) */
+    int precurved;            /* 1 if some section has a nonzero precurvature */
+    int general;              /* 1 with sections or general routing: the right-hand side reads
+                                seg_rod and the routes (0: rod_k and linear tendons) */
+    double rod_k[TR_SR_NCOL]; /* EI, GJ, EA, GA of the rod row and u* = 0 */
+    int nroute;               /* routing rows given */
+    double *route;            /* (nroute x TR_RT_NCOL) as given */
+    int *seg_piece;           /* (nseg x nt) the routing row of tendon i on segment k, -1 if
+                                none (linear tendons); NULL without general routing */
+    int n_routed;             /* tendons with a general (helical, piecewise) path */
+    int target_kind;          /* TR_TARGET_NONE, or the tip target whose rows replace the length
                                 constraints of the tendons with target_row >= 0 */
-    double target[9];        /* angle: theta [rad]; position: p (3) world [m]; direction: the
+    double target[9];         /* angle: theta [rad]; position: p (3) world [m]; direction: the
                                 unit tip tangent (3) world and a unit basis b1 (3), b2 (3) of
                                 the plane normal to it */
 } tr_model;
@@ -284,6 +323,18 @@ int tr_model_alloc(tr_model **out, const double rod[6], const double *tendons, i
 int tr_model_alloc_dist(tr_model **out, const double rod[6], const double *tendons, int nt,
                         const double *loads, int nl, const double dist[3], const double *dloads,
                         int nd, const tr_options *opt, char *msg, size_t msglen);
+/* tr_model_alloc_dist with nsec backbone sections (nsec x TR_SC_NCOL rows, ends increasing,
+ * the last at L; NULL / 0: the uniform straight rod of the rod row) and nroute routing rows
+ * (nroute x TR_RT_NCOL; NULL / 0: every tendon linear).  Each section end and routing knot
+ * is a breakpoint.  The rod row still sets L, the Kirchhoff flag and the scales (EI/L^2,
+ * EI/L).  A helical or piecewise tendon makes the scene spatial. */
+int tr_model_alloc_ext(tr_model **out, const double rod[6], const double *tendons, int nt,
+                       const double *loads, int nl, const double dist[3], const double *dloads,
+                       int nd, const double *sections, int nsec, const double *routes, int nroute,
+                       const tr_options *opt, char *msg, size_t msglen);
+/* 1 when the sections (as for tr_model_alloc_ext) keep a planar scene planar: no
+ * precurvature ux or uz. */
+int tr_sections_planar(const double *sections, int nsec);
 void tr_model_free(tr_model *m);
 /* A deep copy of m (NULL when out of memory): a model whose values can be set while m
  * stays shared. */

@@ -208,6 +208,50 @@ double tr_target_displacement(const tr_model *m, const tr_data *d, int i, double
  * which.  d->stop when the budget or an interrupt stopped it. */
 int tr_confirm_offpath(const tr_model *m, tr_data *d);
 
+/* Body-frame offset r, r' and r'' (x, y components; z is 0) of tendon i (td) with a
+ * general route at s on integration segment seg (tr_routing.c's tables). */
+static inline void tr_route_eval(const tr_model *m, const tr_tendon *td, int i, int seg, double s,
+                                 double r[2], double rp[2], double rpp[2])
+{
+    if (td->route == TR_ROUTE_HELIX) {
+        const double rho = td->a * s + td->b, w = td->twist, ph = td->phi + w * s;
+        const double c = cos(ph), sn = sin(ph);
+        r[0] = rho * c;
+        r[1] = rho * sn;
+        rp[0] = td->a * c - rho * w * sn;
+        rp[1] = td->a * sn + rho * w * c;
+        rpp[0] = -2.0 * td->a * w * sn - rho * w * w * c;
+        rpp[1] = 2.0 * td->a * w * c - rho * w * w * sn;
+    } else {
+        const double *row = m->route + TR_RT_NCOL * m->seg_piece[seg * m->nt + i];
+        const double *p = row + TR_RT_P, h = s - row[TR_RT_S0];
+        r[0] = p[0] + h * (p[1] + h * (p[2] + h * p[3]));
+        r[1] = p[4] + h * (p[5] + h * (p[6] + h * p[7]));
+        rp[0] = p[1] + h * (2.0 * p[2] + 3.0 * h * p[3]);
+        rp[1] = p[5] + h * (2.0 * p[6] + 3.0 * h * p[7]);
+        rpp[0] = 2.0 * p[2] + 6.0 * h * p[3];
+        rpp[1] = 2.0 * p[6] + 6.0 * h * p[7];
+    }
+}
+
+/* tr_routing.c: the routing rows read into m->route and the tendons' route and twist
+ * (TR_OK or TR_EINVAL with a message naming the row); the per-segment piece table
+ * m->seg_piece after the breakpoints (TR_OK or TR_ENOMEM); r, r' of any tendon. */
+int tr_read_routes(tr_model *m, const double *routes, int nroute, char *msg, size_t msglen);
+int tr_route_pieces(tr_model *m);
+void tr_tendon_offset(const tr_model *m, int i, int seg, double s, double r[3], double rp[3]);
+
+/* tr_backbone.c: the sections (nsec rows) read into m->sec, m->nsec and m->precurved
+ * (TR_OK or TR_EINVAL with a message); m->seg_rod of every integration segment (after the
+ * breakpoints); tendon t's base tangent t0 and r(0) x t0 in the unstressed robot; its
+ * reference path length [m] from the base to its anchor in the unstressed robot; and the
+ * check that no tendon offset reaches the precurvature's centre (TR_OK or TR_EINVAL). */
+int tr_read_sections(tr_model *m, const double *sections, int nsec, char *msg, size_t msglen);
+void tr_fill_segment_rods(tr_model *m);
+void tr_tendon_base_frame(const tr_model *m, int i);
+double tr_reference_length(const tr_model *m, int i);
+int tr_check_routing(const tr_model *m, char *msg, size_t msglen);
+
 /* tr_tendons.c: rest lengths that give the pretensions (TR_OK, TR_EPRETENSION or
  * TR_EINVAL with a message), and the check for opposing inextensible tendons on a
  * Kirchhoff backbone (TR_OK, TR_EINDETERMINATE or TR_ENOEQUILIBRIUM). */

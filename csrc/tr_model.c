@@ -33,6 +33,10 @@ void tr_model_free(tr_model *m)
     free(m->bp_jump);
     free(m->dload);
     free(m->seg_pdist);
+    free(m->sec);
+    free(m->seg_rod);
+    free(m->route);
+    free(m->seg_piece);
     free(m);
 }
 
@@ -91,7 +95,8 @@ static int check_rod(const double rod[6], char *msg, size_t msglen)
 }
 
 /* Body-frame quantities of tendon t at s = 0 of the straight robot: unit tangent t0
- * and r(0) x t0, from cphi, sphi. */
+ * and r(0) x t0, from cphi, sphi (a precurved robot's follow from its sections once the
+ * breakpoints are placed: tr_tendon_base_frame). */
 static void tendon_base_frame(tr_tendon *t)
 {
     const double h = t->wref;
@@ -261,7 +266,8 @@ static void sum_segment_dloads(tr_model *m)
 static int place_breakpoints(tr_model *m)
 {
     const int nt = m->nt, nl = m->nl;
-    double *cand = (double *)malloc((size_t)(nt + nl + 2 * m->nd + 2 + m->nshoot) * sizeof(double));
+    double *cand = (double *)malloc(
+        (size_t)(nt + nl + 2 * m->nd + 2 + m->nshoot + m->nsec + 2 * m->nroute) * sizeof(double));
     int i, k, nc = 0, nb = 0, nact = 0;
     if (!cand) return TR_ENOMEM;
     cand[nc++] = 0.0;
@@ -270,6 +276,12 @@ static int place_breakpoints(tr_model *m)
     for (i = 0; i < nt; i++) cand[nc++] = m->tendon[i].t;
     for (i = 0; i < nl; i++) cand[nc++] = m->load[TR_LD_NCOL * i + TR_LD_S];
     for (i = 0; i < 2 * m->nd; i++) cand[nc++] = m->dload[TR_DL_NCOL * (i / 2) + i % 2];
+    for (i = 0; i < m->nsec; i++) cand[nc++] = m->sec[TR_SC_NCOL * i + TR_SC_END];
+    for (i = 0; i < m->nroute; i++)
+        if (m->route[TR_RT_NCOL * i + TR_RT_KIND] == TR_ROUTE_PIECE) {
+            cand[nc++] = m->route[TR_RT_NCOL * i + TR_RT_S0];
+            cand[nc++] = m->route[TR_RT_NCOL * i + TR_RT_S1];
+        }
     qsort(cand, nc, sizeof(double), cmp_double);
     m->bp = (double *)malloc((size_t)nc * sizeof(double));
     if (!m->bp) {
@@ -291,9 +303,19 @@ static int place_breakpoints(tr_model *m)
     m->bp_node = (int *)calloc((size_t)m->nseg + 1, sizeof(int));
     m->bp_jump = (int *)calloc((size_t)m->nseg + 1, sizeof(int));
     m->seg_pdist = (double *)calloc((size_t)3 * (m->nseg > 0 ? m->nseg : 1), sizeof(double));
+    m->seg_rod = (double *)calloc((size_t)TR_SR_NCOL * (m->nseg > 0 ? m->nseg : 1), sizeof(double));
     if (!m->bpF || !m->bpM || !m->seg_act_start || !m->seg_act || !m->bp_node || !m->bp_jump ||
-        !m->seg_pdist)
+        !m->seg_pdist || !m->seg_rod)
         return TR_ENOMEM;
+    /* a section joint changes the strains under the same force and moment: the taut
+     * tendons kink there (the implicit jump) */
+    for (i = 0; i + 1 < m->nsec; i++)
+        m->bp_jump[find_bp(m, m->sec[TR_SC_NCOL * i + TR_SC_END])] = 1;
+    /* a piecewise path may kink at its knots (straight pieces between disks) */
+    for (i = 0; i < m->nroute; i++)
+        if (m->route[TR_RT_NCOL * i + TR_RT_KIND] == TR_ROUTE_PIECE)
+            m->bp_jump[find_bp(m, m->route[TR_RT_NCOL * i + TR_RT_S1])] = 1;
+    tr_fill_segment_rods(m);
     for (i = 1; i < m->nshoot; i++) m->bp_node[find_bp(m, m->L * ((double)i / m->nshoot))] = i;
     for (i = 0; i < nt; i++) m->bp_jump[find_bp(m, m->tendon[i].t)] = 1;
     for (i = 0; i < nl; i++) m->bp_jump[find_bp(m, m->load[TR_LD_NCOL * i + TR_LD_S])] = 1;
@@ -345,6 +367,7 @@ static void formulate(tr_model *m, int planar, int ndisp, double rmax)
             t->cphi = t->cphi > 0.0 ? 1.0 : -1.0;
             t->sphi = 0.0;
             tendon_base_frame(t);
+            if (m->precurved) tr_tendon_base_frame(m, i);
             t->t0[1] = 0.0;
             t->rt0[0] = 0.0;
         }
@@ -392,14 +415,24 @@ int tr_model_alloc_dist(tr_model **out, const double rod[6], const double *tendo
                         const double *loads, int nl, const double dist[3], const double *dloads,
                         int nd, const tr_options *opt, char *msg, size_t msglen)
 {
+    return tr_model_alloc_ext(out, rod, tendons, nt, loads, nl, dist, dloads, nd, NULL, 0, NULL, 0,
+                              opt, msg, msglen);
+}
+
+int tr_model_alloc_ext(tr_model **out, const double rod[6], const double *tendons, int nt,
+                       const double *loads, int nl, const double dist[3], const double *dloads,
+                       int nd, const double *sections, int nsec, const double *routes, int nroute,
+                       const tr_options *opt, char *msg, size_t msglen)
+{
     tr_model *m = NULL;
     int i, status, ndisp = 0;
     double rmax = 0.0;
 
     *out = NULL;
     if (msg && msglen) msg[0] = '\0';
-    if (nt < 0 || nl < 0 || nd < 0 || (nt > 0 && !tendons) || (nl > 0 && !loads) ||
-        (nd > 0 && !dloads) || !rod || !dist || !opt) {
+    if (nt < 0 || nl < 0 || nd < 0 || nsec < 0 || (nt > 0 && !tendons) || (nl > 0 && !loads) ||
+        (nd > 0 && !dloads) || (nsec > 0 && !sections) || nroute < 0 || (nroute > 0 && !routes) ||
+        !rod || !dist || !opt) {
         tr_msgf(msg, msglen, "invalid arguments to tr_model_alloc (negative count or NULL array)");
         return TR_EINVAL;
     }
@@ -429,7 +462,11 @@ int tr_model_alloc_dist(tr_model **out, const double rod[6], const double *tendo
     m->load = (double *)calloc(nl > 0 ? TR_LD_NCOL * nl : 1, sizeof(double));
     m->nd = nd;
     m->dload = (double *)calloc(nd > 0 ? TR_DL_NCOL * nd : 1, sizeof(double));
-    if (!m->tendon || !m->load || !m->dload) goto nomem;
+    m->sec = (double *)calloc(nsec > 0 ? TR_SC_NCOL * nsec : 1, sizeof(double));
+    m->route = (double *)calloc(nroute > 0 ? TR_RT_NCOL * nroute : 1, sizeof(double));
+    if (!m->tendon || !m->load || !m->dload || !m->sec || !m->route) goto nomem;
+    status = tr_read_sections(m, sections, nsec, msg, msglen);
+    if (status != TR_OK) goto fail;
     for (i = 0; i < nt; i++) {
         status = read_tendon(m, i, tendons + TR_TD_NCOL * i, &rmax, msg, msglen);
         if (status != TR_OK) goto fail;
@@ -440,15 +477,24 @@ int tr_model_alloc_dist(tr_model **out, const double rod[6], const double *tendo
             m->tendon[i].gamma_index = m->tendon[i].len_index = -1;
         }
     }
+    status = tr_read_routes(m, routes, nroute, msg, msglen);
+    if (status != TR_OK) goto fail;
     status = read_loads(m, loads, msg, msglen);
     if (status == TR_OK) status = read_dloads(m, dloads, msg, msglen);
     if (status != TR_OK) goto fail;
     memcpy(m->dist, dist, 3 * sizeof(double));
     m->has_dist = (dist[0] != 0.0 || dist[1] != 0.0 || dist[2] != 0.0);
     if (place_breakpoints(m) != TR_OK) goto nomem;
-    formulate(
-        m, !opt->force_spatial && tr_is_planar_dist(tendons, nt, m->load, nl, dist, m->dload, nd),
-        ndisp, rmax);
+    if (tr_route_pieces(m) != TR_OK) goto nomem;
+    if (m->precurved || m->n_routed > 0)
+        for (i = 0; i < nt; i++) tr_tendon_base_frame(m, i);
+    formulate(m,
+              !opt->force_spatial &&
+                  tr_is_planar_dist(tendons, nt, m->load, nl, dist, m->dload, nd) &&
+                  tr_sections_planar(m->sec, m->nsec) && m->n_routed == 0,
+              ndisp, rmax);
+    status = tr_check_routing(m, msg, msglen);
+    if (status != TR_OK) goto fail;
 
     status = tr_rest_lengths(m, m->scene_message, sizeof m->scene_message);
     if (status == TR_OK)
@@ -496,8 +542,14 @@ tr_model *tr_model_clone(const tr_model *m)
     c->bp_jump = (int *)dup_array(m->bp_jump, nb, sizeof(int));
     c->dload = (double *)dup_array(m->dload, (size_t)TR_DL_NCOL * m->nd, sizeof(double));
     c->seg_pdist = (double *)dup_array(m->seg_pdist, (size_t)3 * m->nseg, sizeof(double));
-    if (!c->tendon || !c->load || !c->bp || !c->bpF || !c->bpM || !c->seg_act_start ||
-        !c->seg_act || !c->bp_node || !c->bp_jump || !c->dload || !c->seg_pdist) {
+    c->sec = (double *)dup_array(m->sec, (size_t)TR_SC_NCOL * m->nsec, sizeof(double));
+    c->seg_rod = (double *)dup_array(m->seg_rod, (size_t)TR_SR_NCOL * m->nseg, sizeof(double));
+    c->route = (double *)dup_array(m->route, (size_t)TR_RT_NCOL * m->nroute, sizeof(double));
+    c->seg_piece =
+        m->seg_piece ? (int *)dup_array(m->seg_piece, (size_t)m->nseg * m->nt, sizeof(int)) : NULL;
+    if ((m->seg_piece && !c->seg_piece) || !c->route || !c->sec || !c->seg_rod || !c->tendon ||
+        !c->load || !c->bp || !c->bpF || !c->bpM || !c->seg_act_start || !c->seg_act ||
+        !c->bp_node || !c->bp_jump || !c->dload || !c->seg_pdist) {
         tr_model_free(c);
         return NULL;
     }
@@ -623,8 +675,8 @@ tr_model *tr_model_reshoot(const tr_model *m, const tr_options *opt, int nshoot,
     }
     o.shooting_segments = nshoot;
     o.force_spatial = !m->planar;
-    if (tr_model_alloc_dist(&out, rod, tendons, m->nt, m->load, m->nl, m->dist, m->dload, m->nd, &o,
-                            msg, msglen) != TR_OK)
+    if (tr_model_alloc_ext(&out, rod, tendons, m->nt, m->load, m->nl, m->dist, m->dload, m->nd,
+                           m->sec, m->nsec, m->route, m->nroute, &o, msg, msglen) != TR_OK)
         out = NULL;
     free(tendons);
     return out;
@@ -658,22 +710,42 @@ int tr_model_perturb(tr_model *mp, const tr_model *m, int kind, int index, doubl
     mp->EA = m->EA;
     mp->GA = m->GA;
     memcpy(mp->tendon, m->tendon, (size_t)m->nt * sizeof(tr_tendon));
+    memcpy(mp->sec, m->sec, (size_t)TR_SC_NCOL * m->nsec * sizeof(double));
+    tr_fill_segment_rods(mp);
     if (delta == 0.0) return TR_OK;
+    /* a backbone of several sections has a rigidity per section, not one for the rod; a
+     * single (precurved) section is the rod */
+    if (m->nsec > 1 && kind >= TR_PAR_ROD_EI && kind <= TR_PAR_ROD_GA) return TR_EINVAL;
     switch (kind) {
-    case TR_PAR_ROD_EI: mp->EI += delta; break;
-    case TR_PAR_ROD_GJ: mp->GJ += delta; break;
-    case TR_PAR_ROD_EA: mp->EA += delta; break;
-    case TR_PAR_ROD_GA: mp->GA += delta; break;
+    case TR_PAR_ROD_EI:
+        mp->EI += delta;
+        if (m->nsec == 1) mp->sec[TR_SC_EI] += delta;
+        break;
+    case TR_PAR_ROD_GJ:
+        mp->GJ += delta;
+        if (m->nsec == 1) mp->sec[TR_SC_GJ] += delta;
+        break;
+    case TR_PAR_ROD_EA:
+        mp->EA += delta;
+        if (m->nsec == 1) mp->sec[TR_SC_EA] += delta;
+        break;
+    case TR_PAR_ROD_GA:
+        mp->GA += delta;
+        if (m->nsec == 1) mp->sec[TR_SC_GA] += delta;
+        break;
     case TR_PAR_TENDON_EA: mp->tendon[index].EA += delta; break;
     case TR_PAR_OFFSET:
     case TR_PAR_SLOPE: {
         tr_tendon *t = &mp->tendon[index];
+        /* a piecewise path has no offset or slope */
+        if (t->route == TR_ROUTE_PIECE) return TR_EINVAL;
         if (kind == TR_PAR_OFFSET)
             t->b += delta;
         else
             t->a += delta;
         t->wref = sqrt(1.0 + t->a * t->a);
         tendon_base_frame(t);
+        if (mp->precurved || t->route != TR_ROUTE_LINEAR) tr_tendon_base_frame(mp, index);
         if (mp->planar) {
             t->t0[1] = 0.0;
             t->rt0[0] = 0.0;
@@ -682,5 +754,6 @@ int tr_model_perturb(tr_model *mp, const tr_model *m, int kind, int index, doubl
     }
     default: return TR_EINVAL;
     }
+    tr_fill_segment_rods(mp);
     return tr_rest_lengths(mp, NULL, 0) == TR_OK ? TR_OK : TR_EINVAL;
 }

@@ -22,6 +22,11 @@
 #include "tr_internal.h"
 #include "tru_math.h"
 
+/* Both kernels take `gen` = m->general: 0 for a uniform straight rod with linear tendons
+ * (the rod's own rigidities, no precurvature, no routes), 1 for sections or routes.  (A
+ * specialisation per value, forced by always_inline into noinline wrappers, measured 15 %
+ * slower per spatial evaluation than these predictable branches: bench/compare_core.py.) */
+
 /* ------------------------------------------------------------- spatial */
 /* x = M^-1 b for the 3 x 3 row-major M by Cramer's rule; -1 if M is singular. */
 static int solve3(const double M[9], const double b[3], double x[3])
@@ -71,12 +76,17 @@ static int inv3(const double M[9], double Mi[9])
  * assembled once.  One function, longer than the house's 120 lines: it is the hot
  * kernel (78 % of a spatial solve's instructions), and its stages share a dozen
  * accumulators that a split would pass through memory. */
-static int rhs_spatial(const tr_model *m, const tr_data *d, double s, const double *y, double *dy)
+static int rhs_spatial(const tr_model *m, const tr_data *d, double s, const double *y, double *dy,
+                       const int gen)
 {
     const double *R = y + TR_Y_R, *nb = y + TR_Y_N, *mb = y + TR_Y_M;
-    const double EI = m->EI, GJ = m->GJ;
-    const int kirch = m->kirchhoff;
-    const double u[3] = {mb[0] / EI, mb[1] / EI, mb[2] / GJ};
+    const double *sg = gen ? m->seg_rod + TR_SR_NCOL * d->seg : m->rod_k, *us = sg + TR_SR_U;
+    const double EI = sg[TR_SR_EI], GJ = sg[TR_SR_GJ];
+    const int kirch = m->kirchhoff, pc = gen && m->precurved;
+    /* u - u* = K_bt^-1 m_b */
+    const double du[3] = {mb[0] / EI, mb[1] / EI, mb[2] / GJ};
+    const double u[3] = {pc ? du[0] + us[0] : du[0], pc ? du[1] + us[1] : du[1],
+                         pc ? du[2] + us[2] : du[2]};
     double v[3] = {0.0, 0.0, 1.0};
     double sc = 0.0, sr2 = 0.0, sr[3] = {0, 0, 0};
     double TT[9] = {0}, TQ[9] = {0}, RR[9] = {0}, QQ[9] = {0};
@@ -88,9 +98,9 @@ static int rhs_spatial(const tr_model *m, const tr_data *d, double s, const doub
 
     double ev3 = 0.0; /* v3 - 1 */
     if (!kirch) {
-        v[0] = nb[0] / m->GA;
-        v[1] = nb[1] / m->GA;
-        ev3 = nb[2] / m->EA;
+        v[0] = nb[0] / sg[TR_SR_GA];
+        v[1] = nb[1] / sg[TR_SR_GA];
+        ev3 = nb[2] / sg[TR_SR_EA];
         v[2] = 1.0 + ev3;
     }
     for (j = 0; j < nlen; j++) dy[TR_Y_LEN + j] = 0.0;
@@ -98,18 +108,31 @@ static int rhs_spatial(const tr_model *m, const tr_data *d, double s, const doub
     for (c = a0; c < a1; c++) {
         const int i = m->seg_act[c];
         const tr_tendon *td = &m->tendon[i];
-        const double rho = td->a * s + td->b;
-        const double r0 = rho * td->cphi, r1 = rho * td->sphi;
-        const double rp0 = td->a * td->cphi, rp1 = td->a * td->sphi;
+        const int lin = !gen || td->route == TR_ROUTE_LINEAR;
+        double r0, r1, rp0, rp1, rpp[2] = {0.0, 0.0};
         const double tau = d->tau[i];
         const int slot = d->rec ? i : td->len_index;
+        if (lin) {
+            const double rho = td->a * s + td->b;
+            r0 = rho * td->cphi;
+            r1 = rho * td->sphi;
+            rp0 = td->a * td->cphi;
+            rp1 = td->a * td->sphi;
+        } else {
+            double rr[2], rp[2];
+            tr_route_eval(m, td, i, d->seg, s, rr, rp, rpp);
+            r0 = rr[0];
+            r1 = rr[1];
+            rp0 = rp[0];
+            rp1 = rp[1];
+        }
         /* w = v + u x r + r'  (r = (r0, r1, 0)) */
         const double w0 = v[0] - u[2] * r1 + rp0;
         const double w1 = v[1] + u[2] * r0 + rp1;
         const double w2 = v[2] + u[0] * r1 - u[1] * r0;
         const double nw = sqrt(w0 * w0 + w1 * w1 + w2 * w2);
         double t[3], q[3], cv[3], ct, tc, ai[3];
-        if (slot >= 0) {
+        if (slot >= 0 && !pc && lin) {
             /* |w| - |w_ref|, w_ref = e3 + r': (2 w_ref.dw + |dw|^2) / (|w| + |w_ref|) with
              * dw = (v - e3) + u x r computed directly (no cancellation) */
             const double c = td->wref;
@@ -117,6 +140,15 @@ static int rhs_spatial(const tr_model *m, const tr_data *d, double s, const doub
             const double d2 = ev3 + u[0] * r1 - u[1] * r0;
             dy[TR_Y_LEN + slot] =
                 (2.0 * (rp0 * d0 + rp1 * d1 + d2) + d0 * d0 + d1 * d1 + d2 * d2) / (nw + c);
+        } else if (slot >= 0) {
+            /* precurved or routed: w_ref = e3 + u* x r + r', dw = (v - e3) + (u - u*) x r */
+            const double wr0 = rp0 - us[2] * r1, wr1 = rp1 + us[2] * r0;
+            const double wr2 = 1.0 + us[0] * r1 - us[1] * r0;
+            const double c = sqrt(wr0 * wr0 + wr1 * wr1 + wr2 * wr2);
+            const double d0 = v[0] - du[2] * r1, d1 = v[1] + du[2] * r0;
+            const double d2 = ev3 + du[0] * r1 - du[1] * r0;
+            dy[TR_Y_LEN + slot] =
+                (2.0 * (wr0 * d0 + wr1 * d1 + wr2 * d2) + d0 * d0 + d1 * d1 + d2 * d2) / (nw + c);
         }
         if (!(tau > 0.0)) continue;
         coupled = 1;
@@ -134,6 +166,10 @@ static int rhs_spatial(const tr_model *m, const tr_data *d, double s, const doub
             cv[0] = u[1] * e2 - u[2] * e1;
             cv[1] = u[2] * e0 - u[0] * e2;
             cv[2] = u[0] * e1 - u[1] * e0;
+        }
+        if (!lin) { /* + r'' */
+            cv[0] += rpp[0];
+            cv[1] += rpp[1];
         }
         tc = t[0] * cv[0] + t[1] * cv[1] + t[2] * cv[2];
         ai[0] = ct * (cv[0] - t[0] * tc);
@@ -231,7 +267,7 @@ static int rhs_spatial(const tr_model *m, const tr_data *d, double s, const doub
              * Q = G K_bt^-1, R = B K_se^-1, by its Schur complement on S:
              * (P - Q S^-1 R) n' = rhs1 - Q S^-1 rhs2, m' = S^-1 rhs2 - S^-1 R n'.
              * P is I up to tau/EA, so the complement is as well conditioned as S. */
-            const double ks[3] = {1.0 / m->GA, 1.0 / m->GA, 1.0 / m->EA};
+            const double ks[3] = {1.0 / sg[TR_SR_GA], 1.0 / sg[TR_SR_GA], 1.0 / sg[TR_SR_EA]};
             double Q[9], Rb[9], SR[9], Sr2[3], Z[9], z[3], np_[3];
             if (inv3(S, Si) != 0) return GSL_EBADFUNC;
             for (r_ = 0; r_ < 3; r_++)
@@ -275,12 +311,15 @@ static int rhs_spatial(const tr_model *m, const tr_data *d, double s, const doub
 /* -------------------------------------------------------------- planar */
 /* x-z plane, rotation about +y by theta: R = [[c,0,s],[0,1,0],[-s,0,c]].
  * Body vectors (x, z) components, moments about y; tendon offset rho e_x. */
-static int rhs_planar(const tr_model *m, const tr_data *d, double s, const double *y, double *dy)
+static int rhs_planar(const tr_model *m, const tr_data *d, double s, const double *y, double *dy,
+                      const int gen)
 {
     const double th = y[TR_YP_TH], n1 = y[TR_YP_N1], n3 = y[TR_YP_N3], m2 = y[TR_YP_M];
-    const double EI = m->EI;
+    const double *sr = gen ? m->seg_rod + TR_SR_NCOL * d->seg : m->rod_k;
+    const double EI = sr[TR_SR_EI];
     const int kirch = m->kirchhoff;
-    const double kap = m2 / EI;
+    /* kap - kap* = m2 / EI (kap* = 0 but on a precurved section) */
+    const double dkap = m2 / EI, kap = gen ? dkap + sr[TR_SR_U + 1] : dkap;
     const double ct = cos(th), st = sin(th);
     double v1 = 0.0, v3 = 1.0;
     double A11 = 0, A13 = 0, A33 = 0, G1 = 0, G3 = 0, B1 = 0, B3 = 0, H = 0;
@@ -292,8 +331,8 @@ static int rhs_planar(const tr_model *m, const tr_data *d, double s, const doubl
 
     double ev3 = 0.0; /* v3 - 1 */
     if (!kirch) {
-        v1 = n1 / m->GA;
-        ev3 = n3 / m->EA;
+        v1 = n1 / sr[TR_SR_GA];
+        ev3 = n3 / sr[TR_SR_EA];
         v3 = 1.0 + ev3;
     }
     for (j = 0; j < nlen; j++) dy[TR_YP_LEN + j] = 0.0;
@@ -307,11 +346,16 @@ static int rhs_planar(const tr_model *m, const tr_data *d, double s, const doubl
         const double nw = sqrt(w1 * w1 + w3 * w3);
         const double tau = d->tau[i];
         const int slot = d->rec ? i : td->len_index;
-        if (slot >= 0) {
+        if (slot >= 0 && !gen) {
             /* |w| - |w_ref| without cancellation (see rhs_spatial) */
             /* (rp^2 = a^2: cphi is exactly +-1 in a planar model) */
             const double c = td->wref, d1 = v1, d3 = ev3 - kap * rho;
             dy[TR_YP_LEN + slot] = (2.0 * (rp * d1 + d3) + d1 * d1 + d3 * d3) / (nw + c);
+        } else if (slot >= 0) {
+            /* sections: w_ref = (r', 1 - kap* rho), dw = (v1, v3 - 1 - (kap - kap*) rho) */
+            const double wr3 = 1.0 - sr[TR_SR_U + 1] * rho, c = sqrt(rp * rp + wr3 * wr3);
+            const double d1 = v1, d3 = ev3 - dkap * rho;
+            dy[TR_YP_LEN + slot] = (2.0 * (rp * d1 + wr3 * d3) + d1 * d1 + d3 * d3) / (nw + c);
         }
         if (!(tau > 0.0)) continue;
         coupled = 1;
@@ -363,7 +407,7 @@ static int rhs_planar(const tr_model *m, const tr_data *d, double s, const doubl
         dy[TR_YP_N1] = r1 - G1 * mp / EI;
         dy[TR_YP_N3] = r3 - G3 * mp / EI;
     } else {
-        const double ks1 = 1.0 / m->GA, ks3 = 1.0 / m->EA, kb = 1.0 / EI;
+        const double ks1 = 1.0 / sr[TR_SR_GA], ks3 = 1.0 / sr[TR_SR_EA], kb = 1.0 / EI;
         double M3[9] = {1.0 + A11 * ks1, A13 * ks3, G1 * kb,  A13 * ks1,   1.0 + A33 * ks3,
                         G3 * kb,         B1 * ks1,  B3 * ks3, 1.0 + H * kb};
         double x[3] = {r1, r3, r2};
@@ -383,21 +427,26 @@ int tr_rhs(double s, const double y[], double dyds[], void *params)
     tr_data *d = (tr_data *)params;
     const tr_model *m = d->model;
     d->spent += m->rhs_work;
-    return m->planar ? rhs_planar(m, d, s, y, dyds) : rhs_spatial(m, d, s, y, dyds);
+    if (m->planar)
+        return m->general ? rhs_planar(m, d, s, y, dyds, 1) : rhs_planar(m, d, s, y, dyds, 0);
+    return m->general ? rhs_spatial(m, d, s, y, dyds, 1) : rhs_spatial(m, d, s, y, dyds, 0);
 }
 
 void tr_tendon_tangent(const tr_model *m, int i, double s, const double *y, double that[3],
                        double r[3])
 {
     const tr_tendon *td = &m->tendon[i];
+    /* the segment just proximal of its anchor */
+    const int seg = td->end_bp > 0 ? td->end_bp - 1 : 0;
+    const double *sr = m->seg_rod + TR_SR_NCOL * seg;
     double w[3], nw;
     if (m->planar) {
-        const double kap = y[TR_YP_M] / m->EI;
+        const double kap = y[TR_YP_M] / sr[TR_SR_EI] + sr[TR_SR_U + 1];
         const double rho = td->cphi * (td->a * s + td->b);
         double v1 = 0.0, v3 = 1.0;
         if (!m->kirchhoff) {
-            v1 = y[TR_YP_N1] / m->GA;
-            v3 = 1.0 + y[TR_YP_N3] / m->EA;
+            v1 = y[TR_YP_N1] / sr[TR_SR_GA];
+            v3 = 1.0 + y[TR_YP_N3] / sr[TR_SR_EA];
         }
         w[0] = v1 + td->cphi * td->a;
         w[1] = 0.0;
@@ -407,20 +456,19 @@ void tr_tendon_tangent(const tr_model *m, int i, double s, const double *y, doub
         r[2] = 0.0;
     } else {
         const double *nb = y + TR_Y_N, *mb = y + TR_Y_M;
-        const double u[3] = {mb[0] / m->EI, mb[1] / m->EI, mb[2] / m->GJ};
-        const double rho = td->a * s + td->b;
-        double v[3] = {0.0, 0.0, 1.0};
+        const double u[3] = {mb[0] / sr[TR_SR_EI] + sr[TR_SR_U],
+                             mb[1] / sr[TR_SR_EI] + sr[TR_SR_U + 1],
+                             mb[2] / sr[TR_SR_GJ] + sr[TR_SR_U + 2]};
+        double v[3] = {0.0, 0.0, 1.0}, rp[3];
         if (!m->kirchhoff) {
-            v[0] = nb[0] / m->GA;
-            v[1] = nb[1] / m->GA;
-            v[2] = 1.0 + nb[2] / m->EA;
+            v[0] = nb[0] / sr[TR_SR_GA];
+            v[1] = nb[1] / sr[TR_SR_GA];
+            v[2] = 1.0 + nb[2] / sr[TR_SR_EA];
         }
-        r[0] = rho * td->cphi;
-        r[1] = rho * td->sphi;
-        r[2] = 0.0;
+        tr_tendon_offset(m, i, seg, s, r, rp);
         tru_cross3(w, u, r);
-        w[0] += v[0] + td->a * td->cphi;
-        w[1] += v[1] + td->a * td->sphi;
+        w[0] += v[0] + rp[0];
+        w[1] += v[1] + rp[1];
         w[2] += v[2];
     }
     nw = tru_norm3(w);
@@ -468,25 +516,25 @@ void tr_state_world(const tr_model *m, const double *y, double p[3], double R[9]
 void tr_section_pulls(const tr_model *m, const tr_data *d, int seg, double s, const double nb[3],
                       const double mb[3], double fn[3], double fm[3], double *J6)
 {
-    const double kb[3] = {1.0 / m->EI, 1.0 / m->EI, 1.0 / m->GJ};
-    const double ks[3] = {m->kirchhoff ? 0.0 : 1.0 / m->GA, m->kirchhoff ? 0.0 : 1.0 / m->GA,
-                          m->kirchhoff ? 0.0 : 1.0 / m->EA};
-    const double u[3] = {mb[0] * kb[0], mb[1] * kb[1], mb[2] * kb[2]};
+    const double *sr = m->seg_rod + TR_SR_NCOL * seg, *us = sr + TR_SR_U;
+    const double kb[3] = {1.0 / sr[TR_SR_EI], 1.0 / sr[TR_SR_EI], 1.0 / sr[TR_SR_GJ]};
+    const double ks[3] = {m->kirchhoff ? 0.0 : 1.0 / sr[TR_SR_GA],
+                          m->kirchhoff ? 0.0 : 1.0 / sr[TR_SR_GA],
+                          m->kirchhoff ? 0.0 : 1.0 / sr[TR_SR_EA]};
+    const double u[3] = {mb[0] * kb[0] + us[0], mb[1] * kb[1] + us[1], mb[2] * kb[2] + us[2]};
     const double v[3] = {nb[0] * ks[0], nb[1] * ks[1], 1.0 + nb[2] * ks[2]};
     int c, q, r_, c_;
     fn[0] = fn[1] = fn[2] = fm[0] = fm[1] = fm[2] = 0.0;
     if (J6) memset(J6, 0, 36 * sizeof(double));
     for (c = m->seg_act_start[seg]; c < m->seg_act_start[seg + 1]; c++) {
         const int i = m->seg_act[c];
-        const tr_tendon *td = &m->tendon[i];
         const double tau = d->tau[i];
-        const double rho = td->a * s + td->b;
-        const double r[3] = {rho * td->cphi, rho * td->sphi, 0.0};
-        double w[3], nw, th[3], rt[3];
+        double r[3], rp[3], w[3], nw, th[3], rt[3];
         if (!(tau > 0.0)) continue;
+        tr_tendon_offset(m, i, seg, s, r, rp);
         tru_cross3(w, u, r);
-        w[0] += v[0] + td->a * td->cphi;
-        w[1] += v[1] + td->a * td->sphi;
+        w[0] += v[0] + rp[0];
+        w[1] += v[1] + rp[1];
         w[2] += v[2];
         nw = tru_norm3(w);
         for (q = 0; q < 3; q++) th[q] = w[q] / nw;

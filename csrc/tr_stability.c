@@ -382,10 +382,21 @@ static double level_margin(const tr_model *m, const tr_data *d, struct tr_stab_w
     return tr_btd_smallest(&w->h, neg > 0);
 }
 
-/* A world-fixed point moment: not conservative for spatial perturbations (reason set). */
+/* Scenes the test does not judge (reason set): a world-fixed point moment (not conservative
+ * for spatial perturbations), a precurved or sectioned backbone, general tendon paths. */
 static int not_conservative(const tr_model *m, tr_data *d)
 {
     int b;
+    if (m->nsec > 0 || m->n_routed > 0) {
+        /* the elements' energy is that of a straight uniform backbone with linear tendons */
+        snprintf(d->stab_reason, sizeof d->stab_reason,
+                 "not tested: the stability test's elements hold the energy of a straight, "
+                 "uniform backbone with linearly routed tendons, and %s",
+                 m->n_routed > 0 ? "this robot has helical or piecewise tendon paths"
+                 : m->precurved  ? "this backbone is precurved"
+                                 : "this backbone is made of sections");
+        return 1;
+    }
     for (b = 1; b <= m->nseg; b++)
         if (m->bpM[3 * b] != 0.0 || m->bpM[3 * b + 1] != 0.0 || m->bpM[3 * b + 2] != 0.0) {
             snprintf(d->stab_reason, sizeof d->stab_reason,

@@ -20,12 +20,33 @@ int tr_rest_lengths(tr_model *m, char *msg, size_t msglen)
     int i, k, any = 0;
     for (i = 0; i < m->nt; i++) {
         tr_tendon *t = &m->tendon[i];
-        t->sref = t->t * t->wref;
+        t->sref = tr_reference_length(m, i);
         t->rest = t->sref;
         t->rest_dev = 0.0;
         if (t->pretension != 0.0) any = 1;
     }
     if (!any) return TR_OK;
+    if (m->n_routed > 0) {
+        tr_msgf(msg, msglen,
+                "pretension with helical or piecewise tendon paths is not supported (the balance "
+                "of the unloaded robot is not checked for them); prescribe the tensions or "
+                "displacements instead");
+        return TR_EPRETENSION;
+    }
+    /* A precurvature bending about body x, y keeps every radial channel's tangent at
+     * e3 + u* x r along e3: a balanced set then holds the unstressed arc, compressed
+     * uniformly (n_b = -sum tau_p e3, m_b = 0), and the steps below are exact for parallel
+     * tendons.  A pretwist turns the channels: the pretensioned robot twists. */
+    for (k = 0; k < m->nsec; k++)
+        if (m->sec[TR_SC_NCOL * k + TR_SC_U + 2] != 0.0) {
+            tr_msgf(msg, msglen,
+                    "pretension on a pretwisted backbone (sections[%d] uz = %g 1/m) is not "
+                    "supported: the pull along its turning channels twists the unloaded robot, "
+                    "so the pretensions are not held in the unstressed shape; prescribe the "
+                    "tensions or displacements instead",
+                    k, m->sec[TR_SC_NCOL * k + TR_SC_U + 2]);
+            return TR_EPRETENSION;
+        }
     /* balance on every segment (checked at both ends: r is linear in s) */
     for (k = 0; k < m->nseg; k++) {
         int e;
@@ -90,7 +111,7 @@ int tr_rest_lengths(tr_model *m, char *msg, size_t msglen)
                         n3 -= tc->pretension * (1.0 + e) /
                               sqrt(tc->a * tc->a + (1.0 + e) * (1.0 + e));
                     }
-                    en = n3 / m->EA;
+                    en = n3 / m->seg_rod[TR_SR_NCOL * k + TR_SR_EA];
                     if (fabs(en - e) <= 1e-18) {
                         e = en;
                         break;
@@ -120,9 +141,15 @@ int tr_check_indeterminate(const tr_model *m, char *msg, size_t msglen)
     int i, j, l, n = 0;
     int idx[64];
     if (!m->kirchhoff) return TR_OK;
+    /* the bound sum c_i s_i >= sum c_i s_ref,i holds for a reference shape whose channels
+     * run at u* x r along e3, i.e. no pretwist */
+    for (i = 0; i < m->nsec; i++)
+        if (m->sec[TR_SC_NCOL * i + TR_SC_U + 2] != 0.0) return TR_OK;
     for (i = 0; i < m->nt && n < 64; i++) {
         const tr_tendon *t = &m->tendon[i];
-        if (t->control == TR_DISPLACEMENT && !isfinite(t->EA)) idx[n++] = i;
+        /* the pairs compare linear routes (b and a along phi) */
+        if (t->control == TR_DISPLACEMENT && !isfinite(t->EA) && t->route == TR_ROUTE_LINEAR)
+            idx[n++] = i;
     }
     for (i = 0; i < n; i++)
         for (j = i + 1; j < n; j++) {

@@ -22,6 +22,8 @@ void glue_args_clear(glue_args *a)
     Py_CLEAR(a->jac);
     Py_CLEAR(a->nodes);
     Py_CLEAR(a->dloads);
+    Py_CLEAR(a->sections);
+    Py_CLEAR(a->routes);
 }
 
 void glue_err(PyObject *type, const char *fmt, ...)
@@ -274,6 +276,20 @@ int glue_options(glue_args *a, PyObject *kw, const char *fn)
                 return -1;
             continue;
         }
+        if (strcmp(k, "sections") == 0) {
+            Py_CLEAR(a->sections);
+            if (table(value, "sections", TR_SC_NCOL, "[end, EI, GJ, EA, GA, ux, uy, uz]",
+                      &a->sections, &a->nsec) < 0)
+                return -1;
+            continue;
+        }
+        if (strcmp(k, "routes") == 0) {
+            Py_CLEAR(a->routes);
+            if (table(value, "routes", TR_RT_NCOL, "[tendon, kind, s0, s1, p (8)]", &a->routes,
+                      &a->nroute) < 0)
+                return -1;
+            continue;
+        }
         for (i = 0; i < sizeof options / sizeof options[0]; i++)
             if (strcmp(k, options[i].name) == 0) break;
         if (i == sizeof options / sizeof options[0]) {
@@ -332,11 +348,14 @@ int glue_build(glue_args *a, const double *extra_load, tr_model **mp, tr_data **
         loads = tmp;
         nl++;
     }
-    status = tr_model_alloc_dist(mp, (const double *)PyArray_DATA(a->rod),
-                                 a->nt > 0 ? (const double *)PyArray_DATA(a->tendons) : NULL, a->nt,
-                                 loads, nl, (const double *)PyArray_DATA(a->dist),
-                                 a->nd > 0 ? (const double *)PyArray_DATA(a->dloads) : NULL, a->nd,
-                                 &a->opt, msg, sizeof msg);
+    status =
+        tr_model_alloc_ext(mp, (const double *)PyArray_DATA(a->rod),
+                           a->nt > 0 ? (const double *)PyArray_DATA(a->tendons) : NULL, a->nt,
+                           loads, nl, (const double *)PyArray_DATA(a->dist),
+                           a->nd > 0 ? (const double *)PyArray_DATA(a->dloads) : NULL, a->nd,
+                           a->nsec > 0 ? (const double *)PyArray_DATA(a->sections) : NULL, a->nsec,
+                           a->nroute > 0 ? (const double *)PyArray_DATA(a->routes) : NULL,
+                           a->nroute, &a->opt, msg, sizeof msg);
     PyMem_Free(tmp);
     if (status != TR_OK) {
         if (status == TR_ENOMEM)

@@ -30,8 +30,10 @@ int glue_add_ufuncs(PyObject *module);
 typedef struct {
     PyArrayObject *rod, *tendons, *loads, *dist; /* the scene's flat arrays */
     PyArrayObject *guess, *jac, *nodes;          /* optional */
-    PyArrayObject *dloads; /* optional (nd, 5) partial distributed loads [s0, s1, f (3)] */
-    int nt, nl, nnode, nd;
+    PyArrayObject *dloads;   /* optional (nd, 5) partial distributed loads [s0, s1, f (3)] */
+    PyArrayObject *sections; /* optional (nsec, 8) backbone sections [end, EI, GJ, EA, GA, u*] */
+    PyArrayObject *routes;   /* optional (nroute, 12) tendon paths [tendon, kind, s0, s1, p] */
+    int nt, nl, nnode, nd, nsec, nroute;
     tr_options opt;
 } glue_args;
 

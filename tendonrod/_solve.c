@@ -18,6 +18,9 @@ PyObject *glue_formulation(const tr_model *m, const tr_data *d)
         glue_set(form, "n_stretch_terms", PyLong_FromLong(m->n_stretch)) < 0 ||
         glue_set(form, "distributed_load", PyBool_FromLong(m->has_dist || m->has_pdist)) < 0 ||
         glue_set(form, "n_partial_loads", PyLong_FromLong(m->nd)) < 0 ||
+        glue_set(form, "n_sections", PyLong_FromLong(m->nsec)) < 0 ||
+        glue_set(form, "precurved", PyBool_FromLong(m->precurved)) < 0 ||
+        glue_set(form, "n_routed_tendons", PyLong_FromLong(m->n_routed)) < 0 ||
         glue_set(form, "shooting_segments", PyLong_FromLong(m->nshoot)) < 0)
         goto fail;
     if (d && (glue_set(form, "tip_only", PyBool_FromLong(d->opt.tip_only)) < 0 ||
@@ -287,21 +290,28 @@ PyObject *glue_strerror(PyObject *self, PyObject *arg)
 }
 
 const char glue_is_planar_doc[] =
-    "is_planar(tendons, loads, dist, dloads=None) -> bool: whether a scene of these arrays (as\n"
-    "for solve; dloads the (nd, 5) partial distributed loads) "
+    "is_planar(tendons, loads, dist, dloads=None, sections=None, routes=None) -> bool: whether\n"
+    "a scene of these arrays (as for solve; dloads the (nd, 5) partial distributed loads,\n"
+    "sections the (nsec, 8) backbone sections, routes the (nroute, 12) tendon paths) "
     "lies in the x-z plane and is solved with the planar formulation (unless force_spatial):\n"
     "every tendon at |sin angle| <= LIMITS['planar_sin'], no load with Fy, Mx or Mz, dist_y = 0.";
 
 PyObject *glue_is_planar(PyObject *self, PyObject *args)
 {
     glue_args a;
-    PyObject *tendons, *loads, *dist, *dloads = NULL, *kw = NULL, *rod = NULL, *result = NULL;
+    PyObject *tendons, *loads, *dist, *dloads = NULL, *secs = NULL, *routes = NULL, *kw = NULL;
+    PyObject *rod = NULL, *result = NULL;
     double r[TR_ROD_NCOL] = {1, 1, 1, 1, 1, 0};
     npy_intp six = TR_ROD_NCOL;
     memset(&a, 0, sizeof a);
-    if (!PyArg_ParseTuple(args, "OOO|O", &tendons, &loads, &dist, &dloads)) return NULL;
+    if (!PyArg_ParseTuple(args, "OOO|OOO", &tendons, &loads, &dist, &dloads, &secs, &routes))
+        return NULL;
     if (!(rod = glue_array(1, &six, r))) return NULL;
-    if (dloads && !(kw = Py_BuildValue("{s:O}", "dloads", dloads))) {
+    if (!(kw = PyDict_New()) ||
+        (dloads && dloads != Py_None && glue_set(kw, "dloads", Py_NewRef(dloads)) < 0) ||
+        (secs && secs != Py_None && glue_set(kw, "sections", Py_NewRef(secs)) < 0) ||
+        (routes && routes != Py_None && glue_set(kw, "routes", Py_NewRef(routes)) < 0)) {
+        Py_XDECREF(kw);
         Py_DECREF(rod);
         return NULL;
     }
@@ -310,7 +320,10 @@ PyObject *glue_is_planar(PyObject *self, PyObject *args)
             tr_is_planar_dist(a.nt > 0 ? (const double *)PyArray_DATA(a.tendons) : NULL, a.nt,
                               a.nl > 0 ? (const double *)PyArray_DATA(a.loads) : NULL, a.nl,
                               (const double *)PyArray_DATA(a.dist),
-                              a.nd > 0 ? (const double *)PyArray_DATA(a.dloads) : NULL, a.nd));
+                              a.nd > 0 ? (const double *)PyArray_DATA(a.dloads) : NULL, a.nd) &&
+            tr_sections_planar(a.nsec > 0 ? (const double *)PyArray_DATA(a.sections) : NULL,
+                               a.nsec) &&
+            a.nroute == 0);
     Py_XDECREF(kw);
     Py_DECREF(rod);
     glue_args_clear(&a);

@@ -15,9 +15,11 @@ import numbers
 import numpy as np
 
 from . import _core
+from .backbone import pack_sections
 from .model import Scene
 from .mounting import base_pose, vectors_in
 from .options import Options
+from .routing import route_rows
 
 __all__ = ["pack_scene", "is_planar", "structure_difference", "compliance_point"]
 
@@ -100,9 +102,25 @@ def pack_dloads(scene: Scene) -> np.ndarray:
 
 
 def _with_dloads(kw: dict, scene: Scene) -> dict:
-    """``kw`` with the scene's partial distributed loads (none: ``kw`` itself)."""
+    """``kw`` with the scene's partial distributed loads and backbone sections (none:
+    ``kw`` itself)."""
     rows = pack_dloads(scene)
-    return dict(kw, dloads=rows) if rows.shape[0] else kw
+    secs = pack_sections(scene.robot.rod)
+    routes = pack_routes(scene.robot)
+    if rows.shape[0]:
+        kw = dict(kw, dloads=rows)
+    if routes is not None:
+        kw = dict(kw, routes=routes)
+    return kw if secs is None else dict(kw, sections=secs)
+
+
+def pack_routes(robot):
+    """The core's routing rows (nroute, 12) of the robot's helical and path tendons, or
+    None when every tendon is linear (cached on the frozen robot)."""
+    if "_packed_routes" not in robot.__dict__:
+        ends = [robot.tendon_end(i) for i in range(robot.n_tendons)]
+        object.__setattr__(robot, "_packed_routes", route_rows(robot.tendons, ends))
+    return robot.__dict__["_packed_routes"]
 
 
 def _nodes_for(scene: Scene, options: Options):
@@ -141,7 +159,9 @@ def is_planar(scene: Scene) -> bool:
     key = scene.__dict__.get("_planar")
     if key is None:
         _, tendons, loads, dist = pack_scene(scene)
-        key = bool(_core.is_planar(tendons, loads, dist, pack_dloads(scene)))
+        secs = pack_sections(scene.robot.rod)
+        routes = pack_routes(scene.robot)
+        key = bool(_core.is_planar(tendons, loads, dist, pack_dloads(scene), secs, routes))
         object.__setattr__(scene, "_planar", key)
     return key
 
@@ -160,7 +180,7 @@ def _robot_structure(robot) -> tuple:
         ]
         items.append(("robot.tendons (count)", robot.n_tendons))
         for i, t in enumerate(robot.tendons):
-            for name in ("offset", "angle", "slope", "EA"):
+            for name in ("offset", "angle", "slope", "EA", "twist", "path"):
                 items.append((f"robot.tendons[{i}].{name}", getattr(t, name)))
             items.append((f"robot.tendons[{i}].end", robot.tendon_end(i)))
         key = tuple(items)

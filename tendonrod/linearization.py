@@ -48,6 +48,11 @@ def design_parameter(scene: Scene, name) -> tuple[str, int, int]:
         )
     if m.group(1):
         field = m.group(1)
+        if robot.rod.segments:
+            raise ValueError(
+                f"design parameter {name!r}: a segmented rod has one {field} per segment, "
+                f"not one for the rod"
+            )
         if field in ("EA", "GA") and robot.rod.kirchhoff:
             raise ValueError(
                 f"design parameter {name!r}: a Kirchhoff rod (kirchhoff=True) has no "
@@ -65,6 +70,11 @@ def design_parameter(scene: Scene, name) -> tuple[str, int, int]:
         raise ValueError(
             f"design parameter {name!r}: tendon {i} is inextensible (EA = inf); give it a "
             f"finite EA to differentiate or fit it"
+        )
+    if field in ("offset", "slope") and robot.tendons[i].path is not None:
+        raise ValueError(
+            f"design parameter {name!r}: tendon {i} follows a Path; its offset and slope are "
+            f"derived from it, not parameters"
         )
     if field in ("offset", "slope") and any(t.pretension != 0.0 for t in robot.tendons):
         raise ValueError(

@@ -24,14 +24,12 @@ from dataclasses import KW_ONLY, dataclass
 
 import numpy as np
 
-from . import plausibility
+from . import backbone, plausibility
 from ._fields import (
     _EA_MAX,
     _EA_MIN,
     _LENGTH_MAX,
     _LENGTH_MIN,
-    _TENDON_EA_MAX,
-    _TENDON_EA_MIN,
     Vec3,
     _length,
     _nonnegative,
@@ -41,6 +39,7 @@ from ._fields import (
     _vec3,
 )
 from .loads import DistributedLoad, PointLoad, PointMass
+from .tendon import Tendon
 
 __all__ = ["Rod", "Tendon", "Robot", "PointLoad", "DistributedLoad", "PointMass", "Scene"]
 
@@ -78,6 +77,9 @@ class Rod:
     density : float or None
         Mass density rho [kg/m^3] (>= 0, needs ``diameter``): the rod's weight under the
         scene's gravity is the distributed force ``rho A g`` [N/m]; ``None``: weightless.
+    precurvature, segments : 3 floats [1/m], tuple of Rod
+        Body-frame curvature u* of the unstressed shape (``m_b = K_bt (u - u*)``), and the
+        segments of :meth:`segmented`; see :mod:`tendonrod.backbone`.
 
     The effective values are the properties :attr:`bending_stiffness` etc. (also
     spelled :attr:`EI_eff`...), used by the solver.
@@ -94,9 +96,14 @@ class Rod:
     GA: float | None = None
     kirchhoff: bool = False
     density: float | None = None
+    precurvature: Vec3 = (0.0, 0.0, 0.0)
+    segments: tuple = ()
 
     def __post_init__(self):
         own = "Rod"
+        pc, segs = backbone.check_backbone(self)
+        object.__setattr__(self, "precurvature", pc)
+        object.__setattr__(self, "segments", segs)
         if self.density is not None:
             object.__setattr__(self, "density", _nonnegative(own, "density", self.density))
             if self.diameter is None:
@@ -202,100 +209,16 @@ class Rod:
             return 0.0
         return self.density * (math.pi * self.diameter * self.diameter / 4.0)
 
+    @classmethod
+    def segmented(cls, parts) -> Rod:
+        """A backbone of the segments ``parts`` (Rods, base first; see
+        :func:`tendonrod.backbone.segmented`)."""
+        return backbone.segmented(cls, parts)
+
     EI_eff = bending_stiffness
     GJ_eff = torsional_stiffness
     EA_eff = axial_stiffness
     GA_eff = shear_stiffness
-
-
-# --------------------------------------------------------------------------- tendon
-@dataclass(frozen=True)
-class Tendon:
-    """One tendon in a frictionless channel.
-
-    Path in the body frame: ``r(s) = (slope * s + offset) * (cos angle, sin angle, 0)``
-    for ``0 <= s <= end``.
-
-    Attributes
-    ----------
-    offset : float
-        Radial offset b at the base [m], >= 0.
-    angle : float
-        Angular position phi of the channel in the cross section [rad] (0: +x).
-    slope : float
-        Radial slope a = dr/ds [-] (0: parallel; ``-offset/L``: converging to the
-        centre line at the tip). The radius ``slope*s + offset`` must stay >= 0 on
-        ``[0, end]`` (a tendon cannot cross the centre line); :class:`Robot` checks.
-    EA : float
-        Axial rigidity of the tendon [N], > 0; ``np.inf`` (default): inextensible.
-    end : float or None
-        Arc length where the tendon is anchored [m], ``0 < end <= L``; ``None``: the tip.
-    pretension : float
-        Tension [N] the tendon holds at zero displacement in the straight, unloaded
-        robot; its rest length is set so. Only meaningful for a balanced set
-        (sum of pretension * r_i = 0) with some axial compliance (finite EA or a
-        Cosserat backbone); :class:`Robot` checks.
-    """
-
-    offset: float = 0.01
-    angle: float = 0.0
-    slope: float = 0.0
-    EA: float = math.inf
-    end: float | None = None
-    pretension: float = 0.0
-
-    def __post_init__(self):
-        own = "Tendon"
-        object.__setattr__(self, "offset", _length(own, "offset", self.offset, zero_ok=True))
-        object.__setattr__(self, "angle", _real(own, "angle", self.angle))
-        slope = _real(own, "slope", self.slope)
-        if abs(slope) > _LENGTH_MAX:
-            raise ValueError(
-                f"{own}.slope must lie in [-{_LENGTH_MAX:g}, {_LENGTH_MAX:g}], got {self.slope!r}"
-            )
-        object.__setattr__(self, "slope", slope)
-        EA = _positive(own, "EA", self.EA, allow_inf=True)
-        if math.isfinite(EA) and not (_TENDON_EA_MIN <= EA <= _TENDON_EA_MAX):
-            # a subnormal EA would make tau/EA overflow; the same range as the core
-            raise ValueError(
-                f"{own}.EA must lie in [{_TENDON_EA_MIN:g}, {_TENDON_EA_MAX:g}] N "
-                f"or be inf (inextensible), got {self.EA!r}"
-            )
-        object.__setattr__(self, "EA", EA)
-        if self.end is not None:
-            object.__setattr__(self, "end", _length(own, "end", self.end))
-        object.__setattr__(self, "pretension", _nonnegative(own, "pretension", self.pretension))
-        plausibility.warn(filter(None, [plausibility.angle_finding(self.angle)]))
-
-    @classmethod
-    def converging(
-        cls,
-        offset: float,
-        angle: float = 0.0,
-        length: float | None = None,
-        *,
-        EA: float = math.inf,
-        end: float | None = None,
-        pretension: float = 0.0,
-    ) -> Tendon:
-        """A tendon converging from ``offset`` at the base to the centre line at
-        arc length ``length`` [m] (normally the rod length): ``slope = -offset/length``."""
-        if length is None:
-            raise TypeError("Tendon.converging() missing required argument 'length'")
-        length = _positive("Tendon.converging", "length", length)
-        offset = _nonnegative("Tendon", "offset", offset)
-        return cls(
-            offset=offset,
-            angle=angle,
-            slope=-offset / length,
-            EA=EA,
-            end=end,
-            pretension=pretension,
-        )
-
-    def radius(self, s) -> np.ndarray:
-        """Channel radius ``slope*s + offset`` [m] at arc length(s) ``s``."""
-        return self.slope * np.asarray(s, dtype=float) + self.offset
 
 
 # --------------------------------------------------------------------------- robot
@@ -362,6 +285,12 @@ class Robot:
                     f"s = end = {end!r} (slope={t.slope!r}, offset={t.offset!r}); a tendon "
                     f"cannot cross the centre line"
                 )
+        for i, t in enumerate(tendons):
+            if t.path is not None and abs(t.path.knots[-1] - self.tendon_end(i)) > _GEOM_RTOL * L:
+                raise ValueError(
+                    f"Robot.tendons[{i}].path ends at s = {t.path.knots[-1]!r} m, but the tendon "
+                    f"is anchored at {self.tendon_end(i)!r} m: the path must span [0, end]"
+                )
         self._check_pretension()
         plausibility.warn(plausibility.offset_findings(self))
 
@@ -384,6 +313,19 @@ class Robot:
         pre = [i for i, t in enumerate(self.tendons) if t.pretension > 0.0]
         if not pre:
             return
+        parts = self.rod.segments or (self.rod,)
+        if any(t.twist is not None or t.path is not None for t in self.tendons):
+            raise ValueError(
+                f"Robot.tendons[{pre[0]}].pretension={self.tendons[pre[0]].pretension!r}: "
+                f"pretension with helical or path-routed tendons is not supported"
+            )
+        if any(p.precurvature[2] != 0.0 for p in parts):
+            raise ValueError(
+                f"Robot.tendons[{pre[0]}].pretension={self.tendons[pre[0]].pretension!r}: "
+                f"pretension on a pretwisted backbone (precurvature uz != 0) is not supported "
+                f"(its turning channels twist the unloaded robot); prescribe tensions or "
+                f"displacements"
+            )
         # balance on every segment between anchors: sum tau_p r_i(s) = 0 for all s there,
         # i.e. both the offset and the slope moments vanish for the tendons present.
         ends = sorted({self.tendon_end(i) for i in range(self.n_tendons)})
@@ -553,10 +495,11 @@ class Scene:
 
     @property
     def partial_loads(self) -> tuple[DistributedLoad, ...]:
-        """The distributed loads over part of the rod, in the order given."""
+        """The distributed loads over part of the rod, in the order given, then the weights
+        of a segmented rod's segments (:func:`tendonrod.backbone.segment_weights`)."""
         return tuple(
             ld for ld in self.loads if isinstance(ld, DistributedLoad) and not self._whole(ld)
-        )
+        ) + backbone.segment_weights(self.robot.rod, self.gravity)
 
     @property
     def distributed_force(self) -> np.ndarray:

@@ -6,8 +6,8 @@ nondimensional group, and returns the Axes.  Nothing here calls
 ``plt.show()`` or ``savefig``.
 
 - :func:`robot` -- the solved robot: backbone, tendons along their routes
-  r(s) mapped through the solved frames, spacer disks, point loads as arrows;
-  a 3D view, or the x-z plane for planar scenes.
+  r(s) (linear, helical or a path) mapped through the solved frames, spacer disks,
+  segment joints, point loads as arrows; a 3D view, or the x-z plane for planar scenes.
 - :func:`shapes` -- several backbones in the x-z plane (deflection curves).
 - :func:`sweep_lines` -- a recorded quantity of a sweep against one varied parameter.
 - :func:`tension_vs_load` -- tendon tensions against a load.
@@ -24,6 +24,7 @@ import math
 import numpy as np
 
 from .compiled import is_planar
+from .routing import offsets as tendon_offsets
 
 __all__ = [
     "is_planar",
@@ -74,8 +75,10 @@ def robot(
     color="k",
     label=None,
     alpha: float = 1.0,
+    joints: bool = True,
 ):
-    """Draw a solved robot.
+    """Draw a solved robot (a precurved or segmented backbone as solved: its shape is
+    the recorded one).  ``joints``: mark the joints of a segmented rod (black dots).
 
     Parameters
     ----------
@@ -125,11 +128,9 @@ def robot(
     if tendons:
         for i, t in enumerate(scene.robot.tendons):
             end = scene.robot.tendon_end(i)
-            s = np.linspace(0.0, end, 60)
+            s = np.linspace(0.0, end, 60 if t.twist is None and t.path is None else 240)
             Ps, Rs = _state_at(sol, s)
-            r = (t.slope * s + t.offset)[:, None] * np.array(
-                [math.cos(t.angle), math.sin(t.angle), 0.0]
-            )
+            r = tendon_offsets(t, s, end)
             draw(
                 Ps + np.einsum("kij,kj->ki", Rs, r),
                 color=tcolors[i % len(tcolors)],
@@ -147,6 +148,10 @@ def robot(
                 draw(ends, color="0.5", lw=1.5, alpha=alpha)
             else:
                 draw(p + ring @ R.T, color="0.5", lw=0.8, alpha=alpha)
+    if joints and scene.robot.rod.segments:
+        sj = np.cumsum([p.length for p in scene.robot.rod.segments])[:-1]
+        Pj, _ = _state_at(sol, sj)
+        draw(Pj, color="k", ls="", marker="o", ms=4, alpha=alpha)
     if loads:
         pls = [ld for ld in scene.loads if hasattr(ld, "s")]
         fmax = max([np.linalg.norm(ld.force) for ld in pls] + [0.0])

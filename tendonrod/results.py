@@ -72,6 +72,14 @@ class Formulation:
     mounted : bool
         The robot's base is not the world's origin and frame: solved in the base frame,
         results carried into the world frame.
+    n_sections : int
+        Backbone sections compiled (0: a straight uniform rod; a precurved rod has 1, a
+        segmented one one per segment, each joint a breakpoint).
+    precurved : bool
+        Some section has a precurvature (the constitutive law ``m_b = K_bt (u - u*)``).
+    n_routed_tendons : int
+        Tendons with a helical or piecewise (spline, disk-by-disk) path: their r, r', r''
+        enter the right-hand side, their knots are breakpoints, the scene is spatial.
     """
 
     planar: bool
@@ -90,6 +98,9 @@ class Formulation:
     shooting_segments: int = 1
     n_partial_loads: int = 0
     mounted: bool = False
+    n_sections: int = 0
+    precurved: bool = False
+    n_routed_tendons: int = 0
 
     @classmethod
     def from_dict(cls, d: dict) -> Formulation:
@@ -119,6 +130,12 @@ class Formulation:
             extra.append(f"{self.n_partial_loads} over part of the rod")
         if self.mounted:
             extra.append("mounted base")
+        if self.precurved:
+            extra.append("precurved")
+        if self.n_sections > 1:
+            extra.append(f"{self.n_sections} backbone sections")
+        if self.n_routed_tendons:
+            extra.append(f"{self.n_routed_tendons} routed tendon(s)")
         if self.tip_only:
             extra.append("tip only")
         more = (", " + ", ".join(extra)) if extra else ""

@@ -16,11 +16,19 @@ problem, e.g. ``robot.toml: tendon[2].displacement: expected a number, got
     E = 207e9
     G = 79.6e9
     kirchhoff = true
+    precurvature = [0.0, 5.0, 0.0]  # [1/m] body frame, optional: the unstressed curvature
+
+    [[segment]]           # optional: the backbone in segments along s, base first; each a
+    length = 0.05         # [rod] table of its own (length required), keys it omits taken
+    diameter = 1.2e-3     # from [rod] (whose length, if given, must be their sum)
 
     [[tendon]]            # one table per tendon; messages count them from 0: tendon[0], ...
     offset = 0.01         # [m] radial offset at the base
     angle = 0.0           # [rad] angular position in the cross-section
-    routing = "parallel"  # "parallel" (default) | "converging"; or give slope = a
+    routing = "parallel"  # "parallel" (default) | "converging" | "helical" (with turns [-]
+                          # over end, or pitch [m]) | "spline" / "disks" (with path);
+                          # or give slope = a
+    # path = [[0.0, 0.01, 0.0], [0.1, 0.0, 0.01], [0.2, -0.01, 0.0]]  # [s, x, y] [m] body
     EA = inf              # [N] axial rigidity; TOML's inf = inextensible (default)
     end = 0.2             # [m] anchor arc length (default: the tip)
     pretension = 0.0      # [N]
@@ -127,6 +135,7 @@ class SceneSpec:
 TOP_LEVEL_KEYS = (
     "title",
     "rod",
+    "segment",
     "tendon",
     "load",
     "distributed",
@@ -139,9 +148,20 @@ TOP_LEVEL_KEYS = (
 TARGET_KINDS = ("tip_angle", "tip_direction", "tip_position")
 _ROD_NUMBERS = ("length", "diameter", "E", "G", "EI", "GJ", "EA", "GA", "density")
 _ROD_BOOLS = ("kirchhoff",)
-_TENDON_NUMBERS = ("offset", "angle", "slope", "EA", "end", "pretension", "displacement", "tension")
+_TENDON_NUMBERS = (
+    "offset",
+    "angle",
+    "slope",
+    "EA",
+    "end",
+    "pretension",
+    "displacement",
+    "tension",
+    "turns",
+    "pitch",
+)
 _TENDON_STRINGS = ("routing",)
-_ROUTINGS = ("parallel", "converging")
+_ROUTINGS = ("parallel", "converging", "helical", "spline", "disks")
 
 
 def _kind(value: Any) -> str:
@@ -204,29 +224,51 @@ def _build(cls, kwargs: dict, key: str):
         raise SceneFileError(key, str(exc)) from exc
 
 
-def _parse_rod(raw: Any) -> Any:
-    rod = _table(raw, "rod")
-    fields = {f.name for f in dataclasses.fields(Rod)}
-    _unknown(rod, fields, "rod")
+def _rod_kwargs(rod: Mapping, key: str) -> dict:
+    fields = {f.name for f in dataclasses.fields(Rod)} - {"segments"}
+    _unknown(rod, fields, key)
     kwargs = {}
     for name, value in rod.items():
         if name in _ROD_BOOLS:
-            kwargs[name] = _boolean(value, f"rod.{name}")
+            kwargs[name] = _boolean(value, f"{key}.{name}")
         elif name in _ROD_NUMBERS:
-            kwargs[name] = _number(value, f"rod.{name}")
+            kwargs[name] = _number(value, f"{key}.{name}")
+        elif name == "precurvature":
+            kwargs[name] = _vector3(value, f"{key}.{name}")
         else:  # a field added to tr.Rod after this reader: pass through, the class validates
             kwargs[name] = value
-    for required in ("length",):
-        if required not in kwargs:
-            raise SceneFileError(f"rod.{required}", "missing (required)")
-    return _build(Rod, kwargs, "rod")
+    return kwargs
+
+
+def _parse_rod(raw: Any, raw_segments: Any = None) -> Any:
+    kwargs = _rod_kwargs(_table(raw, "rod"), "rod")
+    if raw_segments is None:
+        if "length" not in kwargs:
+            raise SceneFileError("rod.length", "missing (required)")
+        return _build(Rod, kwargs, "rod")
+    if not isinstance(raw_segments, list) or not raw_segments:
+        raise SceneFileError("segment", "expected an array of tables ([[segment]] sections)")
+    inherited = {k: v for k, v in kwargs.items() if k != "length"}
+    parts = []
+    for j, raw_seg in enumerate(raw_segments):
+        key = f"segment[{j}]"
+        seg = _rod_kwargs(_table(raw_seg, key), key)
+        if "length" not in seg:
+            raise SceneFileError(f"{key}.length", "missing (required)")
+        parts.append(_build(Rod, {**inherited, **seg}, key))
+    rod = _build(Rod.segmented, {"parts": parts}, "segment")
+    if "length" in kwargs and abs(kwargs["length"] - rod.length) > 1e-12 * rod.length:
+        raise SceneFileError(
+            "rod.length", f"{kwargs['length']!r} m differs from the segments' sum {rod.length!r} m"
+        )
+    return rod
 
 
 def _parse_tendon(raw: Any, j: int, length: float):
     key = f"tendon[{j}]"
     table = _table(raw, key)
     fields = {f.name for f in dataclasses.fields(Tendon)}
-    allowed = fields | {"displacement", "tension", "routing"}
+    allowed = (fields - {"twist"}) | {"displacement", "tension", "routing", "turns", "pitch"}
     _unknown(table, allowed, key)
     values: dict[str, Any] = {}
     for name, value in table.items():
@@ -240,6 +282,15 @@ def _parse_tendon(raw: Any, j: int, length: float):
             values[name] = value
         else:
             values[name] = value
+    routing = values.get("routing")
+    if routing in ("spline", "disks"):
+        values["path"] = _parse_path(values.get("path"), routing, f"{key}.path")
+        values.setdefault("offset", 0.0)
+    elif "path" in values:
+        raise SceneFileError(f"{key}.path", 'needs routing = "spline" or "disks"')
+    for name in ("turns", "pitch"):
+        if name in values and routing != "helical":
+            raise SceneFileError(f"{key}.{name}", 'needs routing = "helical"')
     if "offset" not in values:
         raise SceneFileError(f"{key}.offset", "missing (required)")
     has_q, has_tau = "displacement" in values, "tension" in values
@@ -256,8 +307,20 @@ def _parse_tendon(raw: Any, j: int, length: float):
                 f"{key}.routing",
                 f"expected one of {', '.join(map(repr, _ROUTINGS))}, got {routing!r}",
             )
-        if "slope" in values:
+        if "slope" in values and routing != "helical":
             raise SceneFileError(f"{key}.routing", "give either routing or slope, not both")
+        if routing == "helical":
+            turns, pitch = values.pop("turns", None), values.pop("pitch", None)
+            if (turns is None) == (pitch is None):
+                raise SceneFileError(key, 'routing = "helical" needs exactly one of turns, pitch')
+            if turns is not None and turns != 0.0:
+                values["twist"] = 2.0 * math.pi * turns / values.get("end", length)
+            elif turns is not None:
+                values["twist"] = 0.0
+            elif pitch == 0.0:
+                raise SceneFileError(f"{key}.pitch", "must be nonzero [m per turn]")
+            else:
+                values["twist"] = 2.0 * math.pi / pitch
         if routing == "converging":
             end = values.get("end", length)
             if not end > 0:
@@ -269,6 +332,23 @@ def _parse_tendon(raw: Any, j: int, length: float):
     tau = values.pop("tension", None)
     tendon = _build(Tendon, values, key)
     return tendon, q, tau
+
+
+def _parse_path(raw: Any, routing: str, key: str):
+    """A tendon path from rows [s, x, y] [m] (body frame), as a spline or disk pieces."""
+    from .routing import Path
+
+    if not isinstance(raw, list) or len(raw) < 2:
+        raise SceneFileError(key, f"expected an array of 2 or more [s, x, y] rows, got {raw!r}")
+    rows = []
+    for j, row in enumerate(raw):
+        if not isinstance(row, list) or len(row) != 3:
+            raise SceneFileError(f"{key}[{j}]", f"expected [s, x, y] (3 numbers), got {row!r}")
+        rows.append([_number(v, f"{key}[{j}][{c}]") for c, v in enumerate(row)])
+    s = [r[0] for r in rows]
+    pts = [r[1:] for r in rows]
+    make = Path.sampled if routing == "spline" else Path.disks
+    return _build(make, {"s": s, "points": pts}, key)
 
 
 def _parse_load(raw: Any, j: int, length: float):
@@ -425,7 +505,7 @@ def parse_scene(data: Mapping[str, Any], source: str | None = None) -> SceneSpec
             raise SceneFileError("title", f"expected a string, got {title!r} ({_kind(title)})")
         if "rod" not in data:
             raise SceneFileError("rod", "missing (required): a [rod] table with at least length")
-        rod = _parse_rod(data["rod"])
+        rod = _parse_rod(data["rod"], data.get("segment"))
         raw_tendons = data.get("tendon", [])
         if not isinstance(raw_tendons, list):
             raise SceneFileError("tendon", "expected an array of tables ([[tendon]] sections)")

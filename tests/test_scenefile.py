@@ -124,9 +124,9 @@ BAD = [
     ),
     (
         "bad routing",
-        ('routing = "converging"', 'routing = "helical"'),
+        ('routing = "converging"', 'routing = "spiral"'),
         "tendon[1].routing",
-        "helical",
+        "spiral",
     ),
     (
         "routing and slope",

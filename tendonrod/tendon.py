@@ -1,0 +1,184 @@
+"""The tendon of a scene: a frozen, validated dataclass (ValueError naming the field).
+
+Its path in the body frame is linear (``r(s) = (slope s + offset)(cos angle, sin angle,
+0)``, the fast special case), helical (``twist``: the angle turns along s) or a general
+:class:`~tendonrod.routing.Path` (a spline of a function or of sampled points, or straight
+pieces between disks).  Conventions as in :mod:`tendonrod.model`.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import KW_ONLY, dataclass
+
+import numpy as np
+
+from . import plausibility
+from ._fields import (
+    _LENGTH_MAX,
+    _TENDON_EA_MAX,
+    _TENDON_EA_MIN,
+    _length,
+    _nonnegative,
+    _positive,
+    _real,
+)
+from .routing import Path
+
+__all__ = ["Tendon"]
+
+
+@dataclass(frozen=True)
+class Tendon:
+    """One tendon in a frictionless channel.
+
+    Path in the body frame: ``r(s) = (slope * s + offset) * (cos angle, sin angle, 0)``
+    for ``0 <= s <= end``.
+
+    Attributes
+    ----------
+    offset : float
+        Radial offset b at the base [m], >= 0.
+    angle : float
+        Angular position phi of the channel in the cross section [rad] (0: +x).
+    slope : float
+        Radial slope a = dr/ds [-] (0: parallel; ``-offset/L``: converging to the
+        centre line at the tip). The radius ``slope*s + offset`` must stay >= 0 on
+        ``[0, end]`` (a tendon cannot cross the centre line); :class:`Robot` checks.
+    EA : float
+        Axial rigidity of the tendon [N], > 0; ``np.inf`` (default): inextensible.
+    end : float or None
+        Arc length where the tendon is anchored [m], ``0 < end <= L``; ``None``: the tip.
+    pretension : float
+        Tension [N] the tendon holds at zero displacement in the straight, unloaded
+        robot; its rest length is set so. Only meaningful for a balanced set
+        (sum of pretension * r_i = 0) with some axial compliance (finite EA or a
+        Cosserat backbone); :class:`Robot` checks.
+    twist : float or None
+        Helical routing (:meth:`helical`): the channel's angle turns at ``twist`` [rad/m],
+        ``r(s) = (slope s + offset)(cos(angle + twist s), sin(angle + twist s), 0)``
+        (``twist = 0`` is the helix of zero turns); ``None``: linear.
+    path : Path or None
+        A general path (:class:`tendonrod.routing.Path`), spanning [0, end]; then
+        ``offset``, ``angle`` and ``slope`` are derived from it (its polar position at the
+        base, its mean radial slope) and serve only the solver's guess and scales.
+
+    Helical and general paths make the scene spatial.
+    """
+
+    offset: float = 0.01
+    angle: float = 0.0
+    slope: float = 0.0
+    EA: float = math.inf
+    end: float | None = None
+    pretension: float = 0.0
+    _: KW_ONLY
+    twist: float | None = None
+    path: Path | None = None
+
+    def __post_init__(self):
+        own = "Tendon"
+        if self.path is not None:
+            if not isinstance(self.path, Path):
+                raise ValueError(f"Tendon.path must be a tendonrod.routing.Path, got {self.path!r}")
+            if self.twist is not None:
+                raise ValueError(f"Tendon: give a path or a twist, not both (twist={self.twist!r})")
+            b, ang, a = self.path.polar()
+            object.__setattr__(self, "offset", b)
+            object.__setattr__(self, "angle", ang)
+            object.__setattr__(self, "slope", a)
+        if self.twist is not None:
+            object.__setattr__(self, "twist", _real(own, "twist", self.twist))
+        object.__setattr__(self, "offset", _length(own, "offset", self.offset, zero_ok=True))
+        object.__setattr__(self, "angle", _real(own, "angle", self.angle))
+        slope = _real(own, "slope", self.slope)
+        if abs(slope) > _LENGTH_MAX:
+            raise ValueError(
+                f"{own}.slope must lie in [-{_LENGTH_MAX:g}, {_LENGTH_MAX:g}], got {self.slope!r}"
+            )
+        object.__setattr__(self, "slope", slope)
+        EA = _positive(own, "EA", self.EA, allow_inf=True)
+        if math.isfinite(EA) and not (_TENDON_EA_MIN <= EA <= _TENDON_EA_MAX):
+            # a subnormal EA would make tau/EA overflow; the same range as the core
+            raise ValueError(
+                f"{own}.EA must lie in [{_TENDON_EA_MIN:g}, {_TENDON_EA_MAX:g}] N "
+                f"or be inf (inextensible), got {self.EA!r}"
+            )
+        object.__setattr__(self, "EA", EA)
+        if self.end is not None:
+            object.__setattr__(self, "end", _length(own, "end", self.end))
+        object.__setattr__(self, "pretension", _nonnegative(own, "pretension", self.pretension))
+        plausibility.warn(filter(None, [plausibility.angle_finding(self.angle)]))
+
+    @classmethod
+    def converging(
+        cls,
+        offset: float,
+        angle: float = 0.0,
+        length: float | None = None,
+        *,
+        EA: float = math.inf,
+        end: float | None = None,
+        pretension: float = 0.0,
+    ) -> Tendon:
+        """A tendon converging from ``offset`` at the base to the centre line at
+        arc length ``length`` [m] (normally the rod length): ``slope = -offset/length``."""
+        if length is None:
+            raise TypeError("Tendon.converging() missing required argument 'length'")
+        length = _positive("Tendon.converging", "length", length)
+        offset = _nonnegative("Tendon", "offset", offset)
+        return cls(
+            offset=offset,
+            angle=angle,
+            slope=-offset / length,
+            EA=EA,
+            end=end,
+            pretension=pretension,
+        )
+
+    @classmethod
+    def helical(
+        cls,
+        offset: float,
+        angle: float = 0.0,
+        *,
+        turns: float | None = None,
+        pitch: float | None = None,
+        length: float | None = None,
+        slope: float = 0.0,
+        EA: float = math.inf,
+        end: float | None = None,
+        pretension: float = 0.0,
+    ) -> Tendon:
+        """A helical tendon starting at ``offset`` [m] and ``angle`` [rad] at the base:
+        ``turns`` [-] turns over ``length`` [m] (normally the rod length or ``end``), or one
+        turn per ``pitch`` [m] of arc length; positive turns its angle from body x toward y
+        as s grows (a right-handed helix).  ``turns=0`` is the parallel tendon."""
+        if (turns is None) == (pitch is None):
+            raise ValueError(
+                f"Tendon.helical needs exactly one of turns= or pitch= (got turns={turns!r}, "
+                f"pitch={pitch!r})"
+            )
+        if turns is not None:
+            if length is None:
+                raise TypeError("Tendon.helical(turns=...) needs length= (the helix's length)")
+            length = _positive("Tendon.helical", "length", length)
+            twist = 2.0 * math.pi * _real("Tendon.helical", "turns", turns) / length
+        else:
+            p = _real("Tendon.helical", "pitch", pitch)
+            if p == 0.0:
+                raise ValueError("Tendon.helical: pitch must be nonzero [m per turn], got 0")
+            twist = 2.0 * math.pi / p
+        return cls(
+            offset=offset,
+            angle=angle,
+            slope=slope,
+            EA=EA,
+            end=end,
+            pretension=pretension,
+            twist=twist,
+        )
+
+    def radius(self, s) -> np.ndarray:
+        """Channel radius ``slope*s + offset`` [m] at arc length(s) ``s``."""
+        return self.slope * np.asarray(s, dtype=float) + self.offset
