@@ -136,6 +136,40 @@ def test_tip_pose_two_sections():
     assert np.max(np.abs(rv)) <= REPRO
 
 
+def test_tip_pose_with_helical_displacement_controls():
+    """A tip pose is square and well posed with two sections of three helical tendons
+    each (the first three end at mid-length; opposite hands): each section's tendons bend
+    it two ways and twist it.  Steps on the linearisation recover the six displacements
+    of a forward solve (the pose inside the shooting system is not tried: from the
+    scene's state its Newton iteration converges erratically, bench/results/
+    jacobian_actuate.md)."""
+    rod = tr.Rod(length=0.24, diameter=1.2e-3, E=60e9, G=23e9)
+    half = [
+        tr.Tendon.helical(0.008, 2 * math.pi * k / 3, turns=0.5, length=0.12, end=0.12, EA=5e3)
+        for k in range(3)
+    ]
+    full = [
+        tr.Tendon.helical(0.008, 2 * math.pi * k / 3 + math.pi / 3, turns=-0.5, length=0.24, EA=5e3)
+        for k in range(3)
+    ]
+    robot = tr.Robot(rod, half + full)
+    load = tr.PointLoad(s=0.24, force=(0.0, 0.02, -0.03))
+    q_goal = [1.5e-3, 5e-4, 0.0, 0.0, 1.2e-3, 4e-4]
+    goal = tr.solve(tr.Scene(robot, displacement=q_goal, loads=[load]), strict=True)
+    assert np.all(goal.tension > 0.0)  # every tendon taut: the pose fixes all six
+    scene = tr.Scene(robot, displacement=[5e-4] * 6, loads=[load])
+    sol = tr.actuate(scene, tip_pose=(goal.tip_position, goal.tip_rotation))
+    assert sol.success, sol.message
+    assert sol.actuation.kind == "square" and sol.actuation.route == "linearisation"
+    fwd = _forward(scene, sol)
+    assert np.max(np.abs(fwd.tip_position - goal.tip_position)) <= REPRO * 0.24
+    rv = Rotation.from_matrix(fwd.tip_rotation @ goal.tip_rotation.T).as_rotvec()
+    assert np.max(np.abs(rv)) <= REPRO
+    # the pose met to 1e-10 pins displacements of ~1e-3 m (the tip turns ~1 rad per 1e-2
+    # m of pull) to ~1e-12 m: measured 3e-12 m
+    np.testing.assert_allclose(sol.displacement, q_goal, rtol=0, atol=1e-10)
+
+
 # ----------------------------------------------------------------------------- minimum change
 def _kkt(scene, sol, tendons=None, min_tension=0.0):
     """Check the least change's optimality conditions at sol with an independent
