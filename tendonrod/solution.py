@@ -380,6 +380,13 @@ class Solution:
             found = solution_findings(self)
         return found
 
+    def save(self, path) -> None:
+        """Write this solution to ``path`` (``.npz``); :func:`tendonrod.load` reads it
+        back bit for bit (see :mod:`tendonrod._io`)."""
+        from ._io import save_solution
+
+        save_solution(self, path)
+
     def __repr__(self):
         head = "converged" if self.success else "NOT converged"
         tip = np.array2string(np.asarray(self.tip_position), precision=6, separator=", ")
