@@ -16,7 +16,7 @@ import dataclasses
 import importlib
 import json
 import os
-from typing import Any
+from typing import Any, cast
 
 import numpy as np
 
@@ -112,7 +112,8 @@ def save_solution(sol: Any, path: str | os.PathLike) -> None:
         "options": enc(sol.options),
     }
     meta = np.array(json.dumps(tree, allow_nan=True))
-    np.savez(path, **{_META: meta}, **enc.arrays)
+    # (cast: NumPy's stub reads ** entries as its keyword arguments, e.g. allow_pickle)
+    cast(Any, np.savez)(path, **{_META: meta}, **enc.arrays)
 
 
 def read_solution(path: str | os.PathLike) -> tuple[dict, Any, Any]:

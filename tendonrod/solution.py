@@ -180,7 +180,7 @@ class Solution:
         self.continuation_steps = int(raw.get("continuation_steps", 0))
         self.truncation_estimate = float(raw.get("truncation_estimate", math.nan))
         self.truncation_carried = bool(raw.get("truncation_carried", False))
-        self._formulation = None
+        self._formulation: Formulation | None = None
         self._pose = None if scene is None else base_pose(scene.robot)
 
     # ------------------------------------------------------------ lazy outputs
