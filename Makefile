@@ -17,9 +17,11 @@ gsl:
 	  SUDO=; [ "$$(id -u)" = 0 ] || SUDO=sudo; \
 	  $$SUDO apt-get update -qq && $$SUDO apt-get install -y -qq libgsl-dev pkg-config; fi
 
+# setuptools >= 77 in the venv too (pyproject's SPDX licence): the in-place builds of
+# make sanitize / valgrind and `setup.py build_ext --inplace` use the venv's setuptools
 $(STAMP): $(SOURCES) | gsl
 	test -x $(VPY) || $(PY) -m venv $(VENV)
-	$(VPY) -m pip install -q --upgrade pip
+	$(VPY) -m pip install -q --upgrade pip "setuptools>=77"
 	$(VPY) -m pip install -q -e '.[plot,test,notebooks,lint,wheel]'
 	touch $@
 
