@@ -13,7 +13,7 @@ import tendonrod as tr
 from tendonrod.sweep import tip_measure
 
 
-def args(n=16):
+def args(n=24):
     rod = tr.Rod(length=0.1, diameter=1.04e-3, E=210e9, G=80e9, kirchhoff=True)
     base = tr.Scene(
         tr.Robot(rod, [tr.Tendon(offset=0.01)]),
