@@ -8,7 +8,7 @@ STAMP   := $(VENV)/.installed
 SOURCES := setup.py pyproject.toml $(wildcard tendonrod/*.c tendonrod/*.h csrc/*.c csrc/*.h)
 DEMO_OUT ?= figures
 
-.PHONY: demo test install gsl bench sanitize valgrind lint clean
+.PHONY: demo test install gsl bench sanitize valgrind lint typecheck wheel wheel-check clean
 
 # GSL: install libgsl-dev through apt-get when neither pkg-config nor gsl-config finds it.
 gsl:
@@ -17,10 +17,12 @@ gsl:
 	  SUDO=; [ "$$(id -u)" = 0 ] || SUDO=sudo; \
 	  $$SUDO apt-get update -qq && $$SUDO apt-get install -y -qq libgsl-dev pkg-config; fi
 
+# setuptools >= 77 in the venv too (pyproject's SPDX licence): the in-place builds of
+# make sanitize / valgrind and `setup.py build_ext --inplace` use the venv's setuptools
 $(STAMP): $(SOURCES) | gsl
 	test -x $(VPY) || $(PY) -m venv $(VENV)
-	$(VPY) -m pip install -q --upgrade pip
-	$(VPY) -m pip install -q -e '.[plot,test,notebooks,lint]'
+	$(VPY) -m pip install -q --upgrade pip "setuptools>=77"
+	$(VPY) -m pip install -q -e '.[plot,test,notebooks,lint,wheel]'
 	touch $@
 
 install: $(STAMP)
@@ -52,7 +54,7 @@ valgrind: $(STAMP)
 # Lint: ruff (lint + format check) over the Python, clang-format over the C
 # (csrc/, the glue, bench/), and the house rules (tools/check_house.py: file sizes,
 # no import cycles); clang-format is installed with apt-get when missing.
-C_FILES = $(wildcard csrc/*.c csrc/*.h tendonrod/*.c tendonrod/*.h bench/*.c bench/fuzz/*.c)
+C_FILES = $(wildcard csrc/*.c csrc/*.h tendonrod/*.c tendonrod/*.h bench/*.c bench/fuzz/*.c examples/c/*.c)
 lint: $(STAMP)
 	@command -v clang-format >/dev/null 2>&1 || { SUDO=; [ "$$(id -u)" = 0 ] || SUDO=sudo; \
 	  $$SUDO apt-get update -qq && $$SUDO apt-get install -y -qq clang-format; }
@@ -61,5 +63,22 @@ lint: $(STAMP)
 	clang-format --dry-run --Werror $(C_FILES)
 	$(VPY) tools/check_house.py
 
+# A wheel that carries its own GSL (tools/wheel.sh): dist/ gets the sdist and the
+# auditwheel-repaired manylinux_2_35 wheel.  wheel-check installs it into a bare venv
+# and solves a scene with the system libgsl masked (tools/wheel_check.sh; root or sudo).
+wheel: $(STAMP)
+	tools/wheel.sh $(abspath $(VPY))
+
+wheel-check: wheel
+	tools/wheel_check.sh $(abspath $(VPY))
+
+# the C core as a library of its own (libtendonrod, install-c, c-example): csrc/lib.mk
+include csrc/lib.mk
+
+# Types: mypy over the package (configuration and per-module overrides in pyproject.toml;
+# the compiled core is typed by tendonrod/_core.pyi).
+typecheck: $(STAMP)
+	$(VENV)/bin/mypy
+
 clean:
-	rm -rf build $(VENV) tendonrod/*.so *.egg-info
+	rm -rf build dist $(VENV) tendonrod/*.so *.egg-info

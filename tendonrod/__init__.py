@@ -6,7 +6,9 @@ with prescribed tendon displacements (or tensions).
 - :func:`tendonrod.solve` -- a geometrically exact Cosserat-rod/tendon solver
   (Section IV) with prescribed displacements, tendon stretch, pretension, slack;
   :class:`tendonrod.Problem` -- a scene's structure compiled once, solved warm.
-- :func:`tendonrod.sweep`, :func:`tendonrod.solve_batch` -- many scenes at once.
+- :mod:`tendonrod.sweep` (a module that is also callable: ``tr.sweep(scene, vary)`` is
+  :func:`tendonrod.sweep.sweep`), :func:`tendonrod.solve_batch` -- many scenes at once.
+- :meth:`Solution.save` / :func:`tendonrod.load` -- a solution to an ``.npz`` file and back.
 - :mod:`tendonrod.plot`, :mod:`tendonrod.paper` (the paper's studies and figures) and
   :mod:`tendonrod.scenefile` are imported on first use; :mod:`tendonrod.bench` holds
   the benchmark suites (``python -m tendonrod bench``).
@@ -14,14 +16,19 @@ with prescribed tendon displacements (or tensions).
 SI units everywhere, angles in radians.
 """
 
-from . import _core
+from ._build_check import import_core
+from ._version import __version__
+
+_core = import_core()
 
 gsl_version: str = _core.gsl_version
 """Version of the GSL library tendonrod._core was built against."""
 
-__version__ = "0.1.0"
-
-from . import analytic
+from . import (
+    analytic,
+    sweep,  # the module, callable: tr.sweep(...) runs tendonrod.sweep.sweep
+)
+from ._sweep_module import make_callable
 from .actuation import ActuationResult, actuate
 from .batch import BatchResult, solve_batch
 from .fit import FitResult, fit
@@ -33,7 +40,32 @@ from .plausibility import PlausibilityWarning
 from .problem import Problem, jacobian
 from .results import ConvergenceError, ConvergenceWarning
 from .solver import Solution, compliance, solve
-from .sweep import SweepResult, sweep  # the attribute tendonrod.sweep is this function
+
+make_callable(sweep)
+from ._io import read_solution
+from .sweep import ComplianceMeasure, SweepResult, tip_measure
+
+
+def load(path) -> Solution:
+    """Read a :class:`Solution` written by :meth:`Solution.save` (``.npz``).
+
+    Parameters
+    ----------
+    path : str or PathLike
+        The file.
+
+    Returns
+    -------
+    Solution
+        Equal bit for bit to the one saved: its raw arrays and scalars, scene and options.
+
+    Raises
+    ------
+    ValueError
+        The file is not a solution written by tendonrod (or of another format).
+    """
+    return Solution(*read_solution(path))
+
 
 _LAZY_SUBMODULES = ("plot", "paper", "scenefile")
 
@@ -72,6 +104,6 @@ __all__ += [
     "ConvergenceError",
     "PlausibilityWarning",
 ]
-__all__ += ["sweep", "SweepResult"]
+__all__ += ["sweep", "SweepResult", "tip_measure", "ComplianceMeasure", "load"]
 __all__ += ["solve_batch", "BatchResult"]
 __all__ += ["path", "Path", "SpecialPoint"]

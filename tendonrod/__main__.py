@@ -339,7 +339,7 @@ def _bench(argv) -> int:
     try:
         rc = bench.main(list(argv))
     except SystemExit as exc:  # its argparse: --help (0), usage errors (2)
-        rc = exc.code
+        return int(exc.code or 0)
     return int(rc or 0)
 
 

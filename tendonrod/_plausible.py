@@ -17,6 +17,7 @@ solution.
 from __future__ import annotations
 
 import math
+from typing import Any
 
 import numpy as np
 
@@ -72,8 +73,8 @@ class Recorder:
         self.options = options  # the solutions' options (the recording's differ in nodes)
         self._scene = scene
         self._options = _replace(options, **kw)
-        self._core = None
-        self._values = None
+        self._core: Any = None
+        self._values: Any = None
 
     def record(self, unknowns, steps: int, values=None) -> dict:
         """The recorded states (``_core.Problem.record_from``'s dict) of the solution with
@@ -147,7 +148,7 @@ class Checker:
         n_in = len(P.input_findings(sol.scene))  # input findings warn when built
         if len(found) == n_in:
             return
-        new = found[n_in:]
+        new = list(found[n_in:])
         if once:
             new = [f for f in new if (f.rule, f.subject) not in self._warned]
             self._warned.update((f.rule, f.subject) for f in new)

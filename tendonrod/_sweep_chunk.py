@@ -233,7 +233,7 @@ def _batch_chunk(task: dict):
                 int(res.nit[k]),
                 str(res.message[k]),
                 data,
-                res.plausibility[k],
+                res.plausibility[k] if res.plausibility is not None else (),
             )
         )
     return {"chunk": task["chunk"], "records": records}

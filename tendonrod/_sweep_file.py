@@ -7,7 +7,12 @@ format version.
 Format versions: 1 stored one ``"status"`` per point, the sweep's own code (0 ok,
 1 not converged, 2 error).  2 (this one) stores ``"outcome"`` (that code) and
 ``"status"`` (the solver core's status, or -1000 where no solve returned) separately; a
-version-1 file would be misread (its codes as core statuses), so it is refused."""
+version-1 file would be misread (its codes as core statuses), so it is refused.
+
+The header also records the tendonrod version that wrote the file, and the fingerprint
+includes it: points computed by another version are not mixed with this one's.  A file
+of another version (or of none: written before the header recorded it) is moved aside to
+``<path>.tendonrod-<version>`` with a warning saying so, and the sweep starts afresh."""
 
 from __future__ import annotations
 
@@ -15,9 +20,12 @@ import dataclasses
 import hashlib
 import json
 import os
+import warnings
 from typing import Any
 
 import numpy as np
+
+from ._version import __version__
 
 _FORMAT_VERSION = 2
 
@@ -49,6 +57,7 @@ def fingerprint_of(
     payload = repr(
         (
             _FORMAT_VERSION,
+            __version__,
             repr(base),
             list(names),
             [[repr(_jsonable(np.asarray(v))) for v in row] for row in point_values],
@@ -118,11 +127,49 @@ def append_line(fh, obj: dict) -> None:
     os.fsync(fh.fileno())
 
 
+def _written_by(path: str) -> str | None:
+    """The tendonrod version in the header of the sweep file ``path``: the version string,
+    ``"unknown"`` for a sweep header without one, None when the first line is no sweep
+    header (the fingerprint check reports that)."""
+    with open(path, "rb") as fh:
+        first = fh.readline()
+    try:
+        header = json.loads(first)
+    except json.JSONDecodeError:
+        return None
+    if not isinstance(header, dict) or "tendonrod_sweep" not in header:
+        return None
+    return str(header.get("tendonrod", "unknown"))
+
+
+def _set_aside(path: str, version: str) -> None:
+    """Move a sweep file written by tendonrod ``version`` out of the way, with a warning
+    (its points are computed again by this version)."""
+    kept = f"{path}.tendonrod-{version}"
+    n = 1
+    while os.path.exists(kept):
+        n += 1
+        kept = f"{path}.tendonrod-{version}.{n}"
+    os.replace(path, kept)
+    warnings.warn(
+        f"sweep file {path!r} was written by tendonrod {version}, this is tendonrod "
+        f"{__version__}: not resuming from it; every point is computed again (the old "
+        f"file is kept as {kept!r})",
+        UserWarning,
+        stacklevel=4,  # the caller of sweep()
+    )
+
+
 def open_progress(path, fingerprint: str, npoints: int, chunksize: int, names, shape):
     """``(done, fh)``: the chunks already recorded in ``path`` (chunk -> records) and the
-    file open for appending; a new file gets the sweep's header first."""
+    file open for appending; a new file gets the sweep's header first.  A file written by
+    another tendonrod version is set aside (:func:`_set_aside`) and a new one begun."""
     done: dict = {}
     path = os.fspath(path)
+    if os.path.exists(path) and os.path.getsize(path) > 0:
+        version = _written_by(path)
+        if version is not None and version != __version__:
+            _set_aside(path, version)
     if os.path.exists(path) and os.path.getsize(path) > 0:
         done = _read_progress(path, fingerprint, npoints)
         fh = open(path, "a", encoding="utf-8")
@@ -133,6 +180,7 @@ def open_progress(path, fingerprint: str, npoints: int, chunksize: int, names, s
             {
                 "tendonrod_sweep": _FORMAT_VERSION,
                 "fingerprint": fingerprint,
+                "tendonrod": __version__,
                 "npoints": npoints,
                 "chunksize": chunksize,
                 "names": list(names),

@@ -7,7 +7,7 @@ from __future__ import annotations
 
 import dataclasses
 import re
-from typing import Any
+from typing import Any, cast
 
 import numpy as np
 
@@ -78,7 +78,8 @@ def _set(obj: Any, tokens: list, value: Any, path: str) -> Any:
             f"path {path!r}: {type(obj).__name__} has no field {tok!r} "
             f"(fields: {', '.join(sorted(names))})"
         )
-    return dataclasses.replace(obj, **{tok: _set(getattr(obj, tok), rest, value, path)})
+    new = _set(getattr(obj, tok), rest, value, path)
+    return dataclasses.replace(cast(Any, obj), **{tok: new})  # an instance, checked above
 
 
 def set_path(obj: Any, path: str, value: Any) -> Any:

@@ -10,6 +10,7 @@ import math
 import numbers
 from collections.abc import Sequence
 from dataclasses import dataclass, fields
+from typing import TYPE_CHECKING, Any, ClassVar
 
 import numpy as np
 
@@ -136,6 +137,8 @@ class Options:
     max_work: float = _DEFAULTS["max_work"]
     max_time: float = _DEFAULTS["max_time"]
     accept_unstable: bool = _DEFAULTS["accept_unstable"]
+    if TYPE_CHECKING:  # set per instance in __post_init__; not a field
+        _raw: ClassVar[dict[str, Any]]
 
     def __post_init__(self):
         own = "Options"

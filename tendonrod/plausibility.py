@@ -65,6 +65,7 @@ import os
 import sys
 import warnings
 from dataclasses import asdict, dataclass
+from types import FrameType
 
 import numpy as np
 
@@ -193,7 +194,8 @@ def _user_stacklevel() -> int:
     """The ``stacklevel`` that makes a ``warnings.warn`` in the calling function point at
     the first frame outside tendonrod (a dataclass's generated ``__init__`` counts as
     inside), so that the warning names the user's line."""
-    level, f = 1, sys._getframe(1)
+    level = 1
+    f: FrameType | None = sys._getframe(1)
     while f is not None:
         code = f.f_code
         inside = code.co_filename.startswith(_PKG_DIR) or (

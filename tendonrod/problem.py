@@ -62,7 +62,7 @@ class Problem:
         self._scene = scene
         self._c = _compile(scene, self._options)
         self._current = scene  # the scene whose values are set in C
-        self._last = None  # the last successful Solution
+        self._last: Solution | None = None  # the last successful Solution
         self._plausible = Checker()  # plausibility warnings: once per rule and subject
 
     # ------------------------------------------------------------------ state

@@ -104,7 +104,7 @@ class Formulation:
 
     @classmethod
     def from_dict(cls, d: dict) -> Formulation:
-        kw = {}
+        kw: dict[str, Any] = {}
         for f in fields(cls):
             v = d.get(f.name)
             if f.type in ("bool",):

@@ -180,7 +180,7 @@ class Solution:
         self.continuation_steps = int(raw.get("continuation_steps", 0))
         self.truncation_estimate = float(raw.get("truncation_estimate", math.nan))
         self.truncation_carried = bool(raw.get("truncation_carried", False))
-        self._formulation = None
+        self._formulation: Formulation | None = None
         self._pose = None if scene is None else base_pose(scene.robot)
 
     # ------------------------------------------------------------ lazy outputs
@@ -379,6 +379,13 @@ class Solution:
 
             found = solution_findings(self)
         return found
+
+    def save(self, path) -> None:
+        """Write this solution to ``path`` (``.npz``); :func:`tendonrod.load` reads it
+        back bit for bit (see :mod:`tendonrod._io`)."""
+        from ._io import save_solution
+
+        save_solution(self, path)
 
     def __repr__(self):
         head = "converged" if self.success else "NOT converged"

@@ -36,7 +36,9 @@ Files, resume
     last line from a killed process is discarded) and runs only the missing
     chunks, so nothing finished is lost and the result equals an uninterrupted
     run.  The file's header holds a fingerprint of the sweep; a different
-    sweep refuses to resume from it.
+    sweep refuses to resume from it.  A file written by another tendonrod
+    version is not resumed from: the sweep warns, keeps it as
+    ``<path>.tendonrod-<version>`` and computes every point again.
 
 Failures
     Every point has two codes.  ``outcome`` (int8) is the sweep's own:
@@ -81,6 +83,7 @@ from ._sweep_chunk import (
 )
 from ._sweep_file import append_line, fingerprint_of, open_progress
 from ._sweep_paths import _parse_path, get_path, set_path
+from ._sweep_progress import progress_bar
 from .options import Options, _check_options
 from .plausibility import Finding, PlausibilityWarning, summarize
 from .results import ConvergenceWarning
@@ -308,7 +311,9 @@ def sweep(
     path : str or PathLike, optional
         JSON-lines file recording finished chunks; resumes from it if present.
     progress : bool, optional
-        A tqdm progress bar (None: if tqdm is installed).
+        A tqdm progress bar.  None: shown on a sweep that runs longer than 2 s in an
+        interactive session (a terminal or a notebook), never in CI (``CI`` set) nor
+        with ``TENDONROD_PROGRESS=0`` (:mod:`tendonrod._sweep_progress`).
 
     Returns
     -------
@@ -354,9 +359,10 @@ def sweep(
     if build is None and measure is tip_measure and sweep_can_batch(base, names):
         for t in tasks:
             t["batch"] = True
-    bar = _progress_bar(progress, npoints, done)
+    bar = progress_bar(progress, npoints, done)
     _run(tasks, done, fh, bar, executor, max_workers)
     res = _assemble(names, shape, point_values, done, npoints, chunksize)
+    assert res.plausibility is not None  # _assemble fills it
     summarize(
         res.plausibility.ravel().tolist(),
         "tendonrod.sweep",
@@ -452,30 +458,6 @@ def _tasks(scenes, chunksize, done, measure, options, warm_start) -> list:
         }
         for c in todo
     ]
-
-
-def _progress_bar(progress, npoints, done):
-    """A tqdm bar (None: not wanted, or tqdm missing; with ``progress=True`` the latter
-    warns)."""
-    bar = None
-    if progress or progress is None:
-        try:
-            from tqdm.auto import tqdm
-
-            bar = tqdm(
-                total=npoints,
-                initial=sum(len(r) for r in done.values()),
-                unit="pt",
-                desc="sweep",
-                disable=None if progress is None else False,
-            )
-        except ImportError:
-            if progress:
-                # stacklevel 3: the warning points at the caller of sweep()
-                warnings.warn(
-                    "progress=True but tqdm is not installed; running quietly", stacklevel=3
-                )
-    return bar
 
 
 def _run(tasks, done, fh, bar, executor, max_workers) -> None:

@@ -65,6 +65,14 @@ from tendonrod.sweep import (
     STATUS_NONE,
 )
 
+# Hostile values are absurd on purpose: the plausibility rules warn of them and solves of
+# such scenes may not converge.  Those warnings are expected here (construct() checks
+# that none escapes as an exception); the suite turns every other warning into an error.
+pytestmark = [
+    pytest.mark.filterwarnings("ignore::tendonrod.PlausibilityWarning"),
+    pytest.mark.filterwarnings("ignore::tendonrod.ConvergenceWarning"),
+]
+
 # --------------------------------------------------------------------------
 # Harness: the worker of test_hostile.py, able to import this module
 # --------------------------------------------------------------------------

@@ -15,6 +15,10 @@ import pytest
 import tendonrod as tr
 from tendonrod.compiled import _nodes_for, pack_scene
 
+# The golden scenes include absurd loads on purpose (strains far beyond the plausibility
+# rules): their PlausibilityWarning is expected here.
+pytestmark = pytest.mark.filterwarnings("ignore::tendonrod.PlausibilityWarning")
+
 SCENES = G.scenes()
 
 

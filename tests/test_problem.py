@@ -12,6 +12,11 @@ import pytest
 
 import tendonrod as tr
 
+# The fixture robot's displacements compress its backbone by ~7 % (the 2 % strain rule of
+# tendonrod.plausibility warns); these tests are about Problem's mechanics, so that
+# expected warning is let through (the suite turns every other warning into an error).
+pytestmark = pytest.mark.filterwarnings("ignore::tendonrod.PlausibilityWarning")
+
 L, R = 0.1, 0.01
 
 

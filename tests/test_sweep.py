@@ -165,28 +165,6 @@ def test_executor_honoured(kind):
     assert pickle.loads(pickle.dumps(res)).data.keys() == res.data.keys()
 
 
-def test_dask_local_cluster():
-    distributed = pytest.importorskip("dask.distributed")
-    sc = base_scene()
-    ref = tr.sweep(sc, {"loads[0].force": FORCES}, grid=False, chunksize=2, progress=False)
-    with (
-        distributed.LocalCluster(
-            n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None
-        ) as cluster,
-        distributed.Client(cluster) as client,
-    ):
-        res = tr.sweep(
-            sc,
-            {"loads[0].force": FORCES},
-            grid=False,
-            chunksize=2,
-            executor=client.get_executor(),
-            progress=False,
-        )
-    for k in ref.data:
-        assert np.array_equal(res[k], ref[k]), k
-
-
 # --------------------------------------------------------------------------- failures
 def test_failed_points_recorded_and_sweep_continues():
     sc = base_scene()

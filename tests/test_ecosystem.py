@@ -1,0 +1,141 @@
+"""Small things with big effects (issue 18, item 6): a solution saved to .npz and loaded
+back bit for bit; ``tendonrod.sweep`` the module (and still callable); the ImportError
+of an unbuilt source tree saying what to do."""
+
+import math
+import os
+import pathlib
+import shutil
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+import tendonrod as tr
+
+ROOT = pathlib.Path(__file__).resolve().parents[1]
+
+
+def _scene(spatial=False):
+    rod = tr.Rod(length=0.2, diameter=0.8e-3, E=207e9, G=79.6e9, kirchhoff=not spatial)
+    tendons = [tr.Tendon(offset=0.01, angle=0.0)]
+    if spatial:
+        tendons.append(tr.Tendon(offset=0.01, angle=2.0, EA=1e4))
+    robot = tr.Robot(rod, tendons)
+    return tr.Scene(
+        robot,
+        displacement=[0.0157] + ([0.001] if spatial else []),
+        loads=[
+            tr.PointLoad(s=0.2, force=(0.0, 0.01 if spatial else 0.0, -0.2)),
+            tr.DistributedLoad(force=(0.0, 0.0, -0.1), start=0.05, end=0.1),
+        ],
+    )
+
+
+def _same(a, b):
+    """Bitwise equality of two values of a raw result (arrays by their bytes, so that NaN
+    compares equal to the same NaN)."""
+    if isinstance(a, np.ndarray):
+        return (
+            isinstance(b, np.ndarray)
+            and a.dtype == b.dtype
+            and a.shape == b.shape
+            and a.tobytes() == b.tobytes()
+        )
+    if isinstance(a, dict):
+        return a.keys() == b.keys() and all(_same(a[k], b[k]) for k in a)
+    if isinstance(a, (tuple, list)):
+        return type(a) is type(b) and len(a) == len(b) and all(map(_same, a, b))
+    if isinstance(a, float) and math.isnan(a):
+        return isinstance(b, float) and math.isnan(b)
+    return type(a) is type(b) and a == b
+
+
+@pytest.mark.parametrize("spatial", [False, True])
+def test_save_load_round_trip_bitwise(tmp_path, spatial):
+    sol = tr.solve(_scene(spatial), options=tr.Options(nodes=17))
+    _ = sol.position, sol.stability  # fill the lazy outputs too: they are saved as well
+    path = tmp_path / "sol.npz"
+    sol.save(path)
+    back = tr.load(path)
+    assert _same(sol.raw, back.raw)
+    assert back.scene == sol.scene and repr(back.scene) == repr(sol.scene)
+    assert back.options == sol.options
+    for name in ("tip_position", "tip_rotation", "tension", "slack", "position", "rotation"):
+        assert getattr(back, name).tobytes() == getattr(sol, name).tobytes(), name
+    assert (back.success, back.status, back.message) == (sol.success, sol.status, sol.message)
+    # a loaded solution starts a warm solve exactly as the original does
+    again = tr.solve(sol.scene, options=sol.options, guess=back)
+    ref = tr.solve(sol.scene, options=sol.options, guess=sol)
+    assert again.tip_position.tobytes() == ref.tip_position.tobytes()
+
+
+def test_load_refuses_foreign_file(tmp_path):
+    path = tmp_path / "other.npz"
+    np.savez(path, x=np.arange(3))
+    with pytest.raises(ValueError, match="not a file written by tendonrod"):
+        tr.load(path)
+
+
+def test_sweep_is_the_module_and_callable():
+    import tendonrod.sweep as m
+
+    assert m.__name__ == "tendonrod.sweep" and m is sys.modules["tendonrod.sweep"]
+    assert callable(tr.sweep) and m.sweep.__name__ == "sweep"
+    for name in ("tip_measure", "ComplianceMeasure", "SweepResult", "load"):
+        assert name in tr.__all__ and hasattr(tr, name)
+    assert tr.tip_measure is m.tip_measure and tr.ComplianceMeasure is m.ComplianceMeasure
+    res = tr.sweep(
+        _scene(),
+        {"loads[0].force": [(0.0, 0.0, -0.1), (0.0, 0.0, -0.2)]},
+        grid=False,
+        progress=False,
+    )
+    assert res.success.all()
+
+
+def test_version_defined_once():
+    from tendonrod._version import __version__
+
+    assert tr.__version__ is __version__
+    try:
+        import tomllib
+    except ImportError:  # Python 3.10
+        import tomli as tomllib
+    meta = tomllib.loads((ROOT / "pyproject.toml").read_text())
+    assert "version" not in meta["project"] and "version" in meta["project"]["dynamic"]
+    attr = meta["tool"]["setuptools"]["dynamic"]["version"]["attr"]
+    assert attr == "tendonrod._version.__version__"
+
+
+@pytest.mark.skipif(shutil.which("cp") is None, reason="needs cp")
+def test_unbuilt_source_tree_says_what_to_do(tmp_path):
+    """A copy of the package without its extension, imported as from a checkout: one
+    ImportError naming the source tree and the command that builds it."""
+    tree = tmp_path / "checkout"
+    shutil.copytree(
+        ROOT / "tendonrod",
+        tree / "tendonrod",
+        ignore=shutil.ignore_patterns("_core*.so", "_core*.pyd", "__pycache__"),
+    )
+    (tree / "setup.py").write_text("")
+    (tree / "csrc").mkdir()
+    env = dict(os.environ, PYTHONPATH=str(tree))
+    # an editable install's finder would map tendonrod._core to its own tree: drop it
+    code = (
+        "import sys; sys.meta_path[:] = [f for f in sys.meta_path "
+        "if 'editable' not in repr(f).lower()]; import tendonrod"
+    )
+    r = subprocess.run(
+        [sys.executable, "-c", code],
+        cwd=tree,
+        env=env,
+        capture_output=True,
+        text=True,
+        timeout=60,
+    )
+    assert r.returncode != 0
+    last = r.stderr.strip().splitlines()[-1]
+    assert last.startswith("ImportError: You are importing tendonrod from its source tree")
+    assert "pip install -e ." in last and "circular" not in r.stderr
