@@ -8,6 +8,8 @@ with prescribed tendon displacements (or tensions).
   :class:`tendonrod.Problem` -- a scene's structure compiled once, solved warm.
 - :mod:`tendonrod.sweep` (a module that is also callable: ``tr.sweep(scene, vary)`` is
   :func:`tendonrod.sweep.sweep`), :func:`tendonrod.solve_batch` -- many scenes at once.
+- :mod:`tendonrod.path` (callable too: ``tr.path(scene, parameter, span)``) -- an
+  equilibrium branch followed through limit and bifurcation points.
 - :meth:`Solution.save` / :func:`tendonrod.load` -- a solution to an ``.npz`` file and back.
 - :mod:`tendonrod.plot`, :mod:`tendonrod.paper` (the paper's studies and figures) and
   :mod:`tendonrod.scenefile` are imported on first use; :mod:`tendonrod.bench` holds
@@ -26,6 +28,7 @@ gsl_version: str = _core.gsl_version
 
 from . import (
     analytic,
+    path,  # the module, callable: tr.path(...) runs tendonrod.path.path
     sweep,  # the module, callable: tr.sweep(...) runs tendonrod.sweep.sweep
 )
 from ._sweep_module import make_callable
@@ -35,13 +38,14 @@ from .fit import FitResult, fit
 from .linearization import Jacobian
 from .model import DistributedLoad, PointLoad, PointMass, Robot, Rod, Scene, Tendon
 from .options import Options
-from .path import Path, SpecialPoint, path  # the attribute tendonrod.path is this function
+from .path import Path, SpecialPoint
 from .plausibility import PlausibilityWarning
 from .problem import Problem, jacobian
 from .results import ConvergenceError, ConvergenceWarning
 from .solver import Solution, compliance, solve
 
 make_callable(sweep)
+make_callable(path)
 from ._io import read_solution
 from .sweep import ComplianceMeasure, SweepResult, tip_measure
 

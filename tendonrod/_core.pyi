@@ -115,7 +115,12 @@ def compliance(
     **options: Any,
 ) -> _F: ...
 def is_planar(
-    tendons: ArrayLike, loads: ArrayLike, dist: ArrayLike, dloads: ArrayLike | None = ...
+    tendons: ArrayLike,
+    loads: ArrayLike,
+    dist: ArrayLike,
+    dloads: ArrayLike | None = ...,
+    sections: ArrayLike | None = ...,
+    routes: ArrayLike | None = ...,
 ) -> bool: ...
 def strerror(status: int) -> str: ...
 

@@ -135,7 +135,7 @@ class Path:
     success: bool
     status: int
     message: str
-    unknowns: np.ndarray = dataclasses.field(repr=False, default=None)
+    unknowns: np.ndarray | None = dataclasses.field(repr=False, default=None)
 
     def __len__(self) -> int:
         return int(self.value.shape[0])

@@ -95,6 +95,18 @@ def test_sweep_is_the_module_and_callable():
     assert res.success.all()
 
 
+def test_path_is_the_module_and_callable():
+    import tendonrod.path as m
+
+    assert m.__name__ == "tendonrod.path" and m is sys.modules["tendonrod.path"]
+    assert callable(tr.path) and m.path.__name__ == "path"
+    assert tr.Path is m.Path and tr.SpecialPoint is m.SpecialPoint
+    rod = tr.Rod(length=0.2, diameter=0.8e-3, E=207e9, G=79.6e9, kirchhoff=True)
+    scene = tr.Scene(tr.Robot(rod, []), loads=[tr.PointLoad(s=0.2, force=(0.0, 0.0, 0.0))])
+    p = tr.path(scene, "loads[0].force[0]", (0.0, 0.01), max_points=20)
+    assert p.success, p.message
+
+
 def test_version_defined_once():
     from tendonrod._version import __version__
 
