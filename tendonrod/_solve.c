@@ -18,7 +18,9 @@ PyObject *glue_formulation(const tr_model *m, const tr_data *d)
         glue_set(form, "n_stretch_terms", PyLong_FromLong(m->n_stretch)) < 0 ||
         glue_set(form, "distributed_load", PyBool_FromLong(m->has_dist || m->has_pdist)) < 0 ||
         glue_set(form, "n_partial_loads", PyLong_FromLong(m->nd)) < 0 ||
-        glue_set(form, "shooting_segments", PyLong_FromLong(m->nshoot)) < 0)
+        glue_set(form, "shooting_segments", PyLong_FromLong(m->nshoot)) < 0 ||
+        glue_set(form, "shooting_growth", PyFloat_FromDouble(m->shoot_growth)) < 0 ||
+        glue_set(form, "shooting_auto", PyBool_FromLong(m->shoot_auto)) < 0)
         goto fail;
     if (d && (glue_set(form, "tip_only", PyBool_FromLong(d->opt.tip_only)) < 0 ||
               glue_set(form, "integrator",
