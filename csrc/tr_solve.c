@@ -399,6 +399,26 @@ static void diagnose_curvature(const tr_model *m, tr_data *d, int status)
     }
 }
 
+/* A model compiled for other loads (a Problem, a sweep) keeps its shooting segments; when
+ * a failed solve's loads would have chosen more, say so. */
+static void diagnose_segments(const tr_model *m, tr_data *d, int status)
+{
+    char first[TR_MSGLEN];
+    double g;
+    int M;
+    if (TR_SUCCEEDED(status) || d->stop || !d->opt.auto_shooting) return;
+    g = tr_shooting_growth(m);
+    M = tr_auto_segments(g);
+    if (M <= m->nshoot) return;
+    memcpy(first, d->message, TR_MSGLEN);
+    tr_set_message(d,
+                   "these tensile loads grow the shooting sensitivities like exp(%.3g) and "
+                   "would be compiled with %d shooting segments, but this problem was compiled "
+                   "with %d for other loads: solve the scene with tr.solve, or build the "
+                   "Problem from a scene with these loads; %s",
+                   g, M, m->nshoot, first);
+}
+
 /* The message of a solve that the budget or an interrupt stopped. */
 static void stop_message(const tr_model *m, tr_data *d)
 {
@@ -517,6 +537,7 @@ static int solve(const tr_model *m, tr_data *d, const double *guess, const doubl
     }
     diagnose_stiff(m, d, status);
     diagnose_curvature(m, d, status);
+    diagnose_segments(m, d, status);
     status = solve_record(m, d, status);
     d->nfev += d->nfev_confirm;
     return d->status = status;

@@ -171,3 +171,18 @@ def test_s4_stiff3_vs_independent_ode():
     ref = np.array([0.06365076554595289, 0.0017217910901127303, 0.06365490149666979])
     # measured 1.9e-11 L; the reference's own accuracy is ~1e-10 L
     assert np.linalg.norm(sol.tip_position - ref) < 1e-9 * L
+
+
+def test_s3_problem_compiled_for_small_loads_says_what_it_needs():
+    """The segments are chosen when a scene is compiled: a Problem built at a small load
+    keeps single shooting, and its failure at L sqrt(T/EI) = 30 says how many it needs."""
+
+    def scene(lam):
+        return tr.Scene(tr.Robot(ROD, []), loads=[tr.PointLoad(s=L, force=(FS, 0, lam**2 * FS))])
+
+    prob = tr.Problem(scene(1.0))
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        sol = prob.solve(scene(30.0))
+    assert not sol.success
+    assert "would be compiled with 8 shooting segments" in sol.message
