@@ -205,6 +205,9 @@ typedef struct tr_options {
                              (a hopeless solve gives up within ~0.5 s) */
     double max_time;       /* wall-clock limit per solve [s], 0: none; default 0.  Opt-in and
                              not deterministic (the machine's speed decides where it stops) */
+    int auto_shooting;     /* 1: with shooting_segments = 1, the model chooses multiple
+                              shooting where tensile loads make the single-shooting
+                              sensitivities grow past exp(TR_AUTO_SHOOT_GROWTH) (tr_options.c) */
     int accept_unstable;   /* 1: a converged unstable equilibrium is a success and the solve
                              judges no stability (tr_stability on request); default 0: every
                              solve judges its answer and never succeeds on an unstable one
@@ -269,6 +272,9 @@ typedef struct tr_model {
     int *seg_act;             /* tendons active on each segment (t_i > bp[k]) */
     int ndisp;                /* displacement-controlled tendons (= gamma unknowns) */
     int nshoot;               /* shooting segments M (1: single shooting) */
+    double shoot_growth;      /* the exponent int sqrt(T/EI) ds of the tensile loads' growth of
+                                 the shooting sensitivities (0: none) */
+    int shoot_auto;           /* 1: nshoot was chosen from shoot_growth (Options.auto_shooting) */
     int *bp_node;     /* (nseg + 1) shooting-node index 1..M-1 of each breakpoint, 0 if none */
     int *bp_jump;     /* (nseg + 1) 1 if a load or an anchor sits at the breakpoint */
     int n_unknowns;   /* shooting unknowns: 6 (3 planar) + ndisp + (M - 1) n_states */
@@ -521,7 +527,16 @@ typedef struct tr_data {
     double stab_gap; /* no eigenvalue within this of zero [EI/L] (0: not known) */
     char stab_reason[256];
     char branch_note[512]; /* how tr_branch reached a stable answer ("": it did not act) */
-    int lazy;              /* 1: tr_solve fills only the tip, tensions and slacks (and the
+    /* the closest approach of a taut tendon to the centre of curvature (tr_watch.c) on
+     * the state where a load path stalled: the smallest path-length rate |w| / |w_ref|,
+     * the tendon, the arc length, its tension and the limit EI / r^2 there */
+    double ea_scale; /* the tendons' EA in the length residuals scaled by it (1; below 1 on the
+                        way up from softer tendons, tr_solve.c) */
+    int shared_mode; /* 1: Jacobians carry the shared tension direction of stiff tendon sets
+                        from a difference of its own (tr_newton.c), and steps may grow with it */
+    int watch_have, watch_tendon;
+    double watch_rate, watch_s, watch_tau, watch_limit, watch_act, watch_load;
+    int lazy; /* 1: tr_solve fills only the tip, tensions and slacks (and the
                              displacement of displacement-controlled tendons; NaN for the
                              others); the node arrays stay untouched until tr_record_from */
 } tr_data;

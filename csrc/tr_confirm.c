@@ -55,7 +55,7 @@ static int confirm_workspace(const tr_model *m, tr_data *d, int nshoot, const ch
     /* the confirmation spends at most half of what is left of this solve's budget (the
      * stages after it need some) */
     d->confirm_d->opt.max_work =
-        d->opt.max_work - d->spent > 2.0 ? 0.5 * (d->opt.max_work - d->spent) : 1.0;
+        tr_work_budget(d) - d->spent > 2.0 ? 0.5 * (tr_work_budget(d) - d->spent) : 1.0;
     d->confirm_d->opt.max_time = d->opt.max_time;
     return 0;
 }

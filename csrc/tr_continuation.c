@@ -56,6 +56,7 @@ int tr_ramp(const tr_model *m, tr_data *d, double *lamp, const char *what, doubl
                            "this path (e.g. buckling, or a tendon that cannot hold the load)",
                            lam, what, d->opt.max_continuation);
             *lamp = lam;
+            tr_watch_curvature(m, d, d->x, 1);
             return TR_ECONTINUATION;
         }
         memcpy(d->xs, d->x, (size_t)k * sizeof(double));
@@ -105,6 +106,7 @@ int tr_ramp(const tr_model *m, tr_data *d, double *lamp, const char *what, doubl
             have_prev = 0; /* the secant may point across a switch: predict constant */
             dlam *= 0.5;
             if (dlam < TR_CONT_DLAM_MIN) {
+                tr_watch_curvature(m, d, d->x, 1);
                 tr_set_message(d,
                                "continuation stalled at %.4g of the %s (step below %g): the "
                                "scene may have no equilibrium on this path (a limit point, "
@@ -142,9 +144,12 @@ static int continuation_run(const tr_model *m, tr_data *d)
         tr_ramp(m, d, &d->lam_act, "actuation (tendon displacements and tensions, loads off)", 1.0);
     if (status != TR_OK) return status;
     /* load steps of at most TR_RAMP_LOAD (scaled F L^2/EI + M L/EI) keep the path on the
-     * branch that grows from the unloaded robot */
+     * branch that grows from the unloaded robot; a model that chose multiple shooting for
+     * its tensile loads leaves their scaled size (~ growth^2) out: tension stiffens the
+     * rod and cannot loop it */
     {
-        const double ls = tr_load_scale(m);
+        const double g = m->shoot_auto ? m->shoot_growth : 0.0;
+        const double ls = tr_load_scale(m) - g * g;
         return tr_ramp(m, d, &d->lam_load, "loads (at full actuation)",
                        ls > TR_RAMP_LOAD ? TR_RAMP_LOAD / ls : 1.0);
     }

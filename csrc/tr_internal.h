@@ -44,6 +44,27 @@ enum {
 #define TR_CD_H 3e-6
 /* Largest Newton step (scaled max-norm): 10 ~ a curl of 10 rad per length. */
 #define TR_MAX_STEP 10.0
+/* Shared tension direction (d->shared_mode): its Jacobian column by a forward difference
+ * of TR_SHARED_H of the shared level (the column is ~EI/(r^2 EA) of the others, so the
+ * per-column differences of step TR_FD_H lose it in rounding), and a step cap of
+ * TR_MAX_STEP or TR_SHARED_GROW times the largest tension unknown (the shared level of
+ * very stiff sets grows like EA^(1/3), to 1e3-1e4 tension scales) */
+#define TR_SHARED_H 1e-4
+/* iterations of the shared-mode retry (steps double the shared level at most) */
+#define TR_SHARED_ITER 100
+/* ... and where that fails, from tendons softened to r^2 EA/EI = TR_SOFT_RATIO (solved by
+ * the ordinary pipeline to 1e6-1e8) back to their own EA, in factors of at most
+ * TR_STIFFEN_STEP (the shared level moves by ~STEP^(1/3)), halved (in log) down to
+ * TR_STIFFEN_MIN */
+#define TR_SOFT_RATIO 1e5
+/* a solution of stiff tendons whose residuals fix their shared tension level no better
+ * than this fraction of the largest tension is refused (its tensions are the guess's,
+ * not the scene's; the suite verifies tensions to 1e-6) */
+#define TR_SHARED_RESOLVE 1e-6
+#define TR_RESIDUAL_NOISE 1e-13
+#define TR_STIFFEN_STEP   10.0
+#define TR_STIFFEN_MIN    1.01
+#define TR_SHARED_GROW    1.0
 /* Armijo constant of the backtracking line search. */
 #define TR_ARMIJO 1e-4
 /* Smallest line-search step before giving up. */
@@ -116,6 +137,16 @@ enum {
  * EI/r^2 says that no equilibrium lies past that tension (load paths that need more
  * stall at 0.96-0.99 of it). */
 #define TR_CURVATURE_HINT 0.9
+/* a stall on a state where a taut tendon's path-length rate |w| / |w_ref| is below this
+ * is put down to the tendon approaching the centre of curvature (the load paths that run
+ * into tau = EI/r^2 stall at rates 0.01-0.04; ordinary bends stay above 0.5) */
+#define TR_WATCH_RATE 0.1
+/* Tensile loads: single shooting amplifies errors like exp(g), g = int sqrt(T/EI) ds,
+ * and is verified up to g = 10 (stress suite, against collocation); above
+ * TR_AUTO_SHOOT_GROWTH the model takes ceil(g / TR_AUTO_SHOOT_PER) shooting segments, so
+ * each amplifies by at most e^4 (measured: 4-8 segments solve g = 15-30) */
+#define TR_AUTO_SHOOT_GROWTH 11.0
+#define TR_AUTO_SHOOT_PER    4.0
 /* A failed solve with displacement-controlled tendons stiffer than this (r^2 EA/EI)
  * says so in its message (Fig. 12 twist fails from ~1e10 and converges at 1e8). */
 #define TR_STIFF_HINT 1e6
@@ -351,6 +382,29 @@ int tr_continuation(const tr_model *m, tr_data *d);
  * predictor; a stage whose tip jumps by more than TR_CONT_TIP_JUMP L is refused (but for
  * the actuation), and with d->ramp_stable one that ends unstable.  TR_OK, or a failure with the message naming `what`. */
 int tr_ramp(const tr_model *m, tr_data *d, double *lamp, const char *what, double dmax);
+/* tr_options.c: the growth exponent int_0^L sqrt(N(s)/EI) ds of the shooting
+ * sensitivities under the tensile part N > 0 of the axial loads (reference
+ * configuration), and the shooting segments it needs (1 up to TR_AUTO_SHOOT_GROWTH) */
+double tr_shooting_growth(const tr_model *m);
+int tr_auto_segments(double growth);
+/* tr_newton.c: the weight of tendon i in the shared tension direction of the
+ * displacement-controlled tendons (their tensions in proportion, with no net moment about
+ * the centre line: 1 projected onto the null space of the offsets); 0 if it has none */
+double tr_shared_weight(const tr_model *m, int i);
+/* the tension [N] by which the shared level of the solution in d->x can move before its
+ * residuals exceed the tolerance (or the residual reached): how well they fix it */
+double tr_shared_resolution(const tr_model *m, tr_data *d);
+/* the work budget of a solve: Options.max_work, times the segments where the model chose
+ * multiple shooting itself (its Jacobians cost that much more) */
+double tr_work_budget(const tr_data *d);
+/* tr_watch.c: the smallest path-length rate of a taut tendon on the state of x (at the
+ * current continuation parameters), kept in d->watch_* when below the last kept one or
+ * when keep is 2 (a fresh record); returns that rate, NaN if the state cannot be
+ * integrated */
+double tr_watch_curvature(const tr_model *m, tr_data *d, const double *x, int keep);
+/* the message part naming the tendon that would pass the centre of curvature, from
+ * d->watch_*, if its rate fell below TR_WATCH_RATE; 0 if there is none */
+int tr_watch_message(const tr_model *m, const tr_data *d, char *buf, size_t len);
 /* tr_branch.c: the stability stage of a solve that converged to status (from a cold
  * start: cold); returns the status the solve goes on with. */
 int tr_branch(const tr_model *m, tr_data *d, int status, int cold);

@@ -484,6 +484,13 @@ int tr_model_alloc_ext(tr_model **out, const double rod[6], const double *tendon
     if (status != TR_OK) goto fail;
     memcpy(m->dist, dist, 3 * sizeof(double));
     m->has_dist = (dist[0] != 0.0 || dist[1] != 0.0 || dist[2] != 0.0);
+    /* tensile loads: multiple shooting where single shooting's sensitivities would grow
+     * too fast (tr_options.c) */
+    m->shoot_growth = tr_shooting_growth(m);
+    if (opt->auto_shooting && m->nshoot == 1) {
+        m->nshoot = tr_auto_segments(m->shoot_growth);
+        m->shoot_auto = m->nshoot > 1;
+    }
     if (place_breakpoints(m) != TR_OK) goto nomem;
     if (tr_route_pieces(m) != TR_OK) goto nomem;
     if (m->precurved || m->n_routed > 0)

@@ -22,6 +22,7 @@ void tr_solve_reset(const tr_model *m, tr_data *d, int steps)
     d->message[0] = '\0';
     d->lam_act = d->lam_load = d->lam_hom = 1.0;
     d->lam_imp = 0.0;
+    d->ea_scale = 1.0;
     d->via_path = d->ramp_stable = 0;
     d->tip_guess[0] = d->tip_guess[1] = d->tip_guess[2] = NAN;
     d->truncation = NAN;
@@ -61,6 +62,107 @@ int tr_fd_column(const tr_model *m, tr_data *d, const double *x, const double *f
     return TR_OK;
 }
 
+double tr_shared_weight(const tr_model *m, int i)
+{
+    /* w = 1 - R^T (R R^T)^+ R 1, R = [offset vectors at the base] (2 x n) */
+    double A[3] = {0, 0, 0}, b[2] = {0, 0}, r[2], l1, l2, c, sn, y1, y2, n1, n2, w;
+    int j;
+    if (m->tendon[i].control != TR_DISPLACEMENT) return 0.0;
+    for (j = 0; j < m->nt; j++) {
+        const tr_tendon *t = m->tendon + j;
+        if (t->control != TR_DISPLACEMENT) continue;
+        r[0] = t->b * t->cphi;
+        r[1] = t->b * t->sphi;
+        A[0] += r[0] * r[0];
+        A[1] += r[0] * r[1];
+        A[2] += r[1] * r[1];
+        b[0] += r[0];
+        b[1] += r[1];
+    }
+    /* eigen-decomposition of the 2 x 2 [A0 A1; A1 A2]: pseudo-inverse applied to b */
+    {
+        const double tr = A[0] + A[2], det = A[0] * A[2] - A[1] * A[1];
+        const double disc = sqrt(fmax(0.25 * tr * tr - det, 0.0));
+        const double th = 0.5 * atan2(2.0 * A[1], A[0] - A[2]);
+        l1 = 0.5 * tr + disc;
+        l2 = 0.5 * tr - disc;
+        c = cos(th);
+        sn = sin(th);
+    }
+    n1 = c * b[0] + sn * b[1];
+    n2 = -sn * b[0] + c * b[1];
+    y1 = l1 > 1e-12 * (l1 + l2) && l1 > 0.0 ? n1 / l1 : 0.0;
+    y2 = l2 > 1e-12 * (l1 + l2) && l2 > 0.0 ? n2 / l2 : 0.0;
+    r[0] = m->tendon[i].b * m->tendon[i].cphi;
+    r[1] = m->tendon[i].b * m->tendon[i].sphi;
+    w = 1.0 - ((c * r[0] + sn * r[1]) * y1 + (-sn * r[0] + c * r[1]) * y2);
+    return fabs(w) > 1e-9 ? w : 0.0;
+}
+
+/* The Jacobian along the shared tension direction c, replaced by a difference of its own
+ * (a rank-1 correction J += (J_c - J c) c^T / c^T c); also the largest tension unknown,
+ * for the step cap. */
+static int shared_column(const tr_model *m, tr_data *d)
+{
+    const int k = d->k, off = tr_n_force(m);
+    double cc = 0.0, gmax = 0.0, h;
+    int i, j, st;
+    for (i = 0; i < m->nt; i++) {
+        const tr_tendon *t = m->tendon + i;
+        const double w = tr_shared_weight(m, i);
+        if (t->gamma_index < 0) continue;
+        cc += w * w;
+        if (fabs(d->x[off + t->gamma_index]) > gmax) gmax = fabs(d->x[off + t->gamma_index]);
+    }
+    if (!(cc > 0.0)) return TR_OK;
+    h = TR_SHARED_H * (gmax > 1.0 ? gmax : 1.0);
+    memcpy(d->xt, d->x, (size_t)k * sizeof(double));
+    for (i = 0; i < m->nt; i++)
+        if (m->tendon[i].gamma_index >= 0)
+            d->xt[off + m->tendon[i].gamma_index] += h * tr_shared_weight(m, i);
+    st = tr_residual(m, d, d->xt, d->ft);
+    if (st != TR_OK) return st;
+    for (i = 0; i < k; i++) {
+        double jc = 0.0, corr;
+        for (j = 0; j < m->nt; j++)
+            if (m->tendon[j].gamma_index >= 0)
+                jc += d->J[i * k + off + m->tendon[j].gamma_index] * tr_shared_weight(m, j);
+        corr = ((d->ft[i] - d->f[i]) / h - jc) / cc;
+        for (j = 0; j < m->nt; j++)
+            if (m->tendon[j].gamma_index >= 0)
+                d->J[i * k + off + m->tendon[j].gamma_index] += corr * tr_shared_weight(m, j);
+    }
+    return TR_OK;
+}
+
+double tr_shared_resolution(const tr_model *m, tr_data *d)
+{
+    const int k = d->k, off = tr_n_force(m);
+    double gmax = 0.0, h, jc = 0.0, dtau, dg;
+    int i;
+    if (tr_residual(m, d, d->x, d->f) != TR_OK) return NAN;
+    d->fnorm = tru_maxnorm(d->f, k);
+    for (i = 0; i < m->nt; i++) {
+        const int g = m->tendon[i].gamma_index;
+        if (g >= 0 && fabs(d->x[off + g]) > gmax) gmax = fabs(d->x[off + g]);
+    }
+    h = TR_SHARED_H * (gmax > 1.0 ? gmax : 1.0);
+    memcpy(d->xt, d->x, (size_t)k * sizeof(double));
+    for (i = 0; i < m->nt; i++)
+        if (m->tendon[i].gamma_index >= 0)
+            d->xt[off + m->tendon[i].gamma_index] += h * tr_shared_weight(m, i);
+    if (tr_residual(m, d, d->xt, d->ft) != TR_OK) return NAN;
+    for (i = 0; i < k; i++) {
+        const double e = fabs(d->ft[i] - d->f[i]) / h;
+        if (e > jc) jc = e;
+    }
+    /* the residual reached, or its rounding level (~1e-13 scaled, measured on stiff
+     * scenes) if lower: the level can sit anywhere its residuals do not tell apart */
+    dg = (d->fnorm > TR_RESIDUAL_NOISE ? d->fnorm : TR_RESIDUAL_NOISE) / jc;
+    tr_tension_of_gamma(m, TR_SLACK_LINEAR, dg, &dtau, &h);
+    return dtau;
+}
+
 int tr_fd_jacobian(const tr_model *m, tr_data *d)
 {
     const int k = d->k;
@@ -78,6 +180,10 @@ int tr_fd_jacobian(const tr_model *m, tr_data *d)
         /* a column whose forward trial leaves the finite domain is taken backwards */
         if (j == 0 && keep) memcpy(d->ysave, d->y, (size_t)m->n_base * sizeof(double));
         status = tr_fd_column(m, d, d->x, d->f, j, d->J + j, (size_t)k, 1);
+        if (status != TR_OK) return status;
+    }
+    if (d->shared_mode) {
+        status = shared_column(m, d);
         if (status != TR_OK) return status;
     }
     if (keep) tr_restore_end_state(m, d, d->x, d->f);
@@ -271,6 +377,21 @@ static void accept_step(const tr_model *m, tr_data *d, double phi0)
     d->nit++;
 }
 
+/* The largest Newton step (scaled unknowns): TR_MAX_STEP, or in shared mode also
+ * TR_SHARED_GROW times the largest tension unknown. */
+static double step_cap(const tr_model *m, const tr_data *d)
+{
+    double cap = TR_MAX_STEP;
+    int i;
+    if (!d->shared_mode) return cap;
+    for (i = 0; i < m->nt; i++) {
+        const int g = m->tendon[i].gamma_index;
+        if (g >= 0 && TR_SHARED_GROW * fabs(d->x[tr_n_force(m) + g]) > cap)
+            cap = TR_SHARED_GROW * fabs(d->x[tr_n_force(m) + g]);
+    }
+    return cap;
+}
+
 int tr_solve_iterate(const tr_model *m, tr_data *d)
 {
     const int k = d->k;
@@ -300,8 +421,8 @@ int tr_solve_iterate(const tr_model *m, tr_data *d)
         }
         for (i = 0; i < k; i++) d->dx[i] = -d->dx[i];
         dmax = tru_maxnorm(d->dx, k);
-        if (dmax > TR_MAX_STEP)
-            for (i = 0; i < k; i++) d->dx[i] *= TR_MAX_STEP / dmax;
+        if (dmax > step_cap(m, d))
+            for (i = 0; i < k; i++) d->dx[i] *= step_cap(m, d) / dmax;
         phi0 = tru_sumsq(d->f, k);
         status = line_search(m, d, phi0);
         if (status < 0) return status;

@@ -23,6 +23,7 @@ tr_options tr_default_options(void)
     o.force_spatial = 0;
     o.tip_only = 0;
     o.shooting_segments = 1;
+    o.auto_shooting = 1;
     o.max_work = TR_DEFAULT_MAX_WORK;
     o.max_time = 0.0;
     o.accept_unstable = 0;
@@ -54,6 +55,7 @@ int tr_options_check(const tr_options *o, char *msg, size_t msglen)
                   msglen) ||
         check_int("force_spatial", o->force_spatial, 0, 1, msg, msglen) ||
         check_int("tip_only", o->tip_only, 0, 1, msg, msglen) ||
+        check_int("auto_shooting", o->auto_shooting, 0, 1, msg, msglen) ||
         check_int("shooting_segments", o->shooting_segments, 1, TR_MAX_SHOOTING_SEGMENTS, msg,
                   msglen))
         return TR_EINVAL;
@@ -78,4 +80,44 @@ int tr_options_check(const tr_options *o, char *msg, size_t msglen)
         return TR_EINVAL;
     }
     return TR_OK;
+}
+
+/* Samples of the midpoint rule for the growth exponent. */
+#define TR_GROWTH_SAMPLES 256
+
+double tr_shooting_growth(const tr_model *m)
+{
+    const double h = m->L / TR_GROWTH_SAMPLES;
+    double g = 0.0;
+    int j, i;
+    for (j = 0; j < TR_GROWTH_SAMPLES; j++) {
+        const double s = (j + 0.5) * h;
+        double N = m->dist[2] * (m->L - s);
+        for (i = 0; i < m->nl; i++) {
+            const double *ld = m->load + TR_LD_NCOL * i;
+            if (ld[TR_LD_S] >= s) N += ld[TR_LD_F + 2];
+        }
+        for (i = 0; i < m->nd; i++) {
+            const double *dl = m->dload + TR_DL_NCOL * i;
+            const double a = dl[TR_DL_S0] > s ? dl[TR_DL_S0] : s;
+            if (dl[TR_DL_S1] > a) N += dl[TR_DL_F + 2] * (dl[TR_DL_S1] - a);
+        }
+        if (N > 0.0) g += sqrt(N / m->EI) * h;
+    }
+    return g;
+}
+
+int tr_auto_segments(double growth)
+{
+    double M;
+    if (!(growth > TR_AUTO_SHOOT_GROWTH)) return 1;
+    M = ceil(growth / TR_AUTO_SHOOT_PER);
+    if (M < 2.0) M = 2.0;
+    return M > TR_MAX_SHOOTING_SEGMENTS ? TR_MAX_SHOOTING_SEGMENTS : (int)M;
+}
+
+double tr_work_budget(const tr_data *d)
+{
+    const tr_model *m = d->model;
+    return m && m->shoot_auto ? d->opt.max_work * m->nshoot : d->opt.max_work;
 }

@@ -42,7 +42,7 @@ int tr_poll(tr_data *d)
     if (d->stop) return d->stop;
     /* the final outputs of a solve that ran out of budget are still computed (its
      * states are the last iterate's); only an interrupt stops them */
-    if (!d->finishing && d->spent > d->opt.max_work) return d->stop = TR_EBUDGET;
+    if (!d->finishing && d->spent > tr_work_budget(d)) return d->stop = TR_EBUDGET;
     if (!d->poll && !(d->opt.max_time > 0.0)) return TR_OK;
     now = tr_clock();
     if (!d->finishing && d->opt.max_time > 0.0 && now - d->t_start > d->opt.max_time)

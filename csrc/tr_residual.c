@@ -225,7 +225,7 @@ static void tip_residual(const tr_model *m, tr_data *d, const double *y, double 
         }
         /* s_i - (1 + tau/EA) rest with s_i = sref + excess, rest = sref + rest_dev */
         E = y[lenbase + (d->rec ? i : t->len_index)] + d->lam_act * t->value + d->beta[i] -
-            t->rest_dev - (isfinite(t->EA) ? d->tau[i] / t->EA : 0.0) * t->rest;
+            t->rest_dev - (isfinite(t->EA) ? d->tau[i] / (t->EA * d->ea_scale) : 0.0) * t->rest;
         f[off + t->gamma_index] = E / m->len_s;
     }
 }

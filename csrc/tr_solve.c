@@ -36,6 +36,8 @@ static int solve_begin(const tr_model *m, tr_data *d, const tr_verified *v)
         if (steps > TR_STEP_CAP) steps = TR_STEP_CAP;
     }
     tr_solve_reset(m, d, steps);
+    d->watch_have = 0;
+    d->shared_mode = 0;
     if (d->model != m) {
         tr_set_message(d, "workspace was allocated for a different model");
         return TR_EINVAL;
@@ -134,6 +136,8 @@ static int solve_continuation(const tr_model *m, tr_data *d, int status, int for
     return d->is_confirm ? TR_OFFPATH : tr_confirm_offpath(m, d);
 }
 
+static double shared_stiffness(const tr_model *m);
+
 static int solve_condition(const tr_model *m, tr_data *d, int status, const double *jac)
 {
     /* A cold solve returns a fresh finite-difference Jacobian at the solution (the
@@ -145,6 +149,15 @@ static int solve_condition(const tr_model *m, tr_data *d, int status, const doub
     if (status >= 0 && d->have_J) tr_polish(m, d);
     if (d->stop) return d->stop;
     d->jacobian_cond = d->have_J ? tr_jacobian_cond(d) : NAN;
+    if (status >= 0 && d->shared_mode) {
+        /* the near-null direction is the shared tension level, solved on its own */
+        const size_t len = strlen(d->branch_note);
+        snprintf(d->branch_note + len, sizeof d->branch_note - len,
+                 "%sthe tension level the stiff tendons share (r^2 EA/EI up to %.3g) was solved "
+                 "along its own direction (Jacobian condition %.3g)",
+                 len ? "; " : "", shared_stiffness(m), d->jacobian_cond);
+        return status;
+    }
     if (status >= 0 && d->jacobian_cond > TR_COND_SINGULAR) {
         tr_set_message(d,
                        "converged, but the Jacobian is nearly singular (condition %.3g): the "
@@ -166,20 +179,172 @@ static int solve_condition(const tr_model *m, tr_data *d, int status, const doub
     return status;
 }
 
-/* Stiff tendons sharing a tension level: that level is fixed only by their stretch,
- * a near-null direction of the Jacobian (singular value ~ EI/(r^2 EA)) along which
- * second-order shape terms spoil the Newton step. */
-static void diagnose_stiff(const tr_model *m, tr_data *d, int status)
+/* The largest r^2 EA / EI of a displacement-controlled tendon with a finite EA that shares
+ * a tension level with others (0 if none). */
+static double shared_stiffness(const tr_model *m)
 {
     double stiff = 0.0;
-    char first[TR_MSGLEN];
     int i;
-    if (!(status < 0 && status != TR_EMAXFEV && m->ndisp >= 2)) return;
+    if (m->ndisp < 2) return 0.0;
     for (i = 0; i < m->nt; i++) {
         const tr_tendon *t = m->tendon + i;
         const double ratio = t->b * t->b * t->EA / m->EI;
-        if (t->control == TR_DISPLACEMENT && isfinite(t->EA) && ratio > stiff) stiff = ratio;
+        if (t->control == TR_DISPLACEMENT && isfinite(t->EA) && ratio > stiff &&
+            tr_shared_weight(m, i) != 0.0)
+            stiff = ratio;
     }
+    return stiff;
+}
+
+/* Solve with the tendons' EA scaled down to r^2 EA/EI = TR_SOFT_RATIO (cold, then by
+ * continuation), then scale it back up in steps of at most TR_STIFFEN_STEP, each a Newton
+ * run from the last solution with a secant predictor in log EA, halving a step that
+ * fails; 0 when the scene is solved at its own EA. */
+static int soften_and_stiffen(const tr_model *m, tr_data *d)
+{
+    const int k = d->k;
+    double s = TR_SOFT_RATIO / shared_stiffness(m), s_prev = 0.0, fac = TR_STIFFEN_STEP;
+    int st, i, have_prev = 0;
+    if (!(s < 1.0)) return TR_ECONTINUATION;
+    d->lam_act = d->lam_load = d->lam_hom = 1.0; /* a stalled continuation left them lower */
+    d->ea_scale = s;
+    st = tr_solve_init(m, d, NULL, NULL);
+    if (st == TR_OK) st = tr_newton_run(m, d, d->opt.max_iter, TR_STALL_ITERS, TR_STALL_RATIO);
+    if (st != TR_OK && st != TR_EMAXFEV && !d->stop && d->opt.continuation &&
+        d->opt.max_continuation > 0)
+        st = tr_continuation(m, d);
+    if (st != TR_OK) {
+        d->ea_scale = 1.0;
+        if (!d->stop && st != TR_EMAXFEV)
+            tr_set_message(d,
+                           "the scene with tendons softened to r^2 EA/EI = %g did not solve "
+                           "either",
+                           TR_SOFT_RATIO);
+        return st;
+    }
+    while (s < 1.0) {
+        const double s_new = s * fac < 1.0 ? s * fac : 1.0;
+        memcpy(d->xs, d->x, (size_t)k * sizeof(double));
+        memcpy(d->fs, d->f, (size_t)k * sizeof(double));
+        if (have_prev)
+            for (i = 0; i < k; i++)
+                d->x[i] += (d->x[i] - d->xp[i]) * log(s_new / s) / log(s / s_prev);
+        d->ea_scale = s_new;
+        d->have_J = 0;
+        st = tr_residual(m, d, d->x, d->f);
+        d->fnorm = tru_maxnorm(d->f, k);
+        if (st == TR_OK) st = tr_newton_run(m, d, TR_SHARED_ITER, TR_STALL_ITERS, TR_STALL_RATIO);
+        if (st == TR_EMAXFEV || d->stop) break;
+        if (st == TR_OK) {
+            memcpy(d->xp, d->xs, (size_t)k * sizeof(double));
+            s_prev = s;
+            s = s_new;
+            have_prev = 1;
+            fac = fac * fac < TR_STIFFEN_STEP ? fac * fac : TR_STIFFEN_STEP;
+            continue;
+        }
+        memcpy(d->x, d->xs, (size_t)k * sizeof(double));
+        memcpy(d->f, d->fs, (size_t)k * sizeof(double));
+        d->ea_scale = s;
+        fac = sqrt(fac);
+        if (fac < TR_STIFFEN_MIN) {
+            char last[TR_MSGLEN];
+            memcpy(last, d->message, TR_MSGLEN);
+            tr_set_message(d,
+                           "stiffening the tendons from r^2 EA/EI = %g stalled at %.3g of their "
+                           "EA (r^2 EA/EI = %.3g): %s",
+                           TR_SOFT_RATIO, s, s * shared_stiffness(m), last);
+            st = TR_ECONTINUATION;
+            break;
+        }
+    }
+    d->ea_scale = 1.0;
+    if (st == TR_OK) {
+        /* the same equation at scale 1: its residual, for the stages after */
+        st = tr_residual(m, d, d->x, d->f);
+        d->fnorm = tru_maxnorm(d->f, k);
+        if (st == TR_OK && tr_solve_test(m, d) != TR_OK)
+            st = tr_newton_run(m, d, TR_SHARED_ITER, TR_STALL_ITERS, TR_STALL_RATIO);
+    }
+    return st;
+}
+
+/* Stiff tendons sharing a tension level: that level is fixed only by their stretch and
+ * second-order shape terms, a near-null direction of the Jacobian (its column ~ EI/(r^2
+ * EA) of the others, lost in the rounding of the per-column differences).  A solve that
+ * failed retries with that direction differenced on its own and steps that may grow
+ * with the tension (d->shared_mode): from the guess or cold, by continuation, then from
+ * softer tendons. */
+static int solve_shared(const tr_model *m, tr_data *d, int status, const double *guess)
+{
+    char first[TR_MSGLEN];
+    int st;
+    if (!(status < 0 && status != TR_EMAXFEV && !d->stop && !d->shared_mode &&
+          shared_stiffness(m) > TR_STIFF_HINT))
+        return status;
+    memcpy(first, d->message, TR_MSGLEN);
+    d->shared_mode = 1;
+    d->lam_act = d->lam_load = d->lam_hom = 1.0;
+    st = tr_solve_init(m, d, guess, NULL);
+    if (st == TR_OK) st = tr_newton_run(m, d, TR_SHARED_ITER, TR_STALL_ITERS, TR_STALL_RATIO);
+    if (st != TR_OK && st != TR_EMAXFEV && !d->stop && d->opt.continuation &&
+        d->opt.max_continuation > 0)
+        st = tr_continuation(m, d);
+    if (st != TR_OK && st != TR_EMAXFEV && !d->stop) st = soften_and_stiffen(m, d);
+    if (st == TR_OK) return TR_OK;
+    if (d->stop) return d->stop;
+    {
+        char second[TR_MSGLEN];
+        memcpy(second, d->message, TR_MSGLEN);
+        tr_set_message(d,
+                       "%s; with the shared tension level of the stiff tendons differenced on "
+                       "its own: %s",
+                       first, second);
+    }
+    return st;
+}
+
+/* A converged solution of stiff tendons: do its residuals fix the shared tension level? */
+static int shared_resolved(const tr_model *m, tr_data *d, int status)
+{
+    double dtau, tmax = 0.0;
+    int i;
+    if (!(status >= 0 && !d->stop && shared_stiffness(m) > TR_STIFF_HINT)) return status;
+    dtau = tr_shared_resolution(m, d);
+    for (i = 0; i < m->nt; i++)
+        if (d->tau[i] > tmax) tmax = d->tau[i];
+    if (dtau > TR_SHARED_RESOLVE * tmax && d->fnorm > TR_RESIDUAL_NOISE) {
+        /* the level is fixed only as well as the residual: iterate it down to its rounding
+         * level before judging (a refused answer's unknowns are what is left) */
+        const double tol = d->opt.tol;
+        const int shared = d->shared_mode;
+        d->opt.tol = TR_RESIDUAL_NOISE;
+        d->shared_mode = 1;
+        tr_newton_run(m, d, TR_SHARED_ITER, TR_STALL_ITERS, TR_STALL_RATIO);
+        d->opt.tol = tol;
+        d->shared_mode = shared;
+        if (d->stop) return d->stop;
+        dtau = tr_shared_resolution(m, d);
+        tmax = 0.0;
+    }
+    for (i = 0; i < m->nt; i++)
+        if (d->tau[i] > tmax) tmax = d->tau[i];
+    if (!(dtau > TR_SHARED_RESOLVE * tmax)) return status;
+    tr_set_message(d,
+                   "converged, but the tension level the stiff tendons share (r^2 EA/EI up to "
+                   "%.3g) is fixed by the residuals only to +-%.3g N of %.4g N (the stretch it "
+                   "causes is below what the residual %.3g resolves): the tensions are not "
+                   "determined in double precision at this stiffness; give the tendons a finite "
+                   "EA at most ~%.3g of this one",
+                   shared_stiffness(m), dtau, tmax, d->fnorm, TR_SHARED_RESOLVE * tmax / dtau);
+    return TR_EINDETERMINATE;
+}
+
+static void diagnose_stiff(const tr_model *m, tr_data *d, int status)
+{
+    const double stiff = shared_stiffness(m);
+    char first[TR_MSGLEN];
+    if (!(status < 0 && status != TR_EMAXFEV && status != TR_EINDETERMINATE)) return;
     if (!(stiff > TR_STIFF_HINT)) return;
     memcpy(first, d->message, TR_MSGLEN);
     tr_set_message(d,
@@ -196,9 +361,22 @@ static void diagnose_stiff(const tr_model *m, tr_data *d, int status)
  * so (load paths that need more stall at 0.96-0.99). */
 static void diagnose_curvature(const tr_model *m, tr_data *d, int status)
 {
-    char first[TR_MSGLEN];
+    char first[TR_MSGLEN], named[TR_MSGLEN];
+    double rate;
     int i;
     if (TR_SUCCEEDED(status) || d->stop) return;
+    /* the closest approach of a tendon to the centre of curvature where a load path
+     * stalled, or on the last iterate */
+    d->lam_act = d->lam_load = 1.0;
+    rate = tr_watch_curvature(m, d, d->x, 1);
+    if (tr_watch_message(m, d, named, sizeof named)) {
+        memcpy(first, d->message, TR_MSGLEN);
+        tr_set_message(d, "%s; %s", named, first);
+        return;
+    }
+    /* an iterate that can be walked shows where the tendons run: no tendon near the centre
+     * of curvature (balanced tendon sets carry any tension without bending the robot) */
+    if (isfinite(rate)) return;
     tr_set_tensions(m, d, d->x);
     for (i = 0; i < m->nt; i++) {
         const tr_tendon *t = m->tendon + i;
@@ -221,8 +399,28 @@ static void diagnose_curvature(const tr_model *m, tr_data *d, int status)
     }
 }
 
+/* A model compiled for other loads (a Problem, a sweep) keeps its shooting segments; when
+ * a failed solve's loads would have chosen more, say so. */
+static void diagnose_segments(const tr_model *m, tr_data *d, int status)
+{
+    char first[TR_MSGLEN];
+    double g;
+    int M;
+    if (TR_SUCCEEDED(status) || d->stop || !d->opt.auto_shooting) return;
+    g = tr_shooting_growth(m);
+    M = tr_auto_segments(g);
+    if (M <= m->nshoot) return;
+    memcpy(first, d->message, TR_MSGLEN);
+    tr_set_message(d,
+                   "these tensile loads grow the shooting sensitivities like exp(%.3g) and "
+                   "would be compiled with %d shooting segments, but this problem was compiled "
+                   "with %d for other loads: solve the scene with tr.solve, or build the "
+                   "Problem from a scene with these loads; %s",
+                   g, M, m->nshoot, first);
+}
+
 /* The message of a solve that the budget or an interrupt stopped. */
-static void stop_message(tr_data *d)
+static void stop_message(const tr_model *m, tr_data *d)
 {
     char first[TR_MSGLEN], where[96];
     const char *sep = d->message[0] ? "; last: " : "";
@@ -242,11 +440,12 @@ static void stop_message(tr_data *d)
                        d->opt.max_time, where, sep, first);
     } else {
         tr_set_message(d,
-                       "the work budget ran out (max_work = %.3g units) "
+                       "the work budget ran out (max_work = %.3g units%s) "
                        "%s: the scene may have no equilibrium near the path tried; raise "
                        "Options.max_work, give a guess from a nearby solved scene, or approach "
                        "this scene in smaller steps (a sweep)%s%s",
-                       d->opt.max_work, where, sep, first);
+                       d->opt.max_work, m->shoot_auto ? " x the shooting segments" : "", where, sep,
+                       first);
     }
 }
 
@@ -323,6 +522,7 @@ static int solve(const tr_model *m, tr_data *d, const double *guess, const doubl
     status = solve_direct(m, d, guess, jac, from_last, &forced);
     if (status == TR_EINVAL) return d->status = status;
     status = solve_continuation(m, d, status, forced);
+    status = solve_shared(m, d, status, guess);
     status = tr_branch(m, d, status, !guess && !from_last);
     if (status >= 0 && d->opt.steps == 0 && d->opt.integrator != TR_ADAPTIVE &&
         !tr_verify_carried(m, d)) {
@@ -330,12 +530,14 @@ static int solve(const tr_model *m, tr_data *d, const double *guess, const doubl
         if (vs != TR_OK) status = vs;
     }
     status = solve_condition(m, d, status, from_last ? d->J_last : jac);
+    status = shared_resolved(m, d, status);
     if (d->stop) {
         status = d->stop;
-        stop_message(d);
+        stop_message(m, d);
     }
     diagnose_stiff(m, d, status);
     diagnose_curvature(m, d, status);
+    diagnose_segments(m, d, status);
     status = solve_record(m, d, status);
     d->nfev += d->nfev_confirm;
     return d->status = status;

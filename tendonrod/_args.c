@@ -161,6 +161,7 @@ static const opt_spec options[] = {
      TR_MAX_SHOOTING_SEGMENTS},
     {"max_work", OPT_DOUBLE, offsetof(tr_options, max_work), NULL, 0, 0},
     {"max_time", OPT_DOUBLE, offsetof(tr_options, max_time), NULL, 0, 0},
+    {"auto_shooting", OPT_BOOL, offsetof(tr_options, auto_shooting), NULL, 0, 1},
     {"accept_unstable", OPT_BOOL, offsetof(tr_options, accept_unstable), NULL, 0, 1},
 };
 

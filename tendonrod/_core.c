@@ -25,15 +25,15 @@ static PyObject *default_options(void)
 {
     const tr_options o = tr_default_options();
     return Py_BuildValue(
-        "{s:s,s:i,s:d,s:d,s:i,s:i,s:s,s:s,s:O,s:i,s:i,s:O,s:O,s:i,s:d,s:d,s:O}", "integrator",
+        "{s:s,s:i,s:d,s:d,s:i,s:i,s:s,s:s,s:O,s:i,s:i,s:O,s:O,s:i,s:O,s:d,s:d,s:O}", "integrator",
         glue_integrators[o.integrator], "steps", o.steps, "rtol", o.rtol, "tol", o.tol, "max_iter",
         o.max_iter, "max_nfev", o.max_nfev, "jacobian_method", glue_jacobians[o.jacobian_method],
         "slack_model", glue_slack_models[o.slack_model], "continuation",
         o.continuation ? Py_True : Py_False, "max_continuation", o.max_continuation, "nodes",
         TR_DEFAULT_NODES, "force_spatial", o.force_spatial ? Py_True : Py_False, "tip_only",
-        o.tip_only ? Py_True : Py_False, "shooting_segments", o.shooting_segments, "max_work",
-        o.max_work, "max_time", o.max_time, "accept_unstable",
-        o.accept_unstable ? Py_True : Py_False);
+        o.tip_only ? Py_True : Py_False, "shooting_segments", o.shooting_segments, "auto_shooting",
+        o.auto_shooting ? Py_True : Py_False, "max_work", o.max_work, "max_time", o.max_time,
+        "accept_unstable", o.accept_unstable ? Py_True : Py_False);
 }
 
 /* LIMITS: the ranges tr_options_check and tr_model_alloc accept (tendonrod.h): per

@@ -21,7 +21,9 @@ PyObject *glue_formulation(const tr_model *m, const tr_data *d)
         glue_set(form, "n_sections", PyLong_FromLong(m->nsec)) < 0 ||
         glue_set(form, "precurved", PyBool_FromLong(m->precurved)) < 0 ||
         glue_set(form, "n_routed_tendons", PyLong_FromLong(m->n_routed)) < 0 ||
-        glue_set(form, "shooting_segments", PyLong_FromLong(m->nshoot)) < 0)
+        glue_set(form, "shooting_segments", PyLong_FromLong(m->nshoot)) < 0 ||
+        glue_set(form, "shooting_growth", PyFloat_FromDouble(m->shoot_growth)) < 0 ||
+        glue_set(form, "shooting_auto", PyBool_FromLong(m->shoot_auto)) < 0)
         goto fail;
     if (d && (glue_set(form, "tip_only", PyBool_FromLong(d->opt.tip_only)) < 0 ||
               glue_set(form, "integrator",

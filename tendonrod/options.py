@@ -96,15 +96,23 @@ class Options:
         default False). For sweeps that need tip quantities only.
     shooting_segments : int
         M > 1: multiple shooting with full-state unknowns and continuity residuals at
-        j L / M (default 1: single shooting is fastest and suffices unless a tensile axial
-        load has L sqrt(T/EI) >~ 7, where single shooting diverges).
+        j L / M (default 1: single shooting, fastest; see ``auto_shooting``).
+    auto_shooting : bool
+        True (default): with ``shooting_segments=1``, a scene whose tensile axial loads
+        make the single-shooting sensitivities grow like exp(g), g = int sqrt(T/EI) ds
+        (L sqrt(T/EI) for a tip load) above 11, is compiled with ceil(g / 4) shooting
+        segments instead; :attr:`Solution.formulation` reports ``shooting_auto`` and
+        ``shooting_growth``.  Chosen from the loads the scene is compiled with (a
+        :class:`Problem` whose loads later grow keeps its choice).  False: exactly
+        ``shooting_segments``.
     max_work : float
         Work budget of one solve, everything included (continuation, step verification,
         the confirmation of an equilibrium found off the load path), in units of one
         right-hand-side evaluation of a planar Kirchhoff rod (~33 ns here; one of a
         spatial Cosserat rod with three tendons counts ~9).  Default 1.3e7: a hopeless
-        solve gives up after about 0.5 s whatever the formulation, with a message that
-        says the budget ran out; converged solves take 10^2-10^6.  Deterministic: a solve
+        solve gives up after about 0.5 s whatever the formulation (times the shooting
+        segments where ``auto_shooting`` chose them), with a message that says the budget
+        ran out; converged solves take 10^2-10^6.  Deterministic: a solve
         stays bitwise reproducible.
     max_time : float
         Wall-clock limit of one solve [s]; 0 (default) for none.  Opt-in and not
@@ -134,6 +142,7 @@ class Options:
     force_spatial: bool = _DEFAULTS["force_spatial"]
     tip_only: bool = _DEFAULTS["tip_only"]
     shooting_segments: int = _DEFAULTS["shooting_segments"]
+    auto_shooting: bool = _DEFAULTS["auto_shooting"]
     max_work: float = _DEFAULTS["max_work"]
     max_time: float = _DEFAULTS["max_time"]
     accept_unstable: bool = _DEFAULTS["accept_unstable"]
@@ -175,7 +184,13 @@ class Options:
                 rng = f"[{lo:g}, {hi:g})" if lo > 0.0 else f"({lo:g}, {hi:g})"
                 raise ValueError(f"{own}.{name} must be a real number in {rng}, got {v!r}")
             object.__setattr__(self, name, float(v))
-        for name in ("continuation", "force_spatial", "tip_only", "accept_unstable"):
+        for name in (
+            "continuation",
+            "force_spatial",
+            "tip_only",
+            "auto_shooting",
+            "accept_unstable",
+        ):
             v = getattr(self, name)
             if not isinstance(v, (bool, np.bool_)):
                 raise ValueError(f"{own}.{name} must be True or False, got {v!r}")

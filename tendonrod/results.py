@@ -67,6 +67,11 @@ class Formulation:
         How the shooting Jacobian was formed.
     shooting_segments : int
         Shooting segments (1: single shooting).
+    shooting_auto : bool
+        The segments were chosen by the model (``Options.auto_shooting``) because tensile
+        loads make the single-shooting sensitivities grow like exp(``shooting_growth``).
+    shooting_growth : float
+        int_0^L sqrt(T/EI) ds of the tensile axial loads (L sqrt(T/EI) for a tip load).
     n_partial_loads : int
         Distributed loads over part of the rod (each adds its ends as breakpoints).
     mounted : bool
@@ -96,6 +101,8 @@ class Formulation:
     slack_model: str
     jacobian_method: str = ""
     shooting_segments: int = 1
+    shooting_auto: bool = False
+    shooting_growth: float = 0.0
     n_partial_loads: int = 0
     mounted: bool = False
     n_sections: int = 0
@@ -111,6 +118,8 @@ class Formulation:
                 v = bool(v)
             elif f.type in ("int",):
                 v = int(v) if v is not None else (f.default if isinstance(f.default, int) else -1)
+            elif f.type in ("float",):
+                v = float(v) if v is not None else f.default
             else:
                 v = "" if v is None else (v.decode() if isinstance(v, bytes) else str(v))
             kw[f.name] = v
@@ -145,6 +154,11 @@ class Formulation:
             f"slack model {self.slack_model}, jacobian {self.jacobian_method}"
             + (
                 f", {self.shooting_segments} shooting segments"
+                + (
+                    f" (chosen: tensile loads, growth exp({self.shooting_growth:.3g}))"
+                    if self.shooting_auto
+                    else ""
+                )
                 if self.shooting_segments > 1
                 else ""
             )

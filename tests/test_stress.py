@@ -60,11 +60,7 @@ def test_stress_report_files(stress_run):
 #: message, or a success that the verifier rejects) and then reports xfail; when
 #: the solver is fixed they pass as ordinary tests (no strict xfail, so a fix does
 #: not turn the suite red) and this table should shrink.
-KNOWN_FAILURES = {
-    "tension/plain/Lsqrt(T/EI)=20": "S3: large tension, single shooting (now fails honestly)",
-    "tension/actuated45/Lsqrt(T/EI)=20": "S1: beyond the model (tension > EI/r^2), message does not say so",
-    "fig12/twist/alpha=1e+12": "S5: pure twist with r^2 k L/EI = 1e12",
-}
+KNOWN_FAILURES: dict[str, str] = {}  # empty: every quick case passes
 
 
 @pytest.mark.parametrize("name", [c.name for c in QUICK])

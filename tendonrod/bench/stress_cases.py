@@ -17,6 +17,7 @@ from ..solver import compliance
 from . import references as refs
 from .common import FIG11, EI_of, rod_of, solve_quiet
 from .stress_buckling import buckling_cases
+from .stress_hard import ladder_cases, tensile_cases
 from .stress_plausible import plausibility_cases
 from .stress_ramps import ramp_fig17, ramp_large_load
 
@@ -248,50 +249,6 @@ def _plain_rod_cases() -> list[StressCase]:
                 ),
                 check=chk_ela,
                 quick=(mag == 30.0),
-            )
-        )
-    return cases
-
-
-def _tensile_cases() -> list[StressCase]:
-    """Tensile axial tip loads."""
-    p, L, EI, _, fs = _fig11()
-    cases: list[StressCase] = []
-    # 4. tensile axial tip loads, L sqrt(T/EI) up to 20, on a plain rod with a transverse
-    #    tip force (exact reference by collocation) and on the 45 deg actuated robot.
-    for lam in [1.0, 3.0, 5.0, 7.0, 10.0, 15.0, 20.0]:
-        T = lam**2 * fs
-        nm = f"tension/plain/Lsqrt(T/EI)={lam:g}"
-
-        def chk_bvp(sol, T=T):
-            x, z, th, _ = refs.planar_rod_bvp(L, EI, (fs, T), tol=1e-11, nodes=800)
-            e = float(np.hypot(sol.tip_position[0] - x, sol.tip_position[2] - z) / L)
-            return e, e < 1e-6, "vs collocation (solve_bvp)"
-
-        cases.append(
-            StressCase(
-                nm,
-                "tensile load",
-                (
-                    lambda T=T: (
-                        Scene(Robot(rod_of(p), []), loads=[PointLoad(s=L, force=(fs, 0.0, T))]),
-                        _stress_opts(),
-                    )
-                ),
-                check=chk_bvp,
-                quick=(lam in (7.0, 20.0)),
-            )
-        )
-        nm = f"tension/actuated45/Lsqrt(T/EI)={lam:g}"
-        # from L sqrt(T/EI) ~ 12 the tendon would need more than EI/r^2 (see KAPPA_R_LIMIT)
-        cases.append(
-            StressCase(
-                nm,
-                "tensile load",
-                (lambda T=T: (one_tendon_scene(p, math.pi / 4, F=(0.0, 0.0, T)), _stress_opts())),
-                quick=(lam == 20.0),
-                well_posed=lam < 15.0,
-                expect_words=KAPPA_R_WORDS,
             )
         )
     return cases
@@ -544,7 +501,8 @@ _GROUPS = (
     _actuation_cases,
     _load_cases,
     _plain_rod_cases,
-    _tensile_cases,
+    lambda: tensile_cases(StressCase, one_tendon_scene, KAPPA_R_WORDS),
+    lambda: ladder_cases(StressCase),
     _ramp_cases,
     _opposing_cases,
     _twist_cases,

@@ -386,7 +386,8 @@ CAPTIONS = {
     ),
     "fig18": (
         "Fig. 18: the same with an opposing tendon; both pretensioned (5 N before locking; "
-        "r^2kL/EI = 1e5: an opposing pair needs some stretch for a defined tension level) so "
+        "r^2kL/EI = 8.29e6 as in the paper: an opposing pair needs some stretch for a defined "
+        "tension level) so "
         "neither goes slack and the tip keeps its orientation."
     ),
     "fig20": (

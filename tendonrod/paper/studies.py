@@ -324,7 +324,7 @@ def slack_study(
     n: int = 41,
     opposing: bool = False,
     pretension: float = 5.0,
-    alpha: float = 1e5,
+    alpha: float = ALPHA_PAPER,
     options=None,
 ) -> dict:
     """Figs. 17 (single tendon) and 18 (``opposing``: a second tendon at -x held at
@@ -334,11 +334,10 @@ def slack_study(
     path).  Also the tension-held response.
 
     On ``alpha``: an opposing pair of inextensible tendons on a Kirchhoff rod has no
-    defined tension level, so the pair needs a finite stiffness.  The default 1e5
-    (r^2 k L / EI) is inextensible for every practical purpose (the tensions agree with
-    alpha = 1e3..1e6 to 3 digits; the tip angle stays within 1.3e-3 deg of 90 at 1 N);
-    the paper's 8.29e6 makes the tension level depend on path lengths to ~1e-12 relative
-    and the solver then fails (measured), so it is not the default here.
+    defined tension level, so the pair needs a finite stiffness; the default is the
+    paper's r^2 k L / EI = 8.29e6 (1e5 gives the same tensions to 3 digits).  Past about
+    0.3 N the locked planar equilibrium buckles laterally (one unstable mode) at either
+    stiffness: those points fail with status 5 and are NaN here.
 
     Points that did not converge are NaN in the returned arrays ("success" says which).
 
