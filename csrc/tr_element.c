@@ -1,9 +1,11 @@
 /*
  * tr_element.c -- one element of the discretised rod (tr_element.h): bending and torsion
- * from the log of the relative rotation of its nodes; on a Kirchhoff element the position
+ * from the log of the relative rotation of its nodes, less the precurvature's, with its
+ * segment's rigidities; on a Kirchhoff element the position
  * follows the midpoint direction (dead loads act through the force beyond the element),
  * on a Cosserat one shear and extension from the chord in the midpoint frame; each taut
- * tendon adds its tension times the length of its chord between the eyelets.  Exact to
+ * tendon adds its tension times the length of its chord between the eyelets (on its route:
+ * linear, helical or piecewise).  Exact to
  * round-off in hyper-dual arithmetic, so that its Hessian is too.
  */
 #include <math.h>
@@ -84,11 +86,12 @@ static void exp_e3(tr_hd *out, const tr_hd *W)
     out[2] = hd_add(hd_c(1.0), hd_mul(B, hd_sub(hd_mul(W[2], W[2]), p2)));
 }
 
-/* Eyelet offset of tendon t at arc length s, body frame [m]. */
-static void eyelet(double *r, const tr_tendon *t, double s)
+/* Eyelet offset of tendon i at arc length s on the element's segment, body frame [m]
+ * (its route: linear, helical or piecewise). */
+static void eyelet(const tr_elem *e, int i, double s, double *r)
 {
-    const double rho = t->a * s + t->b;
-    r[0] = rho * t->cphi, r[1] = rho * t->sphi, r[2] = 0.0;
+    double rp[3];
+    tr_tendon_offset(e->m, i, e->seg, s, r, rp);
 }
 
 /* The kinematics of element e at the perturbations xa, xb of its nodes: the node
@@ -174,16 +177,21 @@ void tr_elem_midframe_t(const tr_elem *e, const double *x, double *out)
 tr_hd tr_elem_energy(const tr_elem *e, const tr_hd *xa, const tr_hd *xb, int only)
 {
     const tr_model *m = e->m;
-    const double K[3] = {m->EI, m->EI, m->GJ};
+    const double K[3] = {e->sr[TR_SR_EI], e->sr[TR_SR_EI], e->sr[TR_SR_GJ]};
     tr_hd E = hd_c(0.0), chord[3];
     kin k;
     int i, c;
     elem_kin(e, xa, xb, &k);
     centre_chord(e, &k, xa, xb, chord);
     if (only < 0) {
-        for (c = 0; c < 3; c++) E = hd_add(E, hd_scale(hd_mul(k.w[c], k.w[c]), 0.5 * K[c] / e->h));
+        /* bending and torsion about the precurvature: the unstressed relative rotation of
+         * the nodes is exp(h u*) */
+        for (c = 0; c < 3; c++) {
+            const tr_hd dw = hd_sub(k.w[c], hd_c(e->h * e->sr[TR_SR_U + c]));
+            E = hd_add(E, hd_scale(hd_mul(dw, dw), 0.5 * K[c] / e->h));
+        }
         if (e->cosserat) {
-            const double ks[3] = {m->GA, m->GA, m->EA};
+            const double ks[3] = {e->sr[TR_SR_GA], e->sr[TR_SR_GA], e->sr[TR_SR_EA]};
             tr_hd v[3];
             mid_t(&k, chord, v);
             for (c = 0; c < 3; c++) {
@@ -202,8 +210,8 @@ tr_hd tr_elem_energy(const tr_elem *e, const tr_hd *xa, const tr_hd *xb, int onl
         if (only >= 0 && i != only) continue;
         if (only < 0 && !(e->tau[i] > 0.0)) continue;
         if (!(e->sb <= t->t * (1.0 + 1e-12))) continue;
-        eyelet(ra, t, e->sa);
-        eyelet(rb, t, e->sb);
+        eyelet(e, i, e->sa, ra);
+        eyelet(e, i, e->sb, rb);
         for (c = 0; c < 3; c++) rah[c] = hd_c(ra[c]), rbh[c] = hd_c(rb[c]);
         hd_matvec3(Rra, k.Ra, rah);
         hd_matvec3(Rrb, k.Rb, rbh);

@@ -23,6 +23,9 @@ typedef struct {
                                  extension are free, set so that its internal force at the
                                  recorded state is the solution's (see assemble) */
     const double *tau;     /* (nt) tensions [N] */
+    int seg;               /* the integration segment holding the element */
+    const double *sr;      /* its rigidities and precurvature (TR_SR_NCOL: m->seg_rod's row,
+                              or m->rod_k on a uniform straight rod) */
 } tr_elem;
 
 /* Energy of element e as a function of the perturbations xa, xb (nb each) of its nodes

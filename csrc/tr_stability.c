@@ -115,21 +115,6 @@ static struct tr_stab_ws *stab_alloc(const tr_model *m, const tr_options *opt, i
 }
 
 /* ------------------------------------------------------------ assembly */
-/* Element k of the level (nodes w->node[k], w->node[k + 1]) at the configuration. */
-static void element(const tr_model *m, const struct tr_stab_ws *w, int k, tr_elem *e)
-{
-    const int a = w->node[k], b = w->node[k + 1];
-    int c;
-    e->m = m, e->cosserat = w->cosserat, e->sa = w->s[a], e->sb = w->s[b];
-    e->h = e->sb - e->sa, e->Ra = w->R + 9 * a, e->Rb = w->R + 9 * b, e->pa = w->p + 3 * a;
-    e->pb = w->p + 3 * b, e->tau = w->tau;
-    for (c = 0; c < 3; c++) e->F[c] = w->F[3 * k + c], e->vhat[c] = w->vhat[3 * k + c];
-}
-
-/* The level's elements from the recorded state: the dead force beyond each (point forces
- * at later nodes, the distributed force with their trapezoid weights), the free strain of
- * each Cosserat element; the configuration and tensions reset to the recorded ones.
- * Returns 0, or -1 when an element turns by more than TR_STAB_MAX_ROT. */
 /* The segment [bp[k], bp[k+1]) holding arc length s (the last one for s >= L). */
 static int segment_at(const tr_model *m, double s)
 {
@@ -138,6 +123,23 @@ static int segment_at(const tr_model *m, double s)
     return k;
 }
 
+/* Element k of the level (nodes w->node[k], w->node[k + 1]) at the configuration. */
+static void element(const tr_model *m, const struct tr_stab_ws *w, int k, tr_elem *e)
+{
+    const int a = w->node[k], b = w->node[k + 1];
+    int c;
+    e->m = m, e->cosserat = w->cosserat, e->sa = w->s[a], e->sb = w->s[b];
+    e->h = e->sb - e->sa, e->Ra = w->R + 9 * a, e->Rb = w->R + 9 * b, e->pa = w->p + 3 * a;
+    e->pb = w->p + 3 * b, e->tau = w->tau;
+    e->seg = segment_at(m, 0.5 * (e->sa + e->sb));
+    e->sr = m->general ? m->seg_rod + (size_t)TR_SR_NCOL * e->seg : m->rod_k;
+    for (c = 0; c < 3; c++) e->F[c] = w->F[3 * k + c], e->vhat[c] = w->vhat[3 * k + c];
+}
+
+/* The level's elements from the recorded state: the dead force beyond each (point forces
+ * at later nodes, the distributed force with their trapezoid weights), the free strain of
+ * each Cosserat element; the configuration and tensions reset to the recorded ones.
+ * Returns 0, or -1 when an element turns by more than TR_STAB_MAX_ROT. */
 int tr_stab_level_setup(const tr_model *m, const tr_data *d, struct tr_stab_ws *w, int nn)
 {
     double Fb[3] = {0, 0, 0};
@@ -172,10 +174,10 @@ int tr_stab_level_setup(const tr_model *m, const tr_data *d, struct tr_stab_ws *
              * element's free strain is set so that its internal force at the recorded
              * state is the solution's at the element's middle, n_b = K_se (v - vhat). */
             const double *fa = w->rec->force + 3 * a, *fb = w->rec->force + 3 * b;
-            const double ks[3] = {m->GA, m->GA, m->EA};
             tr_hd xz[TR_ELEM_NB], v0[3];
-            double nbody[3], nw[3];
+            double nbody[3], nw[3], ks[3];
             element(m, w, k, &e);
+            ks[0] = ks[1] = e.sr[TR_SR_GA], ks[2] = e.sr[TR_SR_EA];
             for (c = 0; c < TR_ELEM_NB; c++) xz[c] = hd_c(0.0);
             tr_elem_strain(&e, xz, xz, v0);
             for (c = 0; c < 3; c++) nw[c] = 0.5 * (fa[c] + fb[c]);
@@ -382,21 +384,10 @@ static double level_margin(const tr_model *m, const tr_data *d, struct tr_stab_w
     return tr_btd_smallest(&w->h, neg > 0);
 }
 
-/* Scenes the test does not judge (reason set): a world-fixed point moment (not conservative
- * for spatial perturbations), a precurved or sectioned backbone, general tendon paths. */
+/* A world-fixed point moment: not conservative for spatial perturbations (reason set). */
 static int not_conservative(const tr_model *m, tr_data *d)
 {
     int b;
-    if (m->nsec > 0 || m->n_routed > 0) {
-        /* the elements' energy is that of a straight uniform backbone with linear tendons */
-        snprintf(d->stab_reason, sizeof d->stab_reason,
-                 "not tested: the stability test's elements hold the energy of a straight, "
-                 "uniform backbone with linearly routed tendons, and %s",
-                 m->n_routed > 0 ? "this robot has helical or piecewise tendon paths"
-                 : m->precurved  ? "this backbone is precurved"
-                                 : "this backbone is made of sections");
-        return 1;
-    }
     for (b = 1; b <= m->nseg; b++)
         if (m->bpM[3 * b] != 0.0 || m->bpM[3 * b + 1] != 0.0 || m->bpM[3 * b + 2] != 0.0) {
             snprintf(d->stab_reason, sizeof d->stab_reason,
