@@ -18,6 +18,7 @@ from . import references as refs
 from .common import FIG11, EI_of, rod_of, solve_quiet
 from .stress_buckling import buckling_cases
 from .stress_hard import ladder_cases, tensile_cases
+from .stress_paths import path_cases
 from .stress_plausible import plausibility_cases
 from .stress_ramps import ramp_fig17, ramp_large_load
 
@@ -511,6 +512,7 @@ _GROUPS = (
     _tiny_cases,
     lambda: plausibility_cases(StressCase),
     lambda: buckling_cases(StressCase),
+    lambda: path_cases(StressCase),
 )
 
 
