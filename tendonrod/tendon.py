@@ -9,6 +9,7 @@ pieces between disks).  Conventions as in :mod:`tendonrod.model`.
 from __future__ import annotations
 
 import math
+import warnings
 from dataclasses import KW_ONLY, dataclass
 
 import numpy as np
@@ -28,6 +29,14 @@ from .routing import Path
 __all__ = ["Tendon"]
 
 
+class _Omitted(float):
+    """The type of an offset the caller did not give (its value, 0.01 m, is the old
+    default): told apart from any number or None given explicitly."""
+
+
+_OMITTED_OFFSET = _Omitted(0.01)
+
+
 @dataclass(frozen=True)
 class Tendon:
     """One tendon in a frictionless channel.
@@ -38,7 +47,8 @@ class Tendon:
     Attributes
     ----------
     offset : float
-        Radial offset b at the base [m], >= 0.
+        Radial offset b at the base [m], >= 0.  Required: a tendon without it takes
+        0.01 m with a FutureWarning (an error from tendonrod 0.2).
     angle : float
         Angular position phi of the channel in the cross section [rad] (0: +x).
     slope : float
@@ -66,7 +76,7 @@ class Tendon:
     Helical and general paths make the scene spatial.
     """
 
-    offset: float = 0.01
+    offset: float = _OMITTED_OFFSET
     angle: float = 0.0
     slope: float = 0.0
     EA: float = math.inf
@@ -78,6 +88,15 @@ class Tendon:
 
     def __post_init__(self):
         own = "Tendon"
+        if type(self.offset) is _Omitted and self.path is None:
+            warnings.warn(
+                "Tendon() without offset= takes 0.01 m, a default that goes away in "
+                "tendonrod 0.2 (then an error): give the radial offset at the base, "
+                "e.g. Tendon(offset=0.01) [m]",
+                FutureWarning,
+                stacklevel=3,
+            )
+            object.__setattr__(self, "offset", float(self.offset))
         if self.path is not None:
             if not isinstance(self.path, Path):
                 raise ValueError(f"Tendon.path must be a tendonrod.routing.Path, got {self.path!r}")

@@ -804,7 +804,7 @@ def test_formulation_leaves_out_what_is_not_needed():
     assert f.n_length_states == 0 and not f.distributed_load
     three_d = quiet_solve(
         tr.Scene(
-            tr.Robot(KIRCH17, [tr.Tendon(angle=0.5)]),
+            tr.Robot(KIRCH17, [tr.Tendon(offset=0.01, angle=0.5)]),
             tension=[1.0],
             loads=[tr.PointLoad(s=0.1, force=(0, 0.1, 0))],
         )
@@ -812,17 +812,18 @@ def test_formulation_leaves_out_what_is_not_needed():
     g = three_d.formulation
     assert not g.planar and g.n_unknowns == 6 and g.n_segments == 2 and g.n_length_states == 0
     tip = quiet_solve(
-        tr.Scene(tr.Robot(KIRCH17, [tr.Tendon()]), displacement=[1e-3]),
+        tr.Scene(tr.Robot(KIRCH17, [tr.Tendon(offset=0.01)]), displacement=[1e-3]),
         options=tr.Options(tip_only=True),
     )
     assert tip.formulation.tip_only and tip.s.shape == (1,) and tip.s[0] == L17
-    full = quiet_solve(tr.Scene(tr.Robot(KIRCH17, [tr.Tendon()]), displacement=[1e-3]))
+    full = quiet_solve(tr.Scene(tr.Robot(KIRCH17, [tr.Tendon(offset=0.01)]), displacement=[1e-3]))
     np.testing.assert_allclose(tip.tip_position, full.tip_position, atol=1e-14)
     # a tip-only solution still warm-starts: its base state comes from the core's unknowns
     for opts in (tr.Options(tip_only=True), tr.Options(tip_only=True, force_spatial=True)):
         sc = tr.Scene(
             tr.Robot(
-                KIRCH17, [tr.Tendon(), tr.Tendon.converging(offset=R_OFF, angle=2.0, length=L17)]
+                KIRCH17,
+                [tr.Tendon(offset=0.01), tr.Tendon.converging(offset=R_OFF, angle=2.0, length=L17)],
             ),
             displacement=[5e-3, None],
             tension=[None, 1.0],
@@ -903,7 +904,7 @@ def test_nonconvergence_warns_and_strict_raises():
 
 def test_solution_fields_shapes_and_repr():
     sc = tr.Scene(
-        tr.Robot(KIRCH17, [tr.Tendon(), tr.Tendon(angle=np.pi / 2)]),
+        tr.Robot(KIRCH17, [tr.Tendon(offset=0.01), tr.Tendon(offset=0.01, angle=np.pi / 2)]),
         displacement=[1e-3, None],
         tension=[None, 0.5],
         loads=[tr.PointLoad(s=0.11, force=(0, 0, -0.1))],

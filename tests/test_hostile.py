@@ -884,7 +884,7 @@ def _make(cls, field, value):
         kw[field] = value
         return tr.Rod(**kw)
     if cls == "Tendon":
-        return tr.Tendon(**{field: value})
+        return tr.Tendon(**{"offset": 0.01, field: value})
     return tr.PointLoad(**{field: value})
 
 
@@ -1023,7 +1023,9 @@ def test_complex_vectors_rejected(make):
         lambda: tr.Rod(length=10**400, diameter=1e-3, E=1e9, G=1e9),
         lambda: tr.Tendon(offset=10**400),
         lambda: tr.PointLoad(s=0.1, force=(10**400, 0, 0)),
-        lambda: tr.Scene(tr.Robot(tr.Rod(**ROD_OK), [tr.Tendon()]), displacement=[10**400]),
+        lambda: tr.Scene(
+            tr.Robot(tr.Rod(**ROD_OK), [tr.Tendon(offset=0.01)]), displacement=[10**400]
+        ),
     ],
     ids=["Rod.length", "Tendon.offset", "PointLoad.force", "Scene.displacement"],
 )
@@ -1065,30 +1067,30 @@ ROBOT_CASES = [
     ("@rod", None, "tendons"),
     ("@rod", 5, "tendons"),
     ("@rod", [None], "tendons[0]"),
-    ("@rod", [tr.Tendon(), "x"], "tendons[1]"),
-    ("@rod", [tr.Tendon(end=0.3)], "end"),
-    ("@rod", [tr.Tendon(end=0.2000001)], "end"),
-    ("@rod", [tr.Tendon(end=0.2)], None),
-    ("@rod", [tr.Tendon(end=1e-90)], None),
+    ("@rod", [tr.Tendon(offset=0.01), "x"], "tendons[1]"),
+    ("@rod", [tr.Tendon(offset=0.01, end=0.3)], "end"),
+    ("@rod", [tr.Tendon(offset=0.01, end=0.2000001)], "end"),
+    ("@rod", [tr.Tendon(offset=0.01, end=0.2)], None),
+    ("@rod", [tr.Tendon(offset=0.01, end=1e-90)], None),
     ("@rod", [], None),
     ("@rod", (), None),
-    ("@rod", (t for t in [tr.Tendon(), tr.Tendon(angle=math.pi)]), None),
+    ("@rod", (t for t in [tr.Tendon(offset=0.01), tr.Tendon(offset=0.01, angle=math.pi)]), None),
     ("@rod", [tr.Tendon(offset=0.01, slope=-0.1)], "radius"),  # crosses the centre line
-    ("@rod", [tr.Tendon(pretension=1.0)], "pretension"),  # unbalanced
+    ("@rod", [tr.Tendon(offset=0.01, pretension=1.0)], "pretension"),  # unbalanced
     (None, [], "rod"),
     ("rod", [], "rod"),
     (ROD_OK, [], "rod"),
-    (tr.Tendon(), [], "rod"),
+    (tr.Tendon(offset=0.01), [], "rod"),
 ]
 
 
 @pytest.mark.parametrize(
     "make, field",
     [
-        (lambda: tr.Tendon(end=1e-300), "end"),
+        (lambda: tr.Tendon(offset=0.01, end=1e-300), "end"),
         (lambda: tr.Tendon(offset=1e300), "offset"),
         (lambda: tr.Tendon(offset=5e-324), "offset"),
-        (lambda: tr.Tendon(slope=1e300), "slope"),
+        (lambda: tr.Tendon(offset=0.01, slope=1e300), "slope"),
         (lambda: tr.Rod(length=1e300, EI=1.0, GJ=1.0, kirchhoff=True), "length"),
         (lambda: tr.Rod(length=5e-324, EI=1.0, GJ=1.0, kirchhoff=True), "length"),
         (lambda: tr.Rod(length=0.1, diameter=1e-300, E=1e9, G=1e9), "diameter"),
@@ -1115,7 +1117,7 @@ def test_robot_hostile(rod, tendons, word):
 
 
 def _robot2():
-    return tr.Robot(_rod(), [tr.Tendon(), tr.Tendon(angle=math.pi)])
+    return tr.Robot(_rod(), [tr.Tendon(offset=0.01), tr.Tendon(offset=0.01, angle=math.pi)])
 
 
 SCENE_CASES = [
@@ -1144,7 +1146,7 @@ SCENE_CASES = [
         dict(displacement=[0.0, 0.0], loads=[tr.DistributedLoad(), tr.DistributedLoad((0, 0, -1))]),
         None,
     ),
-    (dict(displacement=[0.0, 0.0], loads=[tr.Tendon()]), "loads[0]"),
+    (dict(displacement=[0.0, 0.0], loads=[tr.Tendon(offset=0.01)]), "loads[0]"),
     # displacements that would pull the robot into itself are legal input:
     # the solver decides (test_solve_hostile_scenes)
     (dict(displacement=[0.5, 0.0]), None),
@@ -1164,7 +1166,7 @@ def test_scene_hostile(kw, word):
 
 
 def test_scene_robot_hostile():
-    for bad in (None, _rod(), "robot", tr.Tendon()):
+    for bad in (None, _rod(), "robot", tr.Tendon(offset=0.01)):
         with pytest.raises((ValueError, TypeError), match="robot"):
             tr.Scene(bad)
 

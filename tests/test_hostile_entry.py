@@ -414,7 +414,9 @@ def scene_specs(draw, point_load_first=False, max_tendons=3):
         loads.append(("DistributedLoad", *inject(draw, dict(force=vec(EI / L**3)), vpools)))
     spec["loads"] = loads
     if absurd_here(draw):
-        act["loads"] = act_bad["loads"] = draw(st.sampled_from([5, "x", [None], [tr.Tendon()]]))
+        act["loads"] = act_bad["loads"] = draw(
+            st.sampled_from([5, "x", [None], [tr.Tendon(offset=0.01)]])
+        )
     spec["scene"] = (act, act_bad)
     return spec
 

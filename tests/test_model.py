@@ -80,8 +80,17 @@ def test_rod_validation_names_field_and_value(kw, field, value):
 )
 def test_tendon_validation_names_field_and_value(kw, field, value):
     with pytest.raises(ValueError) as e:
-        tr.Tendon(**kw)
+        tr.Tendon(**{"offset": 0.01, **kw})
     assert f"Tendon.{field}" in str(e.value) and value in str(e.value)
+
+
+def test_tendon_without_an_offset_warns():
+    # the 0.01 m default goes away: a FutureWarning now (an error from tendonrod 0.2)
+    with pytest.warns(FutureWarning, match="offset="):
+        t = tr.Tendon(angle=0.5)
+    assert t.offset == 0.01
+    # a path gives the offset; the constructors take it as an argument
+    assert tr.Tendon.converging(offset=0.02, length=0.2).offset == 0.02
 
 
 def test_converging_tendon():
@@ -97,7 +106,7 @@ def test_robot_checks_end_and_routing():
     rod = tr.Rod(**ROD)
     assert tr.Robot(rod, []).n_tendons == 0
     with pytest.raises(ValueError, match=r"tendons\[1\]\.end.*0\.3"):
-        tr.Robot(rod, [tr.Tendon(), tr.Tendon(end=0.3)])
+        tr.Robot(rod, [tr.Tendon(offset=0.01), tr.Tendon(offset=0.01, end=0.3)])
     # converging over 0.1 m on a 0.2 m rod crosses the centre line before the tip
     with pytest.raises(ValueError, match=r"tendons\[0\].*centre line"):
         tr.Robot(rod, [tr.Tendon.converging(offset=0.01, length=0.1)])
@@ -110,21 +119,32 @@ def test_robot_checks_end_and_routing():
 def test_pretension_rules():
     rod = tr.Rod(**ROD)
     kir = tr.Rod(length=0.2, diameter=0.8e-3, E=207e9, G=79.6e9, kirchhoff=True)
-    pair = [tr.Tendon(pretension=2.0), tr.Tendon(angle=np.pi, pretension=2.0)]
+    pair = [
+        tr.Tendon(offset=0.01, pretension=2.0),
+        tr.Tendon(offset=0.01, angle=np.pi, pretension=2.0),
+    ]
     tr.Robot(rod, pair)  # balanced, Cosserat backbone
-    three = [tr.Tendon(angle=2 * np.pi * i / 3, EA=1e4, pretension=1.0) for i in range(3)]
+    three = [
+        tr.Tendon(offset=0.01, angle=2 * np.pi * i / 3, EA=1e4, pretension=1.0) for i in range(3)
+    ]
     tr.Robot(kir, three)  # balanced, extensible tendons
     with pytest.raises(ValueError, match="not balanced"):
-        tr.Robot(rod, [tr.Tendon(pretension=2.0)])
+        tr.Robot(rod, [tr.Tendon(offset=0.01, pretension=2.0)])
     with pytest.raises(ValueError, match="not balanced"):
-        tr.Robot(rod, [tr.Tendon(pretension=2.0), tr.Tendon(angle=np.pi, pretension=1.0)])
+        tr.Robot(
+            rod,
+            [
+                tr.Tendon(offset=0.01, pretension=2.0),
+                tr.Tendon(offset=0.01, angle=np.pi, pretension=1.0),
+            ],
+        )
     with pytest.raises(ValueError, match="axial compliance"):
         tr.Robot(kir, pair)
 
 
 def test_scene_actuation_rules():
     rod = tr.Rod(**ROD)
-    rob = tr.Robot(rod, [tr.Tendon(), tr.Tendon(angle=np.pi)])
+    rob = tr.Robot(rod, [tr.Tendon(offset=0.01), tr.Tendon(offset=0.01, angle=np.pi)])
     sc = tr.Scene(rob, displacement=[1e-3, None], tension=[None, 2.0])
     assert sc.displacement_controlled() == (True, False)
     with pytest.raises(ValueError, match="tendon 1 has neither"):
@@ -150,7 +170,11 @@ def test_scene_actuation_rules():
 def test_loads_validation_and_packing():
     rod = tr.Rod(**ROD)
     rob = tr.Robot(
-        rod, [tr.Tendon.converging(offset=0.01, length=0.2), tr.Tendon(angle=np.pi, end=0.1)]
+        rod,
+        [
+            tr.Tendon.converging(offset=0.01, length=0.2),
+            tr.Tendon(offset=0.01, angle=np.pi, end=0.1),
+        ],
     )
     with pytest.raises(ValueError, match=r"loads\[0\]\.s.*0\.25"):
         tr.Scene(rob, displacement=[0, 0], loads=[tr.PointLoad(s=0.25, force=(1, 0, 0))])
@@ -227,7 +251,7 @@ def test_options_defaults_and_raw():
 
 def test_solve_rejects_bad_input_before_c():
     rod = tr.Rod(**ROD)
-    sc = tr.Scene(tr.Robot(rod, [tr.Tendon()]), displacement=[0.0])
+    sc = tr.Scene(tr.Robot(rod, [tr.Tendon(offset=0.01)]), displacement=[0.0])
     with pytest.raises(ValueError, match="scene must be a tendonrod.Scene"):
         tr.solve("scene")
     with pytest.raises(ValueError, match="options must be"):

@@ -53,10 +53,10 @@ def test_angle_in_degrees_warns_at_the_users_line_and_stays_legal():
     assert t.angle == 90.0 and rec[0].message.finding.rule == "angle"
     with warnings.catch_warnings():
         warnings.simplefilter("error", PW)
-        tr.Tendon(angle=2 * math.pi)  # the limit itself is plausible
-        tr.Tendon(angle=-2 * math.pi)
+        tr.Tendon(offset=0.01, angle=2 * math.pi)  # the limit itself is plausible
+        tr.Tendon(offset=0.01, angle=-2 * math.pi)
     with pytest.warns(PW, match="angle"):
-        tr.Tendon(angle=-7.0)
+        tr.Tendon(offset=0.01, angle=-7.0)
 
 
 def test_slenderness_and_offset_warn_with_value_and_slip():
