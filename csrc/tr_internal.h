@@ -405,6 +405,12 @@ double tr_watch_curvature(const tr_model *m, tr_data *d, const double *x, int ke
 /* the message part naming the tendon that would pass the centre of curvature, from
  * d->watch_*, if its rate fell below TR_WATCH_RATE; 0 if there is none */
 int tr_watch_message(const tr_model *m, const tr_data *d, char *buf, size_t len);
+/* the same for the state of x alone (a fresh record; the message places it by `where`,
+ * e.g. "there"): the one rule by which a load path that ends at a
+ * singular point names a tendon at the centre of curvature; 0 if no taut tendon's rate is
+ * below TR_WATCH_RATE there */
+int tr_watch_named(const tr_model *m, tr_data *d, const double *x, const char *where, char *buf,
+                   size_t len);
 /* tr_branch.c: the stability stage of a solve that converged to status (from a cold
  * start: cold); returns the status the solve goes on with. */
 int tr_branch(const tr_model *m, tr_data *d, int status, int cold);

@@ -15,6 +15,9 @@
  * A sign change between two points is located by Illinois regula falsi on the arclength
  * from the first, each trial point corrected onto the branch.  At a bifurcation the null
  * vector of [J F_lambda; t^T] is the direction of the crossing branch (inverse iteration).
+ * A sign change whose indicator jumps instead of vanishing, a located point where a taut
+ * tendon would pass the backbone's centre of curvature (tr_watch_named), and a stall end
+ * the path; the message names such a tendon by the rule a stalled solve uses.
  * Every stored point is verified (step doubling, as a solve does) and judged
  * (tr_stability).  Work arrays are allocated once, before the loop; each point gets the
  * solve's work budget afresh; the caller's poll hook is honoured throughout.
@@ -45,8 +48,6 @@
 /* An indicator still above this fraction of its values at the step's ends when the
  * bracket has shrunk jumps rather than vanishes (a singular point, not a special one). */
 #define TR_PATH_JUMP 1e-3
-/* A special point where a tendon carries this fraction of EI/r^2 is that singularity. */
-#define TR_PATH_TAU_LIMIT 0.999
 /* A special point is located again with the steps doubled (at most this many times) until
  * its parameter moves by at most this much relative. */
 #define TR_PATH_LOCATE_ROUNDS 5
@@ -504,29 +505,20 @@ static int switch_branch(path_ws *w, tr_model *m, tr_data *d, const tr_path_spec
     return st;
 }
 
-/* The tendon whose tension at w->X reaches TR_PATH_TAU_LIMIT of EI/r^2 (where a tendon
- * anchored at a moment-free end would pass the backbone's centre of curvature: the
- * equations are singular there), with the message set; -1 if none. */
-static int tendon_at_limit(path_ws *w, const tr_model *m, tr_data *d, const tr_path_spec *sp)
+/* The path ends at X, a singular point of the equations or a stall (`what`): if a taut
+ * tendon there would pass the backbone's centre of curvature by the rule a stalled solve
+ * names it by (tr_watch_named: a path-length rate below TR_WATCH_RATE), the message names
+ * the tendon, the arc length, its tension and EI/r^2.  1 when named, else 0 (the message
+ * untouched). */
+static int ends_at_tendon(path_ws *w, tr_model *m, tr_data *d, const tr_path_spec *sp,
+                          const double *X, const char *what)
 {
-    int i;
-    tr_set_tensions(m, d, w->X);
-    for (i = 0; i < m->nt; i++) {
-        const tr_tendon *t = m->tendon + i;
-        const double rb = t->b, re = t->b + t->a * t->t, r = rb > re ? rb : re;
-        const double lim = m->EI / (r * r);
-        if (r > 0.0 && d->tau[i] >= TR_PATH_TAU_LIMIT * lim) {
-            tr_set_message(d,
-                           "the path ends at %.10g: tendon %d reaches %.10g N = EI/r^2 (%.10g N), "
-                           "where the backbone curvature tau r/EI at a moment-free end reaches "
-                           "1/r and the tendon would pass the centre of curvature: the "
-                           "equations are singular there (no valid equilibrium lies past it on "
-                           "this branch)",
-                           par_of(sp, w->X[w->k]), i, d->tau[i], lim);
-            return i;
-        }
-    }
-    return -1;
+    char named[TR_MSGLEN];
+    const double p = par_of(sp, X[w->k]);
+    if (set_lambda(w, m, d, sp, X[w->k]) != TR_OK) return 0;
+    if (!tr_watch_named(m, d, X, "there", named, sizeof named)) return 0;
+    tr_set_message(d, "the path ends at %.10g: %s; %s", p, named, what);
+    return 1;
 }
 
 /* d->message = "<head>: <what st means>; <the message so far>". */
@@ -588,23 +580,33 @@ static int special_between(path_ws *w, tr_model *m, tr_data *d, const tr_path_sp
     st = locate(w, m, d, sp, kind, kind == TR_PT_LIMIT ? w->ta[k] : w->deta, sb,
                 kind == TR_PT_LIMIT ? w->tb[k] : w->detb, &tlam);
     if (st == TR_OK) st = verify(w, m, d, sp);
-    if (st == TR_OK && tendon_at_limit(w, m, d, sp) >= 0)
+    /* det J also vanishes where a tendon reaches the centre of curvature (tension EI/r^2
+     * at a moment-free end): a singular point, not a special one, where the path ends */
+    if (st == TR_OK &&
+        ends_at_tendon(w, m, d, sp, w->X,
+                       kind == TR_PT_LIMIT
+                           ? "the parameter turns there as at a limit point: the equilibrium "
+                             "equations are singular there"
+                           : "det J vanishes there as at a bifurcation point: the equilibrium "
+                             "equations are singular there"))
         st = TR_ECONTINUATION;
     else if (st == TR_OK)
         st = store(w, m, d, sp, o, kind, w->branch, tlam);
     d->steps = steps;
     d->y_steps = -1;
-    if (st == TR_ECONTINUATION) return st; /* a tendon at EI/r^2 (message set) */
+    if (st == TR_ECONTINUATION) return st; /* a tendon at the centre of curvature */
     if (st == TR_ESINGULAR && w->jump) {
-        tr_set_message(d,
-                       "the path ends at %.10g: there the %s changes sign without vanishing, so "
-                       "the equilibrium equations are singular on this branch (not a %s point), "
-                       "e.g. a tendon reaching the backbone's centre of curvature (its path-length "
-                       "rate 1 - kappa r -> 0) or tension EI/r^2",
-                       par_of(sp, w->X[k]),
-                       kind == TR_PT_LIMIT ? "tangent's parameter component"
-                                           : "Jacobian determinant",
-                       kind == TR_PT_LIMIT ? "limit" : "bifurcation");
+        char what[160];
+        snprintf(what, sizeof what,
+                 "the %s changes sign there without vanishing: the equilibrium equations are "
+                 "singular on this branch, not at a %s point",
+                 kind == TR_PT_LIMIT ? "tangent's parameter component" : "Jacobian determinant",
+                 kind == TR_PT_LIMIT ? "limit" : "bifurcation");
+        if (!ends_at_tendon(w, m, d, sp, w->X, what))
+            tr_set_message(d,
+                           "the path ends at %.10g: %s (no taut tendon is near the "
+                           "backbone's centre of curvature there)",
+                           par_of(sp, w->X[k]), what);
         return TR_ECONTINUATION;
     }
     if (st != TR_OK) {
@@ -707,6 +709,12 @@ int tr_path(tr_model *m, tr_data *d, const tr_path_spec *sp, tr_path_out *o)
             snprintf(head, sizeof head, "the path stalled at %.10g (step below %g along the path)",
                      par_of(sp, w.Xa[w.k]), TR_PATH_DS_MIN);
             wrap_message(d, TR_ENOPROGRESS, head);
+            /* the last point of a stalled path, walked like the state of a stalled solve */
+            {
+                char what[TR_MSGLEN];
+                snprintf(what, sizeof what, "%s", d->message);
+                ends_at_tendon(&w, m, d, sp, w.Xa, what);
+            }
             st = TR_ECONTINUATION;
             break;
         }

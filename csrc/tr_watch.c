@@ -117,19 +117,13 @@ double tr_watch_curvature(const tr_model *m, tr_data *d, const double *x, int ke
     return best;
 }
 
-int tr_watch_message(const tr_model *m, const tr_data *d, char *buf, size_t len)
+/* The named reason from d->watch_*, the state placed by `where`; 0 if the kept rate is
+ * not below TR_WATCH_RATE. */
+static int watch_format(const tr_data *d, const char *where, char *buf, size_t len)
 {
-    char where[96];
-    (void)m;
     if (!d->watch_have || !(d->watch_rate < TR_WATCH_RATE)) return 0;
-    if (d->watch_act < 1.0)
-        snprintf(where, sizeof where, "at %.4g of the actuation", d->watch_act);
-    else if (d->watch_load < 1.0)
-        snprintf(where, sizeof where, "at %.4g of the loads", d->watch_load);
-    else
-        snprintf(where, sizeof where, "at the full loads");
     snprintf(buf, len,
-             "tendon %d would pass the centre of curvature: where the solve stalled (%s) its "
+             "tendon %d would pass the centre of curvature: %s its "
              "path-length rate |w| fell to %.3g of the straight robot's "
              "at s = %.4g m, with tension %.4g N against the limit EI/r^2 = %.4g N there (the "
              "backbone curvature approaches 1/r); the model has no equilibrium past that "
@@ -137,4 +131,28 @@ int tr_watch_message(const tr_model *m, const tr_data *d, char *buf, size_t len)
              "closer to the centre line)",
              d->watch_tendon, where, d->watch_rate, d->watch_s, d->watch_tau, d->watch_limit);
     return 1;
+}
+
+int tr_watch_message(const tr_model *m, const tr_data *d, char *buf, size_t len)
+{
+    char where[128];
+    (void)m;
+    if (d->watch_act < 1.0)
+        snprintf(where, sizeof where, "where the solve stalled (at %.4g of the actuation)",
+                 d->watch_act);
+    else if (d->watch_load < 1.0)
+        snprintf(where, sizeof where, "where the solve stalled (at %.4g of the loads)",
+                 d->watch_load);
+    else
+        snprintf(where, sizeof where, "where the solve stalled (at the full loads)");
+    return watch_format(d, where, buf, len);
+}
+
+int tr_watch_named(const tr_model *m, tr_data *d, const double *x, const char *where, char *buf,
+                   size_t len)
+{
+    d->watch_have = 0;
+    d->lam_act = d->lam_load = 1.0;
+    tr_watch_curvature(m, d, x, 2);
+    return watch_format(d, where, buf, len);
 }

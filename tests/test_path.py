@@ -8,6 +8,7 @@ tr.solve of the scenes along a path.
 """
 
 import math
+import re
 
 import numpy as np
 import pytest
@@ -222,27 +223,63 @@ def _robot90():
     return one_tendon_scene(p11, math.pi / 2), EI, r, fs
 
 
+def _named(message):
+    """The tendon, arc length [m], tension [N] and EI/r^2 [N] a path's message names (the
+    wording of a stalled tr.solve, tr_watch.c)."""
+    m = re.search(
+        r"tendon (\d+) would pass the centre of curvature: .* at s = ([0-9.e+-]+) m, with "
+        r"tension ([0-9.e+-]+) N against the limit EI/r\^2 = ([0-9.e+-]+) N",
+        message,
+    )
+    assert m, message
+    return int(m.group(1)), float(m.group(2)), float(m.group(3)), float(m.group(4))
+
+
 def test_path_stops_where_the_tendon_reaches_ei_over_r2():
     """The 90 deg robot of Fig. 11 pushed by -x: the tendon tension climbs to EI/r^2, where
-    the equations become singular (det J vanishes there); the path ends at that point
-    with the tendon and the limit named, not with a bifurcation.  The last point carries
-    the limit to 1e-6 relative (TR_PATH_TAU_LIMIT is 0.999; measured 1.5e-9)."""
+    the equations become singular (det J vanishes there, as at a bifurcation); the path
+    ends at that point naming the tendon, the arc length, the tension and EI/r^2 as a
+    stalled solve does, not with a bifurcation."""
     scene, EI, r, fs = _robot90()
     p = tr.path(scene, "loads[0].force[0]", (0.0, -60 * fs), max_step=1.0)
     assert not p.success and p.special_points == []
-    assert "tendon 0" in p.message and "EI/r^2" in p.message, p.message
+    assert p.message.startswith("the path ends at "), p.message
+    i, s, tau, limit = _named(p.message)
+    assert i == 0
+    # the limit from the robot's data (4 significant digits printed)
+    assert abs(limit - EI / r**2) < 1e-3 * EI / r**2
+    # a moment-free tip with one parallel tendon: kappa(L) = tau r/EI, the largest
+    # curvature, so the approach is at the tip (to the walk's L/32 resolution)
+    L = scene.robot.rod.length
+    assert abs(s - L) <= L / 32
+    # there tau = EI/r^2 (printed to 4 significant digits); the last point carries it to
+    # 1e-6 relative (measured 1.5e-8: the located zero of det J)
+    assert abs(tau - EI / r**2) < 1e-3 * EI / r**2
     assert abs(p.tension[-1, 0] / (EI / r**2) - 1.0) < 1e-6
 
 
 def test_path_stops_where_the_equations_are_singular():
     """The same robot pushed by +x: the bending gathers at the base until r kappa(0) = 1
     at F L^2/EI ~ 50 (the tendon would pass the centre of curvature there, at a tension
-    far below EI/r^2); det J jumps sign there without vanishing, and the path ends saying
-    so, not with a bifurcation (the stress suite's 'snap near 58' is this point)."""
+    far below EI/r^2); det J jumps sign there without vanishing, and the path ends naming
+    the tendon at the base, its tension and EI/r^2, not with a bifurcation (the stress
+    suite's 'snap near 58' was this point)."""
     scene, EI, r, fs = _robot90()
     p = tr.path(scene, "loads[0].force[0]", (0.0, 60 * fs), max_step=2.0)
     assert not p.success and p.special_points == []
-    assert "singular" in p.message, p.message
+    assert p.message.startswith("the path ends at ") and "singular" in p.message, p.message
+    i, s, tau, limit = _named(p.message)
+    assert i == 0
+    # the base, to the walk's L/32 resolution
+    assert s <= scene.robot.rod.length / 32
+    # the limit from the robot's data; the tension the last point's (4 digits printed)
+    assert abs(limit - EI / r**2) < 1e-3 * EI / r**2
+    assert abs(tau - p.tension[-1, 0]) < 1e-3 * p.tension[-1, 0] and tau < 0.01 * limit
+    # independently, moment balance about the base of the whole robot with the tendon
+    # cut there (straight base, tip force F e_x at height z): EI kappa(0) = z F + r tau,
+    # so r kappa(0) = 1 at the last point (measured 1 - 2.6e-8: the located jump)
+    z, F = p.tip_position[-1, 2], p.value[-1]
+    assert abs((z * F + r * p.tension[-1, 0]) * r / EI - 1.0) < 1e-6
     assert 49.0 < p.value[-1] / fs < 50.5
 
 

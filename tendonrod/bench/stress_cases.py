@@ -204,9 +204,11 @@ def _load_cases() -> list[StressCase]:
                     # buckled state): a planar solve must say so
                     wp, words = False, ("force_spatial",)
                 elif mag == 100.0 and (tl, lab) == ("90deg", "transverse+x"):
-                    # the tendon goes nearly slack and the path snaps at F L^2/EI ~ 58
-                    # (limit point); no continuous loading path reaches 100
-                    wp, words = False, ("limit point", "snap")
+                    # the tendon goes nearly slack and the bending gathers at the base until
+                    # r kappa(0) = 1 at F L^2/EI = 50 (tr.path: no limit point on the way):
+                    # the tendon would pass the centre of curvature at a tension far below
+                    # EI/r^2; no valid loading path reaches 100.  The failure must name it.
+                    wp, words = False, ("would pass the centre of curvature",)
                 cases.append(
                     StressCase(
                         nm,
