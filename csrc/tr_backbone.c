@@ -117,9 +117,7 @@ void tr_fill_segment_rods(tr_model *m)
     }
 }
 
-/* Tendon i's tangent in the unstressed robot on segment k, w_ref = e3 + u* x r + r' (body
- * frame). */
-static void tendon_wref(const tr_model *m, int i, int k, double s, double w[3])
+void tr_tendon_wref(const tr_model *m, int i, int k, double s, double w[3])
 {
     const double *us = m->seg_rod + TR_SR_NCOL * k + TR_SR_U;
     double r[3], rp[3];
@@ -143,7 +141,7 @@ void tr_tendon_base_frame(const tr_model *m, int i)
     } else {
         double w[3], r[3], rp[3], h;
         int c;
-        tendon_wref(m, i, 0, 0.0, w);
+        tr_tendon_wref(m, i, 0, 0.0, w);
         tr_tendon_offset(m, i, 0, 0.0, r, rp);
         h = sqrt(w[0] * w[0] + w[1] * w[1] + w[2] * w[2]);
         for (c = 0; c < 3; c++) t->t0[c] = w[c] / h;
@@ -166,7 +164,7 @@ double tr_reference_length(const tr_model *m, int i)
             for (g = 0; g < 8; g++) {
                 const double x = g < 4 ? -gl_x[g] : gl_x[g - 4], wg = gl_w[g % 4];
                 double w[3];
-                tendon_wref(m, i, k, mid + 0.5 * h * x, w);
+                tr_tendon_wref(m, i, k, mid + 0.5 * h * x, w);
                 sum += 0.5 * h * wg * sqrt(w[0] * w[0] + w[1] * w[1] + w[2] * w[2]);
             }
         }
@@ -183,7 +181,7 @@ int tr_check_routing(const tr_model *m, char *msg, size_t msglen)
         for (k = 0; k < t->end_bp; k++)
             for (e = 0; e < 2; e++) {
                 double w[3];
-                tendon_wref(m, i, k, m->bp[k + e], w);
+                tr_tendon_wref(m, i, k, m->bp[k + e], w);
                 if (!(w[2] > 0.0)) {
                     tr_msgf(msg, msglen,
                             "tendons[%d]: its channel at s = %g m does not advance along the "

@@ -141,6 +141,9 @@ enum {
  * is put down to the tendon approaching the centre of curvature (the load paths that run
  * into tau = EI/r^2 stall at rates 0.01-0.04; ordinary bends stay above 0.5) */
 #define TR_WATCH_RATE 0.1
+/* A converged state with a taut tendon's rate below this is at or past the centre of
+ * curvature (tr_solve.c: its verification failed there). */
+#define TR_WATCH_PAST 0.01
 /* Tensile loads: single shooting amplifies errors like exp(g), g = int sqrt(T/EI) ds,
  * and is verified up to g = 10 (stress suite, against collocation); above
  * TR_AUTO_SHOOT_GROWTH the model takes ceil(g / TR_AUTO_SHOOT_PER) shooting segments, so
@@ -280,6 +283,9 @@ void tr_tendon_offset(const tr_model *m, int i, int seg, double s, double r[3], 
 int tr_read_sections(tr_model *m, const double *sections, int nsec, char *msg, size_t msglen);
 void tr_fill_segment_rods(tr_model *m);
 void tr_tendon_base_frame(const tr_model *m, int i);
+/* tr_backbone.c: tendon i's tangent in the unstressed robot on segment k at s, w_ref = e3 +
+ * u* x r + r' (body frame, not normalised). */
+void tr_tendon_wref(const tr_model *m, int i, int k, double s, double w[3]);
 double tr_reference_length(const tr_model *m, int i);
 int tr_check_routing(const tr_model *m, char *msg, size_t msglen);
 
@@ -399,16 +405,17 @@ double tr_shared_resolution(const tr_model *m, tr_data *d);
 double tr_work_budget(const tr_data *d);
 /* tr_watch.c: the smallest path-length rate of a taut tendon on the state of x (at the
  * current continuation parameters), kept in d->watch_* when below the last kept one or
- * when keep is 2 (a fresh record); returns that rate, NaN if the state cannot be
- * integrated */
+ * when keep is 2 (a fresh record, of a converged state: the rate signed along the
+ * tendon's unstressed direction, negative past the centre of curvature; else its
+ * magnitude); returns that rate, NaN if the state cannot be integrated */
 double tr_watch_curvature(const tr_model *m, tr_data *d, const double *x, int keep);
 /* the message part naming the tendon that would pass the centre of curvature, from
  * d->watch_*, if its rate fell below TR_WATCH_RATE; 0 if there is none */
 int tr_watch_message(const tr_model *m, const tr_data *d, char *buf, size_t len);
-/* the same for the state of x alone (a fresh record; the message places it by `where`,
- * e.g. "there"): the one rule by which a load path that ends at a
- * singular point names a tendon at the centre of curvature; 0 if no taut tendon's rate is
- * below TR_WATCH_RATE there */
+/* the same for the converged state of x alone (a fresh record; the message places it by
+ * `where`, e.g. "there"): the one rule by which a load path that ends at a singular point,
+ * or a solve whose verification failed, names a tendon at or past the centre of
+ * curvature; 0 if no taut tendon's rate is below TR_WATCH_RATE there */
 int tr_watch_named(const tr_model *m, tr_data *d, const double *x, const char *where, char *buf,
                    size_t len);
 /* tr_branch.c: the stability stage of a solve that converged to status (from a cold

@@ -364,7 +364,7 @@ static void diagnose_curvature(const tr_model *m, tr_data *d, int status)
     char first[TR_MSGLEN], named[TR_MSGLEN];
     double rate;
     int i;
-    if (TR_SUCCEEDED(status) || d->stop) return;
+    if (TR_SUCCEEDED(status) || d->stop || status == TR_ENOEQUILIBRIUM) return;
     /* the closest approach of a tendon to the centre of curvature where a load path
      * stalled, or on the last iterate */
     d->lam_act = d->lam_load = 1.0;
@@ -512,6 +512,22 @@ static void begin_verified(tr_data *d, const tr_verified *v, int from_last)
     }
 }
 
+/* A converged state whose truncation estimate stayed above tol at the step cap is walked
+ * for a taut tendon at or past the centre of curvature (its path-length rate along its
+ * unstressed direction below TR_WATCH_PAST: the equations are singular there, past it the
+ * tendon's path runs backwards): such a state is beyond the model, not an answer. */
+static int past_centre(const tr_model *m, tr_data *d, int status)
+{
+    char named[TR_MSGLEN], first[TR_MSGLEN];
+    if (status != TR_TRUNCATION || m->nt == 0) return status;
+    if (!tr_watch_named(m, d, d->x, "at the converged state", named, sizeof named) ||
+        !(d->watch_rate < TR_WATCH_PAST))
+        return status;
+    memcpy(first, d->message, TR_MSGLEN);
+    tr_set_message(d, "no answer within the model: %s; (%s)", named, first);
+    return TR_ENOEQUILIBRIUM;
+}
+
 static int solve(const tr_model *m, tr_data *d, const double *guess, const double *jac,
                  const tr_verified *v, int from_last)
 {
@@ -529,6 +545,7 @@ static int solve(const tr_model *m, tr_data *d, const double *guess, const doubl
         const int vs = tr_verify_steps(m, d);
         if (vs != TR_OK) status = vs;
     }
+    status = past_centre(m, d, status);
     status = solve_condition(m, d, status, from_last ? d->J_last : jac);
     status = shared_resolved(m, d, status);
     if (d->stop) {

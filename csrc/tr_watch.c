@@ -2,13 +2,14 @@
  * tr_watch.c -- does a tendon approach the centre of curvature?
  *
  * A taut tendon at offset r from the centre line has the path-length rate
- * |w| = |v + u x r + r'|; where the backbone bends toward it with curvature 1/r
- * (tension near EI / r^2 at a moment-free end) |w| vanishes and the tendon would pass
- * the centre of curvature: the model has no equilibrium past that point.  When a load
- * path stalls, the state it stalled on is walked along s and the smallest rate
- * |w| / |w_ref| of a taut tendon is kept with its tendon, arc length, tension and the
- * limit EI / r^2, so that the failure can name them even when the stall happens below
- * the limit.
+ * w = v + u x r + r'; where the backbone bends toward it with curvature 1/r
+ * (tension near EI / r^2 at a moment-free end) w vanishes and the tendon would pass
+ * the centre of curvature (past it w points backwards): the model has no equilibrium
+ * there.  When a load path stalls, the state it stalled on is walked along s and the
+ * smallest rate w . w_ref / |w_ref|^2 of a taut tendon is kept with its tendon, arc
+ * length, tension and the limit EI / r^2, so that the failure can name them even when
+ * the stall happens below the limit; a converged state whose verification failed is
+ * walked the same way (a state past the limit is no answer).
  */
 #include <math.h>
 #include <stdio.h>
@@ -21,54 +22,60 @@
  * to L / TR_WATCH_STEPS or to a shooting step, whichever is finer). */
 #define TR_WATCH_STEPS 32
 
-/* |w| of tendon i at s on state y (shooting layout); its offset |r| into *rr */
-static double rate_of(const tr_model *m, int i, double s, const double *y, double *rr)
+/* The path-length rate of tendon i at s on state y (shooting layout, segment d->seg),
+ * w = v + u x r + r' against the unstressed robot's w_ref: signed, w . w_ref / |w_ref|^2
+ * (1 in the unstressed robot, 0 where the tendon reaches the centre of curvature, negative
+ * past it, where its path runs backwards: for converged states), or |w| / |w_ref| (for the
+ * iterates a load path stalled on, which may be far from any equilibrium); its offset |r|
+ * into *rr. */
+static double rate_of(const tr_model *m, const tr_data *d, int i, double s, const double *y,
+                      int sign, double *rr)
 {
-    const double h = 1e-6 * m->L;
-    double th[3], r[3], ra[3], rb[3], rp[3], u[3] = {0, 0, 0}, v[3] = {0, 0, 1}, w[3];
+    const double *sr = m->seg_rod + TR_SR_NCOL * d->seg;
+    double r[3], rp[3], u[3], v[3] = {0, 0, 1}, w[3], wr[3];
     int c;
-    tr_tendon_tangent(m, i, s, y, th, r);
-    tr_tendon_tangent(m, i, s - h, y, th, ra);
-    tr_tendon_tangent(m, i, s + h, y, th, rb);
-    for (c = 0; c < 3; c++) rp[c] = (rb[c] - ra[c]) / (2.0 * h);
+    tr_tendon_offset(m, i, d->seg, s, r, rp);
+    for (c = 0; c < 3; c++) u[c] = sr[TR_SR_U + c];
     if (m->planar) {
-        u[1] = y[TR_YP_M] / m->EI;
+        u[1] += y[TR_YP_M] / sr[TR_SR_EI];
         if (!m->kirchhoff) {
-            v[0] = y[TR_YP_N1] / m->GA;
-            v[2] = 1.0 + y[TR_YP_N3] / m->EA;
+            v[0] = y[TR_YP_N1] / sr[TR_SR_GA];
+            v[2] = 1.0 + y[TR_YP_N3] / sr[TR_SR_EA];
         }
     } else {
         const double *nb = y + TR_Y_N, *mb = y + TR_Y_M;
-        u[0] = mb[0] / m->EI;
-        u[1] = mb[1] / m->EI;
-        u[2] = mb[2] / m->GJ;
+        u[0] += mb[0] / sr[TR_SR_EI];
+        u[1] += mb[1] / sr[TR_SR_EI];
+        u[2] += mb[2] / sr[TR_SR_GJ];
         if (!m->kirchhoff) {
-            v[0] = nb[0] / m->GA;
-            v[1] = nb[1] / m->GA;
-            v[2] = 1.0 + nb[2] / m->EA;
+            v[0] = nb[0] / sr[TR_SR_GA];
+            v[1] = nb[1] / sr[TR_SR_GA];
+            v[2] = 1.0 + nb[2] / sr[TR_SR_EA];
         }
     }
     tru_cross3(w, u, r);
     for (c = 0; c < 3; c++) w[c] += v[c] + rp[c];
+    tr_tendon_wref(m, i, d->seg, s, wr);
     *rr = tru_norm3(r);
-    return tru_norm3(w);
+    return sign ? tru_dot3(w, wr) / tru_dot3(wr, wr) : tru_norm3(w) / tru_norm3(wr);
 }
 
 /* the smallest rate of the taut tendons active on segment k at s; updates *best */
 static void check_at(const tr_model *m, const tr_data *d, int k, double s, const double *y,
-                     double *best, int *bi, double *bs, double *br)
+                     int sign, double *best, int *bi, double *bs, double *br)
 {
     int c;
     for (c = m->seg_act_start[k]; c < m->seg_act_start[k + 1]; c++) {
         const int i = m->seg_act[c];
         double rr, rate;
         if (!(d->tau[i] > 0.0)) continue;
-        rate = rate_of(m, i, s, y, &rr) / m->tendon[i].wref;
+        rate = rate_of(m, d, i, s, y, sign, &rr);
         if (rate < *best && rr > 0.0) {
             *best = rate;
             *bi = i;
             *bs = s;
-            *br = rr;
+            /* the limit EI / r^2 with the segment's EI: kept as r / sqrt(EI / EI_rod) */
+            *br = rr * sqrt(m->EI / m->seg_rod[TR_SR_NCOL * k + TR_SR_EI]);
         }
     }
 }
@@ -89,11 +96,11 @@ double tr_watch_curvature(const tr_model *m, tr_data *d, const double *x, int ke
         const int nmin = (int)ceil(TR_WATCH_STEPS * (s1 - s0) / m->L);
         if (n < nmin) n = nmin;
         d->seg = k;
-        check_at(m, d, k, s0, y, &best, &bi, &bs, &br);
+        check_at(m, d, k, s0, y, keep == 2, &best, &bi, &bs, &br);
         for (j = 0; j < n; j++) {
             const double sa = s0 + (s1 - s0) * j / n, sb = s0 + (s1 - s0) * (j + 1) / n;
             if (tr_integrate(m, d, sa, sb, 1, y) != TR_OK) return NAN;
-            check_at(m, d, k, sb, y, &best, &bi, &bs, &br);
+            check_at(m, d, k, sb, y, keep == 2, &best, &bi, &bs, &br);
         }
         if (k + 1 < m->nseg) {
             tr_apply_jump(m, d, k + 1, y);
