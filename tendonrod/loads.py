@@ -9,6 +9,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+import numpy as np
+
 from ._fields import Vec3, _nonnegative, _vec3
 
 __all__ = ["PointLoad", "DistributedLoad", "PointMass"]
@@ -68,3 +70,40 @@ class PointMass:
     def __post_init__(self):
         object.__setattr__(self, "s", _nonnegative("PointMass", "s", self.s))
         object.__setattr__(self, "mass", _nonnegative("PointMass", "mass", self.mass))
+
+    @classmethod
+    def disks(cls, s, mass) -> tuple[PointMass, ...]:
+        """The masses of spacer disks: one :class:`PointMass` per disk, as a tuple to put
+        in :attr:`Scene.loads <tendonrod.Scene>`.
+
+        ``s``: the disks' arc lengths [m] (a sequence, each 0 <= s <= L, checked in
+        :class:`Scene`), or a :class:`tendonrod.routing.Path` made by ``Path.disks``,
+        whose disk positions are used (its knots after the base hole at s = 0).
+        ``mass`` [kg]: one number (every disk weighs the same) or one per disk.
+        Like every point mass they weigh only under the scene's gravity; a disk's mass
+        sits on the centre line (its rotary inertia plays no part in statics)."""
+        knots = getattr(s, "knots", None)
+        if knots is not None:
+            s = np.asarray(knots, dtype=float)[1:]
+        try:
+            arc = np.asarray(s, dtype=float)
+        except (TypeError, ValueError):
+            raise ValueError(f"PointMass.disks: s must be arc lengths [m], got {s!r}") from None
+        if arc.ndim != 1 or arc.size == 0:
+            raise ValueError(f"PointMass.disks: s must be a 1-D sequence of arc lengths, got {s!r}")
+        if np.ndim(mass) == 0:
+            masses = [mass] * arc.size
+        else:
+            masses = list(mass)
+            if len(masses) != arc.size:
+                raise ValueError(
+                    f"PointMass.disks: mass must be one number or one per disk ({arc.size}), "
+                    f"got {len(masses)} values: {mass!r}"
+                )
+        out = []
+        for k, (sk, mk) in enumerate(zip(arc, masses)):
+            try:
+                out.append(cls(s=float(sk), mass=mk))
+            except ValueError as exc:
+                raise ValueError(f"PointMass.disks: disk {k}: {exc}") from None
+        return tuple(out)

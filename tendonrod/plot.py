@@ -76,6 +76,7 @@ def robot(
     label=None,
     alpha: float = 1.0,
     joints: bool = True,
+    masses: bool = True,
 ):
     """Draw a solved robot (a precurved or segmented backbone as solved: its shape is
     the recorded one).  ``joints``: mark the joints of a segmented rod (black dots).
@@ -98,6 +99,10 @@ def robot(
     loads : bool
         Point loads as arrows (length ``load_scale`` [m/N], default: the largest
         force drawn L/4 long).
+    masses : bool
+        Point masses (:class:`tendonrod.PointMass`, e.g. ``PointMass.disks``) as disks of
+        radius ``disk_radius`` in brown at their arc lengths, with a dot whose area grows
+        with the mass (the heaviest 6 pt across); their weights are not drawn as arrows.
     """
     scene = getattr(sol, "scene", None) if scene is None else scene
     if scene is None:
@@ -152,6 +157,10 @@ def robot(
         sj = np.cumsum([p.length for p in scene.robot.rod.segments])[:-1]
         Pj, _ = _state_at(sol, sj)
         draw(Pj, color="k", ls="", marker="o", ms=4, alpha=alpha)
+    if masses:
+        _draw_masses(sol, scene, draw, planar, rad, alpha)
+    # the arrows below are the point loads: a point mass has no force of its own
+    scene = _without_masses(scene)
     if loads:
         pls = [ld for ld in scene.loads if hasattr(ld, "s")]
         fmax = max([np.linalg.norm(ld.force) for ld in pls] + [0.0])
@@ -184,6 +193,41 @@ def robot(
         ax.set_zlabel("z [m]")
         _equal_3d(ax, P, L)
     return ax
+
+
+def _without_masses(scene):
+    """``scene`` without its point masses (the loads that carry a force or moment)."""
+    import dataclasses
+
+    from .loads import PointMass
+
+    if not any(isinstance(ld, PointMass) for ld in scene.loads):
+        return scene
+    kept = [ld for ld in scene.loads if not isinstance(ld, PointMass)]
+    return dataclasses.replace(scene, loads=kept)
+
+
+def _draw_masses(sol, scene, draw, planar, rad, alpha):
+    """The scene's point masses as brown disks (radius ``rad`` [m]) with a dot at the
+    centre line whose area is proportional to the mass."""
+    from .loads import PointMass
+
+    pm = [ld for ld in scene.loads if isinstance(ld, PointMass)]
+    if not pm:
+        return
+    mmax = max(ld.mass for ld in pm)
+    Ps, Rs = _state_at(sol, [ld.s for ld in pm])
+    ang = np.linspace(0.0, 2 * math.pi, 33)
+    ring = rad * np.stack([np.cos(ang), np.sin(ang), np.zeros_like(ang)], axis=-1)
+    for ld, p, R in zip(pm, Ps, Rs):
+        if planar:
+            ends = p + np.array([R @ np.array([-rad, 0, 0]), R @ np.array([rad, 0, 0])])
+            draw(ends, color="tab:brown", lw=2.5, alpha=alpha)
+        else:
+            draw(p + ring @ R.T, color="tab:brown", lw=1.5, alpha=alpha)
+        size = 6.0 * math.sqrt(ld.mass / mmax) if mmax > 0 else 0.0
+        if size > 0:
+            draw(p[None], color="tab:brown", ls="", marker="o", ms=size, alpha=alpha)
 
 
 def _equal_3d(ax, P, L):

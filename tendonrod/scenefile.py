@@ -49,6 +49,11 @@ problem, e.g. ``robot.toml: tendon[2].displacement: expected a number, got
     s = 0.1               # [m]
     mass = 0.002          # [kg]
 
+    [disks]               # spacer disks with equal (or listed) masses, weighed by gravity
+    count = 10            # equally spaced at s = L/count, 2 L/count, ..., L; or
+    # s = [0.02, 0.04]    # [m] their arc lengths
+    mass = 0.002          # [kg] each (or an array, one per disk)
+
     [base]                # the base pose (default: the origin, base frame = world)
     position = [0.0, 0.0, 0.0]                         # [m] world frame
     rotation = [[0, 0, 1], [0, 1, 0], [-1, 0, 0]]      # columns: base axes in the world
@@ -77,6 +82,16 @@ from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import Any
 
+from ._scene_fields import (
+    SceneFileError,
+    _boolean,
+    _build,
+    _kind,
+    _number,
+    _table,
+    _unknown,
+    _vector3,
+)
 from .model import DistributedLoad, PointLoad, PointMass, Robot, Rod, Scene, Tendon
 from .options import Options
 
@@ -93,17 +108,6 @@ __all__ = [
     "parse_angle",
     "TOP_LEVEL_KEYS",
 ]
-
-
-class SceneFileError(ValueError):
-    """A scene file that cannot be used: ``key`` names where, ``problem`` says what."""
-
-    def __init__(self, key: str, problem: str, path: str | os.PathLike | None = None):
-        self.key = key
-        self.problem = problem
-        self.path = None if path is None else os.fspath(path)
-        where = f"{self.path}: " if self.path else ""
-        super().__init__(f"{where}{key}: {problem}")
 
 
 @dataclass(frozen=True)
@@ -141,6 +145,7 @@ TOP_LEVEL_KEYS = (
     "distributed",
     "gravity",
     "mass",
+    "disks",
     "base",
     "options",
     "target",
@@ -162,66 +167,6 @@ _TENDON_NUMBERS = (
 )
 _TENDON_STRINGS = ("routing",)
 _ROUTINGS = ("parallel", "converging", "helical", "spline", "disks")
-
-
-def _kind(value: Any) -> str:
-    """TOML's name for the type of a parsed value (for messages)."""
-    if isinstance(value, bool):
-        return "boolean"
-    if isinstance(value, (int, float)):
-        return "number"
-    if isinstance(value, str):
-        return "string"
-    if isinstance(value, list):
-        return "array"
-    if isinstance(value, dict):
-        return "table"
-    return type(value).__name__  # dates and times
-
-
-def _number(value: Any, key: str) -> float:
-    if isinstance(value, bool) or not isinstance(value, (int, float)):
-        raise SceneFileError(key, f"expected a number, got {value!r} ({_kind(value)})")
-    if math.isnan(value):
-        raise SceneFileError(key, "expected a number, got nan")
-    return float(value)
-
-
-def _boolean(value: Any, key: str) -> bool:
-    if not isinstance(value, bool):
-        raise SceneFileError(key, f"expected true or false, got {value!r} ({_kind(value)})")
-    return value
-
-
-def _vector3(value: Any, key: str) -> tuple[float, float, float]:
-    if not isinstance(value, list):
-        raise SceneFileError(key, f"expected an array of 3 numbers, got {value!r} ({_kind(value)})")
-    if len(value) != 3:
-        raise SceneFileError(key, f"expected an array of 3 numbers, got {len(value)} elements")
-    return tuple(_number(v, f"{key}[{j}]") for j, v in enumerate(value))  # type: ignore[return-value]
-
-
-def _table(value: Any, key: str) -> dict:
-    if not isinstance(value, dict):
-        raise SceneFileError(key, f"expected a table, got {value!r} ({_kind(value)})")
-    return value
-
-
-def _unknown(table: Mapping, allowed, key: str) -> None:
-    for name in table:
-        if name not in allowed:
-            raise SceneFileError(
-                f"{key}.{name}" if key else name,
-                "unknown key; allowed keys are " + ", ".join(sorted(allowed)),
-            )
-
-
-def _build(cls, kwargs: dict, key: str):
-    """Construct a library dataclass; its own ValueError/TypeError is re-raised naming `key`."""
-    try:
-        return cls(**kwargs)
-    except (ValueError, TypeError) as exc:
-        raise SceneFileError(key, str(exc)) from exc
 
 
 def _rod_kwargs(rod: Mapping, key: str) -> dict:
@@ -408,6 +353,39 @@ def _parse_mass(raw: Any, j: int, length: float):
     return _build(PointMass, kwargs, key)
 
 
+def _parse_disks(raw: Any, length: float):
+    """The [disks] table as PointMass.disks: count or s, and mass (one or per disk)."""
+    table = _table(raw, "disks")
+    _unknown(table, ("count", "s", "mass"), "disks")
+    if ("count" in table) == ("s" in table):
+        raise SceneFileError("disks", "give exactly one of count (equally spaced) or s [m]")
+    if "count" in table:
+        n = table["count"]
+        if isinstance(n, bool) or not isinstance(n, int) or n < 1:
+            raise SceneFileError("disks.count", f"expected an integer >= 1, got {n!r}")
+        s = [length * (k + 1) / n for k in range(n)]
+    else:
+        raw_s = table["s"]
+        if not isinstance(raw_s, list) or not raw_s:
+            raise SceneFileError("disks.s", f"expected an array of arc lengths [m], got {raw_s!r}")
+        s = [_number(v, f"disks.s[{j}]") for j, v in enumerate(raw_s)]
+        for j, sj in enumerate(s):
+            if not 0.0 <= sj <= length:
+                raise SceneFileError(
+                    f"disks.s[{j}]", f"must lie on the rod, 0 <= s <= rod.length = {length!r}"
+                )
+    if "mass" not in table:
+        raise SceneFileError("disks.mass", "missing (required) [kg]")
+    m = table["mass"]
+    if isinstance(m, list):
+        if len(m) != len(s):
+            raise SceneFileError("disks.mass", f"expected 1 or {len(s)} masses, got {len(m)}")
+        mass: Any = [_number(v, f"disks.mass[{j}]") for j, v in enumerate(m)]
+    else:
+        mass = _number(m, "disks.mass")
+    return _build(PointMass.disks, {"s": s, "mass": mass}, "disks")
+
+
 def _parse_base(raw: Any) -> dict:
     table = _table(raw, "base")
     _unknown(table, ("position", "rotation"), "base")
@@ -525,6 +503,8 @@ def parse_scene(data: Mapping[str, Any], source: str | None = None) -> SceneSpec
         if not isinstance(raw_masses, list):
             raise SceneFileError("mass", "expected an array of tables ([[mass]] sections)")
         loads += [_parse_mass(raw, j, rod.length) for j, raw in enumerate(raw_masses)]
+        if "disks" in data:
+            loads += _parse_disks(data["disks"], rod.length)
         base = _parse_base(data["base"]) if "base" in data else {}
         robot = _build(Robot, {"rod": rod, "tendons": tendons}, "tendon")
         if base:

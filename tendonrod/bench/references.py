@@ -20,6 +20,12 @@ twist_with_tendons       exact: paper Fig. 12 (three tendons, pure twisting mome
 planar_rod_bvp           plain planar rod (Kirchhoff or Cosserat) under a tip force
                          and moment by collocation (scipy.integrate.solve_bvp);
                          stable for large tensile loads where shooting fails.
+precurved_helix_end_moment  exact: a precurved rod under an end moment along its
+                         curvature stays a helix.
+cantilever_dead_loads    a horizontal cantilever under its weight and point weights
+                         (disks) by shooting (scipy.integrate.solve_ivp).
+helical_tendon_tip       a rod with one helical tendon under tension and a tip force
+                         by shooting (solve_ivp, fsolve).
 """
 
 from __future__ import annotations
@@ -35,6 +41,9 @@ __all__ = [
     "critical_tip_angle_load",
     "twist_with_tendons",
     "planar_rod_bvp",
+    "precurved_helix_end_moment",
+    "cantilever_dead_loads",
+    "helical_tendon_tip",
 ]
 
 _E3 = np.array([0.0, 0.0, 1.0])
@@ -231,3 +240,131 @@ def planar_rod_bvp(L, EI, F, M=0.0, *, EA=np.inf, GA=np.inf, tol=1e-10, nodes=40
     if sol.status != 0:
         raise RuntimeError(f"planar_rod_bvp did not converge: {sol.message}")
     return float(sol.y[0, -1]), float(sol.y[1, -1]), float(sol.y[2, -1]), sol
+
+
+# --------------------------------------------------------------------------- as built
+def precurved_helix_end_moment(L, EI, GJ, precurvature, c):
+    """Exact: a rod with constant precurvature ``u*`` [1/m] (body frame) under the world
+    tip moment ``M = c u`` [N m] along its deformed curvature keeps a constant curvature
+    ``u_i = u*_i / (1 - c / K_i)``, ``K = (EI, EI, GJ)`` (no force anywhere, so a Cosserat
+    rod neither shears nor stretches): the helix ``p' = R e3, R' = R u^``.  Returns
+    ``(u (3,), tip position (3,), tip rotation (3, 3))``; ``c < min(K)``."""
+    us = np.asarray(precurvature, dtype=float)
+    K = np.array([EI, EI, GJ], dtype=float)
+    u = us / (1.0 - c / K)
+    w = float(np.linalg.norm(u))
+    if w == 0.0:
+        return u, L * _E3, np.eye(3)
+    k = u / w
+    Kx = _hat(k)
+    R = np.eye(3) + math.sin(w * L) * Kx + (1.0 - math.cos(w * L)) * (Kx @ Kx)
+    p = (
+        _E3 * math.sin(w * L) / w
+        + np.cross(k, _E3) * (1.0 - math.cos(w * L)) / w
+        + k * k[2] * (L - math.sin(w * L) / w)
+    )
+    return u, p, R
+
+
+def cantilever_dead_loads(L, EI, w, s_point=(), P_point=()):
+    """Planar inextensible cantilever clamped horizontal under a uniform downward load
+    ``w`` [N/m] and downward point forces ``P_point`` [N] at arc lengths ``s_point`` [m]
+    (a robot's own weight and its disks' weights), by shooting on the base moment with
+    ``solve_ivp`` (DOP853, rtol 1e-12) piece by piece between the point loads, and
+    ``brentq``.  The internal force is statically determinate, ``n_v(s) = w (L - s) +
+    sum_{s_k >= s} P_k`` (downward), so with theta the tangent angle below the
+    horizontal: ``h' = cos(theta)``, ``v' = sin(theta)``, ``theta' = m / EI``,
+    ``m' = -cos(theta) n_v(s)``, ``h = v = theta = 0`` at the clamp, ``m(L) = 0``.
+    Returns ``(h_L, v_L)`` [m]: the tip's distance along the clamp's axis and its sag."""
+    from scipy.integrate import solve_ivp
+    from scipy.optimize import brentq
+
+    sk = np.asarray(s_point, dtype=float)
+    Pk = np.asarray(P_point, dtype=float)
+    cuts = sorted({0.0, L, *[float(x) for x in sk if 0.0 < x < L]})
+
+    def shoot(m0):
+        y = np.array([0.0, 0.0, 0.0, m0])
+        for a, b in zip(cuts[:-1], cuts[1:]):
+            Pin = float(Pk[sk > a].sum()) if sk.size else 0.0  # loads distal to the piece
+
+            def f(s, y, Pin=Pin):
+                h, v, th, m = y
+                return [math.cos(th), math.sin(th), m / EI, -math.cos(th) * (w * (L - s) + Pin)]
+
+            y = solve_ivp(f, (a, b), y, method="DOP853", rtol=1e-12, atol=1e-15 * L).y[:, -1]
+        return y
+
+    m_lin = w * L * L / 2.0 + float((Pk * sk).sum())
+    if m_lin == 0.0:
+        return L, 0.0
+    # m(L) >= 0 at m0 = m_lin (cos <= 1); scan down for the first sign change (at large
+    # sag, m0 = 0 can overshoot the hanging branch)
+    hi, lo = m_lin, None
+    for x in np.linspace(0.95, 0.0, 20):
+        if shoot(x * m_lin)[3] < 0.0:
+            lo = x * m_lin
+            break
+        hi = x * m_lin
+    if lo is None:
+        raise RuntimeError("cantilever_dead_loads: no base moment brackets m(L) = 0")
+    m0 = brentq(lambda m: shoot(m)[3], lo, hi, xtol=1e-15 * m_lin, rtol=1e-15)
+    y = shoot(m0)
+    return float(y[0]), float(y[1])
+
+
+def helical_tendon_tip(L, EI, GJ, b, phi, twist, tip_force, tension):
+    """Tip position [m] of a Kirchhoff rod (EI, GJ [N m^2], length L) with one helical
+    tendon (offset ``b`` [m], base angle ``phi`` [rad], ``dphi/ds = twist`` [rad/m])
+    anchored at the tip and pulled with ``tension`` [N], and a dead world tip force
+    ``tip_force`` [N]: shooting on n_b(0), u(0) with ``solve_ivp`` (DOP853, rtol 1e-12)
+    and ``fsolve``, written from ``docs/model.md`` with the curvature u as a state (not
+    the core's moment) and r, r', r'' of the helix by hand."""
+    from scipy.integrate import solve_ivp
+    from scipy.optimize import fsolve
+
+    K = np.diag([EI, EI, GJ])
+    F = np.asarray(tip_force, dtype=float)
+    tau = float(tension)
+
+    def helix(s):
+        a = phi + twist * s
+        c, sn = math.cos(a), math.sin(a)
+        return (
+            b * np.array([c, sn, 0.0]),
+            b * twist * np.array([-sn, c, 0.0]),
+            -b * twist**2 * np.array([c, sn, 0.0]),
+        )
+
+    def rhs(s, y):
+        R = y[3:12].reshape(3, 3)
+        nb, u = y[12:15], y[15:18]
+        r, rp, rpp = helix(s)
+        wv = np.cross(u, r) + rp + _E3
+        nw = np.linalg.norm(wv)
+        A = -tau * _hat(wv) @ _hat(wv) / nw**3
+        G = -A @ _hat(r)
+        H = -_hat(r) @ A @ _hat(r)
+        a = A @ (np.cross(u, wv) + np.cross(u, rp) + rpp)
+        up = np.linalg.solve(K + H, -np.cross(u, K @ u) - np.cross(_E3, nb) - np.cross(r, a))
+        nbp = -np.cross(u, nb) - a - G @ up
+        return np.concatenate([R @ _E3, (R @ _hat(u)).ravel(), nbp, up])
+
+    def shoot(x):
+        y0 = np.concatenate([np.zeros(3), np.eye(3).ravel(), x[:3], x[3:6]])
+        y = solve_ivp(rhs, (0.0, L), y0, method="DOP853", rtol=1e-12, atol=1e-14).y[:, -1]
+        R = y[3:12].reshape(3, 3)
+        nb, u = y[12:15], y[15:18]
+        r, rp, _ = helix(L)
+        wv = np.cross(u, r) + rp + _E3
+        t = wv / np.linalg.norm(wv)
+        res = np.concatenate(
+            [(nb + tau * t - R.T @ F) / (EI / L**2), (K @ u + tau * np.cross(r, t)) / (EI / L)]
+        )
+        return res, y[:3]
+
+    x = fsolve(lambda x: shoot(x)[0], np.zeros(6), xtol=1e-13)
+    res, p = shoot(x)
+    if not np.abs(res).max() < 1e-10:
+        raise RuntimeError(f"helical_tendon_tip did not converge: residual {np.abs(res).max()!r}")
+    return p

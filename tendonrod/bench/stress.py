@@ -15,10 +15,25 @@ import numpy as np
 
 from .common import solve_quiet, write_csv
 from .plots import plot_stress
+from .stress_asbuilt import asbuilt_cases
 from .stress_cases import StressCase, stress_cases
 from .verify import verify
 
-__all__ = ["run_stress", "run_case", "run_case_isolated", "classify", "GOOD", "STRESS_COLS"]
+__all__ = [
+    "all_stress_cases",
+    "run_stress",
+    "run_case",
+    "run_case_isolated",
+    "classify",
+    "GOOD",
+    "STRESS_COLS",
+]
+
+
+def all_stress_cases() -> list[StressCase]:
+    """Every stress case: :func:`~tendonrod.bench.stress_cases.stress_cases`, then the
+    group of robots as built (:mod:`tendonrod.bench.stress_asbuilt`)."""
+    return stress_cases() + asbuilt_cases(StressCase)
 
 
 def run_case(case: StressCase) -> dict:
@@ -99,7 +114,7 @@ def classify(rec):
 
 def _child(case_name, conn, quick):
     try:
-        case = {c.name: c for c in stress_cases()}[case_name]
+        case = {c.name: c for c in all_stress_cases()}[case_name]
         rec = run_case(case)
         if case.expect_words and rec["outcome"] == "honest failure":
             msg = rec.get("message", "").lower()
@@ -181,7 +196,7 @@ GOOD = ("verified", "honest failure")
 
 def run_stress(out: str, quick: bool = False, timeout: float = 60.0, only: str = "", log=print):
     os.makedirs(out, exist_ok=True)
-    cases = [c for c in stress_cases() if (c.quick or not quick) and (only in c.name)]
+    cases = [c for c in all_stress_cases() if (c.quick or not quick) and (only in c.name)]
     rows = []
     for c in cases:
         rec = run_case_isolated(c, timeout)

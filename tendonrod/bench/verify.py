@@ -14,15 +14,28 @@ from .common import EI_scale, solve_quiet
 __all__ = ["global_balance", "verify", "BALANCE_TOL", "REFINE_TOL"]
 
 
+def _route(t, s):
+    """Body-frame r(s) and r'(s) [m, -] of tendon ``t`` (linear, helical or a path)."""
+    if t.path is not None:
+        return t.path(s)[0], t.path(s, 1)[0]
+    ang = t.angle + (t.twist or 0.0) * s
+    d = np.array([math.cos(ang), math.sin(ang), 0.0])
+    dperp = np.array([-math.sin(ang), math.cos(ang), 0.0])
+    rho = t.slope * s + t.offset
+    return rho * d, t.slope * d + rho * (t.twist or 0.0) * dperp
+
+
 def _tendon_tangents(sol, s_index=0):
-    """Unit tendon tangents (world) at node ``s_index`` from the solution's own strains."""
+    """Unit tendon tangents (world) at node ``s_index`` from the solution's own strains
+    (the base section's rigidities and precurvature: ``u = u* + m_b / K``)."""
     sc = sol.scene
     rod = sc.robot.rod
     R = sol.rotation[s_index]
     n_b = R.T @ sol.force[s_index]
     m_b = R.T @ sol.moment[s_index]
     EI, GJ = rod.bending_stiffness, rod.torsional_stiffness
-    u = m_b / np.array([EI, EI, GJ])
+    base = rod.segments[0] if rod.segments else rod
+    u = np.asarray(base.precurvature, dtype=float) + m_b / np.array([EI, EI, GJ])
     if rod.kirchhoff:
         v = np.array([0.0, 0.0, 1.0])
     else:
@@ -33,9 +46,8 @@ def _tendon_tangents(sol, s_index=0):
     s = sol.s[s_index]
     out = []
     for t in sc.robot.tendons:
-        d = np.array([math.cos(t.angle), math.sin(t.angle), 0.0])
-        rr = (t.slope * s + t.offset) * d
-        w = np.cross(u, rr) + t.slope * d + v
+        rr, rp = _route(t, s)
+        w = np.cross(u, rr) + rp + v
         out.append((R @ rr, R @ (w / np.linalg.norm(w))))
     return out
 
@@ -43,7 +55,8 @@ def _tendon_tangents(sol, s_index=0):
 def global_balance(sol):
     """Scaled residual of the whole robot's force and moment balance (world frame,
     about the base): base reaction, tendon pulls at the base, point loads at the
-    solved positions, distributed load (Simpson over the nodes). Scaled by the
+    solved positions, distributed loads (Simpson over the nodes; a load over part of the
+    rod over its own interval); moments about the base (a mounted robot's too). Scaled by the
     largest force present (loads, tensions; EI/L^2 only if there is none) and that
     times L, so that a 1e-6 N load that the solver ignored shows as an O(1) error."""
     sc = sol.scene
@@ -53,6 +66,7 @@ def global_balance(sol):
         raise ValueError("global_balance needs nodes spanning [0, L]")
     Fsum = -sol.force[0].copy()
     Msum = -sol.moment[0].copy()
+    p0 = sol.position[0]  # the base: moments about it
     fmax = 0.0
     for (rb, tb), tau in zip(_tendon_tangents(sol, 0), sol.tension):
         Fsum -= tau * tb
@@ -65,15 +79,31 @@ def global_balance(sol):
         else:
             pos = sol.position[i]
         Fsum += np.asarray(pl.force)
-        Msum += np.cross(pos, pl.force) + np.asarray(pl.moment)
+        Msum += np.cross(pos - p0, pl.force) + np.asarray(pl.moment)
         fmax = max(fmax, float(np.linalg.norm(pl.force)), float(np.linalg.norm(pl.moment)) / L)
     f = sc.distributed_force
     if np.any(f != 0.0):
         from scipy.integrate import simpson
 
         Fsum += f * L
-        Msum += np.cross(simpson(sol.position, x=sol.s, axis=0), f)
+        # piece by piece between the nodes a breakpoint doubles (Simpson needs h > 0)
+        cuts = [0, *(np.flatnonzero(np.diff(sol.s) == 0.0) + 1), sol.s.size]
+        first = sum(
+            simpson(sol.position[a:b] - p0, x=sol.s[a:b], axis=0)
+            for a, b in zip(cuts[:-1], cuts[1:])
+            if b - a >= 2
+        )
+        Msum += np.cross(first, f)
         fmax = max(fmax, float(np.linalg.norm(f)) * L)
+    for ld in sc.partial_loads:
+        from scipy.integrate import simpson
+
+        end = L if ld.end is None else min(ld.end, L)
+        sp = np.linspace(ld.start, end, 401)
+        f = np.asarray(ld.force, dtype=float)
+        Fsum += f * (end - ld.start)
+        Msum += np.cross(simpson(sol.at(sp).position - p0, x=sp, axis=0), f)
+        fmax = max(fmax, float(np.linalg.norm(f)) * (end - ld.start))
     if fmax == 0.0:  # nothing loads the robot: compare with its natural force scale
         fmax = EI / L**2
     return float(max(np.linalg.norm(Fsum) / fmax, np.linalg.norm(Msum) / (fmax * L)))
