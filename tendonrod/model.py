@@ -81,6 +81,8 @@ class Rod:
         Body-frame curvature u* of the unstressed shape (``m_b = K_bt (u - u*)``), and the
         segments of :meth:`segmented`; see :mod:`tendonrod.backbone`.
 
+    Notes
+    -----
     The effective values are the properties :attr:`bending_stiffness` etc. (also
     spelled :attr:`EI_eff`...), used by the solver.
     """

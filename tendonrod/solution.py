@@ -276,7 +276,7 @@ class Solution:
     @property
     def stability(self) -> float:
         """The margin [-]: the smallest eigenvalue of the constrained second variation in
-        the norm (1/L) int |dtheta|^2 ds, scaled by EI/L (positive: stable; ~0 at a
+        the norm ``(1/L) int |dtheta|^2 ds``, scaled by EI/L (positive: stable; ~0 at a
         critical point or along a symmetry; NaN where not tested).  For a straight
         cantilever under a compressive dead load P it is (pi^2/4)(1 - P/P_E), P_E the
         Euler load pi^2 EI / (4 L^2)."""
