@@ -49,7 +49,8 @@ napoleon_google_docstring = False
 napoleon_use_rtype = False
 
 # doctests: every block sees numpy and tendonrod, warnings of the package as in a script
-doctest_global_setup = """
+doctest_global_setup = f"""
+ROOT = {ROOT!r}  # the checkout: pages that read its files chdir there
 import numpy as np
 import tendonrod as tr
 np.set_printoptions(precision=6, suppress=True)
