@@ -87,4 +87,4 @@ typecheck: $(STAMP)
 	$(VENV)/bin/mypy
 
 clean:
-	rm -rf build dist $(VENV) tendonrod/*.so *.egg-info
+	rm -rf build dist $(VENV) tendonrod/*.so *.egg-info docs/api/generated

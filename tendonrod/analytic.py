@@ -158,6 +158,15 @@ def planar_shape(s, F, z, L, EI, a, b, k, *, nodes=16):
     Out-of-domain input gives NaN with the "invalid" flag, as the ufuncs;
     non-numeric input raises TypeError naming the argument, a bad ``nodes``
     TypeError or ValueError naming ``nodes``.
+
+    Examples
+    --------
+    >>> from tendonrod import analytic as an
+    >>> xy = an.planar_shape(np.linspace(0.0, 0.2, 3), 0.5, 0.2, 0.2, 0.0112, 0.0, 0.008, np.inf)
+    >>> xy.round(5)  # (axial, lateral) [m] at s = 0, L/2, L
+    array([[0.     , 0.     ],
+           [0.09868, 0.0148 ],
+           [0.19735, 0.02959]])
     """
     try:
         nodes = operator.index(nodes)
