@@ -22,3 +22,15 @@ sol = tr.solve(scene)
 ax = tr.plot.robot(sol)
 ax.figure.savefig(HERE / "three_tendons.png", dpi=110, bbox_inches="tight")
 plt.close("all")
+
+# the quick start's robot past its critical load: the locked tendon slack (dashed)
+wire = tr.Robot(rod, [tr.Tendon(offset=0.01, angle=0.0)])
+for f, name in ((0.2, "taut"), (0.5, "slack")):
+    load = [tr.PointLoad(s=0.2, force=(0.0, 0.0, -f))]
+    sol = tr.solve(tr.Scene(wire, displacement=[0.0157], loads=load))
+    ax = tr.plot.robot(sol)
+    ax.set_title(
+        f"{f} N at the tip: tension {sol.tension[0]:.2f} N, slack {sol.slack[0] * 1e3:.2f} mm"
+    )
+    ax.figure.savefig(HERE / f"fig17_{name}.png", dpi=90, bbox_inches="tight")
+    plt.close("all")
