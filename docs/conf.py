@@ -102,7 +102,8 @@ def setup(app):
 
 
 # napoleon writes a class's Attributes as ``:ivar name:`` fields, and Sphinx links each
-# field's *name* as an object reference: ``nit`` of Solution then finds BatchResult.nit and
-# SweepResult.nit too.  Those ambiguous links (and only the ref.python category) are not
-# docstring errors; everything else stays an error under -W.
+# field's *name* as an object reference.  Where the class sets that attribute in __init__
+# (Solution.nit, .nfev) autodoc has no object of that name, and the link finds
+# BatchResult.nit and SweepResult.nit instead: an ambiguous link, not a docstring error.
+# Only that category (ref.python) is silenced; everything else is an error under -W.
 suppress_warnings = ["ref.python"]

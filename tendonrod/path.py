@@ -270,8 +270,9 @@ def path(
         What varies, in the sweep's path syntax: ``"loads[0].force[2]"``,
         ``"displacement[0]"``, ``"tension[1]"``, ``"robot.tendons[1].EA"``.  One scalar
         value of a fixed structure; anything else raises ``ValueError`` saying so.
-    span : (start, end)
-        The parameter's range [its unit]; the path starts with a solve at ``start``.
+    span : tuple of 2 floats
+        ``(start, end)``, the parameter's range [its unit]; the path starts with a solve
+        at ``start``.
     options : Options, optional
         Numerical options of every point (``tol``, ``steps``, budget per point).
     step, max_step : float
