@@ -8,7 +8,7 @@ STAMP   := $(VENV)/.installed
 SOURCES := setup.py pyproject.toml $(wildcard tendonrod/*.c tendonrod/*.h csrc/*.c csrc/*.h)
 DEMO_OUT ?= figures
 
-.PHONY: demo test install gsl bench sanitize valgrind lint typecheck wheel wheel-check clean
+.PHONY: demo test install gsl docs bench sanitize valgrind lint typecheck wheel wheel-check clean
 
 # GSL: install libgsl-dev through apt-get when neither pkg-config nor gsl-config finds it.
 gsl:
@@ -22,7 +22,7 @@ gsl:
 $(STAMP): $(SOURCES) | gsl
 	test -x $(VPY) || $(PY) -m venv $(VENV)
 	$(VPY) -m pip install -q --upgrade pip "setuptools>=77"
-	$(VPY) -m pip install -q -e '.[plot,test,notebooks,lint,wheel]'
+	$(VPY) -m pip install -q -e '.[plot,test,notebooks,lint,wheel,docs]'
 	touch $@
 
 install: $(STAMP)
@@ -72,6 +72,12 @@ wheel: $(STAMP)
 wheel-check: wheel
 	tools/wheel_check.sh $(abspath $(VPY))
 
+# The documentation (docs/, Sphinx + MyST): the HTML with warnings as errors, then every
+# doctest (the docstrings' Examples and the pages' doctest blocks), into build/docs.
+docs: $(STAMP)
+	MPLBACKEND=Agg $(VENV)/bin/sphinx-build -q -W --keep-going -b html docs build/docs/html
+	MPLBACKEND=Agg $(VENV)/bin/sphinx-build -q -W --keep-going -b doctest docs build/docs/doctest
+
 # the C core as a library of its own (libtendonrod, install-c, c-example): csrc/lib.mk
 include csrc/lib.mk
 
@@ -81,4 +87,4 @@ typecheck: $(STAMP)
 	$(VENV)/bin/mypy
 
 clean:
-	rm -rf build dist $(VENV) tendonrod/*.so *.egg-info
+	rm -rf build dist $(VENV) tendonrod/*.so *.egg-info docs/api/generated

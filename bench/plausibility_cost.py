@@ -11,7 +11,7 @@ Two kinds of measurement, each the median over rounds:
   by a no-op, what the tree did before it), the ratio on/off per round:
 
   1. a warm load ramp of 200 solves through ``tr.Problem.solve``, a new Scene per call
-     (the README's loop): the bounds clear, so the checks cost their screen only;
+     (the load ramp of docs/guide/solving.md): the bounds clear, so the checks cost their screen only;
   2. ``tr.solve_batch``, 2,000 points, lean (``steps=4``): the vectorised screen;
   3. the ramp of 1 on a robot bent 200 deg (past the half turn, so the bounds cannot
      clear): every solve records its states once for the state rules;

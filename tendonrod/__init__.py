@@ -67,6 +67,15 @@ def load(path) -> Solution:
     ------
     ValueError
         The file is not a solution written by tendonrod (or of another format).
+
+    Examples
+    --------
+    >>> robot = tr.Robot(tr.Rod(0.2, 0.8e-3, 207e9, 79.6e9, kirchhoff=True), [tr.Tendon(0.01)])
+    >>> import os, tempfile
+    >>> sol = tr.solve(tr.Scene(robot, displacement=[0.01]))
+    >>> sol.save(path := os.path.join(tempfile.mkdtemp(), "sol.npz"))
+    >>> bool((tr.load(path).tip_position == sol.tip_position).all())
+    True
     """
     return Solution(*read_solution(path))
 

@@ -12,7 +12,16 @@ __all__ = ["SceneFileError"]
 
 
 class SceneFileError(ValueError):
-    """A scene file that cannot be used: ``key`` names where, ``problem`` says what."""
+    """A scene file that cannot be used: ``key`` names where, ``problem`` says what.
+
+    Examples
+    --------
+    >>> try:
+    ...     tr.scenefile.parse_scene({"rod": {"length": "abc"}}, "robot.toml")
+    ... except tr.scenefile.SceneFileError as e:
+    ...     print(e)
+    robot.toml: rod.length: expected a number, got 'abc' (string)
+    """
 
     def __init__(self, key: str, problem: str, path: str | os.PathLike | None = None):
         self.key = key

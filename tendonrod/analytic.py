@@ -9,19 +9,16 @@ tendon displacement of zero).  Parallel routing: a = 0, b = r; converging:
 a = -b/L (the tendon ends on the centre line); anything else is
 semi-converging.
 
-=====================================  =========================================
-``tension(F, z, L, EI, a, b, k)``      eq. 25 (eq. 6 parallel, eq. 13 k = inf)
-``angle(s, F, z, L, EI, a, b, k)``     eq. 22 (eq. 3 parallel, eq. 5 at s = L)
-``deflection(s, F, z, L, EI, a, b, k)``  eq. 26 (eq. 7; eqs. 8-12, 27-34 at
-                                       s = z and z = L)
-``equivalent_stiffness(k, k_backbone)``  eq. 17
-``pattern_factor(n)``                  sum_{i=1..n} cos^2(2 pi i/n) (eqs. 19-20,
-                                       35-36)
-``actuation_tension_for_angle``        eqs. 37-38 (theta_L, L, EI, a, b)
-``actuation_tension_for_deflection``   eqs. 39-40 (delta_L, L, EI, a, b)
-``planar_shape(s, F, z, L, EI, a, b, k)``  (axial, lateral) coordinates of the
-                                       loaded backbone, as for the paper's Fig. 23
-=====================================  =========================================
+=========================================  ================================================
+``tension(F, z, L, EI, a, b, k)``          eq. 25 (eq. 6 parallel, eq. 13 k = inf)
+``angle(s, F, z, L, EI, a, b, k)``         eq. 22 (eq. 3 parallel, eq. 5 at s = L)
+``deflection(s, F, z, L, EI, a, b, k)``    eq. 26 (eq. 7; eqs. 8-12, 27-34 at s = z, z = L)
+``equivalent_stiffness(k, k_backbone)``    eq. 17
+``pattern_factor(n)``                      sum_{i=1..n} cos^2(2 pi i/n) (eqs. 19-20, 35-36)
+``actuation_tension_for_angle``            eqs. 37-38 (theta_L, L, EI, a, b)
+``actuation_tension_for_deflection``       eqs. 39-40 (delta_L, L, EI, a, b)
+``planar_shape(s, F, z, L, EI, a, b, k)``  (axial, lateral) coordinates, paper Fig. 23
+=========================================  ================================================
 
 All but :func:`planar_shape` are real NumPy ufuncs written in C: they
 broadcast over every argument and accept ``out=``, ``where=`` and any numeric
@@ -137,8 +134,8 @@ def planar_shape(s, F, z, L, EI, a, b, k, *, nodes=16):
     and the quadrature error falls faster than exponentially with ``nodes``:
     with the default 16 nodes it is at round-off (below 1e-15 L; measured
     <= 3e-16 L against adaptive quadrature in tests/test_closed_forms.py, for
-    shapes up to |theta| ~ 3 rad, far past where the small-deflection model
-    itself holds; 8 nodes suffice for |theta| <~ 0.3 rad).
+    shapes up to ``|theta| ~ 3`` rad, far past where the small-deflection model
+    itself holds; 8 nodes suffice for ``|theta| <~ 0.3`` rad).
 
     Parameters
     ----------
@@ -161,6 +158,15 @@ def planar_shape(s, F, z, L, EI, a, b, k, *, nodes=16):
     Out-of-domain input gives NaN with the "invalid" flag, as the ufuncs;
     non-numeric input raises TypeError naming the argument, a bad ``nodes``
     TypeError or ValueError naming ``nodes``.
+
+    Examples
+    --------
+    >>> from tendonrod import analytic as an
+    >>> xy = an.planar_shape(np.linspace(0.0, 0.2, 3), 0.5, 0.2, 0.2, 0.0112, 0.0, 0.008, np.inf)
+    >>> xy.round(5)  # (axial, lateral) [m] at s = 0, L/2, L
+    array([[0.     , 0.     ],
+           [0.09868, 0.0148 ],
+           [0.19735, 0.02959]])
     """
     try:
         nodes = operator.index(nodes)

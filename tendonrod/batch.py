@@ -64,6 +64,14 @@ class BatchResult:
     chunksize : int, points per warm-started chunk
     plausibility : (n,) object array, each point's findings (a tuple of
         :class:`~tendonrod.plausibility.Finding`, as ``Solution.plausibility``)
+
+    Examples
+    --------
+    >>> rod = tr.Rod(length=0.2, diameter=0.8e-3, E=207e9, G=79.6e9, kirchhoff=True)
+    >>> robot = tr.Robot(rod, [tr.Tendon(offset=0.01, angle=0.0)])
+    >>> res = tr.solve_batch(tr.Scene(robot, displacement=[0.0]), displacement=[[0.005], [0.01]])
+    >>> res.tip_position.shape, res.success.tolist(), res.failures()
+    ((2, 3), [True, True], [])
     """
 
     tip_position: np.ndarray
@@ -205,6 +213,16 @@ def solve_batch(
     Points that look like a slip (:mod:`tendonrod.plausibility`) give one
     :class:`~tendonrod.PlausibilityWarning` per rule and subject for the whole batch (how
     many points, the worst); ``BatchResult.plausibility`` lists every point's findings.
+
+    Examples
+    --------
+    >>> rod = tr.Rod(length=0.2, diameter=0.8e-3, E=207e9, G=79.6e9, kirchhoff=True)
+    >>> robot = tr.Robot(rod, [tr.Tendon(offset=0.01, angle=0.0)])
+    >>> scene = tr.Scene(robot, displacement=[0.0157], loads=[tr.PointLoad(s=0.2, force=(0, 0, 0))])
+    >>> F = np.zeros((5, 1, 3)); F[:, 0, 2] = -np.linspace(0.0, 0.2, 5)  # (points, loads, 3)
+    >>> res = tr.solve_batch(scene, forces=F)
+    >>> bool(res.success.all()), res.tension[:, 0].round(3)
+    (True, array([3.267, 2.854, 2.426, 1.983, 1.525]))
     """
     options, chunksize = _check_arguments(scene, options, threads, chunksize)
     rod, tendons, loads, dist = pack_scene(scene)

@@ -153,7 +153,7 @@ def _structure_key(scene: Scene, options: Options):
 
 def is_planar(scene: Scene) -> bool:
     """True when ``scene`` is solved with the planar (x-z) formulation unless
-    ``Options.force_spatial``: every tendon at angle 0 or pi (|sin angle| <= 1e-12) and
+    ``Options.force_spatial``: every tendon at angle 0 or pi (``|sin angle| <= 1e-12``) and
     every load in the x-z plane.  The core's rule (``_core.is_planar``), so the answer
     is the ``formulation.planar`` a solve reports."""
     key = scene.__dict__.get("_planar")

@@ -151,6 +151,14 @@ class Jacobian:
         tendons sharing one path, is indeterminate): then the slack one.
     solution : Solution
         The solved state linearised.
+
+    Examples
+    --------
+    >>> rod = tr.Rod(length=0.2, diameter=0.8e-3, E=207e9, G=79.6e9, kirchhoff=True)
+    >>> robot = tr.Robot(rod, [tr.Tendon(offset=0.01, angle=0.0)])
+    >>> J = tr.jacobian(tr.Scene(robot, displacement=[0.0157]))
+    >>> J.actuation.shape, J.tension.shape, J.load.shape
+    ((6, 1), (1, 1), (6, 6))
     """
 
     s: object
@@ -176,3 +184,51 @@ class Jacobian:
             f"{list(self.control)}, design {list(self.design_names)}, "
             f"load {'yes' if self.load is not None else 'no'}{switch})"
         )
+
+
+# argument checks of the linearisations (tr.jacobian, Problem.jacobian)
+def _rows(bp: np.ndarray, s_vals: np.ndarray, L: float):
+    """The breakpoint index of each arc length, or None when one is not a breakpoint."""
+    rows = []
+    for x in s_vals:
+        hit = np.flatnonzero(np.abs(bp[1:] - x) <= 1e-12 * L)
+        if hit.size == 0:
+            return None
+        rows.append(int(hit[-1]) + 1)
+    return rows
+
+
+def _design_names(scene: Scene, design) -> list:
+    """(canonical path, kind, index) of each design parameter name (ValueError naming a
+    bad one); a single name may be given as a string."""
+    if isinstance(design, str):
+        design = [design]
+    try:
+        names = list(design)
+    except TypeError:
+        raise ValueError(f"design must be a sequence of parameter names, got {design!r}") from None
+    out = [design_parameter(scene, n) for n in names]
+    paths = [p for p, _, _ in out]
+    if len(set(paths)) != len(paths):
+        raise ValueError(f"design names a parameter twice: {names!r}")
+    return out
+
+
+def _sides(side, nt: int):
+    """``side`` as a float array (nt,) of +1 / -1 / 0, or None; ValueError naming it."""
+    if side is None:
+        return None
+    try:
+        arr = np.array(side, dtype=float).reshape(-1)
+    except (TypeError, ValueError):
+        arr = None
+    if arr is None or arr.shape != (nt,) or not np.all(np.isin(arr, (-1.0, 0.0, 1.0))):
+        raise ValueError(f"side must hold +1, -1 or 0 for each of the {nt} tendon(s), got {side!r}")
+    return arr
+
+
+def _forward(method) -> bool:
+    """True for method "forward", False for "central"; ValueError naming ``method``."""
+    if method not in ("central", "forward"):
+        raise ValueError(f"method must be 'central' or 'forward', got {method!r}")
+    return method == "forward"

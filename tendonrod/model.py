@@ -81,8 +81,18 @@ class Rod:
         Body-frame curvature u* of the unstressed shape (``m_b = K_bt (u - u*)``), and the
         segments of :meth:`segmented`; see :mod:`tendonrod.backbone`.
 
+    Notes
+    -----
     The effective values are the properties :attr:`bending_stiffness` etc. (also
     spelled :attr:`EI_eff`...), used by the solver.
+
+    Examples
+    --------
+    A 0.2 m spring-steel wire of 0.8 mm diameter, unshearable and inextensible:
+
+    >>> rod = tr.Rod(length=0.2, diameter=0.8e-3, E=207e9, G=79.6e9, kirchhoff=True)
+    >>> round(rod.bending_stiffness, 6), rod.segments
+    (0.004162, ())
     """
 
     length: float
@@ -243,6 +253,13 @@ class Robot:
     The base is clamped at ``base_position`` [m] (world frame) with the base frame's
     axes the columns of ``base_rotation`` (3x3, orthonormal to 1e-12, det +1): the
     undeformed rod lies along its third column.  Results are in the world frame.
+
+    Examples
+    --------
+    >>> rod = tr.Rod(length=0.2, diameter=0.8e-3, E=207e9, G=79.6e9, kirchhoff=True)
+    >>> robot = tr.Robot(rod, [tr.Tendon(offset=0.01, angle=a) for a in (0.0, np.pi)])
+    >>> robot.n_tendons, robot.mounted
+    (2, False)
     """
 
     rod: Rod
@@ -402,6 +419,17 @@ class Scene:
     ``gravity`` [m/s^2] (world frame, default none) weighs the rod (``Rod.density``)
     as the distributed force ``rho A g`` and each point mass as the point force
     ``mass * g``.
+
+    Examples
+    --------
+    One tendon retracted by 15.7 mm (a 90 degree bend) and 0.2 N down at the tip:
+
+    >>> rod = tr.Rod(length=0.2, diameter=0.8e-3, E=207e9, G=79.6e9, kirchhoff=True)
+    >>> robot = tr.Robot(rod, [tr.Tendon(offset=0.01, angle=0.0)])
+    >>> scene = tr.Scene(robot, displacement=[0.0157],
+    ...                  loads=[tr.PointLoad(s=0.2, force=(0.0, 0.0, -0.2))])
+    >>> scene.displacement_controlled()
+    (True,)
     """
 
     robot: Robot

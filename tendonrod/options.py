@@ -126,6 +126,12 @@ class Options:
         (status 5, :attr:`Solution.stable` False).  True: a converged equilibrium is a
         success whatever its stability, which the solve does not judge
         (:attr:`Solution.stable` computes it on first access).
+
+    Examples
+    --------
+    >>> opts = tr.Options(steps=4, tol=3e-9, tip_only=True)  # faster, about 1e-9 L
+    >>> opts.integrator, opts.steps
+    ('rk8', 4)
     """
 
     integrator: str = _DEFAULTS["integrator"]

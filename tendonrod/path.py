@@ -55,6 +55,19 @@ class SpecialPoint:
         Tip position there, world frame [m].
     margin : float
         The stability margin there [EI/L] (zero in exact arithmetic).
+
+    Examples
+    --------
+    An Euler column under a growing axial load meets its bifurcation at
+    P_E = pi^2 EI / (4 L^2):
+
+    >>> rod = tr.Rod(length=0.25, diameter=1.2e-3, E=60e9, G=23e9, kirchhoff=True)
+    >>> P_E = np.pi**2 * rod.bending_stiffness / (4 * rod.length**2)
+    >>> scene = tr.Scene(tr.Robot(rod, []), loads=[tr.PointLoad(s=0.25, force=(0, 0, 0))])
+    >>> p = tr.path(scene, "loads[0].force[2]", (0.0, -3.0 * P_E))
+    >>> sp = p.special_points[0]
+    >>> sp.kind, round(-sp.value / P_E, 3)
+    ('bifurcation', 1.0)
     """
 
     kind: str
@@ -113,6 +126,14 @@ class Path:
         0, or the core status of the stop (:attr:`message` says why).
     message : str
         What happened: where the path ended and why.
+
+    Examples
+    --------
+    >>> rod = tr.Rod(length=0.2, diameter=0.8e-3, E=207e9, G=79.6e9, kirchhoff=True)
+    >>> robot = tr.Robot(rod, [tr.Tendon(offset=0.01, angle=0.0)])
+    >>> p = tr.path(tr.Scene(robot, displacement=[0.0]), "displacement[0]", (0.0, 0.01))
+    >>> p.value[[0, -1]], all(p.stable), p.kind[0]
+    (array([0.  , 0.01]), True, 'regular')
     """
 
     scene: Scene
@@ -249,8 +270,9 @@ def path(
         What varies, in the sweep's path syntax: ``"loads[0].force[2]"``,
         ``"displacement[0]"``, ``"tension[1]"``, ``"robot.tendons[1].EA"``.  One scalar
         value of a fixed structure; anything else raises ``ValueError`` saying so.
-    span : (start, end)
-        The parameter's range [its unit]; the path starts with a solve at ``start``.
+    span : tuple of 2 floats
+        ``(start, end)``, the parameter's range [its unit]; the path starts with a solve
+        at ``start``.
     options : Options, optional
         Numerical options of every point (``tol``, ``steps``, budget per point).
     step, max_step : float
@@ -267,6 +289,16 @@ def path(
     Path
         The points; ``success`` False with the reason in ``message`` when the path
         stopped before the end of the span (the points up to there are kept).
+
+    Examples
+    --------
+    Follow the bent robot as its tendon is pulled further:
+
+    >>> rod = tr.Rod(length=0.2, diameter=0.8e-3, E=207e9, G=79.6e9, kirchhoff=True)
+    >>> robot = tr.Robot(rod, [tr.Tendon(offset=0.01, angle=0.0)])
+    >>> p = tr.path(tr.Scene(robot, displacement=[0.0]), "displacement[0]", (0.0, 0.0157))
+    >>> p.success, len(p.special_points), round(float(p.tension[-1, 0]), 3)
+    (True, 0, 3.267)
     """
     if not isinstance(scene, Scene):
         raise ValueError(f"scene must be a tendonrod.Scene, got {scene!r}")

@@ -132,7 +132,17 @@ class PlausibilityWarning(UserWarning):
     """Legal input (or its solution) that is probably a slip; never an error.
 
     The message names the quantity, its value, the limit and the likely slip;
-    ``finding`` holds the :class:`Finding` (None for a summary of many points)."""
+    ``finding`` holds the :class:`Finding` (None for a summary of many points).
+
+    Examples
+    --------
+    >>> import warnings
+    >>> with warnings.catch_warnings(record=True) as w:
+    ...     warnings.simplefilter("always")
+    ...     t = tr.Tendon(offset=0.01, angle=90.0)  # degrees by mistake
+    >>> w[0].category.__name__
+    'PlausibilityWarning'
+    """
 
     def __init__(self, message: str, finding: Finding | None = None):
         super().__init__(message)

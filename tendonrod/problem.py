@@ -1,9 +1,5 @@
 """A scene's structure compiled once: :class:`Problem`.
 
->>> prob = tr.Problem(scene)                       # doctest: +SKIP
->>> sol = prob.solve()                             # cold the first time
->>> sol = prob.solve(scene_with_other_loads)       # warm, no recompilation
-
 The *structure* of a scene is what its compiled model depends on: the rod, the tendons'
 routing, axial rigidity and anchors, which tendons are displacement- and which
 tension-controlled, the positions of the point loads, the formulation (planar or
@@ -34,7 +30,7 @@ from .compiled import (
     structure_difference,
     value_vector,
 )
-from .linearization import PARAM_KIND, Jacobian, design_parameter
+from .linearization import PARAM_KIND, Jacobian, _design_names, _forward, _rows, _sides
 from .model import PointLoad, Scene
 from .mounting import base_pose, pairs_out
 from .options import Options, _check_options, _replace
@@ -53,6 +49,14 @@ class Problem:
         The scene whose structure is compiled (and the default scene of :meth:`solve`).
     options : Options, optional
         Numerical options (default ``Options()``); fixed for the problem's life.
+
+    Examples
+    --------
+    >>> robot = tr.Robot(tr.Rod(0.2, 0.8e-3, 207e9, 79.6e9, kirchhoff=True), [tr.Tendon(0.01)])
+    >>> prob = tr.Problem(tr.Scene(robot, displacement=[0.0]))  # compiled once
+    >>> sol = prob.solve(tr.Scene(robot, displacement=[0.01]))  # new values, solved warm
+    >>> sol.success, sol.tension.round(3)
+    (True, array([2.081]))
     """
 
     def __init__(self, scene: Scene, options: Options | None = None):
@@ -355,33 +359,6 @@ def _arc_lengths(s, L: float):
     return np.array([compliance_point(x, L) for x in arr]), False
 
 
-def _rows(bp: np.ndarray, s_vals: np.ndarray, L: float):
-    """The breakpoint index of each arc length, or None when one is not a breakpoint."""
-    rows = []
-    for x in s_vals:
-        hit = np.flatnonzero(np.abs(bp[1:] - x) <= 1e-12 * L)
-        if hit.size == 0:
-            return None
-        rows.append(int(hit[-1]) + 1)
-    return rows
-
-
-def _design_names(scene: Scene, design) -> list:
-    """(canonical path, kind, index) of each design parameter name (ValueError naming a
-    bad one); a single name may be given as a string."""
-    if isinstance(design, str):
-        design = [design]
-    try:
-        names = list(design)
-    except TypeError:
-        raise ValueError(f"design must be a sequence of parameter names, got {design!r}") from None
-    out = [design_parameter(scene, n) for n in names]
-    paths = [p for p, _, _ in out]
-    if len(set(paths)) != len(paths):
-        raise ValueError(f"design names a parameter twice: {names!r}")
-    return out
-
-
 def _solved_probe(sol, s_vals, options: Options, spatial: bool) -> Problem:
     """A Problem of ``sol``'s scene with breakpoints at ``s_vals`` (spatial if asked),
     solved warm from ``sol``; ConvergenceError if that solve fails."""
@@ -412,26 +389,6 @@ def _load_block(sol, s_vals, options: Options, forward: bool) -> np.ndarray:
     except RuntimeError as exc:
         raise ConvergenceError(f"tendonrod.jacobian: {exc}", sol) from None
     return np.stack([raw["pose"][6 * r : 6 * r + 6, r, :].T for r in range(len(rows))])
-
-
-def _sides(side, nt: int):
-    """``side`` as a float array (nt,) of +1 / -1 / 0, or None; ValueError naming it."""
-    if side is None:
-        return None
-    try:
-        arr = np.array(side, dtype=float).reshape(-1)
-    except (TypeError, ValueError):
-        arr = None
-    if arr is None or arr.shape != (nt,) or not np.all(np.isin(arr, (-1.0, 0.0, 1.0))):
-        raise ValueError(f"side must hold +1, -1 or 0 for each of the {nt} tendon(s), got {side!r}")
-    return arr
-
-
-def _forward(method) -> bool:
-    """True for method "forward", False for "central"; ValueError naming ``method``."""
-    if method not in ("central", "forward"):
-        raise ValueError(f"method must be 'central' or 'forward', got {method!r}")
-    return method == "forward"
 
 
 def _with_solution(jac: Jacobian, sol) -> Jacobian:
@@ -485,6 +442,12 @@ def compliance(
 
     If a solve fails, :class:`ConvergenceError` is raised (a linearisation about an
     unconverged state means nothing, nor does a secant to one).
+
+    Examples
+    --------
+    >>> robot = tr.Robot(tr.Rod(0.2, 0.8e-3, 207e9, 79.6e9, kirchhoff=True), [tr.Tendon(0.01)])
+    >>> tr.compliance(tr.Scene(robot, displacement=[0.01])).shape
+    (6, 6)
     """
     options = _check_options(options)
     if not isinstance(scene, Scene):
@@ -560,6 +523,12 @@ def jacobian(
         nothing).
     ValueError
         For a bad ``s``, an unknown design parameter, or a Solution that did not converge.
+
+    Examples
+    --------
+    >>> robot = tr.Robot(tr.Rod(0.2, 0.8e-3, 207e9, 79.6e9, kirchhoff=True), [tr.Tendon(0.01)])
+    >>> tr.jacobian(tr.Scene(robot, displacement=[0.01]), design=["EI"]).design.shape
+    (6, 1)
     """
     from .solution import Solution as _Solution
 

@@ -18,13 +18,35 @@ __all__ = ["Formulation", "RodState", "ConvergenceWarning", "ConvergenceError"]
 
 
 class ConvergenceWarning(RuntimeWarning):
-    """Issued by :func:`tendonrod.solve` when the shooting iteration did not converge."""
+    """Issued by :func:`tendonrod.solve` when the shooting iteration did not converge.
+
+    Examples
+    --------
+    >>> import warnings
+    >>> rod = tr.Rod(length=0.2, diameter=0.8e-3, E=207e9, G=79.6e9, kirchhoff=True)
+    >>> scene = tr.Scene(tr.Robot(rod, []), loads=[tr.PointLoad(s=0.2, force=(1.0, 0, 0))])
+    >>> with warnings.catch_warnings(record=True) as w:
+    ...     warnings.simplefilter("always")
+    ...     sol = tr.solve(scene, options=tr.Options(max_iter=1, continuation=False))
+    >>> sol.success, w[0].category.__name__
+    (False, 'ConvergenceWarning')
+    """
 
 
 class ConvergenceError(RuntimeError):
     """Raised by ``solve(..., strict=True)`` when the iteration did not converge.
 
     Attribute ``solution`` holds the (unconverged) :class:`~tendonrod.solver.Solution`.
+
+    Examples
+    --------
+    >>> rod = tr.Rod(length=0.2, diameter=0.8e-3, E=207e9, G=79.6e9, kirchhoff=True)
+    >>> scene = tr.Scene(tr.Robot(rod, []), loads=[tr.PointLoad(s=0.2, force=(1.0, 0, 0))])
+    >>> try:
+    ...     tr.solve(scene, options=tr.Options(max_iter=1, continuation=False), strict=True)
+    ... except tr.ConvergenceError as e:
+    ...     print(type(e).__name__)
+    ConvergenceError
     """
 
     def __init__(self, message: str, solution: Any = None):

@@ -127,6 +127,14 @@ class SceneSpec:
     target : dict or None
         The ``[target]`` table as keyword arguments of :func:`tendonrod.actuate`
         (angles in radians), or None.
+
+    Examples
+    --------
+    >>> data = {"rod": {"length": 0.2, "diameter": 8e-4, "E": 207e9, "G": 79.6e9},
+    ...         "tendon": [{"offset": 0.01, "tension": 1.0}]}
+    >>> spec = tr.scenefile.parse_scene(data)
+    >>> spec.scene.robot.n_tendons, spec.options, spec.title
+    (1, None, '')
     """
 
     scene: Any
@@ -413,7 +421,14 @@ def _parse_options(raw: Any):
 def parse_angle(value: Any, key: str) -> float:
     """An angle [rad] from a number (radians) or a string with a unit, ``"45deg"``,
     ``"45 deg"``, ``"0.8rad"`` (a bare number in a string: radians); SceneFileError
-    naming ``key`` otherwise."""
+    naming ``key`` otherwise.
+
+    Examples
+    --------
+    >>> from tendonrod.scenefile import parse_angle
+    >>> round(parse_angle("45deg", "target.tip_angle"), 6), parse_angle(0.5, "x")
+    (0.785398, 0.5)
+    """
     if isinstance(value, str):
         text = value.strip().lower()
         for unit, factor in (("deg", math.pi / 180.0), ("rad", 1.0), ("", 1.0)):
@@ -473,6 +488,13 @@ def parse_scene(data: Mapping[str, Any], source: str | None = None) -> SceneSpec
     """Build a :class:`SceneSpec` from an already parsed TOML document (a dict).
 
     Raises :class:`SceneFileError` naming the offending key.
+
+    Examples
+    --------
+    >>> data = {"rod": {"length": 0.2, "diameter": 8e-4, "E": 207e9, "G": 79.6e9},
+    ...         "tendon": [{"offset": 0.01, "tension": 1.0}]}
+    >>> tr.solve(tr.scenefile.parse_scene(data).scene).success
+    True
     """
     try:
         if not isinstance(data, Mapping):
@@ -527,6 +549,15 @@ def load_scene(path: str | os.PathLike) -> SceneSpec:
 
     Raises :class:`SceneFileError` (a ``ValueError``) naming the key and the
     problem, or ``OSError`` if the file cannot be read.
+
+    Examples
+    --------
+    >>> import os, tempfile
+    >>> path = os.path.join(tempfile.mkdtemp(), "robot.toml")
+    >>> with open(path, "w") as fh:
+    ...     _ = fh.write('[rod]\\nlength = 0.2\\nEI = 4e-3\\nGJ = 3e-3\\nkirchhoff = true\\n')
+    >>> tr.scenefile.load_scene(path).scene.robot.rod.length
+    0.2
     """
     with open(path, "rb") as fh:
         raw = fh.read()

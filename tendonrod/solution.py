@@ -156,6 +156,15 @@ class Solution:
         The options used.
     raw : dict
         Everything ``_core.solve`` returned.
+
+    Examples
+    --------
+    >>> rod = tr.Rod(length=0.2, diameter=0.8e-3, E=207e9, G=79.6e9, kirchhoff=True)
+    >>> robot = tr.Robot(rod, [tr.Tendon(offset=0.01, angle=0.0)])
+    >>> scene = tr.Scene(robot, displacement=[0.0157])
+    >>> sol = tr.solve(scene)
+    >>> sol.success, sol.stable, sol.tip_position.round(4), sol.tension.round(3)
+    (True, True, array([0.1273, 0.    , 0.1274]), array([3.267]))
     """
 
     def __init__(self, raw: dict, scene: Scene, options: Options):
@@ -276,7 +285,7 @@ class Solution:
     @property
     def stability(self) -> float:
         """The margin [-]: the smallest eigenvalue of the constrained second variation in
-        the norm (1/L) int |dtheta|^2 ds, scaled by EI/L (positive: stable; ~0 at a
+        the norm ``(1/L) int |dtheta|^2 ds``, scaled by EI/L (positive: stable; ~0 at a
         critical point or along a symmetry; NaN where not tested).  For a straight
         cantilever under a compressive dead load P it is (pi^2/4)(1 - P/P_E), P_E the
         Euler load pi^2 EI / (4 L^2)."""

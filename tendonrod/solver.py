@@ -70,6 +70,18 @@ def solve(
     a backbone through itself, a tension near EI/r^2) gives a
     :class:`~tendonrod.PlausibilityWarning`; ``sol.plausibility`` lists the findings
     (:mod:`tendonrod.plausibility`).
+
+    Examples
+    --------
+    >>> rod = tr.Rod(length=0.2, diameter=0.8e-3, E=207e9, G=79.6e9, kirchhoff=True)
+    >>> robot = tr.Robot(rod, [tr.Tendon(offset=0.01, angle=0.0)])
+    >>> scene = tr.Scene(robot, displacement=[0.0157],
+    ...                  loads=[tr.PointLoad(s=0.2, force=(0.0, 0.0, -0.2))])
+    >>> sol = tr.solve(scene)
+    >>> sol.success, sol.nit, sol.tension.round(3)
+    (True, 7, array([1.525]))
+    >>> tr.solve(scene, guess=sol).nit  # warm: from a solution
+    0
     """
     prob = Problem(scene, options)
     sol = Solution(prob._run(guess), scene, prob.options)

@@ -1,8 +1,5 @@
 """Design sweeps: solve a grid or list of scenes, in parallel, resumably.
 
->>> res = tr.sweep(scene, {"loads[0].force": forces}, grid=False)   # doctest: +SKIP
->>> res.success, res["tip_position"]                                   # doctest: +SKIP
-
 What is varied is named by a *path* into the scene's frozen dataclasses and
 replaced with :func:`dataclasses.replace`: ``"robot.rod.length"``,
 ``"robot.tendons[0].EA"``, ``"displacement[0]"``, ``"loads[1].force"``,
@@ -113,12 +110,17 @@ _OUTCOME_NAMES = {
 _DEFAULT_LIST_CHUNK = 32
 
 
-# --------------------------------------------------------------------------
-# what is recorded per point
-# --------------------------------------------------------------------------
+# ---- what is recorded per point ----
 def tip_measure(scene: Any, sol: Any) -> dict:
     """Default per-point record: tip pose, tendon tensions, slacks, displacements and the
-    solve's stability verdict (1.0 / 0.0, NaN where None or not judged)."""
+    solve's stability verdict (1.0 / 0.0, NaN where None or not judged).
+
+    Examples
+    --------
+    >>> robot = tr.Robot(tr.Rod(0.2, 0.8e-3, 207e9, 79.6e9, kirchhoff=True), [tr.Tendon(0.01)])
+    >>> sorted(tr.tip_measure(None, tr.solve(tr.Scene(robot, displacement=[0.01]))))
+    ['displacement', 'slack', 'stable', 'tension', 'tip_position', 'tip_rotation']
+    """
     verdict = sol.raw.get("stability_verdict") or {"stable": None}
     return {
         "tip_position": np.asarray(sol.tip_position, dtype=float),  # (3,) world [m]
@@ -141,6 +143,13 @@ class ComplianceMeasure:
     the :func:`tip_measure` fields.  ``step``: a signed load step, one for all columns or
     six ([N], [N m]); the tangent misleads near a tendon's slack switch or a limit point
     (:func:`tendonrod.compliance`).  Picklable, so it works with process pools.
+
+    Examples
+    --------
+    >>> robot = tr.Robot(tr.Rod(0.2, 0.8e-3, 207e9, 79.6e9, kirchhoff=True), [tr.Tendon(0.01)])
+    >>> m = tr.ComplianceMeasure(s=(0.1, None))  # at mid-length and at the tip
+    >>> m(scene := tr.Scene(robot, displacement=[0.01]), tr.solve(scene))["compliance"].shape
+    (2, 6, 6)
     """
 
     s: tuple = (None,)
@@ -160,9 +169,7 @@ class ComplianceMeasure:
         return out
 
 
-# --------------------------------------------------------------------------
-# the result
-# --------------------------------------------------------------------------
+# ---- the result ----
 @dataclass(frozen=True, repr=False)
 class SweepResult:
     """Tidy arrays of a sweep.  Indexing ``res[name]`` returns ``data[name]``
@@ -177,20 +184,18 @@ class SweepResult:
     values : dict name -> ndarray
         The parameter value at every point, shape ``shape + value shape``.
     outcome : ndarray of int8, shape ``shape``
-        The sweep's own code per point: :data:`OUTCOME_OK` (0, the solve's
-        ``success`` is True), :data:`OUTCOME_NOT_CONVERGED` (1, the solve
-        finished without success; values are its last iterate),
-        :data:`OUTCOME_ERROR` (2, building, solving or measuring the point
-        raised; values are NaN) or :data:`OUTCOME_NOT_RUN` (-1, the sweep was
+        The sweep's own code per point: :data:`OUTCOME_OK` (0, the solve's ``success`` is
+        True), :data:`OUTCOME_NOT_CONVERGED` (1, the solve finished without success; values
+        are its last iterate), :data:`OUTCOME_ERROR` (2, building, solving or measuring the
+        point raised; values are NaN) or :data:`OUTCOME_NOT_RUN` (-1, the sweep was
         interrupted before the point ran).
     status : ndarray of int16, shape ``shape``
-        The solver core's status of the point's solve
-        (:attr:`tendonrod.Solution.status`, or ``BatchResult.status`` on the
-        batch path; name it with ``tendonrod._core.strerror``): 0 ok, > 0
-        converged with a caveat, < 0 failed.  :data:`STATUS_NONE` (-1000) where
-        no solve returned: the build or the solve raised (an
-        :data:`OUTCOME_ERROR` raised by ``measure`` keeps its solve's status),
-        or the point did not run.
+        The solver core's status of the point's solve (:attr:`tendonrod.Solution.status`, or
+        ``BatchResult.status`` on the batch path; name it with
+        ``tendonrod._core.strerror``): 0 ok, > 0 converged with a caveat, < 0 failed.
+        :data:`STATUS_NONE` (-1000) where no solve returned: the build or the solve raised
+        (an :data:`OUTCOME_ERROR` raised by ``measure`` keeps its solve's status), or the
+        point did not run.
     message : ndarray of object (str), shape ``shape``
         The solver's message, or the exception's ("not run" if it did not run).
     nit : ndarray of int64, shape ``shape``
@@ -204,6 +209,13 @@ class SweepResult:
         Each point's plausibility findings, a tuple of
         :class:`~tendonrod.plausibility.Finding` (as ``Solution.plausibility``; ``()``
         where all is plausible or the point did not run).
+
+    Examples
+    --------
+    >>> robot = tr.Robot(tr.Rod(0.2, 0.8e-3, 207e9, 79.6e9, kirchhoff=True), [tr.Tendon(0.01)])
+    >>> res = tr.sweep(tr.Scene(robot, displacement=[0.0]), {"displacement[0]": [0.005, 0.01]})
+    >>> res["displacement[0]"], res["tip_position"].shape, res.failures()
+    (array([0.005, 0.01 ]), (2, 3), [])
     """
 
     names: tuple
@@ -219,8 +231,7 @@ class SweepResult:
 
     @property
     def success(self) -> np.ndarray:
-        """Boolean array, shape ``shape``: the point's solve succeeded
-        (``outcome == OUTCOME_OK``; decided from the solve's ``success``)."""
+        """Boolean array ``shape``: the point's solve succeeded (``outcome == OUTCOME_OK``)."""
         return self.outcome == OUTCOME_OK
 
     def __getitem__(self, key: str) -> np.ndarray:
@@ -323,6 +334,13 @@ def sweep(
     :class:`~tendonrod.PlausibilityWarning` per rule and subject for the whole sweep (how
     many points, the worst and its index), never one per point;
     ``SweepResult.plausibility`` lists every point's findings.
+
+    Examples
+    --------
+    >>> robot = tr.Robot(tr.Rod(0.2, 0.8e-3, 207e9, 79.6e9, kirchhoff=True), [tr.Tendon(0.01)])
+    >>> res = tr.sweep(tr.Scene(robot, displacement=[0.0]), {"displacement[0]": [0.005, 0.01]})
+    >>> res.shape, bool(res.success.all()), res["tension"][:, 0].round(3)
+    ((2,), True, array([1.04 , 2.081]))
     """
     names, shape, point_values = _points(vary, grid)
     npoints = len(point_values)

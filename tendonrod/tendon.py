@@ -74,6 +74,14 @@ class Tendon:
         base, its mean radial slope) and serve only the solver's guess and scales.
 
     Helical and general paths make the scene spatial.
+
+    Examples
+    --------
+    >>> t = tr.Tendon(offset=0.01, angle=np.pi / 2, EA=4e3)  # extensible, at body +y
+    >>> float(t.radius(0.1))
+    0.01
+    >>> round(tr.Tendon.converging(0.01, length=0.2).slope, 12)  # ends on the centre line
+    -0.05
     """
 
     offset: float = _OMITTED_OFFSET
