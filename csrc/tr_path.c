@@ -374,7 +374,16 @@ static int refine(path_ws *w, tr_model *m, tr_data *d, const tr_path_spec *sp, i
         for (i = 0; i < n; i++) w->X[i] = w->Xa[i] + s * w->ta[i];
         target = dot(w->ta, w->Xa, n) + s;
         st = correct(w, m, d, sp, w->ta, target);
-        if (st == TR_OK) st = tangent(w, m, d, sp, w->ta, w->t, &det);
+        if (st != TR_OK) return st;
+        st = tangent(w, m, d, sp, w->ta, w->t, &det);
+        if (st == TR_ESINGULAR) {
+            /* a corrected trial point where the bordered Jacobian is exactly singular is
+             * the point sought (det = 0: a symmetric scene can land on it exactly); the
+             * tangent kept is the bracket's */
+            memcpy(w->t, w->ta, (size_t)n * sizeof(double));
+            gs = 0.0;
+            break;
+        }
         if (st != TR_OK) return st;
         gs = indicator(kind, w->t, det, k);
         if (gs == 0.0) break;
