@@ -77,6 +77,8 @@ def robot(
     alpha: float = 1.0,
     joints: bool = True,
     masses: bool = True,
+    legend: bool | None = None,
+    tension_labels: bool = False,
 ):
     """Draw a solved robot (a precurved or segmented backbone as solved: its shape is
     the recorded one).  ``joints``: mark the joints of a segmented rod (black dots).
@@ -103,10 +105,19 @@ def robot(
         Point masses (:class:`tendonrod.PointMass`, e.g. ``PointMass.disks``) as disks of
         radius ``disk_radius`` in brown at their arc lengths, with a dot whose area grows
         with the mass (the heaviest 6 pt across); their weights are not drawn as arrows.
+    tendons : bool
+        The tendons along their routes, one colour each; a slack tendon (no tension, some
+        slack) dashed.
+    legend : bool, optional
+        A legend naming each tendon with its tension [N] (or "slack"); default: when the
+        Axes is made here (one robot), not on a given Axes (several robots).
+    tension_labels : bool
+        Each tendon's tension [N] written at its anchor.
     """
     scene = getattr(sol, "scene", None) if scene is None else scene
     if scene is None:
         raise ValueError("robot(): pass scene= (the solution does not carry its scene)")
+    legend = ax is None if legend is None else legend
     if ax is not None:
         is3d = getattr(ax, "name", "") == "3d"
         planar = (not is3d) if planar is None else planar
@@ -130,18 +141,30 @@ def robot(
         else (1.3 * max(offsets) if offsets and max(offsets) > 0 else L / 30)
     )
     tcolors = ["tab:red", "tab:blue", "tab:green", "tab:orange", "tab:purple", "tab:brown"]
+    tension = np.asarray(getattr(sol, "tension", []), dtype=float)
+    slack = np.asarray(getattr(sol, "slack", np.zeros_like(tension)), dtype=float)
     if tendons:
         for i, t in enumerate(scene.robot.tendons):
             end = scene.robot.tendon_end(i)
             s = np.linspace(0.0, end, 60 if t.twist is None and t.path is None else 240)
             Ps, Rs = _state_at(sol, s)
             r = tendon_offsets(t, s, end)
+            pts = Ps + np.einsum("kij,kj->ki", Rs, r)
+            tau = float(tension[i]) if i < tension.size else math.nan
+            is_slack = tau == 0.0 and i < slack.size and slack[i] > 0.0
+            state = "slack" if is_slack else f"{tau:.3g} N"
             draw(
-                Ps + np.einsum("kij,kj->ki", Rs, r),
+                pts,
                 color=tcolors[i % len(tcolors)],
                 lw=1.0,
+                ls="--" if is_slack else "-",
                 alpha=alpha,
+                label=f"tendon {i}: {state}" if legend else None,
             )
+            if tension_labels:
+                q = pts[-1]
+                xy = (q[0], q[2]) if planar else (q[0], q[1], q[2])
+                ax.text(*xy, f" {state}", color=tcolors[i % len(tcolors)], fontsize="small")
     if disks:
         sd = np.linspace(0.0, L, disks + 1)[1:]
         Ps, Rs = _state_at(sol, sd)
@@ -192,6 +215,8 @@ def robot(
         ax.set_ylabel("y [m]")
         ax.set_zlabel("z [m]")
         _equal_3d(ax, P, L)
+    if legend and tendons and scene.robot.tendons:
+        ax.legend(fontsize="small")
     return ax
 
 
@@ -231,11 +256,17 @@ def _draw_masses(sol, scene, draw, planar, rad, alpha):
 
 
 def _equal_3d(ax, P, L):
+    """Equal scales on the three axes around the backbone, with few, small ticks."""
+    from matplotlib.ticker import MaxNLocator
+
     c = 0.5 * (P.max(axis=0) + P.min(axis=0))
     h = 0.55 * max(float(np.ptp(P, axis=0).max()), 0.2 * L)
     ax.set_xlim(c[0] - h, c[0] + h)
     ax.set_ylim(c[1] - h, c[1] + h)
     ax.set_zlim(c[2] - h, c[2] + h)
+    for axis in (ax.xaxis, ax.yaxis, ax.zaxis):
+        axis.set_major_locator(MaxNLocator(4))
+    ax.tick_params(labelsize="small")
 
 
 def shapes(

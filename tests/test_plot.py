@@ -98,6 +98,25 @@ def test_robot_planar_and_spatial():
     assert len(ax3.lines) == 1 + 3 + 5  # backbone, tendons, disks
 
 
+def test_robot_tendon_legend_slack_dashed_and_tension_labels():
+    """Two opposing displacement-controlled tendons, the second paid out: it is slack
+    (drawn dashed, named "slack" in the legend), the first taut with its tension."""
+    rod = S.paper_rod_ivb()
+    robot = tr.Robot(rod, [tr.Tendon(offset=0.01), tr.Tendon(offset=0.01, angle=math.pi)])
+    sol = tr.solve(tr.Scene(robot, displacement=[0.01, -0.012]))
+    assert sol.tension[0] > 0.0 and sol.tension[1] == 0.0 and sol.slack[1] > 0.0
+    ax = P.robot(sol, tension_labels=True)
+    tendon_lines = [ln for ln in ax.lines if ln.get_label().startswith("tendon")]
+    assert [ln.get_linestyle() for ln in tendon_lines] == ["-", "--"]
+    texts = [t.get_text() for t in ax.get_legend().get_texts()]
+    assert texts == [f"tendon 0: {sol.tension[0]:.3g} N", "tendon 1: slack"]
+    assert any("slack" in t.get_text() for t in ax.texts)  # the label at the anchor
+    # on a given Axes (several robots) no legend unless asked
+    fig, ax2 = plt.subplots()
+    P.robot(sol, ax=ax2)
+    assert ax2.get_legend() is None
+
+
 def test_shapes_and_tension_vs_load():
     fig, ax = plt.subplots()
     pts = np.stack([np.zeros(5), np.zeros(5), np.linspace(0, 0.1, 5)], axis=1)

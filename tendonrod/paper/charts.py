@@ -118,7 +118,12 @@ def tip_compliance_vs_alpha(data: dict, ax=None, closed: bool = True):
     ``data`` from :func:`tendonrod.paper.tip_compliance_vs_alpha`."""
     ax = _ax(ax)
     a = data["alpha"]
+    # six curves, some of which coincide (where the routing does not matter): a marker per
+    # direction, filled and small for parallel, hollow and larger for converging, so that
+    # a curve lying on another still shows
+    markers = {"transverse": "o", "axial": "s", "out-of-plane": "^"}
     for routing in ("parallel", "converging"):
+        hollow = routing == "converging"
         for d, ls in _DIR_STYLE.items():
             if (routing, d) in data:
                 ax.loglog(
@@ -126,7 +131,9 @@ def tip_compliance_vs_alpha(data: dict, ax=None, closed: bool = True):
                     data[(routing, d)],
                     color=_ROUTE_COLOR[routing],
                     ls=ls,
-                    marker=".",
+                    marker=markers[d],
+                    ms=7 if hollow else 3.5,
+                    mfc="none" if hollow else _ROUTE_COLOR[routing],
                     label=f"{routing}, {d}",
                 )
     if closed and "closed" in data:
