@@ -12,11 +12,10 @@ import re
 
 import numpy as np
 import pytest
-from scipy.integrate import solve_ivp
-from scipy.optimize import brentq, minimize_scalar
 from scipy.special import ellipe, ellipk
 
 import tendonrod as tr
+from tendonrod.bench import references as refs
 
 ROD = dict(length=0.25, diameter=1.2e-3, E=60e9, G=23e9, kirchhoff=True)
 
@@ -80,30 +79,10 @@ def test_post_buckled_branch_is_the_elastica():
     assert np.sign(_post_buckled(1)) == -np.sign(_post_buckled(-1))
 
 
-def _elastica_limit(P, EI, L):
-    """The extreme lateral tip force H of the planar cantilever under the tip force
-    (H, -P) (x, z), along its branch: EI theta'' = -(H cos theta + P sin theta),
-    theta(0) = 0, theta'(L) = 0, shot from theta'(0) = kappa0 with DOP853 at rtol 1e-13;
-    H(kappa0) by brentq, its extremum by a bounded scalar minimisation."""
-
-    def end_moment(k0, H):
-        def f(s, y):
-            return [y[1], -(H * math.cos(y[0]) + P * math.sin(y[0])) / EI]
-
-        r = solve_ivp(f, (0.0, L), [0.0, k0], rtol=1e-13, atol=1e-14, method="DOP853")
-        return r.y[1, -1]
-
-    def H_of(kL):
-        return brentq(lambda H: end_moment(kL / L, H), -P, 0.2 * P, xtol=1e-16, rtol=1e-15)
-
-    res = minimize_scalar(H_of, bounds=(1.5, 2.3), method="bounded", options=dict(xatol=1e-9))
-    return H_of(res.x)
-
-
 def test_limit_point_against_an_independent_elastica_solve():
     """The column buckled at P = 1.5 P_E, pushed back by a lateral tip force H: the planar
     branch folds at a limit point H* (it snaps through) and returns to the straight state
-    at H = 0.  H* against SciPy's own shooting of the elastica (_elastica_limit) to 1e-8
+    at H = 0.  H* against SciPy's own shooting of the elastica (tendonrod.bench.references.elastica_limit_force) to 1e-8
     relative (measured 3e-15).  Past the fold one H carries two equilibria of the path."""
     scene, EI, L, Pe = column()
     P = 1.5 * Pe
@@ -114,7 +93,7 @@ def test_limit_point_against_an_independent_elastica_solve():
     kinds = [sp.kind for sp in p.special_points]
     assert kinds == ["limit"], p
     lim = p.special_points[0]
-    ref = _elastica_limit(P, EI, L) * math.copysign(1.0, x0)
+    ref = refs.elastica_limit_force(P, EI, L) * math.copysign(1.0, x0)
     assert abs(lim.value / ref - 1.0) <= 1e-8, (lim.value, ref)
     # the branch turns back at the fold: t_lambda changes sign, the path returns to the
     # straight column at H = 0 (success False: it left the span at its start)

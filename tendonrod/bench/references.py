@@ -16,6 +16,8 @@ elastica_compressive     exact (elliptic integrals): first buckled mode of a
                          Kirchhoff cantilever under an axial compressive tip force.
 critical_tip_angle_load  exact: the compressive load at which the free elastica's
                          tip reaches a given angle (paper Fig. 17's slack load).
+elastica_limit_force     shooting (DOP853): the extreme lateral tip force on the buckled
+                         cantilever's branch (a limit point).
 twist_with_tendons       exact: paper Fig. 12 (three tendons, pure twisting moment).
 planar_rod_bvp           plain planar rod (Kirchhoff or Cosserat) under a tip force
                          and moment by collocation (scipy.integrate.solve_bvp);
@@ -145,6 +147,30 @@ def elastica_compressive(L, EI, P):
     )
     m = k * k
     return 2.0 * k / lam, (2.0 * ellipe(m) - ellipk(m)) / lam, 2.0 * math.asin(k)
+
+
+def elastica_limit_force(P, EI, L):
+    """The extreme lateral tip force H [N] along the branch of the planar Kirchhoff
+    cantilever under the tip force (H, -P) (x, z), bent toward +x: EI theta'' = -(H cos
+    theta + P sin theta), theta(0) = 0, theta'(L) = 0, shot from theta'(0) = kappa0 with
+    DOP853 at rtol 1e-13; H(kappa0) by brentq, its extremum (the limit point where the
+    buckled column pushed back by H snaps through) by a bounded scalar minimisation over
+    kappa0 L in [1.5, 2.3] (the range for P = 1.5 pi^2 EI / 4 L^2)."""
+    from scipy.integrate import solve_ivp
+    from scipy.optimize import brentq, minimize_scalar
+
+    def end_moment(k0, H):
+        def f(s, y):
+            return [y[1], -(H * math.cos(y[0]) + P * math.sin(y[0])) / EI]
+
+        r = solve_ivp(f, (0.0, L), [0.0, k0], rtol=1e-13, atol=1e-14, method="DOP853")
+        return r.y[1, -1]
+
+    def H_of(kL):
+        return brentq(lambda H: end_moment(kL / L, H), -P, 0.2 * P, xtol=1e-16, rtol=1e-15)
+
+    res = minimize_scalar(H_of, bounds=(1.5, 2.3), method="bounded", options=dict(xatol=1e-9))
+    return H_of(res.x)
 
 
 def critical_tip_angle_load(L, EI, theta_L):

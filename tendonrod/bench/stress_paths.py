@@ -22,6 +22,7 @@ from ..model import PointLoad, Robot, Rod, Scene, Tendon
 from ..options import Options
 from ..path import path
 from ..solver import solve
+from . import references as refs
 
 __all__ = ["path_cases"]
 
@@ -91,27 +92,6 @@ def _elastica():
     return _record(True, err <= 1e-8, err, msg, t0, len(p))
 
 
-def _elastica_limit(P, EI, L):
-    """The extreme lateral tip force H of the planar cantilever under (H, -P): EI theta''
-    = -(H cos theta + P sin theta), theta(0) = 0, theta'(L) = 0, shot with DOP853 at rtol
-    1e-13; H(kappa0) by brentq, its extremum by a bounded scalar minimisation."""
-    from scipy.integrate import solve_ivp
-    from scipy.optimize import brentq, minimize_scalar
-
-    def end_moment(k0, H):
-        def f(s, y):
-            return [y[1], -(H * math.cos(y[0]) + P * math.sin(y[0])) / EI]
-
-        r = solve_ivp(f, (0.0, L), [0.0, k0], rtol=1e-13, atol=1e-14, method="DOP853")
-        return r.y[1, -1]
-
-    def H_of(kL):
-        return brentq(lambda H: end_moment(kL / L, H), -P, 0.2 * P, xtol=1e-16, rtol=1e-15)
-
-    res = minimize_scalar(H_of, bounds=(1.5, 2.3), method="bounded", options=dict(xatol=1e-9))
-    return H_of(res.x)
-
-
 def _limit():
     """The column buckled at 1.5 P_E pushed back by a lateral tip force: the limit point
     against SciPy's elastica (1e-8 relative); the path returns to the straight column."""
@@ -124,7 +104,7 @@ def _limit():
     lim = [sp for sp in p.special_points if sp.kind == "limit"]
     if len(lim) != 1:
         return _record(False, False, math.nan, p.message, t0, len(p))
-    ref = _elastica_limit(P, EI, L) * math.copysign(1.0, x0)
+    ref = refs.elastica_limit_force(P, EI, L) * math.copysign(1.0, x0)
     err = abs(lim[0].value / ref - 1.0)
     back = "returned to the start" in p.message and abs(p.tip_position[-1, 0]) < 1e-9 * L
     msg = (
