@@ -169,17 +169,25 @@ def _cli_target(args, spec):
         given["tip_direction"] = tuple(args.tip_direction)
     if args.tip_position is not None:
         given["tip_position"] = tuple(args.tip_position)
+    if args.tip_pose is not None:
+        from tendonrod.scenefile import rotation_from_vector
+
+        given["tip_pose"] = (
+            tuple(args.tip_pose[:3]),
+            rotation_from_vector(list(args.tip_pose[3:]), "--tip-pose"),
+        )
+    kinds = ("tip_angle", "tip_direction", "tip_position", "tip_pose")
     if len(given) > 1:
-        return None, "give one of --tip-angle, --tip-direction, --tip-position"
+        return None, "give one of --tip-angle, --tip-direction, --tip-position, --tip-pose"
     target = dict(spec.target or {})
     if given:
-        for kind in ("tip_angle", "tip_direction", "tip_position"):
+        for kind in kinds:
             target.pop(kind, None)
         target.update(given)
-    if not any(k in target for k in ("tip_angle", "tip_direction", "tip_position")):
+    if not any(k in target for k in kinds):
         return None, (
-            "no target: give --tip-angle, --tip-direction or --tip-position, or a [target] "
-            "table in the scene file"
+            "no target: give --tip-angle, --tip-direction, --tip-position or --tip-pose, or "
+            "a [target] table in the scene file"
         )
     if args.tendons is not None:
         try:
@@ -390,6 +398,13 @@ def build_parser() -> argparse.ArgumentParser:
     )
     pa.add_argument(
         "--tip-position", type=float, nargs=3, metavar=("X", "Y", "Z"), help="tip position [m]"
+    )
+    pa.add_argument(
+        "--tip-pose",
+        type=float,
+        nargs=6,
+        metavar=("X", "Y", "Z", "RX", "RY", "RZ"),
+        help="tip position [m] and rotation vector [rad], world frame",
     )
     pa.add_argument(
         "--tendons", help="comma-separated indices of the actuated tendons (default all)"

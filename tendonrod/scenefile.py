@@ -64,6 +64,9 @@ problem, e.g. ``robot.toml: tendon[2].displacement: expected a number, got
     tip_angle = "45deg"   # [rad] a number, or a string "45deg" / "0.8rad" (planar scenes)
     # tip_direction = [1.0, 0.0, 1.0]   # or the tip tangent, world frame
     # tip_position = [0.1, 0.0, 0.15]   # or the tip position [m], world frame
+    # tip_pose = {position = [0.1, 0.0, 0.15], rotation_vector = [0.0, 1.2, 0.0]}
+    #                     # or the tip pose: position [m] and rotation (world), as a
+    #                     # rotation vector [rad] or rotation = [[...], [...], [...]]
     tendons = [0]         # the actuated tendons (default: all)
     min_tension = 0.0     # [N] (more controls than target components)
 
@@ -158,7 +161,7 @@ TOP_LEVEL_KEYS = (
     "options",
     "target",
 )
-TARGET_KINDS = ("tip_angle", "tip_direction", "tip_position")
+TARGET_KINDS = ("tip_angle", "tip_direction", "tip_position", "tip_pose")
 _ROD_NUMBERS = ("length", "diameter", "E", "G", "EI", "GJ", "EA", "GA", "density")
 _ROD_BOOLS = ("kirchhoff",)
 _TENDON_NUMBERS = (
@@ -449,6 +452,46 @@ def parse_angle(value: Any, key: str) -> float:
     return number
 
 
+def rotation_from_vector(phi, key: str) -> tuple:
+    """The rotation matrix exp([phi]x) (3 rows) of a rotation vector ``phi`` [rad]
+    (Rodrigues); SceneFileError naming ``key`` when it is not 3 finite numbers."""
+    import math
+
+    p = _vector3(phi, key)
+    th = math.sqrt(sum(c * c for c in p))
+    if th == 0.0:
+        return ((1.0, 0.0, 0.0), (0.0, 1.0, 0.0), (0.0, 0.0, 1.0))
+    x, y, z = (c / th for c in p)
+    c, s = math.cos(th), math.sin(th)
+    C = 1.0 - c
+    return (
+        (c + x * x * C, x * y * C - z * s, x * z * C + y * s),
+        (y * x * C + z * s, c + y * y * C, y * z * C - x * s),
+        (z * x * C - y * s, z * y * C + x * s, c + z * z * C),
+    )
+
+
+def _parse_pose(raw: Any, key: str) -> tuple:
+    """``{position = [...], rotation_vector = [...] | rotation = [[...] x 3]}`` as
+    (position, rotation) for tendonrod.actuate's tip_pose."""
+    table = _table(raw, key)
+    _unknown(table, ("position", "rotation", "rotation_vector"), key)
+    if "position" not in table:
+        raise SceneFileError(f"{key}.position", "missing (required)")
+    if ("rotation" in table) == ("rotation_vector" in table):
+        raise SceneFileError(key, "give exactly one of rotation, rotation_vector")
+    if "rotation_vector" in table:
+        R = rotation_from_vector(table["rotation_vector"], f"{key}.rotation_vector")
+    else:
+        rot = table["rotation"]
+        if not isinstance(rot, list) or len(rot) != 3:
+            raise SceneFileError(
+                f"{key}.rotation", f"expected an array of 3 rows of 3 numbers, got {rot!r}"
+            )
+        R = tuple(_vector3(row, f"{key}.rotation[{j}]") for j, row in enumerate(rot))
+    return _vector3(table["position"], f"{key}.position"), R
+
+
 def _parse_target(raw: Any, n_tendons: int) -> dict:
     """The [target] table as keyword arguments of tendonrod.actuate."""
     table = _table(raw, "target")
@@ -463,6 +506,8 @@ def _parse_target(raw: Any, n_tendons: int) -> dict:
     out: dict = {}
     if kind == "tip_angle":
         out[kind] = parse_angle(table[kind], key)
+    elif kind == "tip_pose":
+        out[kind] = _parse_pose(table[kind], key)
     else:
         out[kind] = _vector3(table[kind], key)
     if "tendons" in table:

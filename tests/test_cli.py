@@ -172,10 +172,96 @@ def test_actuate_unreachable_exit_1(tmp_path, capsys):
     assert summary["success"] is False and summary["actuation"]["distance"] > 0.1
 
 
+_HELICAL_SIX = """
+[rod]
+length = 0.24
+diameter = 1.2e-3
+E = 60e9
+G = 23e9
+
+[[load]]
+s = 0.24
+force = [0.0, 0.02, -0.03]
+"""
+
+
+def _helical_six(q):
+    """Two sections of three helical displacement-controlled tendons (opposite hands; the
+    first three end at mid-length) as a scene file text, and as a Scene."""
+    text, tendons = _HELICAL_SIX, []
+    for k in range(6):
+        half = k < 3
+        angle = 2 * math.pi * (k % 3) / 3 + (0.0 if half else math.pi / 3)
+        text += (
+            f'\n[[tendon]]\noffset = 0.008\nangle = {angle!r}\nrouting = "helical"\n'
+            f"turns = {0.5 if half else -0.5}\nEA = 5e3\ndisplacement = {q[k]!r}\n"
+            + ("end = 0.12\n" if half else "")
+        )
+        tendons.append(
+            tr.Tendon.helical(
+                0.008,
+                angle,
+                turns=0.5 if half else -0.5,
+                length=0.12 if half else 0.24,
+                end=0.12 if half else None,
+                EA=5e3,
+            )
+        )
+    rod = tr.Rod(length=0.24, diameter=1.2e-3, E=60e9, G=23e9)
+    scene = tr.Scene(
+        tr.Robot(rod, tendons),
+        displacement=list(q),
+        loads=[tr.PointLoad(s=0.24, force=(0.0, 0.02, -0.03))],
+    )
+    return text, scene
+
+
+def _rotvec(R):
+    """Rotation vector of R (independent of the package: SciPy)."""
+    from scipy.spatial.transform import Rotation
+
+    return Rotation.from_matrix(R).as_rotvec()
+
+
+@pytest.mark.parametrize("where", ["command line", "scene file"])
+def test_actuate_tip_pose(tmp_path, capsys, where):
+    """--tip-pose X Y Z RX RY RZ (position [m], rotation vector [rad]) or a [target]
+    tip_pose table: the six displacements of a forward solve come back."""
+    q_goal = [1.5e-3, 5e-4, 0.0, 0.0, 1.2e-3, 4e-4]
+    _, goal_scene = _helical_six(q_goal)
+    goal = tr.solve(goal_scene, strict=True)
+    p, rv = goal.tip_position.tolist(), _rotvec(goal.tip_rotation).tolist()
+    text, _ = _helical_six([5e-4] * 6)
+    args = []
+    if where == "command line":
+        args = ["--tip-pose"] + [repr(v) for v in p + rv]
+    else:
+        text += f"\n[target]\ntip_pose = {{position = {p!r}, rotation_vector = {rv!r}}}\n"
+    scene_file = tmp_path / "six.toml"
+    scene_file.write_text(text)
+    rc, stdout, _ = run_main(
+        ["actuate", str(scene_file), "--out", str(tmp_path / "o")] + args, capsys
+    )
+    assert rc == EXIT_OK, stdout
+    summary = json.loads((tmp_path / "o" / "solution.json").read_text())
+    # the pose fixes the six controls to ~1e-12 m (tests/test_actuate.py)
+    np.testing.assert_allclose(summary["displacement_m"], q_goal, rtol=0, atol=1e-10)
+
+
 @pytest.mark.parametrize(
     "edit, args, key",
     [
         (None, ["--tip-angle", "60dg"], "--tip-angle"),
+        (
+            ('tip_angle = "45deg"', "tip_pose = {position = [0, 0, 0.2]}"),
+            [],
+            "target.tip_pose",
+        ),
+        (
+            ('tip_angle = "45deg"', "tip_pose = {position = [0, 0], rotation_vector = [0, 0, 0]}"),
+            [],
+            "target.tip_pose.position",
+        ),
         (None, ["--tip-angle", "1", "--tip-position", "0", "0", "0.2"], "one of"),
         (None, ["--tendons", "a"], "--tendons"),
         (('tip_angle = "45deg"', 'tip_anlge = "45deg"'), [], "target.tip_anlge"),
