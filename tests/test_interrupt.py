@@ -36,9 +36,12 @@ MAX_LATENCY = 0.5
 
 CHILD = textwrap.dedent(
     """
-    import json, math, sys, time, warnings
+    import json, math, signal, sys, time, warnings
     import tendonrod as tr
 
+    # Ctrl-C as at a terminal, even when the test runs in a background job (whose
+    # children start with SIGINT ignored, and Python then installs no handler)
+    signal.signal(signal.SIGINT, signal.default_int_handler)
     warnings.simplefilter("ignore")
     mode, path = sys.argv[1], sys.argv[2]
     rod = tr.Rod(length=0.1, diameter=1.04e-3, E=210e9, G=80e9)
@@ -98,6 +101,7 @@ def _interrupt(mode: str, tmp_path) -> dict:
     finally:
         if proc.poll() is None:
             proc.kill()
+            proc.communicate()  # reaped, its pipes closed
     lines = [ln for ln in out.splitlines() if ln.startswith("{")]
     assert lines, f"child printed nothing: stdout={out!r} stderr={err[-2000:]!r}"
     res = json.loads(lines[-1])
