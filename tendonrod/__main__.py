@@ -170,7 +170,7 @@ def _cli_target(args, spec):
     if args.tip_position is not None:
         given["tip_position"] = tuple(args.tip_position)
     if args.tip_pose is not None:
-        from tendonrod.scenefile import rotation_from_vector
+        from tendonrod._scene_fields import rotation_from_vector
 
         given["tip_pose"] = (
             tuple(args.tip_pose[:3]),

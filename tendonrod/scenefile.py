@@ -91,6 +91,7 @@ from ._scene_fields import (
     _build,
     _kind,
     _number,
+    _parse_pose,
     _table,
     _unknown,
     _vector3,
@@ -450,46 +451,6 @@ def parse_angle(value: Any, key: str) -> float:
     if not math.isfinite(number):
         raise SceneFileError(key, f"expected a finite angle, got {value!r}")
     return number
-
-
-def rotation_from_vector(phi, key: str) -> tuple:
-    """The rotation matrix exp([phi]x) (3 rows) of a rotation vector ``phi`` [rad]
-    (Rodrigues); SceneFileError naming ``key`` when it is not 3 finite numbers."""
-    import math
-
-    p = _vector3(phi, key)
-    th = math.sqrt(sum(c * c for c in p))
-    if th == 0.0:
-        return ((1.0, 0.0, 0.0), (0.0, 1.0, 0.0), (0.0, 0.0, 1.0))
-    x, y, z = (c / th for c in p)
-    c, s = math.cos(th), math.sin(th)
-    C = 1.0 - c
-    return (
-        (c + x * x * C, x * y * C - z * s, x * z * C + y * s),
-        (y * x * C + z * s, c + y * y * C, y * z * C - x * s),
-        (z * x * C - y * s, z * y * C + x * s, c + z * z * C),
-    )
-
-
-def _parse_pose(raw: Any, key: str) -> tuple:
-    """``{position = [...], rotation_vector = [...] | rotation = [[...] x 3]}`` as
-    (position, rotation) for tendonrod.actuate's tip_pose."""
-    table = _table(raw, key)
-    _unknown(table, ("position", "rotation", "rotation_vector"), key)
-    if "position" not in table:
-        raise SceneFileError(f"{key}.position", "missing (required)")
-    if ("rotation" in table) == ("rotation_vector" in table):
-        raise SceneFileError(key, "give exactly one of rotation, rotation_vector")
-    if "rotation_vector" in table:
-        R = rotation_from_vector(table["rotation_vector"], f"{key}.rotation_vector")
-    else:
-        rot = table["rotation"]
-        if not isinstance(rot, list) or len(rot) != 3:
-            raise SceneFileError(
-                f"{key}.rotation", f"expected an array of 3 rows of 3 numbers, got {rot!r}"
-            )
-        R = tuple(_vector3(row, f"{key}.rotation[{j}]") for j, row in enumerate(rot))
-    return _vector3(table["position"], f"{key}.position"), R
 
 
 def _parse_target(raw: Any, n_tendons: int) -> dict:
