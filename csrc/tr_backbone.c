@@ -127,17 +127,22 @@ void tr_tendon_wref(const tr_model *m, int i, int k, double s, double w[3])
     w[2] = 1.0 + us[0] * r[1] - us[1] * r[0];
 }
 
+void tr_tendon_base_frame_straight(tr_tendon *t)
+{
+    const double h = t->wref;
+    t->t0[0] = t->a * t->cphi / h;
+    t->t0[1] = t->a * t->sphi / h;
+    t->t0[2] = 1.0 / h;
+    t->rt0[0] = t->b * t->sphi / h;
+    t->rt0[1] = -t->b * t->cphi / h;
+    t->rt0[2] = 0.0;
+}
+
 void tr_tendon_base_frame(const tr_model *m, int i)
 {
     tr_tendon *t = &m->tendon[i];
     if (!m->precurved && t->route == TR_ROUTE_LINEAR) {
-        const double h = t->wref;
-        t->t0[0] = t->a * t->cphi / h;
-        t->t0[1] = t->a * t->sphi / h;
-        t->t0[2] = 1.0 / h;
-        t->rt0[0] = t->b * t->sphi / h;
-        t->rt0[1] = -t->b * t->cphi / h;
-        t->rt0[2] = 0.0;
+        tr_tendon_base_frame_straight(t);
     } else {
         double w[3], r[3], rp[3], h;
         int c;

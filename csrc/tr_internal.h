@@ -283,6 +283,9 @@ void tr_tendon_offset(const tr_model *m, int i, int seg, double s, double r[3], 
 int tr_read_sections(tr_model *m, const double *sections, int nsec, char *msg, size_t msglen);
 void tr_fill_segment_rods(tr_model *m);
 void tr_tendon_base_frame(const tr_model *m, int i);
+/* tr_backbone.c: the same for a linear tendon of the straight robot (from its a, b, cphi,
+ * sphi and wref alone: usable before the sections and routes are read). */
+void tr_tendon_base_frame_straight(tr_tendon *t);
 /* tr_backbone.c: tendon i's tangent in the unstressed robot on segment k at s, w_ref = e3 +
  * u* x r + r' (body frame, not normalised). */
 void tr_tendon_wref(const tr_model *m, int i, int k, double s, double w[3]);

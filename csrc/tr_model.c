@@ -94,20 +94,6 @@ static int check_rod(const double rod[6], char *msg, size_t msglen)
     return TR_OK;
 }
 
-/* Body-frame quantities of tendon t at s = 0 of the straight robot: unit tangent t0
- * and r(0) x t0, from cphi, sphi (a precurved robot's follow from its sections once the
- * breakpoints are placed: tr_tendon_base_frame). */
-static void tendon_base_frame(tr_tendon *t)
-{
-    const double h = t->wref;
-    t->t0[0] = t->a * t->cphi / h;
-    t->t0[1] = t->a * t->sphi / h;
-    t->t0[2] = 1.0 / h;
-    t->rt0[0] = t->b * t->sphi / h;
-    t->rt0[1] = -t->b * t->cphi / h;
-    t->rt0[2] = 0.0;
-}
-
 /* Read tendon i from its row; the largest offset of a displacement-controlled
  * tendon goes into *rmax. */
 static int read_tendon(tr_model *m, int i, const double *row, double *rmax, char *msg,
@@ -176,7 +162,7 @@ static int read_tendon(tr_model *m, int i, const double *row, double *rmax, char
     t->cphi = cos(t->phi);
     t->sphi = sin(t->phi);
     t->wref = sqrt(1.0 + t->a * t->a);
-    tendon_base_frame(t);
+    tr_tendon_base_frame_straight(t);
     return TR_OK;
 }
 
@@ -366,7 +352,7 @@ static void formulate(tr_model *m, int planar, int ndisp, double rmax)
             tr_tendon *t = &m->tendon[i];
             t->cphi = t->cphi > 0.0 ? 1.0 : -1.0;
             t->sphi = 0.0;
-            tendon_base_frame(t);
+            tr_tendon_base_frame_straight(t);
             if (m->precurved) tr_tendon_base_frame(m, i);
             t->t0[1] = 0.0;
             t->rt0[0] = 0.0;
@@ -751,7 +737,7 @@ int tr_model_perturb(tr_model *mp, const tr_model *m, int kind, int index, doubl
         else
             t->a += delta;
         t->wref = sqrt(1.0 + t->a * t->a);
-        tendon_base_frame(t);
+        tr_tendon_base_frame_straight(t);
         if (mp->precurved || t->route != TR_ROUTE_LINEAR) tr_tendon_base_frame(mp, index);
         if (mp->planar) {
             t->t0[1] = 0.0;
