@@ -168,9 +168,13 @@ def problem_loop(n):
             prob.solve(sc[0])
         except ValueError:
             pass
-        # confirmed off the load path (second formulation), and the budget running out
+        # confirmed off the load path (second formulation; single shooting kept: by default
+        # this tensile load is compiled with multiple shooting and solves directly), the
+        # automatic multiple shooting itself, and the budget running out
         off = tr.Scene(plain, loads=[tr.PointLoad(s=0.1, force=(0, 0, 400 * fs))])
-        assert tr.solve(off).status == tr._core.STATUS_CONFIRMED
+        single = tr.Options(auto_shooting=False)
+        assert tr.solve(off, options=single).status == tr._core.STATUS_CONFIRMED
+        assert tr.solve(off).formulation.shooting_auto
         hopeless = tr.Scene(plain, loads=[tr.PointLoad(s=0.1, force=(1e6, 0, 0))])
         assert (
             tr.solve(hopeless, options=tr.Options(max_work=2e4)).status == tr._core.STATUS_EBUDGET
