@@ -1,5 +1,6 @@
 """General tendon routing (tendonrod.routing, csrc/tr_routing.c) against an independent
-SciPy shooting reference written from the equations of docs/model.md (states p, R, n_b
+SciPy shooting reference (tendonrod.bench.references.helical_tendon_state) written from
+the equations of docs/model.md (states p, R, n_b
 and the curvature u itself, not the core's moment; helix r, r', r'' by hand), and the
 special cases: a helix of zero turns is the parallel tendon, a sampled straight path is
 the linear routing."""
@@ -10,81 +11,18 @@ import numpy as np
 import pytest
 
 import tendonrod as tr
+from tendonrod.bench import references as refs
 from tendonrod.routing import Path
 
-scipy_integrate = pytest.importorskip("scipy.integrate")
-scipy_optimize = pytest.importorskip("scipy.optimize")
+pytest.importorskip("scipy.integrate")  # the reference's shooting
 
 L, EI, GJ = 0.2, 0.05, 0.035  # [m], [N m^2]
 
 
-def _hat(x):
-    return np.array([[0, -x[2], x[1]], [x[2], 0, -x[0]], [-x[1], x[0], 0]])
-
-
-def _helix(b, phi, twist, s):
-    """r, r', r'' of the helix (offset b, base angle phi, dphi/ds = twist), body frame."""
-    ang = phi + twist * s
-    c, sn = math.cos(ang), math.sin(ang)
-    r = b * np.array([c, sn, 0.0])
-    rp = b * twist * np.array([-sn, c, 0.0])
-    rpp = -b * twist**2 * np.array([c, sn, 0.0])
-    return r, rp, rpp
-
-
 def _reference(b, phi, twist, tip_force, tension=None, q=None):
-    """Tip position of a Kirchhoff rod (EI, GJ, length L) with one helical tendon anchored
-    at the tip, tension-controlled (tension) or displacement-controlled (q, inextensible),
-    and a dead tip force: shooting on n_b(0), u(0) (and tau) with solve_ivp (rtol 1e-12)."""
-    K = np.diag([EI, EI, GJ])
-    e3 = np.array([0.0, 0.0, 1.0])
-
-    def rhs(s, y, tau):
-        R = y[3:12].reshape(3, 3)
-        nb, u = y[12:15], y[15:18]
-        r, rp, rpp = _helix(b, phi, twist, s)
-        w = np.cross(u, r) + rp + e3
-        nw = np.linalg.norm(w)
-        A = -tau * _hat(w) @ _hat(w) / nw**3
-        G = -A @ _hat(r)
-        H = -_hat(r) @ A @ _hat(r)
-        a = A @ (np.cross(u, w) + np.cross(u, rp) + rpp)
-        bb = np.cross(r, a)
-        mb = K @ u
-        up = np.linalg.solve(K + H, -np.cross(u, mb) - np.cross(e3, nb) - bb)
-        nbp = -np.cross(u, nb) - a - G @ up
-        return np.concatenate([R @ e3, (R @ _hat(u)).ravel(), nbp, up, [nw]])
-
-    def shoot(x):
-        tau = tension if tension is not None else x[6]
-        y0 = np.concatenate([np.zeros(3), np.eye(3).ravel(), x[:3], x[3:6], [0.0]])
-        sol = scipy_integrate.solve_ivp(
-            rhs, (0.0, L), y0, args=(tau,), method="DOP853", rtol=1e-12, atol=1e-14
-        )
-        y = sol.y[:, -1]
-        R = y[3:12].reshape(3, 3)
-        nb, u = y[12:15], y[15:18]
-        r, rp, _ = _helix(b, phi, twist, L)
-        w = np.cross(u, r) + rp + e3
-        t = w / np.linalg.norm(w)
-        res = np.concatenate(
-            [
-                (nb + tau * t - R.T @ tip_force) / (EI / L**2),
-                (K @ u + tau * np.cross(r, t)) / (EI / L),
-            ]
-        )
-        if q is not None:
-            ref = L * math.sqrt(1.0 + (b * twist) ** 2)  # straight robot's channel length
-            res = np.append(res, (y[18] + q - ref) / b)
-        return res, y[:3]
-
-    x0 = np.zeros(6 if q is None else 7)
-    if q is not None:
-        x0[6] = 1.0
-    x = scipy_optimize.fsolve(lambda x: shoot(x)[0], x0, xtol=1e-13)
-    res, p = shoot(x)
-    assert np.abs(res).max() < 1e-10
-    return p, (tension if tension is not None else x[6])
+    """(tip position, tension) of the SciPy shooting reference
+    (tendonrod.bench.references.helical_tendon_state: never calls the core)."""
+    return refs.helical_tendon_state(L, EI, GJ, b, phi, twist, tip_force, tension=tension, q=q)
 
 
 _ROD = tr.Rod(L, EI=EI, GJ=GJ, kirchhoff=True)
@@ -159,7 +97,9 @@ def test_straight_path_is_the_linear_routing(kind):
 def test_function_path_of_a_helix_approaches_the_helix():
     """The spline through 65 samples of the helix: r'' to O(h^2), so the tip to ~1e-5."""
     b, phi, twist = 0.004, 0.2, 2 * math.pi / L
-    path = Path.function(lambda s: _helix(b, phi, twist, s)[0], L, n=64)
+    path = Path.function(
+        lambda s: b * np.array([math.cos(phi + twist * s), math.sin(phi + twist * s)]), L, n=64
+    )
     F = tr.PointLoad(L, force=(0.03, 0.0, 0.0))
     a = tr.solve(tr.Scene(tr.Robot(_ROD, [tr.Tendon(path=path)]), tension=[2.0], loads=[F]))
     h = tr.solve(

@@ -27,6 +27,7 @@ precurved_helix_end_moment  exact: a precurved rod under an end moment along its
 cantilever_dead_loads    a horizontal cantilever under its weight and point weights
                          (disks) by shooting (scipy.integrate.solve_ivp).
 helical_tendon_tip       a rod with one helical tendon under tension and a tip force
+helical_tendon_state     the same, tension- or displacement-controlled: (tip, tension)
                          by shooting (solve_ivp, fsolve).
 """
 
@@ -46,6 +47,7 @@ __all__ = [
     "precurved_helix_end_moment",
     "cantilever_dead_loads",
     "helical_tendon_tip",
+    "helical_tendon_state",
 ]
 
 _E3 = np.array([0.0, 0.0, 1.0])
@@ -343,15 +345,26 @@ def helical_tendon_tip(L, EI, GJ, b, phi, twist, tip_force, tension):
     """Tip position [m] of a Kirchhoff rod (EI, GJ [N m^2], length L) with one helical
     tendon (offset ``b`` [m], base angle ``phi`` [rad], ``dphi/ds = twist`` [rad/m])
     anchored at the tip and pulled with ``tension`` [N], and a dead world tip force
-    ``tip_force`` [N]: shooting on n_b(0), u(0) with ``solve_ivp`` (DOP853, rtol 1e-12)
-    and ``fsolve``, written from ``docs/model.md`` with the curvature u as a state (not
-    the core's moment) and r, r', r'' of the helix by hand."""
+    ``tip_force`` [N] (:func:`helical_tendon_state`)."""
+    return helical_tendon_state(L, EI, GJ, b, phi, twist, tip_force, tension=tension)[0]
+
+
+def helical_tendon_state(L, EI, GJ, b, phi, twist, tip_force, *, tension=None, q=None):
+    """(tip position [m], tension [N]) of a Kirchhoff rod (EI, GJ [N m^2], length L) with
+    one helical tendon (offset ``b`` [m], base angle ``phi`` [rad], ``dphi/ds = twist``
+    [rad/m]) anchored at the tip, tension-controlled (``tension`` [N]) or
+    displacement-controlled and inextensible (``q`` [m] retracted from the straight
+    robot's channel length), under a dead world tip force ``tip_force`` [N]: shooting on
+    n_b(0), u(0) (and the tension) with ``solve_ivp`` (DOP853, rtol 1e-12) and ``fsolve``,
+    written from ``docs/model.md`` with the curvature u as a state (not the core's moment),
+    r, r', r'' of the helix by hand, and the channel length integrated as |w|."""
     from scipy.integrate import solve_ivp
     from scipy.optimize import fsolve
 
+    if (tension is None) == (q is None):
+        raise ValueError("helical_tendon_state: give exactly one of tension, q")
     K = np.diag([EI, EI, GJ])
     F = np.asarray(tip_force, dtype=float)
-    tau = float(tension)
 
     def helix(s):
         a = phi + twist * s
@@ -362,7 +375,7 @@ def helical_tendon_tip(L, EI, GJ, b, phi, twist, tip_force, tension):
             -b * twist**2 * np.array([c, sn, 0.0]),
         )
 
-    def rhs(s, y):
+    def rhs(s, y, tau):
         R = y[3:12].reshape(3, 3)
         nb, u = y[12:15], y[15:18]
         r, rp, rpp = helix(s)
@@ -374,11 +387,14 @@ def helical_tendon_tip(L, EI, GJ, b, phi, twist, tip_force, tension):
         a = A @ (np.cross(u, wv) + np.cross(u, rp) + rpp)
         up = np.linalg.solve(K + H, -np.cross(u, K @ u) - np.cross(_E3, nb) - np.cross(r, a))
         nbp = -np.cross(u, nb) - a - G @ up
-        return np.concatenate([R @ _E3, (R @ _hat(u)).ravel(), nbp, up])
+        return np.concatenate([R @ _E3, (R @ _hat(u)).ravel(), nbp, up, [nw]])
 
     def shoot(x):
-        y0 = np.concatenate([np.zeros(3), np.eye(3).ravel(), x[:3], x[3:6]])
-        y = solve_ivp(rhs, (0.0, L), y0, method="DOP853", rtol=1e-12, atol=1e-14).y[:, -1]
+        tau = float(tension) if tension is not None else x[6]
+        y0 = np.concatenate([np.zeros(3), np.eye(3).ravel(), x[:3], x[3:6], [0.0]])
+        y = solve_ivp(rhs, (0.0, L), y0, args=(tau,), method="DOP853", rtol=1e-12, atol=1e-14).y[
+            :, -1
+        ]
         R = y[3:12].reshape(3, 3)
         nb, u = y[12:15], y[15:18]
         r, rp, _ = helix(L)
@@ -387,10 +403,14 @@ def helical_tendon_tip(L, EI, GJ, b, phi, twist, tip_force, tension):
         res = np.concatenate(
             [(nb + tau * t - R.T @ F) / (EI / L**2), (K @ u + tau * np.cross(r, t)) / (EI / L)]
         )
-        return res, y[:3]
+        if q is not None:
+            ref = L * math.sqrt(1.0 + (b * twist) ** 2)  # the straight robot's channel
+            res = np.append(res, (y[18] + q - ref) / b)
+        return res, y[:3], tau
 
-    x = fsolve(lambda x: shoot(x)[0], np.zeros(6), xtol=1e-13)
-    res, p = shoot(x)
+    x0 = np.zeros(6) if q is None else np.r_[np.zeros(6), 1.0]
+    x = fsolve(lambda x: shoot(x)[0], x0, xtol=1e-13)
+    res, p, tau = shoot(x)
     if not np.abs(res).max() < 1e-10:
-        raise RuntimeError(f"helical_tendon_tip did not converge: residual {np.abs(res).max()!r}")
-    return p
+        raise RuntimeError(f"helical_tendon_state did not converge: residual {np.abs(res).max()!r}")
+    return p, tau
