@@ -247,6 +247,11 @@ typedef struct tr_tendon {
     double twist;      /* TR_ROUTE_HELIX: dphi/ds [rad/m] */
     double t0[3];      /* unit tangent at s = 0 of the unstressed robot, body frame */
     double rt0[3];     /* r(0) x t0, body frame [m] */
+    double mu;         /* Coulomb friction coefficient with its channel [-] (0: frictionless) */
+    int slide;         /* the direction it slides in its channel: +1 in (toward the actuator,
+                          tension falls along s), -1 out (tension rises along s) */
+    int fric_index;    /* slot of its tension deficit tau(0) - tau(s) [N] among the friction
+                          states, -1 if frictionless (tr_model_set_friction) */
 } tr_tendon;
 
 typedef struct tr_model {
@@ -279,9 +284,11 @@ typedef struct tr_model {
     int *bp_jump;     /* (nseg + 1) 1 if a load or an anchor sits at the breakpoint */
     int n_unknowns;   /* shooting unknowns: 6 (3 planar) + ndisp + (M - 1) n_states */
     int n_base;       /* base states: 18 spatial (p, R, n_b, m_b), 6 planar */
-    int n_states;     /* shooting states: n_base + ndisp path lengths */
-    int n_states_rec; /* recording states: n_base + nt path lengths */
+    int n_states;     /* shooting states: n_base + ndisp path lengths + nfric deficits */
+    int n_states_rec; /* recording states: n_base + nt path lengths + nfric deficits */
     int n_stretch;    /* displacement-controlled tendons with finite EA */
+    int nfric;        /* tendons with channel friction (mu > 0): one state each, after the
+                         path lengths, in both layouts */
     double F_s, M_s, tau_s;   /* scales: force EI/L^2 [N], moment EI/L [N m],
                                    tension EI/(r_max L) [N] */
     double len_s;             /* scale of slack and length residuals: r_max (L if 0) [m] */
@@ -359,6 +366,15 @@ int tr_model_set_values(tr_model *m, const double *value, const double *load, co
  * recomputed and the scene checks redone (m->scene_status).  TR_EINVAL with a message
  * when a value is not finite or negative; the model is then unchanged. */
 int tr_model_set_pretension(tr_model *m, const double *pretension, char *msg, size_t msglen);
+/* Friction between the tendons and their channels (docs/model.md, Section 3): mu (nt)
+ * Coulomb coefficients [-] (>= 0, finite) and sliding (nt) the direction each tendon slides
+ * in its channel, +1 in (toward the actuator) or -1 out (toward the anchor).  Each tendon
+ * with mu > 0 carries its tension along s as a state (its deficit tau(0) - tau(s)), so
+ * this changes the problem's structure: call it right after compiling, before any
+ * workspace of the model is allocated.  All mu = 0 leaves the model exactly as compiled.
+ * TR_EINVAL with a message (the model unchanged) for a value out of range. */
+int tr_model_set_friction(tr_model *m, const double *mu, const int *sliding, char *msg,
+                          size_t msglen);
 /* Inverse actuation inside the shooting system: the kinds of tip target. */
 enum tr_target_kind {
     TR_TARGET_NONE = 0,
@@ -509,7 +525,17 @@ typedef struct tr_data {
     double *rot;          /* (nnode x 9) rotation body-to-world, row-major */
     double *force;        /* (nnode x 3) internal force, world [N] */
     double *moment;       /* (nnode x 3) internal moment, world [N m] */
-    double *tension;      /* (nt) tension [N] */
+    double *tension;      /* (nt) tension [N] (at the actuator) */
+    double *node_tension; /* (nnode x nt) each tendon's tension at each node [N]: its tension
+                             at the actuator, less its friction deficit there; 0 distal of
+                             its anchor and where it is slack */
+    double *tau_here;     /* (nt) scratch: the tensions at a state (tr_tensions_at) */
+    double *fric_ws;      /* (TR_FRIC_NCOL nfric) scratch of the right-hand side */
+    double *fric_g;       /* (9 nfric) each frictional tendon's normal load tau t^' (3, body,
+                             [N/m], 0 where slack) at the last right-hand side, and two copies */
+    double *ysw;          /* (2 n_states_rec) scratch of the steps that cross a kink of the
+                             friction law (tr_integrate.c) */
+    int *fric_done;       /* (nfric) scratch of the same */
     double *slack;        /* (nt) slack [m] */
     double *displacement; /* (nt) actuator displacement [m] */
     double tip[18];       /* tip state of the solution: p (3) world [m], R (9) body-to-world
@@ -621,6 +647,8 @@ enum tr_param_kind {
     TR_PAR_TENDON_EA, /* tendon `index`'s EA [N] (finite) */
     TR_PAR_OFFSET,    /* tendon `index`'s offset b [m] (not for a pretensioned set) */
     TR_PAR_SLOPE,     /* tendon `index`'s slope a [-] (not for a pretensioned set) */
+    TR_PAR_FRICTION,  /* tendon `index`'s friction coefficient mu [-] (a tendon compiled with
+                         friction, mu > 0) */
     TR_PAR_NKIND
 };
 typedef struct {

@@ -18,6 +18,7 @@ void tr_data_free(tr_data *d)
     if (d->LU) gsl_matrix_free(d->LU);
     if (d->perm) gsl_permutation_free(d->perm);
     free(d->tau);
+    free(d->fric_done);
     free(d->y);
     if (d->rk8_shoot) gsl_odeiv2_step_free(d->rk8_shoot);
     if (d->rk8_rec) gsl_odeiv2_step_free(d->rk8_rec);
@@ -52,8 +53,10 @@ static int alloc_buffers(const tr_model *m, tr_data *d)
     d->x_last = (double *)calloc((size_t)k * (k + 3) + 1, sizeof(double));
     d->LU = gsl_matrix_alloc(k > 0 ? k : 1, k > 0 ? k : 1);
     d->perm = gsl_permutation_alloc(k > 0 ? k : 1);
-    d->tau = (double *)calloc((size_t)5 * nt + 1, sizeof(double));
-    d->y = (double *)calloc((size_t)8 * nsr, sizeof(double));
+    d->tau = (double *)calloc((size_t)6 * nt + (TR_FRIC_NCOL + 9) * (size_t)m->nfric + 1,
+                              sizeof(double));
+    d->fric_done = (int *)calloc((size_t)m->nfric + 1, sizeof(int));
+    d->y = (double *)calloc((size_t)10 * nsr, sizeof(double));
     d->Yx = (double *)calloc((size_t)6 * m->nseg * k + 42 * ((size_t)m->nseg + 1), sizeof(double));
     d->lin_C = (double *)calloc((size_t)(2 * nd * nd + 4 * nd + 1), sizeof(double));
     d->lin_act = (int *)calloc((size_t)(3 * nd + nt + 1), sizeof(int));
@@ -61,7 +64,7 @@ static int alloc_buffers(const tr_model *m, tr_data *d)
         (double *)calloc((size_t)4 * k + nt + 7 * ((size_t)m->nseg + 1) + 4, sizeof(double));
     d->bp_pose = (double *)calloc((size_t)12 * (m->nseg + 1), sizeof(double));
     if (!d->bp_pose || !d->lin_C || !d->lin_act || !d->x || !d->J || !d->LU || !d->perm ||
-        !d->tau || !d->y || !d->Yx || !d->x_last || !d->x_guess)
+        !d->tau || !d->y || !d->Yx || !d->x_last || !d->x_guess || !d->fric_done)
         return -1;
     d->f_guess = d->x_guess + k;
     d->x_alt = d->x_guess + 2 * k;
@@ -86,6 +89,9 @@ static int alloc_buffers(const tr_model *m, tr_data *d)
     d->tension = d->tau + 2 * nt;
     d->slack = d->tau + 3 * nt;
     d->displacement = d->tau + 4 * nt;
+    d->tau_here = d->tau + 5 * nt;
+    d->fric_ws = d->tau + 6 * nt;
+    d->fric_g = d->fric_ws + TR_FRIC_NCOL * m->nfric;
     d->k1 = d->y + nsr;
     d->k2 = d->y + 2 * nsr;
     d->k3 = d->y + 3 * nsr;
@@ -93,6 +99,7 @@ static int alloc_buffers(const tr_model *m, tr_data *d)
     d->yt = d->y + 5 * nsr;
     d->yerr = d->y + 6 * nsr;
     d->ysave = d->y + 7 * nsr;
+    d->ysw = d->y + 8 * nsr;
     d->lin_pose = d->Yx + (size_t)6 * m->nseg * k;
     d->lin_A = d->lin_C + nd * nd;
     d->lin_rhs = d->lin_A + nd * nd;
@@ -165,8 +172,8 @@ static int merge_nodes(const tr_model *m, int nnode, double *s, int nn)
     return o;
 }
 
-/* The output nodes and their arrays (s and the 18 recorded states per node, in one
- * block).  0, or -1 when out of memory. */
+/* The output nodes and their arrays (s, the 18 recorded states and the nt tendon tensions
+ * per node, in one block).  0, or -1 when out of memory. */
 static int alloc_nodes(const tr_model *m, tr_data *d, int nnode, const double *node_s)
 {
     int i, nn;
@@ -176,8 +183,9 @@ static int alloc_nodes(const tr_model *m, tr_data *d, int nnode, const double *n
         nn = nnode;
     else
         nn = nnode + 2 * (m->nseg - 1); /* upper bound; the merge sets the count */
-    d->s = (double *)calloc((size_t)nn * 19, sizeof(double));
+    d->s = (double *)calloc((size_t)nn * (19 + m->nt), sizeof(double));
     if (!d->s) return -1;
+    d->node_tension = d->s + 19 * nn;
     d->pos = d->s + nn;
     d->rot = d->s + 4 * nn;
     d->force = d->s + 13 * nn;

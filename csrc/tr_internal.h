@@ -217,6 +217,40 @@ static inline void tr_tendon_pull_sum(const tr_model *m, const double *tau, doub
     }
 }
 
+/* Friction (tr_friction.c).  The friction states follow the path lengths: the first is at
+ * n_base + ndisp in the shooting layout, n_base + nt in the recording one. */
+static inline int tr_fric_base(const tr_model *m, const tr_data *d)
+{
+    return m->n_base + (d->rec ? m->nt : m->ndisp);
+}
+/* Tendon i's tension [N] at the state y: its tension at the actuator d->tau[i], less its
+ * friction deficit (never below 0). */
+static inline double tr_tension_at(const tr_model *m, const tr_data *d, int i, const double *y)
+{
+    const int f = m->tendon[i].fric_index;
+    double tau = d->tau[i];
+    if (f < 0) return tau;
+    tau -= y[tr_fric_base(m, d) + f];
+    return tau > 0.0 ? tau : 0.0;
+}
+/* The tensions of every tendon at y (d->tau itself without friction, else d->tau_here). */
+const double *tr_tensions_at(const tr_model *m, const tr_data *d, const double *y);
+/* dst's friction (a model of the same scene, compiled without it) set to src's. */
+void tr_friction_copy(tr_model *dst, const tr_model *src);
+/* The right-hand side's friction: per frictional taut tendon, TR_FRIC_NCOL numbers (its
+ * state slot, slide mu, tension / |w|, t (3), r (3), a_i (3), tau'); the friction loads solve
+ * the implicit equation by fixed-point iteration to TR_FRIC_TOL (relative) within
+ * TR_FRIC_ITER iterations (each contracts by ~ mu tau r^2 / EI, at most mu r kappa). */
+#define TR_FRIC_NCOL 13
+#define TR_FRIC_TOL  1e-15
+#define TR_FRIC_ITER 100
+/* A fixed step across a reversal of a frictional tendon's normal load (a kink of
+ * |tau t^'|) is split there, the reversal located to TR_KINK_TOL of the step within
+ * TR_KINK_ITER trials (tr_integrate.c): a step across it would lose its order (an error
+ * ~h^2, 5e-9 of the tip angle at 8192 rk8 steps) */
+#define TR_KINK_TOL  1e-10
+#define TR_KINK_ITER 60
+
 /* tr_model.c: the same scene compiled with nshoot shooting segments (the formulation,
  * planar or spatial, kept), or NULL (msg says why); copy the values of src into dst,
  * a model of the same scene (another shooting formulation). */
@@ -318,7 +352,7 @@ int tr_rhs(double s, const double y[], double dyds[], void *params);
 void tr_tendon_tangent(const tr_model *m, int i, double s, const double *y, double that[3],
                        double r[3]);
 /* Tendon pulls across a section (see tr_rod.c). */
-void tr_section_pulls(const tr_model *m, const tr_data *d, int seg, double s, const double nb[3],
+void tr_section_pulls(const tr_model *m, const double *tau, int seg, double s, const double nb[3],
                       const double mb[3], double fn[3], double fm[3], double *J6);
 /* Pose (p (3), R (9)), internal force and moment (world) of a state y. */
 void tr_state_world(const tr_model *m, const double *y, double p[3], double R[9], double n[3],

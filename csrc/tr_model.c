@@ -457,6 +457,8 @@ int tr_model_alloc_ext(tr_model **out, const double rod[6], const double *tendon
         status = read_tendon(m, i, tendons + TR_TD_NCOL * i, &rmax, msg, msglen);
         if (status != TR_OK) goto fail;
         m->tendon[i].target_row = -1;
+        m->tendon[i].fric_index = -1;
+        m->tendon[i].slide = 1;
         if (m->tendon[i].control == TR_DISPLACEMENT) {
             m->tendon[i].gamma_index = m->tendon[i].len_index = ndisp++;
         } else {
@@ -671,6 +673,8 @@ tr_model *tr_model_reshoot(const tr_model *m, const tr_options *opt, int nshoot,
     if (tr_model_alloc_ext(&out, rod, tendons, m->nt, m->load, m->nl, m->dist, m->dload, m->nd,
                            m->sec, m->nsec, m->route, m->nroute, &o, msg, msglen) != TR_OK)
         out = NULL;
+    else if (m->nfric > 0)
+        tr_friction_copy(out, m);
     free(tendons);
     return out;
 }
@@ -727,6 +731,10 @@ int tr_model_perturb(tr_model *mp, const tr_model *m, int kind, int index, doubl
         if (m->nsec == 1) mp->sec[TR_SC_GA] += delta;
         break;
     case TR_PAR_TENDON_EA: mp->tendon[index].EA += delta; break;
+    case TR_PAR_FRICTION:
+        if (mp->tendon[index].fric_index < 0) return TR_EINVAL;
+        mp->tendon[index].mu += delta;
+        break;
     case TR_PAR_OFFSET:
     case TR_PAR_SLOPE: {
         tr_tendon *t = &mp->tendon[index];

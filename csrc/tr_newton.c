@@ -178,7 +178,7 @@ int tr_fd_jacobian(const tr_model *m, tr_data *d)
     }
     for (j = 0; j < k; j++) {
         /* a column whose forward trial leaves the finite domain is taken backwards */
-        if (j == 0 && keep) memcpy(d->ysave, d->y, (size_t)m->n_base * sizeof(double));
+        if (j == 0 && keep) memcpy(d->ysave, d->y, (size_t)m->n_states * sizeof(double));
         status = tr_fd_column(m, d, d->x, d->f, j, d->J + j, (size_t)k, 1);
         if (status != TR_OK) return status;
     }

@@ -12,7 +12,12 @@
 
 static void store_node(const tr_model *m, tr_data *d, int j, const double *y)
 {
+    const double sj = d->s[j], eps = 1e-12 * m->L;
+    int i;
     tr_state_world(m, y, d->pos + 3 * j, d->rot + 9 * j, d->force + 3 * j, d->moment + 3 * j);
+    for (i = 0; i < m->nt; i++)
+        d->node_tension[m->nt * j + i] =
+            sj <= m->tendon[i].t + eps ? tr_tension_at(m, d, i, y) : 0.0;
 }
 
 /* Integrate a span [s0, s1] of segment k in the recording pass with at least the
@@ -39,16 +44,19 @@ static int record_span(const tr_model *m, tr_data *d, double s0, double s1, int 
 
 /* Restart the recording at shooting node j from its unknowns; the recording
  * layout has a path-length slot per tendon: those of displacement-controlled
- * tendons come from the node, the others keep integrating (they are continuous). */
+ * tendons come from the node, the others keep integrating (they are continuous);
+ * the friction deficits come from the node. */
 static void rec_restart(const tr_model *m, tr_data *d, int j, double *y)
 {
-    const int o = tr_node_off(m, j), lenbase = m->n_base;
+    const int o = tr_node_off(m, j), lenbase = m->n_base, nb = m->n_base + m->ndisp;
     int c, i;
     for (c = 0; c < m->n_base; c++) y[c] = d->x[o + c] * tr_node_scale(m, c);
     for (i = 0; i < m->nt; i++) {
         const tr_tendon *t = &m->tendon[i];
         if (t->len_index >= 0) y[lenbase + i] = d->x[o + m->n_base + t->len_index] * m->len_s;
     }
+    for (c = 0; c < m->nfric; c++)
+        y[m->n_base + m->nt + c] = d->x[o + nb + c] * tr_node_scale(m, nb + c);
 }
 
 static int record_pass(const tr_model *m, tr_data *d, int allow_rk4, int *used)
@@ -122,6 +130,7 @@ static int record_pass(const tr_model *m, tr_data *d, int allow_rk4, int *used)
          * 18 per node, contiguous after s in one block, see tr_data_alloc) become NaN;
          * the node arc lengths d->s are inputs of the next recording pass and stay */
         for (j = 0; j < 18 * nn; j++) d->pos[j] = NAN;
+        for (j = 0; j < m->nt * nn; j++) d->node_tension[j] = NAN;
     }
     return status;
 }
@@ -195,6 +204,12 @@ int tr_record_tip(const tr_model *m, tr_data *d)
     memcpy(d->rot, d->tip + 3, 9 * sizeof(double));
     memcpy(d->force, d->tip + 12, 3 * sizeof(double));
     memcpy(d->moment, d->tip + 15, 3 * sizeof(double));
+    if (st == TR_OK) {
+        int i;
+        for (i = 0; i < m->nt; i++) /* the end state of the shooting layout */
+            d->node_tension[i] =
+                fabs(m->tendon[i].t - m->L) <= 1e-12 * m->L ? tr_tension_at(m, d, i, d->y) : 0.0;
+    }
     return st;
 }
 

@@ -88,7 +88,7 @@ static void anchor_sum(const tr_model *m, const tr_data *d, int b, const double 
     fn[0] = fn[1] = fn[2] = fm[0] = fm[1] = fm[2] = 0.0;
     for (i = 0; i < m->nt; i++) {
         double th[3], r[3], rt[3];
-        const double tau = d->tau[i];
+        const double tau = tr_tension_at(m, d, i, y);
         if (m->tendon[i].end_bp != b || !(tau > 0.0)) continue;
         tr_tendon_tangent(m, i, s, y, th, r);
         tru_cross3(rt, r, th);
@@ -114,6 +114,7 @@ void tr_apply_jump(const tr_model *m, const tr_data *d, int b, double *y)
 {
     const double s = m->bp[b];
     double F[3], M[3], Fb[3], Mb[3], nb[3], mb[3], fn[3], fm[3], Cn[3], Cm[3];
+    const double *tau = tr_tensions_at(m, d, y); /* continuous across the breakpoint */
     int c, it;
     bp_load(m, d, b, F, M);
     if (m->planar) {
@@ -136,20 +137,20 @@ void tr_apply_jump(const tr_model *m, const tr_data *d, int b, double *y)
         memcpy(nb, y + TR_Y_N, sizeof nb);
         memcpy(mb, y + TR_Y_M, sizeof mb);
     }
-    tr_section_pulls(m, d, b - 1, s, nb, mb, fn, fm, NULL);
+    tr_section_pulls(m, tau, b - 1, s, nb, mb, fn, fm, NULL);
     for (c = 0; c < 3; c++) {
         Cn[c] = nb[c] + fn[c] - Fb[c];
         Cm[c] = mb[c] + fm[c] - Mb[c];
     }
     /* first guess: the continuing tendons keep their direction */
-    tr_section_pulls(m, d, b, s, nb, mb, fn, fm, NULL);
+    tr_section_pulls(m, tau, b, s, nb, mb, fn, fm, NULL);
     for (c = 0; c < 3; c++) {
         nb[c] = Cn[c] - fn[c];
         mb[c] = Cm[c] - fm[c];
     }
     for (it = 0; it < TR_JUMP_ITER; it++) {
         double J6[36], g[6], gmax = 0.0, scale = 0.0;
-        tr_section_pulls(m, d, b, s, nb, mb, fn, fm, J6);
+        tr_section_pulls(m, tau, b, s, nb, mb, fn, fm, J6);
         for (c = 0; c < 3; c++) {
             g[c] = -(nb[c] + fn[c] - Cn[c]) / m->F_s;
             g[3 + c] = -(mb[c] + fm[c] - Cm[c]) / m->M_s;
@@ -251,7 +252,7 @@ int tr_node_off(const tr_model *m, int j)
 
 double tr_node_scale(const tr_model *m, int c)
 {
-    return c < m->n_base ? m->xstate_scale[c] : m->len_s;
+    return c < m->n_base ? m->xstate_scale[c] : c < m->n_base + m->ndisp ? m->len_s : m->tau_s;
 }
 
 /* At shooting node j: continuity residual (integrated minus unknown, scaled) into f
@@ -274,7 +275,7 @@ int tr_holds_end_state(const tr_data *d, const double *x)
 
 void tr_restore_end_state(const tr_model *m, tr_data *d, const double *x, const double *f)
 {
-    memcpy(d->y, d->ysave, (size_t)m->n_base * sizeof(double));
+    memcpy(d->y, d->ysave, (size_t)m->n_states * sizeof(double));
     memcpy(d->x_of_y, x, (size_t)d->k * sizeof(double));
     memcpy(d->f_of_y, f, (size_t)d->k * sizeof(double));
     d->y_steps = d->steps;

@@ -67,6 +67,149 @@ static int inv3(const double M[9], double Mi[9])
     return 0;
 }
 
+/* The stretch that friction adds to a tendon's length integral: with its tension tau(s)
+ * below its tension tau(0) at the actuator, the length constraint (docs/model.md,
+ * Section 5) gains |w| (tau(0) - tau) / (EA + tau) per unit s. */
+static double fric_stretch(const tr_data *d, int i, const tr_tendon *td, double tau, double nw)
+{
+    return nw * (d->tau[i] - tau) / (td->EA * d->ea_scale + tau);
+}
+
+/* The body-frame system [I + A K_se^-1, G K_bt^-1; B K_se^-1, I + H K_bt^-1] of one
+ * evaluation, set up once and solved for one or more right-hand sides (friction). */
+typedef struct {
+    int kirch;
+    double kb[3], ks[3];             /* K_bt^-1, K_se^-1 (0 on a Kirchhoff rod) */
+    double S[9], Gm[9];              /* the moment block I + H K_bt^-1 and G */
+    double Q[9], SR[9], Si[9], Z[9]; /* Cosserat: G K_bt^-1, S^-1 B K_se^-1, S^-1, complement */
+} sys6;
+
+static int sys6_setup(sys6 *q, const double sr[3], double sr2, double sc, const double RR[9],
+                      const double TQ[9], const double QQ[9], const double TT[9])
+{
+    double Hm[9], Sr[9], Rb[9];
+    int r_, c_;
+    tru_skew3(Sr, sr);
+    for (r_ = 0; r_ < 9; r_++) {
+        q->Gm[r_] = -(Sr[r_] + TQ[r_]);
+        Hm[r_] = -RR[r_] - QQ[r_];
+    }
+    Hm[0] += sr2;
+    Hm[4] += sr2;
+    Hm[8] += sr2;
+    for (r_ = 0; r_ < 3; r_++)
+        for (c_ = 0; c_ < 3; c_++)
+            q->S[3 * r_ + c_] = (r_ == c_ ? 1.0 : 0.0) + Hm[3 * r_ + c_] * q->kb[c_];
+    if (q->kirch) return 0;
+    /* the 6 x 6 system [P Q; R S] [n'; m'] = [rhs1; rhs2] with P = I + A K_se^-1,
+     * Q = G K_bt^-1, R = B K_se^-1, by its Schur complement on S:
+     * (P - Q S^-1 R) n' = rhs1 - Q S^-1 rhs2, m' = S^-1 rhs2 - S^-1 R n'.
+     * P is I up to tau/EA, so the complement is as well conditioned as S. */
+    if (inv3(q->S, q->Si) != 0) return -1;
+    for (r_ = 0; r_ < 3; r_++)
+        for (c_ = 0; c_ < 3; c_++) {
+            /* A = sc I - TT;  B = r^ sum - Q T^T = Sr - TQ^T */
+            const double id = (r_ == c_ ? 1.0 : 0.0);
+            q->Q[3 * r_ + c_] = q->Gm[3 * r_ + c_] * q->kb[c_];
+            Rb[3 * r_ + c_] = (Sr[3 * r_ + c_] - TQ[3 * c_ + r_]) * q->ks[c_];
+            q->Z[3 * r_ + c_] = id + (sc * id - TT[3 * r_ + c_]) * q->ks[c_];
+        }
+    tru_matmul3(q->SR, q->Si, Rb);
+    for (r_ = 0; r_ < 3; r_++)
+        for (c_ = 0; c_ < 3; c_++) {
+            const double qq = q->Q[3 * r_ + c_];
+            q->Z[3 * r_ + 0] -= qq * q->SR[3 * c_ + 0];
+            q->Z[3 * r_ + 1] -= qq * q->SR[3 * c_ + 1];
+            q->Z[3 * r_ + 2] -= qq * q->SR[3 * c_ + 2];
+        }
+    return 0;
+}
+
+/* (n_b', m_b') of the right-hand side rhs (6) into out (6); -1 if singular.
+ * Kirchhoff: S m' = rhs2, n' = rhs1 - G K_bt^-1 m'. */
+static int sys6_solve(const sys6 *q, const double rhs[6], double out[6])
+{
+    double tmp[3];
+    if (q->kirch) {
+        double x[3];
+        if (solve3(q->S, rhs + 3, x) != 0) return -1;
+        {
+            const double up[3] = {x[0] * q->kb[0], x[1] * q->kb[1], x[2] * q->kb[2]};
+            tru_matvec3(tmp, q->Gm, up);
+        }
+        out[0] = rhs[0] - tmp[0];
+        out[1] = rhs[1] - tmp[1];
+        out[2] = rhs[2] - tmp[2];
+        out[3] = x[0];
+        out[4] = x[1];
+        out[5] = x[2];
+    } else {
+        double Sr2[3], z[3], np_[3];
+        int r_, c_;
+        tru_matvec3(Sr2, q->Si, rhs + 3);
+        for (r_ = 0; r_ < 3; r_++) {
+            double zr = rhs[r_];
+            for (c_ = 0; c_ < 3; c_++) zr -= q->Q[3 * r_ + c_] * Sr2[c_];
+            z[r_] = zr;
+        }
+        if (solve3(q->Z, z, np_) != 0) return -1;
+        tru_matvec3(tmp, q->SR, np_);
+        out[0] = np_[0];
+        out[1] = np_[1];
+        out[2] = np_[2];
+        out[3] = Sr2[0] - tmp[0];
+        out[4] = Sr2[1] - tmp[1];
+        out[5] = Sr2[2] - tmp[2];
+    }
+    return 0;
+}
+
+/* Friction of the nfw frictional taut tendons in fw (TR_FRIC_NCOL columns each, see
+ * tr_internal.h): the tendon's load tau t^' = a_i + A_i (v' + u' x r) depends on the
+ * solution (n_b', m_b') in out, and the friction load tau' (t^, r x t^) with
+ * tau' = -slide mu |tau t^'| enters the right-hand side; fixed-point iteration from the
+ * frictionless out.  On return out solves the system with friction and dfric[slot] holds
+ * each deficit's rate -tau'.  -1 if singular or not converged. */
+static int friction_spatial(const sys6 *q, double *fw, int nfw, double L, const double rhs[6],
+                            double out[6], double *dfric, double *gout)
+{
+    int it, c, k;
+    for (c = 0; c < nfw; c++) fw[TR_FRIC_NCOL * c + 12] = 0.0;
+    for (it = 0; it < TR_FRIC_ITER; it++) {
+        double r6[6], fr[6] = {0, 0, 0, 0, 0, 0};
+        const double up[3] = {out[3] * q->kb[0], out[4] * q->kb[1], out[5] * q->kb[2]};
+        const double vp[3] = {out[0] * q->ks[0], out[1] * q->ks[1], out[2] * q->ks[2]};
+        int done = 1;
+        for (c = 0; c < nfw; c++) {
+            double *f = fw + TR_FRIC_NCOL * c;
+            const double *t = f + 3, *r = f + 6, *a = f + 9;
+            /* e = v' + u' x r (r_z = 0), g = a_i + c_t (e - t (t.e)) */
+            const double e0 = vp[0] - up[2] * r[1], e1 = vp[1] + up[2] * r[0];
+            const double e2 = vp[2] + up[0] * r[1] - up[1] * r[0];
+            const double te = t[0] * e0 + t[1] * e1 + t[2] * e2;
+            const double g0 = a[0] + f[2] * (e0 - t[0] * te), g1 = a[1] + f[2] * (e1 - t[1] * te);
+            const double g2 = a[2] + f[2] * (e2 - t[2] * te);
+            const double tp = -f[1] * sqrt(g0 * g0 + g1 * g1 + g2 * g2);
+            double *go = gout + 3 * (int)f[0];
+            if (fabs(tp - f[12]) > TR_FRIC_TOL * (fabs(tp) + fabs(f[1]) * f[2] / L)) done = 0;
+            f[12] = tp;
+            go[0] = g0, go[1] = g1, go[2] = g2;
+            fr[0] += tp * t[0];
+            fr[1] += tp * t[1];
+            fr[2] += tp * t[2];
+            fr[3] += tp * (r[1] * t[2]);
+            fr[4] += tp * (-r[0] * t[2]);
+            fr[5] += tp * (r[0] * t[1] - r[1] * t[0]);
+        }
+        if (done) break; /* out solves the system with these friction loads */
+        for (k = 0; k < 6; k++) r6[k] = rhs[k] - fr[k];
+        if (sys6_solve(q, r6, out) != 0) return -1;
+    }
+    if (it == TR_FRIC_ITER) return -1;
+    for (c = 0; c < nfw; c++) dfric[(int)fw[TR_FRIC_NCOL * c]] = -fw[TR_FRIC_NCOL * c + 12];
+    return 0;
+}
+
 /* Per tendon, with t = w/|w|, c_t = tau/|w|, q = r x t (r^ t = q, t^T r^ = -q^T):
  *   A_i = c_t (I - t t^T)            a_i = A_i (u x w + u x r')
  *   A_i r^ = c_t (r^ + t q^T)        G = -sum A_i r^
@@ -95,6 +238,9 @@ static int rhs_spatial(const tr_model *m, const tr_data *d, double s, const doub
     int coupled = 0, j, c;
     const int nlen = d->rec ? m->nt : m->ndisp;
     const int a0 = m->seg_act_start[d->seg], a1 = m->seg_act_start[d->seg + 1];
+    const int nf = m->nfric, fb = TR_Y_LEN + nlen;
+    double *fw = d->fric_ws;
+    int nfw = 0;
 
     double ev3 = 0.0; /* v3 - 1 */
     if (!kirch) {
@@ -103,14 +249,15 @@ static int rhs_spatial(const tr_model *m, const tr_data *d, double s, const doub
         ev3 = nb[2] / sg[TR_SR_EA];
         v[2] = 1.0 + ev3;
     }
-    for (j = 0; j < nlen; j++) dy[TR_Y_LEN + j] = 0.0;
+    for (j = 0; j < nlen + nf; j++) dy[TR_Y_LEN + j] = 0.0;
+    for (j = 0; j < 3 * nf; j++) d->fric_g[j] = 0.0;
 
     for (c = a0; c < a1; c++) {
         const int i = m->seg_act[c];
         const tr_tendon *td = &m->tendon[i];
         const int lin = !gen || td->route == TR_ROUTE_LINEAR;
         double r0, r1, rp0, rp1, rpp[2] = {0.0, 0.0};
-        const double tau = d->tau[i];
+        const double tau = nf ? tr_tension_at(m, d, i, y) : d->tau[i];
         const int slot = d->rec ? i : td->len_index;
         if (lin) {
             const double rho = td->a * s + td->b;
@@ -150,6 +297,8 @@ static int rhs_spatial(const tr_model *m, const tr_data *d, double s, const doub
             dy[TR_Y_LEN + slot] =
                 (2.0 * (wr0 * d0 + wr1 * d1 + wr2 * d2) + d0 * d0 + d1 * d1 + d2 * d2) / (nw + c);
         }
+        if (nf && slot >= 0 && td->fric_index >= 0 && isfinite(td->EA))
+            dy[TR_Y_LEN + slot] += fric_stretch(d, i, td, tau, nw);
         if (!(tau > 0.0)) continue;
         coupled = 1;
         t[0] = w0 / nw;
@@ -175,6 +324,15 @@ static int rhs_spatial(const tr_model *m, const tr_data *d, double s, const doub
         ai[0] = ct * (cv[0] - t[0] * tc);
         ai[1] = ct * (cv[1] - t[1] * tc);
         ai[2] = ct * (cv[2] - t[2] * tc);
+        if (nf && td->fric_index >= 0) {
+            double *f = fw + TR_FRIC_NCOL * nfw++;
+            f[0] = td->fric_index;
+            f[1] = td->slide * td->mu;
+            f[2] = ct;
+            f[3] = t[0], f[4] = t[1], f[5] = t[2];
+            f[6] = r0, f[7] = r1, f[8] = 0.0;
+            f[9] = ai[0], f[10] = ai[1], f[11] = ai[2];
+        }
         asum[0] += ai[0];
         asum[1] += ai[1];
         asum[2] += ai[2];
@@ -233,73 +391,24 @@ static int rhs_spatial(const tr_model *m, const tr_data *d, double s, const doub
     if (!coupled) {
         memcpy(dy + TR_Y_N, rhs, 6 * sizeof(double));
     } else {
-        const double kb[3] = {1.0 / EI, 1.0 / EI, 1.0 / GJ};
-        double Gm[9], Hm[9], Sr[9], S[9], Si[9], x[3];
-        int r_, c_;
-        RR[3] = RR[1];
-        tru_skew3(Sr, sr);
-        for (r_ = 0; r_ < 9; r_++) {
-            Gm[r_] = -(Sr[r_] + TQ[r_]);
-            Hm[r_] = -RR[r_] - QQ[r_];
-        }
-        Hm[0] += sr2;
-        Hm[4] += sr2;
-        Hm[8] += sr2;
-        /* S = I + H K_bt^-1, the moment block */
-        for (r_ = 0; r_ < 3; r_++)
-            for (c_ = 0; c_ < 3; c_++)
-                S[3 * r_ + c_] = (r_ == c_ ? 1.0 : 0.0) + Hm[3 * r_ + c_] * kb[c_];
+        sys6 q;
+        double out[6];
+        q.kirch = kirch;
+        q.kb[0] = 1.0 / EI;
+        q.kb[1] = 1.0 / EI;
+        q.kb[2] = 1.0 / GJ;
         if (kirch) {
-            /* S m' = rhs2, n' = rhs1 - G K_bt^-1 m' */
-            if (solve3(S, rhs + 3, x) != 0) return GSL_EBADFUNC;
-            {
-                const double up[3] = {x[0] * kb[0], x[1] * kb[1], x[2] * kb[2]};
-                tru_matvec3(tmp, Gm, up);
-            }
-            dy[TR_Y_N + 0] = rhs[0] - tmp[0];
-            dy[TR_Y_N + 1] = rhs[1] - tmp[1];
-            dy[TR_Y_N + 2] = rhs[2] - tmp[2];
-            dy[TR_Y_M + 0] = x[0];
-            dy[TR_Y_M + 1] = x[1];
-            dy[TR_Y_M + 2] = x[2];
+            q.ks[0] = q.ks[1] = q.ks[2] = 0.0;
         } else {
-            /* the 6 x 6 system [P Q; R S] [n'; m'] = [rhs1; rhs2] with P = I + A K_se^-1,
-             * Q = G K_bt^-1, R = B K_se^-1, by its Schur complement on S:
-             * (P - Q S^-1 R) n' = rhs1 - Q S^-1 rhs2, m' = S^-1 rhs2 - S^-1 R n'.
-             * P is I up to tau/EA, so the complement is as well conditioned as S. */
-            const double ks[3] = {1.0 / sg[TR_SR_GA], 1.0 / sg[TR_SR_GA], 1.0 / sg[TR_SR_EA]};
-            double Q[9], Rb[9], SR[9], Sr2[3], Z[9], z[3], np_[3];
-            if (inv3(S, Si) != 0) return GSL_EBADFUNC;
-            for (r_ = 0; r_ < 3; r_++)
-                for (c_ = 0; c_ < 3; c_++) {
-                    /* A = sc I - TT;  B = r^ sum - Q T^T = Sr - TQ^T */
-                    const double id = (r_ == c_ ? 1.0 : 0.0);
-                    Q[3 * r_ + c_] = Gm[3 * r_ + c_] * kb[c_];
-                    Rb[3 * r_ + c_] = (Sr[3 * r_ + c_] - TQ[3 * c_ + r_]) * ks[c_];
-                    Z[3 * r_ + c_] = id + (sc * id - TT[3 * r_ + c_]) * ks[c_];
-                }
-            tru_matmul3(SR, Si, Rb);
-            tru_matvec3(Sr2, Si, rhs + 3);
-            for (r_ = 0; r_ < 3; r_++) {
-                double zr = rhs[r_];
-                for (c_ = 0; c_ < 3; c_++) {
-                    const double q = Q[3 * r_ + c_];
-                    Z[3 * r_ + 0] -= q * SR[3 * c_ + 0];
-                    Z[3 * r_ + 1] -= q * SR[3 * c_ + 1];
-                    Z[3 * r_ + 2] -= q * SR[3 * c_ + 2];
-                    zr -= q * Sr2[c_];
-                }
-                z[r_] = zr;
-            }
-            if (solve3(Z, z, np_) != 0) return GSL_EBADFUNC;
-            tru_matvec3(tmp, SR, np_);
-            dy[TR_Y_N + 0] = np_[0];
-            dy[TR_Y_N + 1] = np_[1];
-            dy[TR_Y_N + 2] = np_[2];
-            dy[TR_Y_M + 0] = Sr2[0] - tmp[0];
-            dy[TR_Y_M + 1] = Sr2[1] - tmp[1];
-            dy[TR_Y_M + 2] = Sr2[2] - tmp[2];
+            q.ks[0] = q.ks[1] = 1.0 / sg[TR_SR_GA];
+            q.ks[2] = 1.0 / sg[TR_SR_EA];
         }
+        RR[3] = RR[1];
+        if (sys6_setup(&q, sr, sr2, sc, RR, TQ, QQ, TT) != 0 || sys6_solve(&q, rhs, out) != 0)
+            return GSL_EBADFUNC;
+        if (nfw > 0 && friction_spatial(&q, fw, nfw, m->L, rhs, out, dy + fb, d->fric_g) != 0)
+            return GSL_EBADFUNC;
+        memcpy(dy + TR_Y_N, out, 6 * sizeof(double));
     }
 
     /* kinematics: p' = R v, R' = R u^  (row j of R u^ = R_j x u) */
@@ -309,8 +418,68 @@ static int rhs_spatial(const tr_model *m, const tr_data *d, double s, const doub
 }
 
 /* -------------------------------------------------------------- planar */
+/* The planar system in (n1', n3', m2') of one evaluation: Kirchhoff, one division
+ * (1 + H/EI) m2' = r2 and n' = r - G m2'/EI; Cosserat, the 3 x 3 matrix M3. */
+typedef struct {
+    int kirch;
+    double EI, H, G1, G3, ks1, ks3, M3[9];
+} sys3;
+
+static int sys3_solve(const sys3 *q, const double rr[3], double out[3])
+{
+    if (q->kirch) {
+        const double mp = rr[2] / (1.0 + q->H / q->EI);
+        out[2] = mp;
+        out[0] = rr[0] - q->G1 * mp / q->EI;
+        out[1] = rr[1] - q->G3 * mp / q->EI;
+        return 0;
+    } else {
+        double M3[9];
+        memcpy(M3, q->M3, sizeof M3);
+        out[0] = rr[0];
+        out[1] = rr[1];
+        out[2] = rr[2];
+        return tru_solve_dense(3, M3, out) != 0 ? -1 : 0;
+    }
+}
+
+/* friction_spatial in the x-z plane: e = (v1', v3' - kap' rho), the friction force
+ * tau' (t1, t3) and its moment about y, -rho tau' t3. */
+static int friction_planar(const sys3 *q, double *fw, int nfw, double L, const double rr[3],
+                           double out[3], double *dfric, double *gout)
+{
+    int it, c;
+    for (c = 0; c < nfw; c++) fw[TR_FRIC_NCOL * c + 12] = 0.0;
+    for (it = 0; it < TR_FRIC_ITER; it++) {
+        const double v1p = out[0] * q->ks1, v3p = out[1] * q->ks3, kp = out[2] / q->EI;
+        double fr[3] = {0, 0, 0}, r3[3];
+        int done = 1;
+        for (c = 0; c < nfw; c++) {
+            double *f = fw + TR_FRIC_NCOL * c;
+            const double t1 = f[3], t3 = f[5], rho = f[6];
+            const double e1 = v1p, e3 = v3p - kp * rho, te = t1 * e1 + t3 * e3;
+            const double g1 = f[9] + f[2] * (e1 - t1 * te), g3 = f[11] + f[2] * (e3 - t3 * te);
+            const double tp = -f[1] * sqrt(g1 * g1 + g3 * g3);
+            double *go = gout + 3 * (int)f[0];
+            if (fabs(tp - f[12]) > TR_FRIC_TOL * (fabs(tp) + fabs(f[1]) * f[2] / L)) done = 0;
+            f[12] = tp;
+            go[0] = g1, go[1] = 0.0, go[2] = g3;
+            fr[0] += tp * t1;
+            fr[1] += tp * t3;
+            fr[2] += -rho * tp * t3;
+        }
+        if (done) break; /* out solves the system with these friction loads */
+        for (c = 0; c < 3; c++) r3[c] = rr[c] - fr[c];
+        if (sys3_solve(q, r3, out) != 0) return -1;
+    }
+    if (it == TR_FRIC_ITER) return -1;
+    for (c = 0; c < nfw; c++) dfric[(int)fw[TR_FRIC_NCOL * c]] = -fw[TR_FRIC_NCOL * c + 12];
+    return 0;
+}
+
 /* x-z plane, rotation about +y by theta: R = [[c,0,s],[0,1,0],[-s,0,c]].
- * Body vectors (x, z) components, moments about y; tendon offset rho e_x. */
+ * Body vectors (x, z) components, moments about y; tendon offset rho e_x.  Longer than the
+ * house's 120 lines for the reason rhs_spatial is: the hot kernel's accumulators. */
 static int rhs_planar(const tr_model *m, const tr_data *d, double s, const double *y, double *dy,
                       const int gen)
 {
@@ -327,6 +496,9 @@ static int rhs_planar(const tr_model *m, const tr_data *d, double s, const doubl
     int coupled = 0, j, c;
     const int nlen = d->rec ? m->nt : m->ndisp;
     const int c0 = m->seg_act_start[d->seg], c1 = m->seg_act_start[d->seg + 1];
+    const int nf = m->nfric;
+    double *fw = d->fric_ws;
+    int nfw = 0;
     double r1, r3, r2;
 
     double ev3 = 0.0; /* v3 - 1 */
@@ -335,7 +507,8 @@ static int rhs_planar(const tr_model *m, const tr_data *d, double s, const doubl
         ev3 = n3 / sr[TR_SR_EA];
         v3 = 1.0 + ev3;
     }
-    for (j = 0; j < nlen; j++) dy[TR_YP_LEN + j] = 0.0;
+    for (j = 0; j < nlen + nf; j++) dy[TR_YP_LEN + j] = 0.0;
+    for (j = 0; j < 3 * nf; j++) d->fric_g[j] = 0.0;
 
     for (c = c0; c < c1; c++) {
         const int i = m->seg_act[c];
@@ -344,7 +517,7 @@ static int rhs_planar(const tr_model *m, const tr_data *d, double s, const doubl
         const double rp = td->cphi * td->a;
         const double w1 = v1 + rp, w3 = v3 - kap * rho;
         const double nw = sqrt(w1 * w1 + w3 * w3);
-        const double tau = d->tau[i];
+        const double tau = nf ? tr_tension_at(m, d, i, y) : d->tau[i];
         const int slot = d->rec ? i : td->len_index;
         if (slot >= 0 && !gen) {
             /* |w| - |w_ref| without cancellation (see rhs_spatial) */
@@ -357,6 +530,8 @@ static int rhs_planar(const tr_model *m, const tr_data *d, double s, const doubl
             const double d1 = v1, d3 = ev3 - dkap * rho;
             dy[TR_YP_LEN + slot] = (2.0 * (rp * d1 + wr3 * d3) + d1 * d1 + d3 * d3) / (nw + c);
         }
+        if (nf && slot >= 0 && td->fric_index >= 0 && isfinite(td->EA))
+            dy[TR_YP_LEN + slot] += fric_stretch(d, i, td, tau, nw);
         if (!(tau > 0.0)) continue;
         coupled = 1;
         {
@@ -365,6 +540,15 @@ static int rhs_planar(const tr_model *m, const tr_data *d, double s, const doubl
             /* c = u x w + u x r' = (kap w3, -kap (w1 + r')) */
             const double cv1 = kap * w3, cv3 = -kap * (w1 + rp);
             const double ai1 = a11 * cv1 + a13 * cv3, ai3 = a13 * cv1 + a33 * cv3;
+            if (nf && td->fric_index >= 0) {
+                double *f = fw + TR_FRIC_NCOL * nfw++;
+                f[0] = td->fric_index;
+                f[1] = td->slide * td->mu;
+                f[2] = tau / nw;
+                f[3] = w1 / nw, f[4] = 0.0, f[5] = w3 / nw;
+                f[6] = rho, f[7] = f[8] = 0.0;
+                f[9] = ai1, f[10] = 0.0, f[11] = ai3;
+            }
             a1s += ai1;
             a3s += ai3;
             bs += -rho * ai3;
@@ -401,20 +585,31 @@ static int rhs_planar(const tr_model *m, const tr_data *d, double s, const doubl
         dy[TR_YP_N1] = r1;
         dy[TR_YP_N3] = r3;
         dy[TR_YP_M] = r2;
-    } else if (kirch) {
-        const double mp = r2 / (1.0 + H / EI);
-        dy[TR_YP_M] = mp;
-        dy[TR_YP_N1] = r1 - G1 * mp / EI;
-        dy[TR_YP_N3] = r3 - G3 * mp / EI;
     } else {
-        const double ks1 = 1.0 / sr[TR_SR_GA], ks3 = 1.0 / sr[TR_SR_EA], kb = 1.0 / EI;
-        double M3[9] = {1.0 + A11 * ks1, A13 * ks3, G1 * kb,  A13 * ks1,   1.0 + A33 * ks3,
-                        G3 * kb,         B1 * ks1,  B3 * ks3, 1.0 + H * kb};
-        double x[3] = {r1, r3, r2};
-        if (tru_solve_dense(3, M3, x) != 0) return GSL_EBADFUNC;
-        dy[TR_YP_N1] = x[0];
-        dy[TR_YP_N3] = x[1];
-        dy[TR_YP_M] = x[2];
+        sys3 q;
+        const double rr[3] = {r1, r3, r2};
+        double out[3];
+        q.kirch = kirch;
+        q.EI = EI;
+        q.H = H;
+        q.G1 = G1;
+        q.G3 = G3;
+        q.ks1 = kirch ? 0.0 : 1.0 / sr[TR_SR_GA];
+        q.ks3 = kirch ? 0.0 : 1.0 / sr[TR_SR_EA];
+        if (!kirch) {
+            const double kb = 1.0 / EI;
+            const double M3[9] = {1.0 + A11 * q.ks1, A13 * q.ks3,       G1 * kb,
+                                  A13 * q.ks1,       1.0 + A33 * q.ks3, G3 * kb,
+                                  B1 * q.ks1,        B3 * q.ks3,        1.0 + H * kb};
+            memcpy(q.M3, M3, sizeof M3);
+        }
+        if (sys3_solve(&q, rr, out) != 0) return GSL_EBADFUNC;
+        if (nfw > 0 &&
+            friction_planar(&q, fw, nfw, m->L, rr, out, dy + TR_YP_LEN + nlen, d->fric_g) != 0)
+            return GSL_EBADFUNC;
+        dy[TR_YP_N1] = out[0];
+        dy[TR_YP_N3] = out[1];
+        dy[TR_YP_M] = out[2];
     }
     dy[TR_YP_X] = ct * v1 + st * v3;
     dy[TR_YP_Z] = -st * v1 + ct * v3;
@@ -509,12 +704,14 @@ void tr_state_world(const tr_model *m, const double *y, double p[3], double R[9]
     }
 }
 
-/* Pulls of the tendons active on segment seg at s, body frame, for backbone force
+/* Pulls of the tendons active on segment seg at s (tensions tau_all (nt) [N]), body frame,
+ * for backbone force
  * nb and moment mb (3-vectors; planar scenes embed as (n1, 0, n3), (0, m2, 0)):
  * fn = sum tau t^, fm = sum tau r x t^.  If J6 != NULL it receives the 6x6
  * derivative of (fn, fm) with respect to (nb, mb), row-major. */
-void tr_section_pulls(const tr_model *m, const tr_data *d, int seg, double s, const double nb[3],
-                      const double mb[3], double fn[3], double fm[3], double *J6)
+void tr_section_pulls(const tr_model *m, const double *tau_all, int seg, double s,
+                      const double nb[3], const double mb[3], double fn[3], double fm[3],
+                      double *J6)
 {
     const double *sr = m->seg_rod + TR_SR_NCOL * seg, *us = sr + TR_SR_U;
     const double kb[3] = {1.0 / sr[TR_SR_EI], 1.0 / sr[TR_SR_EI], 1.0 / sr[TR_SR_GJ]};
@@ -528,7 +725,7 @@ void tr_section_pulls(const tr_model *m, const tr_data *d, int seg, double s, co
     if (J6) memset(J6, 0, 36 * sizeof(double));
     for (c = m->seg_act_start[seg]; c < m->seg_act_start[seg + 1]; c++) {
         const int i = m->seg_act[c];
-        const double tau = d->tau[i];
+        const double tau = tau_all[i];
         double r[3], rp[3], w[3], nw, th[3], rt[3];
         if (!(tau > 0.0)) continue;
         tr_tendon_offset(m, i, seg, s, r, rp);

@@ -388,6 +388,12 @@ static double level_margin(const tr_model *m, const tr_data *d, struct tr_stab_w
 static int not_conservative(const tr_model *m, tr_data *d)
 {
     int b;
+    if (m->nfric > 0) {
+        snprintf(d->stab_reason, sizeof d->stab_reason,
+                 "not tested: friction in the tendon channels is not conservative (no energy "
+                 "whose minimum decides stability)");
+        return 1;
+    }
     for (b = 1; b <= m->nseg; b++)
         if (m->bpM[3 * b] != 0.0 || m->bpM[3 * b + 1] != 0.0 || m->bpM[3 * b + 2] != 0.0) {
             snprintf(d->stab_reason, sizeof d->stab_reason,

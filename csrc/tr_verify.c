@@ -28,7 +28,7 @@ static double doubling_estimate(const tr_model *m, tr_data *d)
         status = tr_residual(m, d, d->x, d->f);
     }
     d->fnorm = status == TR_OK ? tru_maxnorm(d->f, k) : INFINITY;
-    memcpy(d->ysave, d->y, (size_t)m->n_base * sizeof(double));
+    memcpy(d->ysave, d->y, (size_t)m->n_states * sizeof(double));
     d->steps_double = 1;
     if (status == TR_OK) status = tr_residual(m, d, d->x, d->ft);
     d->steps_double = 0;

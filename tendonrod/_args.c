@@ -24,6 +24,7 @@ void glue_args_clear(glue_args *a)
     Py_CLEAR(a->dloads);
     Py_CLEAR(a->sections);
     Py_CLEAR(a->routes);
+    Py_CLEAR(a->friction);
 }
 
 void glue_err(PyObject *type, const char *fmt, ...)
@@ -291,6 +292,13 @@ int glue_options(glue_args *a, PyObject *kw, const char *fn)
                 return -1;
             continue;
         }
+        if (strcmp(k, "friction") == 0) {
+            Py_CLEAR(a->friction);
+            if (table(value, "friction", 2, "[mu, sliding (+1 in, -1 out)] per tendon",
+                      &a->friction, &a->nfric) < 0)
+                return -1;
+            continue;
+        }
         for (i = 0; i < sizeof options / sizeof options[0]; i++)
             if (strcmp(k, options[i].name) == 0) break;
         if (i == sizeof options / sizeof options[0]) {
@@ -330,6 +338,34 @@ int glue_warm_start(glue_args *a, PyObject *guess, PyObject *jacobian)
     return 0;
 }
 
+/* The friction table (nt rows [mu, sliding]) into the compiled model m. */
+static int set_friction(const glue_args *a, tr_model *m, char *msg, size_t msglen)
+{
+    const double *f = (const double *)PyArray_DATA(a->friction);
+    double *mu;
+    int *sl, i, status;
+    if (a->nfric != a->nt) {
+        snprintf(msg, msglen, "friction must have one row per tendon (%d), got %d", a->nt,
+                 a->nfric);
+        return TR_EINVAL;
+    }
+    mu = (double *)PyMem_Malloc((size_t)(a->nt + 1) * sizeof(double));
+    sl = (int *)PyMem_Malloc((size_t)(a->nt + 1) * sizeof(int));
+    if (!mu || !sl) {
+        PyMem_Free(mu);
+        PyMem_Free(sl);
+        return TR_ENOMEM;
+    }
+    for (i = 0; i < a->nt; i++) {
+        mu[i] = f[2 * i];
+        sl[i] = f[2 * i + 1] == 1.0 ? 1 : f[2 * i + 1] == -1.0 ? -1 : 0;
+    }
+    status = tr_model_set_friction(m, mu, sl, msg, msglen);
+    PyMem_Free(mu);
+    PyMem_Free(sl);
+    return status;
+}
+
 int glue_build(glue_args *a, const double *extra_load, tr_model **mp, tr_data **dp)
 {
     char msg[TR_MSGLEN];
@@ -358,11 +394,14 @@ int glue_build(glue_args *a, const double *extra_load, tr_model **mp, tr_data **
                            a->nroute > 0 ? (const double *)PyArray_DATA(a->routes) : NULL,
                            a->nroute, &a->opt, msg, sizeof msg);
     PyMem_Free(tmp);
+    if (status == TR_OK && a->nfric > 0) status = set_friction(a, *mp, msg, sizeof msg);
     if (status != TR_OK) {
         if (status == TR_ENOMEM)
             PyErr_NoMemory();
         else
             PyErr_SetString(PyExc_ValueError, msg);
+        tr_model_free(*mp);
+        *mp = NULL;
         return -1;
     }
     if (!dp) return 0;

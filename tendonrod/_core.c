@@ -84,11 +84,11 @@ static int add_constants(PyObject *module)
         return -1;
     /* the parameter kinds of a linearisation, in the order of tr_param_kind (the typedef
      * fails to compile when the enum grows without this list) */
-    typedef char param_kinds_listed[TR_PAR_NKIND == 9 ? 1 : -1];
+    typedef char param_kinds_listed[TR_PAR_NKIND == 10 ? 1 : -1];
     (void)sizeof(param_kinds_listed);
     if (add_object(module, "PARAM_KINDS",
-                   Py_BuildValue("(sssssssss)", "value", "load", "EI", "GJ", "EA", "GA",
-                                 "tendon_EA", "offset", "slope")) < 0)
+                   Py_BuildValue("(ssssssssss)", "value", "load", "EI", "GJ", "EA", "GA",
+                                 "tendon_EA", "offset", "slope", "friction")) < 0)
         return -1;
     return 0;
 }

@@ -33,7 +33,8 @@ typedef struct {
     PyArrayObject *dloads;   /* optional (nd, 5) partial distributed loads [s0, s1, f (3)] */
     PyArrayObject *sections; /* optional (nsec, 8) backbone sections [end, EI, GJ, EA, GA, u*] */
     PyArrayObject *routes;   /* optional (nroute, 12) tendon paths [tendon, kind, s0, s1, p] */
-    int nt, nl, nnode, nd, nsec, nroute;
+    PyArrayObject *friction; /* optional (nt, 2) channel friction [mu, sliding (+1 in, -1 out)] */
+    int nt, nl, nnode, nd, nsec, nroute, nfric;
     tr_options opt;
 } glue_args;
 

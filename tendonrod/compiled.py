@@ -111,7 +111,21 @@ def _with_dloads(kw: dict, scene: Scene) -> dict:
         kw = dict(kw, dloads=rows)
     if routes is not None:
         kw = dict(kw, routes=routes)
+    fric = pack_friction(scene)
+    if fric is not None:
+        kw = dict(kw, friction=fric)
     return kw if secs is None else dict(kw, sections=secs)
+
+
+def pack_friction(scene: Scene):
+    """The core's friction rows (ntendon, 2) ``[mu, +1 in / -1 out]``, or None when every
+    tendon is frictionless (the problem is then compiled without friction states)."""
+    tendons = scene.robot.tendons
+    if not any(t.friction > 0.0 for t in tendons):
+        return None
+    return np.array(
+        [[t.friction, 1.0 if d == "in" else -1.0] for t, d in zip(tendons, scene.sliding)]
+    )
 
 
 def pack_routes(robot):
@@ -143,6 +157,7 @@ def _structure_key(scene: Scene, options: Options):
             scene.displacement_controlled(),
             rob.rod.kirchhoff,
             tuple(math.isinf(t.EA) for t in rob.tendons),
+            tuple(t.friction > 0.0 for t in rob.tendons),
             is_planar(scene),
         )
         object.__setattr__(scene, "_structure", key)
@@ -180,7 +195,7 @@ def _robot_structure(robot) -> tuple:
         ]
         items.append(("robot.tendons (count)", robot.n_tendons))
         for i, t in enumerate(robot.tendons):
-            for name in ("offset", "angle", "slope", "EA", "twist", "path"):
+            for name in ("offset", "angle", "slope", "EA", "twist", "path", "friction"):
                 items.append((f"robot.tendons[{i}].{name}", getattr(t, name)))
             items.append((f"robot.tendons[{i}].end", robot.tendon_end(i)))
         key = tuple(items)
@@ -204,6 +219,7 @@ def _structure(scene: Scene) -> tuple:
             items.append((f"point load {j} position s", min(p.s, L)))
         for j, row in enumerate(pack_dloads(scene).tolist()):
             items.append((f"partial distributed load {j} [start, end, force]", tuple(row)))
+        items.append(("sliding", scene.sliding))
         items.append(("planar formulation", is_planar(scene)))
         key = tuple(items)
         object.__setattr__(scene, "_problem_structure", key)

@@ -407,6 +407,25 @@ def _actuation(name: str, values, n: int) -> tuple[float | None, ...]:
     return tuple(out)
 
 
+def _sliding(values, n: int) -> tuple[str, ...]:
+    """Scene.sliding as one "in" / "out" per tendon (ValueError naming the entry)."""
+    vals = [values] * n if isinstance(values, str) else values
+    try:
+        vals = list(vals)
+    except TypeError:
+        raise ValueError(
+            f'Scene.sliding must be "in", "out" or one per tendon, got {values!r}'
+        ) from None
+    if len(vals) != n:
+        raise ValueError(
+            f"Scene.sliding must have one entry per tendon ({n}), got {len(vals)}: {values!r}"
+        )
+    for i, v in enumerate(vals):
+        if v not in ("in", "out"):
+            raise ValueError(f'Scene.sliding[{i}] must be "in" or "out", got {v!r}')
+    return tuple(vals)
+
+
 @dataclass(frozen=True)
 class Scene:
     """A robot with its actuation and external loads.
@@ -418,7 +437,11 @@ class Scene:
     0 <= s <= L), :class:`DistributedLoad` (summed) and :class:`PointMass` objects.
     ``gravity`` [m/s^2] (world frame, default none) weighs the rod (``Rod.density``)
     as the distributed force ``rho A g`` and each point mass as the point force
-    ``mass * g``.
+    ``mass * g``.  ``sliding`` gives, per tendon with ``Tendon.friction``, the direction
+    it last slid in its channel: ``"in"`` (toward the actuator: tension falls from the
+    actuator toward the anchor; the default) or ``"out"`` (toward the anchor: tension
+    rises toward it); one string sets every tendon.  The two bound the hysteresis band
+    that static friction allows.
 
     Examples
     --------
@@ -438,11 +461,13 @@ class Scene:
     tension: Sequence[float | None] | None = None
     loads: Sequence[PointLoad | DistributedLoad | PointMass] = ()
     gravity: Vec3 = (0.0, 0.0, 0.0)
+    sliding: str | Sequence[str] = "in"
 
     def __post_init__(self):
         if not isinstance(self.robot, Robot):
             raise ValueError(f"Scene.robot must be a tendonrod.Robot, got {self.robot!r}")
         n = self.robot.n_tendons
+        object.__setattr__(self, "sliding", _sliding(self.sliding, n))
         disp = _actuation("displacement", self.displacement, n)
         tens = _actuation("tension", self.tension, n)
         for i in range(n):

@@ -207,6 +207,8 @@ class RodState:
         Internal backbone force n, world frame [N].
     moment : ndarray
         Internal backbone moment m, world frame [N m].
+    tendon_tension : ndarray
+        Each tendon's tension there [N], (ntendon,) (see ``Solution.tendon_tension``).
     """
 
     s: Any
@@ -214,3 +216,4 @@ class RodState:
     rotation: np.ndarray
     force: np.ndarray
     moment: np.ndarray
+    tendon_tension: np.ndarray

@@ -118,7 +118,11 @@ class Solution:
     moment : ndarray (N, 3)
         Internal backbone moment m(s), world frame [N m].
     tension : ndarray (ntendon,)
-        Tendon tensions [N] (>= 0).
+        Tendon tensions [N] (>= 0), at the actuator.
+    tendon_tension : ndarray (N, ntendon)
+        Each tendon's tension at the output nodes [N]: ``tension`` along its whole
+        length in a frictionless channel; with ``Tendon.friction`` the tension changed
+        by friction along s; 0 distal of its anchor (computed on first access).
     slack : ndarray (ntendon,)
         Tendon slack [m] (>= 0; > 0 only where the tension is 0).
     displacement : ndarray (ntendon,)
@@ -203,7 +207,15 @@ class Solution:
         if "position" not in raw:
             steps = max(1, int(raw["formulation"]["steps"]))
             rec = _compile(self.scene, self.options).record_from(self.unknowns, steps)
-            for key in ("s", "position", "rotation", "force", "moment", "displacement"):
+            for key in (
+                "s",
+                "position",
+                "rotation",
+                "force",
+                "moment",
+                "displacement",
+                "tendon_tension",
+            ):
                 raw[key] = rec[key]
         return raw
 
@@ -231,6 +243,13 @@ class Solution:
     def moment(self) -> np.ndarray:
         """Internal backbone moment at the nodes, world frame [N m], shape (N, 3)."""
         return vectors_out(self._pose, self._recorded()["moment"])
+
+    @property
+    def tendon_tension(self) -> np.ndarray:
+        """Each tendon's tension at the nodes [N], shape (N, ntendon): its tension at the
+        actuator less what friction took along s (more, sliding out); 0 distal of its
+        anchor."""
+        return self._recorded()["tendon_tension"]
 
     @property
     def displacement(self) -> np.ndarray:
@@ -370,10 +389,10 @@ class Solution:
         inv = np.empty_like(order)
         inv[order] = np.arange(order.size)
         pos, rot = sol.position[inv], sol.rotation[inv]
-        frc, mom = sol.force[inv], sol.moment[inv]
+        frc, mom, ten = sol.force[inv], sol.moment[inv], sol.tendon_tension[inv]
         if scalar:
-            return RodState(float(ss[0]), pos[0], rot[0], frc[0], mom[0])
-        return RodState(ss, pos, rot, frc, mom)
+            return RodState(float(ss[0]), pos[0], rot[0], frc[0], mom[0], ten[0])
+        return RodState(ss, pos, rot, frc, mom, ten)
 
     @property
     def plausibility(self) -> tuple:

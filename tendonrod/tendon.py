@@ -39,7 +39,7 @@ _OMITTED_OFFSET = _Omitted(0.01)
 
 @dataclass(frozen=True)
 class Tendon:
-    """One tendon in a frictionless channel.
+    """One tendon in its channel.
 
     Path in the body frame: ``r(s) = (slope * s + offset) * (cos angle, sin angle, 0)``
     for ``0 <= s <= end``.
@@ -72,6 +72,12 @@ class Tendon:
         A general path (:class:`tendonrod.routing.Path`), spanning [0, end]; then
         ``offset``, ``angle`` and ``slope`` are derived from it (its polar position at the
         base, its mean radial slope) and serve only the solver's guess and scales.
+    friction : float
+        Coulomb friction coefficient mu [-] between the tendon and its channel, >= 0
+        (default 0: frictionless, the problem compiled exactly as without it).  The
+        tendon slides along its whole length in the direction its scene gives
+        (``Scene.sliding``), and its tension changes along s by
+        ``d tau/ds = -/+ mu tau |t'|`` (docs/model.md, Section 3).
 
     Helical and general paths make the scene spatial.
 
@@ -93,6 +99,7 @@ class Tendon:
     _: KW_ONLY
     twist: float | None = None
     path: Path | None = None
+    friction: float = 0.0
 
     def __post_init__(self):
         own = "Tendon"
@@ -135,6 +142,7 @@ class Tendon:
         if self.end is not None:
             object.__setattr__(self, "end", _length(own, "end", self.end))
         object.__setattr__(self, "pretension", _nonnegative(own, "pretension", self.pretension))
+        object.__setattr__(self, "friction", _nonnegative(own, "friction", self.friction))
         plausibility.warn(filter(None, [plausibility.angle_finding(self.angle)]))
 
     @classmethod
