@@ -285,10 +285,12 @@ typedef struct tr_model {
     int n_unknowns;   /* shooting unknowns: 6 (3 planar) + ndisp + (M - 1) n_states */
     int n_base;       /* base states: 18 spatial (p, R, n_b, m_b), 6 planar */
     int n_states;     /* shooting states: n_base + ndisp path lengths + nfric deficits */
-    int n_states_rec; /* recording states: n_base + nt path lengths + nfric deficits */
+    int n_states_rec; /* recording states: n_base + nt path lengths + nfric deficits + nfric
+                         rest lengths */
     int n_stretch;    /* displacement-controlled tendons with finite EA */
     int nfric;        /* tendons with channel friction (mu > 0): one state each, after the
-                         path lengths, in both layouts */
+                         path lengths, in both layouts; the recording layout then has one
+                         more each, the tendon's rest length from the base */
     double F_s, M_s, tau_s;   /* scales: force EI/L^2 [N], moment EI/L [N m],
                                    tension EI/(r_max L) [N] */
     double len_s;             /* scale of slack and length residuals: r_max (L if 0) [m] */
@@ -529,6 +531,9 @@ typedef struct tr_data {
     double *node_tension; /* (nnode x nt) each tendon's tension at each node [N]: its tension
                              at the actuator, less its friction deficit there; 0 distal of
                              its anchor and where it is slack */
+    double *node_rest;    /* (nnode x nt) a frictional tendon's rest (unstretched) length from
+                             the base to each node [m], int |w| / (1 + tau/EA) ds: the
+                             material coordinate of the tendon there; NaN for the others */
     double *tau_here;     /* (nt) scratch: the tensions at a state (tr_tensions_at) */
     double *fric_ws;      /* (TR_FRIC_NCOL nfric) scratch of the right-hand side */
     double *fric_g;       /* (9 nfric) each frictional tendon's normal load tau t^' (3, body,

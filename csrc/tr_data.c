@@ -172,8 +172,8 @@ static int merge_nodes(const tr_model *m, int nnode, double *s, int nn)
     return o;
 }
 
-/* The output nodes and their arrays (s, the 18 recorded states and the nt tendon tensions
- * per node, in one block).  0, or -1 when out of memory. */
+/* The output nodes and their arrays (s, the 18 recorded states, the nt tendon tensions and
+ * rest lengths per node, in one block).  0, or -1 when out of memory. */
 static int alloc_nodes(const tr_model *m, tr_data *d, int nnode, const double *node_s)
 {
     int i, nn;
@@ -183,9 +183,10 @@ static int alloc_nodes(const tr_model *m, tr_data *d, int nnode, const double *n
         nn = nnode;
     else
         nn = nnode + 2 * (m->nseg - 1); /* upper bound; the merge sets the count */
-    d->s = (double *)calloc((size_t)nn * (19 + m->nt), sizeof(double));
+    d->s = (double *)calloc((size_t)nn * (19 + 2 * m->nt), sizeof(double));
     if (!d->s) return -1;
     d->node_tension = d->s + 19 * nn;
+    d->node_rest = d->node_tension + (size_t)m->nt * nn;
     d->pos = d->s + nn;
     d->rot = d->s + 4 * nn;
     d->force = d->s + 13 * nn;

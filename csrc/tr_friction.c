@@ -25,7 +25,7 @@ static void layout(tr_model *m)
     m->nfric = 0;
     for (i = 0; i < m->nt; i++) m->tendon[i].fric_index = m->tendon[i].mu > 0.0 ? m->nfric++ : -1;
     m->n_states = m->n_base + m->ndisp + m->nfric;
-    m->n_states_rec = m->n_base + m->nt + m->nfric;
+    m->n_states_rec = m->n_base + m->nt + 2 * m->nfric;
     m->n_unknowns = tr_n_force(m) + m->ndisp + (m->nshoot - 1) * m->n_states;
 }
 

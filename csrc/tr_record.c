@@ -15,9 +15,15 @@ static void store_node(const tr_model *m, tr_data *d, int j, const double *y)
     const double sj = d->s[j], eps = 1e-12 * m->L;
     int i;
     tr_state_world(m, y, d->pos + 3 * j, d->rot + 9 * j, d->force + 3 * j, d->moment + 3 * j);
-    for (i = 0; i < m->nt; i++)
+    for (i = 0; i < m->nt; i++) {
+        const int f = m->tendon[i].fric_index;
         d->node_tension[m->nt * j + i] =
             sj <= m->tendon[i].t + eps ? tr_tension_at(m, d, i, y) : 0.0;
+        /* the rest lengths are states of the recording layout only (the shooting tip that
+         * replaces the recorded one keeps the recorded rest length) */
+        if (d->rec)
+            d->node_rest[m->nt * j + i] = f >= 0 ? y[m->n_base + m->nt + m->nfric + f] : NAN;
+    }
 }
 
 /* Integrate a span [s0, s1] of segment k in the recording pass with at least the
@@ -130,7 +136,7 @@ static int record_pass(const tr_model *m, tr_data *d, int allow_rk4, int *used)
          * 18 per node, contiguous after s in one block, see tr_data_alloc) become NaN;
          * the node arc lengths d->s are inputs of the next recording pass and stay */
         for (j = 0; j < 18 * nn; j++) d->pos[j] = NAN;
-        for (j = 0; j < m->nt * nn; j++) d->node_tension[j] = NAN;
+        for (j = 0; j < 2 * m->nt * nn; j++) d->node_tension[j] = NAN;
     }
     return status;
 }

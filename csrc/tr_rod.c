@@ -75,6 +75,13 @@ static double fric_stretch(const tr_data *d, int i, const tr_tendon *td, double 
     return nw * (d->tau[i] - tau) / (td->EA * d->ea_scale + tau);
 }
 
+/* The rate of a frictional tendon's rest length along s (recording pass): the material in
+ * its channel per unit s, |w| / (1 + tau/EA) [-]. */
+static double rest_rate(const tr_data *d, const tr_tendon *td, double tau, double nw)
+{
+    return isfinite(td->EA) ? nw / (1.0 + tau / (td->EA * d->ea_scale)) : nw;
+}
+
 /* The body-frame system [I + A K_se^-1, G K_bt^-1; B K_se^-1, I + H K_bt^-1] of one
  * evaluation, set up once and solved for one or more right-hand sides (friction). */
 typedef struct {
@@ -249,7 +256,7 @@ static int rhs_spatial(const tr_model *m, const tr_data *d, double s, const doub
         ev3 = nb[2] / sg[TR_SR_EA];
         v[2] = 1.0 + ev3;
     }
-    for (j = 0; j < nlen + nf; j++) dy[TR_Y_LEN + j] = 0.0;
+    for (j = 0; j < nlen + (d->rec ? 2 : 1) * nf; j++) dy[TR_Y_LEN + j] = 0.0;
     for (j = 0; j < 3 * nf; j++) d->fric_g[j] = 0.0;
 
     for (c = a0; c < a1; c++) {
@@ -299,6 +306,8 @@ static int rhs_spatial(const tr_model *m, const tr_data *d, double s, const doub
         }
         if (nf && slot >= 0 && td->fric_index >= 0 && isfinite(td->EA))
             dy[TR_Y_LEN + slot] += fric_stretch(d, i, td, tau, nw);
+        if (nf && d->rec && td->fric_index >= 0)
+            dy[TR_Y_LEN + nlen + nf + td->fric_index] = rest_rate(d, td, tau, nw);
         if (!(tau > 0.0)) continue;
         coupled = 1;
         t[0] = w0 / nw;
@@ -507,7 +516,7 @@ static int rhs_planar(const tr_model *m, const tr_data *d, double s, const doubl
         ev3 = n3 / sr[TR_SR_EA];
         v3 = 1.0 + ev3;
     }
-    for (j = 0; j < nlen + nf; j++) dy[TR_YP_LEN + j] = 0.0;
+    for (j = 0; j < nlen + (d->rec ? 2 : 1) * nf; j++) dy[TR_YP_LEN + j] = 0.0;
     for (j = 0; j < 3 * nf; j++) d->fric_g[j] = 0.0;
 
     for (c = c0; c < c1; c++) {
@@ -532,6 +541,8 @@ static int rhs_planar(const tr_model *m, const tr_data *d, double s, const doubl
         }
         if (nf && slot >= 0 && td->fric_index >= 0 && isfinite(td->EA))
             dy[TR_YP_LEN + slot] += fric_stretch(d, i, td, tau, nw);
+        if (nf && d->rec && td->fric_index >= 0)
+            dy[TR_YP_LEN + nlen + nf + td->fric_index] = rest_rate(d, td, tau, nw);
         if (!(tau > 0.0)) continue;
         coupled = 1;
         {

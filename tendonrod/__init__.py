@@ -35,6 +35,7 @@ from ._sweep_module import make_callable
 from .actuation import ActuationResult, actuate
 from .batch import BatchResult, solve_batch
 from .fit import FitResult, fit
+from .friction import Slip, slip
 from .linearization import Jacobian
 from .model import DistributedLoad, PointLoad, PointMass, Robot, Rod, Scene, Tendon
 from .options import Options
@@ -120,3 +121,4 @@ __all__ += [
 __all__ += ["sweep", "SweepResult", "tip_measure", "ComplianceMeasure", "load"]
 __all__ += ["solve_batch", "BatchResult"]
 __all__ += ["path", "Path", "SpecialPoint"]
+__all__ += ["slip", "Slip"]

@@ -92,7 +92,9 @@ PyObject *glue_solve_result(const tr_model *m, const tr_data *d, int status, PyO
         dims[2] = 3;
         if (glue_set(res, "rotation", glue_array(3, dims, d->rot)) < 0) goto fail;
         dims[1] = nt;
-        if (glue_set(res, "tendon_tension", glue_array(2, dims, d->node_tension)) < 0) goto fail;
+        if (glue_set(res, "tendon_tension", glue_array(2, dims, d->node_tension)) < 0 ||
+            glue_set(res, "tendon_rest", glue_array(2, dims, d->node_rest)) < 0)
+            goto fail;
     }
     dims[0] = nt;
     if (glue_set(res, "tension", glue_array(1, dims, d->tension)) < 0 ||

@@ -215,6 +215,7 @@ class Solution:
                 "moment",
                 "displacement",
                 "tendon_tension",
+                "tendon_rest",
             ):
                 raw[key] = rec[key]
         return raw

@@ -251,3 +251,34 @@ def test_bad_input_names_the_field():
         _core.solve(*core, friction=np.array([[-0.1, 1.0]]))
     with pytest.raises(ValueError, match="one row per tendon"):
         _core.solve(*core, friction=np.array([[0.1, 1.0], [0.1, 1.0]]))
+
+
+def test_slip_of_a_pull_and_a_release():
+    # pulled from rest by q, an inextensible tendon's material at the base moved in by q
+    # exactly (its rest length is its channel length) and nowhere out
+    robot = _robot(0.2)
+    pulled = tr.solve(tr.Scene(robot, displacement=[0.01], sliding="in"), options=TIGHT)
+    check = tr.slip(pulled)
+    assert check.consistent and "slid the way" in check.message
+    assert abs(check.slip[0, 0] - 0.01) <= 1e-10 * R  # the recording pass's accuracy
+    assert abs(check.slip[-1, 0]) <= 1e-12 * L  # the anchor does not move
+    assert np.all(check.slip[:, 0] >= -1e-12 * L)
+    # the same pull computed as sliding out is flagged: it slid in
+    wrong = tr.slip(tr.solve(tr.Scene(robot, displacement=[0.01], sliding="out")))
+    assert not wrong.consistent and wrong.conflicts[0][0] == 0
+    assert 'against the assumed "out"' in wrong.message
+    # released from the pulled state, the tendon slides out: "out" is consistent, "in" not
+    for sliding, ok in (("out", True), ("in", False)):
+        rel = tr.solve(tr.Scene(robot, displacement=[0.006], sliding=sliding), options=TIGHT)
+        assert tr.slip(rel, reference=pulled).consistent is ok
+    # a slack tendon presses on nothing: no friction, no contradiction
+    slack = tr.solve(
+        tr.Scene(robot, displacement=[0.01], loads=[tr.PointLoad(L, force=(0.5, 0, 0))])
+    )
+    assert slack.tension[0] == 0.0 and tr.slip(slack, reference=pulled).consistent
+    # frictionless tendons have no slip to report
+    mixed = tr.Robot(robot.rod, [robot.tendons[0], tr.Tendon(offset=R, angle=math.pi)])
+    both = tr.solve(tr.Scene(mixed, displacement=[0.01, None], tension=[None, 0.0]))
+    assert np.all(np.isnan(tr.slip(both).slip[:, 1]))
+    with pytest.raises(ValueError, match="same robot"):
+        tr.slip(both, reference=pulled)
