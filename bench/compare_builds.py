@@ -14,7 +14,10 @@ Micro-suite (one thread):
   * ``solve_warm_tip4`` -- warm, ``Options(steps=4, tip_only=True)`` [us];
   * ``batch_lean`` -- ``solve_batch`` over 2,000 points of a tip-force line with
     ``Options(steps=4, tol=3e-9)`` (the lean warm solve) [us per point];
-  * ``batch_exact`` -- ``solve_batch`` over 300 points with default options [us per point].
+  * ``batch_exact`` -- ``solve_batch`` over 300 points with default options [us per point];
+  * ``planar_cold`` -- ``tr.solve`` of the Fig. 17 robot (L = 0.2 m, d = 0.8 mm, one
+    inextensible tendon at 10 mm, q = 15 mm, 0.2 N down at the tip), planar Kirchhoff [us];
+  * ``planar_cosserat`` -- the same robot as a Cosserat rod with EA = 3e3 N tendons [us].
 
     .venv/bin/python bench/compare_builds.py --old /path/to/old/checkout [--rounds 5]
 
@@ -66,6 +69,13 @@ ol = tr.Options(steps=4, tol=3e-9)
 out["batch_lean"] = med(lambda: tr.solve_batch(sc, forces=F, options=ol), 3) * 1e6 / 2000
 Fe = F[::7][:300]
 out["batch_exact"] = med(lambda: tr.solve_batch(sc, forces=Fe), 3) * 1e6 / len(Fe)
+def planar(kirchhoff, EA):
+    rod = tr.Rod(length=0.2, diameter=0.8e-3, E=207e9, G=79.6e9, kirchhoff=kirchhoff)
+    rob = tr.Robot(rod, [tr.Tendon(offset=0.01, EA=EA)])
+    return tr.Scene(rob, displacement=[0.015], loads=[tr.PointLoad(s=0.2, force=(0, 0, -0.2))])
+pk, pc = planar(True, math.inf), planar(False, 3e3)
+out["planar_cold"] = med(lambda: tr.solve(pk), 300) * 1e6
+out["planar_cosserat"] = med(lambda: tr.solve(pc), 300) * 1e6
 print(json.dumps(out))
 """
 

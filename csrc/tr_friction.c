@@ -27,6 +27,7 @@ static void layout(tr_model *m)
     m->n_states = m->n_base + m->ndisp + m->nfric;
     m->n_states_rec = m->n_base + m->nt + 2 * m->nfric;
     m->n_unknowns = tr_n_force(m) + m->ndisp + (m->nshoot - 1) * m->n_states;
+    m->rhs_work = tr_rhs_work(m);
 }
 
 int tr_model_set_friction(tr_model *m, const double *mu, const int *sliding, char *msg,

@@ -82,7 +82,7 @@ static int reversal(int nf, const double *G0, const double *G1, const int *done)
  * method's order; the step is split at the reversal, located by the Illinois variant of
  * regula falsi on G_k(sigma) . G_k(s) to TR_KINK_TOL of the step (each trial one step from
  * s), so that no step straddles it. */
-static int kink_step(tr_data *d, int method, double s, double h, double *y, int dim)
+static int kink_step(tr_data *d, int method, double s, double h, double *y, int dim, int *have)
 {
     const tr_model *m = d->model;
     const int nf = m->nfric;
@@ -94,11 +94,17 @@ static int kink_step(tr_data *d, int method, double s, double h, double *y, int 
         double a = s, b = s1, fa, fb, c = s1;
         int side = 0, it;
         memcpy(y0, y, (size_t)dim * sizeof(double));
-        if ((st = normals(d, s, y, G0)) != TR_OK) return st;
+        if (!*have && (st = normals(d, s, y, G0)) != TR_OK) return st;
+        *have = 0;
         if ((st = one_step(d, method, s, s1 - s, y, dim)) != TR_OK) return st;
         if ((st = normals(d, s1, y, G1)) != TR_OK) return st;
         k = reversal(nf, G0, G1, done);
-        if (k < 0) return TR_OK;
+        if (k < 0) {
+            /* the next step starts where this one ended */
+            memcpy(G0, G1, 3 * (size_t)nf * sizeof(double));
+            *have = 1;
+            return TR_OK;
+        }
         /* phi(sigma) = G_k(sigma) . G_k(s): positive at a, negative at b */
         fa = G0[3 * k] * G0[3 * k] + G0[3 * k + 1] * G0[3 * k + 1] + G0[3 * k + 2] * G0[3 * k + 2];
         fb = G1[3 * k] * G0[3 * k] + G1[3 * k + 1] * G0[3 * k + 1] + G1[3 * k + 2] * G0[3 * k + 2];
@@ -142,7 +148,7 @@ int tr_integrate_with(const tr_model *m, tr_data *d, int method, double s0, doub
     case TR_RK4:
     case TR_RK8: {
         const double h = (s1 - s0) / nsteps;
-        int step;
+        int step, have = 0;
         for (step = 0; step < nsteps && status == TR_OK; step++) {
             const double s = method == TR_RK4       ? s0 + step * h
                              : (step == nsteps - 1) ? s1 - h
@@ -151,8 +157,8 @@ int tr_integrate_with(const tr_model *m, tr_data *d, int method, double s0, doub
                 status = d->stop;
                 break;
             }
-            status =
-                m->nfric ? kink_step(d, method, s, h, y, dim) : one_step(d, method, s, h, y, dim);
+            status = m->nfric ? kink_step(d, method, s, h, y, dim, &have)
+                              : one_step(d, method, s, h, y, dim);
         }
         break;
     }

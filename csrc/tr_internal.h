@@ -250,6 +250,13 @@ void tr_friction_copy(tr_model *dst, const tr_model *src);
  * ~h^2, 5e-9 of the tip angle at 8192 rk8 steps) */
 #define TR_KINK_TOL  1e-10
 #define TR_KINK_ITER 60
+/* the cost of a frictional tendon in the right-hand side, per tendon, relative to the
+ * frictionless evaluation (measured: bench/friction_cost.py) */
+#define TR_FRIC_WORK 0.6
+
+/* tr_model.c: the cost of one right-hand-side evaluation of the model's formulation [work
+ * units, see TR_DEFAULT_MAX_WORK] */
+double tr_rhs_work(const tr_model *m);
 
 /* tr_model.c: the same scene compiled with nshoot shooting segments (the formulation,
  * planar or spatial, kept), or NULL (msg says why); copy the values of src into dst,

@@ -67,19 +67,37 @@ static int inv3(const double M[9], double Mi[9])
     return 0;
 }
 
-/* The stretch that friction adds to a tendon's length integral: with its tension tau(s)
- * below its tension tau(0) at the actuator, the length constraint (docs/model.md,
- * Section 5) gains |w| (tau(0) - tau) / (EA + tau) per unit s. */
-static double fric_stretch(const tr_data *d, int i, const tr_tendon *td, double tau, double nw)
+/* Friction's code sits out of line and the solves below inline into the hot kernel, as the
+ * code they replace was (bench/compare_core.py; callgrind: the frictionless kernel's
+ * instructions as before). */
+#if defined(__GNUC__)
+#define TR_HOT_INLINE static inline __attribute__((always_inline))
+#define TR_COLD       static __attribute__((noinline))
+#else
+#define TR_HOT_INLINE static inline
+#define TR_COLD       static
+#endif
+
+/* A frictional tendon's rates beyond its deficit (dl: the state derivatives after the base
+ * states, slot its path-length slot or -1): the stretch its varying tension adds to its
+ * length integral, |w| (tau(0) - tau) / (EA + tau) (docs/model.md, Section 5), and in the
+ * recording pass its rest length's rate |w| / (1 + tau/EA).  Kept out of line: the
+ * frictionless kernel pays one predictable branch. */
+TR_COLD void fric_rates(const tr_data *d, int i, const tr_tendon *td, double tau, double nw,
+                        double *dl, int slot, int nlen, int nf)
 {
-    return nw * (d->tau[i] - tau) / (td->EA * d->ea_scale + tau);
+    const double ea = td->EA * d->ea_scale;
+    if (slot >= 0 && isfinite(td->EA)) dl[slot] += nw * (d->tau[i] - tau) / (ea + tau);
+    if (d->rec) dl[nlen + nf + td->fric_index] = isfinite(td->EA) ? nw / (1.0 + tau / ea) : nw;
 }
 
-/* The rate of a frictional tendon's rest length along s (recording pass): the material in
- * its channel per unit s, |w| / (1 + tau/EA) [-]. */
-static double rest_rate(const tr_data *d, const tr_tendon *td, double tau, double nw)
+/* Zero the friction states' rates (dfric: nf deficits, then nf rest lengths in the
+ * recording pass) and the normal loads of the kink test. */
+TR_COLD void fric_reset(const tr_data *d, int nf, double *dfric)
 {
-    return isfinite(td->EA) ? nw / (1.0 + tau / (td->EA * d->ea_scale)) : nw;
+    int j;
+    for (j = 0; j < (d->rec ? 2 : 1) * nf; j++) dfric[j] = 0.0;
+    for (j = 0; j < 3 * nf; j++) d->fric_g[j] = 0.0;
 }
 
 /* The body-frame system [I + A K_se^-1, G K_bt^-1; B K_se^-1, I + H K_bt^-1] of one
@@ -91,8 +109,8 @@ typedef struct {
     double Q[9], SR[9], Si[9], Z[9]; /* Cosserat: G K_bt^-1, S^-1 B K_se^-1, S^-1, complement */
 } sys6;
 
-static int sys6_setup(sys6 *q, const double sr[3], double sr2, double sc, const double RR[9],
-                      const double TQ[9], const double QQ[9], const double TT[9])
+TR_HOT_INLINE int sys6_setup(sys6 *q, const double sr[3], double sr2, double sc, const double RR[9],
+                             const double TQ[9], const double QQ[9], const double TT[9])
 {
     double Hm[9], Sr[9], Rb[9];
     int r_, c_;
@@ -134,7 +152,7 @@ static int sys6_setup(sys6 *q, const double sr[3], double sr2, double sc, const 
 
 /* (n_b', m_b') of the right-hand side rhs (6) into out (6); -1 if singular.
  * Kirchhoff: S m' = rhs2, n' = rhs1 - G K_bt^-1 m'. */
-static int sys6_solve(const sys6 *q, const double rhs[6], double out[6])
+TR_HOT_INLINE int sys6_solve(const sys6 *q, const double rhs[6], double out[6])
 {
     double tmp[3];
     if (q->kirch) {
@@ -256,8 +274,8 @@ static int rhs_spatial(const tr_model *m, const tr_data *d, double s, const doub
         ev3 = nb[2] / sg[TR_SR_EA];
         v[2] = 1.0 + ev3;
     }
-    for (j = 0; j < nlen + (d->rec ? 2 : 1) * nf; j++) dy[TR_Y_LEN + j] = 0.0;
-    for (j = 0; j < 3 * nf; j++) d->fric_g[j] = 0.0;
+    for (j = 0; j < nlen; j++) dy[TR_Y_LEN + j] = 0.0;
+    if (nf) fric_reset(d, nf, dy + TR_Y_LEN + nlen);
 
     for (c = a0; c < a1; c++) {
         const int i = m->seg_act[c];
@@ -304,10 +322,7 @@ static int rhs_spatial(const tr_model *m, const tr_data *d, double s, const doub
             dy[TR_Y_LEN + slot] =
                 (2.0 * (wr0 * d0 + wr1 * d1 + wr2 * d2) + d0 * d0 + d1 * d1 + d2 * d2) / (nw + c);
         }
-        if (nf && slot >= 0 && td->fric_index >= 0 && isfinite(td->EA))
-            dy[TR_Y_LEN + slot] += fric_stretch(d, i, td, tau, nw);
-        if (nf && d->rec && td->fric_index >= 0)
-            dy[TR_Y_LEN + nlen + nf + td->fric_index] = rest_rate(d, td, tau, nw);
+        if (nf && td->fric_index >= 0) fric_rates(d, i, td, tau, nw, dy + TR_Y_LEN, slot, nlen, nf);
         if (!(tau > 0.0)) continue;
         coupled = 1;
         t[0] = w0 / nw;
@@ -434,7 +449,7 @@ typedef struct {
     double EI, H, G1, G3, ks1, ks3, M3[9];
 } sys3;
 
-static int sys3_solve(const sys3 *q, const double rr[3], double out[3])
+TR_HOT_INLINE int sys3_solve(const sys3 *q, const double rr[3], double out[3])
 {
     if (q->kirch) {
         const double mp = rr[2] / (1.0 + q->H / q->EI);
@@ -516,8 +531,8 @@ static int rhs_planar(const tr_model *m, const tr_data *d, double s, const doubl
         ev3 = n3 / sr[TR_SR_EA];
         v3 = 1.0 + ev3;
     }
-    for (j = 0; j < nlen + (d->rec ? 2 : 1) * nf; j++) dy[TR_YP_LEN + j] = 0.0;
-    for (j = 0; j < 3 * nf; j++) d->fric_g[j] = 0.0;
+    for (j = 0; j < nlen; j++) dy[TR_YP_LEN + j] = 0.0;
+    if (nf) fric_reset(d, nf, dy + TR_YP_LEN + nlen);
 
     for (c = c0; c < c1; c++) {
         const int i = m->seg_act[c];
@@ -539,10 +554,8 @@ static int rhs_planar(const tr_model *m, const tr_data *d, double s, const doubl
             const double d1 = v1, d3 = ev3 - dkap * rho;
             dy[TR_YP_LEN + slot] = (2.0 * (rp * d1 + wr3 * d3) + d1 * d1 + d3 * d3) / (nw + c);
         }
-        if (nf && slot >= 0 && td->fric_index >= 0 && isfinite(td->EA))
-            dy[TR_YP_LEN + slot] += fric_stretch(d, i, td, tau, nw);
-        if (nf && d->rec && td->fric_index >= 0)
-            dy[TR_YP_LEN + nlen + nf + td->fric_index] = rest_rate(d, td, tau, nw);
+        if (nf && td->fric_index >= 0)
+            fric_rates(d, i, td, tau, nw, dy + TR_YP_LEN, slot, nlen, nf);
         if (!(tau > 0.0)) continue;
         coupled = 1;
         {
