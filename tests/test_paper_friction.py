@@ -108,9 +108,9 @@ def test_axial_load_slackens_and_deflects(study):
                 # the tip moves down the base axis, more with every load step
                 assert np.all(np.diff(br["tension"]) < 0) and br["tension"][-1] > 0
                 assert np.all(np.diff(br["deflection"]) > 0)
-        # the actuated state is the reference: the sliding-in edge starts at 0 (a
-        # displacement-controlled re-solve of the tension-controlled actuated state: equal
-        # to the solver tolerance, 1e-10 scaled; 1e-9 of L is ample)
+        # the actuated state is the reference: the sliding-in edge starts at 0 (the same
+        # scene solved twice, once warm from the actuation: equal to the solver's 1e-10
+        # scaled tolerance; 1e-9 of L is ample)
         for mu in band["frictions"]:
             assert abs(band[mu]["in"]["deflection"][0]) < 1e-9 * PROTOTYPE.L
             # pulled with the tendon sliding in: the unloaded tip angle is the target

@@ -28,7 +28,7 @@ import numpy as np
 from ..model import PointLoad, Robot, Rod, Scene, Tendon
 from ..solver import solve
 from .prototype import PROTOTYPE, Prototype
-from .robots import actuate, tip_angle
+from .robots import actuate
 
 __all__ = [
     "FRICTIONS",
@@ -81,7 +81,7 @@ def _branch(robot, q, sliding, forces, options):
         tip.append(np.asarray(sol.tip_position))
         tau0.append(float(sol.tension[0]))
         tau_tip.append(float(sol.tendon_tension[-1, 0]))
-        theta.append(tip_angle(sol))
+        theta.append(float(sol.tip_angle))
     return {
         "tip": np.array(tip),
         "tension": np.array(tau0),
@@ -108,7 +108,8 @@ def axial_load_band(
     Deflection: the tip's displacement along the load [m], from the actuated state (the
     ``"in"`` state at F = 0, where the robot is after pulling; for mu = 0 its own).  The
     ``"out"`` edge therefore starts below 0 at F = 0: at the locked q the unloaded robot
-    may rest anywhere in that band.
+    may rest anywhere in that band.  Tip angles are :attr:`Solution.tip_angle`
+    (unwrapped along s).
 
     Returns ``theta``, ``forces`` (nF,) [N], ``direction`` (3,), ``frictions``, and per
     mu (0.0 for the frictionless robot) a dict with ``q`` [m], ``tension_actuated`` [N],
@@ -127,7 +128,9 @@ def axial_load_band(
         robot = friction_robot(mu, proto)
         act = actuate(robot, theta, options=options)
         q = float(act.displacements[0])
-        tip0 = np.asarray(act.solution.tip_position)
+        # the reference is the locked, unloaded state solved as the loads are (not the
+        # actuation's own solution): every curve then measures from one solve setting
+        tip0 = np.asarray(_axial(robot, q, "in", 0.0, act.solution, options).tip_position)
         rec = {"q": q, "tension_actuated": float(act.tensions[0]), "tip0": tip0}
         for sliding in ("in", "out") if mu > 0 else ("none",):
             br = _branch(robot, q, "in" if sliding == "none" else sliding, forces, options)
@@ -179,7 +182,7 @@ def actuation_hysteresis(
             for i in order:
                 scene = Scene(robot, displacement=[q[i]], sliding=sliding)
                 sol = guess = solve(scene, guess=guess, options=options, strict=True)
-                th[i] = tip_angle(sol)
+                th[i] = sol.tip_angle
                 tau0[i] = sol.tension[0]
                 tau1[i] = sol.tendon_tension[-1, 0]
                 tip[i] = sol.tip_position
