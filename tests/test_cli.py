@@ -300,7 +300,7 @@ def test_figures_all(tmp_path, capsys):
     rc, out, err = run_main(["figures", "--out", str(tmp_path), "--fast"], capsys)
     assert rc == EXIT_OK, err
     pngs = sorted(p.name for p in tmp_path.glob("*.png"))
-    assert len(pngs) == 18 and "FAILED" not in (tmp_path / "index.md").read_text()
+    assert len(pngs) == 20 and "FAILED" not in (tmp_path / "index.md").read_text()
 
 
 def test_figures_list_and_unknown(tmp_path, capsys):
@@ -325,6 +325,8 @@ def test_figures_list_and_unknown(tmp_path, capsys):
         "fig21",
         "fig22",
         "fig23",
+        "fig25",
+        "fig25_hysteresis",
     ]
     assert rc == EXIT_OK and keys == expected
     rc, _, err = run_main(["figures", "--out", str(tmp_path), "--only", "fig99"], capsys)

@@ -34,3 +34,10 @@ for f, name in ((0.2, "taut"), (0.5, "slack")):
     )
     ax.figure.savefig(HERE / f"fig17_{name}.png", dpi=90, bbox_inches="tight")
     plt.close("all")
+
+# the friction study (guide/friction.md): the figures of `python -m tendonrod figures`
+from tendonrod.paper.figures import figure_registry  # noqa: E402
+
+reg = figure_registry()
+for key, name in (("fig25", "friction_band"), ("fig25_hysteresis", "friction_hysteresis")):
+    reg[key].make(False).savefig(HERE / f"{name}.png", dpi=80)

@@ -12,6 +12,7 @@ sets, the actuation to a target tip angle, and the loops.
 - :mod:`~tendonrod.paper.closed_forms` -- Figs. 3, 6, 7 and the design question
 - :mod:`~tendonrod.paper.prototype` -- the Section V prototypes (Figs. 8, 20-23)
 - :mod:`~tendonrod.paper.studies` -- the Cosserat-model studies (Figs. 1, 10-18)
+- :mod:`~tendonrod.paper.friction` -- channel friction on the prototype (Fig. 25, hysteresis)
 - :mod:`~tendonrod.paper.charts`, :mod:`~tendonrod.paper.figures` -- drawing them
 
 Every study function is importable from here (``tendonrod.paper.actuate``, ...).
@@ -39,6 +40,13 @@ Conventions used throughout
 
 from .closed_forms import closed_form_sigma_vs_zeta, closed_form_tip_sigma_vs_alpha, design_study
 from .figures import FigureEntry, fast_mode, figure_registry
+from .friction import (
+    actuation_hysteresis,
+    axial_load_band,
+    axial_load_study,
+    friction_robot,
+    loading_slip,
+)
 from .prototype import (
     PROTOTYPE,
     Prototype,
@@ -98,6 +106,11 @@ __all__ = [
     "slack_study",
     "critical_slack_load",
     "design_study",
+    "friction_robot",
+    "axial_load_band",
+    "axial_load_study",
+    "actuation_hysteresis",
+    "loading_slip",
     "FigureEntry",
     "figure_registry",
     "fast_mode",

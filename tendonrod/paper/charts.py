@@ -7,7 +7,8 @@ nondimensional group, returns the Axes, and never calls ``plt.show()`` or ``save
 :func:`compliance_map` (Figs. 13-15), :func:`tip_compliance_vs_alpha` (Fig. 16),
 :func:`torsion` (Fig. 12), :func:`straight_load` (Fig. 10),
 :func:`prototype_deflection`, :func:`prototype_tension`, :func:`prototype_shapes`
-(Figs. 20-23).  Tensions against load (Figs. 17-18) are the generic
+(Figs. 20-23), :func:`friction_band` (Fig. 25 with friction),
+:func:`friction_hysteresis` (actuation hysteresis).  Tensions against load (Figs. 17-18) are the generic
 :func:`tendonrod.plot.tension_vs_load`.
 """
 
@@ -27,6 +28,8 @@ __all__ = [
     "prototype_deflection",
     "prototype_tension",
     "prototype_shapes",
+    "friction_band",
+    "friction_hysteresis",
 ]
 
 SIGMA_LABEL = r"$\sigma = 12\,EI\,\delta\,/\,(F L^3)$"
@@ -248,4 +251,73 @@ def prototype_shapes(data: dict, ax=None):
     ax.set_title(data["routing"], fontsize="small")
     ax.grid(alpha=0.3)
     ax.legend(fontsize="x-small", ncol=2)
+    return ax
+
+
+def _friction_colors(frictions):
+    import matplotlib as mpl
+
+    cmap = mpl.colormaps["viridis"]
+    n = max(len(frictions) - 1, 1)
+    return {mu: cmap(0.85 * i / n) for i, mu in enumerate(frictions)}
+
+
+def friction_band(data: dict, ax=None):
+    """Fig. 25 with friction: tip deflection along the axial load [mm] against the load
+    [N]; per mu the band between the tendon slid fully in (solid edge) and fully out
+    (dashed edge), and the frictionless curve (black).  ``data`` from
+    :func:`tendonrod.paper.axial_load_band`."""
+    ax = _ax(ax)
+    F = data["forces"]
+    colors = _friction_colors(data["frictions"])
+    for mu in data["frictions"]:
+        lo, hi = 1e3 * data[mu]["out"]["deflection"], 1e3 * data[mu]["in"]["deflection"]
+        c = colors[mu]
+        ax.fill_between(F, lo, hi, color=c, alpha=0.2, lw=0)
+        ax.plot(F, hi, color=c, ls="-", lw=1, label=rf"$\mu$ = {mu:g}: in (solid), out (dashed)")
+        ax.plot(F, lo, color=c, ls="--", lw=1)
+    ax.plot(F, 1e3 * data[0.0]["none"]["deflection"], "k-", lw=2, label="frictionless")
+    ax.set_xlabel("axial tip load F [N] (down the base axis)")
+    ax.set_ylabel("tip deflection along the load [mm]")
+    ax.set_title(
+        f"actuated to {np.degrees(data['theta']):.0f} deg (sliding in), actuator locked",
+        fontsize="small",
+    )
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize="x-small", loc="upper left")
+    return ax
+
+
+def friction_hysteresis(data: dict, quantity: str = "theta", relative: bool = False, ax=None):
+    """Actuation hysteresis against the tendon displacement q [mm]: the tip angle [deg]
+    (``quantity="theta"``), the actuator tension [N] (``"tension"``) or the tip's x
+    position [mm] (``"tip_x"``), pulling (sliding in, solid) and releasing (sliding out,
+    dashed) for each mu, joined at the largest q (dotted: the tendon sticks while the
+    actuator reverses), and the frictionless curve (black).  ``relative``: minus the
+    frictionless value at the same q.  ``data`` from
+    :func:`tendonrod.paper.actuation_hysteresis`."""
+    ax = _ax(ax)
+    q = 1e3 * data["q"]
+
+    def value(branch):
+        if quantity == "theta":
+            return np.degrees(branch["theta"])
+        if quantity == "tip_x":
+            return 1e3 * branch["tip"][:, 0]
+        return branch["tension"]
+
+    base = value(data[0.0]["none"]) if relative else 0.0
+    colors = _friction_colors(data["frictions"])
+    for mu in data["frictions"]:
+        c = colors[mu]
+        yi, yo = value(data[mu]["in"]) - base, value(data[mu]["out"]) - base
+        ax.plot(q, yi, color=c, ls="-", lw=1, label=rf"$\mu$ = {mu:g}: pulling / releasing")
+        ax.plot(q, yo, color=c, ls="--", lw=1)
+        ax.plot([q[-1], q[-1]], [yi[-1], yo[-1]], color=c, ls=":", lw=1)
+    ax.plot(q, value(data[0.0]["none"]) - base, "k-", lw=1.5, label="frictionless")
+    ax.set_xlabel("tendon displacement q [mm]")
+    name = {"theta": "tip angle [deg]", "tip_x": "tip x [mm]", "tension": "actuator tension [N]"}
+    ax.set_ylabel(name[quantity] + (" minus frictionless" if relative else ""))
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize="x-small", loc="upper left" if not relative else "best")
     return ax

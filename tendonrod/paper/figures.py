@@ -14,10 +14,12 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..plot import shapes, tension_vs_load
-from . import closed_forms, prototype, robots, studies
+from . import closed_forms, friction, prototype, robots, studies
 from .charts import (
     ALPHA_LABEL,
     compliance_map,
+    friction_band,
+    friction_hysteresis,
     prototype_deflection,
     prototype_shapes,
     prototype_tension,
@@ -326,6 +328,61 @@ def fig23(fast=False):
     return fig
 
 
+def _band_note(d) -> str:
+    """The deflections at the largest load and the band widths, relative to mu = 0."""
+    free = d[0.0]["none"]["deflection"][-1]
+    parts = [f"{np.degrees(d['theta']):.0f} deg: frictionless {1e3 * free:.2f} mm"]
+    for mu in d["frictions"]:
+        di, do = d[mu]["in"]["deflection"][-1], d[mu]["out"]["deflection"][-1]
+        parts.append(
+            f"mu = {mu:g}: in {1e3 * di:.2f}, out {1e3 * do:.2f} mm "
+            f"(band {100 * (di - do) / free:.1f}% of frictionless)"
+        )
+    return ", ".join(parts)
+
+
+def fig25(fast=False):
+    study = friction.axial_load_study()
+    fig = _figure(11, 4.6)
+    axes = fig.subplots(1, 2)
+    for ax, d in zip(axes, study.values()):
+        friction_band(d, ax=ax)
+    F = next(iter(study.values()))["forces"][-1]
+    fig._tendonrod_notes = f"Tip deflection along the load at {F:g} N: " + "; ".join(
+        _band_note(d) for d in study.values()
+    )
+    return fig
+
+
+def fig25_hysteresis(fast=False):
+    d = friction.actuation_hysteresis(n=11 if fast else 31)
+    fig = _figure(15, 4.6)
+    a1, a2, a3 = fig.subplots(1, 3)
+    friction_hysteresis(d, "theta", relative=True, ax=a1)
+    friction_hysteresis(d, "tension", ax=a2)
+    friction_hysteresis(d, "tip_x", relative=True, ax=a3)
+    a1.set_title("tip angle: q fixes it but for the tendon's stretch", fontsize="small")
+    a2.set_title("actuator tension", fontsize="small")
+    a3.set_title("tip position: friction moves the bending along s", fontsize="small")
+    notes = []
+    for mu in d["frictions"]:
+        b = d[mu]
+        notes.append(
+            f"mu = {mu:g}: tip angle {np.degrees(b['in']['theta'][-1]):.2f} / "
+            f"{np.degrees(b['out']['theta'][-1]):.2f} deg, tip x "
+            f"{1e3 * b['in']['tip'][-1, 0]:.1f} / {1e3 * b['out']['tip'][-1, 0]:.1f} mm, actuator tension "
+            f"{b['in']['tension'][-1]:.2f} / {b['out']['tension'][-1]:.2f} N"
+        )
+    free = d[0.0]["none"]
+    fig._tendonrod_notes = (
+        f"At q = {1e3 * d['q'][-1]:.2f} mm, pulling / releasing: "
+        + "; ".join(notes)
+        + f" (frictionless {np.degrees(free['theta'][-1]):.2f} deg, "
+        f"{1e3 * free['tip'][-1, 0]:.1f} mm, {free['tension'][-1]:.2f} N)."
+    )
+    return fig
+
+
 CAPTIONS = {
     "fig01": (
         "Fig. 1: prescribed displacement vs prescribed tension. Straight robot of Sec. IV-B "
@@ -407,6 +464,19 @@ CAPTIONS = {
         "Fig. 23: loaded shapes of both prototypes for the last four load locations at 0.2 N "
         "and 0.5 N (closed-form tangent angle integrated). Formulas only."
     ),
+    "fig25": (
+        "Fig. 25 with channel friction: the parallel prototype (Sec. V, EA = k L) pulled to "
+        "30 and 60 deg (tendon sliding in), actuator locked, loaded down the base axis at "
+        "0-0.5 N. Per Coulomb coefficient mu the band between the tendon slid fully in and "
+        "fully out (the bounds static friction allows), beside the frictionless model; "
+        "deflection from the actuated state. Cosserat model."
+    ),
+    "fig25_hysteresis": (
+        "Actuation hysteresis of the parallel prototype, unloaded: tip angle (minus the "
+        "frictionless one), actuator tension and tip x position (minus the frictionless one) "
+        "against tendon displacement, pulling (sliding in) and releasing (sliding out) for "
+        "several mu, the frictionless curve between them. Cosserat model."
+    ),
 }
 """Figure key -> caption, in the order the ``figures`` command writes them."""
 
@@ -434,6 +504,8 @@ def paper_figures():
         "fig21": _prototype_figure("converging"),
         "fig22": fig22,
         "fig23": fig23,
+        "fig25": fig25,
+        "fig25_hysteresis": fig25_hysteresis,
     }
     return [(key, caption, makers[key]) for key, caption in CAPTIONS.items()]
 
