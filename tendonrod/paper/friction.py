@@ -192,36 +192,29 @@ def actuation_hysteresis(
 
 
 def loading_slip(
-    theta: float, force: float = 0.5, proto: Prototype = PROTOTYPE, n: int = 201, options=None
+    theta: float,
+    force: float = 0.5,
+    mu: float = 0.1,
+    proto: Prototype = PROTOTYPE,
+    options=None,
 ) -> dict:
     """Which way the locked tendon slips in its channel when the axial ``force`` [N] is
-    applied to the frictionless prototype actuated to ``theta`` [rad].
+    applied to the prototype with friction ``mu`` actuated to ``theta`` [rad].
 
-    At channel point s, the tendon material there is the one whose unstretched length
-    from the anchor is Y(s) = integral from s to L of |d(tendon path)/ds| / (1 + tau/EA).
-    If loading raises Y(s), material from the actuator side arrived at s: the tendon
-    slid out (toward the anchor) past that point; if it lowers Y(s), it slid in.
-    The tendon path is p + R r, integrated by the trapezoidal rule on ``n`` points (a
-    sign and an order of magnitude, not a precise value).
+    The robot is pulled to ``theta`` (sliding in), its displacement locked, and solved
+    unloaded and loaded with the tendon on the *in* edge, where pulling left it;
+    :func:`tendonrod.slip` then gives the slip of the tendon material between the two
+    states and says where it contradicts "in": there the tendon slid out, and the loaded
+    state moves toward the *out* edge of the band.
 
-    Returns ``s`` (n,) [m] and ``slip`` (n,) [m], the change of Y (positive: out).
+    Returns ``s`` (N,) [m], ``slip`` (N,) [m] (positive toward the actuator, "in"), the
+    locked displacement ``q`` [m] and ``check``, the :class:`tendonrod.Slip`.
     """
-    robot = friction_robot(0.0, proto)
+    from ..friction import slip
+
+    robot = friction_robot(mu, proto)
     q = float(actuate(robot, theta, options=options).displacements[0])
-    EA = robot.tendons[0].EA
-    r = np.array([robot.tendons[0].offset, 0.0, 0.0])
-    s = np.linspace(0.0, robot.rod.length, n)
-
-    def rest_to_anchor(F):
-        sol = _axial(robot, q, "in", F, None, options)
-        pts = np.empty((n, 3))
-        tau = np.empty(n)
-        for i, si in enumerate(s):
-            st = sol.at(si)
-            pts[i] = np.asarray(st.position) + np.asarray(st.rotation) @ r
-            tau[i] = np.atleast_1d(st.tendon_tension)[0]
-        seg = np.linalg.norm(np.diff(pts, axis=0), axis=1)
-        seg /= 1.0 + 0.5 * (tau[1:] + tau[:-1]) / EA
-        return np.append(np.cumsum(seg[::-1])[::-1], 0.0)
-
-    return {"s": s, "slip": rest_to_anchor(force) - rest_to_anchor(0.0), "q": q}
+    unloaded = _axial(robot, q, "in", 0.0, None, options)
+    loaded = _axial(robot, q, "in", force, unloaded, options)
+    check = slip(loaded, reference=unloaded)
+    return {"s": loaded.s, "slip": check.slip[:, 0], "q": q, "check": check}
