@@ -45,7 +45,9 @@ sc = tr.Scene(robot, displacement=[0.015], loads=[tr.PointLoad(s=0.2, force=(0, 
 
 
 def count(checkout: str, scene: str, n: int) -> int:
-    body = "import math\nimport tendonrod as tr\n" + scene + f"\nfor _ in range({n}): tr.solve(sc)\n"
+    body = (
+        "import math\nimport tendonrod as tr\n" + scene + f"\nfor _ in range({n}): tr.solve(sc)\n"
+    )
     env = dict(os.environ, PYTHONPATH=checkout, OPENBLAS_NUM_THREADS="1", OMP_NUM_THREADS="1")
     with tempfile.TemporaryDirectory() as tmp:
         script, out = os.path.join(tmp, "s.py"), os.path.join(tmp, "cg.out")

@@ -426,6 +426,7 @@ typedef struct tr_data {
     /* evaluation context */
     double lam_act;     /* continuation: actuation (q, prescribed tau) scaled by it */
     double lam_load;    /* continuation: point and distributed loads scaled by it */
+    double lam_fric;    /* continuation: the friction coefficients scaled by it */
     double *tau, *beta; /* (nt) current tension [N] / slack [m] */
     int seg;            /* segment being integrated */
     int rec;            /* 1: recording layout (all path lengths) */

@@ -122,12 +122,16 @@ int tr_ramp(const tr_model *m, tr_data *d, double *lamp, const char *what, doubl
 
 /* Continuation from the unloaded straight robot: first the actuation (loads
  * off), then the loads -- the order a robot is used in, which keeps an axial
- * load on a still-straight robot from buckling it on the way. */
+ * load on a still-straight robot from buckling it on the way -- and with channel
+ * friction, both frictionless, then the friction: a tendon sliding out with the
+ * frictionless tension at the actuator can have its tension grow without bound along
+ * s (tau' = mu tau |t'|), and one sliding in needs up to e^(mu theta) of it. */
 static int continuation_run(const tr_model *m, tr_data *d)
 {
     int status;
     d->lam_act = 0.0;
     d->lam_load = 0.0;
+    if (m->nfric) d->lam_fric = 0.0;
     tr_cold_start(m, d);
     d->have_J = 0;
     status = tr_residual(m, d, d->x, d->f);
@@ -150,9 +154,11 @@ static int continuation_run(const tr_model *m, tr_data *d)
     {
         const double g = m->shoot_auto ? m->shoot_growth : 0.0;
         const double ls = tr_load_scale(m) - g * g;
-        return tr_ramp(m, d, &d->lam_load, "loads (at full actuation)",
-                       ls > TR_RAMP_LOAD ? TR_RAMP_LOAD / ls : 1.0);
+        status = tr_ramp(m, d, &d->lam_load, "loads (at full actuation)",
+                         ls > TR_RAMP_LOAD ? TR_RAMP_LOAD / ls : 1.0);
     }
+    if (status != TR_OK || !m->nfric) return status;
+    return tr_ramp(m, d, &d->lam_fric, "friction (at full actuation and loads)", 1.0);
 }
 
 int tr_continuation(const tr_model *m, tr_data *d)
@@ -162,5 +168,6 @@ int tr_continuation(const tr_model *m, tr_data *d)
     d->jac_method = TR_JAC_NEWTON;
     status = continuation_run(m, d);
     d->jac_method = saved;
+    d->lam_fric = 1.0; /* as the other parameters, restored by the caller after a stall */
     return status;
 }

@@ -255,7 +255,7 @@ tr_data *tr_data_alloc(const tr_model *m, const tr_options *opt, int nnode, cons
         if (!d->hyb) goto nomem;
     }
     d->probe_bp = -1;
-    d->lam_act = d->lam_load = d->lam_hom = 1.0;
+    d->lam_act = d->lam_load = d->lam_hom = d->lam_fric = 1.0;
     d->truncation = NAN;
     d->jacobian_cond = NAN;
     d->residual_norm = NAN;

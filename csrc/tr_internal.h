@@ -88,6 +88,9 @@ enum {
  * of width L / lambda), capped so that max_nfev stays a time bound for huge loads. */
 #define TR_AUTO_PER_LAMBDA 2.0
 #define TR_AUTO_MAX        256
+/* ... and at least TR_AUTO_PER_FRIC times that per unit of the friction's exponent
+ * sum mu theta (measured: mu theta = 4.5 converges from 32 rk8 steps, not 16) */
+#define TR_AUTO_PER_FRIC 4.0
 /* Largest step count the step verification refines to. */
 #define TR_STEP_CAP 8192
 /* Step refinement aims the Richardson-predicted truncation at this fraction of tol. */

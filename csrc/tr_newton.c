@@ -20,7 +20,7 @@ void tr_solve_reset(const tr_model *m, tr_data *d, int steps)
     d->steps_moved = 0;
     d->steps_double = 0;
     d->message[0] = '\0';
-    d->lam_act = d->lam_load = d->lam_hom = 1.0;
+    d->lam_act = d->lam_load = d->lam_hom = d->lam_fric = 1.0;
     d->lam_imp = 0.0;
     d->ea_scale = 1.0;
     d->via_path = d->ramp_stable = 0;

@@ -351,7 +351,7 @@ static int rhs_spatial(const tr_model *m, const tr_data *d, double s, const doub
         if (nf && td->fric_index >= 0) {
             double *f = fw + TR_FRIC_NCOL * nfw++;
             f[0] = td->fric_index;
-            f[1] = td->slide * td->mu;
+            f[1] = td->slide * td->mu * d->lam_fric;
             f[2] = ct;
             f[3] = t[0], f[4] = t[1], f[5] = t[2];
             f[6] = r0, f[7] = r1, f[8] = 0.0;
@@ -567,7 +567,7 @@ static int rhs_planar(const tr_model *m, const tr_data *d, double s, const doubl
             if (nf && td->fric_index >= 0) {
                 double *f = fw + TR_FRIC_NCOL * nfw++;
                 f[0] = td->fric_index;
-                f[1] = td->slide * td->mu;
+                f[1] = td->slide * td->mu * d->lam_fric;
                 f[2] = tau / nw;
                 f[3] = w1 / nw, f[4] = 0.0, f[5] = w3 / nw;
                 f[6] = rho, f[7] = f[8] = 0.0;

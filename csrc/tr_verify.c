@@ -178,5 +178,20 @@ int tr_auto_steps(const tr_model *m, const tr_data *d)
             F += (m->bp[b + 1] - m->bp[b]) * tru_norm3(m->seg_pdist + 3 * b);
     lam = m->L * sqrt(F / m->EI);
     n = (int)ceil(fmin(per * lam, (double)TR_AUTO_MAX));
+    if (m->nfric) {
+        /* a frictional tendon's tension changes like e^(mu theta) over its turning theta
+         * (estimated as q / r for a displacement, tau r L / EI for a tension) */
+        double g = 0.0;
+        int i;
+        for (i = 0; i < m->nt; i++) {
+            const tr_tendon *t = &m->tendon[i];
+            const double r = fmax(fabs(t->b), fabs(t->b + t->a * t->t));
+            double th;
+            if (t->fric_index < 0 || !(r > 0.0)) continue;
+            th = t->control == TR_DISPLACEMENT ? fabs(t->value) / r : t->value * r * t->t / m->EI;
+            g += t->mu * th;
+        }
+        n = (int)fmax(n, ceil(fmin(per * TR_AUTO_PER_FRIC * g, (double)TR_AUTO_MAX)));
+    }
     return n > base ? n : base;
 }

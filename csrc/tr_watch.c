@@ -60,20 +60,23 @@ static double rate_of(const tr_model *m, const tr_data *d, int i, double s, cons
     return sign ? tru_dot3(w, wr) / tru_dot3(wr, wr) : tru_norm3(w) / tru_norm3(wr);
 }
 
-/* the smallest rate of the taut tendons active on segment k at s; updates *best */
+/* the smallest rate of the taut tendons active on segment k at s; updates *best, and *bt
+ * the tension there (with friction, the local one) */
 static void check_at(const tr_model *m, const tr_data *d, int k, double s, const double *y,
-                     int sign, double *best, int *bi, double *bs, double *br)
+                     int sign, double *best, int *bi, double *bs, double *br, double *bt)
 {
     int c;
     for (c = m->seg_act_start[k]; c < m->seg_act_start[k + 1]; c++) {
         const int i = m->seg_act[c];
+        const double tau = tr_tension_at(m, d, i, y);
         double rr, rate;
-        if (!(d->tau[i] > 0.0)) continue;
+        if (!(tau > 0.0)) continue;
         rate = rate_of(m, d, i, s, y, sign, &rr);
         if (rate < *best && rr > 0.0) {
             *best = rate;
             *bi = i;
             *bs = s;
+            *bt = tau;
             /* the limit EI / r^2 with the segment's EI: kept as r / sqrt(EI / EI_rod) */
             *br = rr * sqrt(m->EI / m->seg_rod[TR_SR_NCOL * k + TR_SR_EI]);
         }
@@ -82,7 +85,7 @@ static void check_at(const tr_model *m, const tr_data *d, int k, double s, const
 
 double tr_watch_curvature(const tr_model *m, tr_data *d, const double *x, int keep)
 {
-    double *y = d->y, best = INFINITY, bs = NAN, br = NAN;
+    double *y = d->y, best = INFINITY, bs = NAN, br = NAN, bt = NAN;
     int k, j, c, bi = -1;
     if (m->nt == 0 || d->k == 0) return NAN;
     d->rec = 0;
@@ -96,11 +99,11 @@ double tr_watch_curvature(const tr_model *m, tr_data *d, const double *x, int ke
         const int nmin = (int)ceil(TR_WATCH_STEPS * (s1 - s0) / m->L);
         if (n < nmin) n = nmin;
         d->seg = k;
-        check_at(m, d, k, s0, y, keep == 2, &best, &bi, &bs, &br);
+        check_at(m, d, k, s0, y, keep == 2, &best, &bi, &bs, &br, &bt);
         for (j = 0; j < n; j++) {
             const double sa = s0 + (s1 - s0) * j / n, sb = s0 + (s1 - s0) * (j + 1) / n;
             if (tr_integrate(m, d, sa, sb, 1, y) != TR_OK) return NAN;
-            check_at(m, d, k, sb, y, keep == 2, &best, &bi, &bs, &br);
+            check_at(m, d, k, sb, y, keep == 2, &best, &bi, &bs, &br, &bt);
         }
         if (k + 1 < m->nseg) {
             tr_apply_jump(m, d, k + 1, y);
@@ -116,7 +119,7 @@ double tr_watch_curvature(const tr_model *m, tr_data *d, const double *x, int ke
         d->watch_rate = best;
         d->watch_tendon = bi;
         d->watch_s = bs;
-        d->watch_tau = d->tau[bi];
+        d->watch_tau = bt;
         d->watch_limit = m->EI / (br * br);
         d->watch_act = d->lam_act;
         d->watch_load = d->lam_load;

@@ -42,6 +42,16 @@ class Slip:
         largest such slip [m].
     tol : tuple of float
         Per tendon, the slip below which a sign is not counted [m] (NaN: frictionless).
+
+    Examples
+    --------
+    >>> rod = tr.Rod(length=0.2, diameter=0.8e-3, E=207e9, G=79.6e9, kirchhoff=True)
+    >>> robot = tr.Robot(rod, [tr.Tendon(offset=0.01, friction=0.2)])
+    >>> check = tr.slip(tr.solve(tr.Scene(robot, displacement=[0.01], sliding="out")))
+    >>> check.consistent  # pulled from rest, the tendon slid in, not out
+    False
+    >>> check.conflicts[0][0], check.message.startswith("tendon 0 slid in")
+    (0, True)
     """
 
     s: np.ndarray
