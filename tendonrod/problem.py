@@ -212,7 +212,7 @@ class Problem:
         return compliance(self._last.scene, s_val, guess=self._last, options=self._options)
 
     def jacobian(
-        self, s=None, *, design=(), load: bool = True, method: str = "central", side=None
+        self, s=None, *, design=(), load: bool = True, method: str = "forward", side=None
     ) -> Jacobian:
         """The linearisation (:class:`~tendonrod.Jacobian`) of the last successful
         solution at arc length(s) ``s`` [m] (default: the tip), with respect to every
@@ -222,8 +222,8 @@ class Problem:
 
         When that solution is the workspace's state and every ``s`` is a breakpoint (the
         tip, an anchor, a point load), this reuses the workspace: no solve, k + 1 shooting
-        evaluations (k unknowns; twice as many with ``method="central"``) plus one per
-        design parameter or tension-controlled tendon and six per interior ``s`` for the
+        evaluations (k unknowns; 2 k + 1 with ``method="central"``) plus two per design
+        parameter or tension-controlled tendon and twelve per interior ``s`` for the
         loads.  Otherwise, and for the loads of a planar problem (whose out-of-plane
         compliance needs the spatial formulation), one more warm solve of the scene with
         zero point loads at ``s``.  ``side`` (ntendon,) of +1 / -1 / 0 asks for the taut or
@@ -473,7 +473,7 @@ def jacobian(
     *,
     design=(),
     load: bool = True,
-    method: str = "central",
+    method: str = "forward",
     side=None,
     guess=None,
     options=None,
@@ -484,8 +484,15 @@ def jacobian(
 
     By the implicit function theorem on the converged shooting system: linear solves
     with its Jacobian, no further nonlinear solve -- the derivatives of the solution the
-    solver converged to, exact to its tolerance (central differences of the shooting map
-    at step 3e-6 in the solver's scaled units, a truncation error near 1e-11).
+    solver converged to.  Their accuracy is that of the differences of the shooting map
+    over its k unknowns (``method``): forward by default (k + 1 evaluations, step 5e-8 in
+    the solver's scaled units), within ~1e-7 of the exact derivatives relative to each
+    column on the test scenes (~2e-8 on the Fig. 11c robot; ~1e-6 where a direction the
+    pose barely feels moves the unknowns fast, e.g. the common tension level of a stiff
+    taut tendon pair on a straight robot), or central (2 k + 1 evaluations, step 3e-6, a
+    truncation error near 1e-11: the numbers of :func:`tendonrod.compliance`).  A
+    parameter that does not enter the shooting map in closed form (a design parameter, a
+    tension control, a load off the tip) is differenced centrally either way.
 
     Parameters
     ----------
@@ -501,9 +508,9 @@ def jacobian(
         :mod:`tendonrod.linearization`).
     load : bool
         Compute the compliance block (default True).
-    method : {"central", "forward"}
-        The differences of the shooting map: central (default) or first-order (half the
-        evaluations, truncation near 1e-8).
+    method : {"forward", "central"}
+        The differences of the shooting map over its unknowns: first-order (default;
+        ~1e-7 relative at worst) or central (about twice the evaluations, ~1e-11).
     side : array (ntendon,) of +1 / -1 / 0, optional
         For a displacement-controlled tendon at its taut/slack switch: the taut (+1) or
         slack (-1) side's derivatives; 0 (default) the side it is on.
