@@ -33,7 +33,7 @@ import numpy as np
 from ._actuation_step import Iteration
 from ._actuation_target import Target
 from ._interrupt import current_token
-from .compiled import is_planar
+from .compiled import is_planar, value_vector
 from .model import Scene
 from .options import _check_options, _replace
 from .problem import Problem
@@ -169,13 +169,25 @@ class _Run:
         # than the iterate); the state returned is, by a solve with the caller's options
         self.prob = Problem(scene, _replace(options, accept_unstable=True))
         self.solves = self.jacobians = 0
+        # the scene's per-call values, whose control entries the iterates change
+        self.values = np.array(value_vector(scene))
+        self.tension_controls = np.array([q is None for q in scene.displacement])[idx]
 
     def solve(self, c, guess=None):
-        """(Solution, r, D) at controls c: a warm solve from the last success."""
+        """(Solution, r, D) at controls c: a warm solve from the last success (the first
+        one from ``guess``)."""
         self.solves += 1
         # iterates are neither reported nor checked for plausibility: the state returned
         # is, by the final solve with the caller's options
-        sol = self.prob._solve_quiet(_with_controls(self.scene, self.idx, c), guess)
+        scene = _with_controls(self.scene, self.idx, c)
+        if guess is not None or self.prob.last_solution is None:
+            sol = self.prob._solve_quiet(scene, guess)
+        else:
+            # only the controls differ from the scene set: their values, as _with_controls
+            # sets them, straight into the problem
+            values = self.values.copy()
+            values[self.idx] = np.where(self.tension_controls, np.maximum(c, 0.0), c)
+            sol = self.prob._solve_values(scene, values)
         if not sol.success:
             return sol, None, None
         r, D = self.target.residual(sol)

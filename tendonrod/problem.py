@@ -184,6 +184,19 @@ class Problem:
             self._last = sol
         return sol
 
+    def _solve_values(self, scene: Scene, values: np.ndarray) -> Solution:
+        """:meth:`_solve_quiet` (warm from the last success) of ``scene``, a scene of this
+        problem's structure and robot that differs from the one set only in its per-call
+        values ``values`` (``compiled.value_vector``'s layout): the caller vouches for
+        both, so neither is compared (an iteration over the controls, e.g.
+        :func:`tendonrod.actuate`'s)."""
+        self._c.set_value_vector(values)
+        self._current = scene
+        sol = Solution(self._run(None), scene, self._options)
+        if sol.success:
+            self._last = sol
+        return sol
+
     def compliance(self, s: float | None = None, *, step=None):
         """Compliance (6, 6) at arc length ``s`` [m] (default: the tip) of the last
         successful solution (see :func:`tendonrod.compliance`).  The tangent
