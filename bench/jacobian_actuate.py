@@ -8,9 +8,9 @@ these machines drift by tens of percent; medians over rounds; default ``tr.Optio
   * cold solve: ``tr.solve(scene)``;
   * warm solve: ``Problem.solve(scene_i)`` along ``bench/solve.py``'s sweep (loads 1 %
     apart), per solve.
-``Problem.jacobian`` is timed at the Problem's solved state (no solve) in three variants:
-central differences with the compliance block (the default), central without it, and
-forward differences without it (what ``tr.actuate`` uses).  ``tr.actuate`` is timed from
+``Problem.jacobian`` is timed at the Problem's solved state (no solve) in four variants:
+forward differences over the unknowns (the default) with and without the compliance block
+(without it: what ``tr.actuate`` uses), and central differences with and without it.  ``tr.actuate`` is timed from
 the scene on targets that are reachable by construction: the tip state of a forward solve
 at controls moved by a random step (seeded) of up to 2 mm per tendon:
   * ``tip_position`` with the three tendons (square: 3 controls, 3 components);
@@ -61,9 +61,10 @@ def warm_solve(sw) -> float:
 
 
 JACOBIANS = {
-    "central, with load": dict(),
-    "central, no load": dict(load=False),
-    "forward, no load": dict(load=False, method="forward"),
+    "forward (default), with load": dict(),
+    "forward, no load": dict(load=False),
+    "central, with load": dict(method="central"),
+    "central, no load": dict(load=False, method="central"),
 }
 
 
@@ -218,13 +219,23 @@ def main(argv=None):
         "the `route` 'augmented'); the rest, and what that solve leaves, by Newton / SQP "
         "steps on `Problem.jacobian` around warm solves.",
         "",
-        "- `Problem.jacobian` costs 2 k + 1 shooting evaluations with central differences "
-        f"(k = {k_unknowns} unknowns here) and k + 1 with forward ones, where a warm 1 % step "
-        "takes a handful: central differences are the default (the numbers of "
-        "`tr.compliance`, truncation ~1e-11), forward ones are what `tr.actuate` uses "
-        "(truncation ~1e-8).",
+        "- `Problem.jacobian` costs k + 1 shooting evaluations with forward differences "
+        f"over the k = {k_unknowns} unknowns (the default, step 5e-8 in the scaled units) and "
+        "2 k + 1 with central ones, where a warm 1 % step takes a handful; loads at the tip "
+        "and displacement controls enter the shooting map in closed form and cost nothing. "
+        "Forward differences give derivatives within ~2e-8 of the central ones relative to "
+        "each column on this scene, ~1e-7 at worst on the test scenes (a Cosserat rod's EA "
+        "and GA, rounding-bound), but ~1e-6 where a fast direction of the unknowns barely "
+        "moves the pose (the common tension level of a stiff taut tendon pair on a straight "
+        "robot, tests/test_jacobian.py::test_at_switch_one_sided_taut_side, which asks for "
+        "central ones); central ones (truncation ~1e-11) are the numbers of "
+        "`tr.compliance`, which keeps them.",
         "- `tr.actuate` spends a warm solve and a forward linearisation per iteration, plus "
-        "Python (a small QP per step). Iterations per target (median, max): "
+        "Python (a small QP per step). Each warm solve starts from the last success with the "
+        "shooting Jacobian of the last linearisation (a few evaluations instead of a stale "
+        "Jacobian's Broyden iterations; not after a linearisation at a taut/slack switch, "
+        "whose one-sided Jacobian may be the wrong side's), and a return to controls solved "
+        "before starts from that solution. Iterations per target (median, max): "
         + "; ".join(
             f"{k} {statistics.median(its[k]):.0f}, {max(its[k])}"
             + (f" ({missed[k]} of {len(its[k])} stop short of the target)" if missed[k] else "")
@@ -233,8 +244,29 @@ def main(argv=None):
         + ". Position targets with three tendons are badly conditioned (co-contraction "
         "moves the tip little): the augmented solve stops at a singular Jacobian and the "
         "steps take over. The least change (more controls than components) has no square "
-        "system to solve; a tangent predictor for its warm solves and less Python per step "
-        "are the levers left there. Two routes tried and dropped (measured by hand, not in "
+        "system to solve. In shooting evaluations (deterministic, counted by hand over 16 "
+        "targets per kind with the solves' nfev and k + 1 per linearisation) a median "
+        "'direction, 3 tendons' target takes 228 (the first, cold solve 43; the iterate "
+        "solves ~100; 7 linearisations, 70), 264 before the iterate solves took the "
+        "linearisation's Jacobian (and 16 of 16 reached against 15); 'position, 3 tendons' "
+        "487 against 588. A cold solve is 43 evaluations plus its stability verdict, so "
+        "the evaluations and the final judged solve alone come to ~4-5 cold solves on the "
+        "least change: the rest of the time is Python (the two small QPs of a step, the "
+        "Jacobian and Solution wrappers, the target residual; about half of it by timers "
+        "around the core calls), which only the step loop in C would remove; the QP's "
+        "blocking-step search, vectorised, takes ~35 % less of it. Against the code before "
+        "the linearisation's Jacobian, the QP and the direct value setting (by hand: four "
+        "interleaved pairs of runs, 3 rounds, 8 targets, on a loaded machine whose cold "
+        "solve took ~0.75 ms): position, 3 tendons 44-59 -> 18-32 cold solves; direction, "
+        "3 tendons 18-23 -> 12-17; tendons 0 1 by the linearisation only 11-13 -> 6-10. Tried and "
+        "dropped (by hand): a secant (good Broyden) update of the control Jacobian and of "
+        "the tension rates after every other accepted step far from the target (residual "
+        "> 1e-6): no fewer evaluations on the direction targets (228 median) and 11 of 16 "
+        "position targets reached instead of 14; and the iterate solves started from the "
+        "linearised state itself (whose first Newton step is then the tangent predictor) "
+        "instead of the last success: no cheaper, and their residuals, stopped just under "
+        "the solver's tol, left one target in 8 of two kinds at 1.1-1.25e-10, above the "
+        "1e-10 target tolerance. Two routes tried and dropped earlier (measured by hand, not in "
         "this table): the least change inside the shooting system (n - m coupling rows "
         "holding the controls' change in the row space of the last linearisation) applies "
         "only while every actuated tendon stays taut, which none of these targets does "

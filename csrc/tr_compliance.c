@@ -3,17 +3,25 @@
  * theorem on its shooting map.  With the residual F(x, p) = 0 at the solution x and
  * the poses Y(x, p) at the breakpoints, a parameter p (an actuation value, a probe
  * load, a design value) moves the unknowns by dx/dp = -J^-1 F_p (J = F_x) and the
- * poses by dY/dp = Y_p + Y_x dx/dp.  One pass of central differences over the unknowns
- * gives J and Y_x; each parameter then costs the two evaluations that give F_p and Y_p
- * together, none where F_p is known exactly (a prescribed displacement enters only its
- * length residual, a load at the tip only the tip residual).  The compliance is the
- * case of the six probe loads at one breakpoint.
+ * poses by dY/dp = Y_p + Y_x dx/dp.  One pass of differences over the unknowns gives J
+ * and Y_x: central (2 k evaluations) or forward (k); each parameter then costs the two
+ * evaluations of a central difference that give F_p and Y_p together, none where F_p is
+ * known exactly (a prescribed displacement enters only its length residual, a load at
+ * the tip only the tip residual).  The compliance is the case of the six probe loads at
+ * one breakpoint, by central differences.
  */
 #include <math.h>
 #include <string.h>
 
 #include "tendonrod.h"
 #include "tr_internal.h"
+
+/* The step of the forward differences over the unknowns (scaled units).  Their error is
+ * the truncation h |F''| / 2 plus the residual's rounding over h: the solver's TR_FD_H
+ * (1.5e-8) is rounding-bound here, with derivatives up to ~5e-7 relative off the central
+ * ones on a Cosserat rod's EA / GA; 5e-8 balances the two, ~1e-7 at worst on the test
+ * scenes and ~2e-8 on the Fig. 11c robot (bench/results/jacobian_actuate.md). */
+#define LIN_FD_H 5e-8
 
 /* What a difference stencil moves: unknown `unknown` (>= 0), or the parameter par.  A
  * tendon's gamma at its switch under the squared slack model (tension tau_s gamma^2, slack
@@ -261,8 +269,8 @@ static int jacobian_columns(const tr_model *m, tr_data *d, const int *rows, int 
         if (only_switched && side >= 0) continue;
         dir.unknown = j;
         dir.xi = side != 0 && d->opt.slack_model == TR_SLACK_SQUARED;
-        status = difference(m, d, &dir, forward ? TR_FD_H : TR_CD_H, side, forward, d->xs, dy, rows,
-                            nrow);
+        status = difference(m, d, &dir, forward ? LIN_FD_H : TR_CD_H, side, forward, d->xs, dy,
+                            rows, nrow);
         if (status != TR_OK) return status;
         for (i = 0; i < k; i++) d->J[i * k + j] = d->xs[i];
         for (i = 0; i < 6 * nrow; i++) d->Yx[(size_t)i * k + j] = dy[i];
@@ -317,7 +325,6 @@ static int linearize(const tr_model *m, tr_data *d, const tr_param *par, int np,
                      int nrow, double *dpose, double *dtension, double *dslack, const int *want,
                      int forward)
 {
-    const double hu = forward ? TR_FD_H : TR_CD_H;
     const int k = d->k;
     int i, j, r, c, status;
     lin_dir dir;
@@ -345,7 +352,7 @@ static int linearize(const tr_model *m, tr_data *d, const tr_param *par, int np,
             dir.xi = 0;
             dir.par = *p;
             status =
-                difference(m, d, &dir, param_step(m, p, hu), side, forward, d->xs, out, rows, nrow);
+                difference(m, d, &dir, param_step(m, p, TR_CD_H), side, 0, d->xs, out, rows, nrow);
             if (status != TR_OK) return status;
             if (K > 0.0) { /* d/dK = -d/dc / K^2 */
                 for (i = 0; i < k; i++) d->xs[i] *= -1.0 / (K * K);

@@ -147,8 +147,9 @@ class Iteration:
             if self.disp[i] and self.sol.slack[i] > 0.0 and self.side[i] <= 0
         ]
         room = np.array([self.sol.slack[self.run.idx[j]] / self.scale[j] for j in slack])
-        G = np.vstack([np.eye(n), -np.eye(n), np.eye(n)[bound], -np.eye(n)[slack]])
-        h = np.r_[np.full(2 * n, -delta), -(self.c / self.scale)[bound], -room]
+        eye = np.eye(n)
+        G = np.concatenate([eye, -eye, eye[bound], -eye[slack]])
+        h = np.concatenate([np.full(2 * n, -delta), -(self.c / self.scale)[bound], -room])
         return G, h
 
     def _accepted(self, cn, sn, rn, Dn, grad_rows=None):
@@ -183,7 +184,8 @@ class Iteration:
         H = H + 1e-12 * (np.trace(H) / n + 1e-300) * np.eye(n)
         Gb, hb = self._box(n, 0.8 * self.delta)
         z = np.zeros(n)
-        return solve_qp(H, A.T @ r, np.zeros((0, n)), [], np.vstack([G, Gb]), np.r_[h, hb], z).u
+        GG, hh = np.concatenate([G, Gb]), np.concatenate([h, hb])
+        return solve_qp(H, A.T @ r, np.zeros((0, n)), [], GG, hh, z).u
 
     def sqp(self):
         """One trust-region step of the least change (a normal step toward the target,
@@ -202,12 +204,14 @@ class Iteration:
             return "unreachable"  # no step within the tensions brings the target nearer
         Gb, hb = self._box(n, self.delta)
         u0 = (c - self.c0) / self.scale
-        qp = solve_qp(self.H, u0, self.A, self.A @ v, np.vstack([Gf, Gb]), np.r_[hf, hb], v)
+        GG, hh = np.concatenate([Gf, Gb]), np.concatenate([hf, hb])
+        qp = solve_qp(self.H, u0, self.A, self.A @ v, GG, hh, v)
         u = qp.u
         self.lam = qp.lam
         self.mus = np.zeros(len(floor))
         self.mus[rows] = qp.mu[: len(rows)]
-        self.nu = max(self.nu, 2.0 * np.abs(np.r_[self.lam, self.mus]).max(initial=0.0) + 1e-3)
+        lam_mu = np.concatenate([np.ravel(self.lam), self.mus])
+        self.nu = max(self.nu, 2.0 * np.abs(lam_mu).max(initial=0.0) + 1e-3)
         viol = np.maximum(floor - psi, 0.0)[rows].max(initial=0.0) / self.tau_scale
         # stay: the step and the stationarity residual H u of the linearised problem's
         # optimality conditions both below 1e-7 (scaled units), a KKT point
@@ -255,7 +259,7 @@ class Iteration:
             if self.disp[i] and side[i] > 0 and self.sol.tension[i] <= 1e-9 * self.tau_scale
         ]
         if held:
-            G, h = np.vstack([G, np.eye(n)[held]]), np.r_[h, np.zeros(len(held))]
+            G, h = np.concatenate([G, np.eye(n)[held]]), np.concatenate([h, np.zeros(len(held))])
         u = solve_qp(H, A.T @ r, np.zeros((0, n)), [], G, h, np.zeros(n)).u
         pred = r @ r - (r + A @ u) @ (r + A @ u)
         if not pred > 1e-28 * (r @ r) or np.abs(u).max() <= 1e-13:

@@ -365,7 +365,7 @@ static PyObject *problem_linearize(ProblemObject *self, PyObject *args, PyObject
     static char *kwlist[] = {"params", "rows", "forward", "unknowns",
                              "steps",  "side", "cancel",  NULL};
     PyObject *op, *orows, *cancel = Py_None, *result = NULL, *pose = NULL, *ten = NULL, *sl = NULL;
-    PyObject *sw = NULL, *ox = Py_None, *oside = Py_None;
+    PyObject *sw = NULL, *ox = Py_None, *oside = Py_None, *jac = NULL;
     PyArrayObject *pa = NULL, *ra = NULL, *xa = NULL, *sa = NULL;
     tr_param *par = NULL;
     int *rows = NULL, *at_switch = NULL, status, forward = 0, steps = 0;
@@ -456,13 +456,17 @@ static PyObject *problem_linearize(ProblemObject *self, PyObject *args, PyObject
     }
     if (!(sw = PyTuple_New(nt))) goto done;
     for (i = 0; i < nt; i++) PyTuple_SET_ITEM(sw, i, PyLong_FromLong(at_switch[i]));
-    result = Py_BuildValue("{s:O,s:O,s:O,s:O,s:i}", "pose", pose, "tension", ten, "slack", sl,
-                           "at_switch", sw, "k", self->d->k);
+    /* the shooting Jacobian at the state (scaled), for a solve from a nearby state */
+    dims[0] = dims[1] = self->d->k;
+    if (!(jac = glue_array(2, dims, self->d->J))) goto done;
+    result = Py_BuildValue("{s:O,s:O,s:O,s:O,s:i,s:O}", "pose", pose, "tension", ten, "slack", sl,
+                           "at_switch", sw, "k", self->d->k, "jacobian", jac);
 done:
     Py_XDECREF(pose);
     Py_XDECREF(ten);
     Py_XDECREF(sl);
     Py_XDECREF(sw);
+    Py_XDECREF(jac);
     Py_XDECREF(pa);
     Py_XDECREF(ra);
     Py_XDECREF(sa);

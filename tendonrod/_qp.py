@@ -80,6 +80,7 @@ def solve_qp(H, g, A, b, G, h, x0, max_iter=200) -> QPResult:
         if np.linalg.matrix_rank(C, tol=1e-10 * max(np.abs(C).max(), 1e-300)) == C.shape[0]:
             chosen.append(i)
     work = chosen
+    row_max = np.abs(G).max(axis=1, initial=0.0)  # each constraint row's largest entry
     y = np.zeros(len(b) + len(work))
     at_min = False  # x minimises on the working set (after a full, unblocked step)
     for _ in range(max_iter):
@@ -94,22 +95,23 @@ def solve_qp(H, g, A, b, G, h, x0, max_iter=200) -> QPResult:
         if np.abs(p).max(initial=0.0) <= 1e-14 * (1.0 + np.abs(x).max()):
             y = np.linalg.lstsq(C.T, q, rcond=None)[0] if C.shape[0] else np.zeros(0)
             mu_w = y[len(b) :]
-            neg = [k for k in range(mu_w.size) if mu_w[k] < -1e-10 * (1.0 + np.abs(y).max())]
-            if not neg:
+            neg = np.flatnonzero(mu_w < -1e-10 * (1.0 + np.abs(y).max(initial=0.0)))
+            if not neg.size:
                 break
             # Bland's rule against cycling among nearly dependent constraints: the
             # lowest-numbered constraint leaves, the lowest-numbered blocking one joins
-            del work[min(neg, key=lambda k: work[k])]
+            del work[min(neg.tolist(), key=lambda k: work[k])]
             continue
-        # the longest step along p that keeps the inequalities outside the working set
+        # the longest step along p that keeps the inequalities outside the working set:
+        # over those that p decreases, (h_i - G_i x) / G_i p, at least 0
         Gp = G @ p
-        steps = [
-            (max((h[i] - G[i] @ x) / Gp[i], 0.0), i)
-            for i in range(len(h))
-            if i not in work and Gp[i] < -1e-14 * np.abs(G[i]).max() * np.abs(p).max()
-        ]
-        alpha = min([1.0] + [a for a, _ in steps])
-        block = min([i for a, i in steps if a <= alpha * (1.0 + 1e-12)], default=-1)
+        moving = Gp < -1e-14 * row_max * np.abs(p).max()
+        moving[work] = False
+        cand = np.flatnonzero(moving)
+        ratios = np.maximum((h[cand] - G[cand] @ x) / Gp[cand], 0.0)
+        alpha = min(1.0, ratios.min(initial=1.0))
+        blocking = cand[ratios <= alpha * (1.0 + 1e-12)]
+        block = int(blocking.min()) if blocking.size else -1
         x = x + alpha * p
         if block >= 0:
             work.append(block)

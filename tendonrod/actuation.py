@@ -33,7 +33,7 @@ import numpy as np
 from ._actuation_step import Iteration
 from ._actuation_target import Target
 from ._interrupt import current_token
-from .compiled import is_planar
+from .compiled import is_planar, value_vector
 from .model import Scene
 from .options import _check_options, _replace
 from .problem import Problem
@@ -169,17 +169,70 @@ class _Run:
         # than the iterate); the state returned is, by a solve with the caller's options
         self.prob = Problem(scene, _replace(options, accept_unstable=True))
         self.solves = self.jacobians = 0
+        # the scene's per-call values, whose control entries the iterates change
+        self.values = np.array(value_vector(scene))
+        self.tension_controls = np.array([q is None for q in scene.displacement])[idx]
+        self.jac = None  # the last linearisation's shooting Jacobian, for the next solves
+        self.solved = {}  # the last few successful solutions by their value vectors
 
     def solve(self, c, guess=None):
-        """(Solution, r, D) at controls c: a warm solve from the last success."""
+        """(Solution, r, D) at controls c: a warm solve from the last success (the first
+        one from ``guess``) with the last linearisation's shooting Jacobian where there is
+        one, or from the solution at c when c was solved before."""
         self.solves += 1
         # iterates are neither reported nor checked for plausibility: the state returned
         # is, by the final solve with the caller's options
-        sol = self.prob._solve_quiet(_with_controls(self.scene, self.idx, c), guess)
+        scene = _with_controls(self.scene, self.idx, c)
+        if guess is not None or self.prob.last_solution is None:
+            sol = self.prob._solve_quiet(scene, guess)
+        else:
+            # only the controls differ from the scene set: their values, as _with_controls
+            # sets them, straight into the problem
+            values = self.values.copy()
+            values[self.idx] = np.where(self.tension_controls, np.maximum(c, 0.0), c)
+            # back at controls solved before (an iterate the iteration returns to): from
+            # that solution, one evaluation
+            start = self.solved.get(values.tobytes())
+            sol = self._solve_values(scene, values, start)
+            if sol.success:
+                if len(self.solved) >= 8:
+                    self.solved.pop(next(iter(self.solved)))
+                self.solved[values.tobytes()] = sol
         if not sol.success:
             return sol, None, None
         r, D = self.target.residual(sol)
         return sol, r, D
+
+    def _solve_values(self, scene, values, start):
+        """The Solution of ``scene``, whose per-call values ``values`` (the layout of
+        ``compiled.value_vector``) differ from the scene set in C only in the controls, so
+        that neither is compared: from ``start`` (a solution of this problem) with its
+        Jacobian, or from the last success with the last linearisation's Jacobian, else
+        warm; neither reported nor checked, as :meth:`Problem._solve_quiet`."""
+        prob = self.prob
+        prob._c.set_value_vector(values)
+        prob._current = scene
+        jac = self.jac if start is None else start.jacobian
+        start = prob._last if start is None else start
+        if jac is None or start is None:
+            raw = prob._run(None)
+        else:
+            last = start.raw
+            xv = last.get("verified_unknowns")
+            ver = None
+            if xv is not None and prob.options.steps == 0:
+                ver = (int(last["formulation"]["steps"]), float(last["verified_estimate"]), xv)
+            raw = prob._c.solve(
+                guess=last["base_state"],
+                jacobian=jac,
+                verified=ver,
+                cancel=current_token(),
+                record=False,
+            )
+        sol = Solution(raw, scene, prob.options)
+        if sol.success:
+            prob._last = sol
+        return sol
 
     def linearize(self, D, side=None):
         """(A (m, n), T (nt, n), side (nt,)): the target residual's and the tensions'
@@ -188,6 +241,10 @@ class _Run:
         the sides asked for, as in :meth:`Problem.jacobian`)."""
         self.jacobians += 1
         jac = self.prob.jacobian(load=False, method="forward", side=side)
+        # its shooting Jacobian starts the next solves (fresher than the solver's own),
+        # unless a tendon sits at its switch: the map is kinked there, and the side taken
+        # may not be the one those solves land on
+        self.jac = None if np.any(jac.switch_side) else self.prob._lin_jacobian
         A = D @ jac.actuation[:, self.idx]
         # the signed tension psi = tension - k slack (see _Run.psi): continuous and
         # increasing through the switch, so a slack tendon's rates are not lost

@@ -222,7 +222,7 @@ def _sides(side, nt: int):
         arr = np.array(side, dtype=float).reshape(-1)
     except (TypeError, ValueError):
         arr = None
-    if arr is None or arr.shape != (nt,) or not np.all(np.isin(arr, (-1.0, 0.0, 1.0))):
+    if arr is None or arr.shape != (nt,) or not np.all((arr == 1.0) | (arr == -1.0) | (arr == 0.0)):
         raise ValueError(f"side must hold +1, -1 or 0 for each of the {nt} tendon(s), got {side!r}")
     return arr
 

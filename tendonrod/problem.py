@@ -68,6 +68,7 @@ class Problem:
         self._current = scene  # the scene whose values are set in C
         self._last: Solution | None = None  # the last successful Solution
         self._plausible = Checker()  # plausibility warnings: once per rule and subject
+        self._lin_jacobian = None  # the shooting Jacobian of the last linearisation
 
     # ------------------------------------------------------------------ state
     @property
@@ -212,7 +213,7 @@ class Problem:
         return compliance(self._last.scene, s_val, guess=self._last, options=self._options)
 
     def jacobian(
-        self, s=None, *, design=(), load: bool = True, method: str = "central", side=None
+        self, s=None, *, design=(), load: bool = True, method: str = "forward", side=None
     ) -> Jacobian:
         """The linearisation (:class:`~tendonrod.Jacobian`) of the last successful
         solution at arc length(s) ``s`` [m] (default: the tip), with respect to every
@@ -222,8 +223,8 @@ class Problem:
 
         When that solution is the workspace's state and every ``s`` is a breakpoint (the
         tip, an anchor, a point load), this reuses the workspace: no solve, k + 1 shooting
-        evaluations (k unknowns; twice as many with ``method="central"``) plus one per
-        design parameter or tension-controlled tendon and six per interior ``s`` for the
+        evaluations (k unknowns; 2 k + 1 with ``method="central"``) plus two per design
+        parameter or tension-controlled tendon and twelve per interior ``s`` for the
         loads.  Otherwise, and for the loads of a planar problem (whose out-of-plane
         compliance needs the spatial formulation), one more warm solve of the scene with
         zero point loads at ``s``.  ``side`` (ntendon,) of +1 / -1 / 0 asks for the taut or
@@ -241,6 +242,7 @@ class Problem:
         (unknowns, steps) of ``sol`` set without solving, or a probe problem's."""
         forward = _forward(method)
         side = _sides(side, sol.scene.robot.n_tendons)
+        self._lin_jacobian = None
         s_vals, scalar, names, rows, params = self._jacobian_plan(s, design, load)
         if rows is None or not (here or state is not None):
             prob = _solved_probe(sol, s_vals, self._options, spatial=False)
@@ -263,6 +265,8 @@ class Problem:
         elif load:
             C = _load_block(sol, s_vals, self._options, forward)
         ten = raw["tension"]
+        # the shooting Jacobian at the state linearised (scaled), for a solve near it
+        self._lin_jacobian = raw["jacobian"] if state is None else None
         mount = base_pose(sol.scene.robot)
         if mount is not None:  # base-frame [dx, dtheta] rows (and [F, M] columns) to world
             act, des = pairs_out(mount, act, axis=1), pairs_out(mount, des, axis=1)
@@ -473,7 +477,7 @@ def jacobian(
     *,
     design=(),
     load: bool = True,
-    method: str = "central",
+    method: str = "forward",
     side=None,
     guess=None,
     options=None,
@@ -484,8 +488,15 @@ def jacobian(
 
     By the implicit function theorem on the converged shooting system: linear solves
     with its Jacobian, no further nonlinear solve -- the derivatives of the solution the
-    solver converged to, exact to its tolerance (central differences of the shooting map
-    at step 3e-6 in the solver's scaled units, a truncation error near 1e-11).
+    solver converged to.  Their accuracy is that of the differences of the shooting map
+    over its k unknowns (``method``): forward by default (k + 1 evaluations, step 5e-8 in
+    the solver's scaled units), within ~1e-7 of the exact derivatives relative to each
+    column on the test scenes (~2e-8 on the Fig. 11c robot; ~1e-6 where a direction the
+    pose barely feels moves the unknowns fast, e.g. the common tension level of a stiff
+    taut tendon pair on a straight robot), or central (2 k + 1 evaluations, step 3e-6, a
+    truncation error near 1e-11: the numbers of :func:`tendonrod.compliance`).  A
+    parameter that does not enter the shooting map in closed form (a design parameter, a
+    tension control, a load off the tip) is differenced centrally either way.
 
     Parameters
     ----------
@@ -501,9 +512,9 @@ def jacobian(
         :mod:`tendonrod.linearization`).
     load : bool
         Compute the compliance block (default True).
-    method : {"central", "forward"}
-        The differences of the shooting map: central (default) or first-order (half the
-        evaluations, truncation near 1e-8).
+    method : {"forward", "central"}
+        The differences of the shooting map over its unknowns: first-order (default;
+        ~1e-7 relative at worst) or central (about twice the evaluations, ~1e-11).
     side : array (ntendon,) of +1 / -1 / 0, optional
         For a displacement-controlled tendon at its taut/slack switch: the taut (+1) or
         slack (-1) side's derivatives; 0 (default) the side it is on.
