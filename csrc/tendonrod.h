@@ -484,10 +484,12 @@ typedef struct tr_data {
     /* the step verification that vouches for the current step count (steps = 0): the
      * scaled unknowns it measured at, its truncation estimate and step count; and the
      * one of the last successful solve */
-    double *x_ver, *x_ver_last; /* (k) each */
+    double *x_ver, *x_ver_last;     /* (k) each */
+    double *val_ver, *val_ver_last; /* (nt) each: the actuation values it was measured at */
     double est_ver, est_ver_last;
     int steps_ver, steps_ver_last;
     int have_ver, have_ver_last;
+    int have_val_ver, have_val_ver_last; /* 1: val_ver is known */
     int ver_carried; /* 1: this solve's step count was vouched for by tr_verify_carried */
     /* the stable branch (tr_branch.c) */
     double lam_hom;            /* continuation from the guess: residual - (1 - lam_hom) f_guess */
@@ -605,6 +607,10 @@ typedef struct {
     int steps;
     double estimate;
     const double *x;
+    const double *values; /* (nt) the tendons' actuation values (q [m] / tau [N]) of the scene
+                             it was measured on; NULL: not known, and then a model with a
+                             tension-controlled tendon verifies afresh (its tensions move the
+                             state without moving the unknowns) */
 } tr_verified;
 /* tr_solve from a guess that came with its verification record v (NULL: none; the
  * automatic step count starts from v->steps). */
@@ -654,7 +660,7 @@ enum tr_param_kind {
     TR_PAR_OFFSET,    /* tendon `index`'s offset b [m] (not for a pretensioned set) */
     TR_PAR_SLOPE,     /* tendon `index`'s slope a [-] (not for a pretensioned set) */
     TR_PAR_FRICTION,  /* tendon `index`'s friction coefficient mu [-] (a tendon compiled with
-                         friction, mu > 0) */
+                         friction, mu > 0; a central difference of it stays above 0) */
     TR_PAR_NKIND
 };
 typedef struct {

@@ -30,6 +30,7 @@ typedef struct batch_ws {
     double *J;                     /* (k x k) Jacobian of the last converged point */
     tr_verified ver;               /* its step verification (ver.x: (k), steps 0: none) */
     double *xver;                  /* (k) the unknowns behind ver.x */
+    double *vver;                  /* (nt) the actuation values behind ver.values */
     double *block;                 /* the one allocation behind the arrays above */
 } batch_ws;
 
@@ -52,7 +53,7 @@ static int ws_alloc(batch_ws *w, const tr_model *base, const tr_options *opt, in
     w->ng = 6 + 2 * base->nt;
     w->np = np;
     len = (size_t)TR_BATCH_HIST * (w->ng + w->k + np) + np + w->ng + 2 * (size_t)w->k +
-          (size_t)w->k * w->k;
+          (size_t)w->k * w->k + (size_t)base->nt;
     w->block = (double *)calloc(len + 1, sizeof(double));
     w->m = tr_model_clone(base);
     if (!w->block || !w->m) {
@@ -69,6 +70,7 @@ static int ws_alloc(batch_ws *w, const tr_model *base, const tr_options *opt, in
     w->gp = q, q += w->ng;
     w->xp = q, q += w->k;
     w->xver = q, q += w->k;
+    w->vver = q, q += base->nt;
     w->J = q;
     o.tip_only = 1;
     w->d = tr_data_alloc(w->m, &o, 1, NULL, msg, msglen);
@@ -181,6 +183,8 @@ static void push_converged(batch_ws *w, const tr_model *m, const tr_data *d)
     w->ver.estimate = d->est_ver;
     w->ver.x = w->xver;
     if (d->have_ver) memcpy(w->xver, d->x_ver, (size_t)w->k * sizeof(double));
+    w->ver.values = d->have_val_ver ? w->vver : NULL;
+    if (d->have_val_ver) memcpy(w->vver, d->val_ver, (size_t)m->nt * sizeof(double));
 }
 
 static void write_failed_point(const tr_batch_out *out, int p, int nt, int k, int st,

@@ -66,6 +66,7 @@ static double param_step(const tr_model *m, const tr_param *p, double h)
     case TR_PAR_ROD_EI: return h * m->EI;
     case TR_PAR_ROD_GJ: return h * m->GJ;
     case TR_PAR_OFFSET: return h * m->len_s;
+    case TR_PAR_FRICTION: return h;      /* mu is O(0.1-1) */
     default: return h * m->len_s / m->L; /* TR_PAR_SLOPE */
     }
 }
@@ -90,7 +91,8 @@ static int check_params(const tr_model *m, tr_data *d, const tr_param *par, int 
     for (j = 0; j < np; j++) {
         const tr_param *p = par + j;
         const int tendon = p->kind == TR_PAR_VALUE || p->kind == TR_PAR_TENDON_EA ||
-                           p->kind == TR_PAR_OFFSET || p->kind == TR_PAR_SLOPE;
+                           p->kind == TR_PAR_OFFSET || p->kind == TR_PAR_SLOPE ||
+                           p->kind == TR_PAR_FRICTION;
         const char *why = NULL;
         if (p->kind < 0 || p->kind >= TR_PAR_NKIND)
             why = "unknown parameter kind";
@@ -104,6 +106,8 @@ static int check_params(const tr_model *m, tr_data *d, const tr_param *par, int 
             why = "a Kirchhoff rod has no axial or shear rigidity in its model";
         else if (p->kind == TR_PAR_TENDON_EA && !isfinite(m->tendon[p->index].EA))
             why = "an inextensible tendon (EA = inf) has no finite EA to vary";
+        else if (p->kind == TR_PAR_FRICTION && m->tendon[p->index].fric_index < 0)
+            why = "a frictionless tendon's model has no friction state (give it friction > 0)";
         else if ((p->kind == TR_PAR_OFFSET || p->kind == TR_PAR_SLOPE) && pre)
             why = "the routing of a pretensioned tendon set cannot vary alone (the set would "
                   "lose its balance)";

@@ -19,6 +19,7 @@ void tr_data_free(tr_data *d)
     if (d->perm) gsl_permutation_free(d->perm);
     free(d->tau);
     free(d->fric_done);
+    free(d->val_ver);
     free(d->y);
     if (d->rk8_shoot) gsl_odeiv2_step_free(d->rk8_shoot);
     if (d->rk8_rec) gsl_odeiv2_step_free(d->rk8_rec);
@@ -56,6 +57,7 @@ static int alloc_buffers(const tr_model *m, tr_data *d)
     d->tau = (double *)calloc((size_t)6 * nt + (TR_FRIC_NCOL + 9) * (size_t)m->nfric + 1,
                               sizeof(double));
     d->fric_done = (int *)calloc((size_t)m->nfric + 1, sizeof(int));
+    d->val_ver = (double *)calloc((size_t)2 * nt + 1, sizeof(double));
     d->y = (double *)calloc((size_t)10 * nsr, sizeof(double));
     d->Yx = (double *)calloc((size_t)6 * m->nseg * k + 42 * ((size_t)m->nseg + 1), sizeof(double));
     d->lin_C = (double *)calloc((size_t)(2 * nd * nd + 4 * nd + 1), sizeof(double));
@@ -64,7 +66,7 @@ static int alloc_buffers(const tr_model *m, tr_data *d)
         (double *)calloc((size_t)4 * k + nt + 7 * ((size_t)m->nseg + 1) + 4, sizeof(double));
     d->bp_pose = (double *)calloc((size_t)12 * (m->nseg + 1), sizeof(double));
     if (!d->bp_pose || !d->lin_C || !d->lin_act || !d->x || !d->J || !d->LU || !d->perm ||
-        !d->tau || !d->y || !d->Yx || !d->x_last || !d->x_guess || !d->fric_done)
+        !d->tau || !d->y || !d->Yx || !d->x_last || !d->x_guess || !d->fric_done || !d->val_ver)
         return -1;
     d->f_guess = d->x_guess + k;
     d->x_alt = d->x_guess + 2 * k;
@@ -91,6 +93,7 @@ static int alloc_buffers(const tr_model *m, tr_data *d)
     d->displacement = d->tau + 4 * nt;
     d->tau_here = d->tau + 5 * nt;
     d->fric_ws = d->tau + 6 * nt;
+    d->val_ver_last = d->val_ver + nt;
     d->fric_g = d->fric_ws + TR_FRIC_NCOL * m->nfric;
     d->k1 = d->y + nsr;
     d->k2 = d->y + 2 * nsr;

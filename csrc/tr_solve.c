@@ -488,6 +488,8 @@ static int solve_record(const tr_model *m, tr_data *d, int status)
         d->est_ver_last = d->est_ver;
         d->steps_ver_last = d->steps_ver;
         d->have_ver_last = d->have_ver;
+        memcpy(d->val_ver_last, d->val_ver, (size_t)m->nt * sizeof(double));
+        d->have_val_ver_last = d->have_val_ver;
         tr_branch_keep(m, d);
     }
     return status;
@@ -497,18 +499,24 @@ static int solve_record(const tr_model *m, tr_data *d, int status)
  * guess's (v), or none. */
 static void begin_verified(tr_data *d, const tr_verified *v, int from_last)
 {
-    const size_t kb = (size_t)d->k * sizeof(double);
-    d->have_ver = d->ver_carried = 0;
+    const size_t kb = (size_t)d->k * sizeof(double), nb = (size_t)d->model->nt * sizeof(double);
+    d->have_ver = d->ver_carried = d->have_val_ver = 0;
     if (from_last && d->have_ver_last) {
         memcpy(d->x_ver, d->x_ver_last, kb);
         d->est_ver = d->est_ver_last;
         d->steps_ver = d->steps_ver_last;
         d->have_ver = 1;
+        memcpy(d->val_ver, d->val_ver_last, nb);
+        d->have_val_ver = d->have_val_ver_last;
     } else if (!from_last && v && v->x && v->steps > 0) {
         memcpy(d->x_ver, v->x, kb);
         d->est_ver = v->estimate;
         d->steps_ver = v->steps;
         d->have_ver = 1;
+        if (v->values) {
+            memcpy(d->val_ver, v->values, nb);
+            d->have_val_ver = 1;
+        }
     }
 }
 

@@ -70,7 +70,7 @@ static int refined_steps(const tr_data *d, int N, double est)
 int tr_verify_steps(const tr_model *m, tr_data *d)
 {
     const int k = d->k;
-    int round;
+    int round, c;
     for (round = 0; round < TR_REFINE_ROUNDS; round++) {
         const int N = d->steps;
         const double est = doubling_estimate(m, d);
@@ -85,6 +85,8 @@ int tr_verify_steps(const tr_model *m, tr_data *d)
             d->est_ver = est;
             d->steps_ver = N;
             d->have_ver = 1;
+            for (c = 0; c < m->nt; c++) d->val_ver[c] = m->tendon[c].value;
+            d->have_val_ver = 1;
             return TR_OK;
         }
         if (N >= TR_STEP_CAP) {
@@ -118,11 +120,21 @@ int tr_verify_carried(const tr_model *m, tr_data *d)
     const double order = d->opt.integrator == TR_RK4 ? 4.0 : 8.0;
     double delta = 0.0, bound;
     int i;
-    (void)m;
     if (!d->have_ver || d->steps_ver != d->steps || !isfinite(d->est_ver)) return 0;
     for (i = 0; i < d->k; i++) {
         const double a = fabs(d->x_ver[i]);
         const double e = fabs(d->x[i] - d->x_ver[i]) / (a > 1.0 ? a : 1.0);
+        if (!(e <= delta)) delta = e;
+    }
+    /* a prescribed tension moves the state without moving the unknowns (the base reaction
+     * balances the external loads whatever the tensions): its move counts too, scaled by
+     * the tension scale */
+    for (i = 0; i < m->nt; i++) {
+        double a, e;
+        if (m->tendon[i].control != TR_TENSION) continue;
+        if (!d->have_val_ver) return 0;
+        a = fabs(d->val_ver[i]) / m->tau_s;
+        e = fabs(m->tendon[i].value - d->val_ver[i]) / m->tau_s / (a > 1.0 ? a : 1.0);
         if (!(e <= delta)) delta = e;
     }
     if (!(delta <= TR_CARRY_MAX_MOVE)) return 0;

@@ -67,7 +67,9 @@ class Problem:
         *,
         guess: ArrayLike | None = ...,
         jacobian: ArrayLike | None = ...,
-        verified: tuple[int, float, ArrayLike] | None = ...,
+        verified: tuple[int, float, ArrayLike]
+        | tuple[int, float, ArrayLike, ArrayLike | None]
+        | None = ...,
         warm: bool = ...,
         cancel: Cancel | None = ...,
         record: bool = ...,

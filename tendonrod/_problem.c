@@ -186,11 +186,11 @@ static PyObject *problem_solve(ProblemObject *self, PyObject *args, PyObject *kw
                              "cancel", "record",   "carry",    NULL};
     PyObject *og = Py_None, *oj = Py_None, *ov = Py_None, *cancel = Py_None, *result = NULL;
     PyObject *oc = Py_None;
-    PyArrayObject *xv = NULL;
+    PyArrayObject *xv = NULL, *vv = NULL;
     glue_args a;
     glue_poll poll;
     tr_data *d = self->d;
-    tr_verified ver = {0, 0.0, NULL};
+    tr_verified ver = {0, 0.0, NULL, NULL};
     const double *g = NULL, *jac = NULL;
     int warm = 1, record = 1, status;
     memset(&a, 0, sizeof a);
@@ -202,10 +202,11 @@ static PyObject *problem_solve(ProblemObject *self, PyObject *args, PyObject *kw
     if (glue_poll_init(&poll, cancel) < 0 || glue_warm_start(&a, og, oj) < 0) goto done;
     if (ov != Py_None) {
         /* (steps, estimate, scaled unknowns) of the guess's step verification */
-        PyObject *ox;
-        if (!PyArg_ParseTuple(ov, "idO;verified must be (steps, estimate, unknowns)", &ver.steps,
-                              &ver.estimate, &ox) ||
-            values_of(ox, "verified unknowns", d->k, &xv) < 0)
+        PyObject *ox, *oval = Py_None;
+        if (!PyArg_ParseTuple(ov, "idO|O;verified must be (steps, estimate, unknowns[, values])",
+                              &ver.steps, &ver.estimate, &ox, &oval) ||
+            values_of(ox, "verified unknowns", d->k, &xv) < 0 ||
+            (oval != Py_None && values_of(oval, "verified values", self->m->nt, &vv) < 0))
             goto done;
         if (ver.steps < 1 || ver.steps > TR_MAX_STEPS || !(ver.estimate >= 0.0) ||
             !isfinite(ver.estimate) || glue_all_finite(xv, "verified unknowns", -1, 0) < 0) {
@@ -217,6 +218,8 @@ static PyObject *problem_solve(ProblemObject *self, PyObject *args, PyObject *kw
             goto done;
         }
         ver.x = (const double *)PyArray_DATA(xv);
+        if (vv && glue_all_finite(vv, "verified values", -1, 0) < 0) goto done;
+        ver.values = vv ? (const double *)PyArray_DATA(vv) : NULL;
     }
     if (oc != Py_None) {
         /* (record, reason): the verdict record of the solution the guess came from; one of
@@ -254,6 +257,7 @@ static PyObject *problem_solve(ProblemObject *self, PyObject *args, PyObject *kw
 done:
     d->lazy = 0;
     Py_XDECREF(xv);
+    Py_XDECREF(vv);
     glue_args_clear(&a);
     return result;
 }
@@ -525,10 +529,12 @@ static PyMethodDef problem_methods[] = {
      "solve(*, guess=None, jacobian=None, verified=None, warm=True, cancel=None, record=True,\n"
      "carry=None)\n"
      "-> dict: from the guess (a base_state) if given, else warm from the last successful solve\n"
-     "(warm=True; cold if there is none), else cold.  verified: (steps, estimate, unknowns), the\n"
-     "'formulation' steps, 'verified_estimate' and 'verified_unknowns' of the solve the guess\n"
-     "came from (same structure): its verified step count is the start and vouches for a\n"
-     "solution close to it.  carry: the 'stability_carry' of that solve, its verdict record,\n"
+     "(warm=True; cold if there is none), else cold.  verified: (steps, estimate, unknowns[,\n"
+     "values]), the 'formulation' steps, 'verified_estimate', 'verified_unknowns' and\n"
+     "'verified_values' of the solve the guess came from (same structure): its verified step\n"
+     "count is the start and vouches for a solution close to it (values None: a model with a\n"
+     "tension-controlled tendon then verifies afresh).  carry: the 'stability_carry' of that "
+     "solve, its verdict record,\n"
      "which a solution close to it keeps instead of being judged again (one of another model\n"
      "is ignored).  The dict of\n"
      "_core.solve; record=False leaves out the node arrays (record_from computes them).\n"

@@ -123,6 +123,12 @@ PyObject *glue_solve_result(const tr_model *m, const tr_data *d, int status, PyO
         glue_set(res, "verified_unknowns",
                  d->have_ver ? glue_array(1, dims, d->x_ver) : (Py_INCREF(Py_None), Py_None)) < 0)
         goto fail;
+    dims[0] = nt;
+    if (glue_set(res, "verified_values",
+                 d->have_ver && d->have_val_ver ? glue_array(1, dims, d->val_ver)
+                                                : (Py_INCREF(Py_None), Py_None)) < 0)
+        goto fail;
+    dims[0] = k;
     dims[1] = k;
     if (glue_set(res, "jacobian", glue_array(2, dims, d->J)) < 0) goto fail;
     if (glue_set(res, "formulation", result_formulation(m, d, form)) < 0) goto fail;

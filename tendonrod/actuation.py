@@ -221,7 +221,12 @@ class _Run:
             xv = last.get("verified_unknowns")
             ver = None
             if xv is not None and prob.options.steps == 0:
-                ver = (int(last["formulation"]["steps"]), float(last["verified_estimate"]), xv)
+                ver = (
+                    int(last["formulation"]["steps"]),
+                    float(last["verified_estimate"]),
+                    xv,
+                    last.get("verified_values"),
+                )
             raw = prob._c.solve(
                 guess=last["base_state"],
                 jacobian=jac,

@@ -6,7 +6,8 @@ Design parameters are named by their path into the scene's dataclasses, as a
 ``"robot.rod.EA"``, ``"robot.rod.GA"`` (rigidities [N m^2, N m^2, N, N]; EA and GA of a
 Cosserat rod only), ``"robot.tendons[i].EA"`` [N] (finite), ``"robot.tendons[i].offset"``
 [m] and ``"robot.tendons[i].slope"`` [-] (not for a pretensioned tendon set, whose balance
-one tendon's routing cannot change alone).  Short forms are accepted: ``"EI"``,
+one tendon's routing cannot change alone), ``"robot.tendons[i].friction"`` [-] (a tendon
+with friction > 0: the problem's structure has its friction state).  Short forms are accepted: ``"EI"``,
 ``"rod.EI"``, ``"tendons[0].EA"``.  A derivative with respect to one of them holds every
 other field of the scene fixed: a converging tendon's slope stays when its offset moves;
 ``robot.rod.EI`` moves the bending rigidity alone (not GJ, whatever the section).
@@ -31,7 +32,7 @@ PARAM_KIND = {name: i for i, name in enumerate(_core.PARAM_KINDS)}
 
 _ROD = {"EI": "bending_stiffness", "GJ": "torsional_stiffness", "EA": "axial_stiffness"}
 _ROD["GA"] = "shear_stiffness"
-_TENDON_FIELDS = {"EA": "tendon_EA", "offset": "offset", "slope": "slope"}
+_TENDON_FIELDS = {"EA": "tendon_EA", "offset": "offset", "slope": "slope", "friction": "friction"}
 _NAME = re.compile(r"^(?:robot\.)?(?:rod\.)?(EI|GJ|EA|GA)$|^(?:robot\.)?tendons\[(\d+)\]\.(\w+)$")
 
 
@@ -44,7 +45,8 @@ def design_parameter(scene: Scene, name) -> tuple[str, int, int]:
         raise ValueError(
             f"design parameter {name!r}: expected one of 'robot.rod.EI', 'robot.rod.GJ', "
             f"'robot.rod.EA', 'robot.rod.GA', 'robot.tendons[i].EA', 'robot.tendons[i].offset', "
-            f"'robot.tendons[i].slope' (or the short forms 'EI', 'tendons[i].EA')"
+            f"'robot.tendons[i].slope', 'robot.tendons[i].friction' (or the short forms 'EI', "
+            f"'tendons[i].EA')"
         )
     if m.group(1):
         field = m.group(1)
@@ -62,7 +64,8 @@ def design_parameter(scene: Scene, name) -> tuple[str, int, int]:
     i, field = int(m.group(2)), m.group(3)
     if field not in _TENDON_FIELDS:
         raise ValueError(
-            f"design parameter {name!r}: a tendon's design parameters are EA, offset and slope"
+            f"design parameter {name!r}: a tendon's design parameters are EA, offset, slope and "
+            f"friction"
         )
     if i >= robot.n_tendons:
         raise ValueError(f"design parameter {name!r}: the robot has {robot.n_tendons} tendon(s)")
@@ -70,6 +73,11 @@ def design_parameter(scene: Scene, name) -> tuple[str, int, int]:
         raise ValueError(
             f"design parameter {name!r}: tendon {i} is inextensible (EA = inf); give it a "
             f"finite EA to differentiate or fit it"
+        )
+    if field == "friction" and robot.tendons[i].friction == 0.0:
+        raise ValueError(
+            f"design parameter {name!r}: tendon {i} is frictionless (friction = 0), so its "
+            f"problem has no friction state; give it friction > 0 to differentiate or fit it"
         )
     if field in ("offset", "slope") and robot.tendons[i].path is not None:
         raise ValueError(

@@ -30,7 +30,7 @@ _VERIFICATION_OPTIONS = ("integrator", "shooting_segments", "force_spatial", "sl
 
 
 def _verification_of(guess: Solution, scene: Scene, options: Options):
-    """``(steps, estimate, unknowns)`` of the step verification that vouches for the
+    """``(steps, estimate, unknowns, values)`` of the step verification that vouches for the
     solution ``guess``, when it can carry to a solve of ``scene`` with ``options`` (same
     compiled structure and unknowns); else None."""
     xv = guess.raw.get("verified_unknowns")
@@ -40,7 +40,12 @@ def _verification_of(guess: Solution, scene: Scene, options: Options):
         return None
     if structure_difference(guess.scene, scene, options.force_spatial) is not None:
         return None
-    return (int(guess.raw["formulation"]["steps"]), float(guess.raw["verified_estimate"]), xv)
+    return (
+        int(guess.raw["formulation"]["steps"]),
+        float(guess.raw["verified_estimate"]),
+        xv,
+        guess.raw.get("verified_values"),
+    )
 
 
 def _guess_vector(guess, scene: Scene, options: Options):
@@ -143,7 +148,8 @@ class Solution:
         adaptive): measured by step doubling, or -- for a warm solve that ended close
         to a solution whose step count was verified (``truncation_carried``) -- the
         bound ``2 e_v (1 + delta)^(p+1)`` carried from that verification, where ``delta``
-        is how far the scaled unknowns moved (relative) and ``p`` the integrator's order.
+        is how far the scaled unknowns and the prescribed tensions moved (relative) and ``p``
+        the integrator's order.
         Either way it is <= ``options.tol`` on success.
     truncation_carried : bool
         True when the step count was not verified again (see ``truncation_estimate``);

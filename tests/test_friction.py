@@ -282,3 +282,36 @@ def test_slip_of_a_pull_and_a_release():
     assert np.all(np.isnan(tr.slip(both).slip[:, 1]))
     with pytest.raises(ValueError, match="same robot"):
         tr.slip(both, reference=pulled)
+
+
+def _lever(mu, F):
+    robot = _robot(mu, EA=3e3)
+    return tr.Scene(robot, displacement=[0.01], loads=[tr.PointLoad(L, force=(F, 0.0, -0.1))])
+
+
+def test_friction_as_a_design_parameter():
+    # d(tip)/d(mu) by the implicit function theorem against central differences of full
+    # solves (step 1e-4: truncation ~1e-8 relative, solves at tol 1e-13)
+    sol = tr.solve(_lever(0.3, 0.1), options=TIGHT)
+    opt = tr.Options(tol=1e-13)
+    h = 1e-4
+    fd = (
+        tr.solve(_lever(0.3 + h, 0.1), options=opt).tip_position
+        - tr.solve(_lever(0.3 - h, 0.1), options=opt).tip_position
+    ) / (2 * h)
+    for method, rel in (("central", 1e-7), ("forward", 1e-6)):
+        J = tr.jacobian(sol, design=["robot.tendons[0].friction"], method=method)
+        assert J.design_names == ("robot.tendons[0].friction",)
+        assert np.max(np.abs(J.design[:3, 0] - fd)) <= rel * np.max(np.abs(fd))
+    # a frictionless tendon has no friction state to differentiate
+    with pytest.raises(ValueError, match="frictionless"):
+        tr.jacobian(tr.solve(_lever(0.0, 0.1)), design=["tendons[0].friction"])
+
+
+def test_fit_recovers_the_friction():
+    # synthetic tip measurements of the lever at mu = 0.25 under five loads; the fit from
+    # mu = 0.1 recovers it (noise-free data: to the solver's accuracy)
+    forces = (-0.2, -0.1, 0.0, 0.1, 0.2)
+    measured = np.array([tr.solve(_lever(0.25, F), options=TIGHT).tip_position for F in forces])
+    res = tr.fit([_lever(0.1, F) for F in forces], measured, ["tendons[0].friction"])
+    assert abs(res.values[0] - 0.25) <= 1e-6

@@ -128,3 +128,33 @@ def test_carry_needs_the_same_structure_and_a_verification():
     assert not prob.solve(near, guess="cold", strict=True).truncation_carried
     fixed = tr.solve(near, guess=base, options=tr.Options(steps=6), strict=True)
     assert not fixed.truncation_carried and math.isnan(fixed.truncation_estimate)
+
+
+@pytest.mark.parametrize("via", ["problem", "guess"])
+def test_a_prescribed_tension_is_part_of_the_record(via):
+    # a helical tendon's tension turns the robot while the unknowns (the base reaction,
+    # which balances the external loads: none here) stay near 0: the record of the
+    # straight robot (2 steps, exact there) must not vouch for the turned one
+    rod = tr.Rod(length=0.2, diameter=0.8e-3, E=207e9, G=79.6e9, kirchhoff=True)
+    robot = tr.Robot(rod, [tr.Tendon.helical(0.01, turns=1.0, length=0.2)])
+    straight = tr.Scene(robot, tension=[0.0])
+    prob = tr.Problem(straight)
+    first = prob.solve()
+    for t in (1.0, 3.0):
+        scene = tr.Scene(robot, tension=[t])
+        sol = prob.solve(scene) if via == "problem" else tr.solve(scene, guess=first)
+        ref = tr.solve(scene, options=tr.Options(tol=1e-12))
+        assert sol.success and not sol.truncation_carried
+        # the solve's tolerance 1e-10 (scaled): 1e-9 L with a margin
+        assert np.max(np.abs(sol.tip_position - ref.tip_position)) <= 1e-9 * 0.2
+    # a record without the values it was measured at does not vouch for such a model
+    raw = first.raw
+    out = prob._c.solve(
+        guess=raw["base_state"],
+        verified=(
+            int(raw["formulation"]["steps"]),
+            raw["verified_estimate"],
+            raw["verified_unknowns"],
+        ),
+    )
+    assert not out["truncation_carried"]
