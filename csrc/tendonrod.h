@@ -670,7 +670,8 @@ typedef struct {
 
 /* The linearisation of a solved scene (call tr_solve first; its unknowns d->x are the
  * state) with respect to np parameters, by the implicit function theorem on the
- * shooting map: central differences give the Jacobian of the residual and of the poses
+ * shooting map: differences (`scheme`: TR_DIFF_CENTRAL, 2k evaluations, truncation ~1e-11;
+ * TR_DIFF_FORWARD, k evaluations, ~1e-8) give the Jacobian of the residual and of the poses
  * at the breakpoints with respect to the unknowns; each parameter's effect on the
  * residual and the poses (two more evaluations, none for a prescribed displacement or a
  * probe load at the tip) then moves the unknowns by a linear solve.  No nonlinear solve.
