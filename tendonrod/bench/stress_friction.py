@@ -269,13 +269,13 @@ def _slack_elastica(mu, sliding, P=0.5):
 Q0, Q1, EA_PAIR, F_PAIR = 0.004, -0.005, 2e3, (-0.3, -0.1)
 
 
-def _opposing(slidings, mu=(0.5, 1.0), kirchhoff=True, Fy=0.0):
+def _opposing(slidings, mu=(0.5, 1.0), kirchhoff=True, Fy=0.0, q1=Q1):
     p = FIG17
     r = p["r"]
     tendons = [Tendon(offset=r, EA=EA_PAIR, friction=m, angle=a) for m, a in zip(mu, (0, math.pi))]
     return Scene(
         Robot(_rod(kirchhoff), tendons),
-        displacement=[Q0, Q1],
+        displacement=[Q0, q1],
         sliding=list(slidings),
         loads=[PointLoad(s=p["L"], force=(F_PAIR[0], Fy, F_PAIR[1]))],
     )
@@ -333,6 +333,17 @@ def _slack_cases(StressCase) -> list:
             (lambda: (_opposing(("out", "in"), kirchhoff=False, Fy=0.05), Options())),
         )
     )
+    # paid out by 2 mm only, the opposing tendon stays taut: both carry tension, each
+    # with its own friction and direction (the global balance check)
+    for steps in (0, 256):
+        cases.append(
+            StressCase(
+                "friction/opposing-taut/mu=(0.5,1)/out,in/planar"
+                + (f"/steps={steps}" if steps else ""),
+                GROUP,
+                (lambda n=steps: (_opposing(("out", "in"), q1=-0.002), Options(steps=n))),
+            )
+        )
     cases.append(
         StressCase(
             "friction/spatial/helical+side/mu=(0.5,0.8)/in,out/cosserat",
