@@ -62,6 +62,7 @@ def _cmd_solve(args) -> int:
             file=sys.stderr,
         )
         return EXIT_BAD_INPUT
+    spec = _with_sliding(spec, args.sliding)
     t0 = time.perf_counter()
     try:
         import warnings
@@ -76,10 +77,53 @@ def _cmd_solve(args) -> int:
     written = _write_solution(args, spec, sol, elapsed, "solution", {})
     status = "converged" if sol.success else "DID NOT CONVERGE"
     print(
-        f"{args.scene}: {status} ({sol.message}); tip at {np.round(sol.tip_position, 6).tolist()} m; "
-        f"wrote {', '.join(written)} to {args.out}"
+        f"{args.scene}: {status} ({sol.message}); tip at {np.round(sol.tip_position, 6).tolist()} m"
+        f"{_friction_line(sol)}; wrote {', '.join(written)} to {args.out}"
     )
     return EXIT_OK if sol.success else EXIT_NOT_CONVERGED
+
+
+def _with_sliding(spec, sliding):
+    """``spec`` with every tendon's sliding direction set to ``sliding`` ("in" / "out"),
+    or unchanged when it is None (the command line's --sliding over the file's)."""
+    import dataclasses
+
+    if sliding is None:
+        return spec
+    return dataclasses.replace(spec, scene=dataclasses.replace(spec.scene, sliding=sliding))
+
+
+def _anchor_tensions(sol):
+    """The tension [N] of every tendon at its anchor (with friction it differs from the
+    tension at the actuator, ``sol.tension``)."""
+    import numpy as np
+
+    robot = sol.scene.robot
+    if robot.n_tendons == 0:
+        return np.zeros(0)
+    return np.array([sol.at(robot.tendon_end(i)).tendon_tension[i] for i in range(robot.n_tendons)])
+
+
+def _frictional(scene):
+    return [i for i, t in enumerate(scene.robot.tendons) if t.friction > 0.0]
+
+
+def _friction_line(sol) -> str:
+    """For a scene with channel friction: the frictional tendons' tensions at their
+    anchors and that stability was not judged (empty otherwise)."""
+    import numpy as np
+
+    idx = _frictional(sol.scene)
+    if not idx or not sol.success:
+        return ""
+    anchor = _anchor_tensions(sol)
+    parts = [
+        f"tendon {i} ({sol.scene.sliding[i]}) {sol.tension[i]:.6g} N at the actuator, "
+        f"{anchor[i]:.6g} N at the anchor"
+        for i in idx
+        if np.isfinite(anchor[i])
+    ]
+    return f"; friction: {', '.join(parts)}; stability {sol.stability_reason}"
 
 
 def _write_solution(args, spec, sol, elapsed, name, extra) -> list:
@@ -106,10 +150,16 @@ def _write_solution(args, spec, sol, elapsed, name, extra) -> list:
         "tension_N": sol.tension,
         "slack_m": sol.slack,
         "displacement_m": sol.displacement,
+        "friction": [t.friction for t in sol.scene.robot.tendons],
+        "sliding": list(sol.scene.sliding),
+        "anchor_tension_N": _anchor_tensions(sol) if sol.success else None,
+        "stable": sol.stable,
+        "stability_reason": sol.stability_reason,
         "units": {"length": "m", "force": "N", "moment": "N m", "angle": "rad"},
         "arrays": f"{name}.npz: s (N,) [m], position (N,3) [m] world, rotation (N,3,3) body-to-world, "
         "force (N,3) [N] world, moment (N,3) [N m] world, tension (nt,) [N], "
-        "slack (nt,) [m], displacement (nt,) [m]",
+        "slack (nt,) [m], displacement (nt,) [m], tendon_tension (N, nt) [N] along s "
+        "(0 distal of each anchor)",
     }
     summary.update(extra)
     with open(os.path.join(args.out, f"{name}.json"), "w", encoding="utf-8") as fh:
@@ -125,6 +175,7 @@ def _write_solution(args, spec, sol, elapsed, name, extra) -> list:
         tension=sol.tension,
         slack=sol.slack,
         displacement=sol.displacement,
+        tendon_tension=sol.tendon_tension,
     )
     written = [f"{name}.json", f"{name}.npz"]
     if args.plot:
@@ -219,6 +270,7 @@ def _cmd_actuate(args) -> int:
             file=sys.stderr,
         )
         return EXIT_BAD_INPUT
+    spec = _with_sliding(spec, args.sliding)
     target, problem = _cli_target(args, spec)
     if problem:
         print(f"tendonrod actuate: error: {args.scene}: {problem}", file=sys.stderr)
@@ -352,6 +404,15 @@ def _bench(argv) -> int:
 
 
 # --------------------------------------------------------------------------- parser
+def _sliding_option(p) -> None:
+    p.add_argument(
+        "--sliding",
+        choices=("in", "out"),
+        help="the direction every frictional tendon slides in its channel (in: toward the "
+        "actuator, out: toward the anchor), over the scene file's 'sliding'",
+    )
+
+
 def build_parser() -> argparse.ArgumentParser:
     p = _Parser(
         prog="python -m tendonrod",
@@ -374,6 +435,7 @@ def build_parser() -> argparse.ArgumentParser:
     ps.add_argument("scene", help="scene file (TOML)")
     ps.add_argument("--out", required=True, help="output directory (created if missing)")
     ps.add_argument("--plot", action="store_true", help="also write solution.png")
+    _sliding_option(ps)
     ps.set_defaults(func=_cmd_solve)
 
     pa = sub.add_parser(
@@ -411,6 +473,7 @@ def build_parser() -> argparse.ArgumentParser:
     )
     pa.add_argument("--min-tension", type=float, help="[N] floor of the taut tendons' tensions")
     pa.add_argument("--plot", action="store_true", help="also write solution.png")
+    _sliding_option(pa)
     pa.set_defaults(func=_cmd_actuate)
 
     pf = sub.add_parser(

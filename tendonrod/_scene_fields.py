@@ -91,6 +91,32 @@ def _build(cls, kwargs: dict, key: str):
         raise SceneFileError(key, str(exc)) from exc
 
 
+#: The settings of ``sliding`` (``tendonrod.Scene.sliding``): the direction a frictional
+#: tendon last slid in its channel.
+SLIDINGS = ("in", "out")
+
+
+def _parse_sliding(raw: Any, n_tendons: int, key: str = "sliding"):
+    """``sliding``: one of :data:`SLIDINGS` for every tendon, or an array of them, one
+    per tendon (in the order of the ``[[tendon]]`` tables)."""
+    if isinstance(raw, str):
+        if raw not in SLIDINGS:
+            raise SceneFileError(key, f'expected "in" or "out", got {raw!r}')
+        return raw
+    if not isinstance(raw, list):
+        raise SceneFileError(
+            key, f'expected "in", "out" or an array of them, got {raw!r} ({_kind(raw)})'
+        )
+    if len(raw) != n_tendons:
+        raise SceneFileError(
+            key, f"expected one entry per tendon ({n_tendons}), got {len(raw)}: {raw!r}"
+        )
+    for j, v in enumerate(raw):
+        if v not in SLIDINGS:
+            raise SceneFileError(f"{key}[{j}]", f'expected "in" or "out", got {v!r} ({_kind(v)})')
+    return list(raw)
+
+
 def rotation_from_vector(phi, key: str) -> tuple:
     """The rotation matrix exp([phi]x) (3 rows) of a rotation vector ``phi`` [rad]
     (Rodrigues); SceneFileError naming ``key`` when it is not 3 finite numbers."""

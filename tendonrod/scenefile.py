@@ -9,6 +9,8 @@ problem, e.g. ``robot.toml: tendon[2].displacement: expected a number, got
     title = "free text, optional"
     gravity = [0.0, 0.0, -9.81]   # [m/s^2] world frame, optional: weighs rod.density
                                   # [kg/m^3] and the [[mass]] point masses
+    sliding = "in"        # tendons with friction: "in" (toward the actuator, default) or
+                          # "out"; or one per tendon, e.g. ["in", "out"]
 
     [rod]                 # tr.Rod: length [m], diameter [m], E [Pa], G [Pa],
     length = 0.2          # optional overrides EI, GJ [N m^2], EA, GA [N];
@@ -32,6 +34,7 @@ problem, e.g. ``robot.toml: tendon[2].displacement: expected a number, got
     EA = inf              # [N] axial rigidity; TOML's inf = inextensible (default)
     end = 0.2             # [m] anchor arc length (default: the tip)
     pretension = 0.0      # [N]
+    friction = 0.0        # [-] Coulomb coefficient between tendon and channel (>= 0)
     displacement = 0.005  # [m] (> 0 retracts)  -- exactly one of
     # tension = 1.0       # [N]                 -- displacement / tension
 
@@ -92,6 +95,7 @@ from ._scene_fields import (
     _kind,
     _number,
     _parse_pose,
+    _parse_sliding,
     _table,
     _unknown,
     _vector3,
@@ -156,6 +160,7 @@ TOP_LEVEL_KEYS = (
     "load",
     "distributed",
     "gravity",
+    "sliding",
     "mass",
     "disks",
     "base",
@@ -176,6 +181,7 @@ _TENDON_NUMBERS = (
     "tension",
     "turns",
     "pitch",
+    "friction",
 )
 _TENDON_STRINGS = ("routing",)
 _ROUTINGS = ("parallel", "converging", "helical", "spline", "disks")
@@ -540,6 +546,8 @@ def parse_scene(data: Mapping[str, Any], source: str | None = None) -> SceneSpec
         scene_kw = {"robot": robot, "displacement": qs, "tension": taus, "loads": loads}
         if "gravity" in data:
             scene_kw["gravity"] = _vector3(data["gravity"], "gravity")
+        if "sliding" in data:
+            scene_kw["sliding"] = _parse_sliding(data["sliding"], len(tendons))
         scene = _build(Scene, scene_kw, "scene")
         options = _parse_options(data["options"]) if "options" in data else None
         target = _parse_target(data["target"], len(tendons)) if "target" in data else None

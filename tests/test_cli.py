@@ -57,6 +57,10 @@ def test_usage_errors_exit_2(capsys):
         (("offset = 0.01 ", 'offset = "1cm" '), "tendon[0].offset"),  # wrong type
         (("s = 0.2 ", "s = 0.5 "), "load[0].s"),  # bad value
         (("EA = inf ", "EA = -1.0 "), "tendon[0]"),  # bad value (library)
+        (("EA = inf ", 'friction = "high"\nEA = inf '), "tendon[0].friction"),  # wrong type
+        (("EA = inf ", "friction = -0.2\nEA = inf "), "tendon[0]"),  # bad value (library)
+        (("title = ", 'sliding = "sideways"\ntitle = '), "sliding"),  # not in / out
+        (("title = ", 'sliding = ["in", "out"]\ntitle = '), "sliding"),  # one tendon, two
     ],
 )
 def test_solve_malformed_scene(tmp_path, capsys, edit, key):
@@ -123,6 +127,73 @@ def test_solve_spatial_example(tmp_path, capsys):
     assert summary["tension_N"][1] == 0.0 and summary["slack_m"][1] > 0
     assert summary["tension_N"][2] > 0 and summary["slack_m"][2] == 0.0
     assert np.load(tmp_path / "solution.npz")["s"].shape == (51,)  # [options] nodes = 51 honoured
+
+
+@pytest.mark.parametrize("sliding", [None, "in", "out"])
+def test_solve_friction_example(tmp_path, capsys, sliding):
+    """The friction example is the exact planar solution of docs/model.md, Section 3:
+    tau(s) = tau0 / (1 + sigma mu r tau0 s/EI), theta(L) = ln(1 + sigma mu r tau0 L/EI) /
+    (sigma mu); --sliding overrides the file's "in"."""
+    args = ["solve", str(EXAMPLES / "friction_robot.toml"), "--out", str(tmp_path)]
+    rc, stdout, _ = run_main(args + (["--sliding", sliding] if sliding else []), capsys)
+    assert rc == EXIT_OK, stdout
+    summary = json.loads((tmp_path / "solution.json").read_text())
+    arrays = np.load(tmp_path / "solution.npz")
+    mu, r, tau0, L = 0.3, 0.01, 2.0, 0.2
+    EI = 207e9 * math.pi * 0.8e-3**4 / 64
+    sigma = -1.0 if sliding == "out" else 1.0
+    c = sigma * mu * r * tau0 / EI
+    assert summary["friction"] == [mu] and summary["sliding"] == [sliding or "in"]
+    assert summary["tension_N"] == [tau0]  # tension-controlled: the actuator's, as given
+    # the default tolerance (1e-10, scaled) and the verified step count: 1e-9 relative
+    # leaves a margin over the ~1e-11 the solver reaches (tests/test_friction.py: 1e-10
+    # at tol 1e-12)
+    assert summary["anchor_tension_N"][0] == pytest.approx(tau0 / (1 + c * L), rel=1e-9)
+    tau_s = arrays["tendon_tension"][:, 0]
+    np.testing.assert_allclose(tau_s, tau0 / (1 + c * arrays["s"]), rtol=1e-9, atol=0)
+    theta = _tip_angle(arrays["rotation"][-1])
+    assert abs(theta - math.log1p(c * L) / (sigma * mu)) <= 1e-9
+    # friction is not conservative: no stability verdict, and the reason is given
+    assert summary["stable"] is None and "friction" in summary["stability_reason"]
+    assert "at the anchor" in stdout and "not tested" in stdout
+    assert f"({sliding or 'in'})" in stdout
+
+
+def test_solve_frictionless_records_stability(tmp_path, capsys):
+    rc, stdout, _ = run_main(
+        ["solve", str(EXAMPLES / "slack_robot.toml"), "--out", str(tmp_path)], capsys
+    )
+    assert rc == EXIT_OK, stdout
+    summary = json.loads((tmp_path / "solution.json").read_text())
+    # without friction the tension is uniform: the anchor's is the actuator's, exactly
+    assert summary["anchor_tension_N"] == summary["tension_N"]
+    assert summary["friction"] == [0.0] and summary["stable"] is True
+    assert "at the anchor" not in stdout  # nothing about friction on a frictionless scene
+
+
+def test_actuate_with_sliding(tmp_path, capsys):
+    # the friction example's tension is the control: 45 degrees sliding out takes less
+    # tension than sliding in (friction adds tension toward the anchor)
+    tensions = {}
+    for sliding in ("in", "out"):
+        out = tmp_path / sliding
+        rc, stdout, _ = run_main(
+            ["actuate", str(EXAMPLES / "friction_robot.toml"), "--out", str(out)]
+            + ["--tip-angle", "45deg", "--sliding", sliding],
+            capsys,
+        )
+        assert rc == EXIT_OK, stdout
+        summary = json.loads((out / "solution.json").read_text())
+        assert summary["sliding"] == [sliding]
+        tensions[sliding] = summary["tension_N"][0]
+        # the exact solution inverted: theta = ln(1 + c L)/(sigma mu) = pi/4 gives
+        # tau0 = EI (exp(sigma mu pi/4) - 1) / (sigma mu r L); 1e-8 relative is the
+        # target tolerance 1e-10 rad over d(theta)/d(ln tau0) ~ 1 with a margin
+        sigma = 1.0 if sliding == "in" else -1.0
+        EI = 207e9 * math.pi * 0.8e-3**4 / 64
+        exact = EI * math.expm1(sigma * 0.3 * math.pi / 4) / (sigma * 0.3 * 0.01 * 0.2)
+        assert tensions[sliding] == pytest.approx(exact, rel=1e-8)
+    assert tensions["out"] < tensions["in"]
 
 
 def test_solve_not_converged_exit_1(tmp_path, capsys):

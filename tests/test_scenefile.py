@@ -81,6 +81,21 @@ def test_full_scene_maps_every_key(tmp_path):
     assert spec.options.nodes == 21 and spec.title == "t"
 
 
+def test_friction_and_sliding(tmp_path):
+    text = _replace(GOOD, 'title = "t"', 'title = "t"\nsliding = ["out", "in"]')
+    text = _replace(text, "displacement = 0.002", "displacement = 0.002\nfriction = 0.4")
+    sc = load_scene(write(tmp_path, text)).scene
+    assert [t.friction for t in sc.robot.tendons] == [0.4, 0.0]  # default: frictionless
+    assert sc.sliding == ("out", "in")
+    # one string sets every tendon; no key: the default "in"
+    text = _replace(GOOD, 'title = "t"', 'title = "t"\nsliding = "out"')
+    assert load_scene(write(tmp_path, text, "one.toml")).scene.sliding == ("out", "out")
+    assert load_scene(write(tmp_path, GOOD, "none.toml")).scene.sliding == ("in", "in")
+    spec = load_scene(EXAMPLES / "friction_robot.toml")
+    assert spec.scene.robot.tendons[0].friction == 0.3 and spec.scene.sliding == ("in",)
+    assert spec.scene.tension == (2.0,)
+
+
 def _replace(text, old, new):
     assert old in text, old
     return text.replace(old, new, 1)
@@ -158,6 +173,32 @@ BAD = [
         "unknown key",
     ),
     ("syntax error", ("length = 0.2", "length = = 0.2"), "(syntax)", "not valid TOML"),
+    (
+        "friction not a number",
+        ("displacement = 0.002", 'displacement = 0.002\nfriction = "high"'),
+        "tendon[0].friction",
+        "expected a number",
+    ),
+    (
+        "negative friction (library check)",
+        ("displacement = 0.002", "displacement = 0.002\nfriction = -0.1"),
+        "tendon[0]",
+        "friction",
+    ),
+    ("unknown sliding", ('title = "t"', 'title = "t"\nsliding = "up"'), "sliding", '"in" or "out"'),
+    ("sliding a number", ('title = "t"', 'title = "t"\nsliding = 1'), "sliding", "array"),
+    (
+        "sliding one short",
+        ('title = "t"', 'title = "t"\nsliding = ["in"]'),
+        "sliding",
+        "one entry per tendon (2)",
+    ),
+    (
+        "sliding entry",
+        ('title = "t"', 'title = "t"\nsliding = ["in", "outward"]'),
+        "sliding[1]",
+        "outward",
+    ),
 ]
 
 

@@ -19,11 +19,11 @@ import pytest
 
 import tendonrod as tr
 from tendonrod.bench.common import FIG11, EI_of, read_csv, solve_quiet
-from tendonrod.bench.stress import GOOD, run_stress
-from tendonrod.bench.stress_cases import one_tendon_scene, stress_cases
+from tendonrod.bench.stress import GOOD, all_stress_cases, run_stress
+from tendonrod.bench.stress_cases import one_tendon_scene
 from tendonrod.bench.verify import BALANCE_TOL, REFINE_TOL, global_balance, verify
 
-QUICK = [c for c in stress_cases() if c.quick]
+QUICK = [c for c in all_stress_cases() if c.quick]
 #: Per-case limit [s]: the slowest quick case (a 25-step load ramp with verification)
 #: takes a few seconds; 120 s only catches hangs on a loaded 2-core machine.
 TIMEOUT = 120.0

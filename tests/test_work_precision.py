@@ -188,6 +188,32 @@ def test_fig11a_core_matches_independent_reference():
     assert wp.tip_error(sc, sol.tip_position, ref) < 1e-9
 
 
+@pytest.mark.parametrize("name", ["friction_exact", "friction_loaded"])
+def test_friction_scene_references(name):
+    """The friction scenes' references: the exact tip by Gauss-Legendre quadrature
+    against SciPy's adaptive quad of the same theta(s), and the free-body shooting;
+    the default solve lands on both."""
+    from scipy.integrate import quad
+
+    from tendonrod.bench.stress_friction import exact_friction_state
+    from tendonrod.bench.wp_friction import EXACT
+
+    sc = [s for s in wp.wp_scenes() if s.name == name][0]
+    ref = sc.reference()
+    if name == "friction_exact":
+        th = exact_friction_state(*EXACT)[2]
+        L = FIG17["L"]
+        x = quad(lambda s: math.sin(float(th(s))), 0.0, L, epsabs=1e-14, limit=200)[0]
+        z = quad(lambda s: math.cos(float(th(s))), 0.0, L, epsabs=1e-14, limit=200)[0]
+        # both quadratures to ~1e-14 m; 1e-12 m is their agreement with margin
+        assert np.max(np.abs(ref - [x, 0.0, z])) < 1e-12
+    sol = solve_quiet(sc.scene, tr.Options())
+    assert sol.success, sol.message
+    # the default tolerance 1e-10 and automatic steps: 1e-9 of the tip is its accuracy
+    # with margin (the work-precision summary records ~1e-14)
+    assert wp.tip_error(sc, sol.tip_position, ref) < 1e-9
+
+
 # --------------------------------------------------------------------------- harness
 def test_work_precision_command_quick(tmp_path):
     """The quick benchmark writes the CSV (required columns, one row per scene x method

@@ -17,6 +17,7 @@ from .common import solve_quiet, write_csv
 from .plots import plot_stress
 from .stress_asbuilt import asbuilt_cases
 from .stress_cases import StressCase, stress_cases
+from .stress_friction import friction_cases
 from .verify import verify
 
 __all__ = [
@@ -32,8 +33,9 @@ __all__ = [
 
 def all_stress_cases() -> list[StressCase]:
     """Every stress case: :func:`~tendonrod.bench.stress_cases.stress_cases`, then the
-    group of robots as built (:mod:`tendonrod.bench.stress_asbuilt`)."""
-    return stress_cases() + asbuilt_cases(StressCase)
+    groups of robots as built (:mod:`tendonrod.bench.stress_asbuilt`) and of channel
+    friction (:mod:`tendonrod.bench.stress_friction`)."""
+    return stress_cases() + asbuilt_cases(StressCase) + friction_cases(StressCase)
 
 
 def run_case(case: StressCase) -> dict:

@@ -4,7 +4,9 @@ Solves a fixed set of scenes (circle under an end moment, elastica under a tip
 force, a small load on a straight robot, the paper's Fig. 11 a-c, the Fig. 17
 slack scene past its critical load, a three-tendon robot with very stiff tendons
 under an out-of-plane load, and robots as built (:mod:`tendonrod.bench.wp_asbuilt`: a
-helical tendon, a precurved backbone, a horizontally mounted robot with disk masses)) with every integrator (rk4 and rk8 over a range of
+helical tendon, a precurved backbone, a horizontally mounted robot with disk masses), and
+channel friction (:mod:`tendonrod.bench.wp_friction`: the exact planar solution, a loaded
+displacement-controlled tendon)) with every integrator (rk4 and rk8 over a range of
 step counts, the adaptive integrator over a range of rtol) and every Jacobian
 option, and records the relative tip error against an exact, closed-form or
 independently converged reference (:mod:`tendonrod.bench.references`,
@@ -32,6 +34,7 @@ from .common import FIG11, FIG17, EI_of, read_csv, rod_of, solve_quiet, time_sol
 from .plots import plot_work_precision
 from .reference_robot import from_scene
 from .wp_asbuilt import asbuilt_scenes
+from .wp_friction import friction_scenes
 
 
 def three_tendon_actuation(EI, L, r, EA, pretension, theta):
@@ -74,6 +77,7 @@ def wp_scenes() -> list[WPScene]:
         + _fig11_scenes()
         + _slack_and_stiff_scenes()
         + asbuilt_scenes(WPScene)
+        + friction_scenes(WPScene)
     )
 
 
