@@ -91,6 +91,9 @@ enum {
 /* ... and at least TR_AUTO_PER_FRIC times that per unit of the friction's exponent
  * sum mu theta (measured: mu theta = 4.5 converges from 32 rk8 steps, not 16) */
 #define TR_AUTO_PER_FRIC 4.0
+/* ... and a frictional solve that fails there tries again at this many times the steps
+ * (tr_solve.c) */
+#define TR_FRIC_REFINE 4
 /* Largest step count the step verification refines to. */
 #define TR_STEP_CAP 8192
 /* Step refinement aims the Richardson-predicted truncation at this fraction of tol. */

@@ -275,6 +275,41 @@ static int soften_and_stiffen(const tr_model *m, tr_data *d)
  * failed retries with that direction differenced on its own and steps that may grow
  * with the tension (d->shared_mode): from the guess or cold, by continuation, then from
  * softer tendons. */
+/* A model with channel friction that failed at the automatic step count is solved again by
+ * continuation at TR_FRIC_REFINE times the steps, at most twice: a tendon sliding out has
+ * its tension grow like 1 / (s* - s) toward the tip as its path nears the centre of
+ * curvature, which coarse steps do not resolve, and the discrete equations then have no
+ * solution near the true one (measured: a Cosserat rod at r kappa(L) = 0.99 fails from
+ * any start at 8-32 rk8 steps and converges at 48). */
+static int solve_finer(const tr_model *m, tr_data *d, int status)
+{
+    char first[TR_MSGLEN], second[TR_MSGLEN];
+    int round, st = status;
+    if (!(status < 0 && status != TR_EMAXFEV && !d->stop && m->nfric && d->opt.steps == 0 &&
+          d->opt.integrator != TR_ADAPTIVE && d->opt.continuation && d->opt.max_continuation > 0))
+        return status;
+    memcpy(first, d->message, TR_MSGLEN);
+    for (round = 0; round < 2 && d->steps * TR_FRIC_REFINE <= TR_STEP_CAP; round++) {
+        /* each attempt has max_continuation stages of its own; all are counted */
+        const int spent = d->cont_steps;
+        d->steps *= TR_FRIC_REFINE;
+        d->have_J = 0;
+        d->cont_steps = 0;
+        st = tr_continuation(m, d);
+        d->cont_steps += spent;
+        if (st == TR_OK) {
+            d->via_path = 1;
+            return TR_OK;
+        }
+        if (st == TR_EMAXFEV || d->stop) break;
+    }
+    if (d->stop) return d->stop;
+    if (st == status) return status;
+    memcpy(second, d->message, TR_MSGLEN);
+    tr_set_message(d, "%s; then at %d steps: %s", first, d->steps, second);
+    return st;
+}
+
 static int solve_shared(const tr_model *m, tr_data *d, int status, const double *guess)
 {
     char first[TR_MSGLEN];
@@ -359,12 +394,11 @@ static void diagnose_stiff(const tr_model *m, tr_data *d, int status)
  * rate 1 - kappa r vanishes and the tendon would pass the centre of curvature.  A failed
  * solve whose last iterate loads a tendon with more than TR_CURVATURE_HINT of that says
  * so (load paths that need more stall at 0.96-0.99). */
-static void diagnose_curvature(const tr_model *m, tr_data *d, int status)
+static void diagnose(const tr_model *m, tr_data *d, int status)
 {
     char first[TR_MSGLEN], named[TR_MSGLEN];
     double rate;
     int i;
-    if (TR_SUCCEEDED(status) || d->stop || status == TR_ENOEQUILIBRIUM) return;
     /* the closest approach of a tendon to the centre of curvature where a load path
      * stalled, or on the last iterate */
     d->lam_act = d->lam_load = 1.0;
@@ -397,6 +431,21 @@ static void diagnose_curvature(const tr_model *m, tr_data *d, int status)
                        i, tau, ratio, m->EI / (r * r), first);
         return;
     }
+}
+
+/* The diagnosis above for a failed solve, also one whose work budget ran out (its walk of
+ * the last iterate is one more integration, as the final outputs are); not after an
+ * interrupt. */
+static void diagnose_curvature(const tr_model *m, tr_data *d, int status)
+{
+    const int stop = d->stop, finishing = d->finishing;
+    if (TR_SUCCEEDED(status) || status == TR_ENOEQUILIBRIUM) return;
+    if (stop && stop != TR_EBUDGET) return;
+    d->stop = TR_OK;
+    d->finishing = 1;
+    diagnose(m, d, status);
+    if (!d->stop) d->stop = stop;
+    d->finishing = finishing;
 }
 
 /* A model compiled for other loads (a Problem, a sweep) keeps its shooting segments; when
@@ -546,6 +595,7 @@ static int solve(const tr_model *m, tr_data *d, const double *guess, const doubl
     status = solve_direct(m, d, guess, jac, from_last, &forced);
     if (status == TR_EINVAL) return d->status = status;
     status = solve_continuation(m, d, status, forced);
+    status = solve_finer(m, d, status);
     status = solve_shared(m, d, status, guess);
     status = tr_branch(m, d, status, !guess && !from_last);
     if (status >= 0 && d->opt.steps == 0 && d->opt.integrator != TR_ADAPTIVE &&

@@ -221,8 +221,17 @@ def _loaded_cases(StressCase) -> list:
                     check=_reference_check(mu, sl, F, kind, val, EA),
                 )
             )
-    # a Cosserat backbone under the first two loads: the global balance check only
-    for mu, sl, F, kind, val, EA in LOADED[:2]:
+    # a Cosserat backbone under the first load and a milder second one: the global balance
+    # check only.  The second load itself brings the anchor to r kappa(L) = 0.993 (Kirchhoff:
+    # verified at 206 steps); there the Cosserat rod's tension, growing like 1/(s* - s)
+    # toward the tip, leaves a truncation of 3e-9 at the step cap: counted as beyond the
+    # model's reach, a failure that must name the tendon at the centre of curvature
+    cosserat = (
+        LOADED[0] + (True,),
+        (1.0, "out", (-0.4, -0.2), "displacement", 0.012, math.inf, True),
+        LOADED[1] + (False,),
+    )
+    for mu, sl, F, kind, val, EA, ok in cosserat:
         cases.append(
             StressCase(
                 f"friction/loaded/mu={mu:g}/{sl}/F=({F[0]:g},{F[1]:g})N/{kind}={val:g}/cosserat",
@@ -233,6 +242,8 @@ def _loaded_cases(StressCase) -> list:
                         Options(),
                     )
                 ),
+                well_posed=ok,
+                expect_words=() if ok else KAPPA_R_WORDS,
             )
         )
     return cases
