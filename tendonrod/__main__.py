@@ -479,8 +479,9 @@ def build_parser() -> argparse.ArgumentParser:
     pf = sub.add_parser(
         "figures",
         help="regenerate the paper's figures as PNG plus index.md",
-        description="Regenerate the paper's figures (1, 3, 6-8, 10-18, 20-23) as PNG "
-        "files with an index.md listing files and captions.",
+        description="Regenerate the paper's figures (1, 3, 6-8, 10-18, 20-23) and the "
+        "friction study its Fig. 25 asks for (fig25, fig25_hysteresis) as PNG files with an "
+        "index.md listing files and captions.",
     )
     pf.add_argument("--out", required=True, help="output directory (created if missing)")
     pf.add_argument(
