@@ -38,15 +38,17 @@ def _scenes(mu: float) -> dict:
     rod11 = tr.Rod(length=0.1, diameter=1.04e-3, E=210e9, G=80e9, kirchhoff=True)
     r = 0.01
     EA = 50.0 * 3 * rod11.bending_stiffness / r**2
-    tendons = [
-        tr.Tendon(offset=r, angle=2 * math.pi * i / 3, EA=EA, friction=mu) for i in range(3)
-    ]
+    tendons = [tr.Tendon(offset=r, angle=2 * math.pi * i / 3, EA=EA, friction=mu) for i in range(3)]
     fig11c = tr.Scene(
         tr.Robot(rod11, tendons),
         displacement=[r * math.pi / 2 * 0.98, -0.001, -0.001],
         loads=[tr.PointLoad(s=0.1, force=(0.0, 0.5, 0.0))],
     )
-    return {"fig17 planar": (fig17, False), "fig17 spatial": (fig17, True), "fig11c": (fig11c, True)}
+    return {
+        "fig17 planar": (fig17, False),
+        "fig17 spatial": (fig17, True),
+        "fig11c": (fig11c, True),
+    }
 
 
 def _time(fn, n: int) -> float:
@@ -86,8 +88,10 @@ def main(argv=None) -> int:
                 rows[name][label].append(measure(scene, spatial, args.n))
         print(f"round {k + 1}/{args.rounds} done", file=sys.stderr)
     out = []
-    print(f"{'scene':16s} {'eval mu=0':>10s} {'eval mu=.3':>11s} {'ratio':>6s} "
-          f"{'cold mu=0':>10s} {'cold mu=.3':>11s} {'ratio':>6s}   [us, medians]")
+    print(
+        f"{'scene':16s} {'eval mu=0':>10s} {'eval mu=.3':>11s} {'ratio':>6s} "
+        f"{'cold mu=0':>10s} {'cold mu=.3':>11s} {'ratio':>6s}   [us, medians]"
+    )
     for name, r in rows.items():
         rec = {"scene": name}
         for key in ("eval_us", "cold_us"):

@@ -430,8 +430,10 @@ static int rhs_spatial(const tr_model *m, const tr_data *d, double s, const doub
         RR[3] = RR[1];
         if (sys6_setup(&q, sr, sr2, sc, RR, TQ, QQ, TT) != 0 || sys6_solve(&q, rhs, out) != 0)
             return GSL_EBADFUNC;
+        /* a friction iteration that does not settle (a trial state of an adaptive step far
+         * off the solution) asks the adaptive integrator for a smaller step */
         if (nfw > 0 && friction_spatial(&q, fw, nfw, m->L, rhs, out, dy + fb, d->fric_g) != 0)
-            return GSL_EBADFUNC;
+            return GSL_FAILURE;
         memcpy(dy + TR_Y_N, out, 6 * sizeof(double));
     }
 
@@ -630,7 +632,7 @@ static int rhs_planar(const tr_model *m, const tr_data *d, double s, const doubl
         if (sys3_solve(&q, rr, out) != 0) return GSL_EBADFUNC;
         if (nfw > 0 &&
             friction_planar(&q, fw, nfw, m->L, rr, out, dy + TR_YP_LEN + nlen, d->fric_g) != 0)
-            return GSL_EBADFUNC;
+            return GSL_FAILURE; /* as in rhs_spatial */
         dy[TR_YP_N1] = out[0];
         dy[TR_YP_N3] = out[1];
         dy[TR_YP_M] = out[2];
