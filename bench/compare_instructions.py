@@ -8,7 +8,8 @@ difference of the two totals over n2 - n1 is the count of one solve, imports and
 start-up excluded.  OpenBLAS is held to one thread (its idle threads spin, and callgrind
 counts the spinning).  Scenes: the Fig. 11c robot (spatial, three extensible tendons,
 out-of-plane load) and the Fig. 17 robot (planar, one tendon, a tip load), both
-frictionless, cold ``tr.solve`` with default options.
+frictionless, cold ``tr.solve`` with default options; the latter also as a Cosserat rod
+with EA = 3e3 N tendons.
 
     .venv/bin/python bench/compare_instructions.py --old /path/to/old/checkout
 
@@ -39,6 +40,11 @@ sc = tr.Scene(robot, displacement=q, loads=[tr.PointLoad(s=L, force=(0, 0.5, 0))
     "fig17 planar cold": r"""
 rod = tr.Rod(length=0.2, diameter=0.8e-3, E=207e9, G=79.6e9, kirchhoff=True)
 robot = tr.Robot(rod, [tr.Tendon(offset=0.01)])
+sc = tr.Scene(robot, displacement=[0.015], loads=[tr.PointLoad(s=0.2, force=(0, 0, -0.2))])
+""",
+    "fig17 cosserat cold": r"""
+rod = tr.Rod(length=0.2, diameter=0.8e-3, E=207e9, G=79.6e9, kirchhoff=False)
+robot = tr.Robot(rod, [tr.Tendon(offset=0.01, EA=3e3)])
 sc = tr.Scene(robot, displacement=[0.015], loads=[tr.PointLoad(s=0.2, force=(0, 0, -0.2))])
 """,
 }

@@ -71,11 +71,13 @@ static int inv3(const double M[9], double Mi[9])
  * code they replace was (bench/compare_core.py; callgrind: the frictionless kernel's
  * instructions as before). */
 #if defined(__GNUC__)
-#define TR_HOT_INLINE static inline __attribute__((always_inline))
-#define TR_COLD       static __attribute__((noinline))
+#define TR_HOT_INLINE  static inline __attribute__((always_inline))
+#define TR_COLD        static __attribute__((noinline, cold))
+#define TR_UNLIKELY(x) __builtin_expect(!!(x), 0)
 #else
-#define TR_HOT_INLINE static inline
-#define TR_COLD       static
+#define TR_HOT_INLINE  static inline
+#define TR_COLD        static
+#define TR_UNLIKELY(x) (x)
 #endif
 
 /* A frictional tendon's rates beyond its deficit (dl: the state derivatives after the base
@@ -89,6 +91,26 @@ TR_COLD void fric_rates(const tr_data *d, int i, const tr_tendon *td, double tau
     const double ea = td->EA * d->ea_scale;
     if (slot >= 0 && isfinite(td->EA)) dl[slot] += nw * (d->tau[i] - tau) / (ea + tau);
     if (d->rec) dl[nlen + nf + td->fric_index] = isfinite(td->EA) ? nw / (1.0 + tau / ea) : nw;
+}
+
+/* The tendons' local tensions at y (tr_tensions_at), out of line: the frictionless kernel
+ * reads d->tau itself. */
+TR_COLD const double *fric_tensions(const tr_model *m, const tr_data *d, const double *y)
+{
+    return tr_tensions_at(m, d, y);
+}
+
+/* A frictional taut tendon's row of the friction iteration (TR_FRIC_NCOL numbers, see
+ * tr_internal.h): its slot, slide mu, tau/|w|, t (3), r (3), a_i (3). */
+TR_COLD void fric_record(double *f, const tr_data *d, const tr_tendon *td, double ct,
+                         const double t[3], const double r[3], const double ai[3])
+{
+    f[0] = td->fric_index;
+    f[1] = td->slide * td->mu * d->lam_fric;
+    f[2] = ct;
+    memcpy(f + 3, t, 3 * sizeof(double));
+    memcpy(f + 6, r, 3 * sizeof(double));
+    memcpy(f + 9, ai, 3 * sizeof(double));
 }
 
 /* Zero the friction states' rates (dfric: nf deficits, then nf rest lengths in the
@@ -264,6 +286,7 @@ static int rhs_spatial(const tr_model *m, const tr_data *d, double s, const doub
     const int nlen = d->rec ? m->nt : m->ndisp;
     const int a0 = m->seg_act_start[d->seg], a1 = m->seg_act_start[d->seg + 1];
     const int nf = m->nfric, fb = TR_Y_LEN + nlen;
+    const double *taus = TR_UNLIKELY(nf) ? fric_tensions(m, d, y) : d->tau;
     double *fw = d->fric_ws;
     int nfw = 0;
 
@@ -275,14 +298,14 @@ static int rhs_spatial(const tr_model *m, const tr_data *d, double s, const doub
         v[2] = 1.0 + ev3;
     }
     for (j = 0; j < nlen; j++) dy[TR_Y_LEN + j] = 0.0;
-    if (nf) fric_reset(d, nf, dy + TR_Y_LEN + nlen);
+    if (TR_UNLIKELY(nf)) fric_reset(d, nf, dy + TR_Y_LEN + nlen);
 
     for (c = a0; c < a1; c++) {
         const int i = m->seg_act[c];
         const tr_tendon *td = &m->tendon[i];
         const int lin = !gen || td->route == TR_ROUTE_LINEAR;
         double r0, r1, rp0, rp1, rpp[2] = {0.0, 0.0};
-        const double tau = nf ? tr_tension_at(m, d, i, y) : d->tau[i];
+        const double tau = taus[i];
         const int slot = d->rec ? i : td->len_index;
         if (lin) {
             const double rho = td->a * s + td->b;
@@ -322,7 +345,8 @@ static int rhs_spatial(const tr_model *m, const tr_data *d, double s, const doub
             dy[TR_Y_LEN + slot] =
                 (2.0 * (wr0 * d0 + wr1 * d1 + wr2 * d2) + d0 * d0 + d1 * d1 + d2 * d2) / (nw + c);
         }
-        if (nf && td->fric_index >= 0) fric_rates(d, i, td, tau, nw, dy + TR_Y_LEN, slot, nlen, nf);
+        if (TR_UNLIKELY(nf) && td->fric_index >= 0)
+            fric_rates(d, i, td, tau, nw, dy + TR_Y_LEN, slot, nlen, nf);
         if (!(tau > 0.0)) continue;
         coupled = 1;
         t[0] = w0 / nw;
@@ -348,14 +372,9 @@ static int rhs_spatial(const tr_model *m, const tr_data *d, double s, const doub
         ai[0] = ct * (cv[0] - t[0] * tc);
         ai[1] = ct * (cv[1] - t[1] * tc);
         ai[2] = ct * (cv[2] - t[2] * tc);
-        if (nf && td->fric_index >= 0) {
-            double *f = fw + TR_FRIC_NCOL * nfw++;
-            f[0] = td->fric_index;
-            f[1] = td->slide * td->mu * d->lam_fric;
-            f[2] = ct;
-            f[3] = t[0], f[4] = t[1], f[5] = t[2];
-            f[6] = r0, f[7] = r1, f[8] = 0.0;
-            f[9] = ai[0], f[10] = ai[1], f[11] = ai[2];
+        if (TR_UNLIKELY(nf) && td->fric_index >= 0) {
+            const double rr[3] = {r0, r1, 0.0};
+            fric_record(fw + TR_FRIC_NCOL * nfw++, d, td, ct, t, rr, ai);
         }
         asum[0] += ai[0];
         asum[1] += ai[1];
@@ -432,8 +451,11 @@ static int rhs_spatial(const tr_model *m, const tr_data *d, double s, const doub
             return GSL_EBADFUNC;
         /* a friction iteration that does not settle (a trial state of an adaptive step far
          * off the solution) asks the adaptive integrator for a smaller step */
-        if (nfw > 0 && friction_spatial(&q, fw, nfw, m->L, rhs, out, dy + fb, d->fric_g) != 0)
-            return GSL_FAILURE;
+        if (TR_UNLIKELY(nfw > 0)) {
+            sys6 qf = q; /* as in rhs_planar */
+            if (friction_spatial(&qf, fw, nfw, m->L, rhs, out, dy + fb, d->fric_g) != 0)
+                return GSL_FAILURE;
+        }
         memcpy(dy + TR_Y_N, out, 6 * sizeof(double));
     }
 
@@ -451,7 +473,7 @@ typedef struct {
     double EI, H, G1, G3, ks1, ks3, M3[9];
 } sys3;
 
-TR_HOT_INLINE int sys3_solve(const sys3 *q, const double rr[3], double out[3])
+TR_HOT_INLINE int sys3_solve(sys3 *q, const double rr[3], double out[3], int keep)
 {
     if (q->kirch) {
         const double mp = rr[2] / (1.0 + q->H / q->EI);
@@ -460,18 +482,19 @@ TR_HOT_INLINE int sys3_solve(const sys3 *q, const double rr[3], double out[3])
         out[1] = rr[1] - q->G3 * mp / q->EI;
         return 0;
     } else {
-        double M3[9];
-        memcpy(M3, q->M3, sizeof M3);
+        /* the elimination overwrites its matrix: on a copy when it is solved again */
+        double M3[9], *M = q->M3;
+        if (keep) M = memcpy(M3, q->M3, sizeof M3);
         out[0] = rr[0];
         out[1] = rr[1];
         out[2] = rr[2];
-        return tru_solve_dense(3, M3, out) != 0 ? -1 : 0;
+        return tru_solve_dense(3, M, out) != 0 ? -1 : 0;
     }
 }
 
 /* friction_spatial in the x-z plane: e = (v1', v3' - kap' rho), the friction force
  * tau' (t1, t3) and its moment about y, -rho tau' t3. */
-static int friction_planar(const sys3 *q, double *fw, int nfw, double L, const double rr[3],
+static int friction_planar(sys3 *q, double *fw, int nfw, double L, const double rr[3],
                            double out[3], double *dfric, double *gout)
 {
     int it, c;
@@ -496,7 +519,7 @@ static int friction_planar(const sys3 *q, double *fw, int nfw, double L, const d
         }
         if (done) break; /* out solves the system with these friction loads */
         for (c = 0; c < 3; c++) r3[c] = rr[c] - fr[c];
-        if (sys3_solve(q, r3, out) != 0) return -1;
+        if (sys3_solve(q, r3, out, 1) != 0) return -1;
     }
     if (it == TR_FRIC_ITER) return -1;
     for (c = 0; c < nfw; c++) dfric[(int)fw[TR_FRIC_NCOL * c]] = -fw[TR_FRIC_NCOL * c + 12];
@@ -506,8 +529,8 @@ static int friction_planar(const sys3 *q, double *fw, int nfw, double L, const d
 /* x-z plane, rotation about +y by theta: R = [[c,0,s],[0,1,0],[-s,0,c]].
  * Body vectors (x, z) components, moments about y; tendon offset rho e_x.  Longer than the
  * house's 120 lines for the reason rhs_spatial is: the hot kernel's accumulators. */
-static int rhs_planar(const tr_model *m, const tr_data *d, double s, const double *y, double *dy,
-                      const int gen)
+TR_HOT_INLINE int rhs_planar_body(const tr_model *m, const tr_data *d, double s, const double *y,
+                                  double *dy, const int gen, const int fric)
 {
     const double th = y[TR_YP_TH], n1 = y[TR_YP_N1], n3 = y[TR_YP_N3], m2 = y[TR_YP_M];
     const double *sr = gen ? m->seg_rod + TR_SR_NCOL * d->seg : m->rod_k;
@@ -522,7 +545,8 @@ static int rhs_planar(const tr_model *m, const tr_data *d, double s, const doubl
     int coupled = 0, j, c;
     const int nlen = d->rec ? m->nt : m->ndisp;
     const int c0 = m->seg_act_start[d->seg], c1 = m->seg_act_start[d->seg + 1];
-    const int nf = m->nfric;
+    const int nf = fric ? m->nfric : 0;
+    const double *taus = TR_UNLIKELY(nf) ? fric_tensions(m, d, y) : d->tau;
     double *fw = d->fric_ws;
     int nfw = 0;
     double r1, r3, r2;
@@ -534,7 +558,7 @@ static int rhs_planar(const tr_model *m, const tr_data *d, double s, const doubl
         v3 = 1.0 + ev3;
     }
     for (j = 0; j < nlen; j++) dy[TR_YP_LEN + j] = 0.0;
-    if (nf) fric_reset(d, nf, dy + TR_YP_LEN + nlen);
+    if (TR_UNLIKELY(nf)) fric_reset(d, nf, dy + TR_YP_LEN + nlen);
 
     for (c = c0; c < c1; c++) {
         const int i = m->seg_act[c];
@@ -543,7 +567,7 @@ static int rhs_planar(const tr_model *m, const tr_data *d, double s, const doubl
         const double rp = td->cphi * td->a;
         const double w1 = v1 + rp, w3 = v3 - kap * rho;
         const double nw = sqrt(w1 * w1 + w3 * w3);
-        const double tau = nf ? tr_tension_at(m, d, i, y) : d->tau[i];
+        const double tau = taus[i];
         const int slot = d->rec ? i : td->len_index;
         if (slot >= 0 && !gen) {
             /* |w| - |w_ref| without cancellation (see rhs_spatial) */
@@ -556,7 +580,7 @@ static int rhs_planar(const tr_model *m, const tr_data *d, double s, const doubl
             const double d1 = v1, d3 = ev3 - dkap * rho;
             dy[TR_YP_LEN + slot] = (2.0 * (rp * d1 + wr3 * d3) + d1 * d1 + d3 * d3) / (nw + c);
         }
-        if (nf && td->fric_index >= 0)
+        if (TR_UNLIKELY(nf) && td->fric_index >= 0)
             fric_rates(d, i, td, tau, nw, dy + TR_YP_LEN, slot, nlen, nf);
         if (!(tau > 0.0)) continue;
         coupled = 1;
@@ -566,14 +590,10 @@ static int rhs_planar(const tr_model *m, const tr_data *d, double s, const doubl
             /* c = u x w + u x r' = (kap w3, -kap (w1 + r')) */
             const double cv1 = kap * w3, cv3 = -kap * (w1 + rp);
             const double ai1 = a11 * cv1 + a13 * cv3, ai3 = a13 * cv1 + a33 * cv3;
-            if (nf && td->fric_index >= 0) {
-                double *f = fw + TR_FRIC_NCOL * nfw++;
-                f[0] = td->fric_index;
-                f[1] = td->slide * td->mu * d->lam_fric;
-                f[2] = tau / nw;
-                f[3] = w1 / nw, f[4] = 0.0, f[5] = w3 / nw;
-                f[6] = rho, f[7] = f[8] = 0.0;
-                f[9] = ai1, f[10] = 0.0, f[11] = ai3;
+            if (TR_UNLIKELY(nf) && td->fric_index >= 0) {
+                const double t[3] = {w1 / nw, 0.0, w3 / nw}, rr[3] = {rho, 0.0, 0.0};
+                const double ai[3] = {ai1, 0.0, ai3};
+                fric_record(fw + TR_FRIC_NCOL * nfw++, d, td, tau / nw, t, rr, ai);
             }
             a1s += ai1;
             a3s += ai3;
@@ -624,15 +644,16 @@ static int rhs_planar(const tr_model *m, const tr_data *d, double s, const doubl
         q.ks3 = kirch ? 0.0 : 1.0 / sr[TR_SR_EA];
         if (!kirch) {
             const double kb = 1.0 / EI;
-            const double M3[9] = {1.0 + A11 * q.ks1, A13 * q.ks3,       G1 * kb,
-                                  A13 * q.ks1,       1.0 + A33 * q.ks3, G3 * kb,
-                                  B1 * q.ks1,        B3 * q.ks3,        1.0 + H * kb};
-            memcpy(q.M3, M3, sizeof M3);
+            q.M3[0] = 1.0 + A11 * q.ks1, q.M3[1] = A13 * q.ks3, q.M3[2] = G1 * kb;
+            q.M3[3] = A13 * q.ks1, q.M3[4] = 1.0 + A33 * q.ks3, q.M3[5] = G3 * kb;
+            q.M3[6] = B1 * q.ks1, q.M3[7] = B3 * q.ks3, q.M3[8] = 1.0 + H * kb;
         }
-        if (sys3_solve(&q, rr, out) != 0) return GSL_EBADFUNC;
-        if (nfw > 0 &&
-            friction_planar(&q, fw, nfw, m->L, rr, out, dy + TR_YP_LEN + nlen, d->fric_g) != 0)
-            return GSL_FAILURE; /* as in rhs_spatial */
+        if (sys3_solve(&q, rr, out, nfw > 0) != 0) return GSL_EBADFUNC;
+        if (TR_UNLIKELY(nfw > 0)) {
+            sys3 qf = q; /* a copy: q itself stays in registers on the frictionless path */
+            if (friction_planar(&qf, fw, nfw, m->L, rr, out, dy + TR_YP_LEN + nlen, d->fric_g) != 0)
+                return GSL_FAILURE; /* as in rhs_spatial */
+        }
         dy[TR_YP_N1] = out[0];
         dy[TR_YP_N3] = out[1];
         dy[TR_YP_M] = out[2];
@@ -643,13 +664,29 @@ static int rhs_planar(const tr_model *m, const tr_data *d, double s, const doubl
     return GSL_SUCCESS;
 }
 
+/* The planar kernel compiled twice, without and with friction: the frictionless one is the
+ * kernel as it was before friction (bench/compare_instructions.py). */
+static int rhs_planar(const tr_model *m, const tr_data *d, double s, const double *y, double *dy,
+                      const int gen)
+{
+    return rhs_planar_body(m, d, s, y, dy, gen, 0);
+}
+
+static int rhs_planar_fric(const tr_model *m, const tr_data *d, double s, const double *y,
+                           double *dy, const int gen)
+{
+    return rhs_planar_body(m, d, s, y, dy, gen, 1);
+}
+
 int tr_rhs(double s, const double y[], double dyds[], void *params)
 {
     tr_data *d = (tr_data *)params;
     const tr_model *m = d->model;
     d->spent += m->rhs_work;
     if (m->planar)
-        return m->general ? rhs_planar(m, d, s, y, dyds, 1) : rhs_planar(m, d, s, y, dyds, 0);
+        return m->nfric     ? rhs_planar_fric(m, d, s, y, dyds, m->general)
+               : m->general ? rhs_planar(m, d, s, y, dyds, 1)
+                            : rhs_planar(m, d, s, y, dyds, 0);
     return m->general ? rhs_spatial(m, d, s, y, dyds, 1) : rhs_spatial(m, d, s, y, dyds, 0);
 }
 
