@@ -4,7 +4,7 @@
  * and the internal functions of each layer.
  *
  * Layers (a file calls only into its own layer or the ones below it):
- *   tr_rod.c, tr_integrate.c        right-hand side, integration of one segment
+ *   tr_rod.c, tr_section.c, tr_integrate.c  right-hand side, state at a section, integration of one segment
  *   tr_residual.c                   the shooting residual
  *   tr_guess.c                      cold guess, node guesses, guess <-> unknowns
  *   tr_newton.c, tr_hybrid.c        Jacobian, LU, Broyden, init / iterate / test
@@ -361,11 +361,12 @@ void tr_set_message(tr_data *d, const char *fmt, ...);
 
 /* tr_rod.c */
 int tr_rhs(double s, const double y[], double dyds[], void *params);
+/* tr_section.c */
 /* Unit tangent of tendon i at s (body frame) and its offset r (body frame), for the
  * state y (either layout). */
 void tr_tendon_tangent(const tr_model *m, int i, double s, const double *y, double that[3],
                        double r[3]);
-/* Tendon pulls across a section (see tr_rod.c). */
+/* Tendon pulls across a section (see tr_section.c). */
 void tr_section_pulls(const tr_model *m, const double *tau, int seg, double s, const double nb[3],
                       const double mb[3], double fn[3], double fm[3], double *J6);
 /* Pose (p (3), R (9)), internal force and moment (world) of a state y. */
