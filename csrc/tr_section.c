@@ -10,6 +10,19 @@
 #include "tr_internal.h"
 #include "tru_math.h"
 
+/* Tendon i's unnormalised tangent w = v + u x r + r' (body frame) on segment seg at s, for
+ * the strains u, v; its offset r. */
+static void tendon_w(const tr_model *m, int i, int seg, double s, const double u[3],
+                     const double v[3], double r[3], double w[3])
+{
+    double rp[3];
+    tr_tendon_offset(m, i, seg, s, r, rp);
+    tru_cross3(w, u, r);
+    w[0] += v[0] + rp[0];
+    w[1] += v[1] + rp[1];
+    w[2] += v[2];
+}
+
 void tr_tendon_tangent(const tr_model *m, int i, double s, const double *y, double that[3],
                        double r[3])
 {
@@ -37,17 +50,13 @@ void tr_tendon_tangent(const tr_model *m, int i, double s, const double *y, doub
         const double u[3] = {mb[0] / sr[TR_SR_EI] + sr[TR_SR_U],
                              mb[1] / sr[TR_SR_EI] + sr[TR_SR_U + 1],
                              mb[2] / sr[TR_SR_GJ] + sr[TR_SR_U + 2]};
-        double v[3] = {0.0, 0.0, 1.0}, rp[3];
+        double v[3] = {0.0, 0.0, 1.0};
         if (!m->kirchhoff) {
             v[0] = nb[0] / sr[TR_SR_GA];
             v[1] = nb[1] / sr[TR_SR_GA];
             v[2] = 1.0 + nb[2] / sr[TR_SR_EA];
         }
-        tr_tendon_offset(m, i, seg, s, r, rp);
-        tru_cross3(w, u, r);
-        w[0] += v[0] + rp[0];
-        w[1] += v[1] + rp[1];
-        w[2] += v[2];
+        tendon_w(m, i, seg, s, u, v, r, w);
     }
     nw = tru_norm3(w);
     that[0] = w[0] / nw;
@@ -109,13 +118,9 @@ void tr_section_pulls(const tr_model *m, const double *tau_all, int seg, double 
     for (c = m->seg_act_start[seg]; c < m->seg_act_start[seg + 1]; c++) {
         const int i = m->seg_act[c];
         const double tau = tau_all[i];
-        double r[3], rp[3], w[3], nw, th[3], rt[3];
+        double r[3], w[3], nw, th[3], rt[3];
         if (!(tau > 0.0)) continue;
-        tr_tendon_offset(m, i, seg, s, r, rp);
-        tru_cross3(w, u, r);
-        w[0] += v[0] + rp[0];
-        w[1] += v[1] + rp[1];
-        w[2] += v[2];
+        tendon_w(m, i, seg, s, u, v, r, w);
         nw = tru_norm3(w);
         for (q = 0; q < 3; q++) th[q] = w[q] / nw;
         tru_cross3(rt, r, th);
