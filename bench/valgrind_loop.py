@@ -6,7 +6,8 @@ Exercises every path of the glue and the core that a user reaches:
 - the closed-form ufuncs on scalars, arrays, out=/where=, NaN input, and the
   TypeError path;
 - tr.solve on scenes that converge (planar/spatial, Kirchhoff/Cosserat,
-  displacement/tension control, point and distributed loads, two segments),
+  displacement/tension control, point and distributed loads, two segments, channel
+  friction with a curvature reversal and a mid-length anchor, tr.slip),
   warm starts from a previous solution, tip_only, explicit nodes, every
   integrator, sol.at(s), sol.stable, tr.compliance;
 - solves that fail (iteration cap, impossible displacement) and raise with
@@ -66,6 +67,26 @@ def scenes():
             loads=[tr.PointLoad(s=L, force=(0.3, 0, 0))],
         ),
         tr.Scene(tr.Robot(k, [])),
+        # channel friction: a load that reverses the curvature (the steps split at the
+        # kink), and a frictional tendon anchored mid-length beside a frictionless one
+        tr.Scene(
+            tr.Robot(k, [tr.Tendon(offset=0.01, EA=3e3, friction=0.4)]),
+            displacement=[0.008],
+            sliding="out",
+            loads=[tr.PointLoad(s=L, force=(-0.3, 0, -0.1))],
+        ),
+        tr.Scene(
+            tr.Robot(
+                c,
+                [
+                    tr.Tendon(offset=0.01, friction=0.3, end=0.12),
+                    tr.Tendon(offset=0.01, angle=2.0, EA=2e4),
+                ],
+            ),
+            tension=[1.0, None],
+            displacement=[None, 0.002],
+            loads=[tr.PointLoad(s=L, force=(0.02, -0.05, 0))],
+        ),
     ]
 
 
@@ -114,6 +135,8 @@ def solve_loop(n):
             assert sol.stable is not None or sol.stability_reason
             if sc[i].robot.n_tendons:
                 tr.compliance(sc[i])
+            if any(t.friction for t in sc[i].robot.tendons):
+                tr.slip(sol)  # the recording pass's rest lengths, a reference solve
         if it % 11 == 0:
             # failures: an iteration cap, an impossible displacement, strict=True
             bad = tr.Scene(sc[0].robot, displacement=[0.5])
