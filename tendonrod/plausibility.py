@@ -13,6 +13,7 @@ The rules, each written once in this module (thresholds below, with their reason
 rule                   what is measured                                 checked
 =====================  ===============================================  ===============
 ``angle``              ``|Tendon.angle| > 2 pi`` (likely degrees)       Tendon built
+``friction``           ``Tendon.friction > 2`` (likely a percentage)    Tendon built
 ``slenderness``        ``L/d < 10`` (d: the diameter, or the round       Rod built
                        section's ``4 sqrt(EI/EA)``)
 ``offset``             a tendon's largest radius over [0, end]          Robot built
@@ -69,6 +70,8 @@ from types import FrameType
 
 import numpy as np
 
+from ._segments import segment_distance as _segment_distance
+
 __all__ = [
     "PlausibilityWarning",
     "Finding",
@@ -77,6 +80,7 @@ __all__ = [
     "MAX_OFFSET",
     "MAX_CURL",
     "MAX_ANGLE",
+    "MAX_FRICTION",
     "TENSION_FRACTION",
     "section_diameter",
 ]
@@ -97,6 +101,9 @@ MAX_OFFSET = 0.5
 MAX_CURL = 2.0 * math.pi
 #: |Tendon.angle| [rad] beyond which the angle is likely in degrees.
 MAX_ANGLE = 2.0 * math.pi
+#: Coulomb coefficient beyond which Tendon.friction is likely a percentage: tendons in
+#: polymer or steel channels slide at 0.05-0.5, rubber on rough surfaces reaches ~1.
+MAX_FRICTION = 2.0
 #: Fraction of EI/r^2 a tension may reach: at EI/r^2 a tendon anchored at a free tip
 #: bends the backbone to curvature 1/r, its path reaches the centre of curvature
 #: (|w| = 1 - kappa r -> 0) and the model's tendon path breaks down.  Measured as the
@@ -113,6 +120,8 @@ _CROSSING_RTOL = 1e-9
 _SLIPS = {
     "angle": "angles are in radians; a value in degrees (angle=90 meant as 90 deg) is the "
     "usual slip: use math.radians",
+    "friction": "friction is the Coulomb coefficient mu (dimensionless); a percentage "
+    "(friction=30 meant as 0.3) is the usual slip",
     "slenderness": "rod theory assumes a slender rod; check the units of length and "
     "diameter (a diameter in mm given as m?)",
     "offset": "the robot would be wider than half its length; an offset in mm given as m "
@@ -280,6 +289,20 @@ def angle_finding(angle: float, who: str = "Tendon.angle") -> Finding | None:
     )
 
 
+def friction_finding(mu: float, who: str = "Tendon.friction") -> Finding | None:
+    """The ``friction`` rule: ``Tendon.friction > MAX_FRICTION``."""
+    if not mu > MAX_FRICTION:
+        return None
+    return _finding(
+        "friction",
+        "",
+        mu,
+        MAX_FRICTION,
+        mu / MAX_FRICTION,
+        f"{who} = {mu:.6g} is a Coulomb coefficient beyond {MAX_FRICTION:g}",
+    )
+
+
 def slenderness_finding(rod, who: str = "Rod") -> Finding | None:
     """The ``slenderness`` rule: ``L/d < 10``."""
     d = section_diameter(rod)
@@ -335,6 +358,10 @@ def input_findings(scene) -> tuple:
         fs = [slenderness_finding(robot.rod, "robot.rod")]
         fs += [
             angle_finding(t.angle, f"robot.tendons[{i}].angle") for i, t in enumerate(robot.tendons)
+        ]
+        fs += [
+            friction_finding(t.friction, f"robot.tendons[{i}].friction")
+            for i, t in enumerate(robot.tendons)
         ]
         fs += offset_findings(robot, "robot")
         found = tuple(f for f in fs if f is not None)
@@ -518,30 +545,6 @@ def curl_finding(T) -> Finding | None:
         f"the backbone's total bending angle is {math.degrees(total):.4g} deg ({total:.4g} rad), "
         f"beyond {math.degrees(MAX_CURL):g} deg",
     )
-
-
-def _segment_distance(p0, p1, q0, q1) -> np.ndarray:
-    """Distances between segments [p0, p1] and [q0, q1] (arrays (M, 3)); degenerate
-    segments allowed (Ericson, Real-Time Collision Detection, 5.1.9, vectorised)."""
-    d1, d2, r = p1 - p0, q1 - q0, p0 - q0
-    a = np.einsum("ij,ij->i", d1, d1)
-    e = np.einsum("ij,ij->i", d2, d2)
-    f = np.einsum("ij,ij->i", d2, r)
-    c = np.einsum("ij,ij->i", d1, r)
-    b = np.einsum("ij,ij->i", d1, d2)
-    tiny = 1e-300
-    denom = a * e - b * b
-    with np.errstate(divide="ignore", invalid="ignore"):
-        s = np.where(denom > tiny * np.maximum(a * e, tiny), (b * f - c * e) / denom, 0.0)
-        s = np.clip(np.where(a > tiny, s, 0.0), 0.0, 1.0)
-        t = np.where(e > tiny, (b * s + f) / e, 0.0)
-        # t outside [0, 1] (or a degenerate second segment): clamp t, recompute s for it
-        t_c = np.clip(t, 0.0, 1.0)
-        redo = (t != t_c) | (e <= tiny)
-        s = np.where(redo, np.where(a > tiny, np.clip((b * t_c - c) / a, 0.0, 1.0), 0.0), s)
-    t = t_c
-    diff = (p0 + d1 * s[:, None]) - (q0 + d2 * t[:, None])
-    return np.sqrt(np.einsum("ij,ij->i", diff, diff))
 
 
 def self_intersection_finding(s, position, T, thickness: float | None, L: float) -> Finding | None:

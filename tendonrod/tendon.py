@@ -143,7 +143,15 @@ class Tendon:
             object.__setattr__(self, "end", _length(own, "end", self.end))
         object.__setattr__(self, "pretension", _nonnegative(own, "pretension", self.pretension))
         object.__setattr__(self, "friction", _nonnegative(own, "friction", self.friction))
-        plausibility.warn(filter(None, [plausibility.angle_finding(self.angle)]))
+        plausibility.warn(
+            filter(
+                None,
+                [
+                    plausibility.angle_finding(self.angle),
+                    plausibility.friction_finding(self.friction),
+                ],
+            )
+        )
 
     @classmethod
     def converging(

@@ -59,6 +59,25 @@ def test_angle_in_degrees_warns_at_the_users_line_and_stays_legal():
         tr.Tendon(offset=0.01, angle=-7.0)
 
 
+def test_friction_as_a_percentage_warns_and_stays_legal():
+    with pytest.warns(
+        PW, match=r"Tendon.friction = 30 is a Coulomb coefficient beyond 2: .* percentage"
+    ):
+        t = tr.Tendon(offset=R5, friction=30.0)
+    assert t.friction == 30.0
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", PW)
+        tr.Tendon(offset=0.01, friction=2.0)  # the limit itself is plausible
+        tr.Tendon(offset=0.01, friction=0.3)
+    # a scene's input findings name the tendon
+    rod = tr.Rod(0.2, 0.8e-3, 207e9, 79.6e9, kirchhoff=True)
+    robot = quiet(tr.Robot, rod, [quiet(tr.Tendon, offset=0.01, friction=25.0)])
+    found = P.input_findings(tr.Scene(robot, tension=[0.1]))
+    assert [f.rule for f in found] == ["friction"] and "robot.tendons[0].friction" in found[
+        0
+    ].message
+
+
 def test_slenderness_and_offset_warn_with_value_and_slip():
     with pytest.warns(PW, match=r"L/d = 5 is below 10 .* diameter") as rec:
         tr.Rod(0.01, 2e-3, 60e9, 23e9)
