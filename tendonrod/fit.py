@@ -15,7 +15,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .linearization import design_parameter, design_value, with_design
+from .linearization import _design_names, design_value, with_design
 from .model import Scene
 from .options import _check_options
 from .problem import _probe_scene, jacobian
@@ -264,19 +264,11 @@ def fit(
     except ImportError as exc:  # pragma: no cover - scipy is in the test environment
         raise ImportError("tendonrod.fit needs SciPy: pip install 'tendonrod[fit]'") from exc
     scenes = _scenes(scenes)
-    if isinstance(parameters, str):
-        parameters = [parameters]
-    try:
-        names = list(parameters)
-    except TypeError:
-        raise ValueError(f"parameters must be a sequence of names, got {parameters!r}") from None
-    if not names:
-        raise ValueError("parameters must name at least one design parameter")
-    paths = []
+    # every scene must have the parameters (the same paths: one robot design)
     for sc in scenes:
-        paths = [design_parameter(sc, n)[0] for n in names]
-    if len(set(paths)) != len(paths):
-        raise ValueError(f"parameters names a parameter twice: {names!r}")
+        paths = [p for p, _, _ in _design_names(sc, parameters, "parameters")]
+    if not paths:
+        raise ValueError("parameters must name at least one design parameter")
     sv = _arc_lengths(s, scenes)
     ns = 1 if sv is None else len(sv)
     meas = _measured(measured, len(scenes), ns)

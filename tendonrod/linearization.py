@@ -206,19 +206,19 @@ def _rows(bp: np.ndarray, s_vals: np.ndarray, L: float):
     return rows
 
 
-def _design_names(scene: Scene, design) -> list:
+def _design_names(scene: Scene, design, what: str = "design") -> list:
     """(canonical path, kind, index) of each design parameter name (ValueError naming a
-    bad one); a single name may be given as a string."""
+    bad one, and the argument ``what`` they came in); a single name may be a string."""
     if isinstance(design, str):
         design = [design]
     try:
         names = list(design)
     except TypeError:
-        raise ValueError(f"design must be a sequence of parameter names, got {design!r}") from None
+        raise ValueError(f"{what} must be a sequence of parameter names, got {design!r}") from None
     out = [design_parameter(scene, n) for n in names]
     paths = [p for p, _, _ in out]
     if len(set(paths)) != len(paths):
-        raise ValueError(f"design names a parameter twice: {names!r}")
+        raise ValueError(f"{what} names a parameter twice: {names!r}")
     return out
 
 
