@@ -125,6 +125,15 @@ def is_planar(
     routes: ArrayLike | None = ...,
 ) -> bool: ...
 def strerror(status: int) -> str: ...
+def qp(
+    H: ArrayLike,
+    g: ArrayLike,
+    A: ArrayLike,
+    G: ArrayLike,
+    h: ArrayLike,
+    x0: ArrayLike,
+    max_iter: int = ...,
+) -> tuple[_F, _F, _F, tuple[int, ...]]: ...
 
 # the closed forms of the paper (csrc/tr_closed.c), NumPy ufuncs
 deflection: np.ufunc

@@ -104,5 +104,8 @@ extern const char glue_is_planar_doc[], glue_solve_batch_doc[];
 /* _path.c: the load path of a scene (tr_path) */
 PyObject *glue_path(PyObject *self, PyObject *args, PyObject *kwds);
 extern const char glue_path_doc[];
+/* _qp_glue.c: the small dense QP of the inverse actuation's steps (tr_qp) */
+PyObject *glue_qp(PyObject *self, PyObject *args, PyObject *kwds);
+extern const char glue_qp_doc[];
 
 #endif

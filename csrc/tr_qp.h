@@ -1,0 +1,43 @@
+/*
+ * tr_qp.h -- a small dense convex quadratic program, the step of the inverse actuation's
+ * outer iteration (tendonrod.actuate):
+ *
+ *     minimise   1/2 u^T H u + g^T u
+ *     subject to A u = b,  G u >= h
+ *
+ * with H symmetric positive definite, a handful of unknowns and a few dozen constraints.
+ */
+#ifndef TR_QP_H
+#define TR_QP_H
+
+#include <stddef.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* Doubles of workspace tr_qp needs for n unknowns, me equalities and mi inequalities. */
+size_t tr_qp_work_len(int n, int me, int mi);
+
+/* The primal active-set method (Nocedal and Wright, Numerical Optimization, algorithm
+ * 16.3) from x0 (n), which satisfies the equalities A x0 = b (b itself is not needed): a
+ * constraint x0 violates is relaxed to what x0 satisfies.  Each subproblem is the
+ * equality-constrained minimiser on the working set, found in the null space of its
+ * constraints (by SVD, rank to 1e-12 of the largest singular value); a blocking
+ * constraint joins the working set (the lowest-numbered of ties), one with a negative
+ * multiplier leaves it (Bland's rule: the lowest-numbered), at most max_iter times.
+ * Row-major inputs: H (n x n), g (n), A (me x n), G (mi x n), h (mi).  Outputs: u (n) the
+ * minimiser; lam (me) and mu (mi) the multipliers (H u + g = A^T lam + G^T mu, mu >= 0,
+ * zero off the working set); active (mi) flags of the inequalities that hold with
+ * equality at u (to 1e-12 of the problem's scale).  work: tr_qp_work_len doubles.
+ * Returns the number of active inequalities, TR_EINVAL for sizes out of range, or
+ * TR_ESINGULAR when a reduced Hessian Z^T H Z is singular (H not positive definite on
+ * the working set's null space). */
+int tr_qp(int n, const double *H, const double *g, int me, const double *A, int mi, const double *G,
+          const double *h, const double *x0, int max_iter, double *u, double *lam, double *mu,
+          int *active, double *work);
+
+#ifdef __cplusplus
+}
+#endif
+#endif /* TR_QP_H */
