@@ -20,6 +20,12 @@ _MAX_REJECTED = 8
 # The first trust region (scaled controls): about a half turn of the tip.
 _DELTA0 = 3.0
 
+# The least change's stopping test (scaled controls): the step the linearised problem still
+# asks for and its stationarity residual.  The forward-difference linearisation is good to
+# ~1e-7 relative, so a tighter test chases its noise (steps of a few 1e-7 that the merit
+# then refuses); 1e-6 is 1e-8 m of a displacement at a 10 mm offset.
+_KKT_TOL = 1e-6
+
 
 def _bfgs(H, s, y):
     """Powell's damped BFGS update of the Lagrangian's Hessian H (scaled units) for the
@@ -185,7 +191,7 @@ class Iteration:
         Gb, hb = self._box(n, 0.8 * self.delta)
         z = np.zeros(n)
         GG, hh = np.concatenate([G, Gb]), np.concatenate([h, hb])
-        return solve_qp(H, A.T @ r, np.zeros((0, n)), [], GG, hh, z).u
+        return solve_qp(H, A.T @ r, np.zeros((0, n)), GG, hh, z).u
 
     def sqp(self):
         """One trust-region step of the least change (a normal step toward the target,
@@ -205,7 +211,7 @@ class Iteration:
         Gb, hb = self._box(n, self.delta)
         u0 = (c - self.c0) / self.scale
         GG, hh = np.concatenate([Gf, Gb]), np.concatenate([hf, hb])
-        qp = solve_qp(self.H, u0, self.A, self.A @ v, GG, hh, v)
+        qp = solve_qp(self.H, u0, self.A, GG, hh, v)
         u = qp.u
         self.lam = qp.lam
         self.mus = np.zeros(len(floor))
@@ -214,8 +220,8 @@ class Iteration:
         self.nu = max(self.nu, 2.0 * np.abs(lam_mu).max(initial=0.0) + 1e-3)
         viol = np.maximum(floor - psi, 0.0)[rows].max(initial=0.0) / self.tau_scale
         # stay: the step and the stationarity residual H u of the linearised problem's
-        # optimality conditions both below 1e-7 (scaled units), a KKT point
-        small = max(np.abs(u).max(), np.abs(self.H @ u).max()) <= 1e-7
+        # optimality conditions both below _KKT_TOL (scaled units), a KKT point
+        small = max(np.abs(u).max(), np.abs(self.H @ u).max()) <= _KKT_TOL
         if rnorm <= self.tol and viol <= 1e-9 and small:
             self.optimal = True
             return "done"  # the linearised problem says stay: a KKT point
@@ -260,7 +266,7 @@ class Iteration:
         ]
         if held:
             G, h = np.concatenate([G, np.eye(n)[held]]), np.concatenate([h, np.zeros(len(held))])
-        u = solve_qp(H, A.T @ r, np.zeros((0, n)), [], G, h, np.zeros(n)).u
+        u = solve_qp(H, A.T @ r, np.zeros((0, n)), G, h, np.zeros(n)).u
         pred = r @ r - (r + A @ u) @ (r + A @ u)
         if not pred > 1e-28 * (r @ r) or np.abs(u).max() <= 1e-13:
             return "stuck"  # no descent left: a (bounded) least-squares point
@@ -290,7 +296,14 @@ class Iteration:
                     cn[j] = self.c0[j]
         if np.array_equal(cn, self.c):
             return
-        sn, rn, Dn = self.run.solve(cn)
+        # the state at cn: the same equilibrium, the paid-out length the tendons' slack
+        nt = len(self.sol.tension)
+        state = np.array(self.sol.raw["base_state"], dtype=float)
+        for j, i in enumerate(idx):
+            if cn[j] != self.c[j]:
+                state[6 + i] = 0.0
+                state[6 + nt + i] = self.sol.slack[i] + (self.c[j] - cn[j])
+        sn, rn, Dn = self.run.solve(cn, state=state)
         if (
             rn is not None
             and np.abs(rn).max() <= self.tol

@@ -173,12 +173,15 @@ class _Run:
         self.values = np.array(value_vector(scene))
         self.tension_controls = np.array([q is None for q in scene.displacement])[idx]
         self.jac = None  # the last linearisation's shooting Jacobian, for the next solves
+        self.lin_jac = None  # the same, also at a taut/slack switch
         self.solved = {}  # the last few successful solutions by their value vectors
 
-    def solve(self, c, guess=None):
+    def solve(self, c, guess=None, state=None):
         """(Solution, r, D) at controls c: a warm solve from the last success (the first
         one from ``guess``) with the last linearisation's shooting Jacobian where there is
-        one, or from the solution at c when c was solved before."""
+        one, or from the solution at c when c was solved before; from ``state`` (the
+        base-frame guess vector [n(0), m(0), tension, slack], e.g. the last success with a
+        released tendon's slack) with the last linearisation's Jacobian when given."""
         self.solves += 1
         # iterates are neither reported nor checked for plausibility: the state returned
         # is, by the final solve with the caller's options
@@ -192,8 +195,8 @@ class _Run:
             values[self.idx] = np.where(self.tension_controls, np.maximum(c, 0.0), c)
             # back at controls solved before (an iterate the iteration returns to): from
             # that solution, one evaluation
-            start = self.solved.get(values.tobytes())
-            sol = self._solve_values(scene, values, start)
+            start = None if state is not None else self.solved.get(values.tobytes())
+            sol = self._solve_values(scene, values, start, state)
             if sol.success:
                 if len(self.solved) >= 8:
                     self.solved.pop(next(iter(self.solved)))
@@ -203,16 +206,19 @@ class _Run:
         r, D = self.target.residual(sol)
         return sol, r, D
 
-    def _solve_values(self, scene, values, start):
+    def _solve_values(self, scene, values, start, state=None):
         """The Solution of ``scene``, whose per-call values ``values`` (the layout of
         ``compiled.value_vector``) differ from the scene set in C only in the controls, so
         that neither is compared: from ``start`` (a solution of this problem) with its
-        Jacobian, or from the last success with the last linearisation's Jacobian, else
+        Jacobian, or from the last success with the last linearisation's Jacobian (from
+        the guess vector ``state`` instead of that success's state, when given), else
         warm; neither reported nor checked, as :meth:`Problem._solve_quiet`."""
         prob = self.prob
         prob._c.set_value_vector(values)
         prob._current = scene
         jac = self.jac if start is None else start.jacobian
+        if state is not None:
+            jac = self.lin_jac
         start = prob._last if start is None else start
         if jac is None or start is None:
             raw = prob._run(None)
@@ -228,7 +234,7 @@ class _Run:
                     last.get("verified_values"),
                 )
             raw = prob._c.solve(
-                guess=last["base_state"],
+                guess=last["base_state"] if state is None else state,
                 jacobian=jac,
                 verified=ver,
                 cancel=current_token(),
@@ -249,7 +255,8 @@ class _Run:
         # its shooting Jacobian starts the next solves (fresher than the solver's own),
         # unless a tendon sits at its switch: the map is kinked there, and the side taken
         # may not be the one those solves land on
-        self.jac = None if np.any(jac.switch_side) else self.prob._lin_jacobian
+        self.lin_jac = self.prob._lin_jacobian
+        self.jac = None if np.any(jac.switch_side) else self.lin_jac
         A = D @ jac.actuation[:, self.idx]
         # the signed tension psi = tension - k slack (see _Run.psi): continuous and
         # increasing through the switch, so a slack tendon's rates are not lost

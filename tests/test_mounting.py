@@ -364,9 +364,11 @@ def test_actuate_mounted_planar_tip_angle_and_augmented_route():
             # one displacement control for the angle: solved inside the shooting system
             assert sm.actuation.route == "augmented"
         assert sf.success and sm.success, (sf.message, sm.message)
-        # the same base-frame problem up to the gravity's round-off (~1e-16 relative):
-        # displacements ~1e-3 m agree to 1e-12 m
-        np.testing.assert_allclose(sm.displacement, sf.displacement, rtol=0, atol=1e-12)
+        # the same base-frame problem up to the gravity's round-off (~1e-16 relative): the
+        # controls agree to what the target tolerance fixes (1e-10 L of tip position moves
+        # with the displacement at ~L / r = 20: ~1e-12 m), here where tendon 1 sits at its
+        # taut/slack switch and the two iterations take different paths to it
+        np.testing.assert_allclose(sm.displacement, sf.displacement, rtol=0, atol=1e-11)
     assert sm.tip_position == pytest.approx((0.0, 0.0, 0.5) + R0 @ sf.tip_position, abs=1e-12)
 
 
