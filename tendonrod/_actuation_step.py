@@ -53,6 +53,13 @@ class Iteration:
         self.is_tension, self.tau_scale, self.floor0 = is_tension, tau_scale, floor0
         self.disp = run.scene.displacement_controlled()
         n = len(c)
+        # per control: its tendon, whether it is a displacement, the rows of the trust
+        # region and of the tension controls' bound (fixed; a slack tendon's row is added)
+        self.idx = np.array(run.idx)
+        self.disp_idx = np.array([self.disp[i] for i in run.idx], dtype=bool)
+        self.eye = np.eye(n)
+        self.bound = np.flatnonzero(is_tension)
+        self.G0 = np.concatenate([self.eye, -self.eye, self.eye[self.bound]])
         self.H = np.eye(n)  # quasi-Newton Hessian of the Lagrangian (minimum change)
         self.nu = 0.0  # the merit's penalty on the target and tension floors
         # trust region of a step, scaled units: a unit turns the tip by about a radian; the
@@ -73,8 +80,8 @@ class Iteration:
         """(A, T, side) at the current state, computed on first use (a state that meets
         the target in a square or least-squares problem needs none)."""
         if self._lin is None:
-            self._lin = self.run.linearize(self._D, self._wanted_sides())
             self._to_taut_side()
+            self._lin = self.run.linearize(self.sol, self._D, self._wanted_sides())
         return self._lin
 
     def _to_taut_side(self):
@@ -97,12 +104,24 @@ class Iteration:
                 cn[j] = min(self.c[j] + slack + 1e-12 * self.scale[j], self.c0[j])
         if np.array_equal(cn, self.c):
             return
-        sn, rn, Dn = self.run.solve(cn)
+        sn, rn, Dn = self.run.solve(cn, state=self._slack_state(cn))
         if rn is None:
             self.run.solve(self.c)  # the Problem's warm state back at c
             return
         self._set(cn, sn, rn, Dn)
-        self._lin = self.run.linearize(Dn, self._wanted_sides())
+
+    def _slack_state(self, cn):
+        """The guess vector (base frame [n(0), m(0), tension, slack]) of the equilibrium at
+        controls cn that differ from the current ones only in slack (or just slack)
+        displacement controls: the same equilibrium (a slack tendon moves nothing), those
+        tendons' slack changed by the length paid out, c - cn."""
+        nt = len(self.sol.tension)
+        state = np.array(self.sol.raw["base_state"], dtype=float)
+        for j, i in enumerate(self.run.idx):
+            if cn[j] != self.c[j]:
+                state[6 + i] = 0.0
+                state[6 + nt + i] = max(self.sol.slack[i] + (self.c[j] - cn[j]), 0.0)
+        return state
 
     def _wanted_sides(self):
         """The side of its switch whose derivatives each tendon at it is to get: the taut
@@ -110,10 +129,9 @@ class Iteration:
         taut (their steps keep them there) and those it would pull toward their scene
         value (pulling acts through the taut side); the side it is on for the others."""
         side = np.zeros(len(self.disp))
-        for j, i in enumerate(self.run.idx):
-            pull = not self.lsq and self.c0[j] > self.c[j]
-            if self.disp[i] and (self.lsq or np.isfinite(self.floor0[i]) or pull):
-                side[i] = 1.0
+        pull = (self.c0 > self.c) & (not self.lsq)
+        want = self.disp_idx & (self.lsq | np.isfinite(self.floor0[self.idx]) | pull)
+        side[self.idx[want]] = 1.0
         return side
 
     A = property(lambda self: self._linearisation()[0])
@@ -126,9 +144,11 @@ class Iteration:
         their switch now (the least change puts one that would rather be slack exactly at
         its switch, where it stops costing)."""
         f = self.floor0.copy()
-        for i in self.run.idx:
-            if self.disp[i] and (self.sol.tension[i] > 0.0 or self.side[i] > 0):
-                f[i] = max(f[i], 0.0)
+        held = self.sol.tension[self.idx] > 0.0
+        if not np.all(held[self.disp_idx]):  # (the side needs the linearisation)
+            held |= self.side[self.idx] > 0
+        i = self.idx[self.disp_idx & held]
+        f[i] = np.maximum(f[i], 0.0)
         return f
 
     def _merit(self, c, r, tau, floor):
@@ -146,16 +166,16 @@ class Iteration:
         """Rows (G, h) of the trust region |u_j| <= delta, of tension controls >= 0 and,
         for a slack displacement control linearised on its slack side, of pulls no
         longer than its slack (beyond it the tendon acts, which that side cannot see)."""
-        bound = np.flatnonzero(self.is_tension)
-        slack = [
-            j
-            for j, i in enumerate(self.run.idx)
-            if self.disp[i] and self.sol.slack[i] > 0.0 and self.side[i] <= 0
-        ]
-        room = np.array([self.sol.slack[self.run.idx[j]] / self.scale[j] for j in slack])
-        eye = np.eye(n)
-        G = np.concatenate([eye, -eye, eye[bound], -eye[slack]])
-        h = np.concatenate([np.full(2 * n, -delta), -(self.c / self.scale)[bound], -room])
+        sl = self.sol.slack[self.idx]
+        slack = np.flatnonzero(self.disp_idx & (sl > 0.0) & (self.side[self.idx] <= 0))
+        G = np.concatenate([self.G0, -self.eye[slack]])
+        h = np.concatenate(
+            [
+                np.full(2 * n, -delta),
+                -(self.c / self.scale)[self.bound],
+                -sl[slack] / self.scale[slack],
+            ]
+        )
         return G, h
 
     def _accepted(self, cn, sn, rn, Dn, grad_rows=None):
@@ -296,14 +316,7 @@ class Iteration:
                     cn[j] = self.c0[j]
         if np.array_equal(cn, self.c):
             return
-        # the state at cn: the same equilibrium, the paid-out length the tendons' slack
-        nt = len(self.sol.tension)
-        state = np.array(self.sol.raw["base_state"], dtype=float)
-        for j, i in enumerate(idx):
-            if cn[j] != self.c[j]:
-                state[6 + i] = 0.0
-                state[6 + nt + i] = self.sol.slack[i] + (self.c[j] - cn[j])
-        sn, rn, Dn = self.run.solve(cn, state=state)
+        sn, rn, Dn = self.run.solve(cn, state=self._slack_state(cn))
         if (
             rn is not None
             and np.abs(rn).max() <= self.tol

@@ -1,6 +1,6 @@
 """The targets of :func:`tendonrod.actuate`: each one's residual at a solution and its
-derivative with respect to the tip's [dx, dtheta] (world frame), which the linearisation's
-actuation rows turn into the derivative by the controls.
+derivative with respect to the tip's [dx, dtheta] (base frame), which the linearisation's
+actuation rows (base frame too) turn into the derivative by the controls.
 
 Residuals are dimensionless: positions divided by the rod length L, angles and direction
 components in radians.  No arccos: a tip angle is the planar formulation's unwrapped
@@ -10,8 +10,8 @@ through atan2).
 
 A mounted robot's targets are given in the world frame and compared in its base frame
 (where the planar formulation's plane and tip angle are defined): positions ``R0^T (p -
-p0)``, directions and rotations ``R0^T t``, ``R0^T R``; the derivatives by the tip's world
-[dx, dtheta] follow through ``blockdiag(R0^T, R0^T)``.
+p0)``, directions and rotations ``R0^T t``, ``R0^T R``, against the base-frame tip the
+core reports.
 """
 
 from __future__ import annotations
@@ -160,22 +160,12 @@ class Target:
 
     def residual(self, sol):
         """(r (m,), D (m, 6)): the residual and its derivative by the tip's [dx, dtheta]
-        (world frame)."""
-        r, D = self._residual_base(sol)
-        if self.pose is not None:
-            D = np.hstack([D[:, :3] @ self._R0t, D[:, 3:] @ self._R0t])
-        return r, D
-
-    def _residual_base(self, sol):
-        """The residual and its derivative by the tip's [dx, dtheta] in the base frame."""
+        in the base frame (where the core reports the tip, ``sol.raw``, and linearises)."""
         if self.name == "tip_angle":
             D = np.zeros((1, 6))
             D[0, 4] = 1.0
             return np.array([sol.tip_angle - self.theta]), D
-        R = np.asarray(sol.tip_rotation)
-        p = np.asarray(sol.tip_position)
-        if self.pose is not None:
-            R, p = self._R0t @ R, self._R0t @ (p - self.pose[0])
+        R = sol.raw["tip_rotation"]
         if self.name == "tip_direction":
             # the tip direction's coordinates on the unit sphere about the target (its log
             # map): the angle alpha between them along the great circle, in the direction
@@ -200,7 +190,7 @@ class Target:
             return f * Bt, D
         r6 = np.zeros(6)
         D6 = np.zeros((6, 6))
-        r6[:3] = (p - self.p) / self.L
+        r6[:3] = (sol.raw["tip_position"] - self.p) / self.L
         D6[:3, :3] = np.eye(3) / self.L
         if self.R is not None:
             phi = _rotvec(R @ self.R.T)

@@ -181,13 +181,16 @@ class _Run:
         one from ``guess``) with the last linearisation's shooting Jacobian where there is
         one, or from the solution at c when c was solved before; from ``state`` (the
         base-frame guess vector [n(0), m(0), tension, slack], e.g. the last success with a
-        released tendon's slack) with the last linearisation's Jacobian when given."""
+        released tendon's slack) with the last linearisation's Jacobian when given.
+
+        Iterates set their controls in C only: their Solutions carry the run's scene
+        (the same robot, loads and structure), and :meth:`scene_at` makes the scene of the
+        controls of the state returned."""
         self.solves += 1
         # iterates are neither reported nor checked for plausibility: the state returned
         # is, by the final solve with the caller's options
-        scene = _with_controls(self.scene, self.idx, c)
         if guess is not None or self.prob.last_solution is None:
-            sol = self.prob._solve_quiet(scene, guess)
+            sol = self.prob._solve_quiet(self.scene_at(c), guess)
         else:
             # only the controls differ from the scene set: their values, as _with_controls
             # sets them, straight into the problem
@@ -196,7 +199,7 @@ class _Run:
             # back at controls solved before (an iterate the iteration returns to): from
             # that solution, one evaluation
             start = None if state is not None else self.solved.get(values.tobytes())
-            sol = self._solve_values(scene, values, start, state)
+            sol = self._solve_values(self.scene, values, start, state)
             if sol.success:
                 if len(self.solved) >= 8:
                     self.solved.pop(next(iter(self.solved)))
@@ -205,6 +208,10 @@ class _Run:
             return sol, None, None
         r, D = self.target.residual(sol)
         return sol, r, D
+
+    def scene_at(self, c) -> Scene:
+        """The scene with the actuated tendons' controls c."""
+        return _with_controls(self.scene, self.idx, c)
 
     def _solve_values(self, scene, values, start, state=None):
         """The Solution of ``scene``, whose per-call values ``values`` (the layout of
@@ -245,23 +252,27 @@ class _Run:
             prob._last = sol
         return sol
 
-    def linearize(self, D, side=None):
-        """(A (m, n), T (nt, n), side (nt,)): the target residual's and the tensions'
-        derivatives by the controls, in the scaled units (columns times the control
-        scales), and the side of its switch each tendon's derivatives are from (``side``:
-        the sides asked for, as in :meth:`Problem.jacobian`)."""
+    def linearize(self, sol, D, side=None):
+        """(A (m, n), T (nt, n), side (nt,)): at the solution ``sol``, the target
+        residual's and the tensions' derivatives by the controls, in the scaled units
+        (columns times the control scales), and the side of its switch each tendon's
+        derivatives are from (``side``: the sides asked for, as in
+        :meth:`Problem.jacobian`).  Forward differences; D and the core's tip rows are
+        both in the base frame."""
         self.jacobians += 1
-        jac = self.prob.jacobian(load=False, method="forward", side=side)
+        raw, here = self.prob._tip_rates(sol, side)
+        nt = len(raw["at_switch"])
+        switch = np.asarray(raw["at_switch"], dtype=int)
         # its shooting Jacobian starts the next solves (fresher than the solver's own),
         # unless a tendon sits at its switch: the map is kinked there, and the side taken
         # may not be the one those solves land on
-        self.lin_jac = self.prob._lin_jacobian
-        self.jac = None if np.any(jac.switch_side) else self.lin_jac
-        A = D @ jac.actuation[:, self.idx]
+        self.lin_jac = raw["jacobian"] if here else None
+        self.jac = None if np.any(switch) else self.lin_jac
+        A = D @ raw["pose"][:nt, 0, :].T[:, self.idx]
         # the signed tension psi = tension - k slack (see _Run.psi): continuous and
         # increasing through the switch, so a slack tendon's rates are not lost
-        T = (jac.tension - self.k * jac.slack)[:, self.idx]
-        return A * self.scale, T * self.scale, jac.switch_side
+        T = (raw["tension"][:nt].T - self.k * raw["slack"][:nt].T)[:, self.idx]
+        return A * self.scale, T * self.scale, switch
 
     def psi(self, sol):
         """The signed tension psi = tension - k slack (nt,) [N] of a solution, with k =
@@ -499,6 +510,8 @@ def _finish(
 ):
     """The returned Solution: the final equilibrium with ``actuation`` and the verdict."""
     run, kind = report["run"], report["kind"]
+    if sol.scene is run.scene:  # an iterate's: the scene of its controls
+        sol.scene = run.scene_at(c)
     if sol.success and r is not None and not run.options.accept_unstable:
         sol, r = _judged(run, sol, r)
     distance = float(np.abs(r).max()) if r is not None else math.inf

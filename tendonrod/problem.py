@@ -249,12 +249,7 @@ class Problem:
             jac = prob.jacobian(s, design=design, load=load, method=method, side=side)
             return _with_solution(jac, sol)
         kw = {} if state is None else {"unknowns": state[0], "steps": state[1]}
-        if side is not None:
-            kw["side"] = side
-        try:
-            raw = self._c.linearize(params, rows, forward=forward, cancel=current_token(), **kw)
-        except RuntimeError as exc:  # the linearisation itself failed (e.g. its budget)
-            raise ConvergenceError(f"tendonrod.jacobian: {exc}", sol) from None
+        raw = self._linearize_raw(sol, params, rows, forward, side, kw)
         nt, nd, nr = sol.scene.robot.n_tendons, len(names), len(rows)
         pose = raw["pose"]  # (np, nrow, 6)
         act = pose[:nt].transpose(1, 2, 0)  # (nrow, 6, nt)
@@ -288,6 +283,26 @@ class Problem:
             switch_side=np.array(raw["at_switch"], dtype=int),
             solution=sol,
         )
+
+    def _linearize_raw(self, sol, params, rows, forward, side, kw):
+        """The core's linearisation (a dict of raw arrays; ``kw``: the state to set)."""
+        if side is not None:
+            kw["side"] = side
+        try:
+            return self._c.linearize(params, rows, forward=forward, cancel=current_token(), **kw)
+        except RuntimeError as exc:  # the linearisation itself failed (e.g. its budget)
+            raise ConvergenceError(f"tendonrod.jacobian: {exc}", sol) from None
+
+    def _tip_rates(self, sol, side=None):
+        """(raw, here): the forward-difference linearisation of ``sol`` at the tip by the
+        tendons' control values alone, as the core returns it (``pose`` (nt, 1, 6) base
+        frame, ``tension``, ``slack``, ``at_switch``, ``jacobian``), for tr.actuate's
+        steps; at the workspace's state when it is ``sol``'s (``here``), else at ``sol``'s
+        state set without solving."""
+        here = self._c.last_success and self._last is sol and self._current is sol.scene
+        _, _, _, rows, params = self._jacobian_plan(None, (), False)
+        kw = {} if here else {"unknowns": sol.unknowns, "steps": sol.raw["formulation"]["steps"]}
+        return self._linearize_raw(sol, params, rows, True, side, kw), here
 
     def _jacobian_plan(self, s, design, load: bool):
         """(arc lengths, scalar?, design names, breakpoint rows or None, raw parameter
