@@ -570,9 +570,12 @@ typedef struct tr_data {
                         from a difference of its own (tr_newton.c), and steps may grow with it */
     int watch_have, watch_tendon;
     double watch_rate, watch_s, watch_tau, watch_limit, watch_act, watch_load;
-    int lazy; /* 1: tr_solve fills only the tip, tensions and slacks (and the
+    int lazy;        /* 1: tr_solve fills only the tip, tensions and slacks (and the
                              displacement of displacement-controlled tendons; NaN for the
                              others); the node arrays stay untouched until tr_record_from */
+    int polish_once; /* 1: a converged solve takes one more Newton step whatever its size
+                        (kept unless it raises the residual), so that a change of the values
+                        too small to lift the residual above tol still moves the state */
 } tr_data;
 
 /* Allocate a workspace.  nodes: if node_s is NULL, nnode uniform nodes over

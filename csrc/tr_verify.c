@@ -162,9 +162,10 @@ void tr_polish(const tr_model *m, tr_data *d)
             d->xt[i] = d->x[i] - d->dx[i];
         }
         /* after the step verification, a residual left near tol at the verified
-         * step count is polished too */
+         * step count is polished too; the first step is taken when asked (polish_once) */
         if (!(big > TR_POLISH_XTOL_FACTOR * d->opt.tol) &&
-            !(d->steps_moved && d->fnorm > TR_POLISH_RES_FACTOR * d->opt.tol))
+            !(d->steps_moved && d->fnorm > TR_POLISH_RES_FACTOR * d->opt.tol) &&
+            !(d->polish_once && p == 0 && big > 0.0))
             return;
         if (tr_residual(m, d, d->xt, d->ft) != TR_OK) return;
         if (!(tru_maxnorm(d->ft, k) <= (d->fnorm > d->opt.tol ? d->fnorm : d->opt.tol))) return;

@@ -74,7 +74,9 @@ class Iteration:
 
     def _set(self, c, sol, r, D):
         self.c, self.sol, self.r, self._D = c, sol, r, D
-        self._lin = None
+        self._lin = self._rows = None
+        # within 1e4 tol of the target, iterate solves are polished (see _Run._solve_values)
+        self.run.polish = bool(np.abs(r).max() <= 1e4 * self.tol)
 
     def _linearisation(self):
         """(A, T, side) at the current state, computed on first use (a state that meets
@@ -166,17 +168,13 @@ class Iteration:
         """Rows (G, h) of the trust region |u_j| <= delta, of tension controls >= 0 and,
         for a slack displacement control linearised on its slack side, of pulls no
         longer than its slack (beyond it the tendon acts, which that side cannot see)."""
-        sl = self.sol.slack[self.idx]
-        slack = np.flatnonzero(self.disp_idx & (sl > 0.0) & (self.side[self.idx] <= 0))
-        G = np.concatenate([self.G0, -self.eye[slack]])
-        h = np.concatenate(
-            [
-                np.full(2 * n, -delta),
-                -(self.c / self.scale)[self.bound],
-                -sl[slack] / self.scale[slack],
-            ]
-        )
-        return G, h
+        if self._rows is None:  # the rows but the region's size: fixed at a state
+            sl = self.sol.slack[self.idx]
+            slack = np.flatnonzero(self.disp_idx & (sl > 0.0) & (self.side[self.idx] <= 0))
+            h = [-(self.c / self.scale)[self.bound], -sl[slack] / self.scale[slack]]
+            self._rows = np.concatenate([self.G0, -self.eye[slack]]), np.concatenate(h)
+        G, h = self._rows
+        return G, np.concatenate([np.full(2 * n, -delta), h])
 
     def _accepted(self, cn, sn, rn, Dn, grad_rows=None):
         """Move to the solved state at cn (with the BFGS update of the least change)."""
@@ -265,8 +263,31 @@ class Iteration:
             return self._refused(u)
         if np.abs(u).max() >= 0.9 * self.delta and np.abs(rn).max() <= rnorm:
             self.delta *= 2.0
+        keep = rows[self.mus[rows] > 0.0]  # the tension floors the step holds
+        cn, sn, rn, Dn = self._chord(cn, sn, rn, Dn, rnorm, self.T[keep] / self.tau_scale)
         self._accepted(cn, sn, rn, Dn, rows)
         return "moved"
+
+    def _chord(self, cn, sn, rn, Dn, rnorm, Tkeep):
+        """An accepted step whose target residual fell fast (to 1e-2 of the last one or
+        less, Newton's quadratic regime) but not below tol, corrected by the same
+        linearisation: the least-norm change that removes that residual and keeps the
+        tensions ``Tkeep`` (rows, scaled) where the step put them, solved.  Its residual is
+        the step's times the relative change of the linearisation over the step, so one
+        correction usually meets tol where another iteration (a linearisation) would be
+        needed.  The corrected state where it reduces the residual, else the step's."""
+        rmax = np.abs(rn).max()
+        if not (self.tol < rmax <= 1e-2 * rnorm):
+            return cn, sn, rn, Dn
+        M = np.vstack([self.A, Tkeep])
+        rhs = np.concatenate([-rn, np.zeros(len(Tkeep))])
+        d = np.linalg.lstsq(M, rhs, rcond=1e-12)[0]
+        c2 = cn + d * self.scale
+        s2, r2, D2 = self.run.solve(c2)
+        if r2 is None or not np.abs(r2).max() < rmax:
+            self.run.solve(cn)  # the Problem's warm state back at cn
+            return cn, sn, rn, Dn
+        return c2, s2, r2, D2
 
     def lm(self):
         """One trust-region step on |r|^2: 'done', 'moved', 'rejected' or 'stuck'."""
@@ -299,6 +320,7 @@ class Iteration:
             self.delta *= 2.0
         elif rho < 0.25:
             self.delta = np.abs(u).max() / 2.0
+        cn, sn, rn, Dn = self._chord(cn, sn, rn, Dn, np.abs(r).max(), np.zeros((0, n)))
         self._accepted(cn, sn, rn, Dn)
         return "moved"
 

@@ -110,13 +110,13 @@ class Target:
             if pose is not None:
                 self.t = self._R0t @ self.t
             e = np.eye(3)[int(np.argmin(np.abs(self.t)))]
-            b1 = np.cross(self.t, e)
+            b1 = _skew(self.t) @ e  # t x e
             b1 /= np.linalg.norm(b1)
             if planar and abs(self.t[1]) == 0.0:
                 b1 = np.array([self.t[2], 0.0, -self.t[0]])  # the in-plane normal only
                 self.B = b1[:, None]
             else:
-                self.B = np.column_stack([b1, np.cross(self.t, b1)])
+                self.B = np.column_stack([b1, _skew(self.t) @ b1])
             self.m = self.B.shape[1]
         else:
             if self.name == "tip_position":
@@ -174,19 +174,21 @@ class Target:
             t = R[:, 2]
             Bt = self.B.T @ t
             c = float(self.t @ t)
-            s = float(np.linalg.norm(Bt))
-            dt = -_skew(t)  # dt = dtheta x t
-            Bdt, cdt = self.B.T @ dt, self.t @ dt
+            s = math.sqrt(float(Bt @ Bt))
+            # d t = dtheta x t, so d(v . t) = (t x v) . dtheta: the rows of B^T dt and t_target . dt
+            tx = _skew(t)
+            Bdt, cdt = (tx @ self.B).T, tx @ self.t
+            D = np.zeros((self.m, 6))
             if s < 1e-8 * max(abs(c), 1.0):  # at (or opposite) the target: alpha / s -> 1
                 f = 1.0 if c > 0.0 else math.pi / max(s, 1e-300)
-                return f * Bt, f * np.hstack([np.zeros((self.m, 3)), Bdt])
+                D[:, 3:] = f * Bdt
+                return f * Bt, D
             alpha = math.atan2(s, c)
             f = alpha / s
             ds = (Bt @ Bdt) / s  # (3,) row: d|B^T t| by dtheta
             dalpha = (c * ds - s * cdt) / (s * s + c * c)
             df = (dalpha * s - alpha * ds) / (s * s)
-            D = np.zeros((self.m, 6))
-            D[:, 3:] = f * Bdt + np.outer(Bt, df)
+            D[:, 3:] = f * Bdt + Bt[:, None] * df
             return f * Bt, D
         r6 = np.zeros(6)
         D6 = np.zeros((6, 6))

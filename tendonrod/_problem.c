@@ -182,8 +182,8 @@ fail:
 
 static PyObject *problem_solve(ProblemObject *self, PyObject *args, PyObject *kwds)
 {
-    static char *kwlist[] = {"guess",  "jacobian", "verified", "warm",
-                             "cancel", "record",   "carry",    NULL};
+    static char *kwlist[] = {"guess",  "jacobian", "verified", "warm", "cancel",
+                             "record", "carry",    "polish",   NULL};
     PyObject *og = Py_None, *oj = Py_None, *ov = Py_None, *cancel = Py_None, *result = NULL;
     PyObject *oc = Py_None;
     PyArrayObject *xv = NULL, *vv = NULL;
@@ -192,11 +192,11 @@ static PyObject *problem_solve(ProblemObject *self, PyObject *args, PyObject *kw
     tr_data *d = self->d;
     tr_verified ver = {0, 0.0, NULL, NULL};
     const double *g = NULL, *jac = NULL;
-    int warm = 1, record = 1, status;
+    int warm = 1, record = 1, polish = 0, status;
     memset(&a, 0, sizeof a);
     if (check_free(self) < 0) return NULL;
-    if (!PyArg_ParseTupleAndKeywords(args, kwds, "|$OOOpOpO", kwlist, &og, &oj, &ov, &warm, &cancel,
-                                     &record, &oc))
+    if (!PyArg_ParseTupleAndKeywords(args, kwds, "|$OOOpOpOp", kwlist, &og, &oj, &ov, &warm,
+                                     &cancel, &record, &oc, &polish))
         return NULL;
     a.nt = self->m->nt;
     if (glue_poll_init(&poll, cancel) < 0 || glue_warm_start(&a, og, oj) < 0) goto done;
@@ -239,6 +239,7 @@ static PyObject *problem_solve(ProblemObject *self, PyObject *args, PyObject *kw
     if (a.jac && PyArray_DIM(a.jac, 0) == self->m->n_unknowns)
         jac = (const double *)PyArray_DATA(a.jac);
     d->lazy = !record;
+    d->polish_once = polish;
     tr_set_poll(d, glue_poll_hook, &poll);
     self->busy = 1;
     Py_BEGIN_ALLOW_THREADS;
@@ -256,6 +257,7 @@ static PyObject *problem_solve(ProblemObject *self, PyObject *args, PyObject *kw
         result = glue_solve_result(self->m, d, status, self->form);
 done:
     d->lazy = 0;
+    d->polish_once = 0;
     Py_XDECREF(xv);
     Py_XDECREF(vv);
     glue_args_clear(&a);
@@ -527,7 +529,7 @@ static PyMethodDef problem_methods[] = {
      "ValueError naming what is wrong."},
     {"solve", (PyCFunction)(void (*)(void))problem_solve, METH_VARARGS | METH_KEYWORDS,
      "solve(*, guess=None, jacobian=None, verified=None, warm=True, cancel=None, record=True,\n"
-     "carry=None)\n"
+     "carry=None, polish=False)\n"
      "-> dict: from the guess (a base_state) if given, else warm from the last successful solve\n"
      "(warm=True; cold if there is none), else cold.  verified: (steps, estimate, unknowns[,\n"
      "values]), the 'formulation' steps, 'verified_estimate', 'verified_unknowns' and\n"
@@ -538,6 +540,8 @@ static PyMethodDef problem_methods[] = {
      "which a solution close to it keeps instead of being judged again (one of another model\n"
      "is ignored).  The dict of\n"
      "_core.solve; record=False leaves out the node arrays (record_from computes them).\n"
+     "polish=True: one more Newton step after convergence whatever its size (inverse\n"
+     "actuation's iterates, whose small control changes may leave the residual under tol).\n"
      "Ctrl-C raises KeyboardInterrupt."},
     {"record_from", (PyCFunction)(void (*)(void))problem_record_from, METH_VARARGS | METH_KEYWORDS,
      "record_from(unknowns, steps) -> dict: the states at this problem's nodes of the solution\n"

@@ -161,9 +161,9 @@ def _with_controls(scene: Scene, idx, c) -> Scene:
 class _Run:
     """The solves and linearisations of one actuation, counted."""
 
-    def __init__(self, scene, options, target, idx, scale, q_scale, tau_scale):
+    def __init__(self, scene, options, target, idx, c0, scale, q_scale, tau_scale):
         self.scene, self.options, self.target = scene, options, target
-        self.idx, self.scale = idx, scale
+        self.idx, self.c0, self.scale = idx, c0, scale
         self.k = tau_scale / q_scale
         # the iterates are not judged for stability (a verdict per iterate would cost more
         # than the iterate); the state returned is, by a solve with the caller's options
@@ -173,7 +173,7 @@ class _Run:
         self.values = np.array(value_vector(scene))
         self.tension_controls = np.array([q is None for q in scene.displacement])[idx]
         self.jac = None  # the last linearisation's shooting Jacobian, for the next solves
-        self.lin_jac = None  # the same, also at a taut/slack switch
+        self.polish = False  # iterate solves take a Newton step past convergence
         self.solved = {}  # the last few successful solutions by their value vectors
 
     def solve(self, c, guess=None, state=None):
@@ -210,7 +210,9 @@ class _Run:
         return sol, r, D
 
     def scene_at(self, c) -> Scene:
-        """The scene with the actuated tendons' controls c."""
+        """The scene with the actuated tendons' controls c (the scene itself at its own)."""
+        if np.array_equal(c, self.c0):
+            return self.scene
         return _with_controls(self.scene, self.idx, c)
 
     def _solve_values(self, scene, values, start, state=None):
@@ -219,16 +221,18 @@ class _Run:
         that neither is compared: from ``start`` (a solution of this problem) with its
         Jacobian, or from the last success with the last linearisation's Jacobian (from
         the guess vector ``state`` instead of that success's state, when given), else
-        warm; neither reported nor checked, as :meth:`Problem._solve_quiet`."""
+        warm; neither reported nor checked, as :meth:`Problem._solve_quiet`.  Near the
+        target (``self.polish``, set by the iteration) each takes one Newton step past
+        convergence: a control change that moves the shooting residual by less than its
+        tol would otherwise leave the state, and the target residual, where they were
+        (steps there stall at tol)."""
         prob = self.prob
         prob._c.set_value_vector(values)
         prob._current = scene
         jac = self.jac if start is None else start.jacobian
-        if state is not None:
-            jac = self.lin_jac
         start = prob._last if start is None else start
         if jac is None or start is None:
-            raw = prob._run(None)
+            raw = prob._c.solve(warm=True, cancel=current_token(), record=False, polish=self.polish)
         else:
             last = start.raw
             xv = last.get("verified_unknowns")
@@ -246,6 +250,7 @@ class _Run:
                 verified=ver,
                 cancel=current_token(),
                 record=False,
+                polish=self.polish,
             )
         sol = Solution(raw, scene, prob.options)
         if sol.success:
@@ -263,11 +268,10 @@ class _Run:
         raw, here = self.prob._tip_rates(sol, side)
         nt = len(raw["at_switch"])
         switch = np.asarray(raw["at_switch"], dtype=int)
-        # its shooting Jacobian starts the next solves (fresher than the solver's own),
-        # unless a tendon sits at its switch: the map is kinked there, and the side taken
-        # may not be the one those solves land on
-        self.lin_jac = raw["jacobian"] if here else None
-        self.jac = None if np.any(switch) else self.lin_jac
+        # its shooting Jacobian starts the next solves (fresher than the solver's own; at
+        # a taut/slack switch it is one side's, and the solver's differences then follow
+        # the side each iterate is on)
+        self.jac = raw["jacobian"] if here else None
         A = D @ raw["pose"][:nt, 0, :].T[:, self.idx]
         # the signed tension psi = tension - k slack (see _Run.psi): continuous and
         # increasing through the switch, so a slack tendon's rates are not lost
@@ -390,7 +394,7 @@ def actuate(
     idx, c0, scale, is_tension, q_scale, tau_scale = _control_set(scene, tendons)
     n, m = len(idx), target.m
     kind = "square" if n == m else ("minimum-change" if n > m else "least-squares")
-    run = _Run(scene, options, target, idx, scale, q_scale, tau_scale)
+    run = _Run(scene, options, target, idx, c0, scale, q_scale, tau_scale)
     sol, r, D = run.solve(c0, guess)
     report = dict(kind=kind, target=target.given, tendons=tuple(idx), run=run)
     if r is None:

@@ -68,7 +68,6 @@ class Problem:
         self._current = scene  # the scene whose values are set in C
         self._last: Solution | None = None  # the last successful Solution
         self._plausible = Checker()  # plausibility warnings: once per rule and subject
-        self._lin_jacobian = None  # the shooting Jacobian of the last linearisation
 
     # ------------------------------------------------------------------ state
     @property
@@ -242,7 +241,6 @@ class Problem:
         (unknowns, steps) of ``sol`` set without solving, or a probe problem's."""
         forward = _forward(method)
         side = _sides(side, sol.scene.robot.n_tendons)
-        self._lin_jacobian = None
         s_vals, scalar, names, rows, params = self._jacobian_plan(s, design, load)
         if rows is None or not (here or state is not None):
             prob = _solved_probe(sol, s_vals, self._options, spatial=False)
@@ -260,8 +258,6 @@ class Problem:
         elif load:
             C = _load_block(sol, s_vals, self._options, forward)
         ten = raw["tension"]
-        # the shooting Jacobian at the state linearised (scaled), for a solve near it
-        self._lin_jacobian = raw["jacobian"] if state is None else None
         mount = base_pose(sol.scene.robot)
         if mount is not None:  # base-frame [dx, dtheta] rows (and [F, M] columns) to world
             act, des = pairs_out(mount, act, axis=1), pairs_out(mount, des, axis=1)
