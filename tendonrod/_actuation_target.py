@@ -25,6 +25,10 @@ from .mounting import base_pose
 __all__ = ["Target"]
 
 
+# (t x v)_i = t_{i+1} v_{i+2} - t_{i+2} v_{i+1}
+_CYC1, _CYC2 = np.array([1, 2, 0]), np.array([2, 0, 1])
+
+
 def _skew(v):
     return np.array([[0.0, -v[2], v[1]], [v[2], 0.0, -v[0]], [-v[1], v[0], 0.0]])
 
@@ -118,6 +122,10 @@ class Target:
             else:
                 self.B = np.column_stack([b1, _skew(self.t) @ b1])
             self.m = self.B.shape[1]
+            # the rows b_k^T and t_target^T, and their cyclic shifts for t x v
+            self._BT = np.ascontiguousarray(self.B.T)
+            rows = np.vstack([self._BT, self.t])
+            self._V1, self._V2 = rows[:, _CYC1], rows[:, _CYC2]
         else:
             if self.name == "tip_position":
                 p, R = value, None
@@ -172,12 +180,13 @@ class Target:
             # B^T t, alpha = atan2(|B^T t|, t . t_target); linear in the bend of a
             # constant-curvature arc, zero only at the target
             t = R[:, 2]
-            Bt = self.B.T @ t
+            Bt = self._BT @ t
             c = float(self.t @ t)
             s = math.sqrt(float(Bt @ Bt))
-            # d t = dtheta x t, so d(v . t) = (t x v) . dtheta: the rows of B^T dt and t_target . dt
-            tx = _skew(t)
-            Bdt, cdt = (tx @ self.B).T, tx @ self.t
+            # d t = dtheta x t, so d(v . t) = (t x v) . dtheta: the rows of B^T dt and
+            # t_target . dt, the cross products by cyclic index shifts of [B t_target]^T
+            V = t[_CYC1] * self._V2 - t[_CYC2] * self._V1
+            Bdt, cdt = V[:-1], V[-1]
             D = np.zeros((self.m, 6))
             if s < 1e-8 * max(abs(c), 1.0):  # at (or opposite) the target: alpha / s -> 1
                 f = 1.0 if c > 0.0 else math.pi / max(s, 1e-300)
