@@ -182,8 +182,8 @@ fail:
 
 static PyObject *problem_solve(ProblemObject *self, PyObject *args, PyObject *kwds)
 {
-    static char *kwlist[] = {"guess",  "jacobian", "verified", "warm", "cancel",
-                             "record", "carry",    "polish",   NULL};
+    static char *kwlist[] = {"guess",  "jacobian", "verified", "warm",  "cancel",
+                             "record", "carry",    "polish",   "judge", NULL};
     PyObject *og = Py_None, *oj = Py_None, *ov = Py_None, *cancel = Py_None, *result = NULL;
     PyObject *oc = Py_None;
     PyArrayObject *xv = NULL, *vv = NULL;
@@ -192,11 +192,11 @@ static PyObject *problem_solve(ProblemObject *self, PyObject *args, PyObject *kw
     tr_data *d = self->d;
     tr_verified ver = {0, 0.0, NULL, NULL};
     const double *g = NULL, *jac = NULL;
-    int warm = 1, record = 1, polish = 0, status;
+    int warm = 1, record = 1, polish = 0, judge = 0, accept_unstable, status;
     memset(&a, 0, sizeof a);
     if (check_free(self) < 0) return NULL;
-    if (!PyArg_ParseTupleAndKeywords(args, kwds, "|$OOOpOpOp", kwlist, &og, &oj, &ov, &warm,
-                                     &cancel, &record, &oc, &polish))
+    if (!PyArg_ParseTupleAndKeywords(args, kwds, "|$OOOpOpOpp", kwlist, &og, &oj, &ov, &warm,
+                                     &cancel, &record, &oc, &polish, &judge))
         return NULL;
     a.nt = self->m->nt;
     if (glue_poll_init(&poll, cancel) < 0 || glue_warm_start(&a, og, oj) < 0) goto done;
@@ -240,6 +240,9 @@ static PyObject *problem_solve(ProblemObject *self, PyObject *args, PyObject *kw
         jac = (const double *)PyArray_DATA(a.jac);
     d->lazy = !record;
     d->polish_once = polish;
+    /* judge: this solve is judged for stability whatever the workspace's options say */
+    accept_unstable = d->opt.accept_unstable;
+    if (judge) d->opt.accept_unstable = 0;
     tr_set_poll(d, glue_poll_hook, &poll);
     self->busy = 1;
     Py_BEGIN_ALLOW_THREADS;
@@ -252,6 +255,7 @@ static PyObject *problem_solve(ProblemObject *self, PyObject *args, PyObject *kw
     Py_END_ALLOW_THREADS;
     self->busy = 0;
     tr_set_poll(d, NULL, NULL);
+    d->opt.accept_unstable = accept_unstable;
     self->last_status = status;
     if (glue_poll_finish(&poll, status) == 0 && form_template(self))
         result = glue_solve_result(self->m, d, status, self->form);
@@ -529,7 +533,7 @@ static PyMethodDef problem_methods[] = {
      "ValueError naming what is wrong."},
     {"solve", (PyCFunction)(void (*)(void))problem_solve, METH_VARARGS | METH_KEYWORDS,
      "solve(*, guess=None, jacobian=None, verified=None, warm=True, cancel=None, record=True,\n"
-     "carry=None, polish=False)\n"
+     "carry=None, polish=False, judge=False)\n"
      "-> dict: from the guess (a base_state) if given, else warm from the last successful solve\n"
      "(warm=True; cold if there is none), else cold.  verified: (steps, estimate, unknowns[,\n"
      "values]), the 'formulation' steps, 'verified_estimate', 'verified_unknowns' and\n"
@@ -542,6 +546,8 @@ static PyMethodDef problem_methods[] = {
      "_core.solve; record=False leaves out the node arrays (record_from computes them).\n"
      "polish=True: one more Newton step after convergence whatever its size (inverse\n"
      "actuation's iterates, whose small control changes may leave the residual under tol).\n"
+     "judge=True: judged for stability (and led to the stable branch) even where the\n"
+     "problem's options accept unstable equilibria (the state inverse actuation returns).\n"
      "Ctrl-C raises KeyboardInterrupt."},
     {"record_from", (PyCFunction)(void (*)(void))problem_record_from, METH_VARARGS | METH_KEYWORDS,
      "record_from(unknowns, steps) -> dict: the states at this problem's nodes of the solution\n"

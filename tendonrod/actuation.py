@@ -39,7 +39,6 @@ from .options import _check_options, _replace
 from .problem import Problem
 from .results import ConvergenceError, ConvergenceWarning
 from .solution import Solution
-from .solver import solve
 
 __all__ = ["actuate", "ActuationResult"]
 
@@ -209,6 +208,16 @@ class _Run:
         r, D = self.target.residual(sol)
         return sol, r, D
 
+    def verified(self, sol):
+        """The step verification record (steps, estimate, unknowns, values) of a solution
+        of this run, which a solve from it starts with (None: there is none)."""
+        raw = sol.raw
+        xv = raw.get("verified_unknowns")
+        if xv is None or self.prob.options.steps != 0:
+            return None
+        steps, est = int(raw["formulation"]["steps"]), float(raw["verified_estimate"])
+        return steps, est, xv, raw.get("verified_values")
+
     def scene_at(self, c) -> Scene:
         """The scene with the actuated tendons' controls c (the scene itself at its own)."""
         if np.array_equal(c, self.c0):
@@ -234,20 +243,10 @@ class _Run:
         if jac is None or start is None:
             raw = prob._c.solve(warm=True, cancel=current_token(), record=False, polish=self.polish)
         else:
-            last = start.raw
-            xv = last.get("verified_unknowns")
-            ver = None
-            if xv is not None and prob.options.steps == 0:
-                ver = (
-                    int(last["formulation"]["steps"]),
-                    float(last["verified_estimate"]),
-                    xv,
-                    last.get("verified_values"),
-                )
             raw = prob._c.solve(
-                guess=last["base_state"] if state is None else state,
+                guess=start.raw["base_state"] if state is None else state,
                 jacobian=jac,
-                verified=ver,
+                verified=self.verified(start),
                 cancel=current_token(),
                 record=False,
                 polish=self.polish,
@@ -497,13 +496,24 @@ def _take_up_slack(run, sol, r, D, c):
 
 
 def _judged(run, sol, r):
-    """The final state solved again, warm from itself, with the caller's options, which
-    judge its stability: (that solution, its target residual), or (the failed solve, r)
-    when the equilibrium reaching the target is unstable (its message says so)."""
+    """The final state solved again, warm from itself, judged for stability (the
+    iterates are not: ``Problem.solve(judge=True)`` in the run's workspace) and checked
+    for plausibility as any solve with the caller's options: (that solution, its target
+    residual), or (the failed solve, r) when the equilibrium reaching the target is
+    unstable (its message says so)."""
     run.solves += 1
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore", ConvergenceWarning)
-        final = solve(sol.scene, guess=sol, options=run.options)
+    prob = run.prob
+    prob._set(sol.scene)  # its controls (a trial since may have set others)
+    raw = prob._c.solve(
+        guess=sol.raw["base_state"],
+        jacobian=sol.jacobian,
+        verified=run.verified(sol),
+        cancel=current_token(),
+        record=False,
+        judge=True,
+    )
+    final = Solution(raw, sol.scene, run.options)
+    prob._plausible.check(final, "tendonrod.actuate", once=False)
     if not final.success:
         return final, r
     return final, run.target.residual(final)[0]
