@@ -19,9 +19,13 @@ at controls moved by a random step (seeded) of up to 2 mm per tendon:
     routes (``method="auto"``, the augmented system first, and ``"linearisation"``).
 Each row also checks the answer: a cold forward ``tr.solve`` of the returned controls
 reaches the target (tip position error / L, tip direction error [rad]).
+With ``--instructions`` every kind is also counted by callgrind (valgrind): the
+instructions of an ``actuate`` over the targets of the kind (mean per target), over those
+of a cold solve: the same ratio in work, free of the timing noise of these machines (but
+blind to the lower instruction throughput of Python against the numerical core).
 Not a test: it prints a table and writes bench/results/jacobian_actuate.csv and .md.
 
-    .venv/bin/python bench/jacobian_actuate.py [--rounds 7] [--targets 8]
+    .venv/bin/python bench/jacobian_actuate.py [--rounds 7] [--targets 8] [--instructions]
 """
 
 from __future__ import annotations
@@ -31,8 +35,11 @@ import csv
 import dataclasses
 import os
 import platform
+import re
 import statistics
+import subprocess
 import sys
+import tempfile
 import time
 import warnings
 
@@ -112,6 +119,58 @@ def actuate_quiet(scene, tendons, target):
         return tr.actuate(scene, tendons=tendons, **target)
 
 
+_COUNTED = """
+import sys, warnings
+sys.path.insert(0, {here!r})
+import tendonrod as tr
+from jacobian_actuate import SCENE, actuate_quiet, scenes, targets
+scene = scenes()[SCENE][0]
+tg = [t for t in targets(scene, {n}) if t[0] == {kind!r}]
+def once():
+    if tg:
+        for _, tendons, target in tg:
+            actuate_quiet(scene, tendons, target)
+    else:
+        for _ in range(10):
+            tr.solve(scene)
+once()  # imports, caches, compiled problems
+for _ in range({reps}):
+    once()
+"""
+
+
+def _instructions(kind: str, n: int, reps: int) -> int:
+    """Instructions (callgrind) of the script above: the targets of ``kind`` (a cold solve
+    ten times for kind "cold") once, then ``reps`` more times."""
+    body = _COUNTED.format(here=HERE, n=n, kind=kind, reps=reps)
+    env = dict(os.environ, OPENBLAS_NUM_THREADS="1", OMP_NUM_THREADS="1")
+    with tempfile.TemporaryDirectory() as tmp:
+        script, out = os.path.join(tmp, "s.py"), os.path.join(tmp, "cg.out")
+        with open(script, "w") as fh:
+            fh.write(body)
+        run = subprocess.run(
+            ["valgrind", "--tool=callgrind", f"--callgrind-out-file={out}", sys.executable, script],
+            env=env,
+            capture_output=True,
+            text=True,
+            check=True,
+        )
+    return int(re.search(r"Collected : (\d+)", run.stderr).group(1))
+
+
+def instruction_ratios(kinds, n: int) -> dict:
+    """{kind: instructions of one actuate (mean over the kind's targets) / those of one
+    cold solve}, each the difference of a run with one more pass over the targets and a
+    run without (start-up, imports and first calls excluded)."""
+    cold = (_instructions("cold", n, 1) - _instructions("cold", n, 0)) / 10
+    out = {}
+    for kind in kinds:
+        per = (_instructions(kind, n, 1) - _instructions(kind, n, 0)) / n
+        out[kind] = per / cold
+        print(f"instructions: {kind:<44s} {per / 1e6:7.2f} M  = {per / cold:5.2f} cold solves")
+    return out
+
+
 def measure(scene, rounds: int, n: int):
     """Per round (these machines drift by tens of percent): the solve units, then every
     measurement in them; the medians over rounds of the times and of the ratios."""
@@ -162,16 +221,22 @@ def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--rounds", type=int, default=7)
     ap.add_argument("--targets", type=int, default=8, help="targets per kind")
+    ap.add_argument(
+        "--instructions", action="store_true", help="also count instructions (callgrind)"
+    )
     args = ap.parse_args(argv)
     scene = scenes()[SCENE][0]
     cold, warm, jac, rows = measure(scene, args.rounds, args.targets)
+    kinds = list(dict.fromkeys(r["kind"] for r in rows))
+    work = instruction_ratios(kinds, args.targets) if args.instructions else {}
 
     lines = [
         f"# `Problem.jacobian` and `tr.actuate` on the Fig. 11c scene ({platform.machine()}, "
         f"Python {platform.python_version()})",
         "",
         "Produced by `python bench/jacobian_actuate.py "
-        f"--rounds {args.rounds} --targets {args.targets}` (medians over rounds of the "
+        f"--rounds {args.rounds} --targets {args.targets}"
+        f"{' --instructions' if work else ''}` (medians over rounds of the "
         "times and of the ratios, each ratio within its round; default options).",
         "",
         f"Solve units: cold `tr.solve` {1e6 * cold:.0f} us, warm `Problem.solve` "
@@ -188,10 +253,10 @@ def main(argv=None):
     lines += [
         "",
         "| tr.actuate target | reached | median ms | median cold solves (max) | goal <= 5 | "
-        "solves / linearisations (median) | augmented route | forward-solve error (max) |",
-        "|---|---:|---:|---:|:---:|---:|---:|---:|",
+        "solves / linearisations (median) | augmented route | forward-solve error (max) | "
+        "work in cold solves (instructions, mean) |",
+        "|---|---:|---:|---:|:---:|---:|---:|---:|---:|",
     ]
-    kinds = list(dict.fromkeys(r["kind"] for r in rows))
     for k in kinds:
         rs = [r for r in rows if r["kind"] == k]
         ok = [r for r in rs if r["success"]]
@@ -204,7 +269,8 @@ def main(argv=None):
             f"{'yes' if med_units <= GOAL_ACTUATE_COLD else 'no'} | "
             f"{statistics.median(r['solves'] for r in rs):.0f} / "
             f"{statistics.median(r['jacobians'] for r in rs):.0f} | "
-            f"{sum(r['route'] == 'augmented' and r['success'] for r in rs)}/{len(rs)} | {err:.1e} |"
+            f"{sum(r['route'] == 'augmented' and r['success'] for r in rs)}/{len(rs)} | {err:.1e} | "
+            + (f"{work[k]:.2f} |" if k in work else "- |")
         )
         lines.append(line)
         print(line)
@@ -230,51 +296,62 @@ def main(argv=None):
         "robot, tests/test_jacobian.py::test_at_switch_one_sided_taut_side, which asks for "
         "central ones); central ones (truncation ~1e-11) are the numbers of "
         "`tr.compliance`, which keeps them.",
-        "- `tr.actuate` spends a warm solve and a forward linearisation per iteration, plus "
-        "Python (a small QP per step). Each warm solve starts from the last success with the "
-        "shooting Jacobian of the last linearisation (a few evaluations instead of a stale "
-        "Jacobian's Broyden iterations; not after a linearisation at a taut/slack switch, "
-        "whose one-sided Jacobian may be the wrong side's), and a return to controls solved "
-        "before starts from that solution. Iterations per target (median, max): "
+        "- `tr.actuate` spends a warm solve and a forward linearisation (`Problem._tip_rates`, "
+        "the core's raw tip rows) per iteration, the step itself a small QP in C "
+        "(`csrc/tr_qp.c`); in the least change, after a step whose target residual fell by "
+        "100x or more, a chord step on the same linearisation replaces the next iteration. "
+        "Each warm solve starts from the last success with the shooting Jacobian of the last "
+        "linearisation (not after one at a taut/slack switch, whose one-sided Jacobian may "
+        "be the wrong side's), a tendon "
+        "released or drawn in from the same equilibrium with its slack changed, a return to "
+        "controls solved before from that solution; near the target each takes one Newton "
+        "step past convergence (a control change under the solver's tol otherwise left the "
+        "state where it was, and one square target stalled at 1.03e-10). Iterations per "
+        "target (median, max): "
         + "; ".join(
             f"{k} {statistics.median(its[k]):.0f}, {max(its[k])}"
             + (f" ({missed[k]} of {len(its[k])} stop short of the target)" if missed[k] else "")
             for k in kinds
         )
-        + ". Position targets with three tendons are badly conditioned (co-contraction "
-        "moves the tip little): the augmented solve stops at a singular Jacobian and the "
-        "steps take over. The least change (more controls than components) has no square "
-        "system to solve. In shooting evaluations (deterministic, counted by hand over 16 "
-        "targets per kind with the solves' nfev and k + 1 per linearisation) a median "
-        "'direction, 3 tendons' target takes 228 (the first, cold solve 43; the iterate "
-        "solves ~100; 7 linearisations, 70), 264 before the iterate solves took the "
-        "linearisation's Jacobian (and 16 of 16 reached against 15); 'position, 3 tendons' "
-        "487 against 588. A cold solve is 43 evaluations plus its stability verdict, so "
-        "the evaluations and the final judged solve alone come to ~4-5 cold solves on the "
-        "least change: the rest of the time is Python (the two small QPs of a step, the "
-        "Jacobian and Solution wrappers, the target residual; about half of it by timers "
-        "around the core calls), which only the step loop in C would remove; the QP's "
-        "blocking-step search, vectorised, takes ~35 % less of it. Against the code before "
-        "the linearisation's Jacobian, the QP and the direct value setting (by hand: four "
-        "interleaved pairs of runs, 3 rounds, 8 targets, on a loaded machine whose cold "
-        "solve took ~0.75 ms): position, 3 tendons 44-59 -> 18-32 cold solves; direction, "
-        "3 tendons 18-23 -> 12-17; tendons 0 1 by the linearisation only 11-13 -> 6-10. Tried and "
-        "dropped (by hand): a secant (good Broyden) update of the control Jacobian and of "
-        "the tension rates after every other accepted step far from the target (residual "
-        "> 1e-6): no fewer evaluations on the direction targets (228 median) and 11 of 16 "
-        "position targets reached instead of 14; and the iterate solves started from the "
-        "linearised state itself (whose first Newton step is then the tangent predictor) "
-        "instead of the last success: no cheaper, and their residuals, stopped just under "
-        "the solver's tol, left one target in 8 of two kinds at 1.1-1.25e-10, above the "
-        "1e-10 target tolerance. Two routes tried and dropped earlier (measured by hand, not in "
-        "this table): the least change inside the shooting system (n - m coupling rows "
-        "holding the controls' change in the row space of the last linearisation) applies "
-        "only while every actuated tendon stays taut, which none of these targets does "
-        "(tendon 1 carries 0.34 N and goes slack), and on a pretensioned four-tendon robot "
-        "it saved nothing over the 3 iterations of the steps; and a tip pose (6 components) "
-        "inside the shooting system, on two sections of three helical tendons, converged "
-        "from 90 % of the way to the goal's controls in 7 iterations but stagnated from 70 % "
-        "and took 20 from 50 %, where the steps converge in 7 iterations from the scene.",
+        + ". The least change stops at a stationarity of 1e-6 in the scaled controls (the "
+        "forward-difference linearisation is good to ~1e-7, so 1e-7 chased its noise). The "
+        "least-change targets whose solution holds a tendon at its tension floor take 3-4 "
+        "iterations; those that keep all three taut (co-contraction, 13-100 N) 5-7, the "
+        "tangential convergence of the quasi-Newton Hessian being linear at first.",
+        "- Where the time goes (a median 'direction, 3 tendons' target, timers around every "
+        "call): the first solve 0.6 cold solves (no stability verdict), the final judged solve "
+        "~0.6 (its verdict and plausibility check), the iterate solves ~1.4 and the "
+        "linearisations ~1.0 (~100 us each), and Python ~2 (~0.2 ms an iteration: the "
+        "step's assembly, the target's residual, the wrappers; numpy calls on 3-vectors). "
+        "In instructions (the last column, when measured) the same actuate is ~4.3 cold "
+        "solves: Python runs fewer instructions per second than the numerical core, so the "
+        "time ratio is the larger. Only the step loop in C would remove most of that Python.",
+        "- Found on the way, in the core (all solves): a tendon's tension/slack unknown was "
+        "differenced forward whatever the side of its switch; across the kink that is "
+        "neither side's derivative, and iterate solves that land a tendon at its tension "
+        "floor took 10-22 Newton iterations and up to 18 fresh Jacobians (64-206 "
+        "evaluations) for an unknown move of 1e-7..1e-3; now 1-17 (the large first steps "
+        "of the co-contracted targets still take 64-93). Golden outputs changed at "
+        "round-off; the stress report's outcomes are unchanged.",
+        "- Position targets with three tendons are badly conditioned (the third singular "
+        "value of the tip's derivative by the controls is ~0.4 % of the first: "
+        "co-contraction moves the tip little, and does so nonlinearly as the tension "
+        "stiffens the robot): the trust region shrinks to steps of ~1e-3 and the steps creep; "
+        "2 of 8 targets stop short of 1e-10 L (3e-7 and a stuck 1.4e-2).",
+        "- Tried and dropped (in instructions, over the 8 targets of each kind): the "
+        "linearisation's Jacobian also after a switch (3 % less work on the least change, 13 % "
+        "more on the positions, 8 % more on the square targets by steps); the chord step in "
+        "the square and least-squares steps too (3 % more on the positions); a secant (good "
+        "Broyden) update of the control Jacobian (no fewer "
+        "evaluations, fewer position targets reached); the iterate solves started from the "
+        "linearised state (no cheaper); a tension floor a hair above its value, to keep the "
+        "iterates off the switch (slower); a 1-d secant of the reduced Hessian in place of "
+        "the damped BFGS update (more iterations on the taut targets); the least-norm normal "
+        "step by `lstsq` in place of its QP (more instructions than the QP in C); the least "
+        "change inside the shooting system (n - m coupling rows holding the controls' change "
+        "in the row space of the last linearisation: saved nothing over the steps on a "
+        "pretensioned four-tendon robot); a tip pose (6 components) inside the shooting "
+        "system (stagnated from 70 % of the way).",
     ]
     os.makedirs(OUT, exist_ok=True)
     with open(os.path.join(OUT, "jacobian_actuate.csv"), "w", newline="") as f:

@@ -320,7 +320,6 @@ class Iteration:
             self.delta *= 2.0
         elif rho < 0.25:
             self.delta = np.abs(u).max() / 2.0
-        cn, sn, rn, Dn = self._chord(cn, sn, rn, Dn, np.abs(r).max(), np.zeros((0, n)))
         self._accepted(cn, sn, rn, Dn)
         return "moved"
 

@@ -267,10 +267,10 @@ class _Run:
         raw, here = self.prob._tip_rates(sol, side)
         nt = len(raw["at_switch"])
         switch = np.asarray(raw["at_switch"], dtype=int)
-        # its shooting Jacobian starts the next solves (fresher than the solver's own; at
-        # a taut/slack switch it is one side's, and the solver's differences then follow
-        # the side each iterate is on)
-        self.jac = raw["jacobian"] if here else None
+        # its shooting Jacobian starts the next solves (fresher than the solver's own),
+        # unless a tendon sits at its switch: the map is kinked there, and the side taken
+        # may not be the one those solves land on
+        self.jac = raw["jacobian"] if here and not np.any(switch) else None
         A = D @ raw["pose"][:nt, 0, :].T[:, self.idx]
         # the signed tension psi = tension - k slack (see _Run.psi): continuous and
         # increasing through the switch, so a slack tendon's rates are not lost
