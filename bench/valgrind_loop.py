@@ -18,7 +18,9 @@ Exercises every path of the glue and the core that a user reaches:
 - tr.Problem: values set per call, warm solves, guess modes, another structure (the
   ValueError path), compliance from the kept state, pickling; an equilibrium found off
   the load path and confirmed by the second formulation (allocated on first need); the
-  work budget running out; a Cancel token stopping a solve on a thread.
+  work budget running out; a Cancel token stopping a solve on a thread;
+- tr.actuate's least change (the step QP in C, polished and judged solves) and the QP's
+  error paths.
 Every call's outcome is checked lightly (so a wrong turn is noticed), the
 point is what valgrind sees.
 """
@@ -282,6 +284,35 @@ def raw_error_loop(n):
                 pass
 
 
+def actuate_loop(n):
+    """tr.actuate: the least change of three tendons (the step QP in C, polished iterate
+    solves near the target, the final state judged in the run's workspace), and the QP's
+    own error paths."""
+    rod = tr.Rod(length=0.1, diameter=1.04e-3, E=210e9, G=80e9, kirchhoff=True)
+    EI, r = rod.bending_stiffness, 0.01
+    tendons = [
+        tr.Tendon(offset=r, angle=2 * math.pi * i / 3, EA=150.0 * EI / r**2) for i in range(3)
+    ]
+    sc = tr.Scene(
+        tr.Robot(rod, tendons),
+        displacement=[0.0, 0.0, 0.0],
+        loads=[tr.PointLoad(s=0.1, force=(0.0, 0.5, 0.0))],
+    )
+    for it in range(n):
+        sol = tr.actuate(sc, tip_direction=(1.0, 0.0, 1.0 + 0.1 * it))
+        assert sol.success, sol.message
+        try:
+            tr._core.qp(
+                np.zeros((2, 2)), np.ones(2), np.zeros((0, 2)), np.zeros((0, 2)), [], [0, 0]
+            )
+        except ArithmeticError:
+            pass
+        try:
+            tr._core.qp(np.eye(2), np.ones(3), np.zeros((0, 2)), np.zeros((0, 2)), [], [0, 0])
+        except ValueError:
+            pass
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser()
     ap.add_argument("--fast", action="store_true", help="small counts (CI)")
@@ -295,6 +326,7 @@ def main(argv=None):
     raw_error_loop(max(2, n_solve // 10))
     batch_loop(max(2, n_solve // 10))
     problem_loop(max(2, n_solve // 15))
+    actuate_loop(max(2, n_solve // 15))
     print(
         f"valgrind_loop: {n_uf} ufunc rounds, {n_solve} solves, "
         f"{max(2, n_solve // 10)} rounds of raw error paths: done"

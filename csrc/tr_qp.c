@@ -1,7 +1,7 @@
 /*
  * tr_qp.c -- the small dense convex QP of tr_qp.h by the primal active-set method: the
  * null space of the working set's constraints and the least-squares multipliers by SVD
- * (one-sided Jacobi), the reduced Newton system by Gaussian elimination.
+ * (one-sided Jacobi), the reduced Newton system by Gaussian elimination (tru_solve_dense).
  */
 #include "tr_qp.h"
 
@@ -12,6 +12,7 @@
 #include <gsl/gsl_linalg.h>
 
 #include "tendonrod.h"
+#include "tru_math.h"
 
 /* Largest sizes accepted: the actuated tendons and a few constraints per tendon. */
 #define QP_MAX_N    256
@@ -100,36 +101,6 @@ static int null_space(qp_ws *w, int k)
     return nz;
 }
 
-/* Solve the (m x m) system M z = b in place (b into z) by Gaussian elimination with
- * partial pivoting; -1 when a pivot is exactly zero. */
-static int gauss(double *M, double *b, int m)
-{
-    int i, j, c;
-    for (c = 0; c < m; c++) {
-        int piv = c;
-        for (i = c + 1; i < m; i++)
-            if (fabs(M[i * m + c]) > fabs(M[piv * m + c])) piv = i;
-        if (!(M[piv * m + c] != 0.0) || !isfinite(M[piv * m + c])) return -1;
-        if (piv != c) {
-            double t;
-            for (j = 0; j < m; j++)
-                t = M[c * m + j], M[c * m + j] = M[piv * m + j], M[piv * m + j] = t;
-            t = b[c], b[c] = b[piv], b[piv] = t;
-        }
-        for (i = c + 1; i < m; i++) {
-            const double f = M[i * m + c] / M[c * m + c];
-            for (j = c; j < m; j++) M[i * m + j] -= f * M[c * m + j];
-            b[i] -= f * b[c];
-        }
-    }
-    for (i = m - 1; i >= 0; i--) {
-        double s = b[i];
-        for (j = i + 1; j < m; j++) s -= M[i * m + j] * b[j];
-        b[i] = s / M[i * m + i];
-    }
-    return 0;
-}
-
 /* q = H x + g. */
 static void gradient(const qp_ws *w, const double *H, const double *g, const double *x, double *q)
 {
@@ -169,62 +140,45 @@ static int reduced_step(qp_ws *w, const double *H, int k, double *p)
         rhs[a] = 0.0;
         for (i = 0; i < n; i++) rhs[a] += za[i] * w->q[i];
     }
-    if (gauss(w->M, rhs, nz) < 0) return -1;
+    if (tru_solve_dense(nz, w->M, rhs) < 0) return -1;
     for (a = 0; a < nz; a++)
         for (i = 0; i < n; i++) p[i] -= w->Z[(size_t)a * n + i] * rhs[a];
     return 0;
 }
 
 /* The minimum-norm least-squares solution y (k) of C^T y = r for the k rows of C, with
- * singular values below eps max(n, k) of the largest dropped (NumPy's lstsq default). */
+ * singular values below eps max(n, k) of the largest dropped (NumPy's lstsq default).  By
+ * the SVD of the taller of C^T (n >= k) and C: M = P S V^T, with the factor contracted with
+ * r (n rows) and the one that gives y (k rows) both c = min(n, k) columns wide. */
 static int lstsq_t(qp_ws *w, int k, const double *r, double *y)
 {
-    const int n = w->n;
+    const int n = w->n, c = n >= k ? k : n;
+    const double *left, *right;
     double smax = 0.0, thr;
-    int i, j, c;
+    int i, j;
     if (k == 0) return 0;
     if (n >= k) {
-        /* C^T (n x k) = U S V^T: y = V S+ U^T r */
-        double *ct = w->Z; /* n x k scratch */
+        double *ct = w->Z; /* C^T (n x k) scratch */
         for (i = 0; i < n; i++)
             for (j = 0; j < k; j++) ct[i * k + j] = w->C[j * n + i];
         if (svd(w, ct, n, k) < 0) return -1;
-        for (j = 0; j < k; j++)
-            if (w->S[j] > smax) smax = w->S[j];
-        thr = DBL_EPSILON * n * smax;
-        for (j = 0; j < k; j++) {
-            double s = 0.0;
-            if (!(w->S[j] > thr)) {
-                w->tmp[j] = 0.0;
-                continue;
-            }
-            for (i = 0; i < n; i++) s += w->P[i * k + j] * r[i];
-            w->tmp[j] = s / w->S[j];
-        }
-        for (i = 0; i < k; i++) {
-            double s = 0.0;
-            for (c = 0; c < k; c++) s += w->V[i * k + c] * w->tmp[c];
-            y[i] = s;
-        }
-        return 0;
+        left = w->P, right = w->V; /* C^T = P S V^T: y = V S+ P^T r */
+    } else {
+        if (svd(w, w->C, k, n) < 0) return -1;
+        left = w->V, right = w->P; /* C = P S V^T, C^T = V S P^T: y = P S+ V^T r */
     }
-    /* k > n: C (k x n) = U S V^T, C^T = V S U^T: y = U S+ V^T r */
-    if (svd(w, w->C, k, n) < 0) return -1;
-    for (j = 0; j < n; j++)
+    for (j = 0; j < c; j++)
         if (w->S[j] > smax) smax = w->S[j];
-    thr = DBL_EPSILON * k * smax;
-    for (j = 0; j < n; j++) {
+    thr = DBL_EPSILON * (n > k ? n : k) * smax;
+    for (j = 0; j < c; j++) {
         double s = 0.0;
-        if (!(w->S[j] > thr)) {
-            w->tmp[j] = 0.0;
-            continue;
-        }
-        for (i = 0; i < n; i++) s += w->V[i * n + j] * r[i];
-        w->tmp[j] = s / w->S[j];
+        if (w->S[j] > thr)
+            for (i = 0; i < n; i++) s += left[i * c + j] * r[i];
+        w->tmp[j] = w->S[j] > thr ? s / w->S[j] : 0.0;
     }
     for (i = 0; i < k; i++) {
         double s = 0.0;
-        for (c = 0; c < n; c++) s += w->P[i * n + c] * w->tmp[c];
+        for (j = 0; j < c; j++) s += right[i * c + j] * w->tmp[j];
         y[i] = s;
     }
     return 0;
