@@ -75,6 +75,7 @@ class Iteration:
     def _set(self, c, sol, r, D):
         self.c, self.sol, self.r, self._D = c, sol, r, D
         self._lin = self._rows = None
+        self.slack_side = []  # tendons at their switch linearised on the slack side
         # within 1e4 tol of the target, iterate solves are polished (see _Run._solve_values)
         self.run.polish = bool(np.abs(r).max() <= 1e4 * self.tol)
 
@@ -134,6 +135,7 @@ class Iteration:
         pull = (self.c0 > self.c) & (not self.lsq)
         want = self.disp_idx & (self.lsq | np.isfinite(self.floor0[self.idx]) | pull)
         side[self.idx[want]] = 1.0
+        side[self.slack_side] = -1.0  # (least squares: see lm)
         return side
 
     A = property(lambda self: self._linearisation()[0])
@@ -308,6 +310,14 @@ class Iteration:
         if held:
             G, h = np.concatenate([G, np.eye(n)[held]]), np.concatenate([h, np.zeros(len(held))])
         u = solve_qp(H, A.T @ r, np.zeros((0, n)), G, h, np.zeros(n)).u
+        # a held tendon that the step would slacken (its predicted tension falls, through
+        # the other controls) is on its slack side there, whose derivatives are not the
+        # taut side's: the step again from the linearisation with that side (once)
+        flip = [self.run.idx[j] for j in held if self.T[self.run.idx[j]] @ u < 0.0]
+        if flip and not self.slack_side:
+            self.slack_side = flip
+            self._lin = self._rows = None
+            return self.lm()
         pred = r @ r - (r + A @ u) @ (r + A @ u)
         if not pred > 1e-28 * (r @ r) or np.abs(u).max() <= 1e-13:
             return "stuck"  # no descent left: a (bounded) least-squares point

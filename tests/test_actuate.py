@@ -474,3 +474,26 @@ def test_a_target_held_only_by_an_unstable_equilibrium_is_not_reached():
     # of the scene's own controls stops at it
     straight = tr.solve(scene, options=tr.Options(accept_unstable=True))
     assert straight.stable is False and abs(straight.tip_angle) < 1e-12
+
+
+def test_tip_position_across_tendons_held_at_their_switch():
+    """Fig. 11c (three tendons, the first retracted, locked, 0.5 N out of plane): a tip
+    position reached with all three taut, from a path where two tendons sit at their
+    taut/slack switch and the step would slacken them through the third (their taut-side
+    derivatives then predict the wrong motion; the step is retaken on the slack side)."""
+    rod = tr.Rod(length=0.1, diameter=1.04e-3, E=210e9, G=80e9, kirchhoff=True)
+    EI, r = rod.bending_stiffness, 0.01
+    tendons = [
+        tr.Tendon(offset=r, angle=2 * math.pi * i / 3, EA=50.0 * 3 * EI / r**2) for i in range(3)
+    ]
+    q0 = [0.015812683023068652, -r * math.pi / 4, -r * math.pi / 4]  # bench/solve.py's
+    scene = tr.Scene(
+        tr.Robot(rod, tendons), displacement=q0, loads=[tr.PointLoad(s=0.1, force=(0, 0.5, 0))]
+    )
+    q_goal = [0.01603314, -0.0060875, -0.00978068]
+    goal = tr.solve(dataclasses.replace(scene, displacement=q_goal)).tip_position
+    sol = tr.actuate(scene, tip_position=goal)
+    assert sol.success, sol.message
+    fwd = _forward(scene, sol)
+    # the target tolerance (1e-10 L) and the forward solve's own accuracy
+    assert np.abs(fwd.tip_position - goal).max() <= 1e-9 * 0.1
