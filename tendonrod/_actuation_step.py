@@ -312,8 +312,9 @@ class Iteration:
         u = solve_qp(H, A.T @ r, np.zeros((0, n)), G, h, np.zeros(n)).u
         # a held tendon that the step would slacken (its predicted tension falls, through
         # the other controls) is on its slack side there, whose derivatives are not the
-        # taut side's: the step again from the linearisation with that side (once)
-        flip = [self.run.idx[j] for j in held if self.T[self.run.idx[j]] @ u < 0.0]
+        # taut side's: the step again from the linearisation with that side (once per
+        # state; a fall below 1e-6 of the tension scale is round-off of a held tendon)
+        flip = [self.run.idx[j] for j in held if self.T[self.run.idx[j]] @ u < -1e-6]
         if flip and not self.slack_side:
             self.slack_side = flip
             self._lin = self._rows = None
