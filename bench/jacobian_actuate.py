@@ -337,7 +337,13 @@ def main(argv=None):
         "value of the tip's derivative by the controls is ~0.4 % of the first: "
         "co-contraction moves the tip little, and does so nonlinearly as the tension "
         "stiffens the robot): the trust region shrinks to steps of ~1e-3 and the steps creep; "
-        "2 of 8 targets stop short of 1e-10 L (3e-7 and a stuck 1.4e-2).",
+        "1 of 8 targets stops short of 1e-10 L (3.3e-7 after the 50 iterations). A second "
+        "one stalled at 1.4e-2 with 8 refused steps: two tendons held at their switch, "
+        "which the step slackened through the third while their taut-side derivatives "
+        "predicted otherwise; such a tendon is now linearised on its slack side and the "
+        "step retaken, which reaches it (1e-13, tests/test_actuate.py), at the price of "
+        "more linearisations where tendons cross their switch back and forth (the kind's "
+        "work 15.0 -> 18.0 cold solves, its median time 15-19 -> 22).",
         "- Tried and dropped (in instructions, over the 8 targets of each kind): the "
         "linearisation's Jacobian also after a switch (3 % less work on the least change, 13 % "
         "more on the positions, 8 % more on the square targets by steps); the chord step in "
