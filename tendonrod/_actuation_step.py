@@ -314,7 +314,8 @@ class Iteration:
         # the other controls) is on its slack side there, whose derivatives are not the
         # taut side's: the step again from the linearisation with that side (once per
         # state; a fall below 1e-6 of the tension scale is round-off of a held tendon)
-        flip = [self.run.idx[j] for j in held if self.T[self.run.idx[j]] @ u < -1e-6]
+        fall = -1e-6 * self.tau_scale
+        flip = [self.run.idx[j] for j in held if self.T[self.run.idx[j]] @ u < fall]
         if flip and not self.slack_side:
             self.slack_side = flip
             self._lin = self._rows = None
