@@ -26,13 +26,14 @@ typedef struct {
     double *S;     /* (big) singular values */
     double *Z;     /* (n x n) null-space basis, column-major by basis vector: Z[j * n + i] */
     double *M;     /* (n x n) the reduced Hessian Z^T H Z, then its elimination */
+    double *L;     /* tr_lstsq's workspace for the working set's rows */
 } qp_ws;
 
 size_t tr_qp_work_len(int n, int me, int mi)
 {
     const size_t rows = (size_t)me + (size_t)mi, big = (rows > (size_t)n ? rows : (size_t)n);
     return 6 * (size_t)n + 4 * (size_t)mi + 2 * rows + rows * (size_t)n + 2 * big * big + big +
-           2 * (size_t)n * (size_t)n + big;
+           2 * (size_t)n * (size_t)n + big + tr_lstsq_work_len((int)big, (int)big);
 }
 
 static void ws_init(qp_ws *w, int n, int me, int mi, double *work)
@@ -53,7 +54,8 @@ static void ws_init(qp_ws *w, int n, int me, int mi, double *work)
     w->V = work, work += big * big;
     w->S = work, work += big;
     w->Z = work, work += (size_t)n * n;
-    w->M = work;
+    w->M = work, work += (size_t)n * n;
+    w->L = work;
 }
 
 /* Singular value decomposition of the (r x c) row-major matrix a, r >= c: U into w->P
@@ -146,42 +148,67 @@ static int reduced_step(qp_ws *w, const double *H, int k, double *p)
     return 0;
 }
 
-/* The minimum-norm least-squares solution y (k) of C^T y = r for the k rows of C, with
- * singular values below eps max(n, k) of the largest dropped (NumPy's lstsq default).  By
- * the SVD of the taller of C^T (n >= k) and C: M = P S V^T, with the factor contracted with
- * r (n rows) and the one that gives y (k rows) both c = min(n, k) columns wide. */
-static int lstsq_t(qp_ws *w, int k, const double *r, double *y)
+size_t tr_lstsq_work_len(int r, int c)
 {
-    const int n = w->n, c = n >= k ? k : n;
+    const size_t big = (size_t)(r > c ? r : c), sm = (size_t)(r > c ? c : r);
+    return big * sm + sm * sm + 2 * sm;
+}
+
+int tr_lstsq(int r, int c, const double *M, int trans, const double *b, double rcond, double *x,
+             double *work)
+{
+    /* E = M (r x c), or M^T (c x r) with trans: er x ec */
+    const int er = trans ? c : r, ec = trans ? r : c, tall = er >= ec;
+    const int big = tall ? er : ec, sm = tall ? ec : er;
+    double *P = work, *V = P + (size_t)big * sm, *S = V + (size_t)sm * sm, *tmp = S + sm;
     const double *left, *right;
     double smax = 0.0, thr;
     int i, j;
-    if (k == 0) return 0;
-    if (n >= k) {
-        double *ct = w->Z; /* C^T (n x k) scratch */
-        for (i = 0; i < n; i++)
-            for (j = 0; j < k; j++) ct[i * k + j] = w->C[j * n + i];
-        if (svd(w, ct, n, k) < 0) return -1;
-        left = w->P, right = w->V; /* C^T = P S V^T: y = V S+ P^T r */
+    if (sm == 0) {
+        memset(x, 0, (size_t)ec * sizeof(double));
+        return 0;
+    }
+    /* P: the taller of E and E^T (big x sm); M is E (trans = 0) or E^T (trans = 1) */
+    if (tall == !trans) {
+        memcpy(P, M, (size_t)big * sm * sizeof(double));
     } else {
-        if (svd(w, w->C, k, n) < 0) return -1;
-        left = w->V, right = w->P; /* C = P S V^T, C^T = V S P^T: y = P S+ V^T r */
+        for (i = 0; i < big; i++)
+            for (j = 0; j < sm; j++) P[(size_t)i * sm + j] = M[(size_t)j * big + i];
     }
-    for (j = 0; j < c; j++)
-        if (w->S[j] > smax) smax = w->S[j];
-    thr = DBL_EPSILON * (n > k ? n : k) * smax;
-    for (j = 0; j < c; j++) {
-        double s = 0.0;
-        if (w->S[j] > thr)
-            for (i = 0; i < n; i++) s += left[i * c + j] * r[i];
-        w->tmp[j] = w->S[j] > thr ? s / w->S[j] : 0.0;
+    {
+        gsl_matrix_view Pv = gsl_matrix_view_array(P, (size_t)big, (size_t)sm);
+        gsl_matrix_view Vv = gsl_matrix_view_array(V, (size_t)sm, (size_t)sm);
+        gsl_vector_view Sv = gsl_vector_view_array(S, (size_t)sm);
+        if (gsl_linalg_SV_decomp_jacobi(&Pv.matrix, &Vv.matrix, &Sv.vector) != GSL_SUCCESS)
+            return -1;
     }
-    for (i = 0; i < k; i++) {
+    /* tall: E = P S V^T, x = V S+ P^T b; wide: E^T = P S V^T, E = V S P^T, x = P S+ V^T b.
+     * The factor contracted with b (er rows) and the one that gives x (ec rows), both sm
+     * columns wide. */
+    left = tall ? P : V, right = tall ? V : P;
+    for (j = 0; j < sm; j++)
+        if (S[j] > smax) smax = S[j];
+    thr = rcond * smax;
+    for (j = 0; j < sm; j++) {
         double s = 0.0;
-        for (j = 0; j < c; j++) s += right[i * c + j] * w->tmp[j];
-        y[i] = s;
+        if (S[j] > thr)
+            for (i = 0; i < er; i++) s += left[(size_t)i * sm + j] * b[i];
+        tmp[j] = S[j] > thr ? s / S[j] : 0.0;
+    }
+    for (i = 0; i < ec; i++) {
+        double s = 0.0;
+        for (j = 0; j < sm; j++) s += right[(size_t)i * sm + j] * tmp[j];
+        x[i] = s;
     }
     return 0;
+}
+
+/* The minimum-norm least-squares solution y (k) of C^T y = r for the k rows of C, with
+ * singular values below eps max(n, k) of the largest dropped (NumPy's lstsq default). */
+static int lstsq_t(qp_ws *w, int k, const double *r, double *y)
+{
+    const int n = w->n;
+    return tr_lstsq(k, n, w->C, 1, r, DBL_EPSILON * (n > k ? n : k), y, w->L);
 }
 
 /* Rows of C: A's, then G's rows in the working set ws (nw). */

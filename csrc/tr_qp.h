@@ -37,6 +37,17 @@ int tr_qp(int n, const double *H, const double *g, int me, const double *A, int 
           const double *h, const double *x0, int max_iter, double *u, double *lam, double *mu,
           int *active, double *work);
 
+/* Doubles of workspace tr_lstsq needs for an (r x c) matrix. */
+size_t tr_lstsq_work_len(int r, int c);
+
+/* The least-norm least-squares solution x of E x = b, E = M (r x c, row-major) or, with
+ * trans, its transpose M^T: x (c, or r with trans), b (r, or c).  By the one-sided Jacobi
+ * SVD of the taller of E and E^T; singular values below rcond times the largest are
+ * dropped (NumPy's lstsq with that rcond).  work: tr_lstsq_work_len(r, c) doubles.
+ * Returns 0, or -1 when the SVD fails. */
+int tr_lstsq(int r, int c, const double *M, int trans, const double *b, double rcond, double *x,
+             double *work);
+
 #ifdef __cplusplus
 }
 #endif
