@@ -109,11 +109,12 @@ class Options:
         Work budget of one solve, everything included (continuation, step verification,
         the confirmation of an equilibrium found off the load path), in units of one
         right-hand-side evaluation of a planar Kirchhoff rod (~33 ns here; one of a
-        spatial Cosserat rod with three tendons counts ~9).  Default 1.3e7: a hopeless
-        solve gives up after about 0.5 s whatever the formulation (times the shooting
+        spatial Cosserat rod with three tendons counts ~9).  Default 2e7: a hopeless
+        solve gives up after about 0.7 s whatever the formulation (times the shooting
         segments where ``auto_shooting`` chose them), with a message that says the budget
-        ran out; converged solves take 10^2-10^6.  Deterministic: a solve
-        stays bitwise reproducible.
+        ran out; converged solves take 10^2-10^6, and up to ~1.6e7 where a warm solve
+        lands on an unstable equilibrium and continues from its guess.  Deterministic: a
+        solve stays bitwise reproducible.
     max_time : float
         Wall-clock limit of one solve [s]; 0 (default) for none.  Opt-in and not
         deterministic: where a solve stops depends on the machine.
