@@ -89,6 +89,32 @@ class Problem:
         cancel: Cancel | None = ...,
     ) -> dict[str, Any]: ...
     def set_target(self, kind: int, values: ArrayLike, tendons: ArrayLike) -> None: ...
+    def actuate(
+        self,
+        *,
+        kind: int,
+        tendons: ArrayLike,
+        c0: ArrayLike,
+        scale: ArrayLike,
+        values: ArrayLike,
+        floor: ArrayLike,
+        tau_scale: float,
+        k: float,
+        tol: float,
+        max_iter: int,
+        tip_row: int,
+        goal: int,
+        length: float,
+        theta: float = ...,
+        direction: ArrayLike | None = ...,
+        basis: ArrayLike | None = ...,
+        position: ArrayLike | None = ...,
+        rotation: ArrayLike | None = ...,
+        rows: ArrayLike | None = ...,
+        augmented: bool = ...,
+        judge: bool = ...,
+        cancel: Cancel | None = ...,
+    ) -> dict[str, Any]: ...
     def stability(self, unknowns: ArrayLike, steps: int, quick: bool = ...) -> dict[str, Any]: ...
     def forget(self) -> None: ...
 

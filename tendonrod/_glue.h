@@ -104,6 +104,22 @@ extern const char glue_is_planar_doc[], glue_solve_batch_doc[];
 /* _path.c: the load path of a scene (tr_path) */
 PyObject *glue_path(PyObject *self, PyObject *args, PyObject *kwds);
 extern const char glue_path_doc[];
+/* _problem.c: _core.Problem, a compiled scene with its workspace */
+typedef struct {
+    PyObject_HEAD tr_model *m;
+    tr_data *d;
+    int nnode_req;   /* the nodes asked for (int form), for the repr */
+    int busy;        /* 1 while a call runs with the GIL released */
+    int last_status; /* status of the last solve (TR_CONTINUE before any) */
+    PyObject *form;  /* the formulation dict (all but the step count), built once */
+} ProblemObject;
+/* The cached formulation template of the results (NULL with an exception). */
+PyObject *glue_problem_form(ProblemObject *self);
+/* 0, or -1 with RuntimeError: not initialised, or busy in another thread. */
+int glue_problem_check(ProblemObject *self);
+/* _actuate.c: Problem.actuate, the inverse actuation's run (tr_actuate) */
+PyObject *glue_problem_actuate(ProblemObject *self, PyObject *args, PyObject *kwds);
+extern const char glue_problem_actuate_doc[];
 /* _qp_glue.c: the small dense QP of the inverse actuation's steps (tr_qp) */
 PyObject *glue_qp(PyObject *self, PyObject *args, PyObject *kwds);
 extern const char glue_qp_doc[];

@@ -8,23 +8,13 @@
  */
 #include "_glue.h"
 
-typedef struct {
-    PyObject_HEAD tr_model *m;
-    tr_data *d;
-    int nnode_req;   /* the nodes asked for (int form), for the repr */
-    int busy;        /* 1 while a call runs with the GIL released */
-    int last_status; /* status of the last solve (TR_CONTINUE before any) */
-    PyObject *form;  /* the formulation dict (all but the step count), built once */
-} ProblemObject;
-
-/* The cached formulation template of the results (NULL with an exception). */
-static PyObject *form_template(ProblemObject *self)
+PyObject *glue_problem_form(ProblemObject *self)
 {
     if (!self->form) self->form = glue_formulation(self->m, self->d);
     return self->form;
 }
 
-static int check_free(ProblemObject *self)
+int glue_problem_check(ProblemObject *self)
 {
     if (!self->m || !self->d) {
         PyErr_SetString(PyExc_RuntimeError, "Problem is not initialised");
@@ -97,7 +87,7 @@ static PyObject *problem_set_values(ProblemObject *self, PyObject *args, PyObjec
     PyObject *ov = Py_None, *ol = Py_None, *od = Py_None, *op = Py_None, *result = NULL;
     PyArrayObject *v = NULL, *l = NULL, *dd = NULL, *p = NULL;
     char msg[TR_MSGLEN];
-    if (check_free(self) < 0) return NULL;
+    if (glue_problem_check(self) < 0) return NULL;
     if (!PyArg_ParseTupleAndKeywords(args, kwds, "|$OOOO", kwlist, &ov, &ol, &od, &op)) return NULL;
     if (values_of(ov, "values", self->m->nt, &v) < 0 ||
         values_of(ol, "point_loads", 6 * (npy_intp)self->m->nl, &l) < 0 ||
@@ -127,7 +117,7 @@ static PyObject *problem_set_value_vector(ProblemObject *self, PyObject *arg)
     PyObject *result = NULL;
     char msg[TR_MSGLEN];
     const double *p;
-    if (check_free(self) < 0) return NULL;
+    if (glue_problem_check(self) < 0) return NULL;
     if (values_of(arg, "value vector", m->nt + 6 * (npy_intp)m->nl + 3, &v) < 0) return NULL;
     p = (const double *)PyArray_DATA(v);
     if (tr_model_set_values(self->m, p, p + m->nt, p + m->nt + 6 * m->nl, msg, sizeof msg) !=
@@ -148,7 +138,7 @@ static PyObject *problem_set_target(ProblemObject *self, PyObject *args)
     PyArrayObject *v = NULL, *t = NULL;
     char msg[TR_MSGLEN];
     double val[3] = {0.0, 0.0, 0.0};
-    if (check_free(self) < 0) return NULL;
+    if (glue_problem_check(self) < 0) return NULL;
     if (!PyArg_ParseTuple(args, "iOO", &kind, &ov, &ot)) return NULL;
     if (!(v = glue_coerce(ov, "values")) || !(t = glue_coerce(ot, "tendons"))) goto fail;
     n = (int)PyArray_SIZE(t);
@@ -182,8 +172,8 @@ fail:
 
 static PyObject *problem_solve(ProblemObject *self, PyObject *args, PyObject *kwds)
 {
-    static char *kwlist[] = {"guess",  "jacobian", "verified", "warm",  "cancel",
-                             "record", "carry",    "polish",   "judge", NULL};
+    static char *kwlist[] = {"guess",  "jacobian", "verified", "warm",
+                             "cancel", "record",   "carry",    NULL};
     PyObject *og = Py_None, *oj = Py_None, *ov = Py_None, *cancel = Py_None, *result = NULL;
     PyObject *oc = Py_None;
     PyArrayObject *xv = NULL, *vv = NULL;
@@ -192,11 +182,11 @@ static PyObject *problem_solve(ProblemObject *self, PyObject *args, PyObject *kw
     tr_data *d = self->d;
     tr_verified ver = {0, 0.0, NULL, NULL};
     const double *g = NULL, *jac = NULL;
-    int warm = 1, record = 1, polish = 0, judge = 0, accept_unstable, status;
+    int warm = 1, record = 1, status;
     memset(&a, 0, sizeof a);
-    if (check_free(self) < 0) return NULL;
-    if (!PyArg_ParseTupleAndKeywords(args, kwds, "|$OOOpOpOpp", kwlist, &og, &oj, &ov, &warm,
-                                     &cancel, &record, &oc, &polish, &judge))
+    if (glue_problem_check(self) < 0) return NULL;
+    if (!PyArg_ParseTupleAndKeywords(args, kwds, "|$OOOpOpO", kwlist, &og, &oj, &ov, &warm, &cancel,
+                                     &record, &oc))
         return NULL;
     a.nt = self->m->nt;
     if (glue_poll_init(&poll, cancel) < 0 || glue_warm_start(&a, og, oj) < 0) goto done;
@@ -239,10 +229,6 @@ static PyObject *problem_solve(ProblemObject *self, PyObject *args, PyObject *kw
     if (a.jac && PyArray_DIM(a.jac, 0) == self->m->n_unknowns)
         jac = (const double *)PyArray_DATA(a.jac);
     d->lazy = !record;
-    d->polish_once = polish;
-    /* judge: this solve is judged for stability whatever the workspace's options say */
-    accept_unstable = d->opt.accept_unstable;
-    if (judge) d->opt.accept_unstable = 0;
     tr_set_poll(d, glue_poll_hook, &poll);
     self->busy = 1;
     Py_BEGIN_ALLOW_THREADS;
@@ -255,13 +241,11 @@ static PyObject *problem_solve(ProblemObject *self, PyObject *args, PyObject *kw
     Py_END_ALLOW_THREADS;
     self->busy = 0;
     tr_set_poll(d, NULL, NULL);
-    d->opt.accept_unstable = accept_unstable;
     self->last_status = status;
-    if (glue_poll_finish(&poll, status) == 0 && form_template(self))
+    if (glue_poll_finish(&poll, status) == 0 && glue_problem_form(self))
         result = glue_solve_result(self->m, d, status, self->form);
 done:
     d->lazy = 0;
-    d->polish_once = 0;
     Py_XDECREF(xv);
     Py_XDECREF(vv);
     glue_args_clear(&a);
@@ -274,7 +258,7 @@ static PyObject *problem_record_from(ProblemObject *self, PyObject *args, PyObje
     PyObject *ox, *result = NULL;
     PyArrayObject *x = NULL;
     int steps, status;
-    if (check_free(self) < 0) return NULL;
+    if (glue_problem_check(self) < 0) return NULL;
     if (!PyArg_ParseTupleAndKeywords(args, kwds, "Oi", kwlist, &ox, &steps)) return NULL;
     if (values_of(ox, "unknowns", self->d->k, &x) < 0) return NULL;
     self->busy = 1;
@@ -287,7 +271,7 @@ static PyObject *problem_record_from(ProblemObject *self, PyObject *args, PyObje
         goto done;
     }
     /* a recording that fails (the last iterate of a failed solve) has NaN states */
-    if (form_template(self)) result = glue_solve_result(self->m, self->d, status, self->form);
+    if (glue_problem_form(self)) result = glue_solve_result(self->m, self->d, status, self->form);
 done:
     Py_XDECREF(x);
     return result;
@@ -300,7 +284,7 @@ static PyObject *problem_stability(ProblemObject *self, PyObject *args, PyObject
     PyArrayObject *x = NULL;
     int steps, status, quick = 0;
     tr_data *d = self->d;
-    if (check_free(self) < 0) return NULL;
+    if (glue_problem_check(self) < 0) return NULL;
     if (!PyArg_ParseTupleAndKeywords(args, kwds, "Oi|p", kwlist, &ox, &steps, &quick)) return NULL;
     if (values_of(ox, "unknowns", d->k, &x) < 0) return NULL;
     self->busy = 1;
@@ -329,7 +313,7 @@ static PyObject *problem_compliance(ProblemObject *self, PyObject *args, PyObjec
     double s, C[36];
     npy_intp dims[2] = {6, 6};
     int status;
-    if (check_free(self) < 0) return NULL;
+    if (glue_problem_check(self) < 0) return NULL;
     if (!PyArg_ParseTupleAndKeywords(args, kwds, "d|$O", kwlist, &s, &cancel)) return NULL;
     if (glue_poll_init(&poll, cancel) < 0) return NULL;
     if (!TR_SUCCEEDED(self->last_status)) {
@@ -381,7 +365,7 @@ static PyObject *problem_linearize(ProblemObject *self, PyObject *args, PyObject
     int *rows = NULL, *at_switch = NULL, status, forward = 0, steps = 0;
     npy_intp np_, nrow, i, nt = self->m ? self->m->nt : 0, dims[3];
     glue_poll poll;
-    if (check_free(self) < 0) return NULL;
+    if (glue_problem_check(self) < 0) return NULL;
     if (!PyArg_ParseTupleAndKeywords(args, kwds, "OO|$pOiOO", kwlist, &op, &orows, &forward, &ox,
                                      &steps, &oside, &cancel))
         return NULL;
@@ -487,7 +471,7 @@ done:
 
 static PyObject *problem_forget(ProblemObject *self, PyObject *unused)
 {
-    if (check_free(self) < 0) return NULL;
+    if (glue_problem_check(self) < 0) return NULL;
     tr_forget(self->d);
     self->last_status = TR_CONTINUE;
     Py_RETURN_NONE;
@@ -495,7 +479,7 @@ static PyObject *problem_forget(ProblemObject *self, PyObject *unused)
 
 static PyObject *problem_formulation(ProblemObject *self, void *closure)
 {
-    if (check_free(self) < 0) return NULL;
+    if (glue_problem_check(self) < 0) return NULL;
     return glue_formulation(self->m, self->d);
 }
 
@@ -512,7 +496,7 @@ static PyObject *problem_has_solution(ProblemObject *self, void *closure)
 static PyObject *problem_breakpoints(ProblemObject *self, void *closure)
 {
     npy_intp n;
-    if (check_free(self) < 0) return NULL;
+    if (glue_problem_check(self) < 0) return NULL;
     n = self->m->nseg + 1;
     return glue_array(1, &n, self->m->bp);
 }
@@ -533,7 +517,7 @@ static PyMethodDef problem_methods[] = {
      "ValueError naming what is wrong."},
     {"solve", (PyCFunction)(void (*)(void))problem_solve, METH_VARARGS | METH_KEYWORDS,
      "solve(*, guess=None, jacobian=None, verified=None, warm=True, cancel=None, record=True,\n"
-     "carry=None, polish=False, judge=False)\n"
+     "carry=None)\n"
      "-> dict: from the guess (a base_state) if given, else warm from the last successful solve\n"
      "(warm=True; cold if there is none), else cold.  verified: (steps, estimate, unknowns[,\n"
      "values]), the 'formulation' steps, 'verified_estimate', 'verified_unknowns' and\n"
@@ -544,10 +528,6 @@ static PyMethodDef problem_methods[] = {
      "which a solution close to it keeps instead of being judged again (one of another model\n"
      "is ignored).  The dict of\n"
      "_core.solve; record=False leaves out the node arrays (record_from computes them).\n"
-     "polish=True: one more Newton step after convergence whatever its size (inverse\n"
-     "actuation's iterates, whose small control changes may leave the residual under tol).\n"
-     "judge=True: judged for stability (and led to the stable branch) even where the\n"
-     "problem's options accept unstable equilibria (the state inverse actuation returns).\n"
      "Ctrl-C raises KeyboardInterrupt."},
     {"record_from", (PyCFunction)(void (*)(void))problem_record_from, METH_VARARGS | METH_KEYWORDS,
      "record_from(unknowns, steps) -> dict: the states at this problem's nodes of the solution\n"
@@ -576,6 +556,8 @@ static PyMethodDef problem_methods[] = {
      "0 not at the switch; side (nt,) asks +1 / -1 for a displacement-controlled tendon at its\n"
      "switch, 0 the side it is on), k (unknowns).  ValueError\n"
      "for a parameter the model lacks."},
+    {"actuate", (PyCFunction)(void (*)(void))glue_problem_actuate, METH_VARARGS | METH_KEYWORDS,
+     glue_problem_actuate_doc},
     {"forget", (PyCFunction)problem_forget, METH_NOARGS,
      "Forget the last solution (the next warm solve starts cold)."},
     {NULL, NULL, 0, NULL}};

@@ -30,7 +30,6 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ._actuation_step import Iteration
 from ._actuation_target import Target
 from ._interrupt import current_token
 from .compiled import is_planar, value_vector
@@ -156,135 +155,6 @@ def _with_controls(scene: Scene, idx, c) -> Scene:
     return dataclasses.replace(scene, displacement=disp, tension=ten)
 
 
-# --------------------------------------------------------------------------- iteration
-class _Run:
-    """The solves and linearisations of one actuation, counted."""
-
-    def __init__(self, scene, options, target, idx, c0, scale, q_scale, tau_scale):
-        self.scene, self.options, self.target = scene, options, target
-        self.idx, self.c0, self.scale = idx, c0, scale
-        self.k = tau_scale / q_scale
-        # the iterates are not judged for stability (a verdict per iterate would cost more
-        # than the iterate); the state returned is, by a solve with the caller's options
-        self.prob = Problem(scene, _replace(options, accept_unstable=True))
-        self.solves = self.jacobians = 0
-        # the scene's per-call values, whose control entries the iterates change
-        self.values = np.array(value_vector(scene))
-        self.tension_controls = np.array([q is None for q in scene.displacement])[idx]
-        self.jac = None  # the last linearisation's shooting Jacobian, for the next solves
-        self.polish = False  # iterate solves take a Newton step past convergence
-        self.solved = {}  # the last few successful solutions by their value vectors
-
-    def solve(self, c, guess=None, state=None):
-        """(Solution, r, D) at controls c: a warm solve from the last success (the first
-        one from ``guess``) with the last linearisation's shooting Jacobian where there is
-        one, or from the solution at c when c was solved before; from ``state`` (the
-        base-frame guess vector [n(0), m(0), tension, slack], e.g. the last success with a
-        released tendon's slack) with the last linearisation's Jacobian when given.
-
-        Iterates set their controls in C only: their Solutions carry the run's scene
-        (the same robot, loads and structure), and :meth:`scene_at` makes the scene of the
-        controls of the state returned."""
-        self.solves += 1
-        # iterates are neither reported nor checked for plausibility: the state returned
-        # is, by the final solve with the caller's options
-        if guess is not None or self.prob.last_solution is None:
-            sol = self.prob._solve_quiet(self.scene_at(c), guess)
-        else:
-            # only the controls differ from the scene set: their values, as _with_controls
-            # sets them, straight into the problem
-            values = self.values.copy()
-            values[self.idx] = np.where(self.tension_controls, np.maximum(c, 0.0), c)
-            # back at controls solved before (an iterate the iteration returns to): from
-            # that solution, one evaluation
-            start = None if state is not None else self.solved.get(values.tobytes())
-            sol = self._solve_values(self.scene, values, start, state)
-            if sol.success:
-                if len(self.solved) >= 8:
-                    self.solved.pop(next(iter(self.solved)))
-                self.solved[values.tobytes()] = sol
-        if not sol.success:
-            return sol, None, None
-        r, D = self.target.residual(sol)
-        return sol, r, D
-
-    def verified(self, sol):
-        """The step verification record (steps, estimate, unknowns, values) of a solution
-        of this run, which a solve from it starts with (None: there is none)."""
-        raw = sol.raw
-        xv = raw.get("verified_unknowns")
-        if xv is None or self.prob.options.steps != 0:
-            return None
-        steps, est = int(raw["formulation"]["steps"]), float(raw["verified_estimate"])
-        return steps, est, xv, raw.get("verified_values")
-
-    def scene_at(self, c) -> Scene:
-        """The scene with the actuated tendons' controls c (the scene itself at its own)."""
-        if np.array_equal(c, self.c0):
-            return self.scene
-        return _with_controls(self.scene, self.idx, c)
-
-    def _solve_values(self, scene, values, start, state=None):
-        """The Solution of ``scene``, whose per-call values ``values`` (the layout of
-        ``compiled.value_vector``) differ from the scene set in C only in the controls, so
-        that neither is compared: from ``start`` (a solution of this problem) with its
-        Jacobian, or from the last success with the last linearisation's Jacobian (from
-        the guess vector ``state`` instead of that success's state, when given), else
-        warm; neither reported nor checked, as :meth:`Problem._solve_quiet`.  Near the
-        target (``self.polish``, set by the iteration) each takes one Newton step past
-        convergence: a control change that moves the shooting residual by less than its
-        tol would otherwise leave the state, and the target residual, where they were
-        (steps there stall at tol)."""
-        prob = self.prob
-        prob._c.set_value_vector(values)
-        prob._current = scene
-        jac = self.jac if start is None else start.jacobian
-        start = prob._last if start is None else start
-        if jac is None or start is None:
-            raw = prob._c.solve(warm=True, cancel=current_token(), record=False, polish=self.polish)
-        else:
-            raw = prob._c.solve(
-                guess=start.raw["base_state"] if state is None else state,
-                jacobian=jac,
-                verified=self.verified(start),
-                cancel=current_token(),
-                record=False,
-                polish=self.polish,
-            )
-        sol = Solution(raw, scene, prob.options)
-        if sol.success:
-            prob._last = sol
-        return sol
-
-    def linearize(self, sol, D, side=None):
-        """(A (m, n), T (nt, n), side (nt,)): at the solution ``sol``, the target
-        residual's and the tensions' derivatives by the controls, in the scaled units
-        (columns times the control scales), and the side of its switch each tendon's
-        derivatives are from (``side``: the sides asked for, as in
-        :meth:`Problem.jacobian`).  Forward differences; D and the core's tip rows are
-        both in the base frame."""
-        self.jacobians += 1
-        raw, here = self.prob._tip_rates(sol, side)
-        nt = len(raw["at_switch"])
-        switch = np.asarray(raw["at_switch"], dtype=int)
-        # its shooting Jacobian starts the next solves (fresher than the solver's own),
-        # unless a tendon sits at its switch: the map is kinked there, and the side taken
-        # may not be the one those solves land on
-        self.jac = raw["jacobian"] if here and not np.any(switch) else None
-        A = D @ raw["pose"][:nt, 0, :].T[:, self.idx]
-        # the signed tension psi = tension - k slack (see _Run.psi): continuous and
-        # increasing through the switch, so a slack tendon's rates are not lost
-        T = (raw["tension"][:nt].T - self.k * raw["slack"][:nt].T)[:, self.idx]
-        return A * self.scale, T * self.scale, switch
-
-    def psi(self, sol):
-        """The signed tension psi = tension - k slack (nt,) [N] of a solution, with k =
-        EI / (r^2 L) [N/m] (the solver's tension scale per its length scale): the tension
-        of a taut tendon, minus its slack turned into a tension of a slack one.  A floor on
-        psi keeps a tendon taut; the linearisation sees a slack tendon come back."""
-        return sol.tension - self.k * sol.slack
-
-
 def actuate(
     scene: Scene,
     *,
@@ -393,25 +263,14 @@ def actuate(
     idx, c0, scale, is_tension, q_scale, tau_scale = _control_set(scene, tendons)
     n, m = len(idx), target.m
     kind = "square" if n == m else ("minimum-change" if n > m else "least-squares")
-    run = _Run(scene, options, target, idx, c0, scale, q_scale, tau_scale)
-    sol, r, D = run.solve(c0, guess)
-    report = dict(kind=kind, target=target.given, tendons=tuple(idx), run=run)
-    if r is None:
-        return _finish(
-            sol,
-            c0,
-            None,
-            report,
-            (),
-            (),
-            None,
-            None,
-            0,
-            False,
-            tol,
-            strict,
-            "the scene did not solve at its own controls",
-        )
+    # the iterates are not judged for stability (a verdict per iterate would cost more than
+    # the iterate); the state returned is, by a final solve with the caller's options
+    prob = Problem(scene, _replace(options, accept_unstable=True))
+    sol = prob._solve_quiet(scene, guess)
+    report = {"kind": kind, "target": target.given, "tendons": tuple(idx), "tol": tol}
+    if not sol.success:
+        report.update(controls=c0, why="the scene did not solve at its own controls")
+        return _finish(sol, report, strict)
     nt = scene.robot.n_tendons
     disp = scene.displacement_controlled()
     # lower bounds on the tensions: min_tension for the tendons taut in the scene (minimum
@@ -421,113 +280,59 @@ def actuate(
         for i in range(nt):
             if sol.tension[i] > 0.0 and (disp[i] or i in idx):
                 floor0[i] = float(min_tension)
-    c = c0.copy()
-    report["route"] = "linearisation"
-    if method == "auto" and kind == "square" and np.abs(r).max() > tol:
-        # the target inside the shooting system first; the iteration polishes or takes over
-        aug = _augmented(run, target, idx, disp, planar)
-        if aug is not None:
-            sol, r, D, c = aug
-            report["route"] = "augmented"
-    # slack displacement controls drawn to their switch, where pulling them acts (the
-    # least change pays those it does not need out again at the end)
-    sol, r, D, c = _take_up_slack(run, sol, r, D, c)
-    it = Iteration(run, sol, r, D, c, c0, scale, is_tension, tau_scale, floor0, tol)
-    out = it.iterate(max_iter, report)
-    return _finish(*out[:-1], strict, out[-1])
-
-
-# The core's kinds of tip target (tr_target_kind).
-_TARGET_KIND = {"tip_angle": 1, "tip_direction": 2, "tip_position": 3}
-
-
-def _augmented(run, target, idx, disp, planar):
-    """The target solved inside the shooting system (``_core.Problem.set_target``): its
-    residual takes the place of the length constraints of the actuated tendons, one per
-    component, and one Newton solve, warm from the scene's equilibrium, finds the
-    controls and the equilibrium together.  For as many displacement controls as target
-    components, a planar tip angle or a spatial direction or position.  (sol, r, D, c) at
-    the controls found (a forward warm solve of them), or None where it does not apply or
-    does not converge to taut actuated tendons (a slack one would leave the system
-    singular), for the iteration to take over."""
-    kind = _TARGET_KIND.get(target.name)
-    if (
-        kind is None
-        or (kind == 1) != planar
-        or len(idx) != target.m
-        or not all(disp[i] for i in idx)
-    ):
-        return None
-    values = [target.theta] if kind == 1 else (target.t if kind == 2 else target.p)
-    core = run.prob._c
+    rows = prob._jacobian_plan(None, (), False)[3]
     try:
-        core.set_target(kind, np.asarray(values, dtype=float), np.asarray(idx, dtype=float))
-    except ValueError:
-        return None
-    run.solves += 1
-    try:
-        raw = core.solve(warm=True, record=False, cancel=current_token())
-    finally:
-        core.set_target(0, np.zeros(1), np.zeros(0))
-    q = np.asarray(raw["displacement"], dtype=float)[idx]
-    taut = np.asarray(raw["tension"], dtype=float)[idx] > 0.0
-    if not (raw["success"] and np.all(np.isfinite(q)) and np.all(taut)):
-        return None
-    sol, r, D = run.solve(q)
-    return None if r is None else (sol, r, D, q)
-
-
-def _take_up_slack(run, sol, r, D, c):
-    """The slack displacement controls moved to their taut/slack switch (q + slack), a
-    hair past it (1e-12 of the offset scale) so that they sit on its taut side, whose
-    linearisation sees them act."""
-    disp = run.scene.displacement_controlled()
-    cn = c.copy()
-    for j, i in enumerate(run.idx):
-        if disp[i] and sol.slack[i] > 0.0:
-            cn[j] += sol.slack[i] + 1e-12 * run.scale[j]
-    if np.all(cn == c):
-        return sol, r, D, c
-    s2, r2, D2 = run.solve(cn)
-    if r2 is None:
-        s2, r2, D2 = run.solve(c)  # keep c (and the Problem's warm state at it)
-        return s2, r2, D2, c
-    return s2, r2, D2, cn
-
-
-def _judged(run, sol, r):
-    """The final state solved again, warm from itself, judged for stability (the
-    iterates are not: ``Problem.solve(judge=True)`` in the run's workspace) and checked
-    for plausibility as any solve with the caller's options: (that solution, its target
-    residual), or (the failed solve, r) when the equilibrium reaching the target is
-    unstable (its message says so)."""
-    run.solves += 1
-    prob = run.prob
-    prob._set(sol.scene)  # its controls (a trial since may have set others)
-    raw = prob._c.solve(
-        guess=sol.raw["base_state"],
-        jacobian=sol.jacobian,
-        verified=run.verified(sol),
-        cancel=current_token(),
-        record=False,
-        judge=True,
+        raw = prob._c.actuate(
+            kind=_KIND[kind],
+            tendons=np.array(idx, dtype=float),
+            c0=c0,
+            scale=scale,
+            values=value_vector(scene)[:nt],
+            floor=floor0,
+            tau_scale=tau_scale,
+            k=tau_scale / q_scale,
+            tol=float(tol),
+            max_iter=int(max_iter),
+            tip_row=int(rows[0]),
+            length=scene.robot.rod.length,
+            augmented=method == "auto" and kind == "square",
+            judge=not options.accept_unstable,
+            cancel=current_token(),
+            **target.spec(),
+        )
+    except RuntimeError as exc:  # a linearisation or a step failed (e.g. its budget)
+        raise ConvergenceError(f"tendonrod.actuate: {exc}", sol) from None
+    act = raw["actuation"]
+    c = act["controls"]
+    final = Solution(
+        raw, scene if np.array_equal(c, c0) else _with_controls(scene, idx, c), options
     )
-    final = Solution(raw, sol.scene, run.options)
     prob._plausible.check(final, "tendonrod.actuate", once=False)
-    if not final.success:
-        return final, r
-    return final, run.target.residual(final)[0]
+    report.update(act)
+    report["solves"] += 1  # the first solve
+    return _finish(final, report, strict)
 
 
-def _finish(
-    sol, c, r, report, constrained, active, lam, mus, iterations, converged, tol, strict, why
-):
-    """The returned Solution: the final equilibrium with ``actuation`` and the verdict."""
-    run, kind = report["run"], report["kind"]
-    if sol.scene is run.scene:  # an iterate's: the scene of its controls
-        sol.scene = run.scene_at(c)
-    if sol.success and r is not None and not run.options.accept_unstable:
-        sol, r = _judged(run, sol, r)
+# The run's kinds (tr_act_kind).
+_KIND = {"square": 0, "minimum-change": 1, "least-squares": 2}
+
+
+def _finish(sol, report, strict):
+    """The returned Solution: the final equilibrium with ``actuation`` and the verdict.
+    ``report``: the run's (``Problem.actuate``'s 'actuation' dict, or the controls and
+    ``why`` of a first solve that failed) with the kind, target, tendons and tol."""
+    kind, tol = report["kind"], report["tol"]
+    c, r = report["controls"], report.get("residual")
+    why = report.get("why", "")
+    iterations = report.get("iterations", 0)
+    solves, jacobians = report.get("solves", 1), report.get("jacobians", 0)
+    converged = report.get("outcome") in ("done", "stuck", "unreachable")
+    floors = report.get("floors")
+    mus = report.get("tension_multipliers")
+    constrained = (
+        () if floors is None else tuple(int(i) for i in np.flatnonzero(np.isfinite(floors)))
+    )
+    active = tuple(i for i in constrained if mus is not None and mus[i] > 0.0)
     distance = float(np.abs(r).max()) if r is not None else math.inf
     reached = distance <= tol
     optimal = report.get("optimal", False)
@@ -551,8 +356,8 @@ def _finish(
             f"found is {distance:.3g} away (positions / L, angles in rad) after {iterations} "
             f"iterations"
         )
-    route = report.get("route", "linearisation")
-    msg += f"; {iterations} iterations, {run.solves} solves, {run.jacobians} linearisations"
+    route = "augmented" if report.get("augmented") else "linearisation"
+    msg += f"; {iterations} iterations, {solves} solves, {jacobians} linearisations"
     if route == "augmented":
         msg += " (the target solved inside the shooting system first)"
     result = ActuationResult(
@@ -565,11 +370,11 @@ def _finish(
         distance=distance,
         reached=reached,
         iterations=iterations,
-        solves=run.solves,
-        jacobians=run.jacobians,
-        constrained=tuple(constrained),
-        active=tuple(active),
-        multipliers=None if lam is None else np.array(lam),
+        solves=solves,
+        jacobians=jacobians,
+        constrained=constrained,
+        active=active,
+        multipliers=report.get("multipliers"),
         tension_multipliers=None if mus is None else np.array(mus),
         message=msg,
     )

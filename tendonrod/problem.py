@@ -289,17 +289,6 @@ class Problem:
         except RuntimeError as exc:  # the linearisation itself failed (e.g. its budget)
             raise ConvergenceError(f"tendonrod.jacobian: {exc}", sol) from None
 
-    def _tip_rates(self, sol, side=None):
-        """(raw, here): the forward-difference linearisation of ``sol`` at the tip by the
-        tendons' control values alone, as the core returns it (``pose`` (nt, 1, 6) base
-        frame, ``tension``, ``slack``, ``at_switch``, ``jacobian``), for tr.actuate's
-        steps; at the workspace's state when it is ``sol``'s (``here``), else at ``sol``'s
-        state set without solving."""
-        here = self._c.last_success and self._last is sol and self._current is sol.scene
-        _, _, _, rows, params = self._jacobian_plan(None, (), False)
-        kw = {} if here else {"unknowns": sol.unknowns, "steps": sol.raw["formulation"]["steps"]}
-        return self._linearize_raw(sol, params, rows, True, side, kw), here
-
     def _jacobian_plan(self, s, design, load: bool):
         """(arc lengths, scalar?, design names, breakpoint rows or None, raw parameter
         array) of a linearisation, cached per request (a control loop asks the same)."""

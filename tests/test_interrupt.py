@@ -4,8 +4,8 @@ Ctrl-C: a child process runs a solve that would take about a minute (a hopeless
 spatial scene with an unlimited budget and a fine fixed step count); the parent sends
 SIGINT a second after the child says it started and measures, on the shared monotonic
 clock, when the child catches KeyboardInterrupt.  A single solve, a Problem (which must
-stay usable after the interrupt), a threaded solve_batch and a threaded sweep (whose
-finished chunk stays in its file) are tried.
+stay usable after the interrupt), a threaded solve_batch, a threaded sweep (whose
+finished chunk stays in its file) and tr.actuate are tried.
 
 Budget: a hopeless solve with default options ends with the budget status and a
 message that says so, having spent no more than its budget (the count is deterministic,
@@ -68,6 +68,10 @@ CHILD = textwrap.dedent(
         elif mode == "batch":
             F = [[[30.0 * fs, 0.3 * 30.0 * fs, -30.0 * fs]], [[31.0 * fs, 0.0, -31.0 * fs]]]
             tr.solve_batch(scene(30.0), forces=F, options=slow, threads=2, chunksize=1)
+        elif mode == "actuate":
+            # an unreachable tip position: ~14 s of steps inside the core's iteration
+            tr.actuate(tr.Scene(robot, displacement=[0.01, -0.002, -0.002]),
+                       tip_position=(0.3, 0.3, -0.2), options=slow, max_iter=10**6)
         elif mode == "sweep":
             tr.sweep(scene(0.0), {"loads[0].force[2]": [0.0, -30.0 * fs, -31.0 * fs]},
                      options=slow, chunksize=1, max_workers=2, path=path, progress=False)
@@ -110,10 +114,11 @@ def _interrupt(mode: str, tmp_path) -> dict:
     return res
 
 
-@pytest.mark.parametrize("mode", ["solve", "problem", "batch", "sweep"])
+@pytest.mark.parametrize("mode", ["solve", "problem", "batch", "sweep", "actuate"])
 def test_ctrl_c_stops_promptly(mode, tmp_path):
     """SIGINT during a minute-long solve raises KeyboardInterrupt within MAX_LATENCY, in a
-    single solve, a Problem, a threaded solve_batch and a threaded sweep."""
+    single solve, a Problem, a threaded solve_batch, a threaded sweep and the steps of
+    tr.actuate (its run in the core)."""
     res = _interrupt(mode, tmp_path)
     assert "caught" in res, res
     assert res["latency"] < MAX_LATENCY, res

@@ -1,0 +1,93 @@
+/*
+ * tr_act_run.h -- the solves and linearisations of one inverse actuation (tr_actuate.h),
+ * counted, and the states they converged to: shared by tr_act_run.c (the run) and
+ * tr_actuate.c (its outer iteration).  Internal to the core.
+ */
+#ifndef TR_ACT_RUN_H
+#define TR_ACT_RUN_H
+
+#include <stddef.h>
+
+#include "tendonrod.h"
+#include "tr_actuate.h"
+
+/* Converged states a run keeps (the current iterate, the last few solves, the trials a
+ * step holds) and how many of the last solves a return to their controls restarts from. */
+#define ACT_POOL  16
+#define ACT_CACHE 8
+
+/* A converged state: what a solve from it needs and what the iteration reads. */
+typedef struct {
+    double *g;       /* (6 + 2 nt) the physical guess [n(0), m(0), tension, slack] */
+    double *x;       /* (k) scaled unknowns */
+    double *J;       /* (k x k) the solve's Jacobian */
+    double *xver;    /* (k) its step verification's unknowns (have_ver) */
+    double *valver;  /* (nt) and actuation values (have_valver) */
+    double *tension; /* (nt) [N] */
+    double *slack;   /* (nt) [m] */
+    double *key;     /* (n) the control values it was solved at (tensions clipped at 0) */
+    double tip[12];  /* tip position (3) [m] and rotation (9, row-major), base frame */
+    double tip_angle, estver;
+    double r[6];  /* (m) the target residual */
+    double D[36]; /* (m x 6) its derivative by the tip's [dx, dtheta] */
+    int have_ver, have_valver, steps;
+    long born; /* the solve count when it was made (0: free) */
+} act_state;
+
+typedef struct {
+    tr_model *m;
+    tr_data *d;
+    const tr_act_spec *sp;
+    int n, nt, k, mt; /* controls, tendons, unknowns, target components */
+    act_state pool[ACT_POOL];
+    int cache[ACT_CACHE], ncache; /* pool slots of the last solves, oldest first */
+    int last;                     /* the last successful solve's slot */
+    int cur;                      /* the iteration's current state's slot */
+    int ws_ok;                    /* 1: the workspace holds the last solve, a success */
+    double *jac; /* (k x k) the last linearisation's shooting Jacobian (have_jac) */
+    int have_jac;
+    int polish; /* iterate solves take a Newton step past convergence */
+    int solves, jacobians;
+    long made;    /* states made so far (a state's born) */
+    int stop;     /* nonzero: the status that ends the run (interrupted, out of budget) */
+    double *vals; /* (nt) actuation values of the solve */
+    double *key;  /* (n) */
+    double *pose, *ten, *sl; /* linearisation: (nt x 6), (nt x nt), (nt x nt) */
+    int *sw;                 /* (nt) its switch sides */
+    tr_param *par;           /* (nt) its parameters: every tendon's value */
+    double *lsq;             /* tr_act_lstsq's workspace */
+} act_run;
+
+/* TR_OK, or TR_EINVAL (message in d->message) for a spec that does not fit the model or
+ * a workspace without a converged solve to start from. */
+int act_check_spec(const tr_model *m, tr_data *d, const tr_act_spec *sp);
+/* Allocate the run's buffers (NULL: out of memory); free with act_run_free. */
+act_run *act_run_alloc(tr_model *m, tr_data *d, const tr_act_spec *sp);
+void act_run_free(act_run *a);
+/* The workspace's current state (a converged solve at the scene's controls) as the
+ * run's first: its slot. */
+int act_run_first(act_run *a);
+/* A solve at controls c (n): warm from the last success with the last linearisation's
+ * Jacobian where there is one, from the state solved at the same controls before with
+ * its own, or from the guess `state` (6 + 2 nt; NULL: none) with that Jacobian.  Its
+ * slot, or -1 when it failed (a->stop set when the run must end). */
+int act_solve(act_run *a, const double *c, const double *state);
+/* The linearisation at slot s, with the sides `side` (nt: +1, -1, 0) wanted for tendons
+ * at their switch: A (m x n) the target residual's and T (nt x n) the signed tensions'
+ * derivatives by the scaled controls, sw (nt) the sides given.  TR_OK or the failure. */
+int act_linearize(act_run *a, int s, const double *side, double *A, double *T, int *sw);
+/* The signed tension psi = tau - k slack (nt) [N] of slot s. */
+void act_psi(const act_run *a, int s, double *psi);
+/* The target solved inside the shooting system at the current state: the slot of the
+ * forward solve of the controls found (c set), or -1 (nothing changed but counters). */
+int act_augmented(act_run *a, double *c);
+/* The final solve at controls c from slot s, judged for stability on request: its
+ * status, and its target residual in r (m; slot s's where it failed).  The workspace
+ * ends there. */
+int act_final(act_run *a, int s, const double *c, int judge, double *r);
+/* Least-norm least squares: x (cols) minimising |M x - b| (M rows x cols, row-major),
+ * singular values below rcond times the largest dropped.  0, or -1 (SVD failed). */
+int act_lstsq(act_run *a, int rows, int cols, const double *M, const double *b, double rcond,
+              double *x);
+
+#endif /* TR_ACT_RUN_H */

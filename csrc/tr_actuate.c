@@ -1,0 +1,728 @@
+/*
+ * tr_actuate.c -- the outer iteration of an inverse actuation (tr_actuate.h):
+ * trust-region steps on the linearisation of the current equilibrium (Levenberg-Marquardt
+ * for square and least-squares targets, a composite-step sequential quadratic program for
+ * the least change), every accepted iterate a converged solve (tr_act_run.c).
+ *
+ * Units: controls in their scales (u = (c - c0) / scale), residuals dimensionless,
+ * tension floors on the signed tension psi = tau - k slack [N], divided by tau_scale in the
+ * step's rows.
+ */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "tr_act_run.h"
+#include "tr_internal.h"
+#include "tr_qp.h"
+#include "tru_math.h"
+
+/* Consecutive rejected trust-region steps after which the iteration stops: the region has
+ * shrunk by 4^8 ~ 6e4 below the step refused first, so a step that still does not reduce
+ * the residual means none will (a least-squares point, e.g. at a tension bound). */
+#define MAX_REJECTED 8
+/* The first trust region (scaled controls): about a half turn of the tip. */
+#define DELTA0 3.0
+/* The least change's stopping test (scaled controls): the step the linearised problem
+ * still asks for and its stationarity residual.  The forward-difference linearisation is
+ * good to ~1e-7 relative, so a tighter test chases its noise (steps of a few 1e-7 that
+ * the merit then refuses); 1e-6 is 1e-8 m of a displacement at a 10 mm offset. */
+#define KKT_TOL 1e-6
+/* A step's outcome when a linearisation or the step's QP failed (it->err says which). */
+#define ACT_ERROR (-1)
+
+typedef struct {
+    act_run *a;
+    const tr_act_spec *sp;
+    int n, nt, mt, lsq, err;
+    int *disp;         /* (nt) 1: displacement-controlled */
+    double *c;         /* (n) the current controls (the state is a->cur) */
+    int lin;           /* 1: A, T, sw are the current state's linearisation */
+    double *A, *T;     /* (mt x n), (nt x n) */
+    int *sw;           /* (nt) the sides of their switch the tendons' derivatives are from */
+    double *side;      /* (nt) the sides asked for */
+    int nslack_side;   /* tendons at their switch linearised on the slack side */
+    int *slack_side;   /* (nt) */
+    int rows_ok, nfix; /* the trust region's fixed rows at this state (nfix of them) */
+    double *Gfix, *hfix;
+    double *H;    /* (n x n) quasi-Newton Hessian of the Lagrangian (minimum change) */
+    double nu;    /* the merit's penalty on the target and tension floors */
+    double delta; /* trust region (scaled controls) */
+    int rejected, optimal, have_lam;
+    double lam[6]; /* the target's multipliers */
+    double *mus;   /* (nt) the tension floors' multipliers */
+    /* scratch */
+    double *cn, *c2, *u, *v, *dd, *u0, *gold, *gnew, *s, *y, *Hs, *g0, *qg;
+    double *QH, *G, *h, *mu, *M, *rhs, *floor, *psi, *psin, *gbuf, *qpw;
+    int *active, *rows, *keep;
+    int gmax;
+} act_iter;
+
+static double maxabs(const double *v, int n)
+{
+    return tru_maxnorm(v, n);
+}
+
+static double dot(const double *x, const double *y, int n)
+{
+    double s = 0.0;
+    int i;
+    for (i = 0; i < n; i++) s += x[i] * y[i];
+    return s;
+}
+
+static int equal(const double *x, const double *y, int n)
+{
+    int i;
+    for (i = 0; i < n; i++)
+        if (!(x[i] == y[i])) return 0;
+    return 1;
+}
+
+static const act_state *cur(const act_iter *it)
+{
+    return it->a->pool + it->a->cur;
+}
+
+/* Move to state s at controls c (copied). */
+static void set_state(act_iter *it, const double *c, int s)
+{
+    if (c != it->c) memcpy(it->c, c, (size_t)it->n * sizeof(double));
+    it->a->cur = s;
+    it->lin = it->rows_ok = 0;
+    it->nslack_side = 0;
+    /* within 1e4 tol of the target, iterate solves are polished (see tr_act_run.c) */
+    it->a->polish = maxabs(it->a->pool[s].r, it->mt) <= 1e4 * it->sp->tol;
+}
+
+/* The guess (6 + 2 nt) of the equilibrium at controls cn that differ from the current ones
+ * only in slack displacement controls: the same equilibrium (a slack tendon moves
+ * nothing), those tendons' slack changed by the length paid out, c - cn. */
+static const double *slack_state(act_iter *it, const double *cn)
+{
+    const act_state *st = cur(it);
+    const int nt = it->nt;
+    int j;
+    memcpy(it->gbuf, st->g, (size_t)(6 + 2 * nt) * sizeof(double));
+    for (j = 0; j < it->n; j++)
+        if (cn[j] != it->c[j]) {
+            const int i = it->sp->idx[j];
+            it->gbuf[6 + i] = 0.0;
+            it->gbuf[6 + nt + i] = fmax(st->slack[i] + (it->c[j] - cn[j]), 0.0);
+        }
+    return it->gbuf;
+}
+
+/* Slack displacement controls moved to the taut side of their switch, their slack taken
+ * up (a hair past it, 1e-12 of the scale), where the linearisation sees them act (on the
+ * slack side pulling one moves nothing, and the iteration would never pull it back): in
+ * least squares every slack one; in the least change those held taut (a finite floor,
+ * which then keeps them there), and those below their scene value, drawn toward it (up to
+ * the switch at most: a pull the least change gets for free).  A slack tendon moves
+ * nothing, so the target residual stays where it was. */
+static void to_taut_side(act_iter *it)
+{
+    const tr_act_spec *sp = it->sp;
+    const act_state *st = cur(it);
+    double *cn = it->cn;
+    int j, s;
+    memcpy(cn, it->c, (size_t)it->n * sizeof(double));
+    for (j = 0; j < it->n; j++) {
+        const int i = sp->idx[j];
+        const double slack = st->slack[i];
+        if (!(it->disp[i] && slack > 0.0)) continue;
+        if (it->lsq || isfinite(sp->floor0[i]))
+            cn[j] += slack + 1e-12 * sp->scale[j];
+        else if (sp->c0[j] > it->c[j])
+            cn[j] = fmin(it->c[j] + slack + 1e-12 * sp->scale[j], sp->c0[j]);
+    }
+    if (equal(cn, it->c, it->n)) return;
+    s = act_solve(it->a, cn, slack_state(it, cn));
+    if (s < 0) {
+        act_solve(it->a, it->c, NULL); /* the workspace's warm state back at c */
+        return;
+    }
+    set_state(it, cn, s);
+}
+
+/* The side of its switch whose derivatives each tendon at it is to get: the taut one for
+ * the displacement controls of least squares, those the least change holds taut (their
+ * steps keep them there) and those it would pull toward their scene value (pulling acts
+ * through the taut side); the side it is on for the others. */
+static void wanted_sides(act_iter *it)
+{
+    const tr_act_spec *sp = it->sp;
+    int j;
+    memset(it->side, 0, (size_t)it->nt * sizeof(double));
+    for (j = 0; j < it->n; j++) {
+        const int i = sp->idx[j], pull = sp->c0[j] > it->c[j] && !it->lsq;
+        if (it->disp[i] && (it->lsq || isfinite(sp->floor0[i]) || pull)) it->side[i] = 1.0;
+    }
+    for (j = 0; j < it->nslack_side; j++) it->side[it->slack_side[j]] = -1.0;
+}
+
+/* The linearisation at the current state, computed on first use (a state that meets the
+ * target in a square or least-squares problem needs none): 0, or -1 (it->err set). */
+static int linearisation(act_iter *it)
+{
+    int status;
+    if (it->lin) return 0;
+    to_taut_side(it);
+    wanted_sides(it);
+    status = act_linearize(it->a, it->a->cur, it->side, it->A, it->T, it->sw);
+    if (status != TR_OK) {
+        it->err = status;
+        return -1;
+    }
+    it->lin = 1;
+    return 0;
+}
+
+/* Lower bounds on the signed tensions (nt) [N]: the scene's taut tendons' (min_tension),
+ * and 0 for the displacement controls taut or at the taut side of their switch now (the
+ * least change puts one that would rather be slack exactly at its switch, where it stops
+ * costing).  0, or -1 (a linearisation failed). */
+static int floors(act_iter *it, double *f)
+{
+    const tr_act_spec *sp = it->sp;
+    int j, need = 0;
+    memcpy(f, sp->floor0, (size_t)it->nt * sizeof(double));
+    for (j = 0; j < it->n; j++)
+        need |= it->disp[sp->idx[j]] && !(cur(it)->tension[sp->idx[j]] > 0.0);
+    if (need && linearisation(it) < 0) return -1;
+    for (j = 0; j < it->n; j++) {
+        const int i = sp->idx[j];
+        const int held = cur(it)->tension[i] > 0.0 || (need && it->sw[i] > 0);
+        if (it->disp[i] && held) f[i] = fmax(f[i], 0.0);
+    }
+    return 0;
+}
+
+static double merit(const act_iter *it, const double *c, const double *r, const double *psi,
+                    const double *floor)
+{
+    const tr_act_spec *sp = it->sp;
+    double viol = 0.0, q = 0.0, ra = 0.0;
+    int i;
+    for (i = 0; i < it->nt; i++)
+        if (isfinite(floor[i])) viol += fmax(floor[i] - psi[i], 0.0);
+    for (i = 0; i < it->n; i++)
+        q += ((c[i] - sp->c0[i]) / sp->scale[i]) * ((c[i] - sp->c0[i]) / sp->scale[i]);
+    for (i = 0; i < it->mt; i++) ra += fabs(r[i]);
+    return 0.5 * q + it->nu * (ra + viol / sp->tau_scale);
+}
+
+/* The Lagrangian's gradient g (n, scaled) at c with the last multipliers. */
+static void grad(const act_iter *it, const double *c, const int *rows, int nr, double *g)
+{
+    const tr_act_spec *sp = it->sp;
+    const int n = it->n;
+    int i, j;
+    for (j = 0; j < n; j++) {
+        double v = (c[j] - sp->c0[j]) / sp->scale[j];
+        for (i = 0; i < it->mt; i++) v -= it->A[i * n + j] * it->lam[i];
+        for (i = 0; i < nr; i++) v -= it->T[rows[i] * n + j] / sp->tau_scale * it->mus[rows[i]];
+        g[j] = v;
+    }
+}
+
+/* Powell's damped BFGS update of H for the step s and the change y of the Lagrangian's
+ * gradient: the constraints' curvature, which the plain least change (H = I) leaves out,
+ * so that the iteration converges superlinearly. */
+static void bfgs(act_iter *it, const double *s, double *y)
+{
+    const int n = it->n;
+    double sHs, sy;
+    int i, j;
+    for (i = 0; i < n; i++) it->Hs[i] = dot(it->H + i * n, s, n);
+    sHs = dot(s, it->Hs, n);
+    if (!(sHs > 0.0)) return;
+    sy = dot(s, y, n);
+    if (sy < 0.2 * sHs) {
+        const double th = 0.8 * sHs / (sHs - sy);
+        for (i = 0; i < n; i++) y[i] = th * y[i] + (1.0 - th) * it->Hs[i];
+        sy = dot(s, y, n);
+    }
+    for (i = 0; i < n; i++)
+        for (j = 0; j < n; j++) it->H[i * n + j] += -it->Hs[i] * it->Hs[j] / sHs + y[i] * y[j] / sy;
+}
+
+/* Rows (it->G, it->h from row `at`) of the trust region |u_j| <= delta, of tension
+ * controls >= 0 and, for a slack displacement control linearised on its slack side, of
+ * pulls no longer than its slack (beyond it the tendon acts, which that side cannot
+ * see): the row count after them, or -1 (a linearisation failed). */
+static int box(act_iter *it, int at, double delta)
+{
+    const tr_act_spec *sp = it->sp;
+    const int n = it->n;
+    int j, r;
+    if (!it->rows_ok) { /* the rows but the region's size: fixed at a state */
+        if (linearisation(it) < 0) return -1;
+        memset(it->Gfix, 0, (size_t)(3 * n) * n * sizeof(double));
+        r = 0;
+        for (j = 0; j < n; j++) it->Gfix[(r + j) * n + j] = 1.0;
+        r += n;
+        for (j = 0; j < n; j++) it->Gfix[(r + j) * n + j] = -1.0;
+        r += n;
+        for (j = 0; j < n; j++)
+            if (it->a->m->tendon[sp->idx[j]].control != TR_DISPLACEMENT) {
+                it->Gfix[r * n + j] = 1.0;
+                it->hfix[r - 2 * n] = -(it->c[j] / sp->scale[j]);
+                r++;
+            }
+        for (j = 0; j < n; j++) {
+            const int i = sp->idx[j];
+            const double sl = cur(it)->slack[i];
+            if (it->disp[i] && sl > 0.0 && it->sw[i] <= 0) {
+                it->Gfix[r * n + j] = -1.0;
+                it->hfix[r - 2 * n] = -sl / sp->scale[j];
+                r++;
+            }
+        }
+        it->nfix = r;
+        it->rows_ok = 1;
+    }
+    memcpy(it->G + (size_t)at * n, it->Gfix, (size_t)it->nfix * n * sizeof(double));
+    for (j = 0; j < 2 * n; j++) it->h[at + j] = -delta;
+    memcpy(it->h + at + 2 * n, it->hfix, (size_t)(it->nfix - 2 * n) * sizeof(double));
+    return at + it->nfix;
+}
+
+/* The QP of tr_qp.h on the iteration's buffers: 0, or -1 (it->err set). */
+static int qp(act_iter *it, const double *H, const double *g, int me, const double *A, int mi,
+              const double *x0, double *u, double *lam)
+{
+    const int st =
+        tr_qp(it->n, H, g, me, A, mi, it->G, it->h, x0, 200, u, lam, it->mu, it->active, it->qpw);
+    if (st < 0) {
+        it->err = st;
+        return -1;
+    }
+    return 0;
+}
+
+/* The Gauss-Newton Hessian A^T A (regularised by 1e-12 of its mean diagonal) into QH and
+ * the gradient A^T r into qg. */
+static void gauss_newton(act_iter *it, const double *r)
+{
+    const int n = it->n, mt = it->mt;
+    double tr = 0.0;
+    int i, j, l;
+    for (i = 0; i < n; i++) {
+        for (j = 0; j < n; j++) {
+            double s = 0.0;
+            for (l = 0; l < mt; l++) s += it->A[l * n + i] * it->A[l * n + j];
+            it->QH[i * n + j] = s;
+        }
+        tr += it->QH[i * n + i];
+        it->qg[i] = 0.0;
+        for (l = 0; l < mt; l++) it->qg[i] += it->A[l * n + i] * r[l];
+    }
+    for (i = 0; i < n; i++) it->QH[i * n + i] += 1e-12 * (tr / n + 1e-300);
+}
+
+/* |r + A u|^2 */
+static double predicted(const act_iter *it, const double *r, const double *u)
+{
+    double s = 0.0;
+    int i;
+    for (i = 0; i < it->mt; i++) {
+        const double v = r[i] + dot(it->A + i * it->n, u, it->n);
+        s += v * v;
+    }
+    return s;
+}
+
+/* Move to the solved state s at controls cn; with rows (the tension floors of the least
+ * change), the BFGS update.  0, or -1 (a linearisation failed). */
+static int accepted(act_iter *it, const double *cn, int s, const int *rows, int nr)
+{
+    const int n = it->n;
+    int i, same = 1;
+    if (rows) {
+        grad(it, it->c, rows, nr, it->gold);
+        for (i = 0; i < n; i++) it->s[i] = (cn[i] - it->c[i]) / it->sp->scale[i];
+        for (i = 0; i < it->nt; i++)
+            same &= (cur(it)->tension[i] > 0.0) == (it->a->pool[s].tension[i] > 0.0);
+        set_state(it, cn, s);
+        if (same) {
+            if (linearisation(it) < 0) return -1;
+            grad(it, cn, rows, nr, it->gnew);
+            for (i = 0; i < n; i++) it->y[i] = it->gnew[i] - it->gold[i];
+            bfgs(it, it->s, it->y);
+        } else {
+            /* a tendon crossed its taut/slack switch: the Lagrangian's gradient jumps there,
+             * so the change of gradient measures no curvature; start afresh */
+            memset(it->H, 0, (size_t)n * n * sizeof(double));
+            for (i = 0; i < n; i++) it->H[i * n + i] = 1.0;
+        }
+    } else {
+        set_state(it, cn, s);
+    }
+    it->rejected = 0;
+    return 0;
+}
+
+/* A step the solved states do not bear out: the trust region shrinks below it. */
+static int refused(act_iter *it, const double *u)
+{
+    it->delta = maxabs(u, it->n) / 4.0;
+    it->rejected++;
+    return it->rejected >= MAX_REJECTED ? TR_ACT_STUCK : TR_ACT_REJECTED;
+}
+
+/* An accepted step whose target residual fell fast (to 1e-2 of the last one or less,
+ * Newton's quadratic regime) but not below tol, corrected by the same linearisation: the
+ * least-norm change that removes that residual and keeps the tensions of rows keep (nk)
+ * where the step put them, solved.  Its residual is the step's times the relative change
+ * of the linearisation over the step, so one correction usually meets tol where another
+ * iteration (a linearisation) would be needed.  The corrected state where it reduces the
+ * residual (cn updated), else the step's. */
+static int chord(act_iter *it, double *cn, int s, double rnorm, const int *keep, int nk)
+{
+    const tr_act_spec *sp = it->sp;
+    const int n = it->n, mt = it->mt;
+    const double rmax = maxabs(it->a->pool[s].r, mt);
+    int i, j, s2;
+    if (!(sp->tol < rmax && rmax <= 1e-2 * rnorm)) return s;
+    memcpy(it->M, it->A, (size_t)mt * n * sizeof(double));
+    for (i = 0; i < nk; i++)
+        for (j = 0; j < n; j++) it->M[(mt + i) * n + j] = it->T[keep[i] * n + j] / sp->tau_scale;
+    for (i = 0; i < mt; i++) it->rhs[i] = -it->a->pool[s].r[i];
+    for (i = 0; i < nk; i++) it->rhs[mt + i] = 0.0;
+    if (act_lstsq(it->a, mt + nk, n, it->M, it->rhs, 1e-12, it->dd) < 0) return s;
+    for (j = 0; j < n; j++) it->c2[j] = cn[j] + it->dd[j] * sp->scale[j];
+    s2 = act_solve(it->a, it->c2, NULL);
+    if (s2 < 0 || !(maxabs(it->a->pool[s2].r, mt) < rmax)) {
+        act_solve(it->a, cn, NULL); /* the workspace's warm state back at cn */
+        return s;
+    }
+    memcpy(cn, it->c2, (size_t)n * sizeof(double));
+    return s2;
+}
+
+/* One trust-region step of the least change (a normal step toward the target, then the
+ * least change keeping that progress; Byrd and Omojokun's composite step). */
+static int sqp(act_iter *it)
+{
+    const tr_act_spec *sp = it->sp;
+    const int n = it->n, mt = it->mt, nt = it->nt;
+    const double *r, *c;
+    double rnorm, rr, phi, viol = 0.0, mmax = 0.0;
+    int i, j, nf = 0, nb, nk = 0, s, s2;
+    if (linearisation(it) < 0) return ACT_ERROR; /* first: it may move the state */
+    r = cur(it)->r, c = it->c;
+    if (floors(it, it->floor) < 0) return ACT_ERROR;
+    for (i = 0; i < nt; i++)
+        if (isfinite(it->floor[i])) it->rows[nf++] = i;
+    act_psi(it->a, it->a->cur, it->psi);
+    /* the normal step toward the target within 0.8 of the trust region and the floors
+     * (least squares on the linearised residual): the part of the target a step of this
+     * size can reach */
+    for (i = 0; i < nf; i++) {
+        for (j = 0; j < n; j++) it->G[i * n + j] = it->T[it->rows[i] * n + j] / sp->tau_scale;
+        it->h[i] = (it->floor[it->rows[i]] - it->psi[it->rows[i]]) / sp->tau_scale;
+    }
+    if ((nb = box(it, nf, 0.8 * it->delta)) < 0) return ACT_ERROR;
+    gauss_newton(it, r);
+    memset(it->g0, 0, (size_t)n * sizeof(double));
+    if (qp(it, it->QH, it->qg, 0, NULL, nb, it->g0, it->v, NULL) < 0) return ACT_ERROR;
+    rnorm = maxabs(r, mt);
+    rr = dot(r, r, mt);
+    if (rnorm > sp->tol && !(rr - predicted(it, r, it->v) > 1e-28 * rr))
+        return TR_ACT_UNREACHABLE; /* no step within the tensions brings the target nearer */
+    if ((nb = box(it, nf, it->delta)) < 0) return ACT_ERROR;
+    for (j = 0; j < n; j++) it->u0[j] = (c[j] - sp->c0[j]) / sp->scale[j];
+    if (qp(it, it->H, it->u0, mt, it->A, nb, it->v, it->u, it->lam) < 0) return ACT_ERROR;
+    it->have_lam = 1;
+    memset(it->mus, 0, (size_t)nt * sizeof(double));
+    for (i = 0; i < nf; i++) it->mus[it->rows[i]] = it->mu[i];
+    for (i = 0; i < mt; i++) mmax = fmax(mmax, fabs(it->lam[i]));
+    for (i = 0; i < nt; i++) mmax = fmax(mmax, fabs(it->mus[i]));
+    it->nu = fmax(it->nu, 2.0 * mmax + 1e-3);
+    for (i = 0; i < nf; i++)
+        viol = fmax(viol, fmax(it->floor[it->rows[i]] - it->psi[it->rows[i]], 0.0));
+    viol /= sp->tau_scale;
+    /* stay: the step and the stationarity residual H u of the linearised problem's
+     * optimality conditions both below KKT_TOL (scaled units), a KKT point */
+    for (i = 0; i < n; i++) it->Hs[i] = dot(it->H + i * n, it->u, n);
+    if (rnorm <= sp->tol && viol <= 1e-9 && fmax(maxabs(it->u, n), maxabs(it->Hs, n)) <= KKT_TOL) {
+        it->optimal = 1;
+        return TR_ACT_DONE;
+    }
+    phi = merit(it, c, r, it->psi, it->floor);
+    for (j = 0; j < n; j++) it->cn[j] = c[j] + it->u[j] * sp->scale[j];
+    s = act_solve(it->a, it->cn, NULL);
+    if (s >= 0) {
+        act_psi(it->a, s, it->psin);
+        if (!(merit(it, it->cn, it->a->pool[s].r, it->psin, it->floor) < phi)) {
+            /* a second-order correction: the new target residual removed by the least-norm
+             * step of the same linearisation (the target's curvature would otherwise make
+             * the merit refuse steps near the solution) */
+            for (i = 0; i < mt; i++) it->rhs[i] = -it->a->pool[s].r[i];
+            s2 = -1;
+            if (act_lstsq(it->a, mt, n, it->A, it->rhs, 1e-12, it->dd) == 0) {
+                for (j = 0; j < n; j++) it->c2[j] = it->cn[j] + it->dd[j] * sp->scale[j];
+                s2 = act_solve(it->a, it->c2, NULL);
+            }
+            if (s2 >= 0) act_psi(it->a, s2, it->psin);
+            if (s2 >= 0 && merit(it, it->c2, it->a->pool[s2].r, it->psin, it->floor) < phi) {
+                for (j = 0; j < n; j++) it->u[j] += it->dd[j];
+                memcpy(it->cn, it->c2, (size_t)n * sizeof(double));
+                s = s2;
+            } else {
+                s = -1;
+            }
+        }
+    }
+    if (s < 0) return refused(it, it->u);
+    if (maxabs(it->u, n) >= 0.9 * it->delta && maxabs(it->a->pool[s].r, mt) <= rnorm)
+        it->delta *= 2.0;
+    for (i = 0; i < nf; i++) /* the tension floors the step holds */
+        if (it->mus[it->rows[i]] > 0.0) it->keep[nk++] = it->rows[i];
+    s = chord(it, it->cn, s, rnorm, it->keep, nk);
+    if (accepted(it, it->cn, s, it->rows, nf) < 0) return ACT_ERROR;
+    return TR_ACT_MOVED;
+}
+
+/* One trust-region step on |r|^2 (square and least squares). */
+static int lm(act_iter *it)
+{
+    const tr_act_spec *sp = it->sp;
+    const int n = it->n, mt = it->mt;
+    const double *r;
+    double rr, pred, rho, umax;
+    int j, nb, nheld = 0, nflip = 0, s;
+    if (maxabs(cur(it)->r, mt) <= sp->tol) return TR_ACT_DONE;
+    if (linearisation(it) < 0) return ACT_ERROR; /* first: it may take up slack */
+    r = cur(it)->r;
+    gauss_newton(it, r);
+    if ((nb = box(it, 0, it->delta)) < 0) return ACT_ERROR;
+    /* a displacement control at its switch (taut side, no tension to speak of): its
+     * linearisation holds for pulling only (paid out, it goes slack and moves nothing) */
+    for (j = 0; j < n; j++) {
+        const int i = sp->idx[j];
+        if (it->disp[i] && it->sw[i] > 0 && cur(it)->tension[i] <= 1e-9 * sp->tau_scale) {
+            memset(it->G + (size_t)(nb + nheld) * n, 0, (size_t)n * sizeof(double));
+            it->G[(nb + nheld) * n + j] = 1.0;
+            it->h[nb + nheld] = 0.0;
+            it->keep[nheld++] = j;
+        }
+    }
+    memset(it->g0, 0, (size_t)n * sizeof(double));
+    if (qp(it, it->QH, it->qg, 0, NULL, nb + nheld, it->g0, it->u, NULL) < 0) return ACT_ERROR;
+    /* a held tendon that the step would slacken (its predicted tension falls, through the
+     * other controls) is on its slack side there, whose derivatives are not the taut
+     * side's: the step again from the linearisation with that side (once per state; a
+     * fall below 1e-6 of the tension scale is round-off of a held tendon) */
+    for (j = 0; j < nheld; j++) {
+        const int i = sp->idx[it->keep[j]];
+        if (dot(it->T + i * n, it->u, n) < -1e-6 * sp->tau_scale) it->slack_side[nflip++] = i;
+    }
+    if (nflip && !it->nslack_side) {
+        it->nslack_side = nflip;
+        it->lin = it->rows_ok = 0;
+        return lm(it);
+    }
+    rr = dot(r, r, mt);
+    pred = rr - predicted(it, r, it->u);
+    umax = maxabs(it->u, n);
+    if (!(pred > 1e-28 * rr) || umax <= 1e-13)
+        return TR_ACT_STUCK; /* no descent left: a (bounded) least-squares point */
+    for (j = 0; j < n; j++) it->cn[j] = it->c[j] + it->u[j] * sp->scale[j];
+    s = act_solve(it->a, it->cn, NULL);
+    rho = s >= 0 ? (rr - dot(it->a->pool[s].r, it->a->pool[s].r, mt)) / pred : -1.0;
+    if (rho <= 1e-4) return refused(it, it->u);
+    if (rho > 0.75 && umax >= 0.9 * it->delta)
+        it->delta *= 2.0;
+    else if (rho < 0.25)
+        it->delta = umax / 2.0;
+    if (accepted(it, it->cn, s, NULL, 0) < 0) return ACT_ERROR;
+    return TR_ACT_MOVED;
+}
+
+/* Minimum change: a displacement control held at its taut/slack switch above its scene
+ * value is paid out to that value when the tendon stays slack there (a slack tendon moves
+ * nothing, so the target stays met and the change only shrinks).  0, or -1. */
+static int release(act_iter *it)
+{
+    const tr_act_spec *sp = it->sp;
+    const double tiny = 1e-9 * sp->tau_scale;
+    int j, s, ok;
+    if (linearisation(it) < 0) return -1;
+    memcpy(it->cn, it->c, (size_t)it->n * sizeof(double));
+    for (j = 0; j < it->n; j++) {
+        const int i = sp->idx[j];
+        const double ten = cur(it)->tension[i];
+        const int at_floor = it->have_lam && it->mus[i] > 0.0;
+        const int at_switch = it->sw[i] > 0 || ten <= tiny;
+        if (it->disp[i] && at_switch && (at_floor || ten <= 0.0) && it->cn[j] > sp->c0[j])
+            it->cn[j] = sp->c0[j];
+    }
+    if (equal(it->cn, it->c, it->n)) return 0;
+    s = act_solve(it->a, it->cn, slack_state(it, it->cn));
+    ok = s >= 0 && maxabs(it->a->pool[s].r, it->mt) <= sp->tol;
+    for (j = 0; j < it->n && ok; j++)
+        if (it->cn[j] != it->c[j]) ok = it->a->pool[s].tension[sp->idx[j]] == 0.0;
+    if (ok) {
+        set_state(it, it->cn, s);
+    } else { /* back to the verified point (and the workspace's warm state at it) */
+        s = act_solve(it->a, it->c, NULL);
+        if (s >= 0) set_state(it, it->c, s);
+    }
+    return 0;
+}
+
+/* ------------------------------------------------------------------ buffers */
+static int iter_alloc(act_iter *it, act_run *a, const tr_act_spec *sp)
+{
+    const int n = sp->n, nt = a->nt, mt = sp->target.m, gmax = nt + 5 * n + 1;
+    const size_t len = 13 * (size_t)n + 2 * (size_t)n * n + (size_t)mt * n + (size_t)nt * n +
+                       3 * (size_t)n * n + 3 * (size_t)n + (size_t)gmax * n + 2 * (size_t)gmax +
+                       (size_t)(mt + nt) * n + (mt + nt) + 6 * (size_t)nt + (6 + 2 * nt) +
+                       tr_qp_work_len(n, mt, gmax);
+    double *w;
+    int *iw, i;
+    memset(it, 0, sizeof *it);
+    it->a = a, it->sp = sp, it->n = n, it->nt = nt, it->mt = mt, it->gmax = gmax;
+    w = (double *)calloc(len, sizeof(double));
+    iw = (int *)calloc((size_t)(5 * nt + 2 * gmax + n + 1), sizeof(int));
+    if (!w || !iw) {
+        free(w);
+        free(iw);
+        return -1;
+    }
+    it->c = w, w += n;
+    it->cn = w, w += n;
+    it->c2 = w, w += n;
+    it->u = w, w += n;
+    it->v = w, w += n;
+    it->dd = w, w += n;
+    it->u0 = w, w += n;
+    it->gold = w, w += n;
+    it->gnew = w, w += n;
+    it->s = w, w += n;
+    it->y = w, w += n;
+    it->Hs = w, w += n;
+    it->g0 = w, w += n;
+    it->H = w, w += (size_t)n * n;
+    it->QH = w, w += (size_t)n * n;
+    it->qg = w, w += 3 * (size_t)n; /* (with room) */
+    it->A = w, w += (size_t)mt * n;
+    it->T = w, w += (size_t)nt * n;
+    it->Gfix = w, w += 3 * (size_t)n * n;
+    it->hfix = w, w += (size_t)n;
+    it->G = w, w += (size_t)gmax * n;
+    it->h = w, w += gmax;
+    it->mu = w, w += gmax;
+    it->M = w, w += (size_t)(mt + nt) * n;
+    it->rhs = w, w += mt + nt;
+    it->mus = w, w += nt;
+    it->floor = w, w += nt;
+    it->psi = w, w += nt;
+    it->psin = w, w += nt;
+    it->side = w, w += nt;
+    w += nt;
+    it->gbuf = w, w += 6 + 2 * nt;
+    it->qpw = w;
+    it->sw = iw, iw += nt;
+    it->slack_side = iw, iw += nt;
+    it->disp = iw, iw += nt;
+    it->rows = iw, iw += nt;
+    it->keep = iw, iw += nt + n;
+    it->active = iw;
+    for (i = 0; i < nt; i++) it->disp[i] = a->m->tendon[i].control == TR_DISPLACEMENT;
+    for (i = 0; i < n; i++) it->H[i * n + i] = 1.0;
+    it->delta = DELTA0;
+    it->lsq = sp->kind != TR_ACT_MIN_CHANGE;
+    return 0;
+}
+
+static void iter_free(act_iter *it)
+{
+    free(it->c);
+    free(it->sw);
+}
+
+/* ------------------------------------------------------------------ the run */
+int tr_actuate(tr_model *m, tr_data *d, const tr_act_spec *sp, tr_act_result *res)
+{
+    const int n = sp->n;
+    act_run *a;
+    act_iter it;
+    int s, j, out = TR_ACT_MOVED, status, i, nit = 0;
+    memset(res->why, 0, sizeof res->why);
+    if ((status = act_check_spec(m, d, sp)) != TR_OK) return status;
+    if (!(a = act_run_alloc(m, d, sp))) return TR_ENOMEM;
+    if (iter_alloc(&it, a, sp) < 0) {
+        act_run_free(a);
+        return TR_ENOMEM;
+    }
+    s = act_run_first(a);
+    memcpy(it.c, sp->c0, (size_t)n * sizeof(double));
+    res->augmented = 0;
+    if (sp->augmented && maxabs(a->pool[s].r, it.mt) > sp->tol) {
+        /* the target inside the shooting system first; the iteration polishes or takes over */
+        const int s2 = act_augmented(a, it.cn);
+        if (s2 >= 0) {
+            s = s2;
+            memcpy(it.c, it.cn, (size_t)n * sizeof(double));
+            res->augmented = 1;
+        }
+    }
+    /* slack displacement controls drawn to their switch (q + slack, a hair past it), where
+     * pulling them acts (the least change pays those it does not need out again) */
+    memcpy(it.cn, it.c, (size_t)n * sizeof(double));
+    for (j = 0; j < n; j++) {
+        const int t = sp->idx[j];
+        if (it.disp[t] && a->pool[s].slack[t] > 0.0)
+            it.cn[j] += a->pool[s].slack[t] + 1e-12 * sp->scale[j];
+    }
+    if (!equal(it.cn, it.c, n)) {
+        const int s2 = act_solve(a, it.cn, NULL);
+        if (s2 >= 0) {
+            s = s2;
+            memcpy(it.c, it.cn, (size_t)n * sizeof(double));
+        } else {
+            const int s3 = act_solve(a, it.c, NULL); /* the workspace's warm state back at c */
+            if (s3 >= 0) s = s3;
+        }
+    }
+    set_state(&it, it.c, s);
+    while (nit < sp->max_iter && !a->stop) {
+        nit++;
+        out = sp->kind == TR_ACT_MIN_CHANGE ? sqp(&it) : lm(&it);
+        if (out == TR_ACT_UNREACHABLE)
+            snprintf(res->why, sizeof res->why, "the target lies beyond what the tensions allow");
+        if (out == TR_ACT_UNREACHABLE || out == TR_ACT_DONE || out == TR_ACT_STUCK ||
+            out == ACT_ERROR)
+            break;
+    }
+    if (out == TR_ACT_DONE && sp->kind == TR_ACT_MIN_CHANGE && release(&it) < 0) out = ACT_ERROR;
+    if (out != ACT_ERROR && !a->stop && floors(&it, res->floors) < 0) out = ACT_ERROR;
+    status = TR_OK;
+    if (a->stop) {
+        status = a->stop;
+    } else if (out == ACT_ERROR) {
+        status = it.err;
+        if (!d->message[0] || status == TR_ESINGULAR)
+            tr_set_message(d, "actuate: %s",
+                           status == TR_ESINGULAR ? "a step's quadratic program is singular"
+                                                  : tr_strerror(status));
+    } else {
+        res->outcome = out == TR_ACT_MOVED || out == TR_ACT_REJECTED ? TR_ACT_MAX_ITER : out;
+        res->optimal = it.optimal || sp->kind != TR_ACT_MIN_CHANGE;
+        res->iterations = nit;
+        res->have_lam = it.have_lam;
+        memcpy(res->lam, it.lam, sizeof res->lam);
+        for (i = 0; i < a->nt; i++) res->mus[i] = it.have_lam ? it.mus[i] : 0.0;
+        memcpy(res->c, it.c, (size_t)n * sizeof(double));
+        res->status = act_final(a, a->cur, it.c, sp->judge, res->r);
+        if (a->stop) status = a->stop;
+        res->solves = a->solves;
+        res->jacobians = a->jacobians;
+    }
+    iter_free(&it);
+    act_run_free(a);
+    return status;
+}
