@@ -19,8 +19,8 @@ Exercises every path of the glue and the core that a user reaches:
   ValueError path), compliance from the kept state, pickling; an equilibrium found off
   the load path and confirmed by the second formulation (allocated on first need); the
   work budget running out; a Cancel token stopping a solve on a thread;
-- tr.actuate's least change (the step QP in C, polished and judged solves) and the QP's
-  error paths.
+- tr.actuate (its run in C): least change, square, least squares, tension controls, an
+  unreachable target, the glue's and the QP's error paths.
 Every call's outcome is checked lightly (so a wrong turn is noticed), the
 point is what valgrind sees.
 """
@@ -285,22 +285,57 @@ def raw_error_loop(n):
 
 
 def actuate_loop(n):
-    """tr.actuate: the least change of three tendons (the step QP in C, polished iterate
-    solves near the target, the final state judged in the run's workspace), and the QP's
-    own error paths."""
+    """tr.actuate (its run in C, tr_actuate.c): the least change of three tendons, a square
+    target (inside the shooting system first), a tip pose by least squares, tension
+    controls with a slack tendon, an unreachable target; the glue's error paths and the
+    QP's own."""
     rod = tr.Rod(length=0.1, diameter=1.04e-3, E=210e9, G=80e9, kirchhoff=True)
     EI, r = rod.bending_stiffness, 0.01
     tendons = [
         tr.Tendon(offset=r, angle=2 * math.pi * i / 3, EA=150.0 * EI / r**2) for i in range(3)
     ]
+    robot = tr.Robot(rod, tendons)
     sc = tr.Scene(
-        tr.Robot(rod, tendons),
-        displacement=[0.0, 0.0, 0.0],
-        loads=[tr.PointLoad(s=0.1, force=(0.0, 0.5, 0.0))],
+        robot, displacement=[0.0, 0.0, 0.0], loads=[tr.PointLoad(s=0.1, force=(0.0, 0.5, 0.0))]
     )
+    ten = tr.Scene(robot, tension=[2.0, 0.0, 1.0])
     for it in range(n):
         sol = tr.actuate(sc, tip_direction=(1.0, 0.0, 1.0 + 0.1 * it))
         assert sol.success, sol.message
+        sq = tr.actuate(sc, tendons=(0, 1), tip_direction=(0.3, 0.1 * it, 1.0))
+        assert sq.actuation.kind == "square", sq.actuation
+        pose = (sol.tip_position, sol.tip_rotation)
+        ls = tr.actuate(sc, tip_pose=pose, max_iter=5)
+        assert ls.actuation.kind == "least-squares", ls.actuation
+        tt = tr.actuate(ten, tendons=(0, 1), tip_direction=(0.5, 0.2, 1.0))
+        assert tt.actuation.controls.shape == (2,), tt.actuation
+        far = tr.actuate(sc, tendons=(0,), tip_position=(0.5, 0.5, 0.5), max_iter=3)
+        assert not far.success, far.actuation
+        prob = tr.Problem(sc)
+        prob.solve()
+        for bad in ({"tendons": [7.0]}, {"goal": 9}, {"c0": [0.0, 0.0]}):
+            kw = dict(
+                kind=1,
+                tendons=[0.0, 1.0, 2.0],
+                c0=[0.0] * 3,
+                scale=[r] * 3,
+                values=[0.0] * 3,
+                floor=[-np.inf] * 3,
+                tau_scale=1.0,
+                k=1.0,
+                tol=1e-10,
+                max_iter=5,
+                tip_row=1,
+                goal=2,
+                length=0.1,
+                direction=[0.0, 0.0, 1.0],
+                basis=[[1.0, 0, 0], [0, 1.0, 0]],
+            )
+            kw.update(bad)
+            try:
+                prob._c.actuate(**kw)
+            except ValueError:
+                pass
         try:
             tr._core.qp(
                 np.zeros((2, 2)), np.ones(2), np.zeros((0, 2)), np.zeros((0, 2)), [], [0, 0]

@@ -1,18 +1,21 @@
 """Inverse actuation: :func:`actuate`, the tendon controls that bring the tip to a target
 under the scene's loads.
 
-A square target whose controls are all displacements (a planar tip angle, a spatial tip
-direction or position, one actuated tendon per component) is first solved inside the
-shooting system: its residual takes the place of those tendons' length constraints and
-one Newton solve finds the controls and the equilibrium together
-(``_core.Problem.set_target``, ``csrc/tr_target.c``).  Everything else, and whatever that
+Python checks the call, puts the target in the robot's base frame and solves the scene
+once; the rest is one call into the core (``_core.Problem.actuate``,
+``csrc/tr_actuate.c``), with the GIL released.  A square target whose controls are all
+displacements (a planar tip angle, a spatial tip direction or position, one actuated
+tendon per component) is first solved inside the shooting system: its residual takes the
+place of those tendons' length constraints and one Newton solve finds the controls and
+the equilibrium together (``csrc/tr_target.c``).  Everything else, and whatever that
 solve leaves (it needs the actuated tendons taut and a well-conditioned target), goes by
 steps on the linearisation: every iterate an equilibrium the solver converged to (a warm
-:class:`~tendonrod.Problem` solve), every step from the linearisation of that equilibrium
-(:meth:`Problem.jacobian <tendonrod.Problem.jacobian>`, forward differences): Newton's
+solve), every step from the forward-difference linearisation of that equilibrium
+(``tr_linearize``, as :meth:`Problem.jacobian <tendonrod.Problem.jacobian>`): Newton's
 method on the target, damped by a trust region (Levenberg-Marquardt) where the target has
 at least as many components as there are controls, a sequential quadratic program where
-it has fewer.  ``bench/results/jacobian_actuate.md`` measures both
+it has fewer.  The state reached is solved once more, judged for stability with the
+caller's options.  ``bench/results/jacobian_actuate.md`` measures both routes
 (``bench/jacobian_actuate.py``).
 
 Units: a target's residual is dimensionless, positions divided by the rod length L and
