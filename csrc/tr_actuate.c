@@ -426,7 +426,7 @@ static int sqp(act_iter *it)
     if ((nb = box(it, nf, 0.8 * it->delta)) < 0) return ACT_ERROR;
     gauss_newton(it, r);
     memset(it->g0, 0, (size_t)n * sizeof(double));
-    if (qp(it, it->QH, it->qg, 0, NULL, nb, it->g0, it->v, NULL) < 0) return ACT_ERROR;
+    if (qp(it, it->QH, it->qg, 0, it->A, nb, it->g0, it->v, it->lam) < 0) return ACT_ERROR;
     rnorm = maxabs(r, mt);
     rr = dot(r, r, mt);
     if (rnorm > sp->tol && !(rr - predicted(it, r, it->v) > 1e-28 * rr))
@@ -510,7 +510,7 @@ static int lm(act_iter *it)
         }
     }
     memset(it->g0, 0, (size_t)n * sizeof(double));
-    if (qp(it, it->QH, it->qg, 0, NULL, nb + nheld, it->g0, it->u, NULL) < 0) return ACT_ERROR;
+    if (qp(it, it->QH, it->qg, 0, it->A, nb + nheld, it->g0, it->u, it->lam) < 0) return ACT_ERROR;
     /* a held tendon that the step would slacken (its predicted tension falls, through the
      * other controls) is on its slack side there, whose derivatives are not the taut
      * side's: the step again from the linearisation with that side (once per state; a
@@ -576,63 +576,69 @@ static int release(act_iter *it)
 /* ------------------------------------------------------------------ buffers */
 static int iter_alloc(act_iter *it, act_run *a, const tr_act_spec *sp)
 {
-    const int n = sp->n, nt = a->nt, mt = sp->target.m, gmax = nt + 5 * n + 1;
-    const size_t len = 13 * (size_t)n + 2 * (size_t)n * n + (size_t)mt * n + (size_t)nt * n +
-                       3 * (size_t)n * n + 3 * (size_t)n + (size_t)gmax * n + 2 * (size_t)gmax +
-                       (size_t)(mt + nt) * n + (mt + nt) + 6 * (size_t)nt + (6 + 2 * nt) +
-                       tr_qp_work_len(n, mt, gmax);
+    const size_t n = (size_t)sp->n, nt = (size_t)a->nt, mt = (size_t)sp->target.m;
+    const size_t gmax = nt + 5 * n + 1, qpw = tr_qp_work_len(sp->n, sp->target.m, (int)gmax);
+    /* every buffer and its length: one block of doubles, one of ints */
+    struct {
+        double **p;
+        size_t len;
+    } dv[] = {{&it->c, n},
+              {&it->cn, n},
+              {&it->c2, n},
+              {&it->u, n},
+              {&it->v, n},
+              {&it->dd, n},
+              {&it->u0, n},
+              {&it->gold, n},
+              {&it->gnew, n},
+              {&it->s, n},
+              {&it->y, n},
+              {&it->Hs, n},
+              {&it->g0, n},
+              {&it->qg, n},
+              {&it->H, n * n},
+              {&it->QH, n * n},
+              {&it->A, mt * n},
+              {&it->T, nt * n},
+              {&it->Gfix, 3 * n * n},
+              {&it->hfix, n},
+              {&it->G, gmax * n},
+              {&it->h, gmax},
+              {&it->mu, gmax},
+              {&it->M, (mt + nt) * n},
+              {&it->rhs, mt + nt},
+              {&it->mus, nt},
+              {&it->floor, nt},
+              {&it->psi, nt},
+              {&it->psin, nt},
+              {&it->side, nt},
+              {&it->gbuf, 6 + 2 * nt},
+              {&it->qpw, qpw}};
+    struct {
+        int **p;
+        size_t len;
+    } iv[] = {{&it->sw, nt},   {&it->slack_side, nt}, {&it->disp, nt},
+              {&it->rows, nt}, {&it->keep, nt + n},   {&it->active, gmax}};
+    const size_t nd = sizeof dv / sizeof dv[0], ni = sizeof iv / sizeof iv[0];
+    size_t len = 0, ilen = 0, j;
     double *w;
     int *iw, i;
     memset(it, 0, sizeof *it);
-    it->a = a, it->sp = sp, it->n = n, it->nt = nt, it->mt = mt, it->gmax = gmax;
+    it->a = a, it->sp = sp, it->n = (int)n, it->nt = (int)nt, it->mt = (int)mt;
+    it->gmax = (int)gmax;
+    for (j = 0; j < nd; j++) len += dv[j].len;
+    for (j = 0; j < ni; j++) ilen += iv[j].len;
     w = (double *)calloc(len, sizeof(double));
-    iw = (int *)calloc((size_t)(5 * nt + 2 * gmax + n + 1), sizeof(int));
+    iw = (int *)calloc(ilen, sizeof(int));
     if (!w || !iw) {
         free(w);
         free(iw);
         return -1;
     }
-    it->c = w, w += n;
-    it->cn = w, w += n;
-    it->c2 = w, w += n;
-    it->u = w, w += n;
-    it->v = w, w += n;
-    it->dd = w, w += n;
-    it->u0 = w, w += n;
-    it->gold = w, w += n;
-    it->gnew = w, w += n;
-    it->s = w, w += n;
-    it->y = w, w += n;
-    it->Hs = w, w += n;
-    it->g0 = w, w += n;
-    it->H = w, w += (size_t)n * n;
-    it->QH = w, w += (size_t)n * n;
-    it->qg = w, w += 3 * (size_t)n; /* (with room) */
-    it->A = w, w += (size_t)mt * n;
-    it->T = w, w += (size_t)nt * n;
-    it->Gfix = w, w += 3 * (size_t)n * n;
-    it->hfix = w, w += (size_t)n;
-    it->G = w, w += (size_t)gmax * n;
-    it->h = w, w += gmax;
-    it->mu = w, w += gmax;
-    it->M = w, w += (size_t)(mt + nt) * n;
-    it->rhs = w, w += mt + nt;
-    it->mus = w, w += nt;
-    it->floor = w, w += nt;
-    it->psi = w, w += nt;
-    it->psin = w, w += nt;
-    it->side = w, w += nt;
-    w += nt;
-    it->gbuf = w, w += 6 + 2 * nt;
-    it->qpw = w;
-    it->sw = iw, iw += nt;
-    it->slack_side = iw, iw += nt;
-    it->disp = iw, iw += nt;
-    it->rows = iw, iw += nt;
-    it->keep = iw, iw += nt + n;
-    it->active = iw;
-    for (i = 0; i < nt; i++) it->disp[i] = a->m->tendon[i].control == TR_DISPLACEMENT;
-    for (i = 0; i < n; i++) it->H[i * n + i] = 1.0;
+    for (j = 0; j < nd; j++) *dv[j].p = w, w += dv[j].len;
+    for (j = 0; j < ni; j++) *iv[j].p = iw, iw += iv[j].len;
+    for (i = 0; i < (int)nt; i++) it->disp[i] = a->m->tendon[i].control == TR_DISPLACEMENT;
+    for (i = 0; i < (int)n; i++) it->H[i * (int)n + i] = 1.0;
     it->delta = DELTA0;
     it->lsq = sp->kind != TR_ACT_MIN_CHANGE;
     return 0;

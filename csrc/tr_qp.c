@@ -165,7 +165,7 @@ int tr_lstsq(int r, int c, const double *M, int trans, const double *b, double r
     double smax = 0.0, thr;
     int i, j;
     if (sm == 0) {
-        memset(x, 0, (size_t)ec * sizeof(double));
+        if (ec > 0) memset(x, 0, (size_t)ec * sizeof(double));
         return 0;
     }
     /* P: the taller of E and E^T (big x sm); M is E (trans = 0) or E^T (trans = 1) */
@@ -249,7 +249,7 @@ static int equality_minimiser(qp_ws *w, const double *H, const double *g, const 
 {
     const int n = w->n, me = w->me;
     int i;
-    memcpy(w->C, A, (size_t)me * (size_t)n * sizeof(double));
+    if (me > 0) memcpy(w->C, A, (size_t)me * (size_t)n * sizeof(double));
     gradient(w, H, g, x, w->q);
     if (reduced_step(w, H, me, w->p) < 0) return -1;
     for (i = 0; i < n; i++) u[i] = x[i] + w->p[i];
