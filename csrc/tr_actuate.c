@@ -52,7 +52,7 @@ typedef struct {
     double lam[6]; /* the target's multipliers */
     double *mus;   /* (nt) the tension floors' multipliers */
     /* scratch */
-    double *cn, *c2, *u, *v, *dd, *u0, *gold, *gnew, *s, *y, *Hs, *g0, *qg;
+    double *cn, *c2, *ca, *u, *v, *dd, *u0, *gold, *gnew, *s, *y, *Hs, *g0, *qg;
     double *QH, *G, *h, *mu, *M, *rhs, *floor, *psi, *psin, *gbuf, *qpw;
     int *active, *rows, *keep;
     int gmax;
@@ -340,6 +340,8 @@ static int accepted(act_iter *it, const double *cn, int s, const int *rows, int 
     const int n = it->n;
     int i, same = 1;
     if (rows) {
+        /* cn kept: the new state's linearisation may take up slack, moving it->c on */
+        memcpy(it->ca, cn, (size_t)n * sizeof(double));
         grad(it, it->c, rows, nr, it->gold);
         for (i = 0; i < n; i++) it->s[i] = (cn[i] - it->c[i]) / it->sp->scale[i];
         for (i = 0; i < it->nt; i++)
@@ -347,7 +349,7 @@ static int accepted(act_iter *it, const double *cn, int s, const int *rows, int 
         set_state(it, cn, s);
         if (same) {
             if (linearisation(it) < 0) return -1;
-            grad(it, cn, rows, nr, it->gnew);
+            grad(it, it->ca, rows, nr, it->gnew);
             for (i = 0; i < n; i++) it->y[i] = it->gnew[i] - it->gold[i];
             bfgs(it, it->s, it->y);
         } else {
@@ -585,6 +587,7 @@ static int iter_alloc(act_iter *it, act_run *a, const tr_act_spec *sp)
     } dv[] = {{&it->c, n},
               {&it->cn, n},
               {&it->c2, n},
+              {&it->ca, n},
               {&it->u, n},
               {&it->v, n},
               {&it->dd, n},
