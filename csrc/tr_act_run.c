@@ -81,9 +81,8 @@ act_run *act_run_alloc(tr_model *m, tr_data *d, const tr_act_spec *sp)
     a->n = n, a->nt = nt, a->k = k, a->mt = sp->target.m;
     a->last = a->cur = -1;
     w = (double *)calloc(len, sizeof(double));
-    a->sw = (int *)calloc((size_t)nt + 1, sizeof(int));
     a->par = (tr_param *)calloc((size_t)nt + 1, sizeof(tr_param));
-    if (!w || !a->sw || !a->par) {
+    if (!w || !a->par) {
         free(w);
         act_run_free(a);
         return NULL;
@@ -117,7 +116,6 @@ void act_run_free(act_run *a)
 {
     if (!a) return;
     free(a->pool[0].g); /* the one block of doubles */
-    free(a->sw);
     free(a->par);
     free(a);
 }

@@ -53,7 +53,6 @@ typedef struct {
     double *vals; /* (nt) actuation values of the solve */
     double *key;  /* (n) */
     double *pose, *ten, *sl; /* linearisation: (nt x 6), (nt x nt), (nt x nt) */
-    int *sw;                 /* (nt) its switch sides */
     tr_param *par;           /* (nt) its parameters: every tendon's value */
     double *lsq;             /* tr_act_lstsq's workspace */
 } act_run;

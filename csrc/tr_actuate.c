@@ -55,7 +55,6 @@ typedef struct {
     double *cn, *c2, *ca, *u, *v, *dd, *u0, *gold, *gnew, *s, *y, *Hs, *g0, *qg;
     double *QH, *G, *h, *mu, *M, *rhs, *floor, *psi, *psin, *gbuf, *qpw;
     int *active, *rows, *keep;
-    int gmax;
 } act_iter;
 
 static double maxabs(const double *v, int n)
@@ -628,7 +627,6 @@ static int iter_alloc(act_iter *it, act_run *a, const tr_act_spec *sp)
     int *iw, i;
     memset(it, 0, sizeof *it);
     it->a = a, it->sp = sp, it->n = (int)n, it->nt = (int)nt, it->mt = (int)mt;
-    it->gmax = (int)gmax;
     for (j = 0; j < nd; j++) len += dv[j].len;
     for (j = 0; j < ni; j++) ilen += iv[j].len;
     w = (double *)calloc(len, sizeof(double));

@@ -144,8 +144,7 @@ def _control_set(scene: Scene, tendons):
     q_scale, tau_scale = r, rod.bending_stiffness / (r * rod.length)
     scale = np.array([q_scale if disp[i] else tau_scale for i in idx])
     values = np.array([scene.displacement[i] if disp[i] else scene.tension[i] for i in idx])
-    is_tension = np.array([not disp[i] for i in idx])
-    return idx, values, scale, is_tension, q_scale, tau_scale
+    return idx, values, scale, q_scale, tau_scale
 
 
 def _with_controls(scene: Scene, idx, c) -> Scene:
@@ -263,7 +262,7 @@ def actuate(
         raise ValueError(f"method must be 'auto' or 'linearisation', got {method!r}")
     planar = is_planar(scene) and not options.force_spatial
     target = Target(scene, planar, tip_angle, tip_direction, tip_position, tip_pose)
-    idx, c0, scale, is_tension, q_scale, tau_scale = _control_set(scene, tendons)
+    idx, c0, scale, q_scale, tau_scale = _control_set(scene, tendons)
     n, m = len(idx), target.m
     kind = "square" if n == m else ("minimum-change" if n > m else "least-squares")
     # the iterates are not judged for stability (a verdict per iterate would cost more than
