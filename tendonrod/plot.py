@@ -12,6 +12,9 @@ nondimensional group, and returns the Axes.  Nothing here calls
 - :func:`sweep_lines` -- a recorded quantity of a sweep against one varied parameter.
 - :func:`tension_vs_load` -- tendon tensions against a load.
 - :func:`path` -- a load path (:func:`tendonrod.path`): parameter against a tip displacement.
+- :func:`view` -- an interactive 3-D view (Plotly, the ``view`` extra) of a solution, a
+  load path, a sweep or a list of solutions; :func:`save_html` writes it as a standalone
+  page (see :mod:`tendonrod._view`).
 
 The paper's own charts and figures are in :mod:`tendonrod.paper.charts` and
 :mod:`tendonrod.paper.figures`.
@@ -33,6 +36,8 @@ __all__ = [
     "shapes",
     "sweep_lines",
     "tension_vs_load",
+    "view",
+    "save_html",
 ]
 
 
@@ -374,3 +379,19 @@ def path(
     from ._plot_path import draw
 
     return draw(p, _ax(ax), displacement, float(scale), ylabel, color, **kwargs)
+
+
+def view(x, scene=None, **kwargs):
+    """An interactive 3-D view of solved robot(s), a Plotly figure: see
+    :func:`tendonrod._view.view` (needs plotly: ``pip install 'tendonrod[view]'``)."""
+    from ._view import view as _view
+
+    return _view(x, scene, **kwargs)
+
+
+def save_html(fig, path) -> None:
+    """Write a :func:`view` figure to ``path`` as a standalone HTML page (plotly.js
+    inlined: no network needed to open it)."""
+    from ._view import save_html as _save
+
+    _save(fig, path)
