@@ -35,7 +35,7 @@ _AXES = (("x", "#d62728"), ("y", "#2ca02c"), ("z", "#1f77b4"))
 
 def _plotly():
     try:
-        import plotly.graph_objects as go
+        import plotly.graph_objects as go  # type: ignore[import-untyped]
     except ImportError as exc:
         raise ImportError(
             f"tendonrod.plot.view needs plotly: pip install 'tendonrod[{EXTRA}]' "
@@ -390,38 +390,7 @@ def view(
     max_frames: int = 60,
     title: str | None = None,
 ):
-    """An interactive 3-D view of solved robot(s): a :class:`plotly.graph_objects.Figure`.
-
-    Parameters
-    ----------
-    x : Solution, list of Solution, Path, SweepResult or BatchResult
-        What to show; several (a path's points, a sweep's or batch's converged points, a
-        list of solutions) get a slider and a play button, one step per point.
-    scene : Scene or list of Scene, optional
-        A sweep's base scene (its points are rebuilt from it and solved again, warm), or
-        a batch's scenes in input order; unused otherwise.
-    options : Options, optional
-        Options of the re-solves (a sweep's or batch's) and of a path's recording.
-    disks : int or sequence of float, optional
-        Spacer disks: a count spread evenly, or arc lengths [m]; default the scene's point
-        masses, or the holes of a tendon routed disk by disk, else none.
-    tendons, loads : bool
-        Draw the tendons (coloured by tension [N], slack dashed) and the point loads.
-    load_scale : float, optional
-        Arrow length per force [m/N]; default: the largest force of all steps drawn L/4
-        long.  Written in the title.
-    sides : int
-        Vertices per ring of the tube meshes.
-    max_frames : int
-        At most this many steps (evenly chosen, first and last kept).
-    title : str, optional
-        Default: what is shown and the load scale.
-
-    Returns
-    -------
-    plotly.graph_objects.Figure
-        Save it with :func:`save_html` (a standalone page) or ``fig.show()``.
-    """
+    """The figure of :func:`tendonrod.plot.view` (its docstring says the parameters)."""
     go = _plotly()
     steps = _steps(x, scene, options, max_frames)
     first = steps[0][1].scene

@@ -382,16 +382,75 @@ def path(
 
 
 def view(x, scene=None, **kwargs):
-    """An interactive 3-D view of solved robot(s), a Plotly figure: see
-    :func:`tendonrod._view.view` (needs plotly: ``pip install 'tendonrod[view]'``)."""
+    """An interactive 3-D view of solved robot(s): a :class:`plotly.graph_objects.Figure`.
+
+    Parameters
+    ----------
+    x : Solution, list of Solution, Path, SweepResult or BatchResult
+        What to show; several (a path's points, a sweep's or batch's converged points, a
+        list of solutions) get a slider and a play button, one step per point.
+    scene : Scene or list of Scene, optional
+        A sweep's base scene (its points are rebuilt from it and solved again, warm), or
+        a batch's scenes in input order; unused otherwise.
+    options : Options, optional
+        Options of the re-solves (a sweep's or batch's) and of a path's recording.
+    disks : int or sequence of float, optional
+        Spacer disks: a count spread evenly, or arc lengths [m]; default the scene's point
+        masses, or the holes of a tendon routed disk by disk, else none.
+    tendons, loads : bool
+        Draw the tendons (coloured by tension [N], slack dashed) and the point loads.
+    load_scale : float, optional
+        Arrow length per force [m/N]; default: the largest force of all steps drawn L/4
+        long.  Written in the title.
+    sides : int
+        Vertices per ring of the tube meshes.
+    max_frames : int
+        At most this many steps (evenly chosen, first and last kept).
+    title : str, optional
+        Default: what is shown and the load scale.
+
+    Returns
+    -------
+    plotly.graph_objects.Figure
+        Save it with :func:`save_html` (a standalone page) or ``fig.show()``.
+
+    Raises
+    ------
+    ImportError
+        plotly is missing (the message names the extra: ``pip install 'tendonrod[view]'``).
+
+    Examples
+    --------
+    >>> robot = tr.Robot(tr.Rod(0.2, 0.8e-3, 207e9, 79.6e9, kirchhoff=True), [tr.Tendon(0.01)])
+    >>> scene = tr.Scene(robot, displacement=[0.01], loads=[tr.PointLoad(0.2, (0, 0, -0.1))])
+    >>> fig = tr.plot.view(tr.solve(scene))
+    >>> [t.name for t in fig.data][:3]
+    ['backbone (d = 0.8 mm)', 'tendon 0', 'loads (1 N = 500 mm)']
+
+    A load path, one slider step per point:
+
+    >>> p = tr.path(scene, "displacement[0]", (0.0, 0.0157))
+    >>> len(tr.plot.view(p).frames) == len(p)
+    True
+    """
     from ._view import view as _view
 
     return _view(x, scene, **kwargs)
 
 
 def save_html(fig, path) -> None:
-    """Write a :func:`view` figure to ``path`` as a standalone HTML page (plotly.js
-    inlined: no network needed to open it)."""
+    """Write a :func:`view` figure to ``path`` as a standalone HTML page: plotly.js
+    inlined (about 4.6 MB), so it opens without a network.
+
+    Examples
+    --------
+    >>> import os, tempfile
+    >>> robot = tr.Robot(tr.Rod(0.2, 0.8e-3, 207e9, 79.6e9, kirchhoff=True), [tr.Tendon(0.01)])
+    >>> fig = tr.plot.view(tr.solve(tr.Scene(robot, displacement=[0.01])))
+    >>> tr.plot.save_html(fig, page := os.path.join(tempfile.mkdtemp(), "robot.html"))
+    >>> os.path.getsize(page) > 4e6
+    True
+    """
     from ._view import save_html as _save
 
     _save(fig, path)
