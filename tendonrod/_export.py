@@ -23,7 +23,7 @@ import struct
 
 import numpy as np
 
-from ._mesh import Mesh, backbone_radius, tendon_route, tube
+from ._mesh import Mesh, backbone_radius, backbone_tube, tendon_route, tube
 
 __all__ = ["export", "SUFFIXES"]
 
@@ -125,8 +125,7 @@ def solution_mesh(sol, tendons: bool = False, tendon_diameter=None, sides: int =
     """The backbone tube (and, with ``tendons``, each tendon's thin tube, of
     ``tendon_diameter`` [m], default a quarter of the backbone's diameter at its base)."""
     scene = sol.scene
-    s = np.asarray(sol.s, dtype=float)
-    meshes = [tube(sol.position, sol.rotation, backbone_radius(scene, s), sides)]
+    meshes = [backbone_tube(sol, sides)]
     if tendons:
         if tendon_diameter is None:
             rt = 0.25 * float(backbone_radius(scene, [0.0])[0])

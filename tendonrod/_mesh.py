@@ -20,7 +20,15 @@ import numpy as np
 
 from .routing import offsets as tendon_offsets
 
-__all__ = ["state_at", "tube", "backbone_radius", "tendon_route", "disk_arcs", "Mesh"]
+__all__ = [
+    "state_at",
+    "tube",
+    "backbone_radius",
+    "backbone_tube",
+    "tendon_route",
+    "disk_arcs",
+    "Mesh",
+]
 
 
 class Mesh:
@@ -120,17 +128,37 @@ def tube(P, R, radius, sides: int = 32, caps: bool = True) -> Mesh:
     return Mesh(V, F.astype(np.int64))
 
 
-def backbone_radius(scene, s) -> np.ndarray:
-    """The backbone's radius [m] at arc lengths ``s`` (a segmented rod's per segment; a rod
-    without a diameter gets L/100, a drawing choice)."""
+def backbone_radius(scene, s, side: str = "left") -> np.ndarray:
+    """The backbone's radius [m] at arc lengths ``s`` (a segmented rod's per segment, at a
+    joint the segment before it, or with ``side="right"`` the one after; a rod without a
+    diameter gets L/100, a drawing choice)."""
     rod = scene.robot.rod
     s = np.atleast_1d(np.asarray(s, dtype=float))
     parts = rod.segments or (rod,)
     ends = np.cumsum([p.length for p in parts])
     L = rod.length
     d = np.array([p.diameter if p.diameter is not None else L / 50 for p in parts])
-    idx = np.minimum(np.searchsorted(ends, s, side="left"), len(parts) - 1)
+    idx = np.minimum(np.searchsorted(ends, s, side=side), len(parts) - 1)
     return 0.5 * d[idx]
+
+
+def backbone_tube(sol, sides: int = 32) -> Mesh:
+    """The backbone of ``sol`` as a closed tube at its diameter.  A node repeated at a joint
+    (the output holds both sides of a breakpoint) becomes the step between the two
+    segments' radii (a flat annulus), or is dropped where they agree (a zero-length piece
+    would leave degenerate triangles)."""
+    scene = sol.scene
+    s = np.asarray(sol.s, dtype=float)
+    P, R = np.asarray(sol.position), np.asarray(sol.rotation)
+    r = backbone_radius(scene, s)
+    keep = np.ones(len(s), dtype=bool)
+    for k in np.flatnonzero(np.diff(s) == 0.0):
+        r_right = backbone_radius(scene, [s[k]], side="right")[0]
+        if r_right == r[k]:
+            keep[k + 1] = False
+        else:
+            r[k + 1] = r_right
+    return tube(P[keep], R[keep], r[keep], sides)
 
 
 def tendon_route(sol, scene, i: int, n: int | None = None) -> tuple[np.ndarray, np.ndarray]:

@@ -24,7 +24,15 @@ import math
 
 import numpy as np
 
-from ._mesh import Mesh, backbone_radius, disk_arcs, disks_mesh, state_at, tendon_route, tube
+from ._mesh import (
+    Mesh,
+    backbone_radius,
+    backbone_tube,
+    disk_arcs,
+    disks_mesh,
+    state_at,
+    tendon_route,
+)
 
 __all__ = ["view", "save_html", "EXTRA"]
 
@@ -234,12 +242,11 @@ def _mesh_trace(go, m: Mesh, name: str, color: str, **kw):
 def _step_traces(go, sol, cfg: dict) -> list:
     """The traces that change from step to step, always the same number in the same order."""
     scene = sol.scene
-    s = np.asarray(sol.s)
     d0 = 2e3 * float(backbone_radius(scene, [0.0])[0])
     traces = [
         _mesh_trace(
             go,
-            tube(sol.position, sol.rotation, backbone_radius(scene, s), cfg["sides"]),
+            backbone_tube(sol, cfg["sides"]),
             f"backbone (d = {d0:.3g} mm)",
             "#8c8c8c",
             hoverinfo="name",

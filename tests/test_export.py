@@ -130,3 +130,21 @@ def test_unknown_suffix_is_named(tmp_path, straight):
         straight.export(tmp_path / "rod.obj", tendons="yes")
     with pytest.raises(ValueError, match="sides"):
         straight.export(tmp_path / "rod.stl", sides=2)
+
+
+def test_stepped_rod_closed_with_its_two_diameters(tmp_path):
+    # a segmented rod, 2 mm then 1 mm across, unloaded (straight): the output repeats the
+    # joint's node, where the tube steps from one radius to the other (a flat annulus)
+    seg = tr.Rod.segmented(
+        [
+            tr.Rod(0.1, 2e-3, 60e9, 23e9, kirchhoff=True),
+            tr.Rod(0.1, 1e-3, 60e9, 23e9, kirchhoff=True),
+        ]
+    )
+    sol = tr.solve(tr.Scene(tr.Robot(seg, [])))
+    sol.export(tmp_path / "stepped.obj", sides=24)
+    m = trimesh.load(tmp_path / "stepped.obj", force="mesh")
+    assert m.is_volume
+    # two prisms: the exact volume of the mesh, to rounding
+    prisms = (_polygon_area(24, 1e-3) + _polygon_area(24, 0.5e-3)) * 0.1
+    assert m.volume == pytest.approx(prisms, rel=1e-9)
