@@ -29,6 +29,16 @@ def _log_ticks(axis, lo, hi):
 
 
 def plot_work_precision(rows, scenes, path):
+    """Write the work-precision chart of ``rows`` (one panel per scene) to ``path``."""
+    import matplotlib.pyplot as plt
+
+    fig = work_precision_figure(rows, scenes)
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+
+
+def work_precision_figure(rows, scenes):
+    """The work-precision chart as a matplotlib Figure (Agg), not saved."""
     import matplotlib
 
     matplotlib.use("Agg")
@@ -148,8 +158,7 @@ def plot_work_precision(rows, scenes, path):
         fontsize=11,
     )
     fig.tight_layout(rect=(0, 0.05, 1, 0.96))
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
+    return fig
 
 
 def plot_model_choice(rows, path, cf_name):
