@@ -57,14 +57,14 @@ ax.plot(*route[-1, [0, 2]], "o", color="tab:red", ms=5)
 ax.text(route[-1, 0] + 0.004, route[-1, 2] - 0.01, "anchor $s = t$", color="tab:red", fontsize=8)
 # world frame at the clamped base
 arrow(ax, (0, 0), (0.04, 0), "tab:blue", "$x$ (world)", off=(0.003, -0.008))
-arrow(ax, (0, 0), (0, 0.04), "tab:blue", "$z$", off=(-0.012, 0.0))
+arrow(ax, (0, 0), (0, 0.04), "tab:blue", "$z$", off=(0.004, -0.004))
 ax.add_patch(plt.Rectangle((-0.035, -0.012), 0.07, 0.012, hatch="////", fill=False, lw=0.8))
 ax.text(-0.058, -0.04, "clamped base, $s = 0$:\nbase frame = world frame", fontsize=8)
 # body frame d1, d3 at s = 0.6 L
 k = int(0.5 * (len(s) - 1))
-for col, name in ((0, "$R e_1$"), (2, "$R e_3$")):
+for col, name, off in ((0, "$R e_1$", (0.006, -0.008)), (2, "$R e_3$", (-0.012, 0.004))):
     v = 0.035 * R[k][:, col]
-    arrow(ax, (p[k, 0], p[k, 2]), (v[0], v[2]), "tab:green", name, off=(-0.012, 0.004))
+    arrow(ax, (p[k, 0], p[k, 2]), (v[0], v[2]), "tab:green", name, off=off)
 ax.text(p[k, 0] - 0.045, p[k, 2] - 0.05, "body frame $R(s)$", color="tab:green", fontsize=8)
 # the tip angle theta, from +z toward +x
 tip = p[-1, [0, 2]]
@@ -78,7 +78,7 @@ ax.text(tip[0] + 0.006, tip[1] + 0.03, f"$\\theta_L = {math.degrees(theta):.0f}Â
 arrow(ax, (tip[0], tip[1] - 0.02), (-0.035, 0), "tab:purple", None)
 ax.text(
     tip[0] - 0.055,
-    tip[1] - 0.017,
+    tip[1] - 0.045,
     "$-F e_x$ ($F > 0$ in the\nclosed forms)",
     color="tab:purple",
     fontsize=8,
