@@ -1,6 +1,8 @@
 """Sphinx configuration of the tendonrod documentation (``make docs``).
 
-Markdown pages through MyST, the API reference through autodoc/autosummary from the
+Markdown pages through MyST, the notebooks of ``notebooks/`` through MyST-NB with their
+stored outputs (never executed here: ``tools/notebooks_full.py`` makes those outputs, and
+``make test`` runs every notebook through nbmake), the API reference through autodoc/autosummary from the
 NumPy-style docstrings (napoleon), doctests through ``sphinx.ext.doctest`` (the
 ``Examples`` sections of the docstrings and the ``{doctest}`` blocks of the pages).
 No intersphinx: the build machines reach the package registries only.
@@ -24,7 +26,7 @@ release = tendonrod.__version__
 version = release
 
 extensions = [
-    "myst_parser",
+    "myst_nb",  # MyST Markdown pages and the notebooks (it loads myst_parser)
     "sphinx.ext.autodoc",
     "sphinx.ext.autosummary",
     "sphinx.ext.napoleon",
@@ -32,11 +34,19 @@ extensions = [
     "sphinx.ext.mathjax",
 ]
 
-source_suffix = {".md": "markdown", ".rst": "restructuredtext"}
+# .rst first: autosummary writes its stubs with the first suffix
+source_suffix = {".rst": "restructuredtext", ".md": "myst-nb", ".ipynb": "myst-nb"}
 root_doc = "index"
 exclude_patterns = ["_build", "**/.ipynb_checkpoints"]
 myst_enable_extensions = ["dollarmath", "colon_fence", "deflist"]
 myst_heading_anchors = 3
+
+# The notebooks are rendered with the outputs stored in them: executing them here would
+# double CI's notebook time (nbmake runs them in `make test`), and the stored outputs are
+# the full-resolution ones (tools/notebooks_full.py).  Their warnings (stderr) are shown.
+nb_execution_mode = "off"
+nb_output_stderr = "show"
+nb_merge_streams = True
 
 autosummary_generate = True
 autosummary_imported_members = False
@@ -66,7 +76,8 @@ doctest_default_flags = (
 html_theme = "pydata_sphinx_theme"
 html_title = f"tendonrod {release}"
 html_theme_options = {"navigation_with_keys": False, "show_toc_level": 2}
-html_static_path: list[str] = []
+html_static_path = ["_static"]
+html_css_files = ["gallery.css"]
 
 
 def _write_ufunc_pages(app):
@@ -97,8 +108,55 @@ def _write_ufunc_pages(app):
             fh.write(text)
 
 
+# The gallery (gallery.md): which stored figure of each notebook is its thumbnail (1-based,
+# in the order of the outputs; the first one where a notebook is missing here).
+THUMBNAILS = {"02": 5, "04": 4, "05": 3, "06": 2, "07": 1, "08": 2, "09": 2, "11": 1}
+
+
+def _copy_notebooks(app):
+    """Sphinx reads sources below docs/ only: copy ``notebooks/*.ipynb`` to
+    ``docs/notebooks/`` (generated, not committed) and write each one's thumbnail, a
+    reduced copy of one of its stored PNG figures, to ``docs/notebooks/thumbs/NN.png``.
+    Files are rewritten only when they change, so incremental builds stay incremental."""
+    import base64
+    import glob
+    import io
+
+    import nbformat
+    from PIL import Image  # matplotlib's own dependency
+
+    out = os.path.join(app.srcdir, "notebooks")
+    os.makedirs(os.path.join(out, "thumbs"), exist_ok=True)
+    for src in sorted(glob.glob(os.path.join(ROOT, "notebooks", "*.ipynb"))):
+        name = os.path.basename(src)
+        data = open(src, "rb").read()
+        dst = os.path.join(out, name)
+        if not os.path.exists(dst) or open(dst, "rb").read() != data:
+            with open(dst, "wb") as fh:
+                fh.write(data)
+        nb = nbformat.reads(data.decode(), as_version=4)
+        pngs = [
+            o["data"]["image/png"]
+            for c in nb.cells
+            if c.cell_type == "code"
+            for o in c.get("outputs", [])
+            if "image/png" in o.get("data", {})
+        ]
+        thumb = os.path.join(out, "thumbs", name[:2] + ".png")
+        if not pngs:
+            raise RuntimeError(f"{src} has no stored figure: run tools/notebooks_full.py")
+        img = Image.open(io.BytesIO(base64.b64decode(pngs[THUMBNAILS.get(name[:2], 1) - 1])))
+        img.thumbnail((360, 240))  # in place, keeps the aspect ratio
+        buf = io.BytesIO()
+        img.save(buf, format="png", optimize=True)
+        if not os.path.exists(thumb) or open(thumb, "rb").read() != buf.getvalue():
+            with open(thumb, "wb") as fh:
+                fh.write(buf.getvalue())
+
+
 def setup(app):
     app.connect("builder-inited", _write_ufunc_pages)
+    app.connect("builder-inited", _copy_notebooks)
 
 
 # napoleon writes a class's Attributes as ``:ivar name:`` fields, and Sphinx links each

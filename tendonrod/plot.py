@@ -12,6 +12,11 @@ nondimensional group, and returns the Axes.  Nothing here calls
 - :func:`sweep_lines` -- a recorded quantity of a sweep against one varied parameter.
 - :func:`tension_vs_load` -- tendon tensions against a load.
 - :func:`path` -- a load path (:func:`tendonrod.path`): parameter against a tip displacement.
+- :func:`savefig` -- a figure to PNG, PDF or SVG by the file's suffix (reproducible
+  metadata, the bounding box fitted to what is drawn).
+- :func:`view` -- an interactive 3-D view (Plotly, the ``view`` extra) of a solution, a
+  load path, a sweep or a list of solutions; :func:`save_html` writes it as a standalone
+  page (see :mod:`tendonrod._view`).
 
 The paper's own charts and figures are in :mod:`tendonrod.paper.charts` and
 :mod:`tendonrod.paper.figures`.
@@ -23,8 +28,9 @@ import math
 
 import numpy as np
 
+from ._mesh import state_at as _state_at
+from ._mesh import tendon_route
 from .compiled import is_planar
-from .routing import offsets as tendon_offsets
 
 __all__ = [
     "is_planar",
@@ -33,7 +39,13 @@ __all__ = [
     "shapes",
     "sweep_lines",
     "tension_vs_load",
+    "view",
+    "save_html",
+    "savefig",
 ]
+
+FORMATS = ("png", "pdf", "svg")
+"""The file formats :func:`savefig` writes (by the path's suffix)."""
 
 
 def _ax(ax, projection=None):
@@ -44,22 +56,6 @@ def _ax(ax, projection=None):
     if projection is None:
         return plt.gca()
     return plt.figure().add_subplot(projection=projection)
-
-
-def _state_at(sol, s):
-    """Positions (K, 3) and rotations (K, 3, 3) at arc lengths s, interpolated between
-    output nodes (positions linearly, rotations per column then re-orthonormalised) --
-    enough for drawing."""
-    s = np.atleast_1d(np.asarray(s, dtype=float))
-    ss = np.asarray(sol.s)
-    P = np.stack([np.interp(s, ss, np.asarray(sol.position)[:, j]) for j in range(3)], axis=-1)
-    Rn = np.asarray(sol.rotation)
-    R = np.empty((len(s), 3, 3))
-    for i in range(3):
-        for j in range(3):
-            R[:, i, j] = np.interp(s, ss, Rn[:, i, j])
-    u, _, vt = np.linalg.svd(R)
-    return P, u @ vt
 
 
 def robot(
@@ -79,6 +75,7 @@ def robot(
     masses: bool = True,
     legend: bool | None = None,
     tension_labels: bool = False,
+    frame: bool = True,
 ):
     """Draw a solved robot (a precurved or segmented backbone as solved: its shape is
     the recorded one).  ``joints``: mark the joints of a segmented rod (black dots).
@@ -113,6 +110,10 @@ def robot(
         Axes is made here (one robot), not on a given Axes (several robots).
     tension_labels : bool
         Each tendon's tension [N] written at its anchor.
+    frame : bool
+        The base frame as arrows L/8 long at the base (x red, y green, z blue; the x-z
+        view shows x and z) and, when the scene has gravity, an arrow "g" along it beside
+        the robot.  The axis limits take in these arrows and the load arrows.
     """
     scene = getattr(sol, "scene", None) if scene is None else scene
     if scene is None:
@@ -144,12 +145,8 @@ def robot(
     tension = np.asarray(getattr(sol, "tension", []), dtype=float)
     slack = np.asarray(getattr(sol, "slack", np.zeros_like(tension)), dtype=float)
     if tendons:
-        for i, t in enumerate(scene.robot.tendons):
-            end = scene.robot.tendon_end(i)
-            s = np.linspace(0.0, end, 60 if t.twist is None and t.path is None else 240)
-            Ps, Rs = _state_at(sol, s)
-            r = tendon_offsets(t, s, end)
-            pts = Ps + np.einsum("kij,kj->ki", Rs, r)
+        for i in range(scene.robot.n_tendons):
+            _, pts = tendon_route(sol, scene, i)
             tau = float(tension[i]) if i < tension.size else math.nan
             is_slack = tau == 0.0 and i < slack.size and slack[i] > 0.0
             state = "slack" if is_slack else f"{tau:.3g} N"
@@ -184,6 +181,9 @@ def robot(
         _draw_masses(sol, scene, draw, planar, rad, alpha)
     # the arrows below are the point loads: a point mass has no force of its own
     scene = _without_masses(scene)
+    extra: list = []  # points the axis limits must take in besides the backbone
+    if frame:
+        extra += _draw_frame(ax, scene, P, L, planar)
     if loads:
         pls = [ld for ld in scene.loads if hasattr(ld, "s")]
         fmax = max([np.linalg.norm(ld.force) for ld in pls] + [0.0])
@@ -195,6 +195,7 @@ def robot(
             p, _ = _state_at(sol, [ld.s])
             p = p[0]
             v = f * scale
+            extra.append(p - v)
             if planar:
                 ax.annotate(
                     "",
@@ -209,15 +210,54 @@ def robot(
     if planar:
         ax.set_xlabel("x [m]")
         ax.set_ylabel("z [m]")
+        if extra:
+            ax.update_datalim(np.asarray(extra)[:, [0, 2]])
+            ax.autoscale_view()
         ax.set_aspect("equal", adjustable="datalim")
     else:
         ax.set_xlabel("x [m]")
         ax.set_ylabel("y [m]")
         ax.set_zlabel("z [m]")
-        _equal_3d(ax, P, L)
+        _equal_3d(ax, np.concatenate([P, np.reshape(extra, (-1, 3))]), L)
     if legend and tendons and scene.robot.tendons:
         ax.legend(fontsize="small")
     return ax
+
+
+_AXIS_COLORS = ("tab:red", "tab:green", "tab:blue")
+
+
+def _draw_frame(ax, scene, P, L, planar) -> list:
+    """The base frame's axes as arrows (L/8) at the base and gravity's direction as an
+    arrow "g" (L/5) beside the robot's top; returns the arrows' end points."""
+    robot = scene.robot
+    o = np.asarray(robot.base_position, dtype=float)
+    R0 = np.asarray(robot.base_rotation, dtype=float)
+    arrows = [(o, 0.125 * L * R0[:, j], _AXIS_COLORS[j]) for j in range(3)]
+    g = np.asarray(scene.gravity, dtype=float)
+    if np.any(g):
+        lo, hi = P.min(axis=0), P.max(axis=0)
+        u = 0.2 * L * g / np.linalg.norm(g)
+        # beside the robot, on the -x side, its head at mid height
+        tail = np.array([lo[0] - 0.15 * L, 0.5 * (lo[1] + hi[1]), 0.5 * (lo[2] + hi[2])]) - u / 2
+        arrows.append((tail, u, "k"))
+    ends = []
+    for tail, v, c in arrows:
+        if planar:
+            if abs(v[0]) + abs(v[2]) < 1e-12 * L:  # the y axis seen end-on
+                continue
+            ax.quiver(
+                tail[0], tail[2], v[0], v[2], angles="xy", scale_units="xy", scale=1.0,
+                color=c, width=0.004, zorder=3,
+            )  # fmt: skip
+        else:
+            ax.quiver(*tail, *v, color=c, arrow_length_ratio=0.25, lw=1.2)
+        ends += [tail, tail + v]
+    if np.any(g):
+        tail, v, _ = arrows[-1]
+        xy = (tail[0], tail[2]) if planar else tuple(tail)
+        ax.text(*xy, " g", color="k", fontsize="small", va="bottom")
+    return ends
 
 
 def _without_masses(scene):
@@ -374,3 +414,118 @@ def path(
     from ._plot_path import draw
 
     return draw(p, _ax(ax), displacement, float(scale), ylabel, color, **kwargs)
+
+
+def view(x, scene=None, **kwargs):
+    """An interactive 3-D view of solved robot(s): a :class:`plotly.graph_objects.Figure`.
+
+    Parameters
+    ----------
+    x : Solution, list of Solution, Path, SweepResult or BatchResult
+        What to show; several (a path's points, a sweep's or batch's converged points, a
+        list of solutions) get a slider and a play button, one step per point.
+    scene : Scene or list of Scene, optional
+        A sweep's base scene (its points are rebuilt from it and solved again, warm), or
+        a batch's scenes in input order; unused otherwise.
+    options : Options, optional
+        Options of the re-solves (a sweep's or batch's) and of a path's recording.
+    disks : int or sequence of float, optional
+        Spacer disks: a count spread evenly, or arc lengths [m]; default the scene's point
+        masses, or the holes of a tendon routed disk by disk, else none.
+    tendons, loads : bool
+        Draw the tendons (coloured by tension [N], slack dashed) and the point loads.
+    load_scale : float, optional
+        Arrow length per force [m/N]; default: the largest force of all steps drawn L/4
+        long.  Written in the title.
+    sides : int
+        Vertices per ring of the tube meshes.
+    max_frames : int
+        At most this many steps (evenly chosen, first and last kept).
+    title : str, optional
+        Default: what is shown and the load scale.
+
+    Returns
+    -------
+    plotly.graph_objects.Figure
+        Save it with :func:`save_html` (a standalone page) or ``fig.show()``.
+
+    Raises
+    ------
+    ImportError
+        plotly is missing (the message names the extra: ``pip install 'tendonrod[view]'``).
+
+    Examples
+    --------
+    >>> robot = tr.Robot(tr.Rod(0.2, 0.8e-3, 207e9, 79.6e9, kirchhoff=True), [tr.Tendon(0.01)])
+    >>> scene = tr.Scene(robot, displacement=[0.01], loads=[tr.PointLoad(0.2, (0, 0, -0.1))])
+    >>> fig = tr.plot.view(tr.solve(scene))
+    >>> [t.name for t in fig.data][:3]
+    ['backbone (d = 0.8 mm)', 'tendon 0', 'loads (1 N = 500 mm)']
+
+    A load path, one slider step per point:
+
+    >>> p = tr.path(scene, "displacement[0]", (0.0, 0.0157))
+    >>> len(tr.plot.view(p).frames) == len(p)
+    True
+    """
+    from ._view import view as _view
+
+    return _view(x, scene, **kwargs)
+
+
+def save_html(fig, path) -> None:
+    """Write a :func:`view` figure to ``path`` as a standalone HTML page: plotly.js
+    inlined (about 4.6 MB), so it opens without a network.
+
+    Examples
+    --------
+    >>> import os, tempfile
+    >>> robot = tr.Robot(tr.Rod(0.2, 0.8e-3, 207e9, 79.6e9, kirchhoff=True), [tr.Tendon(0.01)])
+    >>> fig = tr.plot.view(tr.solve(tr.Scene(robot, displacement=[0.01])))
+    >>> tr.plot.save_html(fig, page := os.path.join(tempfile.mkdtemp(), "robot.html"))
+    >>> os.path.getsize(page) > 4e6
+    True
+    """
+    from ._view import save_html as _save
+
+    _save(fig, path)
+
+
+def savefig(fig, path, dpi: float = 200.0) -> str:
+    """Write ``fig`` (a matplotlib Figure, or an Axes: its figure) to ``path``, the format by
+    the suffix: ``.png`` (raster at ``dpi``), ``.pdf`` or ``.svg`` (vector, for papers).
+    The bounding box is fitted to what is drawn (no text cut off); the files carry no
+    creation date, so the same figure gives the same bytes.  Returns the path.
+
+    Raises ``ValueError`` naming the suffix if it is none of :data:`FORMATS`.
+
+    Examples
+    --------
+    >>> import os, tempfile
+    >>> robot = tr.Robot(tr.Rod(0.2, 0.8e-3, 207e9, 79.6e9, kirchhoff=True), [tr.Tendon(0.01)])
+    >>> ax = tr.plot.robot(tr.solve(tr.Scene(robot, displacement=[0.01])))
+    >>> out = tr.plot.savefig(ax, os.path.join(tempfile.mkdtemp(), "robot.pdf"))
+    >>> open(out, "rb").read(5)
+    b'%PDF-'
+    """
+    import os
+
+    fig = getattr(fig, "figure", fig) if not hasattr(fig, "savefig") else fig
+    if not hasattr(fig, "savefig"):
+        raise TypeError(f"savefig: fig must be a matplotlib Figure or Axes, got {fig!r}")
+    p = os.fspath(path)
+    fmt = os.path.splitext(p)[1].lower().lstrip(".")
+    if fmt not in FORMATS:
+        raise ValueError(
+            f"savefig: path={p!r} has suffix {'.' + fmt if fmt else '(none)'!r}; "
+            f"known: {', '.join('.' + f for f in FORMATS)}"
+        )
+    import matplotlib
+
+    meta = {"png": {"Software": None}, "pdf": {"CreationDate": None}, "svg": {"Date": None}}
+    # a fixed salt for the SVG's element ids (random otherwise)
+    with matplotlib.rc_context({"svg.hashsalt": "tendonrod"}):
+        fig.savefig(
+            p, format=fmt, dpi=dpi, bbox_inches="tight", pad_inches=0.05, metadata=meta[fmt]
+        )
+    return p

@@ -422,6 +422,16 @@ class Solution:
 
         save_solution(self, path)
 
+    def export(self, path, **kwargs) -> None:
+        """Write this solution for other tools, the format by ``path``'s suffix: ``.csv``
+        (node arrays with a units header), ``.obj`` / ``.stl`` (the backbone as a closed
+        tube at its diameter; ``tendons=True`` adds each tendon as a thin tube of
+        ``tendon_diameter`` [m]; ``sides`` per ring, default 32) or ``.json``.  Another
+        suffix raises ``ValueError`` naming it (see :mod:`tendonrod._export`)."""
+        from ._export import export
+
+        export(self, path, **kwargs)
+
     def __repr__(self):
         head = "converged" if self.success else "NOT converged"
         tip = np.array2string(np.asarray(self.tip_position), precision=6, separator=", ")

@@ -1,6 +1,7 @@
 """Plot helpers: accept ax=, return the Axes, label both axes, never show or save."""
 
 import math
+import pathlib
 
 import matplotlib
 
@@ -156,3 +157,132 @@ def test_sweep_lines():
     assert "inf" in ax.lines[1].get_label()
     with pytest.raises(ValueError, match="component"):
         P.sweep_lines(res, "loads[0].force", "tip_position", ax=ax)
+
+
+# --------------------------------------------------------------------------- layout
+def _drawn_ticklabels(axis):
+    """The tick labels an axis draws: those of ticks inside its view interval."""
+    lo, hi = sorted(axis.get_view_interval())
+    tol = 1e-9 * max(abs(lo), abs(hi), 1e-300)  # a tick at a limit, up to rounding
+    out = []
+    for tick in axis.get_major_ticks() + axis.get_minor_ticks():
+        if lo - tol <= tick.get_loc() <= hi + tol:
+            out += [t for t in (tick.label1, tick.label2) if t.get_visible() and t.get_text()]
+    return out
+
+
+def layout_problems(fig):
+    """What is wrong with a drawn figure's layout, in words (empty: nothing): a text artist
+    reaching outside the figure, tick labels of one axis overlapping (2D Axes), a title
+    smaller than its tick labels, a legend entry without a visible artist."""
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.text import Text
+
+    canvas = FigureCanvasAgg(fig)
+    canvas.draw()
+    r = canvas.get_renderer()
+    fb = fig.bbox
+
+    def outside(bb):  # one pixel of slack: antialiasing at the edge
+        return bb.x0 < fb.x0 - 1 or bb.y0 < fb.y0 - 1 or bb.x1 > fb.x1 + 1 or bb.y1 > fb.y1 + 1
+
+    out, tick_texts = [], set()
+    for ax in fig.axes:
+        for axis in ax._axis_map.values():
+            for tick in axis.get_major_ticks() + axis.get_minor_ticks():
+                tick_texts |= {id(tick.label1), id(tick.label2)}
+    for t in fig.findobj(Text):
+        if id(t) in tick_texts or not t.get_visible() or not t.get_text().strip():
+            continue
+        if outside(t.get_window_extent(r)):
+            out.append(f"text outside the figure: {t.get_text()!r}")
+    for ax in fig.axes:
+        for name, axis in ax._axis_map.items():
+            boxes = [(t.get_text(), t.get_window_extent(r)) for t in _drawn_ticklabels(axis)]
+            out += [f"{name} tick label outside: {s!r}" for s, bb in boxes if outside(bb)]
+            if ax.name == "3d":  # projected tick labels: matplotlib places them
+                continue
+            for i, (sa, a) in enumerate(boxes):
+                for sb, b in boxes[i + 1 :]:
+                    if a.overlaps(b):
+                        out.append(f"{name} tick labels overlap: {sa!r}, {sb!r}")
+        sizes = [t.get_fontsize() for t in _drawn_ticklabels(ax.xaxis)]
+        if ax.get_title() and sizes and ax.title.get_fontsize() < max(sizes):
+            out.append(f"title smaller than its tick labels: {ax.get_title()!r}")
+        leg = ax.get_legend()
+        if leg is not None:
+            for text, h in zip(leg.get_texts(), leg.legend_handles):
+                style = getattr(h, "get_linestyle", lambda: "-")()
+                marker = getattr(h, "get_marker", lambda: "o")()
+                drawn = h.get_visible() and (style not in ("None", "", " ") or marker != "None")
+                if not drawn:
+                    out.append(f"legend entry without an artist: {text.get_text()!r}")
+    return out
+
+
+def test_layout_check_finds_what_it_looks_for():
+    from matplotlib.figure import Figure
+
+    fig = Figure(figsize=(3, 2))
+    ax = fig.add_subplot()
+    ax.set_xticks(np.linspace(0, 1, 40))  # 40 labels on 3 inches
+    ax.set_title("t", fontsize="x-small")
+    ax.text(1.5, 0.5, "far right", transform=ax.transAxes)
+    ax.plot([0, 1], [0, 1], ls="none", label="nothing drawn")
+    ax.legend()
+    found = " | ".join(layout_problems(fig))
+    for what in ("outside the figure", "overlap", "title smaller", "without an artist"):
+        assert what in found, what
+
+
+FIGURES = list(S.figures.figure_registry())
+
+
+@pytest.mark.parametrize("key", FIGURES)
+def test_paper_figure_layout(key):
+    """Every figure of `python -m tendonrod figures` (fast grids: the same drawing)."""
+    fig = S.figures.figure_registry()[key].make(fast=True)
+    assert layout_problems(fig) == []
+
+
+def test_savefig_formats(tmp_path, monkeypatch):
+    monkeypatch.undo()  # the autouse fixture forbids savefig in library code; this is the API
+    fig, ax = plt.subplots()
+    ax.plot([0, 1], [0, 1])
+    magic = {"png": b"\x89PNG", "pdf": b"%PDF-", "svg": b"<?xml"}
+    for fmt, head in magic.items():
+        path = P.savefig(ax, tmp_path / f"f.{fmt}")  # an Axes: its figure
+        data = pathlib.Path(path).read_bytes()
+        assert data.startswith(head), fmt
+        # no creation date: the same figure gives the same bytes
+        P.savefig(fig, tmp_path / f"g.{fmt}")
+        assert (tmp_path / f"g.{fmt}").read_bytes() == data, fmt
+    assert b"<svg" in (tmp_path / "f.svg").read_bytes()
+    with pytest.raises(ValueError, match=r"'\.jpg'"):
+        P.savefig(fig, tmp_path / "f.jpg")
+    names = S.figures.write_figure(fig, str(tmp_path), "fig99", "svg,PDF")
+    assert names == ["fig99.svg", "fig99.pdf"]
+    assert all((tmp_path / n).stat().st_size > 0 for n in names)
+    assert S.figures.parse_formats(".png, svg") == ("png", "svg")
+    with pytest.raises(ValueError, match="'eps'"):
+        S.figures.parse_formats("png,eps")
+
+
+def test_robot_frame_gravity_and_arrows_inside_the_limits():
+    rod = tr.Rod(0.2, 1e-3, 200e9, 80e9, density=7800.0)
+    R0 = np.array([[0.0, 0, 1], [0, 1, 0], [-1, 0, 0]])  # the rod along world +x
+    robot = tr.Robot(rod, [tr.Tendon(0.01, 0.0), tr.Tendon(0.01, 2.0)], base_rotation=R0)
+    F = np.array([0.0, 0.0, 0.8])
+    scene = tr.Scene(robot, tension=[1.0, 0.0], loads=[tr.PointLoad(0.2, F)], gravity=(0, 0, -9.81))
+    sol = tr.solve(scene)
+    ax = P.robot(sol, load_scale=0.1)
+    quivers = [c for c in ax.collections if type(c).__name__ == "Line3DCollection"]
+    assert len(quivers) == 1 + 3 + 1  # the load, the base frame's axes, gravity
+    assert [t.get_text() for t in ax.texts] == [" g"]
+    # the load arrow ends at the tip and starts 0.1 m/N * 0.8 N before it: inside the box
+    tail = sol.position[-1] - 0.1 * F
+    for lim, v in zip((ax.get_xlim(), ax.get_ylim(), ax.get_zlim()), tail):
+        assert lim[0] <= v <= lim[1]
+    # without the frame: only the load's arrow
+    ax = P.robot(sol, frame=False)
+    assert len([c for c in ax.collections if type(c).__name__ == "Line3DCollection"]) == 1

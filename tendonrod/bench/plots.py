@@ -15,7 +15,30 @@ _STYLE = {
 }
 
 
+def _log_ticks(axis, lo, hi):
+    """Labels on a log axis that cannot collide: majors only (matplotlib labels the minor
+    ticks of an axis spanning under a decade, and they overlap), at 1-2-5 when the axis
+    spans under two decades, at every decade otherwise, in plain numbers."""
+    from matplotlib.ticker import FuncFormatter, LogLocator, NullFormatter
+
+    span = math.log10(hi / lo) if lo > 0 and hi > lo else 0.0
+    if span < 2.0:
+        axis.set_major_locator(LogLocator(base=10, subs=(1.0, 2.0, 5.0)))
+        axis.set_major_formatter(FuncFormatter(lambda v, _: f"{v:g}"))
+    axis.set_minor_formatter(NullFormatter())
+
+
 def plot_work_precision(rows, scenes, path):
+    """Write the work-precision chart of ``rows`` (one panel per scene) to ``path``."""
+    import matplotlib.pyplot as plt
+
+    fig = work_precision_figure(rows, scenes)
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+
+
+def work_precision_figure(rows, scenes):
+    """The work-precision chart as a matplotlib Figure (Agg), not saved."""
     import matplotlib
 
     matplotlib.use("Agg")
@@ -89,23 +112,53 @@ def plot_work_precision(rows, scenes, path):
         ax.set_ylabel("relative tip error", fontsize=8)
         ax.grid(True, which="major", alpha=0.3)
         ax.tick_params(labelsize=7)
+        _log_ticks(ax.xaxis, *ax.get_xlim())
+        _log_ticks(ax.yaxis, *ax.get_ylim())
     for ax in axes.ravel()[n:]:
         ax.axis("off")
-    h, lab = axes.ravel()[0].get_legend_handles_labels()
-    for ax in axes.ravel()[1:n]:
-        hh, ll = ax.get_legend_handles_labels()
-        for a, b in zip(hh, ll):
-            if b not in lab:
-                h.append(a)
-                lab.append(b)
-    fig.legend(h, lab, loc="lower center", ncol=min(6, len(lab)), fontsize=8)
+    # one legend for the two encodings instead of one entry per combination: colour and
+    # marker name the method, the line style its Jacobian (dotted: the quadratic slack form)
+    from matplotlib.lines import Line2D
+
+    seen = {(r["method"], r["jacobian"], r["slack_model"]) for r in rows}
+    methods = [m for m in _STYLE if any(k[0] == m for k in seen)]
+    methods += sorted({k[0] for k in seen} - set(methods))
+    handles = [
+        Line2D(
+            [],
+            [],
+            color=_STYLE.get(m, ("gray", "x"))[0],
+            marker=_STYLE.get(m, ("gray", "x"))[1],
+            ls="none" if m == "default" else "-",
+            ms=5,
+            label=m,
+        )
+        for m in methods
+    ]
+    jacobians = sorted({k[1] for k in seen if k[0] != "default" and k[2] == "linear"})
+    handles += [
+        Line2D(
+            [],
+            [],
+            color="0.3",
+            ls={"fd": "-", "newton": "--", "hybrid": "-."}.get(j, (0, (1, 3))),
+            label=f"Jacobian: {j}",
+        )
+        for j in jacobians
+    ]
+    other = sorted({k[2] for k in seen if k[2] != "linear"})
+    if other:
+        handles.append(Line2D([], [], color="0.3", ls=":", label="slack form: " + ", ".join(other)))
+    handles.append(
+        Line2D([], [], color="0.3", marker="x", ls="none", ms=6, label="reported failure")
+    )
+    fig.legend(handles=handles, loc="lower center", ncol=min(6, len(handles)), fontsize=8)
     fig.suptitle(
         "tendonrod work-precision: relative tip error vs run time (x: solve reported failure)",
         fontsize=11,
     )
-    fig.tight_layout(rect=(0, 0.11, 1, 0.96))
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
+    fig.tight_layout(rect=(0, 0.05, 1, 0.96))
+    return fig
 
 
 def plot_model_choice(rows, path, cf_name):

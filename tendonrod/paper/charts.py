@@ -14,6 +14,8 @@ nondimensional group, returns the Axes, and never calls ``plt.show()`` or ``save
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 from ..plot import _ax
@@ -35,6 +37,19 @@ __all__ = [
 SIGMA_LABEL = r"$\sigma = 12\,EI\,\delta\,/\,(F L^3)$"
 ZETA_LABEL = r"$\zeta = z / L$"
 ALPHA_LABEL = r"$r^2 k L\,/\,EI$"
+TITLE_SIZE = "medium"  # titles at the tick labels' size (matplotlib's default ticks: medium)
+
+
+def sci(x: float, digits: int = 3) -> str:
+    """``x`` for a label: plain when 1e-3 <= |x| < 1e4, else mathtext ``a \\times 10^{n}``
+    (never Python's ``8.29e+06``)."""
+    if x == 0 or not math.isfinite(x) or 1e-3 <= abs(x) < 1e4:
+        return f"{x:.{digits}g}"
+    n = math.floor(math.log10(abs(x)))
+    m = x / 10**n
+    if float(f"{m:.{digits}g}") == 10:
+        m, n = m / 10, n + 1
+    return rf"${m:.{digits}g} \times 10^{{{n}}}$"
 
 
 def sigma_vs_zeta(data: dict, ax=None, slope_labels: bool = True):
@@ -197,13 +212,22 @@ def prototype_deflection(data: dict, ax=None):
     ax.plot(z, 1e3 * data[("delta_free", m0)], "r--", label=f"no tendon, {1e3 * m0:.0f} g (EI fit)")
     for m, c in zip(masses, ("tab:blue", "tab:purple")):
         ax.plot(z, 1e3 * data[("delta", m)], color=c, label=f"tendon, {1e3 * m:.0f} g")
-        ax.plot(zl, 1e3 * data[("delta_loads", m)], "o", color=c, mfc="none", ms=5)
+        # the model at the prototype's load locations: small filled dots on the curve (open
+        # circles would read as measurements, which are not public)
+        ax.plot(
+            zl,
+            1e3 * data[("delta_loads", m)],
+            ".",
+            color=c,
+            ms=6,
+            label="model at the load locations" if m == masses[-1] else None,
+        )
     ax.set_xlabel("load location z [mm]")
     ax.set_ylabel(r"deflection at the load $\delta(z)$ [mm]")
     ax.set_title(
         f"{data['routing']}: EI = {data['EI'] * 1e6:.3g} N mm$^2$, k = {data['k'] * 1e-3:.3g} N/mm, "
         f"$r^2kL/EI$ = {data['alpha']:.2f}",
-        fontsize="small",
+        fontsize=TITLE_SIZE,
     )
     ax.grid(alpha=0.3)
     ax.legend(fontsize="small")
@@ -224,9 +248,8 @@ def prototype_tension(datas, ax=None):
                 ls=ls,
                 label=f"{data['routing']}, {1e3 * m:.0f} g",
             )
-            ax.plot(
-                1e3 * data["z_loads"], data[("tension_loads", m)], "o", color=c, mfc="none", ms=4
-            )
+            # the model at the load locations (small filled dots: no measurements)
+            ax.plot(1e3 * data["z_loads"], data[("tension_loads", m)], ".", color=c, ms=5)
     ax.set_xlabel("load location z [mm]")
     ax.set_ylabel(r"tendon tension $\tau$ [N]")
     ax.grid(alpha=0.3)
@@ -248,7 +271,7 @@ def prototype_shapes(data: dict, ax=None):
             ax.plot(pt[0], -pt[1], mk, color=c, mfc="none" if ls == "--" else c, ms=4)
     ax.set_xlabel("x along the unloaded member [mm]")
     ax.set_ylabel("y [mm] (load downwards)")
-    ax.set_title(data["routing"], fontsize="small")
+    ax.set_title(data["routing"], fontsize=TITLE_SIZE)
     ax.grid(alpha=0.3)
     ax.legend(fontsize="x-small", ncol=2)
     return ax
@@ -276,12 +299,21 @@ def friction_band(data: dict, ax=None):
         ax.fill_between(F, lo, hi, color=c, alpha=0.2, lw=0)
         ax.plot(F, hi, color=c, ls="-", lw=1, label=rf"$\mu$ = {mu:g}: in (solid), out (dashed)")
         ax.plot(F, lo, color=c, ls="--", lw=1)
-    ax.plot(F, 1e3 * data[0.0]["none"]["deflection"], "k-", lw=2, label="frictionless")
+    # frictionless beneath, wide and grey: the sliding-in edges of small mu run along it
+    ax.plot(
+        F,
+        1e3 * data[0.0]["none"]["deflection"],
+        "-",
+        color="0.6",
+        lw=4,
+        zorder=1.5,
+        label="frictionless (grey, beneath)",
+    )
     ax.set_xlabel("axial tip load F [N] (down the base axis)")
     ax.set_ylabel("tip deflection along the load [mm]")
     ax.set_title(
         f"actuated to {np.degrees(data['theta']):.0f} deg (sliding in), actuator locked",
-        fontsize="small",
+        fontsize=TITLE_SIZE,
     )
     ax.grid(alpha=0.3)
     ax.legend(fontsize="x-small", loc="upper left")

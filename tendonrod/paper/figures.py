@@ -17,12 +17,14 @@ from ..plot import shapes, tension_vs_load
 from . import closed_forms, friction, prototype, robots, studies
 from .charts import (
     ALPHA_LABEL,
+    TITLE_SIZE,
     compliance_map,
     friction_band,
     friction_hysteresis,
     prototype_deflection,
     prototype_shapes,
     prototype_tension,
+    sci,
     sigma_vs_zeta,
     straight_load,
     tip_compliance_vs_alpha,
@@ -30,7 +32,15 @@ from .charts import (
     torsion,
 )
 
-__all__ = ["FigureEntry", "figure_registry", "paper_figures", "fast_mode", "CAPTIONS"]
+__all__ = [
+    "FigureEntry",
+    "figure_registry",
+    "paper_figures",
+    "fast_mode",
+    "CAPTIONS",
+    "parse_formats",
+    "write_figure",
+]
 
 
 def fast_mode(fast: bool | None = None) -> bool:
@@ -38,6 +48,36 @@ def fast_mode(fast: bool | None = None) -> bool:
     if fast is not None:
         return bool(fast)
     return os.environ.get("TENDONROD_FAST", "").strip().lower() in ("1", "true", "yes", "on")
+
+
+def parse_formats(text: str) -> tuple:
+    """``"png,pdf"`` -> ``("png", "pdf")``: the file formats of ``--format`` (each one of
+    :data:`tendonrod.plot.FORMATS`, case-insensitive, a leading dot allowed); ValueError
+    naming an unknown one."""
+    from ..plot import FORMATS
+
+    fmts = tuple(dict.fromkeys(f.strip().lower().lstrip(".") for f in str(text).split(",")))
+    bad = [f for f in fmts if f not in FORMATS]
+    if bad or not fmts or "" in fmts:
+        raise ValueError(
+            f"format {text!r}: unknown {', '.join(repr(b) for b in bad) or 'empty entry'}; "
+            f"known: {', '.join(FORMATS)} (comma-separated)"
+        )
+    return fmts
+
+
+def write_figure(fig, out: str, key: str, formats=("png",), dpi: float = 110.0) -> list:
+    """Write ``fig`` as ``out/key.<format>`` for each of ``formats`` (``"png"``, ``"pdf"``,
+    ``"svg"``; PNG at ``dpi``) through :func:`tendonrod.plot.savefig`; the file names."""
+    from ..plot import savefig
+
+    if isinstance(formats, str):
+        formats = parse_formats(formats)
+    names = []
+    for fmt in formats:
+        names.append(f"{key}.{fmt}")
+        savefig(fig, os.path.join(out, names[-1]), dpi=dpi)
+    return names
 
 
 def _figure(w=6.4, h=4.8):
@@ -53,14 +93,14 @@ def fig01(fast=False):
     shapes(
         {
             "unloaded": d["unloaded"],
-            "tension held (tau = 0)": d["tension held"],
+            r"tension held ($\tau$ = 0)": d["tension held"],
             "displacement held (q = 0)": d["displacement held"],
         },
         ax=ax,
         styles={"unloaded": {"color": "0.6", "ls": ":"}},
     )
     ax.set_title(
-        "0.5 N tip load, Sec. IV-B robot, one inextensible parallel tendon", fontsize="small"
+        "0.5 N tip load, Sec. IV-B robot, one inextensible parallel tendon", fontsize=TITLE_SIZE
     )
     tip_t = -d["tension held"][-1, 0]
     tip_d = -d["displacement held"][-1, 0]
@@ -101,10 +141,10 @@ def fig08(fast=False):
     a1, a2 = fig.subplots(1, 2)
     shapes(
         {
-            f"parallel: tau = {d['parallel']['tension']:.1f} N, q = {100 * d['parallel']['q_over_L']:.1f}% L": d[
+            f"parallel: $\\tau$ = {d['parallel']['tension']:.1f} N, q = {100 * d['parallel']['q_over_L']:.1f}% L": d[
                 "parallel"
             ]["shape"],
-            f"converging: tau = {d['converging']['tension']:.1f} N, q = {100 * d['converging']['q_over_L']:.1f}% L": d[
+            f"converging: $\\tau$ = {d['converging']['tension']:.1f} N, q = {100 * d['converging']['q_over_L']:.1f}% L": d[
                 "converging"
             ]["shape"],
         },
@@ -112,7 +152,7 @@ def fig08(fast=False):
         scale=1e3,
         unit="mm",
     )
-    a1.set_title("actuated to 90 deg, no load", fontsize="small")
+    a1.set_title("actuated to 90 deg, no load", fontsize=TITLE_SIZE)
     cur = {
         f"{r}, q = {1e3 * d[r]['q_loaded']:.1f} mm": d[r]["shape_loaded"]
         for r in ("parallel", "converging")
@@ -120,7 +160,7 @@ def fig08(fast=False):
     }
     if cur:
         shapes(cur, ax=a2, scale=1e3, unit="mm")
-    a2.set_title(f"{d['load']} N tip load, actuated back to the base axis", fontsize="small")
+    a2.set_title(f"{d['load']} N tip load, actuated back to the base axis", fontsize=TITLE_SIZE)
     fig._tendonrod_notes = "; ".join(
         f"{r}: tension {d[r]['tension']:.2f} N (closed form eqs. 37-38: {d[r]['tension_closed_form']:.2f} N), "
         f"displacement {100 * d[r]['q_over_L']:.2f}% of L"
@@ -165,8 +205,10 @@ def fig11(fast=False):
             },
             ax=ax,
             styles={"unloaded": {"color": "0.6", "ls": ":"}},
+            scale=1e3,
+            unit="mm",
         )
-        ax.set_title(f"({'ab'[name == 'vertical']}) {name} 0.5 N tip load", fontsize="small")
+        ax.set_title(f"({'ab'[name == 'vertical']}) {name} 0.5 N tip load", fontsize=TITLE_SIZE)
         notes.append(
             f"{name}: tension with displacement held {d['displacement held tension']:.2f} N"
         )
@@ -186,7 +228,7 @@ def fig11(fast=False):
         styles={"unloaded": {"color": "0.6", "ls": ":"}},
     )
     a3.set_aspect("auto")
-    a3.set_title("(c) three tendons, out-of-plane 0.5 N (top view)", fontsize="small")
+    a3.set_title("(c) three tendons, out-of-plane 0.5 N (top view)", fontsize=TITLE_SIZE)
     fig._tendonrod_notes = "; ".join(notes)
     return fig
 
@@ -214,7 +256,7 @@ def _compliance_map_figure(direction):
         d = cache[fast]
         compliance_map(d, direction, ax=fig.add_subplot())
         fig.axes[0].set_title(
-            f"actuated to 90 deg, {ALPHA_LABEL} = {robots.ALPHA_PAPER:.3g}", fontsize="small"
+            f"actuated to 90 deg, {ALPHA_LABEL} = {sci(robots.ALPHA_PAPER)}", fontsize=TITLE_SIZE
         )
         fig._tendonrod_notes = (
             "Tip sigma: "
@@ -234,7 +276,7 @@ def fig16(fast=False):
     d = studies.tip_compliance_vs_alpha(alphas=np.logspace(-1, 4, 6 if fast else 21))
     fig = _figure()
     tip_compliance_vs_alpha(d, ax=fig.add_subplot())
-    fig.axes[0].set_title("tip compliance, actuated to 90 deg", fontsize="small")
+    fig.axes[0].set_title("tip compliance, actuated to 90 deg", fontsize=TITLE_SIZE)
     notes = []
     for dname in robots.DIRECTIONS:
         better = d[("converging", dname)] < d[("parallel", dname)]
@@ -266,7 +308,7 @@ def _slack_figure(opposing):
             ax=a1,
             labels=labels[: d["locked"]["tension"].shape[1]],
         )
-        a1.set_title("displacement held", fontsize="small")
+        a1.set_title("displacement held", fontsize=TITLE_SIZE)
         for key, ls in (("locked", "-"), ("held", "--")):
             td = d[key]["tip_displacement"]
             a2.plot(
@@ -288,6 +330,23 @@ def _slack_figure(opposing):
         if hi - lo < 10.0:  # a held angle: do not magnify round-off
             mid = 0.5 * (hi + lo)
             ax3.set_ylim(mid - 5.0, mid + 5.0)
+        ok = d["locked"]["success"]
+        if not ok.all():
+            # the displacement-held curves stop where the locked planar equilibrium
+            # buckles out of plane (unstable, see studies.slack_study): say so
+            F_end = float(d["F"][np.flatnonzero(ok)[-1]])
+            for ax in (a1, a2):
+                ax.axvline(F_end, color="0.5", ls=":", lw=1)
+            a1.annotate(
+                f"beyond {F_end:.2g} N the locked\nrobot buckles out of plane",
+                xy=(F_end, 0.5),
+                xycoords=("data", "axes fraction"),
+                xytext=(-4, 0),
+                textcoords="offset points",
+                ha="right",
+                fontsize="small",
+                color="0.3",
+            )
         a2.set_xlabel("tip load F [N] (vertical, downwards)")
         a2.set_ylabel("tip displacement [mm]")
         a2.legend(fontsize="x-small", loc="upper left")
@@ -361,9 +420,9 @@ def fig25_hysteresis(fast=False):
     friction_hysteresis(d, "theta", relative=True, ax=a1)
     friction_hysteresis(d, "tension", ax=a2)
     friction_hysteresis(d, "tip_x", relative=True, ax=a3)
-    a1.set_title("tip angle: q fixes it but for the tendon's stretch", fontsize="small")
-    a2.set_title("actuator tension", fontsize="small")
-    a3.set_title("tip position: friction moves the bending along s", fontsize="small")
+    a1.set_title("tip angle: q fixes it but for the tendon's stretch", fontsize=TITLE_SIZE)
+    a2.set_title("actuator tension", fontsize=TITLE_SIZE)
+    a3.set_title("tip position: friction moves the bending along s", fontsize=TITLE_SIZE)
     notes = []
     for mu in d["frictions"]:
         b = d[mu]
