@@ -15,6 +15,7 @@ the centre line, so the cross-section is the inscribed regular polygon, of area
 from __future__ import annotations
 
 import math
+from typing import Literal
 
 import numpy as np
 
@@ -128,7 +129,7 @@ def tube(P, R, radius, sides: int = 32, caps: bool = True) -> Mesh:
     return Mesh(V, F.astype(np.int64))
 
 
-def backbone_radius(scene, s, side: str = "left") -> np.ndarray:
+def backbone_radius(scene, s, side: Literal["left", "right"] = "left") -> np.ndarray:
     """The backbone's radius [m] at arc lengths ``s`` (a segmented rod's per segment, at a
     joint the segment before it, or with ``side="right"`` the one after; a rod without a
     diameter gets L/100, a drawing choice)."""
