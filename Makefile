@@ -116,9 +116,12 @@ docs: $(STAMP)
 include csrc/lib.mk
 
 # Types: mypy over the package (configuration and per-module overrides in pyproject.toml;
-# the compiled core is typed by tendonrod/_core.pyi).
+# the compiled core is typed by tendonrod/_core.pyi), then over what a user copies -- the
+# README's Python, the docs pages' examples, the notebooks' code cells -- checked as a
+# user's own code against the package's types (tools/typecheck_examples.py).
 typecheck: $(STAMP)
 	$(VENV)/bin/mypy
+	$(VPY) tools/typecheck_examples.py
 
 clean:
 	rm -rf build dist wheelhouse $(VENV) tendonrod/*.so *.egg-info docs/api/generated

@@ -23,6 +23,7 @@ from collections.abc import Sequence
 from dataclasses import KW_ONLY, dataclass
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from . import backbone, plausibility
 from ._fields import (
@@ -263,10 +264,10 @@ class Robot:
     """
 
     rod: Rod
-    tendons: tuple[Tendon, ...] = ()
+    tendons: Sequence[Tendon] = ()  # any sequence; stored as a tuple
     _: KW_ONLY
     base_position: Vec3 = (0.0, 0.0, 0.0)
-    base_rotation: tuple = _IDENTITY
+    base_rotation: ArrayLike = _IDENTITY  # (3, 3); stored as a tuple of rows
 
     def __post_init__(self):
         object.__setattr__(
