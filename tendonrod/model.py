@@ -31,7 +31,7 @@ from ._fields import (
     _EA_MIN,
     _LENGTH_MAX,
     _LENGTH_MIN,
-    Vec3,
+    Vec3Like,
     _length,
     _nonnegative,
     _positive,
@@ -107,7 +107,7 @@ class Rod:
     GA: float | None = None
     kirchhoff: bool = False
     density: float | None = None
-    precurvature: Vec3 = (0.0, 0.0, 0.0)
+    precurvature: Vec3Like = (0.0, 0.0, 0.0)  # stored as a tuple
     segments: tuple = ()
 
     def __post_init__(self):
@@ -266,7 +266,7 @@ class Robot:
     rod: Rod
     tendons: Sequence[Tendon] = ()  # any sequence; stored as a tuple
     _: KW_ONLY
-    base_position: Vec3 = (0.0, 0.0, 0.0)
+    base_position: Vec3Like = (0.0, 0.0, 0.0)  # stored as a tuple
     base_rotation: ArrayLike = _IDENTITY  # (3, 3); stored as a tuple of rows
 
     def __post_init__(self):
@@ -461,7 +461,7 @@ class Scene:
     displacement: Sequence[float | None] | None = None
     tension: Sequence[float | None] | None = None
     loads: Sequence[PointLoad | DistributedLoad | PointMass] = ()
-    gravity: Vec3 = (0.0, 0.0, 0.0)
+    gravity: Vec3Like = (0.0, 0.0, 0.0)  # stored as a tuple
     sliding: str | Sequence[str] = "in"
 
     def __post_init__(self):
