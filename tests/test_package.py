@@ -37,3 +37,13 @@ def test_gsl_error_handler_is_off():
 
 def test_version_string():
     assert re.fullmatch(r"\d+\.\d+\.\d+", tendonrod.__version__)
+
+
+def test_citation_names_this_version():
+    # CITATION.cff (the software and the paper to cite) repeats the version that
+    # tendonrod/_version.py defines; a release that forgets it fails here
+    import pathlib
+
+    cff = pathlib.Path(__file__).resolve().parent.parent / "CITATION.cff"
+    versions = re.findall(r"^version: (\S+)$", cff.read_text(encoding="utf-8"), re.M)
+    assert versions == [tendonrod.__version__]
