@@ -95,16 +95,22 @@ wheel-check: wheel
 # installed into a bare venv of its own Python and run against the quick tests with the
 # newest NumPy and NumPy 1.26 (WHEEL_NUMPY=newest|oldest|both; tools/wheels.sh).
 # numpy-oldest: the oldest NumPy the package supports, 1.26 (ROS 2 Jazzy's), under the
-# quick tests with a wheel built from this tree (build/numpy-oldest/).
+# quick tests with a wheel built from this tree by Python 3.11 (build/numpy-oldest/), or
+# with NUMPY_OLDEST_WHEEL=dist/...whl the wheel make wheel built for the venv's Python.
 WHEEL_PYTHONS ?=
 WHEEL_NUMPY   ?= both
 NUMPY_OLDEST_PYTHON ?= 3.11
+NUMPY_OLDEST_WHEEL  ?=
 wheels: $(STAMP)
 	WHEEL_NUMPY=$(WHEEL_NUMPY) tools/wheels.sh $(abspath $(VPY)) $(WHEEL_PYTHONS)
 
 numpy-oldest: $(STAMP)
+ifeq ($(NUMPY_OLDEST_WHEEL),)
 	WHEEL_NUMPY=oldest WHEEL_OUT=build/numpy-oldest \
 	  tools/wheels.sh $(abspath $(VPY)) $(NUMPY_OLDEST_PYTHON)
+else
+	tools/wheel_test.sh $(abspath $(VPY)) $(NUMPY_OLDEST_WHEEL) 'numpy==1.26.*'
+endif
 
 # The documentation (docs/, Sphinx + MyST): the HTML with warnings as errors, then every
 # doctest (the docstrings' Examples and the pages' doctest blocks), into build/docs.
