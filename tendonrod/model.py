@@ -23,7 +23,7 @@ from collections.abc import Sequence
 from dataclasses import KW_ONLY, dataclass
 
 import numpy as np
-from numpy.typing import ArrayLike
+from numpy.typing import ArrayLike, NDArray
 
 from . import backbone, plausibility
 from ._fields import (
@@ -458,8 +458,8 @@ class Scene:
 
     robot: Robot
     _: KW_ONLY
-    displacement: Sequence[float | None] | None = None
-    tension: Sequence[float | None] | None = None
+    displacement: Sequence[float | None] | NDArray[np.floating] | None = None
+    tension: Sequence[float | None] | NDArray[np.floating] | None = None
     loads: Sequence[PointLoad | DistributedLoad | PointMass] = ()
     gravity: Vec3Like = (0.0, 0.0, 0.0)  # stored as a tuple
     sliding: str | Sequence[str] = "in"
