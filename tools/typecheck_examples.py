@@ -26,7 +26,10 @@ ROOT = pathlib.Path(__file__).resolve().parent.parent
 FENCE = re.compile(r"^(`{3,})\s*(\{testsetup\}|\{testcode\}|python)\s*(.*)$")
 # what conf.py's doctest_global_setup gives every page
 DOC_SETUP = "ROOT = ''\nimport numpy as np\nimport tendonrod as tr\n"
-# third-party modules without type information: a user's mypy would be told the same
+# A user's configuration: mypy's defaults, except that a name may be rebound to a value of
+# another type (notebooks do: x = 0.5, later x = np.linspace(...)); errors only in the
+# extracted code (follow_imports = silent); third-party modules without type information
+# ignored, as a user's mypy would be told to.
 CONFIG = """[mypy]
 python_version = 3.10
 follow_imports = silent
