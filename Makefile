@@ -44,7 +44,8 @@ $(STAMP): $(SOURCES) | gsl
 
 install: $(STAMP)
 
-demo: $(DEMO_STAMP)
+# (after make test or make install, the full environment serves the demo as well)
+demo: $(if $(wildcard $(STAMP)),$(STAMP),$(DEMO_STAMP))
 	MPLBACKEND=Agg $(VPY) -m tendonrod figures --out $(DEMO_OUT)
 
 # Notebooks are executed by nbmake as part of the suite.
