@@ -8,7 +8,8 @@
 # installed wheel (checked first), never the source tree.  The quick tests need NumPy
 # and pytest only (no SciPy, matplotlib, Dask): the package's metadata and GSL, the
 # golden outputs, the model's validation, scene files, the batch API, Problem, the
-# lazy imports and the one-verdict pipeline -- about 20 s.
+# lazy imports and the one-verdict pipeline -- about 20 s.  (pyproject.toml's
+# [tool.cibuildwheel] test-command runs the same files: change both together.)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 REPO=$PWD
