@@ -107,10 +107,13 @@ ext = Extension(
     include_dirs=["csrc", "tendonrod", numpy.get_include()] + inc,
     library_dirs=libdirs,
     libraries=libnames,
-    # NumPy >= 2.0 is the runtime floor (pyproject.toml); pin the C-API target to it.
+    # Built against NumPy 2 headers (pyproject's build requirement), the extension targets
+    # the C-API of NumPy 1.25/1.26 (the same API version), the runtime floor numpy>=1.26:
+    # it then imports under NumPy 1.26 (ROS 2 Jazzy's) as well as 2.x.  The deprecated
+    # API stays hidden as of 2.0, so nothing removed in 2.x can creep in.
     define_macros=[
         ("NPY_NO_DEPRECATED_API", "NPY_2_0_API_VERSION"),
-        ("NPY_TARGET_VERSION", "NPY_2_0_API_VERSION"),
+        ("NPY_TARGET_VERSION", "NPY_1_25_API_VERSION"),
     ],
     extra_compile_args=CFLAGS + extra_c,
     extra_link_args=extra_l,

@@ -18,6 +18,8 @@ with prescribed tendon displacements (or tensions).
 SI units everywhere, angles in radians.
 """
 
+from typing import TYPE_CHECKING
+
 from ._build_check import import_core
 from ._version import __version__
 
@@ -26,11 +28,9 @@ _core = import_core()
 gsl_version: str = _core.gsl_version
 """Version of the GSL library tendonrod._core was built against."""
 
-from . import (
-    analytic,
-    path,  # the module, callable: tr.path(...) runs tendonrod.path.path
-    sweep,  # the module, callable: tr.sweep(...) runs tendonrod.sweep.sweep
-)
+from . import analytic
+from . import path as _path_mod  # callable: tr.path(...) runs tendonrod.path.path
+from . import sweep as _sweep_mod  # callable: tr.sweep(...) runs tendonrod.sweep.sweep
 from ._sweep_module import make_callable
 from .actuation import ActuationResult, actuate
 from .batch import BatchResult, solve_batch
@@ -45,8 +45,15 @@ from .problem import Problem, jacobian
 from .results import ConvergenceError, ConvergenceWarning
 from .solver import Solution, compliance, solve
 
-make_callable(sweep)
-make_callable(path)
+make_callable(_sweep_mod)
+make_callable(_path_mod)
+if TYPE_CHECKING:
+    # what a type checker sees: tr.sweep and tr.path as the functions they call (their
+    # modules stay importable by name: from tendonrod.sweep import OUTCOME_OK)
+    from .path import path as path
+    from .sweep import sweep as sweep
+else:
+    path, sweep = _path_mod, _sweep_mod
 from ._io import read_solution
 from .sweep import ComplianceMeasure, SweepResult, tip_measure
 

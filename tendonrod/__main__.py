@@ -2,7 +2,9 @@
 each).
 
 Exit codes: 0 success; 1 a solve did not converge (or a figure failed); 2 bad
-input (malformed scene file, unknown option, unreadable file).
+input (malformed scene file, unknown option, unreadable file); 3 an optional dependency
+the command needs is not installed (the message names the extra: ``pip install
+'tendonrod[plot]'``).
 """
 
 from __future__ import annotations
@@ -17,6 +19,11 @@ import traceback
 EXIT_OK = 0
 EXIT_NOT_CONVERGED = 1
 EXIT_BAD_INPUT = 2
+EXIT_MISSING_DEPENDENCY = 3
+EXIT_CODES = (
+    "Exit codes: 0 ok; 1 did not converge / a figure failed; 2 bad input; 3 an optional "
+    "dependency is not installed (the message names the extra to install)."
+)
 
 
 class _Parser(argparse.ArgumentParser):
@@ -63,6 +70,7 @@ def _cmd_solve(args) -> int:
         )
         return EXIT_BAD_INPUT
     spec = _with_sliding(spec, args.sliding)
+    _require_plot(args)
     t0 = time.perf_counter()
     try:
         import warnings
@@ -81,6 +89,14 @@ def _cmd_solve(args) -> int:
         f"{_friction_line(sol)}; wrote {', '.join(written)} to {args.out}"
     )
     return EXIT_OK if sol.success else EXIT_NOT_CONVERGED
+
+
+def _require_plot(args) -> None:
+    """With --plot, matplotlib must be there before the solve starts (else exit 3)."""
+    if args.plot:
+        from tendonrod._extras import optional_import
+
+        optional_import("matplotlib.pyplot", "--plot")
 
 
 def _with_sliding(spec, sliding):
@@ -271,6 +287,7 @@ def _cmd_actuate(args) -> int:
         )
         return EXIT_BAD_INPUT
     spec = _with_sliding(spec, args.sliding)
+    _require_plot(args)
     target, problem = _cli_target(args, spec)
     if problem:
         print(f"tendonrod actuate: error: {args.scene}: {problem}", file=sys.stderr)
@@ -311,11 +328,7 @@ def _cmd_actuate(args) -> int:
 
 # --------------------------------------------------------------------------- figures
 def _cmd_figures(args) -> int:
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
+    from tendonrod._extras import optional_import
     from tendonrod.paper.figures import fast_mode, figure_registry
 
     args.fast = bool(args.fast or fast_mode())  # --fast or TENDONROD_FAST=1
@@ -336,6 +349,10 @@ def _cmd_figures(args) -> int:
         for k in keys:
             print(f"{k}: {registry[k].caption}")
         return EXIT_OK
+    matplotlib = optional_import("matplotlib", "the figures command")
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
     os.makedirs(args.out, exist_ok=True)
     lines = [
         "# tendonrod: the paper's figures, regenerated",
@@ -388,8 +405,12 @@ def _cmd_bench(args) -> int:
 
 
 def _bench(argv) -> int:
+    from tendonrod._extras import MissingExtraError
+
     try:
         from tendonrod import bench
+    except MissingExtraError:
+        raise
     except ImportError as exc:
         print(
             f"tendonrod bench: error: the benchmark suites are not available ({exc})",
@@ -398,6 +419,8 @@ def _bench(argv) -> int:
         return EXIT_BAD_INPUT
     try:
         rc = bench.main(list(argv))
+    except MissingExtraError:
+        raise
     except SystemExit as exc:  # its argparse: --help (0), usage errors (2)
         return int(exc.code or 0)
     return int(rc or 0)
@@ -418,8 +441,11 @@ def build_parser() -> argparse.ArgumentParser:
         prog="python -m tendonrod",
         description="tendonrod: deflection of tendon-driven continuum robots under loads "
         "with prescribed tendon displacements or tensions.",
-        epilog="Exit codes: 0 ok, 1 did not converge / a figure failed, 2 bad input.",
+        epilog=EXIT_CODES,
     )
+    from tendonrod._version import __version__
+
+    p.add_argument("-V", "--version", action="version", version=f"tendonrod {__version__}")
     sub = p.add_subparsers(dest="command", metavar="{solve,actuate,figures,bench}")
     sub.required = True
 
@@ -430,7 +456,8 @@ def build_parser() -> argparse.ArgumentParser:
         "solution.npz (arrays) and, with --plot, solution.png. The scene "
         "file format is documented in examples/README.md.",
         epilog="Exit codes: 0 converged, 1 did not converge (files still written), "
-        "2 bad input (the message names the key; the file is not modified).",
+        "2 bad input (the message names the key; the file is not modified), 3 --plot "
+        "without matplotlib (pip install 'tendonrod[plot]'; nothing solved or written).",
     )
     ps.add_argument("scene", help="scene file (TOML)")
     ps.add_argument("--out", required=True, help="output directory (created if missing)")
@@ -448,7 +475,8 @@ def build_parser() -> argparse.ArgumentParser:
         "the options below or from a [target] table in the scene file "
         "(examples/README.md).",
         epilog="Exit codes: 0 target reached, 1 not reached (the closest state is still "
-        "written), 2 bad input (the message names the option or key).",
+        "written), 2 bad input (the message names the option or key), 3 --plot without "
+        "matplotlib (pip install 'tendonrod[plot]'; nothing solved or written).",
     )
     pa.add_argument("scene", help="scene file (TOML)")
     pa.add_argument("--out", required=True, help="output directory (created if missing)")
@@ -482,6 +510,9 @@ def build_parser() -> argparse.ArgumentParser:
         description="Regenerate the paper's figures (1, 3, 6-8, 10-18, 20-23) and the "
         "friction study its Fig. 25 asks for (fig25, fig25_hysteresis) as PNG files with an "
         "index.md listing files and captions.",
+        epilog="Exit codes: 0 every figure written, 1 a figure failed (the others are "
+        "still written), 2 bad input, 3 matplotlib is not installed (pip install "
+        "'tendonrod[plot]').",
     )
     pf.add_argument("--out", required=True, help="output directory (created if missing)")
     pf.add_argument(
@@ -515,13 +546,26 @@ def build_parser() -> argparse.ArgumentParser:
 
 def main(argv=None) -> int:
     argv = sys.argv[1:] if argv is None else list(argv)
-    if argv and argv[0] == "bench":
-        # everything after 'bench' belongs to tendonrod.bench.main, options included
-        # (argparse's REMAINDER would not pass a leading '--help' through)
-        return _bench(argv[1:])
-    parser = build_parser()
-    args = parser.parse_args(argv)
-    return args.func(args)
+    try:
+        if argv and argv[0] == "bench":
+            # everything after 'bench' belongs to tendonrod.bench.main, options included
+            # (argparse's REMAINDER would not pass a leading '--help' through)
+            return _bench(argv[1:])
+        parser = build_parser()
+        args = parser.parse_args(argv)
+        return args.func(args)
+    except ModuleNotFoundError as exc:
+        # an optional dependency missing: one line naming the extra, exit 3 (any other
+        # missing module is a broken installation: its traceback stays)
+        from tendonrod._extras import MissingExtraError, install_hint
+
+        hint = install_hint(exc.name or "")
+        if not isinstance(exc, MissingExtraError) and hint is None:
+            raise
+        prog = f"tendonrod {argv[0]}" if argv and not argv[0].startswith("-") else "tendonrod"
+        msg = str(exc) if isinstance(exc, MissingExtraError) else f"{exc}: {hint}"
+        print(f"{prog}: error: {msg}", file=sys.stderr)
+        return EXIT_MISSING_DEPENDENCY
 
 
 if __name__ == "__main__":

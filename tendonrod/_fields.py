@@ -5,12 +5,16 @@ from __future__ import annotations
 
 import math
 import numbers
+from collections.abc import Sequence
 
 import numpy as np
+from numpy.typing import NDArray
 
 from . import _core
 
 Vec3 = tuple[float, float, float]
+# what a constructor takes for a 3-vector: a tuple, a list or an array (stored as a Vec3)
+Vec3Like = Sequence[float] | NDArray[np.floating]
 
 
 # --------------------------------------------------------------------------- helpers

@@ -73,7 +73,11 @@ def progress_bar(progress: bool | None, npoints: int, done: dict) -> Any:
     except ImportError:
         if progress:
             # stacklevel 4: the warning points at the caller of sweep()
-            warnings.warn("progress=True but tqdm is not installed; running quietly", stacklevel=4)
+            warnings.warn(
+                "progress=True but tqdm is not installed (pip install 'tendonrod[progress]'); "
+                "running quietly",
+                stacklevel=4,
+            )
         return None
     return cls(
         total=npoints,

@@ -30,6 +30,7 @@ import dataclasses
 import math
 import warnings
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -157,6 +158,18 @@ def _with_controls(scene: Scene, idx, c) -> Scene:
     return dataclasses.replace(scene, displacement=disp, tension=ten)
 
 
+if TYPE_CHECKING:
+
+    class ActuatedSolution(Solution):
+        """What :func:`actuate` returns, to a type checker: a Solution whose ``actuation``
+        is always set (at run time it is a plain :class:`Solution`)."""
+
+        actuation: ActuationResult
+
+else:
+    ActuatedSolution = Solution
+
+
 def actuate(
     scene: Scene,
     *,
@@ -172,7 +185,7 @@ def actuate(
     options=None,
     strict: bool = False,
     method: str = "auto",
-) -> Solution:
+) -> ActuatedSolution:
     """The controls of the tendons ``tendons`` that bring the tip to a target under the
     scene's loads: displacements for displacement-controlled tendons, tensions for
     tension-controlled ones (each tendon keeps its control kind in ``scene``).

@@ -18,8 +18,10 @@ from __future__ import annotations
 import math
 import re
 from dataclasses import dataclass
+from typing import Generic, TypeVar
 
 import numpy as np
+from numpy.typing import NDArray
 
 from . import _core
 from ._sweep_paths import get_path, set_path
@@ -108,8 +110,13 @@ def with_design(scene: Scene, values: dict) -> Scene:
     return scene
 
 
+# the type of Jacobian.load: an array when the load block was asked for (load=True, the
+# default of tendonrod.jacobian and Problem.jacobian), None when not (load=False)
+_LoadT = TypeVar("_LoadT", bound="NDArray[np.float64] | None")
+
+
 @dataclass(frozen=True, eq=False)
-class Jacobian:
+class Jacobian(Generic[_LoadT]):
     """The linearisation of a solved scene at arc length ``s`` (:func:`tendonrod.jacobian`).
 
     Every derivative is taken at the solved state by the implicit function theorem on the
@@ -170,12 +177,12 @@ class Jacobian:
     """
 
     s: object
-    actuation: np.ndarray
-    tension: np.ndarray
-    slack: np.ndarray
-    load: np.ndarray | None
-    design: np.ndarray
-    design_tension: np.ndarray
+    actuation: NDArray[np.float64]
+    tension: NDArray[np.float64]
+    slack: NDArray[np.float64]
+    load: _LoadT
+    design: NDArray[np.float64]
+    design_tension: NDArray[np.float64]
     design_names: tuple
     control: tuple
     at_switch: np.ndarray

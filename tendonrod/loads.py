@@ -11,7 +11,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ._fields import Vec3, _nonnegative, _vec3
+from ._fields import Vec3Like, _nonnegative, _vec3
 
 __all__ = ["PointLoad", "DistributedLoad", "PointMass"]
 
@@ -25,8 +25,8 @@ class PointLoad:
     """
 
     s: float
-    force: Vec3 = (0.0, 0.0, 0.0)
-    moment: Vec3 = (0.0, 0.0, 0.0)
+    force: Vec3Like = (0.0, 0.0, 0.0)  # stored as a tuple
+    moment: Vec3Like = (0.0, 0.0, 0.0)  # stored as a tuple
 
     def __post_init__(self):
         object.__setattr__(self, "s", _nonnegative("PointLoad", "s", self.s))
@@ -42,7 +42,7 @@ class DistributedLoad:
     ``start`` and ``end`` breakpoints of the integration, and its force is part of a
     compiled problem's structure; one over the whole rod is a per-solve value."""
 
-    force: Vec3 = (0.0, 0.0, 0.0)
+    force: Vec3Like = (0.0, 0.0, 0.0)  # stored as a tuple
     start: float = 0.0
     end: float | None = None
 

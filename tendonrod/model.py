@@ -23,6 +23,7 @@ from collections.abc import Sequence
 from dataclasses import KW_ONLY, dataclass
 
 import numpy as np
+from numpy.typing import ArrayLike, NDArray
 
 from . import backbone, plausibility
 from ._fields import (
@@ -30,7 +31,7 @@ from ._fields import (
     _EA_MIN,
     _LENGTH_MAX,
     _LENGTH_MIN,
-    Vec3,
+    Vec3Like,
     _length,
     _nonnegative,
     _positive,
@@ -106,7 +107,7 @@ class Rod:
     GA: float | None = None
     kirchhoff: bool = False
     density: float | None = None
-    precurvature: Vec3 = (0.0, 0.0, 0.0)
+    precurvature: Vec3Like = (0.0, 0.0, 0.0)  # stored as a tuple
     segments: tuple = ()
 
     def __post_init__(self):
@@ -263,10 +264,10 @@ class Robot:
     """
 
     rod: Rod
-    tendons: tuple[Tendon, ...] = ()
+    tendons: Sequence[Tendon] = ()  # any sequence; stored as a tuple
     _: KW_ONLY
-    base_position: Vec3 = (0.0, 0.0, 0.0)
-    base_rotation: tuple = _IDENTITY
+    base_position: Vec3Like = (0.0, 0.0, 0.0)  # stored as a tuple
+    base_rotation: ArrayLike = _IDENTITY  # (3, 3); stored as a tuple of rows
 
     def __post_init__(self):
         object.__setattr__(
@@ -457,10 +458,10 @@ class Scene:
 
     robot: Robot
     _: KW_ONLY
-    displacement: Sequence[float | None] | None = None
-    tension: Sequence[float | None] | None = None
+    displacement: Sequence[float | None] | NDArray[np.floating] | None = None
+    tension: Sequence[float | None] | NDArray[np.floating] | None = None
     loads: Sequence[PointLoad | DistributedLoad | PointMass] = ()
-    gravity: Vec3 = (0.0, 0.0, 0.0)
+    gravity: Vec3Like = (0.0, 0.0, 0.0)  # stored as a tuple
     sliding: str | Sequence[str] = "in"
 
     def __post_init__(self):

@@ -51,8 +51,9 @@ FORMATS = ("png", "pdf", "svg")
 def _ax(ax, projection=None):
     if ax is not None:
         return ax
-    import matplotlib.pyplot as plt
+    from ._extras import optional_import
 
+    plt = optional_import("matplotlib.pyplot", "tendonrod.plot")
     if projection is None:
         return plt.gca()
     return plt.figure().add_subplot(projection=projection)

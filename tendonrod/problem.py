@@ -17,7 +17,10 @@ and the options and drops the warm state.  Ctrl-C during a solve raises
 
 from __future__ import annotations
 
+from typing import Any, Literal, overload
+
 import numpy as np
+from numpy.typing import NDArray
 
 from ._interrupt import current_token
 from ._plausible import Checker
@@ -213,7 +216,7 @@ class Problem:
 
     def jacobian(
         self, s=None, *, design=(), load: bool = True, method: str = "forward", side=None
-    ) -> Jacobian:
+    ) -> Jacobian[Any]:
         """The linearisation (:class:`~tendonrod.Jacobian`) of the last successful
         solution at arc length(s) ``s`` [m] (default: the tip), with respect to every
         tendon's control value, the probe loads at ``s`` (``load``) and the design
@@ -471,6 +474,13 @@ def compliance(
     return prob._compliance_here(s_val)
 
 
+# the types: J.load is an array with load=True (the default), None only with load=False
+# fmt: off
+@overload
+def jacobian(scene_or_solution, s=None, *, design=(), load: Literal[True] = True, method: str = "forward", side=None, guess=None, options=None) -> Jacobian[NDArray[np.float64]]: ...
+@overload
+def jacobian(scene_or_solution, s=None, *, design=(), load: bool, method: str = "forward", side=None, guess=None, options=None) -> Jacobian[NDArray[np.float64] | None]: ...
+# fmt: on
 def jacobian(
     scene_or_solution,
     s=None,
@@ -481,7 +491,7 @@ def jacobian(
     side=None,
     guess=None,
     options=None,
-) -> Jacobian:
+) -> Jacobian[Any]:
     """The linearisation of a solved scene at arc length ``s`` [m] (default: the tip):
     how the backbone point at ``s`` and the tendon tensions move per unit change of each
     tendon's control value, of a load applied at ``s`` and of named design parameters.

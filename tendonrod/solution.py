@@ -13,6 +13,7 @@ import math
 import warnings
 
 import numpy as np
+from numpy.typing import NDArray
 
 from .compiled import _compile, _structure_key, structure_difference
 from .model import Scene
@@ -191,8 +192,8 @@ class Solution:
         self.nfev = int(raw.get("nfev", 0))
         self.njev = int(raw.get("njev", 0))
         self.residual_norm = float(raw.get("residual_norm", math.nan))
-        self.tension = raw["tension"]
-        self.slack = raw["slack"]
+        self.tension: NDArray[np.float64] = raw["tension"]
+        self.slack: NDArray[np.float64] = raw["slack"]
         self.unknowns = raw.get("unknowns")
         self.jacobian = raw.get("jacobian")
         self.jacobian_cond = float(raw.get("jacobian_cond", math.nan))
@@ -227,39 +228,39 @@ class Solution:
         return raw
 
     @property
-    def s(self) -> np.ndarray:
+    def s(self) -> NDArray[np.float64]:
         """Arc length of the output nodes [m], shape (N,) (computed on first access)."""
         return self._recorded()["s"]
 
     @property
-    def position(self) -> np.ndarray:
+    def position(self) -> NDArray[np.float64]:
         """Backbone position at the nodes, world frame [m], shape (N, 3)."""
         return points_out(self._pose, self._recorded()["position"])
 
     @property
-    def rotation(self) -> np.ndarray:
+    def rotation(self) -> NDArray[np.float64]:
         """Body-to-world rotation at the nodes, shape (N, 3, 3)."""
         return rotations_out(self._pose, self._recorded()["rotation"])
 
     @property
-    def force(self) -> np.ndarray:
+    def force(self) -> NDArray[np.float64]:
         """Internal backbone force at the nodes, world frame [N], shape (N, 3)."""
         return vectors_out(self._pose, self._recorded()["force"])
 
     @property
-    def moment(self) -> np.ndarray:
+    def moment(self) -> NDArray[np.float64]:
         """Internal backbone moment at the nodes, world frame [N m], shape (N, 3)."""
         return vectors_out(self._pose, self._recorded()["moment"])
 
     @property
-    def tendon_tension(self) -> np.ndarray:
+    def tendon_tension(self) -> NDArray[np.float64]:
         """Each tendon's tension at the nodes [N], shape (N, ntendon): its tension at the
         actuator less what friction took along s (more, sliding out); 0 distal of its
         anchor."""
         return self._recorded()["tendon_tension"]
 
     @property
-    def displacement(self) -> np.ndarray:
+    def displacement(self) -> NDArray[np.float64]:
         """Actuator displacement [m] of every tendon, shape (ntendon,): the prescribed one,
         or for a tension-controlled tendon the one consistent with the solution (computed
         on first access)."""
@@ -339,7 +340,7 @@ class Solution:
         return self._formulation
 
     @property
-    def tip_position(self) -> np.ndarray:
+    def tip_position(self) -> NDArray[np.float64]:
         """Tip position (s = L), world frame [m], shape (3,): the end state of the shooting
         integration that the residual and the tolerance refer to, whatever the output
         nodes (it is ``position[-1]`` when the nodes end at L)."""
@@ -353,12 +354,12 @@ class Solution:
         return float(self.raw.get("tip_angle", math.nan))
 
     @property
-    def tip_rotation(self) -> np.ndarray:
+    def tip_rotation(self) -> NDArray[np.float64]:
         """Tip body-to-world rotation (s = L), shape (3, 3) (see :attr:`tip_position`)."""
         return rotations_out(self._pose, self.raw["tip_rotation"])
 
     @property
-    def base_state(self) -> np.ndarray:
+    def base_state(self) -> NDArray[np.float64]:
         """``[n(0), m(0), tension, slack]`` (6 + 2 ntendon,), world frame, SI: the raw guess
         format, from the core's map of the converged unknowns (so a warm start from it
         starts exactly at this solution)."""

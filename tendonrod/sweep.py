@@ -276,7 +276,7 @@ class SweepResult:
 
 def sweep(
     base: Any,
-    vary: Mapping[str, Iterable] | None = None,
+    vary: Mapping[str, Any] | None = None,
     *,
     grid: bool = True,
     build: Callable[..., Any] | None = None,

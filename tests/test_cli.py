@@ -1,5 +1,6 @@
-"""Command line: --help everywhere, exit codes 0 / 1 / 2, messages naming the key of a
-malformed scene file (left untouched), solve outputs, figures, bench dispatch."""
+"""Command line: --help and --version, exit codes 0 / 1 / 2 / 3, messages naming the key
+of a malformed scene file (left untouched) or the extra a missing optional dependency
+comes with, solve outputs, figures, bench dispatch."""
 
 import dataclasses
 import json
@@ -14,7 +15,13 @@ import numpy as np
 import pytest
 
 import tendonrod as tr
-from tendonrod.__main__ import EXIT_BAD_INPUT, EXIT_NOT_CONVERGED, EXIT_OK, main
+from tendonrod.__main__ import (
+    EXIT_BAD_INPUT,
+    EXIT_MISSING_DEPENDENCY,
+    EXIT_NOT_CONVERGED,
+    EXIT_OK,
+    main,
+)
 
 EXAMPLES = pathlib.Path(__file__).resolve().parent.parent / "examples"
 
@@ -414,3 +421,116 @@ def test_bench_dispatches_to_bench_main(monkeypatch, capsys):
     assert rc == 0 and calls == [["work-precision", "--out", "d", "--quick"]]
     rc, _, _ = run_main(["bench", "--help"], capsys)  # --help goes to bench.main
     assert rc == 0 and calls[-1] == ["--help"]
+
+
+def test_version(capsys):
+    rc, out, _ = run_main(["--version"], capsys)
+    assert rc == EXIT_OK and out.strip() == f"tendonrod {tr.__version__}"
+
+
+def test_help_documents_every_exit_code(capsys):
+    rc, out, _ = run_main(["--help"], capsys)
+    text = " ".join(out.split())  # argparse wraps the epilog
+    assert rc == EXIT_OK
+    for code in ("0 ok", "1 did not converge", "2 bad input", "3 an optional dependency"):
+        assert code in text
+
+
+# A Python in which the given top-level modules cannot be imported (as if not installed:
+# a meta-path finder ahead of every other refuses them), running the command line or a
+# snippet; the modules are installed here, so blocking is the only way to miss them.
+BLOCKED = """
+import sys
+BLOCK = set(sys.argv[1].split(","))
+
+class Block:
+    def find_spec(self, name, path=None, target=None):
+        if name.split(".")[0] in BLOCK:
+            raise ModuleNotFoundError(f"No module named {name!r}", name=name)
+        return None
+
+sys.meta_path.insert(0, Block())
+del sys.argv[1]
+"""
+
+
+def run_blocked(blocked, argv, cwd):
+    code = BLOCKED + "from tendonrod.__main__ import main\nsys.exit(main(sys.argv[1:]))\n"
+    return subprocess.run(
+        [sys.executable, "-c", code, blocked, *argv],
+        capture_output=True,
+        text=True,
+        cwd=cwd,
+        timeout=120,
+    )
+
+
+@pytest.mark.parametrize(
+    "argv",
+    [
+        ["solve", str(EXAMPLES / "slack_robot.toml"), "--plot"],
+        ["actuate", str(EXAMPLES / "slack_robot.toml"), "--tip-angle", "10deg", "--plot"],
+        ["figures", "--only", "fig03"],
+    ],
+)
+def test_missing_matplotlib_exit_3(tmp_path, argv):
+    out = tmp_path / "out"
+    p = run_blocked("matplotlib", [*argv, "--out", str(out)], tmp_path)
+    assert p.returncode == EXIT_MISSING_DEPENDENCY, p.stderr
+    # one line, naming the extra; nothing solved or written before the check
+    assert p.stderr.count("\n") == 1, p.stderr
+    assert "matplotlib" in p.stderr and "pip install 'tendonrod[plot]'" in p.stderr
+    assert not out.exists()
+
+
+def test_figures_list_needs_no_matplotlib(tmp_path):
+    p = run_blocked("matplotlib", ["figures", "--list", "--out", str(tmp_path)], tmp_path)
+    assert p.returncode == EXIT_OK, p.stderr
+    assert p.stdout.startswith("fig01:")
+
+
+def test_plot_without_matplotlib_names_the_extra(tmp_path):
+    # the library: tr.plot's functions raise ModuleNotFoundError with the pip command
+    code = BLOCKED + (
+        "import tendonrod as tr\n"
+        "rod = tr.Rod(length=0.2, diameter=0.8e-3, E=207e9, G=79.6e9, kirchhoff=True)\n"
+        "robot = tr.Robot(rod, [tr.Tendon(offset=0.008, angle=0.0)])\n"
+        "scene = tr.Scene(robot, tension=[1.0])\n"
+        "try:\n"
+        "    tr.plot.robot(tr.solve(scene), scene)\n"
+        "except ModuleNotFoundError as exc:\n"
+        "    print(type(exc).__name__, exc.name, exc)\n"
+    )
+    p = subprocess.run(
+        [sys.executable, "-c", code, "matplotlib"],
+        capture_output=True,
+        text=True,
+        cwd=tmp_path,
+        timeout=120,
+    )
+    assert p.returncode == 0, p.stderr
+    assert p.stdout.startswith("MissingExtraError matplotlib tendonrod.plot needs matplotlib")
+    assert "pip install 'tendonrod[plot]'" in p.stdout
+
+
+@pytest.mark.parametrize("module, extra", [("tqdm", "progress"), ("distributed", "dask")])
+def test_missing_optional_module_exit_3(monkeypatch, capsys, module, extra):
+    # any command that meets an optional dependency missing (here a stand-in for the
+    # figures command) exits 3 with the extra named
+    def needs(args):
+        raise ModuleNotFoundError(f"No module named {module!r}", name=module)
+
+    monkeypatch.setattr("tendonrod.__main__._cmd_figures", needs)
+    rc, _, err = run_main(["figures", "--out", "x"], capsys)
+    assert rc == EXIT_MISSING_DEPENDENCY
+    assert err.count("\n") == 1 and f"pip install 'tendonrod[{extra}]'" in err
+
+
+def test_missing_other_module_is_not_exit_3(monkeypatch, capsys):
+    # a module no extra brings is a broken installation: the error propagates
+    def needs(args):
+        raise ModuleNotFoundError("No module named 'tendonrod._core'", name="tendonrod._core")
+
+    monkeypatch.setattr("tendonrod.__main__._cmd_figures", needs)
+    with pytest.raises(ModuleNotFoundError, match="_core"):
+        main(["figures", "--out", "x"])

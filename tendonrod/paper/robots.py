@@ -17,6 +17,7 @@ from ..actuation import actuate as actuate_tip
 from ..compiled import is_planar
 from ..model import Robot, Rod, Scene, Tendon
 from ..results import ConvergenceWarning
+from ..solution import Solution
 
 __all__ = [
     "G_ACCEL",
@@ -110,14 +111,14 @@ class Actuation:
     tensions      : (nt,) [N];  displacements : (nt,) [m];  theta : tip angle reached [rad]
     """
 
-    tension_scene: object
-    locked_scene: object
-    solution: object
+    tension_scene: Scene
+    locked_scene: Scene
+    solution: Solution
     tensions: np.ndarray
     displacements: np.ndarray
     theta: float
 
-    def with_loads(self, loads, locked: bool = True):
+    def with_loads(self, loads, locked: bool = True) -> Scene:
         """The locked (or tension-held) scene with ``loads`` applied."""
         base = self.locked_scene if locked else self.tension_scene
         return dataclasses.replace(base, loads=tuple(loads))
