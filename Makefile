@@ -15,8 +15,8 @@ DEV_EXTRAS  := all,test,notebooks,lint,wheel,docs
 DEMO_STAMP  := $(VENV)/.installed-demo
 STAMP       := $(VENV)/.installed
 
-.PHONY: demo test install gsl docs bench sanitize valgrind lint typecheck wheel wheel-check \
-	wheels numpy-oldest clean
+.PHONY: demo test install gsl browser docs bench sanitize valgrind lint typecheck wheel \
+	wheel-check wheels numpy-oldest notebooks-full clean
 
 # GSL: install libgsl-dev through apt-get when neither pkg-config nor gsl-config finds it.
 gsl:
@@ -51,8 +51,17 @@ demo: $(if $(wildcard $(STAMP)),$(STAMP),$(DEMO_STAMP))
 # Notebooks are executed by nbmake as part of the suite.
 NOTEBOOKS := $(wildcard notebooks/*.ipynb)
 
-test: $(STAMP)
+# Headless Chromium and its driver for the 3-D view's page test (apt-get when missing).
+browser:
+	@tools/browser.sh
+
+test: $(STAMP) browser
 	MPLBACKEND=Agg $(VPY) -m pytest -q tests $(NOTEBOOKS) --nbmake
+
+# Re-make the notebooks' stored outputs (what make docs renders in its gallery) at full
+# resolution: each notebook in a fresh kernel with TENDONROD_FULL=1.
+notebooks-full: $(STAMP)
+	$(VPY) tools/notebooks_full.py
 
 bench: $(STAMP)
 	MPLBACKEND=Agg $(VPY) bench/closed_forms.py
@@ -131,4 +140,4 @@ typecheck: $(STAMP)
 	$(VPY) tools/typecheck_examples.py
 
 clean:
-	rm -rf build dist wheelhouse $(VENV) tendonrod/*.so *.egg-info docs/api/generated
+	rm -rf build dist wheelhouse $(VENV) tendonrod/*.so *.egg-info docs/api/generated docs/notebooks

@@ -14,6 +14,7 @@ EXTRAS: dict[str, str] = {
     "scipy": "fit",
     "dask": "dask",
     "distributed": "dask",
+    "plotly": "view",
 }
 
 

@@ -24,6 +24,7 @@ import math
 
 import numpy as np
 
+from ._extras import optional_import
 from ._mesh import (
     Mesh,
     backbone_radius,
@@ -34,22 +35,14 @@ from ._mesh import (
     tendon_route,
 )
 
-__all__ = ["view", "save_html", "EXTRA"]
+__all__ = ["view", "save_html"]
 
-EXTRA = "view"  # the optional dependency set that brings plotly
 COLORSCALE = "Viridis"  # sequential, its lightness rising with tension
 _AXES = (("x", "#d62728"), ("y", "#2ca02c"), ("z", "#1f77b4"))
 
 
 def _plotly():
-    try:
-        import plotly.graph_objects as go  # type: ignore[import-untyped]
-    except ImportError as exc:
-        raise ImportError(
-            f"tendonrod.plot.view needs plotly: pip install 'tendonrod[{EXTRA}]' "
-            f"(or pip install plotly)"
-        ) from exc
-    return go
+    return optional_import("plotly.graph_objects", "tendonrod.plot.view")
 
 
 # --------------------------------------------------------------------------- what to show

@@ -4,6 +4,7 @@ browser (headless Chromium driven by Selenium: no console error, the expected tr
 slider's animation moves the robot)."""
 
 import math
+import os
 import shutil
 import sys
 
@@ -224,7 +225,11 @@ def test_page_in_headless_chromium(tmp_path, path):
         opts.add_argument(arg)
     opts.binary_location = shutil.which("chromium")
     opts.set_capability("goog:loggingPrefs", {"browser": "ALL"})
-    driver = webdriver.Chrome(service=Service(shutil.which("chromedriver")), options=opts)
+    # the browser gets the environment without LD_PRELOAD: the sanitizer run preloads the
+    # ASan runtime into Python, and Chromium must not inherit it
+    env = {k: v for k, v in os.environ.items() if k != "LD_PRELOAD"}
+    service = Service(shutil.which("chromedriver"), env=env)
+    driver = webdriver.Chrome(service=service, options=opts)
     try:
         driver.set_script_timeout(60)
         driver.get(page.as_uri())
