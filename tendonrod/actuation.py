@@ -124,7 +124,7 @@ def _control_set(scene: Scene, tendons):
     else:
         try:
             idx = [int(i) for i in tendons]
-        except (TypeError, ValueError):
+        except (TypeError, ValueError, OverflowError):
             raise ValueError(f"tendons must be tendon indices, got {tendons!r}") from None
         if (
             not idx
@@ -254,10 +254,17 @@ def actuate(
     for name, v, lo in (("min_tension", min_tension, 0.0), ("tol", tol, 0.0)):
         if isinstance(v, bool) or not isinstance(v, (int, float, np.floating, np.integer)):
             raise ValueError(f"{name} must be a number, got {v!r}")
-        if not (math.isfinite(v) and v >= lo) or (name == "tol" and not 0.0 < v < 1.0):
+        # (an int beyond a double, like 10**400, is not finite either)
+        finite = not isinstance(v, int) or abs(v) < 2**1023
+        if not (finite and math.isfinite(v) and v >= lo) or (name == "tol" and not 0.0 < v < 1.0):
             raise ValueError(f"{name} must be finite and >= 0 (tol in (0, 1)), got {v!r}")
-    if isinstance(max_iter, bool) or not isinstance(max_iter, (int, np.integer)) or max_iter < 1:
-        raise ValueError(f"max_iter must be an int >= 1, got {max_iter!r}")
+    # (the upper bound: far beyond any search, within the core's C int)
+    if (
+        isinstance(max_iter, bool)
+        or not isinstance(max_iter, (int, np.integer))
+        or not 1 <= max_iter <= 10**6
+    ):
+        raise ValueError(f"max_iter must be an int in [1, 1000000], got {max_iter!r}")
     if method not in ("auto", "linearisation"):
         raise ValueError(f"method must be 'auto' or 'linearisation', got {method!r}")
     planar = is_planar(scene) and not options.force_spatial

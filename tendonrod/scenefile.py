@@ -581,4 +581,11 @@ def load_scene(path: str | os.PathLike) -> SceneSpec:
         raise SceneFileError("(file)", f"not UTF-8 text: {exc}", path) from exc
     except tomllib.TOMLDecodeError as exc:
         raise SceneFileError("(syntax)", f"not valid TOML: {exc}", path) from exc
-    return parse_scene(data, source=os.fspath(path))
+    except RecursionError:  # the parser recurses once per level of nesting
+        raise SceneFileError(
+            "(syntax)", "arrays or tables nested too deep for the TOML parser", path
+        ) from None
+    try:
+        return parse_scene(data, source=os.fspath(path))
+    except RecursionError:  # nested just below the parser's limit: too deep for a value
+        raise SceneFileError("(structure)", "arrays or tables nested too deep", path) from None
