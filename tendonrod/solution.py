@@ -138,6 +138,10 @@ class Solution:
         at L.
     tip_rotation : ndarray (3, 3)
         Tip body-to-world rotation.
+    tip_angle : float
+        Planar solves: the signed tip angle [rad], unwrapped along s (NaN if spatial).
+    bending_angle : float
+        Every solve: the angle [rad] in [0, pi] between the base and tip tangents.
     jacobian_cond : float
         Condition number of the scaled shooting Jacobian at the solution.
     continuation_steps : int
@@ -351,6 +355,15 @@ class Solution:
         base axis (base +z) toward base +x, unwrapped along s (a curl past 180 degrees reads past
         pi); NaN for the spatial formulation (see :attr:`tip_rotation`)."""
         return float(self.raw.get("tip_angle", math.nan))
+
+    @property
+    def bending_angle(self) -> float:
+        """Bending angle [rad] in [0, pi]: the angle between the tangent at the base (the
+        base frame's +z) and the tip tangent, for every formulation (planar or spatial,
+        mounted or not).  Not the total turning along s: a planar curl by ``tip_angle`` =
+        4 rad has a bending angle of ``2 pi - 4`` rad.  NaN where the tip is not finite."""
+        R = self.raw["tip_rotation"]  # base frame: the base tangent is e3
+        return float(math.atan2(math.hypot(R[0, 2], R[1, 2]), R[2, 2]))
 
     @property
     def tip_rotation(self) -> np.ndarray:
