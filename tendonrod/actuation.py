@@ -348,7 +348,14 @@ def _finish(sol, report, strict):
     ok = sol.success and (
         (reached and optimal) or (kind == "least-squares" and converged and not why)
     )
-    if reached and not optimal:
+    if reached and not sol.success:
+        # the controls reach the target, but the final solve does not accept the state
+        # (unstable, or it failed): its reason first, and no "reached" before it
+        msg = (
+            f"{sol.message} -- at the controls that meet the target (residual "
+            f"{distance:.3g} <= tol {tol:g})"
+        )
+    elif reached and not optimal:
         msg = (
             f"target reached (residual {distance:.3g} <= tol {tol:g}), but the least change "
             f"was not verified (no step within the tensions was accepted)"
@@ -389,8 +396,9 @@ def _finish(sol, report, strict):
     )
     sol.actuation = result
     if not ok:
+        last = "" if reached and not sol.success else f" (last solve: {sol.message})"
         sol.success = False
-        sol.message = f"tr.actuate: {msg} (last solve: {sol.message})"
+        sol.message = f"tr.actuate: {msg}{last}"
         if strict:
             raise ConvergenceError(sol.message, sol)
         warnings.warn(sol.message, ConvergenceWarning, stacklevel=3)
