@@ -455,6 +455,42 @@ class Solution:
         return "\n".join(lines)
 
 
+def _in_rod_units(sol: Solution) -> str:
+    """How large the scene's loads and the tendons' tensions are for its rod: the largest
+    force in EI/L^2, moment in EI/L, tension in EI/r^2 (r: the tendon's largest radius),
+    with those units in SI, so that a failure shows how far out the scene is."""
+    scene = sol.scene
+    if scene is None:
+        return ""
+    robot = scene.robot
+    L, EI = robot.rod.length, robot.rod.bending_stiffness
+    forces = [float(np.linalg.norm(p.force)) for p in scene.point_loads]
+    forces += [
+        float(np.linalg.norm(d.force)) * ((L if d.end is None else d.end) - d.start)
+        for d in scene.partial_loads
+    ]
+    forces.append(float(np.linalg.norm(scene.distributed_force)) * L)
+    moments = [float(np.linalg.norm(p.moment)) for p in scene.point_loads]
+    parts = [f"the largest load {max(forces) * L * L / EI:.3g} EI/L^2 (EI/L^2 = {EI / L**2:.3g} N)"]
+    if max(moments, default=0.0) > 0.0:
+        parts.append(f"moment {max(moments) * L / EI:.3g} EI/L (EI/L = {EI / L:.3g} N m)")
+    worst = None
+    for i, t in enumerate(robot.tendons):
+        end = robot.tendon_end(i)
+        r = max(abs(t.offset), abs(t.offset + t.slope * end))
+        tau = float(sol.tension[i]) if i < len(sol.tension) else math.nan
+        if not math.isfinite(tau) and scene.tension[i] is not None:
+            tau = float(scene.tension[i])  # the prescribed one
+        if r > 0.0 and math.isfinite(tau) and (worst is None or tau * r * r > worst[0]):
+            worst = (tau * r * r, i, r)
+    if worst is not None:
+        x, i, r = worst
+        parts.append(
+            f"tension {x / EI:.3g} EI/r^2 (tendon {i}, r = {r:.3g} m: EI/r^2 = {EI / r**2:.3g} N)"
+        )
+    return "; in the rod's units: " + ", ".join(parts)
+
+
 def _report(sol: Solution, strict: bool, who: str, stacklevel: int) -> None:
     """A failed solve is never silent: ConvergenceError (strict) or ConvergenceWarning."""
     if sol.success:
@@ -462,6 +498,7 @@ def _report(sol: Solution, strict: bool, who: str, stacklevel: int) -> None:
     msg = (
         f"{who} did not converge: {sol.message} (status {sol.status}, "
         f"nit {sol.nit}, nfev {sol.nfev}, residual {sol.residual_norm:.3g})"
+        f"{_in_rod_units(sol)}"
     )
     if strict:
         raise ConvergenceError(msg, sol)
