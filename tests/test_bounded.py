@@ -19,23 +19,20 @@ reports:
 import math
 import os
 import pickle
-import resource
 import signal
 import subprocess
 import sys
 
 import numpy as np
 import pytest
+from cpu_guard import limited
 
 import tendonrod as tr
 
 # CPU seconds; a capped solve takes milliseconds to ~15 s ("huge force": most of it in
-# the dense linear algebra of 64 shooting segments).  Instrumented runs (make sanitize)
-# stretch it by TR_HANG_GUARD_SCALE.
-HANG_GUARD = 120.0 * float(os.environ.get("TR_HANG_GUARD_SCALE", "1"))
-# wall-clock backstop, in multiples of HANG_GUARD: only a child blocked without using
-# CPU (a deadlock) trips it, even on a machine loaded 10x
-WALL_BACKSTOP = 20
+# the dense linear algebra of 64 shooting segments).  cpu_guard stretches it by
+# TR_HANG_GUARD_SCALE for instrumented runs (make sanitize).
+HANG_GUARD = 120.0
 # The nfev cap is tested between Newton trials: one finite-difference Jacobian
 # (n_unknowns <= 6 + n_tendons evaluations), the step-count verification (a
 # couple of evaluations) and the recording pass may follow the last check.
@@ -163,31 +160,20 @@ sys.stdout.buffer.write(pickle.dumps(out))
 
 
 def run_guarded(args, cpu, **kwargs):
-    """subprocess.run(args) with tendonrod on the path, stopped by the kernel (SIGXCPU)
-    after ``cpu`` seconds of CPU time and by a wall-clock backstop of WALL_BACKSTOP times
-    that; a stopped child fails the test as unbounded work."""
+    """subprocess.run(args) with tendonrod on the path, under cpu_guard's limits: stopped
+    by the kernel (SIGXCPU) after ``cpu`` seconds of CPU time, or by the wall-clock
+    backstop; a stopped child fails the test as unbounded work."""
     root = os.path.dirname(os.path.dirname(os.path.abspath(tr.__file__)))
     env = dict(os.environ)
     env["PYTHONPATH"] = root + (os.pathsep + env["PYTHONPATH"] if env.get("PYTHONPATH") else "")
     env["OPENBLAS_NUM_THREADS"] = "1"  # CPU time is the solve's, not idle BLAS threads'
-    limit = int(math.ceil(cpu))
-
-    def guard():
-        resource.setrlimit(resource.RLIMIT_CPU, (limit, limit + 5))
-
+    guard = limited(cpu)
     try:
-        p = subprocess.run(
-            args,
-            capture_output=True,
-            env=env,
-            timeout=WALL_BACKSTOP * cpu,
-            preexec_fn=guard,
-            **kwargs,
-        )
+        p = subprocess.run(args, capture_output=True, env=env, **guard, **kwargs)
     except subprocess.TimeoutExpired:
-        pytest.fail(f"the child did not return within {WALL_BACKSTOP * cpu} s: blocked")
+        pytest.fail(f"the child did not return within {guard['timeout']} s: blocked")
     if p.returncode == -signal.SIGXCPU:
-        pytest.fail(f"the child used more than {limit} s of CPU time: unbounded work")
+        pytest.fail(f"the child used more than {cpu} s of CPU time: unbounded work")
     return p
 
 
@@ -303,11 +289,7 @@ def test_huge_steps_refused_or_bounded():
     """steps=10**9: either refused up front (ValueError naming steps) or the
     solve returns within its evaluation cap (F9, fixed: steps <= 100000).  Before
     the fix it would have run for days, so the CPU-time guard here is short (10 s)."""
-    p = run_guarded(
-        [sys.executable, "-c", STEPS_RUNNER],
-        10 * float(os.environ.get("TR_HANG_GUARD_SCALE", "1")),
-        text=True,
-    )
+    p = run_guarded([sys.executable, "-c", STEPS_RUNNER], 10, text=True)
     assert p.returncode == 0, p.stderr
     assert p.stdout.startswith("returned") or ("refused" in p.stdout and "steps" in p.stdout), (
         p.stdout
