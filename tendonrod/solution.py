@@ -479,8 +479,9 @@ def _in_rod_units(sol: Solution) -> str:
         end = robot.tendon_end(i)
         r = max(abs(t.offset), abs(t.offset + t.slope * end))
         tau = float(sol.tension[i]) if i < len(sol.tension) else math.nan
-        if not math.isfinite(tau) and scene.tension[i] is not None:
-            tau = float(scene.tension[i])  # the prescribed one
+        given = scene.tension[i] if scene.tension is not None else None
+        if not math.isfinite(tau) and given is not None:
+            tau = float(given)  # the prescribed one
         if r > 0.0 and math.isfinite(tau) and (worst is None or tau * r * r > worst[0]):
             worst = (tau * r * r, i, r)
     if worst is not None:
