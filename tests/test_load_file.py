@@ -17,6 +17,7 @@ import zipfile
 
 import numpy as np
 import pytest
+from cpu_guard import limited
 
 import tendonrod as tr
 
@@ -144,7 +145,8 @@ def _edits():
 
 
 def _raw_key_fixed(key):
-    """(filled in by the probe runner: the key of the raw's ``key`` array)"""
+    """A placeholder for the archive key of the raw result's ``key`` array (the probe
+    replaces it: the key is known only once the file is read)."""
     return f"@{key}"
 
 
@@ -287,6 +289,7 @@ def test_nothing_in_a_file_is_executed(saved, tmp_path):
             text=True,
             env=dict(os.environ, PYTHONPATH=root),
             check=True,
+            **limited(60),  # a hang guard of 60 s of CPU; the child takes ~0.5 s
         ).stdout
         assert out.startswith("refused") and out.strip().endswith("[]"), out
 
