@@ -40,7 +40,7 @@ from .model import Scene
 from .options import _check_options, _replace
 from .problem import Problem
 from .results import ConvergenceError, ConvergenceWarning
-from .solution import Solution
+from .solution import Solution, _in_rod_units
 
 __all__ = ["actuate", "ActuationResult"]
 
@@ -398,7 +398,7 @@ def _finish(sol, report, strict):
     if not ok:
         last = "" if reached and not sol.success else f" (last solve: {sol.message})"
         sol.success = False
-        sol.message = f"tr.actuate: {msg}{last}"
+        sol.message = f"tr.actuate: {msg}{last}{_in_rod_units(sol)}"
         if strict:
             raise ConvergenceError(sol.message, sol)
         warnings.warn(sol.message, ConvergenceWarning, stacklevel=3)

@@ -18,6 +18,7 @@ from .compiled import _compile, _structure_key, structure_difference
 from .model import Scene
 from .mounting import base_pose, pairs_out, points_out, rotations_out, vectors_in, vectors_out
 from .options import Options, _replace
+from .plausibility import tendon_radius
 from .results import ConvergenceError, ConvergenceWarning, Formulation, RodState
 
 __all__ = ["Solution"]
@@ -476,8 +477,7 @@ def _in_rod_units(sol: Solution) -> str:
         parts.append(f"moment {max(moments) * L / EI:.3g} EI/L (EI/L = {EI / L:.3g} N m)")
     worst = None
     for i, t in enumerate(robot.tendons):
-        end = robot.tendon_end(i)
-        r = max(abs(t.offset), abs(t.offset + t.slope * end))
+        r = tendon_radius(t, robot.tendon_end(i))
         tau = float(sol.tension[i]) if i < len(sol.tension) else math.nan
         given = scene.tension[i] if scene.tension is not None else None
         if not math.isfinite(tau) and given is not None:

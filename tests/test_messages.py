@@ -67,3 +67,22 @@ def test_a_failure_gives_the_scene_in_the_rods_units():
     assert f"the largest load {math.sqrt(2) * 1e4:.3g} EI/L^2 (EI/L^2 = {EI / L**2:.3g} N)" in text
     # the last iterate's tension of a tension-controlled tendon is the prescribed one
     assert f"tension {0.5:.3g} EI/r^2 (tendon 0, r = 0.01 m: EI/r^2 = {EI / r**2:.3g} N)" in text
+
+
+def test_compliance_and_actuate_failures_give_the_scene_in_the_rods_units():
+    """The same note on the ConvergenceError of tr.compliance and the message of a failed
+    tr.actuate: a tip force of 2e4 EI/L^2 the work budget cannot solve."""
+    F = 2e4 * EI / L**2
+    scene = tr.Scene(
+        tr.Robot(ROD, [tr.Tendon(offset=0.01)]),
+        tension=[0.0],
+        loads=[tr.PointLoad(s=L, force=(F, 0.0, 0.0))],
+    )
+    want = f"the largest load {2e4:.3g} EI/L^2 (EI/L^2 = {EI / L**2:.3g} N)"
+    with pytest.raises(tr.ConvergenceError) as e:
+        tr.compliance(scene, options=tr.Options(max_work=1e5))
+    assert want in str(e.value), str(e.value)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", tr.ConvergenceWarning)
+        sol = tr.actuate(scene, tip_angle=0.1, options=tr.Options(max_work=1e5))
+    assert not sol.success and want in sol.message, sol.message
