@@ -19,13 +19,16 @@ import dataclasses
 import json
 import math
 import os
+import struct
 import sys
 import tokenize
 import zipfile
+import zlib
 from typing import Any, cast
 
 import numpy as np
 
+from . import _core
 from ._version import __version__
 
 FORMAT = 1
@@ -163,9 +166,11 @@ def save_solution(sol: Any, path: str | os.PathLike) -> None:
 _CONTENT_ERRORS = (
     ValueError,
     TypeError,
-    KeyError,
-    IndexError,
+    LookupError,  # KeyError, IndexError, an unknown text encoding
     AttributeError,
+    NotImplementedError,  # the zip reader: an unknown zip version or compression
+    zlib.error,
+    struct.error,
     OverflowError,
     EOFError,
     RecursionError,
@@ -267,6 +272,7 @@ def check_solution(raw: dict, scene: Any, options: Any) -> None:
     ``options`` as the core writes it: types, shapes, and finite numbers in a success."""
     from .model import Scene
     from .options import Options
+    from .results import Formulation
 
     if not isinstance(scene, Scene):
         raise _Malformed(f"the scene is a {type(scene).__name__}, not a tendonrod.Scene")
@@ -285,9 +291,14 @@ def check_solution(raw: dict, scene: Any, options: Any) -> None:
     for key in ("nit", "nfev", "njev", "continuation_steps"):
         if raw.get(key, 0) < 0:
             raise _Malformed(f"the result's {key} is negative: {raw[key]!r}")
-    steps = _typed(raw["formulation"], dict, "the result's formulation").get("steps")
-    if not (isinstance(steps, int) and not isinstance(steps, bool) and steps >= 0):
-        raise _Malformed(f"the result's formulation has no step count (steps = {steps!r})")
+    form = _typed(raw["formulation"], dict, "the result's formulation")
+    steps = form.get("steps")
+    # (the core's range of a step count; a warm start passes it back to the core)
+    top = _core.LIMITS["steps"][1]
+    if not (isinstance(steps, int) and not isinstance(steps, bool) and 0 <= steps <= top):
+        raise _Malformed(f"the result's formulation has no step count in [0, {top}]: {steps!r}")
+    Formulation.from_dict(form)  # its fields convert (a TypeError/ValueError names one)
+    _check_records(raw, nt)
     shapes = {
         "tension": (nt,),
         "slack": (nt,),
@@ -320,3 +331,47 @@ def check_solution(raw: dict, scene: Any, options: Any) -> None:
                 raise _Malformed(f"it says success, but a {key} is negative: {raw[key]!r}")
         if not math.isfinite(raw.get("residual_norm", 0.0)):
             raise _Malformed(f"it says success, but its residual_norm is {raw['residual_norm']}")
+
+
+def _real_array(v: Any, ndim: int) -> bool:
+    return isinstance(v, np.ndarray) and v.ndim == ndim and v.dtype.kind in "fiu"
+
+
+def _check_records(raw: dict, nt: int) -> None:
+    """The optional records a Solution reads later (a warm start, its stability): their
+    types and shapes, so that a file that loads can be used."""
+    u = raw.get("unknowns")
+    if u is not None and not _real_array(u, 1):
+        raise _Malformed("the result's unknowns must be a real 1-D array")
+    k = 0 if u is None else u.shape[0]
+    shapes = {"jacobian": (k, k), "verified_unknowns": (k,), "verified_values": (nt,)}
+    for key, shape in shapes.items():
+        v = raw.get(key)
+        if v is not None and not (_real_array(v, len(shape)) and v.shape == shape):
+            raise _Malformed(f"the result's {key} must be None or a real array of shape {shape}")
+    for key in ("tip_angle", "verified_estimate", "work"):
+        v = raw.get(key, 0.0)
+        if isinstance(v, bool) or not isinstance(v, (int, float)):
+            raise _Malformed(f"the result's {key} must be a number, got {v!r}")
+    carry = raw.get("stability_carry")
+    if carry is not None and not (
+        isinstance(carry, tuple)
+        and len(carry) == 2
+        and _real_array(carry[0], 1)
+        and isinstance(carry[1], str)
+    ):
+        raise _Malformed("the result's stability_carry must be None or (array, reason)")
+    st = raw.get("stability_verdict")
+    if st is None:
+        return
+    ok = (
+        isinstance(st, dict)
+        and (st.get("stable") is None or isinstance(st.get("stable"), bool))
+        and isinstance(st.get("stability"), (int, float))
+        and not isinstance(st.get("stability"), bool)
+        and isinstance(st.get("index"), int)
+        and not isinstance(st.get("index"), bool)
+        and isinstance(st.get("reason"), str)
+    )
+    if not ok:
+        raise _Malformed(f"the result's stability_verdict is not a verdict record: {st!r}")

@@ -13,6 +13,7 @@ import math
 import os
 import subprocess
 import sys
+import warnings
 import zipfile
 
 import numpy as np
@@ -306,3 +307,82 @@ def test_round_trip_still_bitwise_and_validated(tmp_path):
             sol.save(path)
             back = tr.load(path)
             assert back.success and back.tip_position.tobytes() == sol.tip_position.tobytes()
+
+
+def test_random_corruption_loads_validated_or_is_refused(saved, tmp_path):
+    """200 copies of a saved file, each with 1-8 random bytes changed (a fixed seed): each
+    is refused with a ValueError naming the file, or loads a solution that passed the
+    validation (a change the zip's CRC does not see, e.g. in its directory)."""
+    good = _write(tmp_path / "good.npz", *saved).read_bytes()
+    rng = np.random.default_rng(20261207)
+    outcomes = {"refused": 0, "loaded": 0}
+    path = tmp_path / "corrupt.npz"
+    for _ in range(200):
+        data = bytearray(good)
+        for i in rng.integers(0, len(data), size=rng.integers(1, 9)):
+            data[i] = int(rng.integers(0, 256))
+        path.write_bytes(bytes(data))
+        try:
+            sol = tr.load(path)
+        except ValueError as e:
+            assert repr(str(path)) in str(e), e
+            outcomes["refused"] += 1
+        else:
+            assert not sol.success or np.all(np.isfinite(sol.tension)), sol.tension
+            outcomes["loaded"] += 1
+    assert outcomes["refused"] > 0, outcomes  # the probe reached the checks
+
+
+_POOL = [None, "x", -1, 0, 1e400, math.nan, [], {}, True, 2**70, 10**30, [1, 2], 0.5, ""]
+_POOL += [{"__array__": "a0"}, {"__scalar__": "a1"}, {"__tuple__": [1]}, {"__dict__": {}}]
+
+
+def _nodes(t, path=()):
+    yield path
+    if isinstance(t, dict):
+        for k, v in t.items():
+            yield from _nodes(v, path + (k,))
+    elif isinstance(t, list):
+        for i, v in enumerate(t):
+            yield from _nodes(v, path + (i,))
+
+
+def test_random_edits_of_the_header_load_usable_or_are_refused(tmp_path):
+    """300 copies of a saved spatial solution, each with one or two values of its header
+    replaced by a random one (a fixed seed): each is refused with a ValueError, or loads
+    a solution that can be read and used as a warm start without any other exception."""
+    sol = _solution(spatial=True)
+    _ = sol.position, sol.stability
+    sol.save(tmp_path / "s.npz")
+    with np.load(tmp_path / "s.npz") as z:
+        tree0 = json.loads(str(z[META][()]))
+        arrays = {k: z[k] for k in z.files if k != META}
+    paths = [p for p in _nodes(tree0) if p]
+    rng = np.random.default_rng(7)
+    path = tmp_path / "edited.npz"
+    loaded = 0
+    for _ in range(300):
+        tree = json.loads(json.dumps(tree0))
+        for _k in range(int(rng.integers(1, 3))):
+            where = paths[int(rng.integers(len(paths)))]
+            node = tree
+            try:
+                for q in where[:-1]:
+                    node = node[q]
+                node[where[-1]] = json.loads(json.dumps(_POOL[int(rng.integers(len(_POOL)))]))
+            except (KeyError, IndexError, TypeError):
+                pass  # an earlier edit removed the path
+        _write(path, tree, arrays)
+        try:
+            with warnings.catch_warnings():
+                # legal but odd values (a diameter of 0.5 m) warn as they would in code
+                warnings.simplefilter("ignore", tr.PlausibilityWarning)
+                back = tr.load(path)
+        except ValueError:
+            continue
+        loaded += 1
+        _ = back.position, back.stability, back.bending_angle, repr(back.scene)
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            tr.solve(back.scene, guess=back, options=back.options)
+    assert 0 < loaded < 300, loaded  # some edits are legal values, most are not
