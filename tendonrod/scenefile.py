@@ -555,6 +555,8 @@ def parse_scene(data: Mapping[str, Any], source: str | None = None) -> SceneSpec
         if source is not None and exc.path is None:
             raise SceneFileError(exc.key, exc.problem, source) from exc.__cause__
         raise
+    except RecursionError:  # a value nested deeper than Python recurses
+        raise SceneFileError("(structure)", "arrays or tables nested too deep", source) from None
     return SceneSpec(scene=scene, options=options, title=title, source=source, target=target)
 
 
@@ -585,7 +587,4 @@ def load_scene(path: str | os.PathLike) -> SceneSpec:
         raise SceneFileError(
             "(syntax)", "arrays or tables nested too deep for the TOML parser", path
         ) from None
-    try:
-        return parse_scene(data, source=os.fspath(path))
-    except RecursionError:  # nested just below the parser's limit: too deep for a value
-        raise SceneFileError("(structure)", "arrays or tables nested too deep", path) from None
+    return parse_scene(data, source=os.fspath(path))

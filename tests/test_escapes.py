@@ -200,3 +200,16 @@ def test_converging_tendon_ends_at_its_length():
     assert sol.success, sol.message
     R = sol.rotation
     assert np.allclose(R[0][:, 2], R[1][:, 2], atol=1e-9)
+
+
+def test_parse_scene_of_a_deeply_nested_dict_is_a_scene_file_error():
+    """The same refusal for a document built in Python (100000 levels: beyond the
+    recursion limit of every step that reads it)."""
+    v = 0.001
+    for _ in range(100000):
+        v = [v]
+    rod = {"length": 0.2, "EI": 4e-3, "GJ": 3e-3, "kirchhoff": True}
+    data = {"rod": rod, "tendon": [{"offset": 0.01}]}
+    data["tendon"][0]["displacement"] = v
+    with pytest.raises(tr.scenefile.SceneFileError, match="nested too deep"):
+        tr.scenefile.parse_scene(data, "robot.toml")
