@@ -304,8 +304,8 @@ static int via_imperfection(const tr_model *m, tr_data *d, alt_ctx *a)
         if (d->stable != 0) {
             snprintf(d->branch_note, sizeof d->branch_note,
                      "the %s solve reached %s, and the load path from the unloaded robot "
-                     "loses stability on the way (a bifurcation); %s broke the symmetry and "
-                     "was then removed along this branch",
+                     "loses stability on the way (a bifurcation); %s, applied to break the "
+                     "symmetry, was then removed along this branch",
                      a->how, a->what, imp);
             return 1;
         }

@@ -295,8 +295,9 @@ int tr_solve_init(const tr_model *m, tr_data *d, const double *guess, const doub
     status = tr_residual(m, d, d->x, d->f);
     d->fnorm = tru_maxnorm(d->f, k);
     if (status != TR_OK)
-        tr_set_message(d, "the residual at the initial guess is not finite (the guess is far "
-                          "from any equilibrium); try no guess, or a guess from a nearby scene");
+        tr_set_message(d, "the residual at the starting point is not finite (it is far from "
+                          "any equilibrium); try a guess from a nearby scene (or none, if one "
+                          "was given)");
     return status;
 }
 

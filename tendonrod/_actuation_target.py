@@ -32,8 +32,8 @@ def _skew(v):
 def _unit(v, name):
     try:
         a = np.array(v, dtype=float).reshape(3)
-    except (TypeError, ValueError):
-        raise ValueError(f"{name} must be a 3-vector, got {v!r}") from None
+    except (TypeError, ValueError, OverflowError):
+        raise ValueError(f"{name} must be a 3-vector of real numbers, got {v!r}") from None
     n = np.linalg.norm(a)
     if not (np.all(np.isfinite(a)) and n > 0.0):
         raise ValueError(f"{name} must be a finite nonzero 3-vector, got {v!r}")
@@ -73,7 +73,10 @@ class Target:
                     f"tip_angle={value!r} is for planar scenes (tendons at angle 0 or pi, loads "
                     f"in the x-z plane, no force_spatial); give tip_direction=(sin a, 0, cos a)"
                 )
-            self.theta = float(value)
+            try:
+                self.theta = float(value)
+            except (TypeError, ValueError, OverflowError):
+                raise ValueError(f"tip_angle must be a finite angle [rad], got {value!r}") from None
             if not math.isfinite(self.theta):
                 raise ValueError(f"tip_angle must be a finite angle [rad], got {value!r}")
             self.m = 1
@@ -103,7 +106,7 @@ class Target:
                     ) from None
             try:
                 self.p = np.array(p, dtype=float).reshape(3)
-            except (TypeError, ValueError):
+            except (TypeError, ValueError, OverflowError):
                 raise ValueError(f"{self.name}: position must be a 3-vector, got {p!r}") from None
             if not np.all(np.isfinite(self.p)):
                 raise ValueError(f"{self.name}: position must be finite, got {p!r}")
@@ -111,7 +114,7 @@ class Target:
             if R is not None:
                 try:
                     Ra = np.array(R, dtype=float).reshape(3, 3)
-                except (TypeError, ValueError):
+                except (TypeError, ValueError, OverflowError):
                     raise ValueError(f"tip_pose: rotation must be 3x3, got {R!r}") from None
                 if not (
                     np.all(np.isfinite(Ra))

@@ -3,8 +3,8 @@ solution (``tr.solve``, ``Problem.solve``, :attr:`Solution.plausibility`) or the
 of a batch (``tr.solve_batch``, the sweep's batch path), by one procedure:
 
 1. the scene's input findings (cached on its robot);
-2. for a successful solve, the bounds of :func:`~tendonrod.plausibility.screen` from its
-   loads and tensions (:func:`~tendonrod.plausibility.screen_clear`);
+2. for a successful solve, the bounds of :func:`~tendonrod._plausible_rules.screen` from its
+   loads and tensions (:func:`~tendonrod._plausible_rules.screen_clear`);
 3. where they are not clear, the states at the default output nodes, recorded once
    from the solution's unknowns at its step count (no solve), for the tension, strain,
    curl and self-intersection rules.
@@ -21,6 +21,7 @@ from typing import Any
 
 import numpy as np
 
+from . import _plausible_rules as PR
 from . import plausibility as P
 from .compiled import _compile, pack_scene, value_vector
 from .options import _DEFAULTS, _replace
@@ -37,26 +38,26 @@ def _robot_constants(robot) -> dict:
     """What the rules need of a robot, computed once (cached on the frozen robot)."""
     c = robot.__dict__.get("_plausibility_constants")
     if c is None:
-        c = dict(bounds=P.robot_constants(robot), thickness=P.section_diameter(robot.rod))
+        c = dict(bounds=PR.robot_constants(robot), thickness=P.section_diameter(robot.rod))
         object.__setattr__(robot, "_plausibility_constants", c)
     return c
 
 
 def _scene_screen(scene) -> tuple:
-    """:func:`~tendonrod.plausibility.screen` of the scene's loads and robot (cached on
+    """:func:`~tendonrod._plausible_rules.screen` of the scene's loads and robot (cached on
     the frozen scene)."""
     v = scene.__dict__.get("_plausibility_screen")
     if v is None:
         _, _, loads, dist = pack_scene(scene)  # cached on the scene; s clipped to [0, L]
         rows = loads.tolist()
-        levers = P.load_levers(
+        levers = PR.load_levers(
             [r[0] for r in rows],
             [math.hypot(r[1], r[2], r[3]) for r in rows],
             [math.hypot(r[4], r[5], r[6]) for r in rows],
             math.hypot(*dist.tolist()),
             scene.robot.rod.length,
         )
-        v = P.screen(levers, _robot_constants(scene.robot)["bounds"])
+        v = PR.screen(levers, _robot_constants(scene.robot)["bounds"])
         object.__setattr__(scene, "_plausibility_screen", v)
     return v
 
@@ -96,12 +97,12 @@ def _state_findings(robot, rec: dict, tensions) -> list:
     n_body = np.einsum("kji,kj->ki", R, rec["force"])
     m_body = np.einsum("kji,kj->ki", R, rec["moment"])
     rod = robot.rod
-    found = P.tension_findings(robot, s, m_body, tensions)
-    found += P.strain_findings(rod, s, n_body)
-    T = P.turning(s, m_body, rod.bending_stiffness)
+    found = PR.tension_findings(robot, s, m_body, tensions)
+    found += PR.strain_findings(rod, s, n_body)
+    T = PR.turning(s, m_body, rod.bending_stiffness)
     for f in (
-        P.curl_finding(T),
-        P.self_intersection_finding(s, rec["position"], T, c["thickness"], rod.length),
+        PR.curl_finding(T),
+        PR.self_intersection_finding(s, rec["position"], T, c["thickness"], rod.length),
     ):
         if f is not None:
             found.append(f)
@@ -120,7 +121,7 @@ def solution_findings(sol, recorders=None) -> tuple:
     found = P.input_findings(scene)
     if sol.success:
         tau = sol.tension.tolist()
-        if not P.screen_clear(_scene_screen(scene), tau):
+        if not PR.screen_clear(_scene_screen(scene), tau):
             rec = recorders.recorder(sol) if recorders is not None else Recorder(scene, sol.options)
             raw = rec.record(sol.unknowns, sol.formulation.steps, value_vector(scene))
             found = found + tuple(_state_findings(scene.robot, raw, tau))
@@ -170,15 +171,15 @@ def batch_findings(scene, options, raw: dict, values, point_loads, distributed) 
     if point_loads is None:
         point_loads = loads[None, :, 1:7]
     d = dist[None, :] if distributed is None else distributed
-    levers = P.load_levers(
+    levers = PR.load_levers(
         loads[:, 0].tolist(),  # arc lengths, clipped to [0, L] by pack_scene
         [np.linalg.norm(point_loads[:, k, 0:3], axis=1) for k in range(loads.shape[0])],
         [np.linalg.norm(point_loads[:, k, 3:6], axis=1) for k in range(loads.shape[0])],
         np.linalg.norm(d, axis=1),
         L,
     )
-    scr = P.screen(levers, c["bounds"])
-    clear = np.broadcast_to(P.screen_clear(scr, [T[:, i] for i in range(T.shape[1])]), (n,))
+    scr = PR.screen(levers, c["bounds"])
+    clear = np.broadcast_to(PR.screen_clear(scr, [T[:, i] for i in range(T.shape[1])]), (n,))
     inputs = P.input_findings(scene)
     out = np.empty(n, dtype=object)
     out.fill(inputs)

@@ -19,7 +19,7 @@ import numpy as np
 from .model import PointLoad
 from .mounting import base_pose, points_out, rotations_out
 from .results import ConvergenceError
-from .solution import Solution
+from .solution import Solution, _in_rod_units
 
 __all__ = ["load_steps", "secant_compliance", "rotation_vector"]
 
@@ -90,7 +90,8 @@ def secant_compliance(prob, guess, s: float, steps: np.ndarray) -> np.ndarray:
     base = Solution(prob._run(guess), scene0, prob.options)
     if not base.success:
         raise ConvergenceError(
-            f"tendonrod.compliance: the scene did not solve: {base.message}", base
+            f"tendonrod.compliance: the scene did not solve: {base.message}{_in_rod_units(base)}",
+            base,
         )
     p0, R0 = _pose(prob, base, s, L)
     C = np.empty((6, 6))
@@ -104,7 +105,7 @@ def secant_compliance(prob, guess, s: float, steps: np.ndarray) -> np.ndarray:
         if not sol.success:
             raise ConvergenceError(
                 f"tendonrod.compliance: the scene with the load step {_COMPONENTS[j]} = {h!r} "
-                f"at s = {s!r} m did not solve: {sol.message}",
+                f"at s = {s!r} m did not solve: {sol.message}{_in_rod_units(sol)}",
                 sol,
             )
         p, R = _pose(prob, sol, s, L)

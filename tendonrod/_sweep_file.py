@@ -82,7 +82,7 @@ def _read_progress(path: str, fingerprint: str, npoints: int) -> dict:
         for n, line in enumerate(complete):
             try:
                 obj = json.loads(line)
-            except json.JSONDecodeError:
+            except (json.JSONDecodeError, UnicodeDecodeError, RecursionError):
                 break  # torn write (killed mid-line): drop it and the rest
             if n == 0:
                 _check_version(path, obj)
@@ -93,7 +93,13 @@ def _read_progress(path: str, fingerprint: str, npoints: int) -> dict:
                         f"{found!r}); choose another path or delete the file"
                     )
             else:
-                done[int(obj["chunk"])] = obj["records"]
+                try:
+                    done[int(obj["chunk"])] = obj["records"]
+                except (TypeError, KeyError, ValueError, OverflowError):
+                    raise ValueError(
+                        f"path {path!r}: line {n + 1} is not a chunk of sweep results "
+                        f"({line[:80]!r}); choose another path or delete the file"
+                    ) from None
             good_end += len(line) + 1
         if good_end == 0:
             raise ValueError(f"path {path!r} exists but has no sweep header; not overwriting it")
@@ -135,7 +141,7 @@ def _written_by(path: str) -> str | None:
         first = fh.readline()
     try:
         header = json.loads(first)
-    except json.JSONDecodeError:
+    except (json.JSONDecodeError, UnicodeDecodeError, RecursionError):
         return None
     if not isinstance(header, dict) or "tendonrod_sweep" not in header:
         return None
@@ -166,6 +172,8 @@ def open_progress(path, fingerprint: str, npoints: int, chunksize: int, names, s
     another tendonrod version is set aside (:func:`_set_aside`) and a new one begun."""
     done: dict = {}
     path = os.fspath(path)
+    if os.path.isdir(path):
+        raise ValueError(f"path {path!r} is a directory; give the name of a sweep file")
     if os.path.exists(path) and os.path.getsize(path) > 0:
         version = _written_by(path)
         if version is not None and version != __version__:

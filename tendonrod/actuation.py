@@ -41,7 +41,7 @@ from .model import Scene
 from .options import _check_options, _replace
 from .problem import Problem
 from .results import ConvergenceError, ConvergenceWarning
-from .solution import Solution
+from .solution import Solution, _in_rod_units
 
 __all__ = ["actuate", "ActuationResult"]
 
@@ -125,7 +125,7 @@ def _control_set(scene: Scene, tendons):
     else:
         try:
             idx = [int(i) for i in tendons]
-        except (TypeError, ValueError):
+        except (TypeError, ValueError, OverflowError):
             raise ValueError(f"tendons must be tendon indices, got {tendons!r}") from None
         if (
             not idx
@@ -267,10 +267,17 @@ def actuate(
     for name, v, lo in (("min_tension", min_tension, 0.0), ("tol", tol, 0.0)):
         if isinstance(v, bool) or not isinstance(v, (int, float, np.floating, np.integer)):
             raise ValueError(f"{name} must be a number, got {v!r}")
-        if not (math.isfinite(v) and v >= lo) or (name == "tol" and not 0.0 < v < 1.0):
+        # (an int beyond a double, like 10**400, is not finite either)
+        finite = not isinstance(v, int) or abs(v) < 2**1023
+        if not (finite and math.isfinite(v) and v >= lo) or (name == "tol" and not 0.0 < v < 1.0):
             raise ValueError(f"{name} must be finite and >= 0 (tol in (0, 1)), got {v!r}")
-    if isinstance(max_iter, bool) or not isinstance(max_iter, (int, np.integer)) or max_iter < 1:
-        raise ValueError(f"max_iter must be an int >= 1, got {max_iter!r}")
+    # (the upper bound: far beyond any search, within the core's C int)
+    if (
+        isinstance(max_iter, bool)
+        or not isinstance(max_iter, (int, np.integer))
+        or not 1 <= max_iter <= 10**6
+    ):
+        raise ValueError(f"max_iter must be an int in [1, 1000000], got {max_iter!r}")
     if method not in ("auto", "linearisation"):
         raise ValueError(f"method must be 'auto' or 'linearisation', got {method!r}")
     planar = is_planar(scene) and not options.force_spatial
@@ -354,7 +361,14 @@ def _finish(sol, report, strict):
     ok = sol.success and (
         (reached and optimal) or (kind == "least-squares" and converged and not why)
     )
-    if reached and not optimal:
+    if reached and not sol.success:
+        # the controls reach the target, but the final solve does not accept the state
+        # (unstable, or it failed): its reason first, and no "reached" before it
+        msg = (
+            f"{sol.message} -- at the controls that meet the target (residual "
+            f"{distance:.3g} <= tol {tol:g})"
+        )
+    elif reached and not optimal:
         msg = (
             f"target reached (residual {distance:.3g} <= tol {tol:g}), but the least change "
             f"was not verified (no step within the tensions was accepted)"
@@ -395,8 +409,9 @@ def _finish(sol, report, strict):
     )
     sol.actuation = result
     if not ok:
+        last = "" if reached and not sol.success else f" (last solve: {sol.message})"
         sol.success = False
-        sol.message = f"tr.actuate: {msg} (last solve: {sol.message})"
+        sol.message = f"tr.actuate: {msg}{last}{_in_rod_units(sol)}"
         if strict:
             raise ConvergenceError(sol.message, sol)
         warnings.warn(sol.message, ConvergenceWarning, stacklevel=3)

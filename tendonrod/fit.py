@@ -100,11 +100,20 @@ def _scenes(scenes) -> list:
     return out
 
 
+def _floats(value, name: str, what: str) -> np.ndarray:
+    """``value`` as a float array; ValueError naming ``name`` for what is no real number or
+    beyond a double (an int like 10**400)."""
+    try:
+        return np.array(value, dtype=float)
+    except (TypeError, ValueError, OverflowError):
+        raise ValueError(f"{name} must be {what}, got {value!r}") from None
+
+
 def _arc_lengths(s, scenes):
     """The marker arc lengths (ns,) or None (the tip); ValueError naming ``s``."""
     if s is None:
         return None
-    arr = np.atleast_1d(np.asarray(s, dtype=float))
+    arr = np.atleast_1d(_floats(s, "s", "arc lengths [m]"))
     L = min(sc.robot.rod.length for sc in scenes)
     if arr.ndim != 1 or arr.size == 0 or not np.all((arr > 0.0) & (arr <= L)):
         raise ValueError(f"s must be arc lengths in (0, L = {L:g}] m, got {s!r}")
@@ -112,10 +121,7 @@ def _arc_lengths(s, scenes):
 
 
 def _measured(measured, n: int, ns: int) -> np.ndarray:
-    try:
-        arr = np.array(measured, dtype=float)
-    except (TypeError, ValueError):
-        raise ValueError(f"measured must be an array of positions [m], got {measured!r}") from None
+    arr = _floats(measured, "measured", "an array of positions [m]")
     if arr.shape == (n, 3) and ns == 1:
         arr = arr[:, None, :]
     if arr.shape != (n, ns, 3) or not np.all(np.isfinite(arr)):
@@ -128,7 +134,7 @@ def _sigma(sigma, shape) -> np.ndarray | None:
     if sigma is None:
         return None
     try:
-        arr = np.broadcast_to(np.asarray(sigma, dtype=float), shape)
+        arr = np.broadcast_to(_floats(sigma, "sigma", "a noise level [m]"), shape)
     except ValueError:
         raise ValueError(
             f"sigma must broadcast to the measurements {shape}, got {sigma!r}"
@@ -273,11 +279,14 @@ def fit(
     ns = 1 if sv is None else len(sv)
     meas = _measured(measured, len(scenes), ns)
     sig = _sigma(sigma, meas.shape)
-    if isinstance(max_nfev, bool) or not isinstance(max_nfev, int) or max_nfev < 1:
-        raise ValueError(f"max_nfev must be an int >= 1, got {max_nfev!r}")
+    # (an upper bound far beyond any fit, that SciPy's C long takes)
+    if isinstance(max_nfev, bool) or not isinstance(max_nfev, int) or not 1 <= max_nfev <= 10**9:
+        raise ValueError(f"max_nfev must be an int in [1, 1e9], got {max_nfev!r}")
     if not (isinstance(xtol, (int, float)) and 0.0 < xtol < 1.0):
         raise ValueError(f"xtol must be in (0, 1), got {xtol!r}")
-    p0 = np.array([design_value(scenes[0], p) for p in paths] if x0 is None else x0, dtype=float)
+    p0 = _floats(
+        [design_value(scenes[0], p) for p in paths] if x0 is None else x0, "x0", "real numbers"
+    )
     if p0.shape != (len(paths),) or not np.all(np.isfinite(p0) & (p0 != 0.0)):
         raise ValueError(f"x0 must hold {len(paths)} finite nonzero values, got {x0!r}")
     options = _check_options(options)

@@ -93,10 +93,10 @@ def slip(solution, reference=None, *, tol: float | None = None) -> Slip:
 
     A tendon assumed to slide ``"in"`` must have moved toward the actuator wherever it is
     taut (a slack tendon presses on nothing), ``"out"`` toward the anchor; where its
-    material moved the other way by more than
-    ``tol`` [m] (default: 1e-9 L or 1e-6 of the largest slip, whichever is larger) the
-    friction there would act the other way, and the solution is not the one the assumed
-    direction stands for: ``Slip.conflicts`` says where, ``Slip.message`` in words.
+    material moved the other way by more than ``tol`` [m] (finite, >= 0; default: 1e-9 L
+    or 1e-6 of the largest slip, whichever is larger) the friction there would act the
+    other way, and the solution is not the one the assumed direction stands for:
+    ``Slip.conflicts`` says where, ``Slip.message`` in words.
 
     Examples
     --------
@@ -107,8 +107,18 @@ def slip(solution, reference=None, *, tol: float | None = None) -> Slip:
     >>> check.consistent, bool(check.slip[0, 0] > 0)  # pulled: it slid in
     (True, True)
     """
+    from ._fields import _nonnegative
+    from .solution import Solution
     from .solver import solve
 
+    for name, sol in (("solution", solution), ("reference", reference)):
+        if not (isinstance(sol, Solution) or (sol is None and name == "reference")):
+            raise TypeError(f"slip: {name} must be a tendonrod.Solution, got {sol!r}")
+        if sol is not None and sol.scene is None:
+            raise ValueError(f"slip: the {name} carries no scene")
+    if tol is not None:
+        # finite and >= 0: NaN or inf would let every conflict through
+        tol = _nonnegative("slip", "tol", tol)
     scene = solution.scene
     if reference is None:
         reference = solve(_reference_scene(scene), options=solution.options)

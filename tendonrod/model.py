@@ -171,7 +171,19 @@ class Rod:
                     else f" (from diameter={self.diameter!r} and {src}={getattr(self, src)!r})"
                 )
                 raise ValueError(f"Rod.{name} = {v!r}{how} must lie in [{lo:g}, {hi:g}]")
-        plausibility.warn(filter(None, [plausibility.slenderness_finding(self)]))
+        # a Kirchhoff rod does not use EA and GA, but a finite value given must be one a
+        # Cosserat rod takes (the same rod with kirchhoff=False solves with it)
+        for name in ("EA", "GA") if self.kirchhoff else ():
+            v = getattr(self, name)
+            if v is not None and math.isfinite(v) and not _EA_MIN <= v <= _EA_MAX:
+                raise ValueError(
+                    f"Rod.{name} = {v!r} must lie in [{_EA_MIN:g}, {_EA_MAX:g}] "
+                    f"(or be inf or omitted: kirchhoff=True does not use it)"
+                )
+        plausibility.warn(
+            [f for f in [plausibility.slenderness_finding(self)] if f is not None]
+            + plausibility.modulus_findings(self)
+        )
 
     def _effective(self, name: str) -> float | None:
         explicit = getattr(self, name)

@@ -176,7 +176,10 @@ class Path:
 def _scalar(v, name: str) -> float:
     if isinstance(v, (bool, np.bool_)) or not isinstance(v, (numbers.Real, np.floating)):
         raise ValueError(f"{name} must be a real number, got {v!r}")
-    v = float(v)
+    try:
+        v = float(v)
+    except OverflowError:  # an int beyond a double, like 10**400
+        raise ValueError(f"{name} must be finite, got {v!r}") from None
     if not math.isfinite(v):
         raise ValueError(f"{name} must be finite, got {v!r}")
     return v
@@ -312,6 +315,8 @@ def path(
         raise ValueError(f"step = {step!r}, max_step = {max_step!r}: need 0 < step <= max_step")
     if isinstance(max_points, bool) or not isinstance(max_points, numbers.Integral):
         raise ValueError(f"max_points must be an int, got {max_points!r}")
+    if abs(max_points) >= 2**62:  # beyond the core's C long: far too many either way
+        raise ValueError(f"max_points is far too large, got {max_points!r}")
     if switch not in (0, 1, -1) or isinstance(switch, bool):
         raise ValueError(f"switch must be 0, +1 or -1, got {switch!r}")
     kind, index, s0 = _parameter(scene, parameter, p0, p1)

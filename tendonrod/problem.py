@@ -38,7 +38,7 @@ from .model import PointLoad, Scene
 from .mounting import base_pose, pairs_out
 from .options import Options, _check_options, _replace
 from .results import ConvergenceError
-from .solution import Solution, _guess_vector, _report
+from .solution import Solution, _guess_vector, _in_rod_units, _report
 
 __all__ = ["Problem", "compliance", "jacobian"]
 
@@ -374,7 +374,8 @@ def _solved_probe(sol, s_vals, options: Options, spatial: bool) -> Problem:
     psol = Solution(prob._run(sol), prob.scene, prob.options)
     if not psol.success:
         raise ConvergenceError(
-            f"tendonrod.jacobian: the scene did not solve again with probes at s: {psol.message}",
+            f"tendonrod.jacobian: the scene did not solve again with probes at s: {psol.message}"
+            f"{_in_rod_units(psol)}",
             psol,
         )
     prob._last = psol
@@ -469,7 +470,10 @@ def compliance(
     prob = compliance_problem(scene, s_val, options)
     sol = Solution(prob._run(guess), scene, prob.options)
     if not sol.success:
-        raise ConvergenceError(f"tendonrod.compliance: the scene did not solve: {sol.message}", sol)
+        raise ConvergenceError(
+            f"tendonrod.compliance: the scene did not solve: {sol.message}{_in_rod_units(sol)}",
+            sol,
+        )
     prob._last = sol
     return prob._compliance_here(s_val)
 
@@ -584,6 +588,9 @@ def jacobian(
     prob = Problem(probed, options)
     psol = Solution(prob._run(guess), prob.scene, prob.options)
     if not psol.success:
-        raise ConvergenceError(f"tendonrod.jacobian: the scene did not solve: {psol.message}", psol)
+        raise ConvergenceError(
+            f"tendonrod.jacobian: the scene did not solve: {psol.message}{_in_rod_units(psol)}",
+            psol,
+        )
     prob._last = psol
     return prob.jacobian(s, design=design, load=load, method=method, side=side)

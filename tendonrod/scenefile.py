@@ -555,6 +555,8 @@ def parse_scene(data: Mapping[str, Any], source: str | None = None) -> SceneSpec
         if source is not None and exc.path is None:
             raise SceneFileError(exc.key, exc.problem, source) from exc.__cause__
         raise
+    except RecursionError:  # a value nested deeper than Python recurses
+        raise SceneFileError("(structure)", "arrays or tables nested too deep", source) from None
     return SceneSpec(scene=scene, options=options, title=title, source=source, target=target)
 
 
@@ -581,4 +583,8 @@ def load_scene(path: str | os.PathLike) -> SceneSpec:
         raise SceneFileError("(file)", f"not UTF-8 text: {exc}", path) from exc
     except tomllib.TOMLDecodeError as exc:
         raise SceneFileError("(syntax)", f"not valid TOML: {exc}", path) from exc
+    except RecursionError:  # the parser recurses once per level of nesting
+        raise SceneFileError(
+            "(syntax)", "arrays or tables nested too deep for the TOML parser", path
+        ) from None
     return parse_scene(data, source=os.fspath(path))

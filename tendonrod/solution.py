@@ -19,6 +19,7 @@ from .compiled import _compile, _structure_key, structure_difference
 from .model import Scene
 from .mounting import base_pose, pairs_out, points_out, rotations_out, vectors_in, vectors_out
 from .options import Options, _replace
+from .plausibility import tendon_radius
 from .results import ConvergenceError, ConvergenceWarning, Formulation, RodState
 
 __all__ = ["Solution"]
@@ -139,6 +140,10 @@ class Solution:
         at L.
     tip_rotation : ndarray (3, 3)
         Tip body-to-world rotation.
+    tip_angle : float
+        Planar solves: the signed tip angle [rad], unwrapped along s (NaN if spatial).
+    bending_angle : float
+        Every solve: the angle [rad] in [0, pi] between the base and tip tangents.
     jacobian_cond : float
         Condition number of the scaled shooting Jacobian at the solution.
     continuation_steps : int
@@ -354,6 +359,15 @@ class Solution:
         return float(self.raw.get("tip_angle", math.nan))
 
     @property
+    def bending_angle(self) -> float:
+        """Bending angle [rad] in [0, pi]: the angle between the tangent at the base (the
+        base frame's +z) and the tip tangent, for every formulation (planar or spatial,
+        mounted or not).  Not the total turning along s: a planar curl by ``tip_angle`` =
+        4 rad has a bending angle of ``2 pi - 4`` rad.  NaN where the tip is not finite."""
+        R = self.raw["tip_rotation"]  # base frame: the base tangent is e3
+        return float(math.atan2(math.hypot(R[0, 2], R[1, 2]), R[2, 2]))
+
+    @property
     def tip_rotation(self) -> NDArray[np.float64]:
         """Tip body-to-world rotation (s = L), shape (3, 3) (see :attr:`tip_position`)."""
         return rotations_out(self._pose, self.raw["tip_rotation"])
@@ -453,6 +467,42 @@ class Solution:
         return "\n".join(lines)
 
 
+def _in_rod_units(sol: Solution) -> str:
+    """How large the scene's loads and the tendons' tensions are for its rod: the largest
+    force in EI/L^2, moment in EI/L, tension in EI/r^2 (r: the tendon's largest radius),
+    with those units in SI, so that a failure shows how far out the scene is."""
+    scene = sol.scene
+    if scene is None:
+        return ""
+    robot = scene.robot
+    L, EI = robot.rod.length, robot.rod.bending_stiffness
+    forces = [float(np.linalg.norm(p.force)) for p in scene.point_loads]
+    forces += [
+        float(np.linalg.norm(d.force)) * ((L if d.end is None else d.end) - d.start)
+        for d in scene.partial_loads
+    ]
+    forces.append(float(np.linalg.norm(scene.distributed_force)) * L)
+    moments = [float(np.linalg.norm(p.moment)) for p in scene.point_loads]
+    parts = [f"the largest load {max(forces) * L * L / EI:.3g} EI/L^2 (EI/L^2 = {EI / L**2:.3g} N)"]
+    if max(moments, default=0.0) > 0.0:
+        parts.append(f"moment {max(moments) * L / EI:.3g} EI/L (EI/L = {EI / L:.3g} N m)")
+    worst = None
+    for i, t in enumerate(robot.tendons):
+        r = tendon_radius(t, robot.tendon_end(i))
+        tau = float(sol.tension[i]) if i < len(sol.tension) else math.nan
+        given = scene.tension[i] if scene.tension is not None else None
+        if not math.isfinite(tau) and given is not None:
+            tau = float(given)  # the prescribed one
+        if r > 0.0 and math.isfinite(tau) and (worst is None or tau * r * r > worst[0]):
+            worst = (tau * r * r, i, r)
+    if worst is not None:
+        x, i, r = worst
+        parts.append(
+            f"tension {x / EI:.3g} EI/r^2 (tendon {i}, r = {r:.3g} m: EI/r^2 = {EI / r**2:.3g} N)"
+        )
+    return "; in the rod's units: " + ", ".join(parts)
+
+
 def _report(sol: Solution, strict: bool, who: str, stacklevel: int) -> None:
     """A failed solve is never silent: ConvergenceError (strict) or ConvergenceWarning."""
     if sol.success:
@@ -460,6 +510,7 @@ def _report(sol: Solution, strict: bool, who: str, stacklevel: int) -> None:
     msg = (
         f"{who} did not converge: {sol.message} (status {sol.status}, "
         f"nit {sol.nit}, nfev {sol.nfev}, residual {sol.residual_norm:.3g})"
+        f"{_in_rod_units(sol)}"
     )
     if strict:
         raise ConvergenceError(msg, sol)

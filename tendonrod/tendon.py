@@ -165,11 +165,17 @@ class Tendon:
         pretension: float = 0.0,
     ) -> Tendon:
         """A tendon converging from ``offset`` at the base to the centre line at
-        arc length ``length`` [m] (normally the rod length): ``slope = -offset/length``."""
+        arc length ``length`` [m] (normally the rod length): ``slope = -offset/length``.
+
+        ``end`` [m] (where the tendon is anchored) defaults to ``length``: past the point
+        where it reaches the centre line the tendon would cross it.  Give ``end`` to
+        anchor it earlier (``end <= length``; and ``<=`` the rod length)."""
         if length is None:
             raise TypeError("Tendon.converging() missing required argument 'length'")
         length = _positive("Tendon.converging", "length", length)
         offset = _nonnegative("Tendon", "offset", offset)
+        if end is None:
+            end = length
         return cls(
             offset=offset,
             angle=angle,

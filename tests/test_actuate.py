@@ -497,3 +497,43 @@ def test_tip_position_across_tendons_held_at_their_switch():
     fwd = _forward(scene, sol)
     # the target tolerance (1e-10 L) and the forward solve's own accuracy
     assert np.abs(fwd.tip_position - goal).max() <= 1e-9 * 0.1
+
+
+def test_a_target_met_at_an_unaccepted_state_leads_with_the_reason():
+    """The controls meet the target but the final solve does not accept the state (here:
+    a column at 3 P_E pushed toward its unstable side, success=False): the verdict's
+    reason comes first, never "target reached" before a failure."""
+    from tendonrod.actuation import _finish
+
+    rod = _rod()
+    L = rod.length
+    P = math.pi**2 * rod.bending_stiffness / (4 * L**2)
+    scene = tr.Scene(
+        tr.Robot(rod, [tr.Tendon(offset=0.01)]),
+        displacement=[0.0],
+        loads=[tr.PointLoad(s=L, force=(-1e-4, 0.0, -3 * P))],
+    )
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", tr.ConvergenceWarning)
+        sol = tr.solve(scene)
+    assert not sol.success and "unstable" in sol.message, sol.message
+    reason = sol.message
+    report = dict(
+        kind="square",
+        tol=1e-10,
+        target={"tip_angle": 0.0},
+        tendons=(0,),
+        controls=[0.0],
+        residual=[1e-12],
+        optimal=True,
+        outcome="done",
+        iterations=2,
+        solves=3,
+        jacobians=2,
+    )
+    with pytest.warns(tr.ConvergenceWarning) as rec:
+        out = _finish(sol, report, strict=False)
+    assert not out.success and out.actuation.reached
+    assert out.message.startswith(f"tr.actuate: {reason}"), out.message
+    assert "target reached" not in out.message, out.message
+    assert str(rec[0].message) == out.message

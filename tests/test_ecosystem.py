@@ -11,6 +11,7 @@ import sys
 
 import numpy as np
 import pytest
+from cpu_guard import limited
 
 import tendonrod as tr
 
@@ -145,7 +146,7 @@ def test_unbuilt_source_tree_says_what_to_do(tmp_path):
         env=env,
         capture_output=True,
         text=True,
-        timeout=60,
+        **limited(60),  # a hang guard of 60 s of CPU; the import takes ~0.3 s
     )
     assert r.returncode != 0
     last = r.stderr.strip().splitlines()[-1]

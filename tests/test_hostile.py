@@ -26,6 +26,7 @@ import math
 import os
 import pickle
 import select
+import signal
 import struct
 import subprocess
 import sys
@@ -94,7 +95,7 @@ def hostile(n=None):
 # Arguments may contain markers ("@tag", payload) that the child turns into
 # objects that do not pickle or would lose their layout in a pickle.
 WORKER_SRC = r'''
-import importlib, pickle, struct, sys
+import importlib, pickle, resource, struct, sys
 import numpy as np
 
 class BadFloat:
@@ -158,7 +159,15 @@ import tendonrod, tendonrod._core   # import once, before the first request
 while True:
     req = read(fin)
     if req is None: break
-    name, args, kwargs = req
+    name, args, kwargs, cpu = req
+    # the call's hang guard: SIGXCPU once it has used ``cpu`` seconds of CPU time
+    used = resource.getrusage(resource.RUSAGE_SELF)
+    spent = int(used.ru_utime + used.ru_stime) + 1
+    hard = resource.getrlimit(resource.RLIMIT_CPU)[1]
+    soft = spent + int(cpu) + 1
+    if hard != resource.RLIM_INFINITY:
+        soft = min(soft, hard)
+    resource.setrlimit(resource.RLIMIT_CPU, (soft, hard))
     f = resolve(name)
     args = [make(a) for a in args]
     kwargs = {k: make(v) for k, v in kwargs.items()}
@@ -179,16 +188,22 @@ class Crash(AssertionError):
 # Instrumented runs (make sanitize: ASan + UBSan, several times slower) stretch
 # every hang guard by this factor; bench/sanitize.sh sets it.
 HANG_SCALE = float(os.environ.get("TR_HANG_GUARD_SCALE", "1"))
+# The wall-clock backstop of a worker call, in multiples of its CPU-time guard: only a
+# child blocked without using CPU (a deadlock) trips it, even on a machine loaded 10x.
+WALL_BACKSTOP = 20
 
 
 class Worker:
     """A Python subprocess that makes calls into tendonrod for the parent.
 
     ``call`` returns ("ok", result, flags) or ("raise", mro_names, message);
-    a crash or a call that does not return within ``timeout`` seconds (a
-    generous hang guard, not a speed requirement) raises :class:`Crash`
-    with the child's stderr (sanitizer reports land there), and the next
-    call starts a fresh worker.
+    a crash or a call that uses more than ``timeout`` seconds of CPU time (a
+    generous hang guard, not a speed requirement: CPU time is the work the
+    child did, whatever the load of the machine; the kernel stops the child
+    with SIGXCPU) raises :class:`Crash` with the child's stderr (sanitizer
+    reports land there), and the next call starts a fresh worker.  A child
+    that does not answer within WALL_BACKSTOP times that in wall-clock time
+    (blocked without using CPU: a deadlock) is a Crash too.
     """
 
     def __init__(self):
@@ -199,6 +214,8 @@ class Worker:
         root = os.path.dirname(os.path.dirname(os.path.abspath(tr.__file__)))
         env = dict(os.environ)
         env["PYTHONPATH"] = root + (os.pathsep + env["PYTHONPATH"] if env.get("PYTHONPATH") else "")
+        # one BLAS thread: CPU time is then the work of the call, not idle spinning
+        env["OPENBLAS_NUM_THREADS"] = "1"
         if getattr(self, "err", None) is not None:
             self.err.close()  # the last child's stderr (read by _die before a restart)
         self.err = tempfile.TemporaryFile()
@@ -229,30 +246,42 @@ class Worker:
         raise Crash(msg)
 
     def call(self, name, *args, timeout=120.0, **kwargs):
-        timeout *= HANG_SCALE
+        timeout *= HANG_SCALE  # CPU seconds
         if self.proc is None or self.proc.poll() is not None:
             if self.proc is not None:
                 self._close_pipes()  # a child that exited on its own
             self._start()
         self.calls += 1
-        b = pickle.dumps((name, args, kwargs))
+        b = pickle.dumps((name, args, kwargs, timeout))
         try:
             self.proc.stdin.write(struct.pack("<Q", len(b)) + b)
             self.proc.stdin.flush()
         except BrokenPipeError:
             self._die("crashed", name, args, kwargs)
         out = self.proc.stdout
-        ready, _, _ = select.select([out], [], [], timeout)
+        ready, _, _ = select.select([out], [], [], WALL_BACKSTOP * timeout)
         if not ready:
-            self._die(f"did not return within {timeout} s", name, args, kwargs)
+            self._die(
+                f"did not return within {WALL_BACKSTOP * timeout} s of wall-clock time",
+                name,
+                args,
+                kwargs,
+            )
         h = out.read(8)
         if len(h) < 8:
-            self._die("crashed", name, args, kwargs)
+            self._die_or_overran(timeout, name, args, kwargs)
         n = struct.unpack("<Q", h)[0]
         data = out.read(n)
         if len(data) < n:
             self._die("crashed while replying", name, args, kwargs)
         return pickle.loads(data)
+
+    def _die_or_overran(self, cpu, name, args, kwargs):
+        """The child closed its output: it was stopped by its CPU-time guard or crashed."""
+        rc = self.proc.wait()
+        if rc == -signal.SIGXCPU:
+            self._die(f"used more than {cpu} s of CPU time: unbounded work", name, args, kwargs)
+        self._die("crashed", name, args, kwargs)
 
     def _close_pipes(self):
         """Close the pipes of a finished child (an unclosed one is a ResourceWarning, an

@@ -24,9 +24,10 @@ another exception type, or returns NaN in a successful result.
 
 The solver calls run in test_hostile's worker subprocess (a crash or a hang is a
 :class:`Crash`, not a dead pytest run); the scenes are built in pytest's process, where a
-refusal by a constructor is checked to name the field.  Every example also runs under a
-hypothesis deadline of a few seconds: the default work budget keeps a hopeless solve
-under about 0.5 s, so an example that takes longer is a hang.
+refusal by a constructor is checked to name the field.  A hang is a call that uses more
+than CALL_TIMEOUT seconds of CPU time (the worker's guard, whatever the load of the
+machine); there is no wall-clock deadline per example (hypothesis ``deadline=None``):
+the work of every solve is bounded by its budget, counted by the solver, not by a clock.
 
 Known bugs found by this module are excluded from the random draws (the comment at each
 exclusion names the finding), or, where legal input reaches them, recognised by their
@@ -41,7 +42,6 @@ import pickle
 import re
 import time
 import warnings
-from datetime import timedelta
 
 import numpy as np
 import pytest
@@ -79,20 +79,17 @@ pytestmark = [
 
 TESTS_DIR = os.path.dirname(os.path.abspath(__file__))
 
-# Hang guard of one worker call [s] (Worker.call multiplies it by HANG_SCALE): far above
-# the ~0.5 s the default work budget allows a hopeless solve, so only a hang trips it.
+# Hang guard of one worker call [CPU s] (Worker.call multiplies it by HANG_SCALE): far
+# above the CPU time of the slowest legal call seen (a spatial compliance with 64
+# shooting segments: ~14 s, most of it outside the work budget, in the core's condition
+# estimate), so only a hang trips it.  CPU time does not grow with the machine's load.
 CALL_TIMEOUT = 60.0
-
-# Per-example deadline: a Problem example makes up to 8 solves, each bounded by its work
-# budget (at most the default, ~0.5 s); 8 s leaves room for a loaded 2-core machine;
-# instrumented runs (make sanitize) stretch it by HANG_SCALE.
-DEADLINE = timedelta(seconds=8.0 * HANG_SCALE)
 
 
 def entry_settings(n):
-    """test_hostile's settings (derandomized, no database; ``TR_HOSTILE_PROFILE=explore``
-    multiplies the examples by 10) with ``n`` examples and this module's deadline."""
-    return settings(hostile(n), deadline=DEADLINE)
+    """test_hostile's settings (derandomized, no database, no deadline;
+    ``TR_HOSTILE_PROFILE=explore`` multiplies the examples by 10) with ``n`` examples."""
+    return settings(hostile(n), deadline=None)
 
 
 class EntryWorker(Worker):
@@ -544,7 +541,7 @@ def options_specs(draw, max_segments=64):
     ``max_segments``: the largest shooting_segments drawn.  A spatial solve with 64
     segments costs ~1 s even when it converges in 0 iterations (work outside the budget,
     as in finding B7), so the tests that make up to 8 solves per example draw at most 16
-    to stay within the deadline."""
+    to keep the module's run time down."""
     if absurd_here(draw):
         bad = draw(st.sampled_from(["fast", 3, {"nonsense": 1}, {"steps": -1}, tr.Rod]))
         return ("absurd", bad, {"options": bad})
@@ -695,7 +692,7 @@ def test_solve_entry(entry_worker, spec, ospec, g, data):
     """tr.solve(scene, guess=..., options=...) on drawn scenes, options and guesses:
     constructors refuse absurd fields by name; the solve refuses an absurd guess or
     options argument by name, and otherwise returns an honest failure or a correct,
-    NaN-free solution -- within the deadline, without a crash."""
+    NaN-free solution -- within its CPU-time hang guard, without a crash."""
     try:
         scene, accepted = build_scene(spec)
         arg, _, opt_names, opt_acc = build_options(ospec, scene.robot.rod.length)
@@ -1494,14 +1491,19 @@ def test_sweep_huge_chunksize_runs_the_points():
 
 
 def test_time_limit_bounds_a_solve_with_many_nodes():
-    """B7: max_time bounds the whole solve, filling 10**6 output nodes included."""
-    t0 = time.perf_counter()
+    """B7: max_time bounds the whole solve, filling 10**6 output nodes included.
+
+    Measured in this thread's CPU time (the solve runs in it), not on the wall clock, so
+    that a loaded machine does not fail it: the solve and the recording cost ~5 ms of
+    CPU on the CI machine."""
+    t0 = time.thread_time()
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", tr.ConvergenceWarning)
         sol = tr.solve(_scene(), options=tr.Options(nodes=10**6, max_time=1e-3))
-    dt = time.perf_counter() - t0
+    dt = time.thread_time() - t0
     # 0.1 s: 100x the limit asked for, room for allocating the 10**6-node output arrays
     assert dt < 0.1 * HANG_SCALE, (dt, sol.message)
+    assert sol.position.shape == (10**6, 3) or not sol.success, sol.message
 
 
 def test_vector_with_huge_finite_int():

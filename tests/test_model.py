@@ -107,11 +107,12 @@ def test_robot_checks_end_and_routing():
     assert tr.Robot(rod, []).n_tendons == 0
     with pytest.raises(ValueError, match=r"tendons\[1\]\.end.*0\.3"):
         tr.Robot(rod, [tr.Tendon(offset=0.01), tr.Tendon(offset=0.01, end=0.3)])
-    # converging over 0.1 m on a 0.2 m rod crosses the centre line before the tip
+    # a slope that reaches the centre line at 0.1 m on a 0.2 m rod crosses it before the tip
     with pytest.raises(ValueError, match=r"tendons\[0\].*centre line"):
-        tr.Robot(rod, [tr.Tendon.converging(offset=0.01, length=0.1)])
-    # ... but is fine when anchored at 0.1 m
-    tr.Robot(rod, [tr.Tendon.converging(offset=0.01, length=0.1, end=0.1)])
+        tr.Robot(rod, [tr.Tendon(offset=0.01, slope=-0.1)])
+    # ... but is fine when anchored at 0.1 m; Tendon.converging anchors it there by default
+    tr.Robot(rod, [tr.Tendon(offset=0.01, slope=-0.1, end=0.1)])
+    assert tr.Robot(rod, [tr.Tendon.converging(offset=0.01, length=0.1)]).tendon_end(0) == 0.1
     with pytest.raises(ValueError, match="tendons\\[0\\] must be a tendonrod.Tendon"):
         tr.Robot(rod, ["tendon"])
 

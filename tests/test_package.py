@@ -4,6 +4,8 @@ import re
 import subprocess
 import sys
 
+from cpu_guard import limited
+
 import tendonrod
 
 
@@ -30,7 +32,10 @@ def test_gsl_error_handler_is_off():
         "gsl.gsl_sf_log_e.argtypes = [ctypes.c_double, ctypes.c_void_p]\n"
         "print(gsl.gsl_sf_log_e(-1.0, res))\n"  # log(-1): GSL_EDOM = 1
     )
-    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=60)
+    # a hang guard of 60 s of CPU; the import and the call take ~0.3 s
+    out = subprocess.run(
+        [sys.executable, "-c", code], capture_output=True, text=True, **limited(60)
+    )
     assert out.returncode == 0, out.stderr
     assert out.stdout.strip() == "1"  # GSL_EDOM returned, not abort()
 

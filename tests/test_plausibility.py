@@ -13,6 +13,7 @@ import pytest
 from scipy import optimize
 
 import tendonrod as tr
+from tendonrod import _plausible_rules as PR
 from tendonrod import plausibility as P
 from tendonrod._plausible import Recorder, _scene_screen, _state_findings
 from tendonrod.sweep import tip_measure
@@ -103,6 +104,27 @@ def test_slenderness_and_offset_warn_with_value_and_slip():
         tr.Robot(COSS, [tr.Tendon(offset=0.01, slope=0.5, end=0.2)])  # 0.11 m at its end
 
 
+def test_modulus_in_gpa_given_as_pa_warns():
+    """E = 60, G = 23 (NiTi's 60 GPa and 23 GPa given as Pa) warns for each modulus,
+    naming it, its value and what it would be in GPa; the robot's solution lists it."""
+    with pytest.warns(PW) as rec:
+        rod = tr.Rod(length=0.2, diameter=0.8e-3, E=60, G=23)
+    assert sorted(w.message.finding.subject for w in rec) == ["E", "G"]
+    assert "Rod.E = 60 Pa is below 1000 Pa" in str(rec[0].message), rec[0].message
+    assert "as GPa it would be 6e+10 Pa" in str(rec[0].message), rec[0].message
+    assert rec[0].message.finding.value == 60.0 and rec[0].message.finding.limit == 1e3
+    robot = quiet(tr.Robot, rod, [quiet(tr.Tendon, offset=0.01)])
+    assert rules(P.input_findings(tr.Scene(robot, tension=[0.0]))) == ["modulus", "modulus"]
+    # 207e12 (GPa given as kPa): stiffer than any solid
+    with pytest.warns(PW, match=r"Rod.E = 2.07e\+14 Pa is above"):
+        tr.Rod(length=0.2, diameter=0.8e-3, E=207e12, G=79.6e9)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", PW)
+        tr.Rod(length=0.2, diameter=5e-3, E=1e3, G=4e2 * 2.5)  # a hydrogel: at the limit
+        tr.Rod(length=0.2, diameter=0.8e-3, E=207e9, G=79.6e9)
+        tr.Rod(length=0.2, EI=60.0, GJ=23.0, kirchhoff=True)  # rigidities are not judged
+
+
 # ------------------------------------------------------------------ solution rules
 def test_strain_is_the_axial_and_shear_force_over_the_rigidity():
     """A tip force F on a rod whose EA, GA are known: axial strain F_z/EA everywhere
@@ -166,7 +188,7 @@ def _closest_far_pair(s, position, T):
     if ia.size == 0:
         return math.inf
     P_ = position
-    return float(P._segment_distance(P_[ia], P_[ia + 1], P_[ib], P_[ib + 1]).min())
+    return float(PR._segment_distance(P_[ia], P_[ia + 1], P_[ib], P_[ib + 1]).min())
 
 
 def test_self_intersection_prefilter_loses_no_pair():
@@ -185,7 +207,7 @@ def test_self_intersection_prefilter_loses_no_pair():
             s = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(P_, axis=0), axis=1))])
             T = phi.copy()  # a helix's tangent turns (about) as its phase
             want = _closest_far_pair(s, P_, T)
-            got = P.self_intersection_finding(s, P_, T, d, L)
+            got = PR.self_intersection_finding(s, P_, T, d, L)
             assert (got is not None) is (want < d), (pitch, want, got)
             if got is not None:
                 assert got.value == want  # the same pair, the same arithmetic
@@ -201,7 +223,7 @@ def test_self_intersection_prefilter_loses_no_pair():
         z = np.concatenate([[0.0], np.cumsum(ds * np.cos(0.5 * (theta[1:] + theta[:-1])))])
         P_ = np.stack([x, np.zeros_like(x), z], axis=1)
         want = _closest_far_pair(s, P_, theta)
-        got = P.self_intersection_finding(s, P_, theta, d, L)
+        got = PR.self_intersection_finding(s, P_, theta, d, L)
         assert (got is not None) is (want < d), (rho, delta, want, got)
         if got is not None:
             assert got.value == want
@@ -211,7 +233,7 @@ def test_self_intersection_prefilter_loses_no_pair():
     # minimum is an upper bound within (segment length / 400) of the true one
     for _ in range(20):
         p0, p1, q0, q1 = rng.normal(size=(4, 1, 3))
-        exact = float(P._segment_distance(p0, p1, q0, q1)[0])
+        exact = float(PR._segment_distance(p0, p1, q0, q1)[0])
         t = np.linspace(0.0, 1.0, 401)[:, None]
         a, b = p0 + t * (p1 - p0), q0 + t * (q1 - q0)
         sampled = np.linalg.norm(a[:, None, :] - b[None, :, :], axis=2).min()
@@ -370,7 +392,7 @@ def test_the_bounds_never_hide_a_finding():
             continue
         rec = Recorder(sc, sol.options).record(sol.unknowns, sol.formulation.steps)
         forced = _state_findings(sc.robot, rec, sol.tension.tolist())
-        clear = P.screen_clear(_scene_screen(sc), sol.tension.tolist())
+        clear = PR.screen_clear(_scene_screen(sc), sol.tension.tolist())
         if clear:
             assert forced == [], (sc, forced)
             checked += 1

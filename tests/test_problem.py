@@ -167,7 +167,15 @@ def test_one_thread_at_a_time():
     try:
         import time
 
-        time.sleep(0.2)
+        # wait (no time limit asserted: a loaded machine may start the thread late) until
+        # the thread is inside its solve: the workspace's cheap breakpoints query refuses
+        while True:
+            assert t.is_alive(), errors
+            try:
+                _ = prob._c.breakpoints
+            except RuntimeError:
+                break
+            time.sleep(0.01)
         with pytest.raises(RuntimeError, match="one thread at a time"):
             prob.solve()
     finally:

@@ -24,8 +24,9 @@ from tendonrod.bench.stress_cases import one_tendon_scene
 from tendonrod.bench.verify import BALANCE_TOL, REFINE_TOL, global_balance, verify
 
 QUICK = [c for c in all_stress_cases() if c.quick]
-#: Per-case limit [s]: the slowest quick case (a 25-step load ramp with verification)
-#: takes a few seconds; 120 s only catches hangs on a loaded 2-core machine.
+#: Per-case limit [CPU s]: the slowest quick case (a 25-step load ramp with
+#: verification) takes a few seconds of CPU; 120 s only catches hangs (CPU time does not
+#: grow with the machine's load; a blocked child meets a 20x wall-clock backstop).
 TIMEOUT = 120.0
 
 

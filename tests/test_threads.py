@@ -261,6 +261,8 @@ for s in tt.scenes():
 def test_fingerprints_match_a_fresh_process(serial):
     """Run to run: a fresh `python` process computes the same SHA-256 of every
     output bit of every scene."""
+    from cpu_guard import limited  # (here: the child imports this module without tests/)
+
     sc, sols = serial
     root = os.path.dirname(os.path.dirname(os.path.abspath(tr.__file__)))
     env = dict(os.environ)
@@ -270,7 +272,7 @@ def test_fingerprints_match_a_fresh_process(serial):
         capture_output=True,
         text=True,
         env=env,
-        timeout=600,
+        **limited(600),  # a hang guard of 600 s of CPU
     )
     assert out.returncode == 0, out.stderr[-3000:]
     theirs = out.stdout.split()

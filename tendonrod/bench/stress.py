@@ -8,6 +8,8 @@ from __future__ import annotations
 
 import math
 import os
+import resource
+import signal
 import time
 import traceback
 
@@ -114,7 +116,11 @@ def classify(rec):
     return "honest failure"
 
 
-def _child(case_name, conn, quick):
+def _child(case_name, conn, quick, cpu=None):
+    if cpu is not None:
+        # the hang guard: the kernel stops the child (SIGXCPU) after ``cpu`` seconds of
+        # CPU time, the work it did whatever the load of the machine
+        resource.setrlimit(resource.RLIMIT_CPU, (int(math.ceil(cpu)), int(math.ceil(cpu)) + 5))
     try:
         case = {c.name: c for c in all_stress_cases()}[case_name]
         rec = run_case(case)
@@ -138,19 +144,26 @@ def _child(case_name, conn, quick):
         conn.close()
 
 
+# The wall-clock backstop of a case, in multiples of its CPU-time limit: only a child
+# blocked without using CPU (a deadlock) reaches it, even on a machine loaded 10x.
+WALL_BACKSTOP = 20
+
+
 def run_case_isolated(case: StressCase, timeout: float) -> dict:
-    """Run ``case`` in a child process; kill it after ``timeout`` seconds (a hang is a
-    finding: outcome 'timeout'). A crash of the child (segfault) is outcome 'crash'."""
+    """Run ``case`` in a child process that may use ``timeout`` seconds of CPU time (a
+    hang is a finding: outcome 'timeout'), with a wall-clock backstop of WALL_BACKSTOP
+    times that for a child that blocks.  A crash of the child (segfault) is outcome
+    'crash'."""
     import multiprocessing as mp
 
     ctx = mp.get_context("fork")
     parent, child = ctx.Pipe(duplex=False)
     t0 = time.perf_counter()
-    proc = ctx.Process(target=_child, args=(case.name, child, False))
+    proc = ctx.Process(target=_child, args=(case.name, child, False, timeout))
     proc.start()
     child.close()
     rec = None
-    if parent.poll(timeout):
+    if parent.poll(WALL_BACKSTOP * timeout):
         try:
             rec = parent.recv()
         except EOFError:
@@ -162,8 +175,13 @@ def run_case_isolated(case: StressCase, timeout: float) -> dict:
         proc.kill()
         proc.join()
     if rec is None:
-        if wall >= timeout:
-            rec = dict(outcome="timeout", message=f"no answer within {timeout:g} s (killed)")
+        if proc.exitcode == -signal.SIGXCPU:
+            rec = dict(outcome="timeout", message=f"more than {timeout:g} s of CPU time (killed)")
+        elif wall >= WALL_BACKSTOP * timeout:
+            rec = dict(
+                outcome="timeout",
+                message=f"no answer within {WALL_BACKSTOP * timeout:g} s (blocked; killed)",
+            )
         else:
             rec = dict(outcome="crash", message=f"child process died (exit code {proc.exitcode})")
         rec.update(case=case.name, converged=False, verified=False, seconds=wall)
