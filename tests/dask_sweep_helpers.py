@@ -52,7 +52,7 @@ def cluster():
     """A LocalCluster of two single-threaded worker processes (no dashboard)."""
     from dask.distributed import LocalCluster
 
-    return LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None)
+    return LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=":0")
 
 
 def drive(path):
