@@ -49,7 +49,7 @@ class KillOnce:
 
 
 def cluster():
-    """A LocalCluster of two single-threaded worker processes (no dashboard)."""
+    """A LocalCluster of two single-threaded worker processes (its dashboard on a free port)."""
     from dask.distributed import LocalCluster
 
     return LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=":0")
