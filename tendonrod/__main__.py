@@ -211,10 +211,9 @@ def _write_solution(args, spec, sol, elapsed, name, extra) -> list:
         import textwrap
 
         ax.set_title(
-            textwrap.fill(spec.title or os.path.basename(args.scene), 60), fontsize="small"
+            textwrap.fill(spec.title or os.path.basename(args.scene), 60), fontsize="medium"
         )
-        fig.tight_layout()
-        fig.savefig(os.path.join(args.out, f"{name}.png"), dpi=120)
+        trplot.savefig(fig, os.path.join(args.out, f"{name}.png"), dpi=120)
         plt.close(fig)
         written.append(f"{name}.png")
     return written
@@ -349,6 +348,13 @@ def _cmd_figures(args) -> int:
         for k in keys:
             print(f"{k}: {registry[k].caption}")
         return EXIT_OK
+    from tendonrod.paper.figures import parse_formats, write_figure
+
+    try:
+        formats = parse_formats(args.format)
+    except ValueError as exc:
+        print(f"tendonrod figures: error: --format: {exc}", file=sys.stderr)
+        return EXIT_BAD_INPUT
     matplotlib = optional_import("matplotlib", "the figures command")
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
@@ -357,7 +363,8 @@ def _cmd_figures(args) -> int:
     lines = [
         "# tendonrod: the paper's figures, regenerated",
         "",
-        f"Command: `python -m tendonrod figures --out {args.out}{' --fast' if args.fast else ''}`  ",
+        f"Command: `python -m tendonrod figures --out {args.out}{' --fast' if args.fast else ''}"
+        f"{' --format ' + ','.join(formats) if formats != ('png',) else ''}`  ",
         "Paper: *Continuum Robot Deflection under External Loads and Prescribed Tendon "
         "Displacements*.  Nondimensional compliance sigma = 12 EI delta / (F L^3) (the "
         "paper's definition) unless a label says otherwise.",
@@ -377,12 +384,19 @@ def _cmd_figures(args) -> int:
                 traceback.print_exc()
             lines.append(f"- **{k}** — FAILED ({type(exc).__name__}: {exc})")
             continue
-        fname = f"{k}.png"
-        fig.savefig(os.path.join(args.out, fname), dpi=args.dpi)
+        names = write_figure(fig, args.out, k, formats, dpi=args.dpi)
         plt.close(fig)
         dt = time.perf_counter() - t0
-        print(f"  {fname}  ({dt:.1f} s)")
-        lines += [f"## {k}", "", f"![{k}]({fname})", "", entry.caption, ""]
+        print(f"  {', '.join(names)}  ({dt:.1f} s)")
+        # the index shows the first format a browser draws (PNG or SVG), links the others
+        shown = next((n for n in names if n.endswith((".png", ".svg"))), None)
+        lines += [f"## {k}", ""]
+        if shown:
+            lines += [f"![{k}]({shown})", ""]
+        others = [n for n in names if n != shown]
+        if others:
+            lines += ["Also: " + ", ".join(f"[{n}]({n})" for n in others), ""]
+        lines += [entry.caption, ""]
         notes = getattr(fig, "_tendonrod_notes", None)
         if notes:
             lines += [notes, ""]
@@ -506,7 +520,7 @@ def build_parser() -> argparse.ArgumentParser:
 
     pf = sub.add_parser(
         "figures",
-        help="regenerate the paper's figures as PNG plus index.md",
+        help="regenerate the paper's figures (PNG, PDF or SVG) plus index.md",
         description="Regenerate the paper's figures (1, 3, 6-8, 10-18, 20-23) and the "
         "friction study its Fig. 25 asks for (fig25, fig25_hysteresis) as PNG files with an "
         "index.md listing files and captions.",
@@ -523,6 +537,12 @@ def build_parser() -> argparse.ArgumentParser:
     pf.add_argument("--only", default="", help="comma-separated figure keys (see --list)")
     pf.add_argument("--list", action="store_true", help="list figure keys and captions, then exit")
     pf.add_argument("--dpi", type=int, default=110, help="PNG resolution (default 110)")
+    pf.add_argument(
+        "--format",
+        default="png",
+        help="comma-separated file formats: png, pdf, svg (default png; PDF and SVG are "
+        "vector, for papers)",
+    )
     pf.add_argument("-v", "--verbose", action="store_true", help="print tracebacks of failures")
     pf.set_defaults(func=_cmd_figures)
 

@@ -373,6 +373,22 @@ def test_figures_closed_form_subset(tmp_path, capsys):
     assert "fig07.png" in index and "Fig. 7" in index
 
 
+def test_figures_formats(tmp_path, capsys):
+    # --format writes each figure once per format; the files are what their suffix says
+    rc, out, err = run_main(
+        ["figures", "--out", str(tmp_path), "--fast", "--only", "fig07", "--format", "pdf,svg"],
+        capsys,
+    )
+    assert rc == EXIT_OK, err
+    assert (tmp_path / "fig07.pdf").read_bytes()[:5] == b"%PDF-"
+    assert b"<svg" in (tmp_path / "fig07.svg").read_bytes()[:2000]
+    assert not (tmp_path / "fig07.png").exists()
+    index = (tmp_path / "index.md").read_text()
+    assert "![fig07](fig07.svg)" in index and "[fig07.pdf](fig07.pdf)" in index
+    rc, _, err = run_main(["figures", "--out", str(tmp_path), "--format", "png,jpeg"], capsys)
+    assert rc == EXIT_BAD_INPUT and "jpeg" in err
+
+
 def test_figures_all(tmp_path, capsys):
     # what `make demo` runs (here with the fast setting): every figure, no failure
     rc, out, err = run_main(["figures", "--out", str(tmp_path), "--fast"], capsys)
