@@ -65,3 +65,22 @@ def test_failed_record_keeps_output_nodes(build):
     r = subprocess.run([str(exe)], capture_output=True, text=True, timeout=60)
     assert r.returncode == 0, r.stderr + r.stdout
     assert r.stdout.strip() == "ok"
+
+
+def test_the_extension_exports_only_its_init():
+    """tendonrod._core is built with hidden visibility: of the names its dynamic symbol
+    table defines, PyInit__core is the only one of ours (the core's tr_* and the glue's
+    names stay inside)."""
+    import sys
+
+    import tendonrod._core as core
+
+    nm = shutil.which("nm")
+    if nm is None or not sys.platform.startswith("linux"):
+        pytest.skip("needs nm and an ELF shared object")
+    r = subprocess.run([nm, "-D", "--defined-only", core.__file__], capture_output=True, text=True)
+    assert r.returncode == 0, r.stderr
+    names = sorted(line.split()[-1] for line in r.stdout.splitlines() if line.strip())
+    # names the toolchain itself may add (an instrumented build's __asan_* globals) aside
+    ours = [n for n in names if not n.startswith("__")]
+    assert ours == ["PyInit__core"], ours
