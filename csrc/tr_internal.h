@@ -261,9 +261,19 @@ void tr_friction_copy(tr_model *dst, const tr_model *src);
  * spatial; three +0.60 each) */
 #define TR_FRIC_WORK 0.8
 
-/* tr_model.c: the cost of one right-hand-side evaluation of the model's formulation [work
- * units, see TR_DEFAULT_MAX_WORK] */
-double tr_rhs_work(const tr_model *m);
+/* The cost of one right-hand-side evaluation of the model's formulation [work units, see
+ * TR_DEFAULT_MAX_WORK]; measured: planar Kirchhoff 33 ns + 28 ns per tendon; planar
+ * Cosserat 90 ns with one tendon; spatial Kirchhoff 185 ns, Cosserat 300 ns with three
+ * tendons (+4 % per tendon beyond); a frictional tendon adds the fixed-point solves and
+ * the normals of the kink test, TR_FRIC_WORK per tendon of the formulation's base cost.
+ * A formula of the model's counts, inline: the model (tr_model.c) and its friction
+ * states (tr_friction.c) both set it. */
+static inline double tr_rhs_work(const tr_model *m)
+{
+    const double base = m->planar ? (m->kirchhoff ? 1.0 : 1.85) + 0.85 * m->nt
+                                  : (m->kirchhoff ? 4.0 : 7.5) + 0.5 * m->nt;
+    return base * (1.0 + TR_FRIC_WORK * m->nfric);
+}
 
 /* tr_model.c: the same scene compiled with nshoot shooting segments (the formulation,
  * planar or spatial, kept), or NULL (msg says why); copy the values of src into dst,
@@ -400,6 +410,11 @@ double tr_load_scale(const tr_model *m);
  * state component c. */
 int tr_node_off(const tr_model *m, int j);
 double tr_node_scale(const tr_model *m, int c);
+/* Forward difference of the residual along unknown j at x (residual f0 there) into
+ * col[i * stride], i < k; a trial point whose residual is not finite is retried
+ * backwards if `backward`.  Uses d->xt, d->ft. */
+int tr_fd_column(const tr_model *m, tr_data *d, const double *x, const double *f0, int j,
+                 double *col, size_t stride, int backward);
 
 /* tr_guess.c */
 /* Cold start into d->x: the straight-robot guess or the shape pass's, whichever has
@@ -412,11 +427,6 @@ int tr_unknowns_from_guess(const tr_model *m, tr_data *d, const double *g, doubl
 /* tr_newton.c */
 /* Reset the counters and the per-solve state of d for a solve at `steps` steps. */
 void tr_solve_reset(const tr_model *m, tr_data *d, int steps);
-/* Forward difference of the residual along unknown j at x (residual f0 there) into
- * col[i * stride], i < k; a trial point whose residual is not finite is retried
- * backwards if `backward`.  Uses d->xt, d->ft. */
-int tr_fd_column(const tr_model *m, tr_data *d, const double *x, const double *f0, int j,
-                 double *col, size_t stride, int backward);
 /* Forward-difference Jacobian at d->x (d->f) into d->J. */
 int tr_fd_jacobian(const tr_model *m, tr_data *d);
 /* LU of d->J into d->LU (0, or -1 if singular) and solve with it. */
