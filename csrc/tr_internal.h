@@ -508,12 +508,12 @@ void tr_btd_solve(tr_btd *w, double *X, int ncol);
 /* The smallest eigenvalue of the bordered pencil (below0: the count at 0 is > 0). */
 double tr_btd_smallest(tr_btd *w, int below0);
 
-/* tr_stability.c: the scale of the load-induced stiffness in the second variation, by
+/* tr_stab_energy.c: the scale of the load-induced stiffness in the second variation, by
  * EI/L: the loads' (tr_load_scale) and each tendon's tension times its offset,
  * tau r L / EI (a tendon's pull and its pressure on the ducts cancel but for terms of
  * its offset: a centre-line tendon adds nothing, whatever its tension). */
 double tr_stiffness_scale(const tr_model *m, const tr_data *d);
-/* tr_stability.c: its workspace, freed with the data */
+/* tr_data.c: the stability test's workspace, freed with the data */
 void tr_stab_free(struct tr_stab_ws *w);
 
 /* tr_verify.c */

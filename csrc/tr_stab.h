@@ -1,6 +1,7 @@
 /*
  * tr_stab.h -- the stability test's workspace and the pieces its files share
- * (tr_stability.c: the verdict; tr_switch.c: tendons at their taut/slack switch).
+ * (tr_stab_energy.c: the discretised energy; tr_stability.c: the verdict; tr_switch.c:
+ * tendons at their taut/slack switch; tr_data.c: the workspace's allocation).
  */
 #ifndef TR_STAB_H
 #define TR_STAB_H
@@ -57,10 +58,11 @@ struct tr_stab_ws {
     tr_btd h;                   /* the Hessian and its factors */
 };
 
-/* The workspace *wp for nuni uniform elements (reallocated when it has another count). */
+/* tr_data.c: the workspace *wp for nuni uniform elements (reallocated when it has another
+ * count). */
 struct tr_stab_ws *tr_stab_workspace(const tr_model *m, tr_data *d, struct tr_stab_ws **wp,
                                      int nuni, int cosserat);
-/* The level's elements from the recorded state (the grid nodes w->node[0..nn-1]); 0, or
+/* tr_stab_energy.c: the level's elements from the recorded state (the grid nodes w->node[0..nn-1]); 0, or
  * -1 when an element turns by more than TR_STAB_MAX_ROT. */
 int tr_stab_level_setup(const tr_model *m, const tr_data *d, struct tr_stab_ws *w, int nn);
 /* The Hessian (scaled by L/EI), gradient, mass and bordered columns of the level. */
