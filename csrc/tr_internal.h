@@ -296,9 +296,20 @@ double tr_target_residual(const tr_model *m, const double *y, int row);
 double tr_target_displacement(const tr_model *m, const tr_data *d, int i, double len);
 
 /* tr_confirm.c: a TR_OFFPATH equilibrium in d->x confirmed (TR_CONFIRMED) or not
- * (TR_OFFPATH) by a cold solve with another shooting formulation; the message says
- * which.  d->stop when the budget or an interrupt stopped it. */
-int tr_confirm_offpath(const tr_model *m, tr_data *d);
+ * (TR_OFFPATH) by a cold solve with another shooting formulation, a stage the driver runs
+ * in three steps.  tr_confirm_begin notes the equilibrium (tip, the message so far) in *c
+ * and sets up the second formulation (d->confirm_m, d->confirm_d): TR_CONTINUE, or the
+ * status to return (TR_OFFPATH, message set; d->stop when the budget or an interrupt
+ * stopped it).  The driver then solves d->confirm_m cold in d->confirm_d, and
+ * tr_confirm_judge compares that solve (its status st) with the noted equilibrium:
+ * TR_CONFIRMED or TR_OFFPATH, the message says which; TR_EINTERRUPTED. */
+typedef struct tr_confirm {
+    int segments;          /* shooting segments of the second formulation */
+    double tip[12];        /* the equilibrium's tip position (3) and rotation (9) */
+    char first[TR_MSGLEN]; /* the message before the confirmation */
+} tr_confirm;
+int tr_confirm_begin(const tr_model *m, tr_data *d, tr_confirm *c);
+int tr_confirm_judge(const tr_model *m, tr_data *d, const tr_confirm *c, int st);
 
 /* Body-frame offset r, r' and r'' (x, y components; z is 0) of tendon i (td) with a
  * general route at s on integration segment seg (tr_routing.c's tables). */

@@ -132,8 +132,22 @@ static int solve_continuation(const tr_model *m, tr_data *d, int status, int for
                    "one reached by loading the robot (a limit point / "
                    "snap-through lies on the path)",
                    second);
-    /* a workspace that confirms another's does not confirm in turn */
-    return d->is_confirm ? TR_OFFPATH : tr_confirm_offpath(m, d);
+    return TR_OFFPATH; /* to be confirmed (solve_confirm) */
+}
+
+/* An equilibrium found off the load path (TR_OFFPATH: continuation's last resort) is the
+ * answer only if a cold solve with another shooting formulation reaches it too: the
+ * driver runs that solve itself, tr_confirm.c sets it up and judges it.  A workspace
+ * that confirms another's does not confirm in turn. */
+static int solve_confirm(const tr_model *m, tr_data *d, int status)
+{
+    tr_confirm c;
+    int st;
+    if (status != TR_OFFPATH || d->is_confirm) return status;
+    st = tr_confirm_begin(m, d, &c);
+    if (st != TR_CONTINUE) return st;
+    st = tr_solve(d->confirm_m, d->confirm_d, NULL, NULL);
+    return tr_confirm_judge(m, d, &c, st);
 }
 
 static double shared_stiffness(const tr_model *m);
@@ -595,6 +609,7 @@ static int solve(const tr_model *m, tr_data *d, const double *guess, const doubl
     status = solve_direct(m, d, guess, jac, from_last, &forced);
     if (status == TR_EINVAL) return d->status = status;
     status = solve_continuation(m, d, status, forced);
+    status = solve_confirm(m, d, status);
     status = solve_finer(m, d, status);
     status = solve_shared(m, d, status, guess);
     status = tr_branch(m, d, status, !guess && !from_last);
