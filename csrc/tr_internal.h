@@ -3,17 +3,8 @@
  * does not show: state layouts, the solve-policy constants with their reasons,
  * and the internal functions of each layer.
  *
- * Layers (a file calls only into its own layer or the ones below it):
- *   tr_rod.c, tr_section.c, tr_integrate.c  right-hand side, state at a section, integration of one segment
- *   tr_residual.c                   the shooting residual
- *   tr_guess.c                      cold guess, node guesses, guess <-> unknowns
- *   tr_newton.c, tr_hybrid.c        Jacobian, LU, Broyden, init / iterate / test
- *   tr_continuation.c, tr_verify.c  load continuation; step verification, polish
- *   tr_branch.c                     the stable branch: the verdict of a converged solve,
- *                                   and where it is unstable the way to a stable one
- *   tr_record.c, tr_compliance.c    recording pass; linearisation (Jacobians, compliance)
- *   tr_solve.c                      the driver: a list of stages
- *   tr_batch.c                      a loop over the public API
+ * The files' layers (a file calls only into its own layer or the ones below it) are
+ * listed once, in csrc/README.md; tools/check_house.py checks them.
  */
 #ifndef TR_INTERNAL_H
 #define TR_INTERNAL_H

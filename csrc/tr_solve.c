@@ -1,22 +1,11 @@
 /*
- * tr_solve.c -- the one-call driver, as a list of stages:
- *   1. begin:        reset the counters; a scene without a unique equilibrium stops here
- *   2. direct:       init from the guess (or the cold guess), Newton/Broyden; a cold
- *                    start under large loads goes to continuation at once
- *   3. continuation: on failure, follow the load path from the unloaded robot; if that
- *                    path stalls after a forced start, a direct cold solve may still
- *                    find an equilibrium off the path (TR_OFFPATH, not a success) ...
- *   4. confirm:      ... unless a cold solve with another shooting formulation reaches
- *                    the same equilibrium (TR_CONFIRMED, tr_confirm.c)
- *   4b. branch:      the stability verdict; an unstable answer, or a warm one that jumped
- *                    from its guess, is replaced by a stable one where one is reached
- *                    (tr_branch.c), else TR_UNSTABLE
- *   5. verify:       automatic steps: step doubling until the truncation estimate <= tol
- *   6. condition:    a fresh Jacobian at a cold solution, polish, condition number
- *   7. diagnose:     what a failure is likely due to
- *   8. record:       the recording pass, the final message, and the solution kept for
- *                    the next warm solve (tr_solve_warm)
- * A work budget or an interrupt (tr_poll.c) ends the solve after the stage it stops.
+ * tr_solve.c -- the one-call driver, as a list of stages: solve() below runs them in
+ * order, each a function that returns the status it was given when it does not apply
+ * (begin, direct, continuation, confirm, finer steps, shared tension level, branch,
+ * verify, past the centre, condition, shared level resolved, stop, diagnose, record).
+ * csrc/README.md describes each stage (tools/check_house.py checks that every function
+ * solve() calls is named there).  A work budget or an interrupt (tr_poll.c) ends the
+ * solve after the stage it stops.
  */
 #include <math.h>
 #include <stdio.h>
