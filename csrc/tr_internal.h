@@ -426,6 +426,13 @@ void tr_cold_start(const tr_model *m, tr_data *d);
  * Returns TR_OK or TR_EINVAL (non-finite unknowns; message set). */
 int tr_unknowns_from_guess(const tr_model *m, tr_data *d, const double *g, double *x);
 
+/* The convergence tolerance of the Newton layer: opt.tol, or a stage's own (tol_override,
+ * set by the driver; the options stay as the caller gave them). */
+static inline double tr_tol(const tr_data *d)
+{
+    return d->tol_override > 0.0 ? d->tol_override : d->opt.tol;
+}
+
 /* tr_newton.c */
 /* Reset the counters and the per-solve state of d for a solve at `steps` steps. */
 void tr_solve_reset(const tr_model *m, tr_data *d, int steps);

@@ -267,7 +267,7 @@ int tr_solve_init(const tr_model *m, tr_data *d, const double *guess, const doub
 int tr_solve_test(const tr_model *m, const tr_data *d)
 {
     (void)m;
-    return d->fnorm <= d->opt.tol ? TR_OK : TR_CONTINUE;
+    return d->fnorm <= tr_tol(d) ? TR_OK : TR_CONTINUE;
 }
 
 /* Backtracking line search along d->dx from d->x: the first alpha with the Armijo
@@ -286,7 +286,7 @@ static int line_search(const tr_model *m, tr_data *d, double phi0)
             tr_set_message(d,
                            "function-evaluation limit (max_nfev = %d) reached at iteration %d "
                            "(scaled residual %.3g > tol %.3g); raise max_nfev",
-                           d->opt.max_nfev, d->nit, d->fnorm, d->opt.tol);
+                           d->opt.max_nfev, d->nit, d->fnorm, tr_tol(d));
             return TR_EMAXFEV;
         }
         for (i = 0; i < k; i++) d->xt[i] = d->x[i] + alpha * d->dx[i];
@@ -313,7 +313,7 @@ static int line_search(const tr_model *m, tr_data *d, double phi0)
                                "no progress at iteration %d: the scaled residual stalled at "
                                "%.3g > tol %.3g, near the round-off level of this scene (large "
                                "tensions or stiffness ratios); loosen tol",
-                               d->nit, d->fnorm, d->opt.tol);
+                               d->nit, d->fnorm, tr_tol(d));
             else
                 tr_set_message(d,
                                "no progress at iteration %d: the line search found no "
@@ -432,7 +432,7 @@ int tr_newton_run(const tr_model *m, tr_data *d, int max_iter, int stall, double
             tr_set_message(d,
                            "stagnated (scaled residual %.3g > tol %.3g, down by less than "
                            "%gx in %d iterations); give a guess from a nearby solved scene",
-                           d->fnorm, d->opt.tol, 1.0 / ratio, stall);
+                           d->fnorm, tr_tol(d), 1.0 / ratio, stall);
             return TR_EMAXITER;
         }
         hist[it % TR_STALL_ITERS] = d->fnorm;
@@ -440,14 +440,14 @@ int tr_newton_run(const tr_model *m, tr_data *d, int max_iter, int stall, double
             tr_set_message(d,
                            "function-evaluation limit (max_nfev = %d) reached (scaled residual "
                            "%.3g > tol %.3g); raise max_nfev",
-                           d->opt.max_nfev, d->fnorm, d->opt.tol);
+                           d->opt.max_nfev, d->fnorm, tr_tol(d));
             return TR_EMAXFEV;
         }
         if (it >= max_iter) {
             tr_set_message(d,
                            "did not converge in %d iterations (scaled residual %.3g > tol %.3g); "
                            "raise max_iter, or give a guess from a nearby solved scene",
-                           max_iter, d->fnorm, d->opt.tol);
+                           max_iter, d->fnorm, tr_tol(d));
             return TR_EMAXITER;
         }
         status = tr_solve_iterate(m, d);
@@ -479,7 +479,7 @@ int tr_solve_lean(const tr_model *m, tr_data *d, const double *x0, const double 
     if (tr_residual(m, d, d->x, d->f) != TR_OK)
         return d->status = d->stop ? d->stop : TR_ENONFINITE;
     fn = tru_maxnorm(d->f, k);
-    while (!(fn <= d->opt.tol)) {
+    while (!(fn <= tr_tol(d))) {
         double ss = 0.0;
         if (d->stop) return d->status = d->stop;
         if (d->nit >= max_iter || d->nfev >= d->opt.max_nfev) return d->status = TR_EMAXITER;
@@ -503,6 +503,6 @@ int tr_solve_lean(const tr_model *m, tr_data *d, const double *x0, const double 
     }
     d->fnorm = d->residual_norm = fn;
     d->J_fresh = 0;
-    tr_message_converged(d->message, TR_MSGLEN, d->nit, d->residual_norm, d->opt.tol);
+    tr_message_converged(d->message, TR_MSGLEN, d->nit, d->residual_norm, tr_tol(d));
     return d->status = TR_OK;
 }

@@ -354,12 +354,12 @@ static int shared_resolved(const tr_model *m, tr_data *d, int status)
     if (dtau > TR_SHARED_RESOLVE * tmax && d->fnorm > TR_RESIDUAL_NOISE) {
         /* the level is fixed only as well as the residual: iterate it down to its rounding
          * level before judging (a refused answer's unknowns are what is left) */
-        const double tol = d->opt.tol;
+        const double tol = d->tol_override;
         const int shared = d->shared_mode;
-        d->opt.tol = TR_RESIDUAL_NOISE;
+        d->tol_override = TR_RESIDUAL_NOISE;
         d->shared_mode = 1;
         tr_newton_run(m, d, TR_SHARED_ITER, TR_STALL_ITERS, TR_STALL_RATIO);
-        d->opt.tol = tol;
+        d->tol_override = tol;
         d->shared_mode = shared;
         if (d->stop) return d->stop;
         dtau = tr_shared_resolution(m, d);
