@@ -17,19 +17,8 @@
 #include "tr_qp.h"
 #include "tru_math.h"
 
-/* Consecutive rejected trust-region steps after which the iteration stops: the region has
- * shrunk by 4^8 ~ 6e4 below the step refused first, so a step that still does not reduce
- * the residual means none will (a least-squares point, e.g. at a tension bound). */
-#define MAX_REJECTED 8
-/* The first trust region (scaled controls): about a half turn of the tip. */
-#define DELTA0 3.0
-/* The least change's stopping test (scaled controls): the step the linearised problem
- * still asks for and its stationarity residual.  The forward-difference linearisation is
- * good to ~1e-7 relative, so a tighter test chases its noise (steps of a few 1e-7 that
- * the merit then refuses); 1e-6 is 1e-8 m of a displacement at a 10 mm offset. */
-#define KKT_TOL 1e-6
 /* A step's outcome when a linearisation or the step's QP failed (it->err says which). */
-#define ACT_ERROR (-1)
+enum { ACT_ERROR = -1 };
 
 typedef struct {
     act_run *a;
@@ -369,7 +358,7 @@ static int refused(act_iter *it, const double *u)
 {
     it->delta = maxabs(u, it->n) / 4.0;
     it->rejected++;
-    return it->rejected >= MAX_REJECTED ? TR_ACT_STUCK : TR_ACT_REJECTED;
+    return it->rejected >= TR_ACT_MAX_REJECTED ? TR_ACT_STUCK : TR_ACT_REJECTED;
 }
 
 /* An accepted step whose target residual fell fast (to 1e-2 of the last one or less,
@@ -445,9 +434,10 @@ static int sqp(act_iter *it)
         viol = fmax(viol, fmax(it->floor[it->rows[i]] - it->psi[it->rows[i]], 0.0));
     viol /= sp->tau_scale;
     /* stay: the step and the stationarity residual H u of the linearised problem's
-     * optimality conditions both below KKT_TOL (scaled units), a KKT point */
+     * optimality conditions both below TR_ACT_KKT_TOL (scaled units), a KKT point */
     for (i = 0; i < n; i++) it->Hs[i] = dot(it->H + i * n, it->u, n);
-    if (rnorm <= sp->tol && viol <= 1e-9 && fmax(maxabs(it->u, n), maxabs(it->Hs, n)) <= KKT_TOL) {
+    if (rnorm <= sp->tol && viol <= 1e-9 &&
+        fmax(maxabs(it->u, n), maxabs(it->Hs, n)) <= TR_ACT_KKT_TOL) {
         it->optimal = 1;
         return TR_ACT_DONE;
     }
@@ -640,7 +630,7 @@ static int iter_alloc(act_iter *it, act_run *a, const tr_act_spec *sp)
     for (j = 0; j < ni; j++) *iv[j].p = iw, iw += iv[j].len;
     for (i = 0; i < (int)nt; i++) it->disp[i] = a->m->tendon[i].control == TR_DISPLACEMENT;
     for (i = 0; i < (int)n; i++) it->H[i * (int)n + i] = 1.0;
-    it->delta = DELTA0;
+    it->delta = TR_ACT_DELTA0;
     it->lsq = sp->kind != TR_ACT_MIN_CHANGE;
     return 0;
 }

@@ -20,13 +20,6 @@
 #include "tendonrod.h"
 #include "tr_internal.h"
 
-/* Shooting segments of the confirming formulation. */
-#define TR_CONFIRM_SEGMENTS 8
-/* Tips of two solves of one equilibrium agree to the solver tolerance (~1e-8 L);
- * distinct equilibria found so far differ by >= 1e-2 L: 1e-6 L (and 1e-6 of the
- * largest tension) separates them. */
-#define TR_CONFIRM_AGREE 1e-6
-
 /* The confirming model and workspace, synchronised with m; 0, or -1 (message set). */
 static int confirm_workspace(const tr_model *m, tr_data *d, int nshoot, const char *first)
 {

@@ -162,6 +162,85 @@ enum {
 /* Iterations a lean warm solve (tr_solve_lean) may take. */
 #define TR_LEAN_ITER 8
 
+/* ------------------------------------------------------ the constants of the layers' files */
+/* The policy constants used by one file each, by layer (csrc/README.md); no .c file defines
+ * one of its own (tools/check_house.py).  The stability layer's are in tr_stab.h, the
+ * dense QP's limits in tr_qp.h. */
+/* base: tr_options.c */
+/* Samples of the midpoint rule for the growth exponent. */
+#define TR_GROWTH_SAMPLES 256
+/* scene: tr_routing.c, tr_backbone.c, tr_tendons.c, tr_model.c */
+/* Pieces must join within this fraction of L (round-off of the user's knots). */
+#define TR_KNOT_TOL 1e-12
+/* Composite panels per integration segment of the reference-length quadrature: |w_ref| is
+ * the root of a positive quadratic in s, so 16 panels of 8 points reach round-off. */
+#define TR_REF_PANELS 16
+/* Relative tolerance of the pretension balance check sum(tau_p r_i) = 0. */
+#define TR_BALANCE_TOL 1e-9
+/* Breakpoints closer than this fraction of L are merged (round-off in user
+ * arc lengths such as 0.1 * 3 vs 0.3). */
+#define TR_BP_MERGE 1e-12
+/* shooting: tr_watch.c */
+/* Sub-steps of the walk per rod length, at least (the closest approach to 1/r is located
+ * to L / TR_WATCH_STEPS or to a shooting step, whichever is finer). */
+#define TR_WATCH_STEPS 32
+/* outputs: tr_compliance.c */
+/* The step of the forward differences over the unknowns (scaled units).  Their error is
+ * the truncation h |F''| / 2 plus the residual's rounding over h: the solver's TR_FD_H
+ * (1.5e-8) is rounding-bound here, with derivatives up to ~5e-7 relative off the central
+ * ones on a Cosserat rod's EA / GA; 5e-8 balances the two, ~1e-7 at worst on the test
+ * scenes and ~2e-8 on the Fig. 11c robot (bench/results/jacobian_actuate.md). */
+#define TR_LIN_FD_H 5e-8
+/* policy: tr_branch.c, tr_confirm.c */
+/* A warm solve keeps the previous verdict while its scaled change times (1 + the
+ * stiffness scale) stays below this fraction of the verdict's distance from zero. */
+#define TR_CARRY 0.25
+/* Size of the symmetry-breaking imperfection, scaled by EI/L^2 (force), EI/L (moment). */
+#define TR_IMPERFECTION 1e-3
+/* The imperfections tried in turn, in the tip's body frame: a force along x, y and the
+ * two diagonals (a robot with tendons is not isotropic: its stable buckled branch may lie
+ * between the axes), then a moment about the tangent. */
+#define TR_N_IMPERFECTIONS 5
+/* Shooting segments of the confirming formulation. */
+#define TR_CONFIRM_SEGMENTS 8
+/* Tips of two solves of one equilibrium agree to the solver tolerance (~1e-8 L);
+ * distinct equilibria found so far differ by >= 1e-2 L: 1e-6 L (and 1e-6 of the
+ * largest tension) separates them. */
+#define TR_CONFIRM_AGREE 1e-6
+/* over the driver: tr_batch.c, tr_path.c, tr_actuate.c */
+/* History depth of converged points kept for the predictor (cubic: four). */
+#define TR_BATCH_HIST 4
+/* Newton iterations of one correction, and the largest scaled Newton step accepted. */
+#define TR_PATH_ITER     12
+#define TR_PATH_MAX_STEP 1.0
+/* Smallest step along the path before it stops as stalled. */
+#define TR_PATH_DS_MIN 1e-9
+/* A step whose tangent turns by more than acos(TR_PATH_COS) is retried shorter: it may
+ * have jumped to another branch. */
+#define TR_PATH_COS 0.9
+/* Illinois iterations locating a special point, and the arclength bracket that ends them
+ * (relative to the step that contains the point). */
+#define TR_PATH_REFINE     80
+#define TR_PATH_REFINE_TOL 1e-13
+/* An indicator still above this fraction of its values at the step's ends when the
+ * bracket has shrunk jumps rather than vanishes (a singular point, not a special one). */
+#define TR_PATH_JUMP 1e-3
+/* A special point is located again with the steps doubled (at most this many times) until
+ * its parameter moves by at most this much relative. */
+#define TR_PATH_LOCATE_ROUNDS 5
+#define TR_PATH_LOCATE_TOL    1e-11
+/* Consecutive rejected trust-region steps after which the iteration stops: the region has
+ * shrunk by 4^8 ~ 6e4 below the step refused first, so a step that still does not reduce
+ * the residual means none will (a least-squares point, e.g. at a tension bound). */
+#define TR_ACT_MAX_REJECTED 8
+/* The first trust region (scaled controls): about a half turn of the tip. */
+#define TR_ACT_DELTA0 3.0
+/* The least change's stopping test (scaled controls): the step the linearised problem
+ * still asks for and its stationarity residual.  The forward-difference linearisation is
+ * good to ~1e-7 relative, so a tighter test chases its noise (steps of a few 1e-7 that
+ * the merit then refuses); 1e-6 is 1e-8 m of a displacement at a 10 mm offset. */
+#define TR_ACT_KKT_TOL 1e-6
+
 /* ------------------------------------------------------------ small helpers */
 /* Number of force/moment unknowns: 3 planar (x, z force, y moment), 6 spatial. */
 static inline int tr_n_force(const tr_model *m)

@@ -15,10 +15,6 @@
 #include "tendonrod.h"
 #include "tr_internal.h"
 
-/* Breakpoints closer than this fraction of L are merged (round-off in user
- * arc lengths such as 0.1 * 3 vs 0.3). */
-#define TR_BP_MERGE 1e-12
-
 void tr_model_free(tr_model *m)
 {
     if (!m) return;

@@ -9,7 +9,10 @@ Fails (exit status 1, listing the offenders) when
 - a file of ``csrc/`` is missing from the layer table of ``csrc/README.md`` (or the table
   names a file that does not exist), a function that ``solve()`` in ``csrc/tr_solve.c``
   calls (a driver stage) is not named in the README's list of stages, or a C file calls
-  a function of a file in a higher layer or the files call each other in a circle.
+  a function of a file in a higher layer or the files call each other in a circle,
+- a ``csrc/*.c`` file defines a numeric constant of its own (``#define NAME 1e-6``): the
+  policy constants live in the headers (``tr_internal.h`` by layer, ``tr_stab.h``,
+  ``tr_qp.h``).
 
 Lines are counted as ``wc -l`` counts them (newline characters).  The import graph is
 read with :mod:`ast` from every module of the package: imports at module level and
@@ -427,6 +430,15 @@ def call_graph(root: Path) -> tuple[dict[str, set[str]], dict[tuple[str, str], s
     return graph, why, ""
 
 
+NUMERIC_DEFINE = re.compile(r"^#define\s+([A-Za-z]\w*)\s+\(?[-+]?\.?[0-9]", re.M)
+
+
+def numeric_defines(path: Path) -> list[str]:
+    """The numeric constants ``path`` defines (names with a leading underscore, such as
+    feature-test macros, aside)."""
+    return NUMERIC_DEFINE.findall(path.read_text(encoding="utf-8"))
+
+
 def check_c_layers(root: Path) -> bool:
     """The README's layer table and stage list against ``csrc/``, and the calls between
     the C files against the layers (see the module docstring)."""
@@ -447,7 +459,17 @@ def check_c_layers(root: Path) -> bool:
     )
     pruned = {a: {b for b in outs if (a, b) not in ALLOWED_EDGES} for a, outs in graph.items()}
     loops = cycles(pruned)
-    ok = not (missing or stale or unnamed or upward or loops or not stages or not layers)
+    local = {
+        p.name: numeric_defines(p)
+        for p in sorted((root / "csrc").glob("*.c"))
+        if numeric_defines(p)
+    }
+    shared = {
+        p.name: len(numeric_defines(p))
+        for p in sorted((root / "csrc").glob("*.h"))
+        if numeric_defines(p)
+    }
+    ok = not (missing or stale or unnamed or upward or loops or local or not stages or not layers)
     print(
         f"C layers: {'ok' if ok else 'FAIL'} ({len(files)} files of csrc/ in {len(layers)} layers)"
     )
@@ -479,6 +501,15 @@ def check_c_layers(root: Path) -> bool:
         )
     if stages and not unnamed:
         print(f"  driver stages: {len(stages)}, each named in {README}")
+    for name, consts in local.items():
+        print(
+            f"  csrc/{name} defines constants of its own (to its layer's header): {', '.join(consts)}"
+        )
+    print(
+        "  numeric constants: "
+        + ", ".join(f"{n} in {h}" for h, n in sorted(shared.items(), key=lambda kv: -kv[1]))
+        + ("; none in a .c file" if not local else "")
+    )
     return ok
 
 
