@@ -318,6 +318,36 @@ def scenes() -> dict:
         O(),
         None,
     )
+    # stiff tendon sets sharing a tension level: Fig. 12's twist at r^2 EA/EI = 1e9 solved
+    # along that level's own direction; Fig. 18's pair locked at 90 deg at 1e10, where the
+    # residuals fix the level only to their rounding (refused, TR_EINDETERMINATE)
+    EI11, GJ11 = rod.bending_stiffness, rod.torsional_stiffness
+    twist = tr.Robot(
+        rod,
+        [tr.Tendon(offset=r, angle=2 * math.pi * i / 3, EA=1e9 * EI11 / r**2) for i in range(3)],
+    )
+    out["stiff_twist"] = (
+        tr.Scene(twist, displacement=[0.0] * 3, loads=tip((0, 0, 0), (0, 0, 0.5 * GJ11 / L))),
+        O(),
+        None,
+    )
+    k17 = fig17_rod()
+    pair = tr.Robot(
+        k17,
+        [
+            tr.Tendon(offset=r, angle=a, EA=1e10 * k17.bending_stiffness / r**2)
+            for a in (0.0, math.pi)
+        ],
+    )
+    out["stiff_pair_refused"] = (
+        tr.Scene(
+            pair,
+            displacement=[0.01570796327192245, -0.01570796326554625],
+            loads=[tr.PointLoad(s=0.2, force=(0, 0, -0.2))],
+        ),
+        O(),
+        None,
+    )
     # statically indeterminate at compile time
     opp = tr.Robot(fig11_rod(), [tr.Tendon(offset=r), tr.Tendon(offset=r, angle=math.pi)])
     out["indeterminate"] = (tr.Scene(opp, displacement=[0.0, 0.0]), O(), None)
