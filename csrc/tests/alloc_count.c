@@ -3,7 +3,8 @@
  * calloc and realloc of the process is counted (this file interposes them), by who asked:
  * the core or a shared library (GSL).  Prints one line per family: the allocations of the
  * first solve (core, GSL), of the next two (core, GSL), the first one's status; exits 0.
- * glibc only (__libc_*, dladdr).  Build from the repository root:
+ * glibc only (__libc_*, dladdr); under valgrind, whose allocator takes the place of
+ * these, it counts nothing.  Build from the repository root:
  *   cc -std=gnu99 -O2 -Icsrc csrc/tests/alloc_count.c csrc/tr_*.c \
  *      $(pkg-config --cflags --libs gsl) -lm -o /tmp/alloc_count */
 #define _GNU_SOURCE /* dladdr */
