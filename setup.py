@@ -115,7 +115,8 @@ ext = Extension(
         ("NPY_NO_DEPRECATED_API", "NPY_2_0_API_VERSION"),
         ("NPY_TARGET_VERSION", "NPY_1_25_API_VERSION"),
     ],
-    extra_compile_args=CFLAGS + extra_c,
+    # hidden visibility: the module exports PyInit__core alone (PyMODINIT_FUNC marks it)
+    extra_compile_args=CFLAGS + ["-fvisibility=hidden"] + extra_c,
     extra_link_args=extra_l,
 )
 

@@ -26,8 +26,10 @@ $(CBUILD)/obj/%.o: csrc/%.c $(wildcard csrc/*.h) csrc/CFLAGS | gsl
 	@mkdir -p $(@D)
 	$(CC) $(TR_CFLAGS) $(GSL_CFLAGS) -Icsrc -c $< -o $@
 
-$(CBUILD)/libtendonrod.so.$(TR_VERSION): $(LIB_OBJ)
-	$(CC) -shared -Wl,-soname,$(SONAME) -o $@ $^ $(GSL_LIBS) -lm
+# exports: the tr_-prefixed names only (csrc/libtendonrod.map)
+$(CBUILD)/libtendonrod.so.$(TR_VERSION): $(LIB_OBJ) csrc/libtendonrod.map
+	$(CC) -shared -Wl,-soname,$(SONAME) -Wl,--version-script=csrc/libtendonrod.map \
+	  -o $@ $(LIB_OBJ) $(GSL_LIBS) -lm
 
 $(CBUILD)/libtendonrod.a: $(LIB_OBJ)
 	rm -f $@ && ar rcs $@ $^

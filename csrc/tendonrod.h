@@ -566,9 +566,11 @@ typedef struct tr_data {
     /* the closest approach of a taut tendon to the centre of curvature (tr_watch.c) on
      * the state where a load path stalled: the smallest path-length rate |w| / |w_ref|,
      * the tendon, the arc length, its tension and the limit EI / r^2 there */
-    double ea_scale; /* the tendons' EA in the length residuals scaled by it (1; below 1 on the
+    double ea_scale;     /* the tendons' EA in the length residuals scaled by it (1; below 1 on the
                         way up from softer tendons, tr_solve.c) */
-    int shared_mode; /* 1: Jacobians carry the shared tension direction of stiff tendon sets
+    double tol_override; /* > 0: the Newton layer's convergence tolerance in place of
+                            opt.tol (the options are never written during a solve) */
+    int shared_mode;     /* 1: Jacobians carry the shared tension direction of stiff tendon sets
                         from a difference of its own (tr_newton.c), and steps may grow with it */
     int watch_have, watch_tendon;
     double watch_rate, watch_s, watch_tau, watch_limit, watch_act, watch_load;

@@ -25,7 +25,7 @@
 #include "tru_math.h"
 
 /* ------------------------------------------------------------------ buffers */
-int act_check_spec(const tr_model *m, tr_data *d, const tr_act_spec *sp)
+int tr_act_check_spec(const tr_model *m, tr_data *d, const tr_act_spec *sp)
 {
     const tr_act_target *tg = &sp->target;
     int j, i;
@@ -67,7 +67,7 @@ int act_check_spec(const tr_model *m, tr_data *d, const tr_act_spec *sp)
     return TR_OK;
 }
 
-act_run *act_run_alloc(tr_model *m, tr_data *d, const tr_act_spec *sp)
+act_run *tr_act_run_alloc(tr_model *m, tr_data *d, const tr_act_spec *sp)
 {
     const int n = sp->n, nt = m->nt, k = d->k, ls = nt + sp->target.m > n ? nt + sp->target.m : n;
     const size_t per = (size_t)(6 + 2 * nt) + 2 * (size_t)k + (size_t)k * k + 3 * (size_t)nt + n;
@@ -84,7 +84,7 @@ act_run *act_run_alloc(tr_model *m, tr_data *d, const tr_act_spec *sp)
     a->par = (tr_param *)calloc((size_t)nt + 1, sizeof(tr_param));
     if (!w || !a->par) {
         free(w);
-        act_run_free(a);
+        tr_act_run_free(a);
         return NULL;
     }
     for (i = 0; i < ACT_POOL; i++) {
@@ -112,7 +112,7 @@ act_run *act_run_alloc(tr_model *m, tr_data *d, const tr_act_spec *sp)
     return a;
 }
 
-void act_run_free(act_run *a)
+void tr_act_run_free(act_run *a)
 {
     if (!a) return;
     free(a->pool[0].g); /* the one block of doubles */
@@ -120,8 +120,8 @@ void act_run_free(act_run *a)
     free(a);
 }
 
-int act_lstsq(act_run *a, int rows, int cols, const double *M, const double *b, double rcond,
-              double *x)
+int tr_act_lstsq(act_run *a, int rows, int cols, const double *M, const double *b, double rcond,
+                 double *x)
 {
     return tr_lstsq(rows, cols, M, 0, b, rcond, x, a->lsq);
 }
@@ -292,7 +292,7 @@ static int keep_state(act_run *a)
     return s;
 }
 
-int act_run_first(act_run *a)
+int tr_act_run_first(act_run *a)
 {
     int j;
     for (j = 0; j < a->n; j++) a->key[j] = a->sp->c0[j];
@@ -330,7 +330,7 @@ static const tr_verified *verified(const act_run *a, int s, tr_verified *v)
     return v;
 }
 
-int act_solve(act_run *a, const double *c, const double *state)
+int tr_act_solve(act_run *a, const double *c, const double *state)
 {
     tr_data *d = a->d;
     tr_verified v;
@@ -365,14 +365,14 @@ int act_solve(act_run *a, const double *c, const double *state)
     return keep_state(a);
 }
 
-void act_psi(const act_run *a, int s, double *psi)
+void tr_act_psi(const act_run *a, int s, double *psi)
 {
     int i;
     for (i = 0; i < a->nt; i++) psi[i] = a->pool[s].tension[i] - a->sp->k * a->pool[s].slack[i];
 }
 
 /* ------------------------------------------------------------------ linearisation */
-int act_linearize(act_run *a, int s, const double *side, double *A, double *T, int *sw)
+int tr_act_linearize(act_run *a, int s, const double *side, double *A, double *T, int *sw)
 {
     const tr_act_spec *sp = a->sp;
     const act_state *st = a->pool + s;
@@ -415,7 +415,7 @@ int act_linearize(act_run *a, int s, const double *side, double *A, double *T, i
 }
 
 /* ------------------------------------------------------------------ augmented, final */
-int act_augmented(act_run *a, double *c)
+int tr_act_augmented(act_run *a, double *c)
 {
     const tr_act_spec *sp = a->sp;
     const tr_act_target *tg = &sp->target;
@@ -442,12 +442,12 @@ int act_augmented(act_run *a, double *c)
         ok = isfinite(q[j]) && d->tension[sp->idx[j]] > 0.0;
     }
     if (!ok) return -1;
-    j = act_solve(a, q, NULL);
+    j = tr_act_solve(a, q, NULL);
     if (j >= 0) memcpy(c, q, (size_t)a->n * sizeof(double));
     return j;
 }
 
-int act_final(act_run *a, int s, const double *c, int judge, double *r)
+int tr_act_final(act_run *a, int s, const double *c, int judge, double *r)
 {
     tr_data *d = a->d;
     act_state here;

@@ -59,34 +59,34 @@ typedef struct {
 
 /* TR_OK, or TR_EINVAL (message in d->message) for a spec that does not fit the model or
  * a workspace without a converged solve to start from. */
-int act_check_spec(const tr_model *m, tr_data *d, const tr_act_spec *sp);
-/* Allocate the run's buffers (NULL: out of memory); free with act_run_free. */
-act_run *act_run_alloc(tr_model *m, tr_data *d, const tr_act_spec *sp);
-void act_run_free(act_run *a);
+int tr_act_check_spec(const tr_model *m, tr_data *d, const tr_act_spec *sp);
+/* Allocate the run's buffers (NULL: out of memory); free with tr_act_run_free. */
+act_run *tr_act_run_alloc(tr_model *m, tr_data *d, const tr_act_spec *sp);
+void tr_act_run_free(act_run *a);
 /* The workspace's current state (a converged solve at the scene's controls) as the
  * run's first: its slot. */
-int act_run_first(act_run *a);
+int tr_act_run_first(act_run *a);
 /* A solve at controls c (n): warm from the last success with the last linearisation's
  * Jacobian where there is one, from the state solved at the same controls before with
  * its own, or from the guess `state` (6 + 2 nt; NULL: none) with that Jacobian.  Its
  * slot, or -1 when it failed (a->stop set when the run must end). */
-int act_solve(act_run *a, const double *c, const double *state);
+int tr_act_solve(act_run *a, const double *c, const double *state);
 /* The linearisation at slot s, with the sides `side` (nt: +1, -1, 0) wanted for tendons
  * at their switch: A (m x n) the target residual's and T (nt x n) the signed tensions'
  * derivatives by the scaled controls, sw (nt) the sides given.  TR_OK or the failure. */
-int act_linearize(act_run *a, int s, const double *side, double *A, double *T, int *sw);
+int tr_act_linearize(act_run *a, int s, const double *side, double *A, double *T, int *sw);
 /* The signed tension psi = tau - k slack (nt) [N] of slot s. */
-void act_psi(const act_run *a, int s, double *psi);
+void tr_act_psi(const act_run *a, int s, double *psi);
 /* The target solved inside the shooting system at the current state: the slot of the
  * forward solve of the controls found (c set), or -1 (nothing changed but counters). */
-int act_augmented(act_run *a, double *c);
+int tr_act_augmented(act_run *a, double *c);
 /* The final solve at controls c from slot s, judged for stability on request: its
  * status, and its target residual in r (m; slot s's where it failed).  The workspace
  * ends there. */
-int act_final(act_run *a, int s, const double *c, int judge, double *r);
+int tr_act_final(act_run *a, int s, const double *c, int judge, double *r);
 /* Least-norm least squares: x (cols) minimising |M x - b| (M rows x cols, row-major),
  * singular values below rcond times the largest dropped.  0, or -1 (SVD failed). */
-int act_lstsq(act_run *a, int rows, int cols, const double *M, const double *b, double rcond,
-              double *x);
+int tr_act_lstsq(act_run *a, int rows, int cols, const double *M, const double *b, double rcond,
+                 double *x);
 
 #endif /* TR_ACT_RUN_H */

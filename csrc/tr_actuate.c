@@ -17,19 +17,8 @@
 #include "tr_qp.h"
 #include "tru_math.h"
 
-/* Consecutive rejected trust-region steps after which the iteration stops: the region has
- * shrunk by 4^8 ~ 6e4 below the step refused first, so a step that still does not reduce
- * the residual means none will (a least-squares point, e.g. at a tension bound). */
-#define MAX_REJECTED 8
-/* The first trust region (scaled controls): about a half turn of the tip. */
-#define DELTA0 3.0
-/* The least change's stopping test (scaled controls): the step the linearised problem
- * still asks for and its stationarity residual.  The forward-difference linearisation is
- * good to ~1e-7 relative, so a tighter test chases its noise (steps of a few 1e-7 that
- * the merit then refuses); 1e-6 is 1e-8 m of a displacement at a 10 mm offset. */
-#define KKT_TOL 1e-6
 /* A step's outcome when a linearisation or the step's QP failed (it->err says which). */
-#define ACT_ERROR (-1)
+enum { ACT_ERROR = -1 };
 
 typedef struct {
     act_run *a;
@@ -136,9 +125,9 @@ static void to_taut_side(act_iter *it)
             cn[j] = fmin(it->c[j] + slack + 1e-12 * sp->scale[j], sp->c0[j]);
     }
     if (equal(cn, it->c, it->n)) return;
-    s = act_solve(it->a, cn, slack_state(it, cn));
+    s = tr_act_solve(it->a, cn, slack_state(it, cn));
     if (s < 0) {
-        act_solve(it->a, it->c, NULL); /* the workspace's warm state back at c */
+        tr_act_solve(it->a, it->c, NULL); /* the workspace's warm state back at c */
         return;
     }
     set_state(it, cn, s);
@@ -168,7 +157,7 @@ static int linearisation(act_iter *it)
     if (it->lin) return 0;
     to_taut_side(it);
     wanted_sides(it);
-    status = act_linearize(it->a, it->a->cur, it->side, it->A, it->T, it->sw);
+    status = tr_act_linearize(it->a, it->a->cur, it->side, it->A, it->T, it->sw);
     if (status != TR_OK) {
         it->err = status;
         return -1;
@@ -369,7 +358,7 @@ static int refused(act_iter *it, const double *u)
 {
     it->delta = maxabs(u, it->n) / 4.0;
     it->rejected++;
-    return it->rejected >= MAX_REJECTED ? TR_ACT_STUCK : TR_ACT_REJECTED;
+    return it->rejected >= TR_ACT_MAX_REJECTED ? TR_ACT_STUCK : TR_ACT_REJECTED;
 }
 
 /* An accepted step whose target residual fell fast (to 1e-2 of the last one or less,
@@ -391,11 +380,11 @@ static int chord(act_iter *it, double *cn, int s, double rnorm, const int *keep,
         for (j = 0; j < n; j++) it->M[(mt + i) * n + j] = it->T[keep[i] * n + j] / sp->tau_scale;
     for (i = 0; i < mt; i++) it->rhs[i] = -it->a->pool[s].r[i];
     for (i = 0; i < nk; i++) it->rhs[mt + i] = 0.0;
-    if (act_lstsq(it->a, mt + nk, n, it->M, it->rhs, 1e-12, it->dd) < 0) return s;
+    if (tr_act_lstsq(it->a, mt + nk, n, it->M, it->rhs, 1e-12, it->dd) < 0) return s;
     for (j = 0; j < n; j++) it->c2[j] = cn[j] + it->dd[j] * sp->scale[j];
-    s2 = act_solve(it->a, it->c2, NULL);
+    s2 = tr_act_solve(it->a, it->c2, NULL);
     if (s2 < 0 || !(maxabs(it->a->pool[s2].r, mt) < rmax)) {
-        act_solve(it->a, cn, NULL); /* the workspace's warm state back at cn */
+        tr_act_solve(it->a, cn, NULL); /* the workspace's warm state back at cn */
         return s;
     }
     memcpy(cn, it->c2, (size_t)n * sizeof(double));
@@ -416,7 +405,7 @@ static int sqp(act_iter *it)
     if (floors(it, it->floor) < 0) return ACT_ERROR;
     for (i = 0; i < nt; i++)
         if (isfinite(it->floor[i])) it->rows[nf++] = i;
-    act_psi(it->a, it->a->cur, it->psi);
+    tr_act_psi(it->a, it->a->cur, it->psi);
     /* the normal step toward the target within 0.8 of the trust region and the floors
      * (least squares on the linearised residual): the part of the target a step of this
      * size can reach */
@@ -445,28 +434,29 @@ static int sqp(act_iter *it)
         viol = fmax(viol, fmax(it->floor[it->rows[i]] - it->psi[it->rows[i]], 0.0));
     viol /= sp->tau_scale;
     /* stay: the step and the stationarity residual H u of the linearised problem's
-     * optimality conditions both below KKT_TOL (scaled units), a KKT point */
+     * optimality conditions both below TR_ACT_KKT_TOL (scaled units), a KKT point */
     for (i = 0; i < n; i++) it->Hs[i] = dot(it->H + i * n, it->u, n);
-    if (rnorm <= sp->tol && viol <= 1e-9 && fmax(maxabs(it->u, n), maxabs(it->Hs, n)) <= KKT_TOL) {
+    if (rnorm <= sp->tol && viol <= 1e-9 &&
+        fmax(maxabs(it->u, n), maxabs(it->Hs, n)) <= TR_ACT_KKT_TOL) {
         it->optimal = 1;
         return TR_ACT_DONE;
     }
     phi = merit(it, c, r, it->psi, it->floor);
     for (j = 0; j < n; j++) it->cn[j] = c[j] + it->u[j] * sp->scale[j];
-    s = act_solve(it->a, it->cn, NULL);
+    s = tr_act_solve(it->a, it->cn, NULL);
     if (s >= 0) {
-        act_psi(it->a, s, it->psin);
+        tr_act_psi(it->a, s, it->psin);
         if (!(merit(it, it->cn, it->a->pool[s].r, it->psin, it->floor) < phi)) {
             /* a second-order correction: the new target residual removed by the least-norm
              * step of the same linearisation (the target's curvature would otherwise make
              * the merit refuse steps near the solution) */
             for (i = 0; i < mt; i++) it->rhs[i] = -it->a->pool[s].r[i];
             s2 = -1;
-            if (act_lstsq(it->a, mt, n, it->A, it->rhs, 1e-12, it->dd) == 0) {
+            if (tr_act_lstsq(it->a, mt, n, it->A, it->rhs, 1e-12, it->dd) == 0) {
                 for (j = 0; j < n; j++) it->c2[j] = it->cn[j] + it->dd[j] * sp->scale[j];
-                s2 = act_solve(it->a, it->c2, NULL);
+                s2 = tr_act_solve(it->a, it->c2, NULL);
             }
-            if (s2 >= 0) act_psi(it->a, s2, it->psin);
+            if (s2 >= 0) tr_act_psi(it->a, s2, it->psin);
             if (s2 >= 0 && merit(it, it->c2, it->a->pool[s2].r, it->psin, it->floor) < phi) {
                 for (j = 0; j < n; j++) it->u[j] += it->dd[j];
                 memcpy(it->cn, it->c2, (size_t)n * sizeof(double));
@@ -531,7 +521,7 @@ static int lm(act_iter *it)
     if (!(pred > 1e-28 * rr) || umax <= 1e-13)
         return TR_ACT_STUCK; /* no descent left: a (bounded) least-squares point */
     for (j = 0; j < n; j++) it->cn[j] = it->c[j] + it->u[j] * sp->scale[j];
-    s = act_solve(it->a, it->cn, NULL);
+    s = tr_act_solve(it->a, it->cn, NULL);
     rho = s >= 0 ? (rr - dot(it->a->pool[s].r, it->a->pool[s].r, mt)) / pred : -1.0;
     if (rho <= 1e-4) return refused(it, it->u);
     if (rho > 0.75 && umax >= 0.9 * it->delta)
@@ -561,14 +551,14 @@ static int release(act_iter *it)
             it->cn[j] = sp->c0[j];
     }
     if (equal(it->cn, it->c, it->n)) return 0;
-    s = act_solve(it->a, it->cn, slack_state(it, it->cn));
+    s = tr_act_solve(it->a, it->cn, slack_state(it, it->cn));
     ok = s >= 0 && maxabs(it->a->pool[s].r, it->mt) <= sp->tol;
     for (j = 0; j < it->n && ok; j++)
         if (it->cn[j] != it->c[j]) ok = it->a->pool[s].tension[sp->idx[j]] == 0.0;
     if (ok) {
         set_state(it, it->cn, s);
     } else { /* back to the verified point (and the workspace's warm state at it) */
-        s = act_solve(it->a, it->c, NULL);
+        s = tr_act_solve(it->a, it->c, NULL);
         if (s >= 0) set_state(it, it->c, s);
     }
     return 0;
@@ -640,7 +630,7 @@ static int iter_alloc(act_iter *it, act_run *a, const tr_act_spec *sp)
     for (j = 0; j < ni; j++) *iv[j].p = iw, iw += iv[j].len;
     for (i = 0; i < (int)nt; i++) it->disp[i] = a->m->tendon[i].control == TR_DISPLACEMENT;
     for (i = 0; i < (int)n; i++) it->H[i * (int)n + i] = 1.0;
-    it->delta = DELTA0;
+    it->delta = TR_ACT_DELTA0;
     it->lsq = sp->kind != TR_ACT_MIN_CHANGE;
     return 0;
 }
@@ -659,18 +649,18 @@ int tr_actuate(tr_model *m, tr_data *d, const tr_act_spec *sp, tr_act_result *re
     act_iter it;
     int s, j, out = TR_ACT_MOVED, status, i, nit = 0;
     memset(res->why, 0, sizeof res->why);
-    if ((status = act_check_spec(m, d, sp)) != TR_OK) return status;
-    if (!(a = act_run_alloc(m, d, sp))) return TR_ENOMEM;
+    if ((status = tr_act_check_spec(m, d, sp)) != TR_OK) return status;
+    if (!(a = tr_act_run_alloc(m, d, sp))) return TR_ENOMEM;
     if (iter_alloc(&it, a, sp) < 0) {
-        act_run_free(a);
+        tr_act_run_free(a);
         return TR_ENOMEM;
     }
-    s = act_run_first(a);
+    s = tr_act_run_first(a);
     memcpy(it.c, sp->c0, (size_t)n * sizeof(double));
     res->augmented = 0;
     if (sp->augmented && maxabs(a->pool[s].r, it.mt) > sp->tol) {
         /* the target inside the shooting system first; the iteration polishes or takes over */
-        const int s2 = act_augmented(a, it.cn);
+        const int s2 = tr_act_augmented(a, it.cn);
         if (s2 >= 0) {
             s = s2;
             memcpy(it.c, it.cn, (size_t)n * sizeof(double));
@@ -686,12 +676,12 @@ int tr_actuate(tr_model *m, tr_data *d, const tr_act_spec *sp, tr_act_result *re
             it.cn[j] += a->pool[s].slack[t] + 1e-12 * sp->scale[j];
     }
     if (!equal(it.cn, it.c, n)) {
-        const int s2 = act_solve(a, it.cn, NULL);
+        const int s2 = tr_act_solve(a, it.cn, NULL);
         if (s2 >= 0) {
             s = s2;
             memcpy(it.c, it.cn, (size_t)n * sizeof(double));
         } else {
-            const int s3 = act_solve(a, it.c, NULL); /* the workspace's warm state back at c */
+            const int s3 = tr_act_solve(a, it.c, NULL); /* the workspace's warm state back at c */
             if (s3 >= 0) s = s3;
         }
     }
@@ -724,12 +714,12 @@ int tr_actuate(tr_model *m, tr_data *d, const tr_act_spec *sp, tr_act_result *re
         memcpy(res->lam, it.lam, sizeof res->lam);
         for (i = 0; i < a->nt; i++) res->mus[i] = it.have_lam ? it.mus[i] : 0.0;
         memcpy(res->c, it.c, (size_t)n * sizeof(double));
-        res->status = act_final(a, a->cur, it.c, sp->judge, res->r);
+        res->status = tr_act_final(a, a->cur, it.c, sp->judge, res->r);
         if (a->stop) status = a->stop;
         res->solves = a->solves;
         res->jacobians = a->jacobians;
     }
     iter_free(&it);
-    act_run_free(a);
+    tr_act_run_free(a);
     return status;
 }

@@ -20,9 +20,6 @@ static const double gl_x[4] = {0.1834346424956498, 0.5255324099163290, 0.7966664
                                0.9602898564975363};
 static const double gl_w[4] = {0.3626837833783620, 0.3137066678522765, 0.2223810344533745,
                                0.1012285362903763};
-/* Composite panels per integration segment of the reference-length quadrature: |w_ref| is
- * the root of a positive quadratic in s, so 16 panels of 8 points reach round-off. */
-#define TR_REF_PANELS 16
 
 int tr_sections_planar(const double *sections, int nsec)
 {

@@ -14,9 +14,6 @@
 #include "tr_batch.h"
 #include "tr_internal.h"
 
-/* History depth of converged points kept for the predictor (cubic: four). */
-#define TR_BATCH_HIST 4
-
 /* Workspace of one batch call. */
 typedef struct batch_ws {
     tr_model *m;                   /* clone of the base model; values set per point */

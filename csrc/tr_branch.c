@@ -33,12 +33,6 @@
 #include "tr_internal.h"
 #include "tru_math.h"
 
-/* A warm solve keeps the previous verdict while its scaled change times (1 + the
- * stiffness scale) stays below this fraction of the verdict's distance from zero. */
-#define TR_CARRY 0.25
-/* Size of the symmetry-breaking imperfection, scaled by EI/L^2 (force), EI/L (moment). */
-#define TR_IMPERFECTION 1e-3
-
 /* Value n of the list: stored in v (old NULL), or its change from old added up. */
 static void value(double x, double *v, const double *old, int *n, double *change)
 {
@@ -171,10 +165,6 @@ static int from_guess(const tr_model *m, tr_data *d)
     return settle(m, d, status);
 }
 
-/* The imperfections tried in turn, in the tip's body frame: a force along x, y and the
- * two diagonals (a robot with tendons is not isotropic: its stable buckled branch may lie
- * between the axes), then a moment about the tangent. */
-#define TR_N_IMPERFECTIONS 5
 static const double imperfection_dir[TR_N_IMPERFECTIONS][3] = {
     {1.0, 0.0, 0.0},
     {0.0, 1.0, 0.0},

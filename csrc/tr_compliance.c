@@ -16,13 +16,6 @@
 #include "tendonrod.h"
 #include "tr_internal.h"
 
-/* The step of the forward differences over the unknowns (scaled units).  Their error is
- * the truncation h |F''| / 2 plus the residual's rounding over h: the solver's TR_FD_H
- * (1.5e-8) is rounding-bound here, with derivatives up to ~5e-7 relative off the central
- * ones on a Cosserat rod's EA / GA; 5e-8 balances the two, ~1e-7 at worst on the test
- * scenes and ~2e-8 on the Fig. 11c robot (bench/results/jacobian_actuate.md). */
-#define LIN_FD_H 5e-8
-
 /* What a difference stencil moves: unknown `unknown` (>= 0), or the parameter par.  A
  * tendon's gamma at its switch under the squared slack model (tension tau_s gamma^2, slack
  * l_s gamma^2: both flat at gamma = 0) is moved through xi = gamma |gamma| (`xi`), in which
@@ -273,7 +266,7 @@ static int jacobian_columns(const tr_model *m, tr_data *d, const int *rows, int 
         if (only_switched && side >= 0) continue;
         dir.unknown = j;
         dir.xi = side != 0 && d->opt.slack_model == TR_SLACK_SQUARED;
-        status = difference(m, d, &dir, forward ? LIN_FD_H : TR_CD_H, side, forward, d->xs, dy,
+        status = difference(m, d, &dir, forward ? TR_LIN_FD_H : TR_CD_H, side, forward, d->xs, dy,
                             rows, nrow);
         if (status != TR_OK) return status;
         for (i = 0; i < k; i++) d->J[i * k + j] = d->xs[i];

@@ -8,22 +8,17 @@
  * twice the number used) has basins of its own; only when both reach the same
  * equilibrium is it reported as a success (TR_CONFIRMED).
  *
- * The second formulation is compiled and its workspace allocated the first time a
- * solve in this workspace needs it (a rare path), then kept and freed with the
- * workspace; its values are synchronised before each use.
+ * A stage of the driver (tr_solve.c, solve_confirm), which runs the second solve itself:
+ * tr_confirm_begin notes the equilibrium and sets the second formulation up,
+ * tr_confirm_judge compares the two.  The second formulation is compiled and its
+ * workspace allocated the first time a solve in this workspace needs it (a rare path),
+ * then kept and freed with the workspace; its values are synchronised before each use.
  */
 #include <math.h>
 #include <string.h>
 
 #include "tendonrod.h"
 #include "tr_internal.h"
-
-/* Shooting segments of the confirming formulation. */
-#define TR_CONFIRM_SEGMENTS 8
-/* Tips of two solves of one equilibrium agree to the solver tolerance (~1e-8 L);
- * distinct equilibria found so far differ by >= 1e-2 L: 1e-6 L (and 1e-6 of the
- * largest tension) separates them. */
-#define TR_CONFIRM_AGREE 1e-6
 
 /* The confirming model and workspace, synchronised with m; 0, or -1 (message set). */
 static int confirm_workspace(const tr_model *m, tr_data *d, int nshoot, const char *first)
@@ -60,28 +55,32 @@ static int confirm_workspace(const tr_model *m, tr_data *d, int nshoot, const ch
     return 0;
 }
 
-int tr_confirm_offpath(const tr_model *m, tr_data *d)
+int tr_confirm_begin(const tr_model *m, tr_data *d, tr_confirm *c)
 {
     const int M = m->nshoot;
-    const int M2 = M >= TR_CONFIRM_SEGMENTS ? 2 * M : TR_CONFIRM_SEGMENTS;
-    double tip[12], nw[3], mw[3], dtip = 0.0, dten = 0.0, tmax = 0.0;
-    tr_data *c;
-    int st, i;
-    char first[TR_MSGLEN];
-    memcpy(first, d->message, TR_MSGLEN);
-    if (M2 > TR_MAX_SHOOTING_SEGMENTS) {
+    double nw[3], mw[3];
+    c->segments = M >= TR_CONFIRM_SEGMENTS ? 2 * M : TR_CONFIRM_SEGMENTS;
+    memcpy(c->first, d->message, TR_MSGLEN);
+    if (c->segments > TR_MAX_SHOOTING_SEGMENTS) {
         tr_set_message(d, "%s; not confirmed: no finer shooting formulation than %d segments",
-                       first, M);
+                       c->first, M);
         return TR_OFFPATH;
     }
     /* the tip and tensions of this equilibrium */
     if (tr_residual(m, d, d->x, d->ft) != TR_OK) return d->stop ? d->stop : TR_OFFPATH;
-    tr_state_world(m, d->y, tip, tip + 3, nw, mw);
-    if (confirm_workspace(m, d, M2, first) != 0) return TR_OFFPATH;
-    c = d->confirm_d;
-    st = tr_solve(d->confirm_m, c, NULL, NULL);
-    d->nfev_confirm += c->nfev;
-    d->spent += c->spent;
+    tr_state_world(m, d->y, c->tip, c->tip + 3, nw, mw);
+    if (confirm_workspace(m, d, c->segments, c->first) != 0) return TR_OFFPATH;
+    return TR_CONTINUE;
+}
+
+int tr_confirm_judge(const tr_model *m, tr_data *d, const tr_confirm *c, int st)
+{
+    const tr_data *cd = d->confirm_d;
+    const int M2 = c->segments;
+    double dtip = 0.0, dten = 0.0, tmax = 0.0;
+    int i;
+    d->nfev_confirm += cd->nfev;
+    d->spent += cd->spent;
     if (st == TR_EINTERRUPTED) return d->stop = TR_EINTERRUPTED;
     /* an equilibrium of the confirming formulation, even one it found off the load path
      * itself, counts: the question is whether the two formulations agree */
@@ -89,15 +88,15 @@ int tr_confirm_offpath(const tr_model *m, tr_data *d)
         tr_set_message(d,
                        "%s; not confirmed: a cold solve with %d shooting segments did not "
                        "converge (%s)",
-                       first, M2, tr_strerror(st));
+                       c->first, M2, tr_strerror(st));
         return TR_OFFPATH;
     }
     for (i = 0; i < 3; i++) {
-        const double e = fabs(tip[i] - c->pos[i]);
+        const double e = fabs(c->tip[i] - cd->pos[i]);
         if (!(e <= dtip)) dtip = e;
     }
     for (i = 0; i < m->nt; i++) {
-        const double e = fabs(d->tau[i] - c->tension[i]);
+        const double e = fabs(d->tau[i] - cd->tension[i]);
         if (!(e <= dten)) dten = e;
         if (fabs(d->tau[i]) > tmax) tmax = fabs(d->tau[i]);
     }
@@ -106,13 +105,13 @@ int tr_confirm_offpath(const tr_model *m, tr_data *d)
         tr_set_message(d,
                        "%s; confirmed: a cold solve with %d shooting segments reaches the same "
                        "equilibrium (tips %.1e L apart)",
-                       first, M2, dtip / m->L);
+                       c->first, M2, dtip / m->L);
         return TR_CONFIRMED;
     }
     tr_set_message(d,
                    "%s; not confirmed: a cold solve with %d shooting segments reaches a "
                    "different equilibrium (tips %.2g L apart), so this one is not reported as "
                    "the answer",
-                   first, M2, dtip / m->L);
+                   c->first, M2, dtip / m->L);
     return TR_OFFPATH;
 }

@@ -1,6 +1,9 @@
 /*
- * tr_data.c -- the workspace of one solve: everything that changes, allocated
- * once here and freed in tr_data_free.  The solve loop allocates nothing.
+ * tr_data.c -- the workspace of one solve: everything that changes, allocated here and
+ * freed in tr_data_free.  The solve loop allocates nothing but the nested workspaces
+ * allocated on first use: the stability test's grid (tr_stab_workspace, below: again
+ * when a verdict needs another grid), the confirmation's (tr_confirm.c) and the
+ * linearisation's model copy (tr_compliance.c).
  */
 #include <math.h>
 #include <stdlib.h>
@@ -9,7 +12,102 @@
 
 #include "tendonrod.h"
 #include "tr_internal.h"
+#include "tr_stab.h"
 
+/* ------------------------------------------------------------ the stability test's grid */
+void tr_stab_free(struct tr_stab_ws *w)
+{
+    if (!w) return;
+    tr_data_free(w->rec);
+    free(w->s);
+    free(w->kind); /* with node */
+    free(w->R);    /* with every other array */
+    free(w);
+}
+
+/* The grid: nuni uniform elements and every breakpoint, sorted, merged within 1e-12 L. */
+static struct tr_stab_ws *stab_alloc(const tr_model *m, const tr_options *opt, int nuni,
+                                     int cosserat)
+{
+    struct tr_stab_ws *w = (struct tr_stab_ws *)calloc(1, sizeof *w);
+    const int cap = nuni + m->nseg + 2, nb = cosserat ? 6 : 3, nt = m->nt > 0 ? m->nt : 1;
+    const size_t nblk = (size_t)cap * nb * nb, nv = (size_t)cap * nb;
+    size_t len;
+    double *q;
+    int i, b, n = 0;
+    char msg[TR_MSGLEN];
+    tr_options o = *opt;
+    if (!w) return NULL;
+    w->nuni = nuni, w->nb = nb, w->cosserat = cosserat;
+    w->s = (double *)malloc((size_t)cap * sizeof(double));
+    w->kind = (int *)malloc(((size_t)cap * 2 + nt) * sizeof(int));
+    len = 18 * (size_t)cap + nt + 2 * nv + 5 * nblk + 2 * nv + 2 * nv * nt + 2 * (size_t)nt +
+          2 * (size_t)nt * nt + 10 * nv;
+    w->R = (double *)calloc(len, sizeof(double));
+    if (!w->s || !w->kind || !w->R) {
+        tr_stab_free(w);
+        return NULL;
+    }
+    w->node = w->kind + cap;
+    w->col = w->node + cap;
+    q = w->R + 9 * cap;
+    w->p = q, q += 3 * cap;
+    w->F = q, q += 3 * cap;
+    w->vhat = q, q += 3 * cap;
+    w->tau = q, q += nt;
+    w->g = q, q += nv;
+    w->dx = q, q += nv;
+    w->h.D = q, q += nblk;
+    w->h.E = q, q += nblk;
+    w->h.Pv = q, q += nblk;
+    w->h.U = q, q += nblk;
+    w->h.S = q, q += nblk; /* (nt x nt <= the space of a block array) */
+    w->h.Mw = q, q += nv;
+    w->h.Pe = q, q += nv;
+    w->h.B = q, q += nv * nt;
+    w->h.X = q, q += nv * nt;
+    w->h.cb = q, q += nt;
+    w->h.Se = q, q += nt;
+    w->h.Sv = q, q += (size_t)nt * nt;
+    if ((size_t)nt * nt > nblk) {
+        /* many tendons on a short grid: the Schur complement gets its own space */
+        w->h.S = q;
+    }
+    q += (size_t)nt * nt;
+    w->sw_buf = q; /* 10 nv */
+    for (i = 0, b = 1; i <= nuni || b < m->nseg;) {
+        const double su = i <= nuni ? m->L * i / nuni : INFINITY;
+        const double sb = b < m->nseg ? m->bp[b] : INFINITY;
+        if (sb < su - 1e-12 * m->L) {
+            w->s[n] = sb, w->kind[n++] = 1, b++;
+        } else if (fabs(sb - su) <= 1e-12 * m->L) {
+            w->s[n] = sb, w->kind[n++] = 1, b++, i++;
+        } else {
+            w->s[n] = i == nuni ? m->L : su, w->kind[n++] = i % 2 == 0, i++;
+        }
+    }
+    w->ngrid = n;
+    o.tip_only = 0;
+    w->rec = tr_data_alloc(m, &o, n, w->s, msg, sizeof msg);
+    if (!w->rec) {
+        tr_stab_free(w);
+        return NULL;
+    }
+    return w;
+}
+
+/* The workspace *wp for nuni uniform elements (reallocated when it has another count). */
+struct tr_stab_ws *tr_stab_workspace(const tr_model *m, tr_data *d, struct tr_stab_ws **wp,
+                                     int nuni, int cosserat)
+{
+    if (!*wp || (*wp)->nuni != nuni || (*wp)->cosserat != cosserat) {
+        tr_stab_free(*wp);
+        *wp = stab_alloc(m, &d->opt, nuni, cosserat);
+    }
+    return *wp;
+}
+
+/* ------------------------------------------------------------ the workspace */
 void tr_data_free(tr_data *d)
 {
     if (!d) return;

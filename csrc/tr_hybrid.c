@@ -60,7 +60,7 @@ int tr_hybrid_run(const tr_model *m, tr_data *d, int max_iter)
     if (st != GSL_SUCCESS) status = st == GSL_EMAXITER ? TR_EMAXFEV : TR_ENONFINITE;
     while (status == TR_CONTINUE) {
         double fn = tru_maxnorm(s->f->data, k);
-        if (fn <= d->opt.tol) {
+        if (fn <= tr_tol(d)) {
             status = TR_OK;
             break;
         }
@@ -97,7 +97,7 @@ int tr_hybrid_run(const tr_model *m, tr_data *d, int max_iter)
         tr_set_message(d,
                        "did not converge in %d iterations (hybrid; scaled residual %.3g > tol "
                        "%.3g); raise max_iter",
-                       max_iter, d->fnorm, d->opt.tol);
+                       max_iter, d->fnorm, tr_tol(d));
         break;
     case TR_EMAXFEV:
         tr_set_message(d,

@@ -3,17 +3,8 @@
  * does not show: state layouts, the solve-policy constants with their reasons,
  * and the internal functions of each layer.
  *
- * Layers (a file calls only into its own layer or the ones below it):
- *   tr_rod.c, tr_section.c, tr_integrate.c  right-hand side, state at a section, integration of one segment
- *   tr_residual.c                   the shooting residual
- *   tr_guess.c                      cold guess, node guesses, guess <-> unknowns
- *   tr_newton.c, tr_hybrid.c        Jacobian, LU, Broyden, init / iterate / test
- *   tr_continuation.c, tr_verify.c  load continuation; step verification, polish
- *   tr_branch.c                     the stable branch: the verdict of a converged solve,
- *                                   and where it is unstable the way to a stable one
- *   tr_record.c, tr_compliance.c    recording pass; linearisation (Jacobians, compliance)
- *   tr_solve.c                      the driver: a list of stages
- *   tr_batch.c                      a loop over the public API
+ * The files' layers (a file calls only into its own layer or the ones below it) are
+ * listed once, in csrc/README.md; tools/check_house.py checks them.
  */
 #ifndef TR_INTERNAL_H
 #define TR_INTERNAL_H
@@ -171,6 +162,85 @@ enum {
 /* Iterations a lean warm solve (tr_solve_lean) may take. */
 #define TR_LEAN_ITER 8
 
+/* ------------------------------------------------------ the constants of the layers' files */
+/* The policy constants used by one file each, by layer (csrc/README.md); no .c file defines
+ * one of its own (tools/check_house.py).  The stability layer's are in tr_stab.h, the
+ * dense QP's limits in tr_qp.h. */
+/* base: tr_options.c */
+/* Samples of the midpoint rule for the growth exponent. */
+#define TR_GROWTH_SAMPLES 256
+/* scene: tr_routing.c, tr_backbone.c, tr_tendons.c, tr_model.c */
+/* Pieces must join within this fraction of L (round-off of the user's knots). */
+#define TR_KNOT_TOL 1e-12
+/* Composite panels per integration segment of the reference-length quadrature: |w_ref| is
+ * the root of a positive quadratic in s, so 16 panels of 8 points reach round-off. */
+#define TR_REF_PANELS 16
+/* Relative tolerance of the pretension balance check sum(tau_p r_i) = 0. */
+#define TR_BALANCE_TOL 1e-9
+/* Breakpoints closer than this fraction of L are merged (round-off in user
+ * arc lengths such as 0.1 * 3 vs 0.3). */
+#define TR_BP_MERGE 1e-12
+/* shooting: tr_watch.c */
+/* Sub-steps of the walk per rod length, at least (the closest approach to 1/r is located
+ * to L / TR_WATCH_STEPS or to a shooting step, whichever is finer). */
+#define TR_WATCH_STEPS 32
+/* outputs: tr_compliance.c */
+/* The step of the forward differences over the unknowns (scaled units).  Their error is
+ * the truncation h |F''| / 2 plus the residual's rounding over h: the solver's TR_FD_H
+ * (1.5e-8) is rounding-bound here, with derivatives up to ~5e-7 relative off the central
+ * ones on a Cosserat rod's EA / GA; 5e-8 balances the two, ~1e-7 at worst on the test
+ * scenes and ~2e-8 on the Fig. 11c robot (bench/results/jacobian_actuate.md). */
+#define TR_LIN_FD_H 5e-8
+/* policy: tr_branch.c, tr_confirm.c */
+/* A warm solve keeps the previous verdict while its scaled change times (1 + the
+ * stiffness scale) stays below this fraction of the verdict's distance from zero. */
+#define TR_CARRY 0.25
+/* Size of the symmetry-breaking imperfection, scaled by EI/L^2 (force), EI/L (moment). */
+#define TR_IMPERFECTION 1e-3
+/* The imperfections tried in turn, in the tip's body frame: a force along x, y and the
+ * two diagonals (a robot with tendons is not isotropic: its stable buckled branch may lie
+ * between the axes), then a moment about the tangent. */
+#define TR_N_IMPERFECTIONS 5
+/* Shooting segments of the confirming formulation. */
+#define TR_CONFIRM_SEGMENTS 8
+/* Tips of two solves of one equilibrium agree to the solver tolerance (~1e-8 L);
+ * distinct equilibria found so far differ by >= 1e-2 L: 1e-6 L (and 1e-6 of the
+ * largest tension) separates them. */
+#define TR_CONFIRM_AGREE 1e-6
+/* over the driver: tr_batch.c, tr_path.c, tr_actuate.c */
+/* History depth of converged points kept for the predictor (cubic: four). */
+#define TR_BATCH_HIST 4
+/* Newton iterations of one correction, and the largest scaled Newton step accepted. */
+#define TR_PATH_ITER     12
+#define TR_PATH_MAX_STEP 1.0
+/* Smallest step along the path before it stops as stalled. */
+#define TR_PATH_DS_MIN 1e-9
+/* A step whose tangent turns by more than acos(TR_PATH_COS) is retried shorter: it may
+ * have jumped to another branch. */
+#define TR_PATH_COS 0.9
+/* Illinois iterations locating a special point, and the arclength bracket that ends them
+ * (relative to the step that contains the point). */
+#define TR_PATH_REFINE     80
+#define TR_PATH_REFINE_TOL 1e-13
+/* An indicator still above this fraction of its values at the step's ends when the
+ * bracket has shrunk jumps rather than vanishes (a singular point, not a special one). */
+#define TR_PATH_JUMP 1e-3
+/* A special point is located again with the steps doubled (at most this many times) until
+ * its parameter moves by at most this much relative. */
+#define TR_PATH_LOCATE_ROUNDS 5
+#define TR_PATH_LOCATE_TOL    1e-11
+/* Consecutive rejected trust-region steps after which the iteration stops: the region has
+ * shrunk by 4^8 ~ 6e4 below the step refused first, so a step that still does not reduce
+ * the residual means none will (a least-squares point, e.g. at a tension bound). */
+#define TR_ACT_MAX_REJECTED 8
+/* The first trust region (scaled controls): about a half turn of the tip. */
+#define TR_ACT_DELTA0 3.0
+/* The least change's stopping test (scaled controls): the step the linearised problem
+ * still asks for and its stationarity residual.  The forward-difference linearisation is
+ * good to ~1e-7 relative, so a tighter test chases its noise (steps of a few 1e-7 that
+ * the merit then refuses); 1e-6 is 1e-8 m of a displacement at a 10 mm offset. */
+#define TR_ACT_KKT_TOL 1e-6
+
 /* ------------------------------------------------------------ small helpers */
 /* Number of force/moment unknowns: 3 planar (x, z force, y moment), 6 spatial. */
 static inline int tr_n_force(const tr_model *m)
@@ -261,9 +331,19 @@ void tr_friction_copy(tr_model *dst, const tr_model *src);
  * spatial; three +0.60 each) */
 #define TR_FRIC_WORK 0.8
 
-/* tr_model.c: the cost of one right-hand-side evaluation of the model's formulation [work
- * units, see TR_DEFAULT_MAX_WORK] */
-double tr_rhs_work(const tr_model *m);
+/* The cost of one right-hand-side evaluation of the model's formulation [work units, see
+ * TR_DEFAULT_MAX_WORK]; measured: planar Kirchhoff 33 ns + 28 ns per tendon; planar
+ * Cosserat 90 ns with one tendon; spatial Kirchhoff 185 ns, Cosserat 300 ns with three
+ * tendons (+4 % per tendon beyond); a frictional tendon adds the fixed-point solves and
+ * the normals of the kink test, TR_FRIC_WORK per tendon of the formulation's base cost.
+ * A formula of the model's counts, inline: the model (tr_model.c) and its friction
+ * states (tr_friction.c) both set it. */
+static inline double tr_rhs_work(const tr_model *m)
+{
+    const double base = m->planar ? (m->kirchhoff ? 1.0 : 1.85) + 0.85 * m->nt
+                                  : (m->kirchhoff ? 4.0 : 7.5) + 0.5 * m->nt;
+    return base * (1.0 + TR_FRIC_WORK * m->nfric);
+}
 
 /* tr_model.c: the same scene compiled with nshoot shooting segments (the formulation,
  * planar or spatial, kept), or NULL (msg says why); copy the values of src into dst,
@@ -286,9 +366,20 @@ double tr_target_residual(const tr_model *m, const double *y, int row);
 double tr_target_displacement(const tr_model *m, const tr_data *d, int i, double len);
 
 /* tr_confirm.c: a TR_OFFPATH equilibrium in d->x confirmed (TR_CONFIRMED) or not
- * (TR_OFFPATH) by a cold solve with another shooting formulation; the message says
- * which.  d->stop when the budget or an interrupt stopped it. */
-int tr_confirm_offpath(const tr_model *m, tr_data *d);
+ * (TR_OFFPATH) by a cold solve with another shooting formulation, a stage the driver runs
+ * in three steps.  tr_confirm_begin notes the equilibrium (tip, the message so far) in *c
+ * and sets up the second formulation (d->confirm_m, d->confirm_d): TR_CONTINUE, or the
+ * status to return (TR_OFFPATH, message set; d->stop when the budget or an interrupt
+ * stopped it).  The driver then solves d->confirm_m cold in d->confirm_d, and
+ * tr_confirm_judge compares that solve (its status st) with the noted equilibrium:
+ * TR_CONFIRMED or TR_OFFPATH, the message says which; TR_EINTERRUPTED. */
+typedef struct tr_confirm {
+    int segments;          /* shooting segments of the second formulation */
+    double tip[12];        /* the equilibrium's tip position (3) and rotation (9) */
+    char first[TR_MSGLEN]; /* the message before the confirmation */
+} tr_confirm;
+int tr_confirm_begin(const tr_model *m, tr_data *d, tr_confirm *c);
+int tr_confirm_judge(const tr_model *m, tr_data *d, const tr_confirm *c, int st);
 
 /* Body-frame offset r, r' and r'' (x, y components; z is 0) of tendon i (td) with a
  * general route at s on integration segment seg (tr_routing.c's tables). */
@@ -400,6 +491,11 @@ double tr_load_scale(const tr_model *m);
  * state component c. */
 int tr_node_off(const tr_model *m, int j);
 double tr_node_scale(const tr_model *m, int c);
+/* Forward difference of the residual along unknown j at x (residual f0 there) into
+ * col[i * stride], i < k; a trial point whose residual is not finite is retried
+ * backwards if `backward`.  Uses d->xt, d->ft. */
+int tr_fd_column(const tr_model *m, tr_data *d, const double *x, const double *f0, int j,
+                 double *col, size_t stride, int backward);
 
 /* tr_guess.c */
 /* Cold start into d->x: the straight-robot guess or the shape pass's, whichever has
@@ -409,14 +505,16 @@ void tr_cold_start(const tr_model *m, tr_data *d);
  * Returns TR_OK or TR_EINVAL (non-finite unknowns; message set). */
 int tr_unknowns_from_guess(const tr_model *m, tr_data *d, const double *g, double *x);
 
+/* The convergence tolerance of the Newton layer: opt.tol, or a stage's own (tol_override,
+ * set by the driver; the options stay as the caller gave them). */
+static inline double tr_tol(const tr_data *d)
+{
+    return d->tol_override > 0.0 ? d->tol_override : d->opt.tol;
+}
+
 /* tr_newton.c */
 /* Reset the counters and the per-solve state of d for a solve at `steps` steps. */
 void tr_solve_reset(const tr_model *m, tr_data *d, int steps);
-/* Forward difference of the residual along unknown j at x (residual f0 there) into
- * col[i * stride], i < k; a trial point whose residual is not finite is retried
- * backwards if `backward`.  Uses d->xt, d->ft. */
-int tr_fd_column(const tr_model *m, tr_data *d, const double *x, const double *f0, int j,
-                 double *col, size_t stride, int backward);
 /* Forward-difference Jacobian at d->x (d->f) into d->J. */
 int tr_fd_jacobian(const tr_model *m, tr_data *d);
 /* LU of d->J into d->LU (0, or -1 if singular) and solve with it. */
@@ -498,12 +596,12 @@ void tr_btd_solve(tr_btd *w, double *X, int ncol);
 /* The smallest eigenvalue of the bordered pencil (below0: the count at 0 is > 0). */
 double tr_btd_smallest(tr_btd *w, int below0);
 
-/* tr_stability.c: the scale of the load-induced stiffness in the second variation, by
+/* tr_stab_energy.c: the scale of the load-induced stiffness in the second variation, by
  * EI/L: the loads' (tr_load_scale) and each tendon's tension times its offset,
  * tau r L / EI (a tendon's pull and its pressure on the ducts cancel but for terms of
  * its offset: a centre-line tendon adds nothing, whatever its tension). */
 double tr_stiffness_scale(const tr_model *m, const tr_data *d);
-/* tr_stability.c: its workspace, freed with the data */
+/* tr_data.c: the stability test's workspace, freed with the data */
 void tr_stab_free(struct tr_stab_ws *w);
 
 /* tr_verify.c */

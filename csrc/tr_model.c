@@ -15,10 +15,6 @@
 #include "tendonrod.h"
 #include "tr_internal.h"
 
-/* Breakpoints closer than this fraction of L are merged (round-off in user
- * arc lengths such as 0.1 * 3 vs 0.3). */
-#define TR_BP_MERGE 1e-12
-
 void tr_model_free(tr_model *m)
 {
     if (!m) return;
@@ -339,17 +335,6 @@ int tr_is_planar_dist(const double *tendons, int nt, const double *loads, int nl
     for (i = 0; i < nd; i++)
         if (dloads[TR_DL_NCOL * i + TR_DL_F + 1] != 0.0) return 0;
     return tr_is_planar(tendons, nt, loads, nl, dist);
-}
-
-double tr_rhs_work(const tr_model *m)
-{
-    /* measured: planar Kirchhoff 33 ns + 28 ns per tendon; planar Cosserat 90 ns with one
-     * tendon; spatial Kirchhoff 185 ns, Cosserat 300 ns with three tendons (+4 % per
-     * tendon beyond); a frictional tendon adds the fixed-point solves and the normals of
-     * the kink test, FRIC_WORK per tendon of the formulation's base cost */
-    const double base = m->planar ? (m->kirchhoff ? 1.0 : 1.85) + 0.85 * m->nt
-                                  : (m->kirchhoff ? 4.0 : 7.5) + 0.5 * m->nt;
-    return base * (1.0 + TR_FRIC_WORK * m->nfric);
 }
 
 /* The formulation (planar tendons get exactly cos phi = +-1, sin phi = 0), the

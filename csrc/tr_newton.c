@@ -41,42 +41,6 @@ void tr_solve_reset(const tr_model *m, tr_data *d, int steps)
     tr_poll_start(d);
 }
 
-/* 1 when unknown j is a tendon's tension/slack unknown gamma on its slack side (< 0). */
-static int on_slack_side(const tr_model *m, const double *x, int j)
-{
-    const int g = j - tr_n_force(m);
-    int i;
-    if (g < 0 || !(x[j] < 0.0)) return 0;
-    for (i = 0; i < m->nt; i++)
-        if (m->tendon[i].gamma_index == g) return 1;
-    return 0;
-}
-
-int tr_fd_column(const tr_model *m, tr_data *d, const double *x, const double *f0, int j,
-                 double *col, size_t stride, int backward)
-{
-    const int k = d->k;
-    int i, status;
-    double h = TR_FD_H * (fabs(x[j]) > 1.0 ? fabs(x[j]) : 1.0);
-    /* a tendon's gamma is differenced on the side of its taut/slack switch it is on: the
-     * residual is kinked there, and a difference across the kink is neither side's
-     * derivative (Newton then creeps toward a root at the switch) */
-    if (on_slack_side(m, x, j)) h = -h;
-    memcpy(d->xt, x, (size_t)k * sizeof(double));
-    d->xt[j] += h;
-    h = d->xt[j] - x[j];
-    status = tr_residual(m, d, d->xt, d->ft);
-    if (status != TR_OK) {
-        if (!backward || d->stop) return status;
-        d->xt[j] = x[j] - h;
-        status = tr_residual(m, d, d->xt, d->ft);
-        if (status != TR_OK) return status;
-        h = -h;
-    }
-    for (i = 0; i < k; i++) col[i * stride] = (d->ft[i] - f0[i]) / h;
-    return TR_OK;
-}
-
 double tr_shared_weight(const tr_model *m, int i)
 {
     /* w = 1 - R^T (R R^T)^+ R 1, R = [offset vectors at the base] (2 x n) */
@@ -304,7 +268,7 @@ int tr_solve_init(const tr_model *m, tr_data *d, const double *guess, const doub
 int tr_solve_test(const tr_model *m, const tr_data *d)
 {
     (void)m;
-    return d->fnorm <= d->opt.tol ? TR_OK : TR_CONTINUE;
+    return d->fnorm <= tr_tol(d) ? TR_OK : TR_CONTINUE;
 }
 
 /* Backtracking line search along d->dx from d->x: the first alpha with the Armijo
@@ -323,7 +287,7 @@ static int line_search(const tr_model *m, tr_data *d, double phi0)
             tr_set_message(d,
                            "function-evaluation limit (max_nfev = %d) reached at iteration %d "
                            "(scaled residual %.3g > tol %.3g); raise max_nfev",
-                           d->opt.max_nfev, d->nit, d->fnorm, d->opt.tol);
+                           d->opt.max_nfev, d->nit, d->fnorm, tr_tol(d));
             return TR_EMAXFEV;
         }
         for (i = 0; i < k; i++) d->xt[i] = d->x[i] + alpha * d->dx[i];
@@ -350,7 +314,7 @@ static int line_search(const tr_model *m, tr_data *d, double phi0)
                                "no progress at iteration %d: the scaled residual stalled at "
                                "%.3g > tol %.3g, near the round-off level of this scene (large "
                                "tensions or stiffness ratios); loosen tol",
-                               d->nit, d->fnorm, d->opt.tol);
+                               d->nit, d->fnorm, tr_tol(d));
             else
                 tr_set_message(d,
                                "no progress at iteration %d: the line search found no "
@@ -469,7 +433,7 @@ int tr_newton_run(const tr_model *m, tr_data *d, int max_iter, int stall, double
             tr_set_message(d,
                            "stagnated (scaled residual %.3g > tol %.3g, down by less than "
                            "%gx in %d iterations); give a guess from a nearby solved scene",
-                           d->fnorm, d->opt.tol, 1.0 / ratio, stall);
+                           d->fnorm, tr_tol(d), 1.0 / ratio, stall);
             return TR_EMAXITER;
         }
         hist[it % TR_STALL_ITERS] = d->fnorm;
@@ -477,14 +441,14 @@ int tr_newton_run(const tr_model *m, tr_data *d, int max_iter, int stall, double
             tr_set_message(d,
                            "function-evaluation limit (max_nfev = %d) reached (scaled residual "
                            "%.3g > tol %.3g); raise max_nfev",
-                           d->opt.max_nfev, d->fnorm, d->opt.tol);
+                           d->opt.max_nfev, d->fnorm, tr_tol(d));
             return TR_EMAXFEV;
         }
         if (it >= max_iter) {
             tr_set_message(d,
                            "did not converge in %d iterations (scaled residual %.3g > tol %.3g); "
                            "raise max_iter, or give a guess from a nearby solved scene",
-                           max_iter, d->fnorm, d->opt.tol);
+                           max_iter, d->fnorm, tr_tol(d));
             return TR_EMAXITER;
         }
         status = tr_solve_iterate(m, d);
@@ -516,7 +480,7 @@ int tr_solve_lean(const tr_model *m, tr_data *d, const double *x0, const double 
     if (tr_residual(m, d, d->x, d->f) != TR_OK)
         return d->status = d->stop ? d->stop : TR_ENONFINITE;
     fn = tru_maxnorm(d->f, k);
-    while (!(fn <= d->opt.tol)) {
+    while (!(fn <= tr_tol(d))) {
         double ss = 0.0;
         if (d->stop) return d->status = d->stop;
         if (d->nit >= max_iter || d->nfev >= d->opt.max_nfev) return d->status = TR_EMAXITER;
@@ -540,6 +504,6 @@ int tr_solve_lean(const tr_model *m, tr_data *d, const double *x0, const double 
     }
     d->fnorm = d->residual_norm = fn;
     d->J_fresh = 0;
-    tr_message_converged(d->message, TR_MSGLEN, d->nit, d->residual_norm, d->opt.tol);
+    tr_message_converged(d->message, TR_MSGLEN, d->nit, d->residual_norm, tr_tol(d));
     return d->status = TR_OK;
 }

@@ -82,9 +82,6 @@ int tr_options_check(const tr_options *o, char *msg, size_t msglen)
     return TR_OK;
 }
 
-/* Samples of the midpoint rule for the growth exponent. */
-#define TR_GROWTH_SAMPLES 256
-
 double tr_shooting_growth(const tr_model *m)
 {
     const double h = m->L / TR_GROWTH_SAMPLES;

@@ -33,26 +33,6 @@
 #include "tr_path.h"
 #include "tru_math.h"
 
-/* Newton iterations of one correction, and the largest scaled Newton step accepted. */
-#define TR_PATH_ITER     12
-#define TR_PATH_MAX_STEP 1.0
-/* Smallest step along the path before it stops as stalled. */
-#define TR_PATH_DS_MIN 1e-9
-/* A step whose tangent turns by more than acos(TR_PATH_COS) is retried shorter: it may
- * have jumped to another branch. */
-#define TR_PATH_COS 0.9
-/* Illinois iterations locating a special point, and the arclength bracket that ends them
- * (relative to the step that contains the point). */
-#define TR_PATH_REFINE     80
-#define TR_PATH_REFINE_TOL 1e-13
-/* An indicator still above this fraction of its values at the step's ends when the
- * bracket has shrunk jumps rather than vanishes (a singular point, not a special one). */
-#define TR_PATH_JUMP 1e-3
-/* A special point is located again with the steps doubled (at most this many times) until
- * its parameter moves by at most this much relative. */
-#define TR_PATH_LOCATE_ROUNDS 5
-#define TR_PATH_LOCATE_TOL    1e-11
-
 typedef struct {
     int k, n;       /* unknowns, n = k + 1 */
     tr_model *m0;   /* the model as given (design kinds: the base of tr_model_perturb) */

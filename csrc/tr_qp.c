@@ -14,10 +14,6 @@
 #include "tendonrod.h"
 #include "tru_math.h"
 
-/* Largest sizes accepted: the actuated tendons and a few constraints per tendon. */
-#define QP_MAX_N    256
-#define QP_MAX_ROWS 4096
-
 typedef struct {
     int n, me, mi, rows; /* rows: me + mi, the most a working set's matrix holds */
     double *x, *q, *p, *Gx, *h, *rowmax, *Gp, *y, *tmp;
@@ -265,7 +261,7 @@ int tr_qp(int n, const double *H, const double *g, int me, const double *A, int 
     int *ws = active; /* the working set's inequality indices, until the flags are set */
     int nw = 0, i, j, it, at_min = 0, have_y = 0, nact = 0;
     double scale, tol;
-    if (n < 1 || n > QP_MAX_N || me < 0 || mi < 0 || me + mi > QP_MAX_ROWS || max_iter < 0)
+    if (n < 1 || n > TR_QP_MAX_N || me < 0 || mi < 0 || me + mi > TR_QP_MAX_ROWS || max_iter < 0)
         return TR_EINVAL;
     ws_init(&w, n, me, mi, work);
     memset(mu, 0, (size_t)mi * sizeof(double));

@@ -12,6 +12,10 @@
 
 #include <stddef.h>
 
+/* Largest sizes accepted: the actuated tendons and a few constraints per tendon. */
+#define TR_QP_MAX_N    256
+#define TR_QP_MAX_ROWS 4096
+
 #ifdef __cplusplus
 extern "C" {
 #endif

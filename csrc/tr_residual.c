@@ -13,7 +13,8 @@
  *   E_i = s_i(t_i) + q_i + slack_i - (1 + tau_i/EA_i) rest_i
  * (the path length is integrated as its excess over the reference length, which
  * keeps the digits that stiff tendons need), and the continuity of the state at the
- * shooting nodes.
+ * shooting nodes.  And the forward difference of the residual along one unknown (a
+ * column of the finite-difference Jacobian; tr_newton.c, tr_hybrid.c, tr_path.c).
  */
 #include <math.h>
 #include <string.h>
@@ -311,5 +312,41 @@ int tr_residual(const tr_model *m, tr_data *d, const double *x, double *f)
         memcpy(d->f_of_y, f, (size_t)d->k * sizeof(double));
         d->y_steps = d->steps;
     }
+    return TR_OK;
+}
+
+/* 1 when unknown j is a tendon's tension/slack unknown gamma on its slack side (< 0). */
+static int on_slack_side(const tr_model *m, const double *x, int j)
+{
+    const int g = j - tr_n_force(m);
+    int i;
+    if (g < 0 || !(x[j] < 0.0)) return 0;
+    for (i = 0; i < m->nt; i++)
+        if (m->tendon[i].gamma_index == g) return 1;
+    return 0;
+}
+
+int tr_fd_column(const tr_model *m, tr_data *d, const double *x, const double *f0, int j,
+                 double *col, size_t stride, int backward)
+{
+    const int k = d->k;
+    int i, status;
+    double h = TR_FD_H * (fabs(x[j]) > 1.0 ? fabs(x[j]) : 1.0);
+    /* a tendon's gamma is differenced on the side of its taut/slack switch it is on: the
+     * residual is kinked there, and a difference across the kink is neither side's
+     * derivative (Newton then creeps toward a root at the switch) */
+    if (on_slack_side(m, x, j)) h = -h;
+    memcpy(d->xt, x, (size_t)k * sizeof(double));
+    d->xt[j] += h;
+    h = d->xt[j] - x[j];
+    status = tr_residual(m, d, d->xt, d->ft);
+    if (status != TR_OK) {
+        if (!backward || d->stop) return status;
+        d->xt[j] = x[j] - h;
+        status = tr_residual(m, d, d->xt, d->ft);
+        if (status != TR_OK) return status;
+        h = -h;
+    }
+    for (i = 0; i < k; i++) col[i * stride] = (d->ft[i] - f0[i]) / h;
     return TR_OK;
 }

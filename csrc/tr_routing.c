@@ -14,9 +14,6 @@
 #include "tendonrod.h"
 #include "tr_internal.h"
 
-/* Pieces must join within this fraction of L (round-off of the user's knots). */
-#define TR_KNOT_TOL 1e-12
-
 int tr_read_routes(tr_model *m, const double *routes, int nroute, char *msg, size_t msglen)
 {
     int j, c;

@@ -1,22 +1,11 @@
 /*
- * tr_solve.c -- the one-call driver, as a list of stages:
- *   1. begin:        reset the counters; a scene without a unique equilibrium stops here
- *   2. direct:       init from the guess (or the cold guess), Newton/Broyden; a cold
- *                    start under large loads goes to continuation at once
- *   3. continuation: on failure, follow the load path from the unloaded robot; if that
- *                    path stalls after a forced start, a direct cold solve may still
- *                    find an equilibrium off the path (TR_OFFPATH, not a success) ...
- *   4. confirm:      ... unless a cold solve with another shooting formulation reaches
- *                    the same equilibrium (TR_CONFIRMED, tr_confirm.c)
- *   4b. branch:      the stability verdict; an unstable answer, or a warm one that jumped
- *                    from its guess, is replaced by a stable one where one is reached
- *                    (tr_branch.c), else TR_UNSTABLE
- *   5. verify:       automatic steps: step doubling until the truncation estimate <= tol
- *   6. condition:    a fresh Jacobian at a cold solution, polish, condition number
- *   7. diagnose:     what a failure is likely due to
- *   8. record:       the recording pass, the final message, and the solution kept for
- *                    the next warm solve (tr_solve_warm)
- * A work budget or an interrupt (tr_poll.c) ends the solve after the stage it stops.
+ * tr_solve.c -- the one-call driver, as a list of stages: solve() below runs them in
+ * order, each a function that returns the status it was given when it does not apply
+ * (begin, direct, continuation, confirm, finer steps, shared tension level, branch,
+ * verify, past the centre, condition, shared level resolved, stop, diagnose, record).
+ * csrc/README.md describes each stage (tools/check_house.py checks that every function
+ * solve() calls is named there).  A work budget or an interrupt (tr_poll.c) ends the
+ * solve after the stage it stops.
  */
 #include <math.h>
 #include <stdio.h>
@@ -132,8 +121,22 @@ static int solve_continuation(const tr_model *m, tr_data *d, int status, int for
                    "one reached by loading the robot (a limit point / "
                    "snap-through lies on the path)",
                    second);
-    /* a workspace that confirms another's does not confirm in turn */
-    return d->is_confirm ? TR_OFFPATH : tr_confirm_offpath(m, d);
+    return TR_OFFPATH; /* to be confirmed (solve_confirm) */
+}
+
+/* An equilibrium found off the load path (TR_OFFPATH: continuation's last resort) is the
+ * answer only if a cold solve with another shooting formulation reaches it too: the
+ * driver runs that solve itself, tr_confirm.c sets it up and judges it.  A workspace
+ * that confirms another's does not confirm in turn. */
+static int solve_confirm(const tr_model *m, tr_data *d, int status)
+{
+    tr_confirm c;
+    int st;
+    if (status != TR_OFFPATH || d->is_confirm) return status;
+    st = tr_confirm_begin(m, d, &c);
+    if (st != TR_CONTINUE) return st;
+    st = tr_solve(d->confirm_m, d->confirm_d, NULL, NULL);
+    return tr_confirm_judge(m, d, &c, st);
 }
 
 static double shared_stiffness(const tr_model *m);
@@ -351,12 +354,12 @@ static int shared_resolved(const tr_model *m, tr_data *d, int status)
     if (dtau > TR_SHARED_RESOLVE * tmax && d->fnorm > TR_RESIDUAL_NOISE) {
         /* the level is fixed only as well as the residual: iterate it down to its rounding
          * level before judging (a refused answer's unknowns are what is left) */
-        const double tol = d->opt.tol;
+        const double tol = d->tol_override;
         const int shared = d->shared_mode;
-        d->opt.tol = TR_RESIDUAL_NOISE;
+        d->tol_override = TR_RESIDUAL_NOISE;
         d->shared_mode = 1;
         tr_newton_run(m, d, TR_SHARED_ITER, TR_STALL_ITERS, TR_STALL_RATIO);
-        d->opt.tol = tol;
+        d->tol_override = tol;
         d->shared_mode = shared;
         if (d->stop) return d->stop;
         dtau = tr_shared_resolution(m, d);
@@ -595,6 +598,7 @@ static int solve(const tr_model *m, tr_data *d, const double *guess, const doubl
     status = solve_direct(m, d, guess, jac, from_last, &forced);
     if (status == TR_EINVAL) return d->status = status;
     status = solve_continuation(m, d, status, forced);
+    status = solve_confirm(m, d, status);
     status = solve_finer(m, d, status);
     status = solve_shared(m, d, status, guess);
     status = tr_branch(m, d, status, !guess && !from_last);

@@ -1,6 +1,7 @@
 /*
  * tr_stab.h -- the stability test's workspace and the pieces its files share
- * (tr_stability.c: the verdict; tr_switch.c: tendons at their taut/slack switch).
+ * (tr_stab_energy.c: the discretised energy; tr_stability.c: the verdict; tr_switch.c:
+ * tendons at their taut/slack switch; tr_data.c: the workspace's allocation).
  */
 #ifndef TR_STAB_H
 #define TR_STAB_H
@@ -35,6 +36,17 @@
  * its second-order regime (finer grids are built until it holds). */
 #define TR_STAB_MAX_ROT 0.35
 
+/* tr_switch.c: tendons at their taut/slack switch. */
+/* At most this many tendons at their switch are tested (3^a faces). */
+#define TR_SWITCH_MAX 4
+/* Eigenvalues within this (times 1 + |lam|) of the smallest form its cluster. */
+#define TR_SWITCH_CLUSTER 1e-3
+/* A direction is inside a face when each of its tendons' g x has the face's sign by more
+ * than this times |g| |x|. */
+#define TR_SWITCH_INSIDE 1e-7
+/* Inverse-iteration sweeps (the shift sits 1e-4 (1 + |lam|) below the smallest). */
+#define TR_SWITCH_SWEEPS 6
+
 /* ------------------------------------------------------------ the workspace */
 struct tr_stab_ws {
     int nuni;         /* uniform elements of the fine grid */
@@ -57,10 +69,11 @@ struct tr_stab_ws {
     tr_btd h;                   /* the Hessian and its factors */
 };
 
-/* The workspace *wp for nuni uniform elements (reallocated when it has another count). */
+/* tr_data.c: the workspace *wp for nuni uniform elements (reallocated when it has another
+ * count). */
 struct tr_stab_ws *tr_stab_workspace(const tr_model *m, tr_data *d, struct tr_stab_ws **wp,
                                      int nuni, int cosserat);
-/* The level's elements from the recorded state (the grid nodes w->node[0..nn-1]); 0, or
+/* tr_stab_energy.c: the level's elements from the recorded state (the grid nodes w->node[0..nn-1]); 0, or
  * -1 when an element turns by more than TR_STAB_MAX_ROT. */
 int tr_stab_level_setup(const tr_model *m, const tr_data *d, struct tr_stab_ws *w, int nn);
 /* The Hessian (scaled by L/EI), gradient, mass and bordered columns of the level. */

@@ -24,16 +24,6 @@
 #include "tr_internal.h"
 #include "tr_stab.h"
 
-/* At most this many tendons at their switch are tested (3^a faces). */
-#define TR_SWITCH_MAX 4
-/* Eigenvalues within this (times 1 + |lam|) of the smallest form its cluster. */
-#define TR_SWITCH_CLUSTER 1e-3
-/* A direction is inside a face when each of its tendons' g x has the face's sign by more
- * than this times |g| |x|. */
-#define TR_SWITCH_INSIDE 1e-7
-/* Inverse-iteration sweeps (the shift sits 1e-4 (1 + |lam|) below the smallest). */
-#define TR_SWITCH_SWEEPS 6
-
 int tr_switch_count(const tr_model *m, const tr_data *d)
 {
     int i, a = 0;

@@ -10,9 +10,6 @@
 #include "tendonrod.h"
 #include "tr_internal.h"
 
-/* Relative tolerance of the pretension balance check sum(tau_p r_i) = 0. */
-#define TR_BALANCE_TOL 1e-9
-
 /* Pretension: rest lengths so that each tendon holds its pretension at q = 0 in
  * the straight robot, uniformly compressed by the pretensions if Cosserat. */
 int tr_rest_lengths(tr_model *m, char *msg, size_t msglen)

@@ -18,10 +18,6 @@
 #include "tr_internal.h"
 #include "tru_math.h"
 
-/* Sub-steps of the walk per rod length, at least (the closest approach to 1/r is located
- * to L / TR_WATCH_STEPS or to a shooting step, whichever is finer). */
-#define TR_WATCH_STEPS 32
-
 /* The path-length rate of tendon i at s on state y (shooting layout, segment d->seg),
  * w = v + u x r + r' against the unstressed robot's w_ref: signed, w . w_ref / |w_ref|^2
  * (1 in the unstressed robot, 0 where the tendon reaches the centre of curvature, negative

@@ -65,3 +65,54 @@ def test_failed_record_keeps_output_nodes(build):
     r = subprocess.run([str(exe)], capture_output=True, text=True, timeout=60)
     assert r.returncode == 0, r.stderr + r.stdout
     assert r.stdout.strip() == "ok"
+
+
+def test_the_extension_exports_only_its_init():
+    """tendonrod._core is built with hidden visibility: of the names its dynamic symbol
+    table defines, PyInit__core is the only one of ours (the core's tr_* and the glue's
+    names stay inside)."""
+    import sys
+
+    import tendonrod._core as core
+
+    nm = shutil.which("nm")
+    if nm is None or not sys.platform.startswith("linux"):
+        pytest.skip("needs nm and an ELF shared object")
+    r = subprocess.run([nm, "-D", "--defined-only", core.__file__], capture_output=True, text=True)
+    assert r.returncode == 0, r.stderr
+    names = sorted(line.split()[-1] for line in r.stdout.splitlines() if line.strip())
+    # names the toolchain itself may add (an instrumented build's __asan_* globals, _init,
+    # _fini) aside: ours never start with an underscore
+    ours = [n for n in names if not n.startswith("_")]
+    assert ours == ["PyInit__core"], ours
+
+
+def test_the_house_check_fails_on_an_upward_call_a_cycle_and_a_missing_file(tmp_path):
+    """tools/check_house.py (make lint) reads the calls between csrc files from their
+    objects: on a copy of csrc/ where the residual (shooting layer) calls the driver, and
+    the README's table leaves a file out, it fails and names each (and on csrc/ as it is,
+    it passes)."""
+    import importlib.util
+    import io
+    from contextlib import redirect_stdout
+
+    if shutil.which("nm") is None or (shutil.which("cc") or shutil.which("gcc")) is None:
+        pytest.skip("needs a C compiler and nm")
+    spec = importlib.util.spec_from_file_location("check_house", ROOT / "tools" / "check_house.py")
+    house = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(house)
+    with redirect_stdout(io.StringIO()) as out:
+        assert house.check_c_layers(ROOT), out.getvalue()
+    if "not checked" in out.getvalue():
+        pytest.skip("the call graph could not be read here")
+    shutil.copytree(CSRC, tmp_path / "csrc", ignore=shutil.ignore_patterns("tests"))
+    readme = tmp_path / "csrc" / "README.md"
+    readme.write_text(readme.read_text().replace("| | `tr_watch.c` |", "| | watch |"))
+    with open(tmp_path / "csrc" / "tr_residual.c", "a") as fh:
+        fh.write("int tr_up(const tr_model *m, tr_data *d) { return tr_solve_warm(m, d); }\n")
+    with redirect_stdout(io.StringIO()) as out:
+        assert not house.check_c_layers(tmp_path)
+    report = out.getvalue()
+    assert "csrc/tr_watch.c: not in the layer table" in report
+    assert "upward call: tr_residual.c (shooting) -> tr_solve.c (driver): tr_solve_warm" in report
+    assert "call cycle among" in report and "tr_residual.c" in report

@@ -5,7 +5,14 @@ Fails (exit status 1, listing the offenders) when
 
 - a C file (``csrc/*.c``, ``csrc/*.h``, ``tendonrod/**/*.c``) has more than 800 lines,
 - a Python module (``tendonrod/**/*.py``) has more than 600 lines,
-- the import graph inside the ``tendonrod`` package has a cycle.
+- the import graph inside the ``tendonrod`` package has a cycle,
+- a file of ``csrc/`` is missing from the layer table of ``csrc/README.md`` (or the table
+  names a file that does not exist), a function that ``solve()`` in ``csrc/tr_solve.c``
+  calls (a driver stage) is not named in the README's list of stages, or a C file calls
+  a function of a file in a higher layer or the files call each other in a circle,
+- a ``csrc/*.c`` file defines a numeric constant of its own (``#define NAME 1e-6``): the
+  policy constants live in the headers (``tr_internal.h`` by layer, ``tr_stab.h``,
+  ``tr_qp.h``).
 
 Lines are counted as ``wc -l`` counts them (newline characters).  The import graph is
 read with :mod:`ast` from every module of the package: imports at module level and
@@ -16,6 +23,13 @@ package's ``__init__`` lists in ``_LAZY_SUBMODULES`` (attributes imported on fir
 use) edges from that package.  Importing a submodule also runs its parent packages'
 ``__init__``; those implicit edges are not counted (every module would otherwise
 depend on the package root).
+
+The calls between C files are read from symbol tables: each ``csrc/*.c`` is compiled to
+an object (the compiler ``$CC`` or ``cc``, ``csrc/CFLAGS`` at ``-O0``, GSL's flags from
+pkg-config or gsl-config) and ``nm`` lists what it defines and what it needs; a needed
+name defined in another file is an edge to that file (a call, or a function's address
+taken).  Static inline functions of the headers are no edges (a header is in the bottom
+layer).  Without a compiler or ``nm`` the call graph is reported as not checked.
 
 The C and the Python checks are reported separately; ``--python-only`` or
 ``--c-only`` runs one of them.  On success the largest files and the size of the
@@ -31,7 +45,14 @@ from __future__ import annotations
 
 import argparse
 import ast
+import os
+import re
+import shlex
+import shutil
+import subprocess
 import sys
+import tempfile
+from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
 C_MAX_LINES = 800
@@ -294,6 +315,204 @@ def long_c_functions(root: Path, files: list[Path], limit: int) -> list[tuple[in
     return sorted(out, reverse=True)
 
 
+# --------------------------------------------------------------------------- C layers
+README = "csrc/README.md"
+DRIVER = "csrc/tr_solve.c"
+# Calls between C files that may break the layers, each with its reason: none.  A new
+# entry must say why the call cannot go down (or through the driver) instead.
+ALLOWED_EDGES: dict[tuple[str, str], str] = {}
+
+
+def _section(text: str, heading: str) -> str:
+    """The body of the README section whose heading starts with ``heading``."""
+    start = text.find("\n" + heading)
+    if start < 0:
+        return ""
+    end = text.find("\n## ", start + 1)
+    return text[start : end if end > 0 else len(text)]
+
+
+def readme_layers(text: str) -> tuple[list[str], dict[str, int]]:
+    """``(layer names bottom up, file -> layer index)`` from the README's layer table: its
+    rows ``| layer | files | job |``, a blank layer cell continuing the row above."""
+    layers: list[str] = []
+    where: dict[str, int] = {}
+    for line in _section(text, "## The house").splitlines():
+        if not line.startswith("|") or line.startswith("|---"):
+            continue
+        cells = [c.strip() for c in line.strip().strip("|").split("|")]
+        if len(cells) < 2 or cells[0] == "layer":
+            continue
+        if cells[0]:
+            layers.append(cells[0])
+        if layers:
+            for name in re.findall(r"`([^`]+)`", cells[1]):
+                where[name] = len(layers) - 1
+    return layers, where
+
+
+def driver_stages(source: str) -> list[str]:
+    """The functions ``solve()`` calls, in order: the body of ``static int solve(`` up to
+    the closing brace in column 0 (the tree is clang-formatted)."""
+    m = re.search(r"^static int solve\([^{]*?\)\n\{\n(.*?)^\}", source, re.S | re.M)
+    if not m:
+        return []
+    out: list[str] = []
+    for name in re.findall(r"\b([A-Za-z_]\w*)\s*\(", m.group(1)):
+        if name not in ("if", "for", "while", "switch", "return", "sizeof") and not name.isupper():
+            if name not in out:
+                out.append(name)
+    return out
+
+
+def _gsl_cflags() -> list[str]:
+    for cmd in (["pkg-config", "--cflags", "gsl"], ["gsl-config", "--cflags"]):
+        if shutil.which(cmd[0]):
+            r = subprocess.run(cmd, capture_output=True, text=True)
+            if r.returncode == 0:
+                return shlex.split(r.stdout)
+    return []
+
+
+def call_graph(root: Path) -> tuple[dict[str, set[str]], dict[tuple[str, str], set[str]], str]:
+    """``(file -> files it calls, (caller, callee) -> the names, error)`` for the
+    ``csrc/*.c`` files, from their objects' symbol tables; ``error`` non-empty (and the
+    graph empty) when they could not be built or read."""
+    cc = os.environ.get("CC") or shutil.which("cc") or shutil.which("gcc")
+    nm = shutil.which("nm")
+    if not cc or not nm:
+        return {}, {}, "not checked: no C compiler or nm"
+    flags = [
+        ln.strip()
+        for ln in (root / "csrc" / "CFLAGS").read_text().splitlines()
+        if ln.strip() and not ln.startswith("#") and not ln.strip().startswith("-O")
+    ]
+    flags += ["-O0", "-w", "-I", str(root / "csrc")] + _gsl_cflags()
+    sources = sorted((root / "csrc").glob("*.c"))
+    with tempfile.TemporaryDirectory(prefix="check_house_") as tmp:
+
+        def build(src: Path) -> tuple[str, str, str]:
+            obj = Path(tmp) / (src.stem + ".o")
+            r = subprocess.run(
+                shlex.split(cc) + flags + ["-c", str(src), "-o", str(obj)],
+                capture_output=True,
+                text=True,
+            )
+            if r.returncode != 0:
+                return src.name, "", f"{src.name} does not compile: {r.stderr.strip()[:400]}"
+            r = subprocess.run([nm, "-P", "-g", str(obj)], capture_output=True, text=True)
+            return src.name, r.stdout, "" if r.returncode == 0 else f"nm {src.name}: {r.stderr}"
+
+        with ThreadPoolExecutor(max_workers=os.cpu_count() or 2) as pool:
+            results = list(pool.map(build, sources))
+    errors = [e for _, _, e in results if e]
+    if errors:
+        return {}, {}, "; ".join(errors)
+    defined: dict[str, str] = {}
+    needed: dict[str, set[str]] = {}
+    for name, table, _ in results:
+        needed[name] = set()
+        for line in table.splitlines():
+            parts = line.split()
+            if len(parts) >= 2:
+                if parts[1] == "U":
+                    needed[name].add(parts[0])
+                elif parts[1] in "TDBRCGSV":
+                    defined[parts[0]] = name
+    graph: dict[str, set[str]] = {name: set() for name in needed}
+    why: dict[tuple[str, str], set[str]] = {}
+    for name, syms in needed.items():
+        for sym in syms:
+            other = defined.get(sym)
+            if other and other != name:
+                graph[name].add(other)
+                why.setdefault((name, other), set()).add(sym)
+    return graph, why, ""
+
+
+NUMERIC_DEFINE = re.compile(r"^#define\s+([A-Za-z]\w*)\s+\(?[-+]?\.?[0-9]", re.M)
+
+
+def numeric_defines(path: Path) -> list[str]:
+    """The numeric constants ``path`` defines (names with a leading underscore, such as
+    feature-test macros, aside)."""
+    return NUMERIC_DEFINE.findall(path.read_text(encoding="utf-8"))
+
+
+def check_c_layers(root: Path) -> bool:
+    """The README's layer table and stage list against ``csrc/``, and the calls between
+    the C files against the layers (see the module docstring)."""
+    text = (root / README).read_text(encoding="utf-8")
+    layers, where = readme_layers(text)
+    files = sorted(p.name for p in (root / "csrc").iterdir() if p.suffix in (".c", ".h"))
+    missing = [f for f in files if f not in where]
+    stale = sorted(f for f in where if f.endswith((".c", ".h")) and f not in files)
+    named = set(re.findall(r"`([^`]+)`", _section(text, "## What `tr_solve` does")))
+    stages = driver_stages((root / DRIVER).read_text(encoding="utf-8"))
+    unnamed = [s for s in stages if s not in named]
+    graph, why, error = call_graph(root)
+    upward = sorted(
+        (a, b)
+        for a, outs in graph.items()
+        for b in outs
+        if a in where and b in where and where[a] < where[b] and (a, b) not in ALLOWED_EDGES
+    )
+    pruned = {a: {b for b in outs if (a, b) not in ALLOWED_EDGES} for a, outs in graph.items()}
+    loops = cycles(pruned)
+    local = {
+        p.name: numeric_defines(p)
+        for p in sorted((root / "csrc").glob("*.c"))
+        if numeric_defines(p)
+    }
+    shared = {
+        p.name: len(numeric_defines(p))
+        for p in sorted((root / "csrc").glob("*.h"))
+        if numeric_defines(p)
+    }
+    ok = not (missing or stale or unnamed or upward or loops or local or not stages or not layers)
+    print(
+        f"C layers: {'ok' if ok else 'FAIL'} ({len(files)} files of csrc/ in {len(layers)} layers)"
+    )
+    for f in missing:
+        print(f"  csrc/{f}: not in the layer table of {README}")
+    for f in stale:
+        print(f"  {README} lists {f}, which csrc/ does not have")
+    if not stages:
+        print(f"  {DRIVER}: no solve() found (the driver's list of stages)")
+    for s in unnamed:
+        print(f"  driver stage {s} (called by solve() in {DRIVER}) is not named in {README}")
+    for a, b in upward:
+        print(
+            f"  upward call: {a} ({layers[where[a]]}) -> {b} ({layers[where[b]]}): "
+            f"{', '.join(sorted(why[(a, b)]))}"
+        )
+    for comp, loop in loops:
+        print(f"  call cycle among {len(comp)} files: {', '.join(comp)}")
+        print(f"    e.g. {' -> '.join(loop)}")
+    if error:
+        print(f"  call graph: {error}")
+        ok = ok and error.startswith("not checked")
+    else:
+        nedges = sum(len(v) for v in graph.values())
+        print(
+            f"  call graph: {len(graph)} files, {nedges} edges between files, "
+            f"{len(upward)} upward, {len(loops)} cycle{'s' if len(loops) != 1 else ''}"
+            f"{f', {len(ALLOWED_EDGES)} allowed exceptions' if ALLOWED_EDGES else ''}"
+        )
+    if stages and not unnamed:
+        print(f"  driver stages: {len(stages)}, each named in {README}")
+    for name, consts in local.items():
+        print(
+            f"  csrc/{name} defines constants of its own (to its layer's header): {', '.join(consts)}"
+        )
+    print(
+        "  numeric constants: "
+        + ", ".join(f"{n} in {h}" for h, n in sorted(shared.items(), key=lambda kv: -kv[1]))
+        + ("; none in a .c file" if not local else "")
+    )
+    return ok
+
+
 # --------------------------------------------------------------------------- report
 def check_python(root: Path, top: int) -> bool:
     files = py_files(root)
@@ -359,6 +578,7 @@ def main(argv=None) -> int:
         ok &= check_python(args.root, args.top)
     if not args.python_only:
         ok &= check_c(args.root, args.top)
+        ok &= check_c_layers(args.root)
     return 0 if ok else 1
 
 
