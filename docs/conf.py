@@ -154,9 +154,27 @@ def _copy_notebooks(app):
                 fh.write(buf.getvalue())
 
 
+def _write_view_pages(app, exception):
+    """The guide's interactive 3-D views (docs/guide/view.md embeds them): the figures of
+    ``docs/images/make_view.py`` as standalone pages (plotly.js inlined, no network) in the
+    HTML output's ``_static/``."""
+    if exception is not None or app.builder.format != "html":
+        return
+    import runpy
+
+    figures = runpy.run_path(os.path.join(app.srcdir, "images", "make_view.py"))["figures"]
+    static = os.path.join(app.outdir, "_static")
+    os.makedirs(static, exist_ok=True)
+    import tendonrod as tr
+
+    for name, fig in figures().items():
+        tr.plot.save_html(fig, os.path.join(static, f"{name}.html"))
+
+
 def setup(app):
     app.connect("builder-inited", _write_ufunc_pages)
     app.connect("builder-inited", _copy_notebooks)
+    app.connect("build-finished", _write_view_pages)
 
 
 # napoleon writes a class's Attributes as ``:ivar name:`` fields, and Sphinx links each

@@ -2,6 +2,9 @@
 build/view/ and screenshots of them from headless Chromium into docs/images/.
 
     python docs/images/make_view.py        (needs plotly, selenium and tools/browser.sh)
+
+:func:`figures` is also what ``make docs`` embeds as the guide's interactive pages
+(docs/conf.py writes them into the HTML output's ``_static/``).
 """
 
 import pathlib
@@ -13,23 +16,35 @@ import tendonrod as tr
 
 HERE = pathlib.Path(__file__).parent
 OUT = HERE.parents[1] / "build" / "view"
+# the camera of the pictures and pages: from the side, a little above
+CAMERA = dict(eye=dict(x=1.5, y=-1.3, z=0.7), center=dict(x=0, y=0, z=-0.1))
 
-# a NiTi tube, 2 mm across, with 10 spacer disks and three tendons 5 mm off the axis
-rod = tr.Rod(length=0.2, diameter=2e-3, E=60e9, G=23e9, density=6450.0)
-tendons = [tr.Tendon(offset=0.005, angle=a) for a in (0.0, 2 * np.pi / 3, 4 * np.pi / 3)]
-robot = tr.Robot(rod, tendons)
-scene = tr.Scene(
-    robot,
-    tension=[0.0, 0.0, 0.0],  # N
-    loads=[
-        tr.PointLoad(s=0.2, force=(0.0, 0.3, 0.0)),
-        *tr.PointMass.disks(np.linspace(0.02, 0.2, 10), 2e-3),
-    ],
-    gravity=(0.0, 0.0, -9.81),
-)
-path = tr.path(scene, "tension[0]", (0.0, 40.0))
-sol = tr.solve(path.scene_at(len(path) - 1))
-camera = dict(eye=dict(x=1.5, y=-1.3, z=0.7), center=dict(x=0, y=0, z=-0.1))
+
+def figures() -> dict:
+    """``{"view": fig, "view_path": fig}``: one solution and a load path of a NiTi tube, 2 mm
+    across, with 10 spacer disks and three tendons 5 mm off the axis (tendon 0 pulled from
+    0 to 40 N against a 0.3 N side load and gravity)."""
+    rod = tr.Rod(length=0.2, diameter=2e-3, E=60e9, G=23e9, density=6450.0)
+    tendons = [tr.Tendon(offset=0.005, angle=a) for a in (0.0, 2 * np.pi / 3, 4 * np.pi / 3)]
+    robot = tr.Robot(rod, tendons)
+    scene = tr.Scene(
+        robot,
+        tension=[0.0, 0.0, 0.0],  # N
+        loads=[
+            tr.PointLoad(s=0.2, force=(0.0, 0.3, 0.0)),
+            *tr.PointMass.disks(np.linspace(0.02, 0.2, 10), 2e-3),
+        ],
+        gravity=(0.0, 0.0, -9.81),
+    )
+    path = tr.path(scene, "tension[0]", (0.0, 40.0))
+    sol = tr.solve(path.scene_at(len(path) - 1))
+    figs = {
+        "view": tr.plot.view(sol, title=f"three tendons, tendon 0 at {sol.tension[0]:.3g} N"),
+        "view_path": tr.plot.view(path, title="tendon 0's tension from 0 to 40 N"),
+    }
+    for fig in figs.values():
+        fig.update_layout(scene_camera=CAMERA)
+    return figs
 
 
 def shot(fig, name: str) -> None:
@@ -70,9 +85,6 @@ def shot(fig, name: str) -> None:
     print(f"{page} ({page.stat().st_size / 1e6:.1f} MB), {HERE / (name + '.png')}")
 
 
-fig = tr.plot.view(sol, title=f"three tendons, tendon 0 at {sol.tension[0]:.3g} N")
-fig.update_layout(scene_camera=camera)
-shot(fig, "view")
-fig = tr.plot.view(path, title="tendon 0's tension from 0 to 40 N")
-fig.update_layout(scene_camera=camera)
-shot(fig, "view_path")
+if __name__ == "__main__":
+    for name, fig in figures().items():
+        shot(fig, name)
