@@ -230,8 +230,9 @@ static void residual(const tr_act_target *tg, act_state *s)
 }
 
 /* ------------------------------------------------------------------ states */
-/* A free slot: none of the last solves', not the current iterate's, not one of the four
- * made last (a step may still hold it); the oldest of those. */
+/* A free slot: none of the last solves', not the current iterate's, not the best one's
+ * (a->best), not one of the four made last (a step may still hold it); the oldest of
+ * those. */
 static int free_slot(act_run *a)
 {
     int i, j, best = -1;
@@ -241,7 +242,7 @@ static int free_slot(act_run *a)
         for (j = 0; j < a->ncache && !used; j++) used = a->cache[j] == i;
         if (!used && (best < 0 || s->born < a->pool[best].born)) best = i;
     }
-    if (best < 0 && a->ncache > 0) { /* (not reached: ACT_POOL > ACT_CACHE + 5) */
+    if (best < 0 && a->ncache > 0) { /* (not reached: ACT_POOL > ACT_CACHE + 6) */
         memmove(a->cache, a->cache + 1, (size_t)(a->ncache - 1) * sizeof(int));
         a->ncache--;
         return free_slot(a);
