@@ -82,28 +82,29 @@ typedef struct {
 
 /* What a run did. */
 typedef struct {
-    int outcome;       /* tr_act_outcome of the last step */
-    int optimal;       /* minimum change: a KKT point verified; square: the target reached;
-                       least squares: reached or a least-squares point */
-    int augmented;     /* 1: the target was solved inside the shooting system first */
-    int iterations;    /* outer iterations */
-    int solves;        /* equilibrium solves, the final one included */
-    int jacobians;     /* linearisations */
-    int status;        /* the final solve's status (TR_SUCCEEDED: its state is the answer) */
-    int success;       /* the verdict (tr_actuate.c, verdict()): the target reached, or (minimum
-                       change) its KKT point verified, or (least squares) a least-squares
-                       point no worse than any state the run solved; the final solve a
-                       success.  The state returned is never worse than one the run solved
-                       (square, least squares) */
-    double optimality; /* least squares: max_j |a_j^T r| / (|a_j| |r|) at the state returned
-                          (<= TR_ACT_GTOL: a least-squares point; NaN: not measured there) */
-    int have_lam;      /* 1: lam and mus were set (minimum change) */
-    double r[6];       /* (m) the target residual at the state returned */
-    double lam[6];     /* (m) the target's multipliers (scaled units) */
-    double *c;         /* (n) the controls found, caller's buffer */
-    double *mus;       /* (nt) tension floors' multipliers, caller's buffer */
-    double *floors;    /* (nt) the final tension floors (-inf: none), caller's buffer */
-    char why[128];     /* why the target was not reached, when the run knows ("" else) */
+    int outcome;    /* tr_act_outcome of the last step */
+    int optimal;    /* minimum change: a KKT point verified; square: the target reached;
+                       least squares: reached, or a least-squares point */
+    int augmented;  /* 1: the target was solved inside the shooting system first */
+    int iterations; /* outer iterations */
+    int solves;     /* equilibrium solves, the final one included */
+    int jacobians;  /* linearisations */
+    int status;     /* the final solve's status (TR_SUCCEEDED: its state is the answer) */
+    /* The verdict (verdict() in tr_actuate.c): the final solve succeeded, and the target
+     * was reached (square), reached at a verified KKT point (minimum change), or reached
+     * or a least-squares point no state the run solved improves on (least squares).  The
+     * state returned (square, least squares) is never worse than one the run solved. */
+    int success;
+    /* Square, least squares: max_j |a_j^T r| / (|a_j| |r|) at the state returned (least
+     * squares: <= TR_ACT_GTOL a least-squares point; NaN: not measured there). */
+    double optimality;
+    int have_lam;   /* 1: lam and mus were set (minimum change) */
+    double r[6];    /* (m) the target residual at the state returned */
+    double lam[6];  /* (m) the target's multipliers (scaled units) */
+    double *c;      /* (n) the controls found, caller's buffer */
+    double *mus;    /* (nt) tension floors' multipliers, caller's buffer */
+    double *floors; /* (nt) the final tension floors (-inf: none), caller's buffer */
+    char why[128];  /* why the target was not reached, when the run knows ("" else) */
 } tr_act_result;
 
 /* Run the actuation from the workspace's current state, which must be a converged solve
