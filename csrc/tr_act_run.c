@@ -79,7 +79,7 @@ act_run *tr_act_run_alloc(tr_model *m, tr_data *d, const tr_act_spec *sp)
     if (!a) return NULL;
     a->m = m, a->d = d, a->sp = sp;
     a->n = n, a->nt = nt, a->k = k, a->mt = sp->target.m;
-    a->last = a->cur = -1;
+    a->last = a->cur = a->best = -1;
     w = (double *)calloc(len, sizeof(double));
     a->par = (tr_param *)calloc((size_t)nt + 1, sizeof(tr_param));
     if (!w || !a->par) {
@@ -230,18 +230,19 @@ static void residual(const tr_act_target *tg, act_state *s)
 }
 
 /* ------------------------------------------------------------------ states */
-/* A free slot: none of the last solves', not the current iterate's, not one of the four
- * made last (a step may still hold it); the oldest of those. */
+/* A free slot: none of the last solves', not the current iterate's, not the best one's
+ * (a->best), not one of the four made last (a step may still hold it); the oldest of
+ * those. */
 static int free_slot(act_run *a)
 {
     int i, j, best = -1;
     for (i = 0; i < ACT_POOL; i++) {
         const act_state *s = a->pool + i;
-        int used = i == a->cur || (s->born > 0 && s->born > a->made - 4);
+        int used = i == a->cur || i == a->best || (s->born > 0 && s->born > a->made - 4);
         for (j = 0; j < a->ncache && !used; j++) used = a->cache[j] == i;
         if (!used && (best < 0 || s->born < a->pool[best].born)) best = i;
     }
-    if (best < 0 && a->ncache > 0) { /* (not reached: ACT_POOL > ACT_CACHE + 5) */
+    if (best < 0 && a->ncache > 0) { /* (not reached: ACT_POOL > ACT_CACHE + 6) */
         memmove(a->cache, a->cache + 1, (size_t)(a->ncache - 1) * sizeof(int));
         a->ncache--;
         return free_slot(a);
@@ -279,6 +280,9 @@ static int keep_state(act_run *a)
     memcpy(st->key, a->key, (size_t)a->n * sizeof(double));
     st->born = ++a->made;
     residual(&a->sp->target, st);
+    if (a->sp->kind != TR_ACT_MIN_CHANGE &&
+        (a->best < 0 || tr_act_rr(a, s) < tr_act_rr(a, a->best)))
+        a->best = s;
     if (a->ncache >= ACT_CACHE) {
         memmove(a->cache, a->cache + 1, (ACT_CACHE - 1) * sizeof(int));
         a->ncache--;
@@ -363,6 +367,14 @@ int tr_act_solve(act_run *a, const double *c, const double *state)
         return -1;
     }
     return keep_state(a);
+}
+
+double tr_act_rr(const act_run *a, int s)
+{
+    double v = 0.0;
+    int i;
+    for (i = 0; i < a->mt; i++) v += a->pool[s].r[i] * a->pool[s].r[i];
+    return v;
 }
 
 void tr_act_psi(const act_run *a, int s, double *psi)

@@ -16,6 +16,24 @@
 #define ACT_POOL  16
 #define ACT_CACHE 8
 
+/* A step of Levenberg-Marquardt (square and least-squares targets) is accepted only where
+ * the solved residual vector bears out the linearisation: |r_new - (r + A u)| <=
+ * TR_ACT_FIDELITY |A u| (Deuflhard's affine-covariant test for Gauss-Newton: a step whose
+ * second-order term exceeds half its first-order one left the linearisation's region,
+ * however much it reduced |r|).  The region grows only where that ratio stays below half
+ * of it.  Without the test a step into a poorly determined direction (a small singular
+ * value of A, a large step) is accepted for the decrease it happens to give and carries
+ * the iteration into another basin of |r|^2 (bench/results/trust_gaps.md, item 1). */
+#define TR_ACT_FIDELITY 0.5
+/* A least-squares point: for every control j, |a_j^T r| <= TR_ACT_GTOL |a_j| |r| (the
+ * cosine between the residual and each column of the linearisation A, MINPACK's gtol
+ * test; the components a bound active at the state blocks left out).  At a cosine of
+ * 1e-4 a step along the linearisation could reduce |r| by cos^2 / 2 = 5e-9 of itself at
+ * most, below what the solves resolve: the warm solves' tip noise (~1e-11 L) limits the
+ * cosine the iteration can reach to about sqrt(2e-11 L / |r|), 2e-5 at |r| = 0.05 L (the
+ * collapses measured ended at 1.6e-6 and 3.2e-6). */
+#define TR_ACT_GTOL 1e-4
+
 /* A converged state: what a solve from it needs and what the iteration reads. */
 typedef struct {
     double *g;       /* (6 + 2 nt) the physical guess [n(0), m(0), tension, slack] */
@@ -42,8 +60,9 @@ typedef struct {
     act_state pool[ACT_POOL];
     int cache[ACT_CACHE], ncache; /* pool slots of the last solves, oldest first */
     int last;                     /* the last successful solve's slot */
-    int cur;                      /* the iteration's current state's slot */
-    int ws_ok;                    /* 1: the workspace holds the last solve, a success */
+    int best;    /* square and least squares: the slot of the least |r|^2 solved (-1: none) */
+    int cur;     /* the iteration's current state's slot */
+    int ws_ok;   /* 1: the workspace holds the last solve, a success */
     double *jac; /* (k x k) the last linearisation's shooting Jacobian (have_jac) */
     int have_jac;
     int polish; /* iterate solves take a Newton step past convergence */
@@ -75,6 +94,8 @@ int tr_act_solve(act_run *a, const double *c, const double *state);
  * at their switch: A (m x n) the target residual's and T (nt x n) the signed tensions'
  * derivatives by the scaled controls, sw (nt) the sides given.  TR_OK or the failure. */
 int tr_act_linearize(act_run *a, int s, const double *side, double *A, double *T, int *sw);
+/* |r|^2 of slot s: the least-squares objective (twice it). */
+double tr_act_rr(const act_run *a, int s);
 /* The signed tension psi = tau - k slack (nt) [N] of slot s. */
 void tr_act_psi(const act_run *a, int s, double *psi);
 /* The target solved inside the shooting system at the current state: the slot of the

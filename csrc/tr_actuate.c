@@ -38,6 +38,8 @@ typedef struct {
     double nu;    /* the merit's penalty on the target and tension floors */
     double delta; /* trust region (scaled controls) */
     int rejected, optimal, have_lam;
+    double gcos;   /* square, least squares: the optimality test's cosine at state gcos_at */
+    int gcos_at;   /* (the slot; -1: none) */
     double lam[6]; /* the target's multipliers */
     double *mus;   /* (nt) the tension floors' multipliers */
     /* scratch */
@@ -214,27 +216,6 @@ static void grad(const act_iter *it, const double *c, const int *rows, int nr, d
     }
 }
 
-/* Powell's damped BFGS update of H for the step s and the change y of the Lagrangian's
- * gradient: the constraints' curvature, which the plain least change (H = I) leaves out,
- * so that the iteration converges superlinearly. */
-static void bfgs(act_iter *it, const double *s, double *y)
-{
-    const int n = it->n;
-    double sHs, sy;
-    int i, j;
-    for (i = 0; i < n; i++) it->Hs[i] = dot(it->H + i * n, s, n);
-    sHs = dot(s, it->Hs, n);
-    if (!(sHs > 0.0)) return;
-    sy = dot(s, y, n);
-    if (sy < 0.2 * sHs) {
-        const double th = 0.8 * sHs / (sHs - sy);
-        for (i = 0; i < n; i++) y[i] = th * y[i] + (1.0 - th) * it->Hs[i];
-        sy = dot(s, y, n);
-    }
-    for (i = 0; i < n; i++)
-        for (j = 0; j < n; j++) it->H[i * n + j] += -it->Hs[i] * it->Hs[j] / sHs + y[i] * y[j] / sy;
-}
-
 /* Rows (it->G, it->h from row `at`) of the trust region |u_j| <= delta, of tension
  * controls >= 0 and, for a slack displacement control linearised on its slack side, of
  * pulls no longer than its slack (beyond it the tendon acts, which that side cannot
@@ -289,26 +270,6 @@ static int qp(act_iter *it, const double *H, const double *g, int me, const doub
     return 0;
 }
 
-/* The Gauss-Newton Hessian A^T A (regularised by 1e-12 of its mean diagonal) into QH and
- * the gradient A^T r into qg. */
-static void gauss_newton(act_iter *it, const double *r)
-{
-    const int n = it->n, mt = it->mt;
-    double tr = 0.0;
-    int i, j, l;
-    for (i = 0; i < n; i++) {
-        for (j = 0; j < n; j++) {
-            double s = 0.0;
-            for (l = 0; l < mt; l++) s += it->A[l * n + i] * it->A[l * n + j];
-            it->QH[i * n + j] = s;
-        }
-        tr += it->QH[i * n + i];
-        it->qg[i] = 0.0;
-        for (l = 0; l < mt; l++) it->qg[i] += it->A[l * n + i] * r[l];
-    }
-    for (i = 0; i < n; i++) it->QH[i * n + i] += 1e-12 * (tr / n + 1e-300);
-}
-
 /* |r + A u|^2 */
 static double predicted(const act_iter *it, const double *r, const double *u)
 {
@@ -339,7 +300,7 @@ static int accepted(act_iter *it, const double *cn, int s, const int *rows, int 
             if (linearisation(it) < 0) return -1;
             grad(it, it->ca, rows, nr, it->gnew);
             for (i = 0; i < n; i++) it->y[i] = it->gnew[i] - it->gold[i];
-            bfgs(it, it->s, it->y);
+            tr_bfgs_update(it->n, it->H, it->s, it->y, it->Hs);
         } else {
             /* a tendon crossed its taut/slack switch: the Lagrangian's gradient jumps there,
              * so the change of gradient measures no curvature; start afresh */
@@ -353,12 +314,42 @@ static int accepted(act_iter *it, const double *cn, int s, const int *rows, int 
     return 0;
 }
 
-/* A step the solved states do not bear out: the trust region shrinks below it. */
+/* 1: the run has solved a state whose target residual is below the current one's by more
+ * than the tolerance (square and least squares; the solves resolve nothing finer). */
+static int better_known(const act_iter *it)
+{
+    const act_run *a = it->a;
+    return a->best >= 0 && a->best != a->cur &&
+           sqrt(tr_act_rr(a, a->best)) < sqrt(tr_act_rr(a, a->cur)) - it->sp->tol;
+}
+
+/* Back to the best state solved (its controls, the key it was solved at), the trust region
+ * at half the distance to it: the step from there was the one the solves did not bear out. */
+static void to_best(act_iter *it)
+{
+    const act_state *b = it->a->pool + it->a->best;
+    double dmax = 0.0;
+    int j;
+    for (j = 0; j < it->n; j++) dmax = fmax(dmax, fabs(b->key[j] - it->c[j]) / it->sp->scale[j]);
+    set_state(it, b->key, it->a->best);
+    it->delta = fmax(dmax / 2.0, 1e-6);
+    it->rejected = 0;
+}
+
+/* A step the solved states do not bear out: the trust region shrinks below it.  After
+ * TR_ACT_MAX_REJECTED in a row the region has collapsed: the iteration goes on from the
+ * best state it solved where that is better than the current one (a trial refused by the
+ * fidelity test may have reduced the residual), else it stops. */
 static int refused(act_iter *it, const double *u)
 {
     it->delta = maxabs(u, it->n) / 4.0;
     it->rejected++;
-    return it->rejected >= TR_ACT_MAX_REJECTED ? TR_ACT_STUCK : TR_ACT_REJECTED;
+    if (it->rejected < TR_ACT_MAX_REJECTED) return TR_ACT_REJECTED;
+    if (it->lsq && better_known(it)) {
+        to_best(it);
+        return TR_ACT_REJECTED;
+    }
+    return TR_ACT_STUCK;
 }
 
 /* An accepted step whose target residual fell fast (to 1e-2 of the last one or less,
@@ -414,7 +405,7 @@ static int sqp(act_iter *it)
         it->h[i] = (it->floor[it->rows[i]] - it->psi[it->rows[i]]) / sp->tau_scale;
     }
     if ((nb = box(it, nf, 0.8 * it->delta)) < 0) return ACT_ERROR;
-    gauss_newton(it, r);
+    tr_gauss_newton(it->n, it->mt, it->A, r, it->QH, it->qg);
     memset(it->g0, 0, (size_t)n * sizeof(double));
     if (qp(it, it->QH, it->qg, 0, it->A, nb, it->g0, it->v, it->lam) < 0) return ACT_ERROR;
     rnorm = maxabs(r, mt);
@@ -482,12 +473,12 @@ static int lm(act_iter *it)
     const tr_act_spec *sp = it->sp;
     const int n = it->n, mt = it->mt;
     const double *r;
-    double rr, pred, rho, umax;
-    int j, nb, nheld = 0, nflip = 0, s;
+    double rr, pred, rho, umax, e2, au2;
+    int i, j, l, nb, nheld = 0, nflip = 0, s;
     if (maxabs(cur(it)->r, mt) <= sp->tol) return TR_ACT_DONE;
     if (linearisation(it) < 0) return ACT_ERROR; /* first: it may take up slack */
     r = cur(it)->r;
-    gauss_newton(it, r);
+    tr_gauss_newton(it->n, it->mt, it->A, r, it->QH, it->qg);
     if ((nb = box(it, 0, it->delta)) < 0) return ACT_ERROR;
     /* a displacement control at its switch (taut side, no tension to speak of): its
      * linearisation holds for pulling only (paid out, it goes slack and moves nothing) */
@@ -504,27 +495,56 @@ static int lm(act_iter *it)
     if (qp(it, it->QH, it->qg, 0, it->A, nb + nheld, it->g0, it->u, it->lam) < 0) return ACT_ERROR;
     /* a held tendon that the step would slacken (its predicted tension falls, through the
      * other controls) is on its slack side there, whose derivatives are not the taut
-     * side's: the step again from the linearisation with that side (once per state; a
-     * fall below 1e-6 of the tension scale is round-off of a held tendon) */
+     * side's: the step again from the linearisation with that side (once per state).  The
+     * fall counts where it takes the tension below zero by more than 1e-6 of its terms'
+     * sizes, the round-off of the forward-difference rates; a bound on the tension scale
+     * instead would let the short steps near a target slacken a held tendon unseen, every
+     * one of them refused */
     for (j = 0; j < nheld; j++) {
         const int i = sp->idx[it->keep[j]];
-        if (dot(it->T + i * n, it->u, n) < -1e-6 * sp->tau_scale) it->slack_side[nflip++] = i;
+        double size = 0.0;
+        for (l = 0; l < n; l++) size += fabs(it->T[i * n + l] * it->u[l]);
+        if (cur(it)->tension[i] + dot(it->T + i * n, it->u, n) < -1e-6 * size)
+            it->slack_side[nflip++] = i;
     }
     if (nflip && !it->nslack_side) {
         it->nslack_side = nflip;
         it->lin = it->rows_ok = 0;
         return lm(it);
     }
+    /* (the rows after the region's 2n: bounds, held controls) */
+    it->gcos = tr_lsq_cosine(n, mt, it->A, r, nb + nheld - 2 * n, it->G + 2 * n * n, it->h + 2 * n);
+    it->gcos_at = it->a->cur;
     rr = dot(r, r, mt);
     pred = rr - predicted(it, r, it->u);
     umax = maxabs(it->u, n);
-    if (!(pred > 1e-28 * rr) || umax <= 1e-13)
+    if (!(pred > 1e-28 * rr) || umax <= 1e-13) {
+        if (it->lsq && better_known(it)) { /* (not a minimum: a better state is known) */
+            to_best(it);
+            return TR_ACT_REJECTED;
+        }
         return TR_ACT_STUCK; /* no descent left: a (bounded) least-squares point */
+    }
     for (j = 0; j < n; j++) it->cn[j] = it->c[j] + it->u[j] * sp->scale[j];
     s = tr_act_solve(it->a, it->cn, NULL);
-    rho = s >= 0 ? (rr - dot(it->a->pool[s].r, it->a->pool[s].r, mt)) / pred : -1.0;
-    if (rho <= 1e-4) return refused(it, it->u);
-    if (rho > 0.75 && umax >= 0.9 * it->delta)
+    if (s < 0) return refused(it, it->u);
+    /* the fidelity of the linearisation over the step: e = r_new - (r + A u) against A u */
+    e2 = au2 = 0.0;
+    for (i = 0; i < mt; i++) {
+        const double au = dot(it->A + i * n, it->u, n);
+        const double e = it->a->pool[s].r[i] - r[i] - au;
+        e2 += e * e;
+        au2 += au * au;
+    }
+    rho = (rr - tr_act_rr(it->a, s)) / pred;
+    /* (least squares: a square target's Newton steps meet its root where the residual
+     * falls, so that test alone keeps them) */
+    if (sp->kind != TR_ACT_LEAST_SQUARES) e2 = 0.0;
+    if (maxabs(it->a->pool[s].r, mt) > sp->tol &&
+        (rho <= 1e-4 || e2 > TR_ACT_FIDELITY * TR_ACT_FIDELITY * au2))
+        return refused(it, it->u);
+    if (rho > 0.75 && umax >= 0.9 * it->delta &&
+        4.0 * e2 <= TR_ACT_FIDELITY * TR_ACT_FIDELITY * au2)
         it->delta *= 2.0;
     else if (rho < 0.25)
         it->delta = umax / 2.0;
@@ -632,6 +652,8 @@ static int iter_alloc(act_iter *it, act_run *a, const tr_act_spec *sp)
     for (i = 0; i < (int)n; i++) it->H[i * (int)n + i] = 1.0;
     it->delta = TR_ACT_DELTA0;
     it->lsq = sp->kind != TR_ACT_MIN_CHANGE;
+    it->gcos = NAN;
+    it->gcos_at = -1;
     return 0;
 }
 
@@ -641,13 +663,54 @@ static void iter_free(act_iter *it)
     free(it->sw);
 }
 
+/* ------------------------------------------------------------------ the verdict */
+/* res->success, res->optimal, res->optimality and res->why of a run that ended at the
+ * state a->cur (back: moved there, the best state solved, from a worse one):
+ *   - square: the target reached (max |r| <= tol);
+ *   - minimum change: reached, and its KKT point verified (it->optimal);
+ *   - least squares: reached, or a least-squares point: the first-order test
+ *     (TR_ACT_GTOL) holds at the state returned and the run solved no state better than
+ *     it by more than tol (a run that ended worse is moved back and is no success);
+ * and in every kind the final solve succeeded (res->status; judged on request). */
+static void verdict(const act_iter *it, tr_act_result *res, int back)
+{
+    const tr_act_spec *sp = it->sp;
+    const int reached = maxabs(res->r, it->mt) <= sp->tol;
+    const int here = it->gcos_at == it->a->cur && !back;
+    int ok;
+    res->optimality = it->lsq && here ? it->gcos : NAN;
+    if (sp->kind == TR_ACT_MIN_CHANGE) {
+        ok = reached && it->optimal;
+    } else if (sp->kind == TR_ACT_SQUARE) {
+        res->optimal = reached;
+        ok = reached;
+    } else {
+        res->optimal = reached || (here && it->gcos <= TR_ACT_GTOL);
+        ok = res->optimal;
+        if (!ok && !res->why[0]) {
+            if (back)
+                snprintf(res->why, sizeof res->why,
+                         "the run ended worse than a state it had solved, which is returned");
+            else if (here)
+                snprintf(res->why, sizeof res->why,
+                         "%s: the residual's cosine to the linearisation is %.2g > %.2g",
+                         res->outcome == TR_ACT_MAX_ITER ? "out of iterations"
+                                                         : "no least-squares point",
+                         it->gcos, TR_ACT_GTOL);
+            else
+                snprintf(res->why, sizeof res->why, "out of iterations");
+        }
+    }
+    res->success = ok && TR_SUCCEEDED(res->status);
+}
+
 /* ------------------------------------------------------------------ the run */
 int tr_actuate(tr_model *m, tr_data *d, const tr_act_spec *sp, tr_act_result *res)
 {
     const int n = sp->n;
     act_run *a;
     act_iter it;
-    int s, j, out = TR_ACT_MOVED, status, i, nit = 0;
+    int s, j, out = TR_ACT_MOVED, status, i, nit = 0, back = 0;
     memset(res->why, 0, sizeof res->why);
     if ((status = tr_act_check_spec(m, d, sp)) != TR_OK) return status;
     if (!(a = tr_act_run_alloc(m, d, sp))) return TR_ENOMEM;
@@ -696,6 +759,11 @@ int tr_actuate(tr_model *m, tr_data *d, const tr_act_spec *sp, tr_act_result *re
             break;
     }
     if (out == TR_ACT_DONE && sp->kind == TR_ACT_MIN_CHANGE && release(&it) < 0) out = ACT_ERROR;
+    if (out != ACT_ERROR && !a->stop && it.lsq && better_known(&it)) {
+        /* never worse than a state the run solved (or its start): the best one returned */
+        set_state(&it, a->pool[a->best].key, a->best);
+        back = 1;
+    }
     if (out != ACT_ERROR && !a->stop && floors(&it, res->floors) < 0) out = ACT_ERROR;
     status = TR_OK;
     if (a->stop) {
@@ -708,7 +776,7 @@ int tr_actuate(tr_model *m, tr_data *d, const tr_act_spec *sp, tr_act_result *re
                                                   : tr_strerror(status));
     } else {
         res->outcome = out == TR_ACT_MOVED || out == TR_ACT_REJECTED ? TR_ACT_MAX_ITER : out;
-        res->optimal = it.optimal || sp->kind != TR_ACT_MIN_CHANGE;
+        res->optimal = it.optimal;
         res->iterations = nit;
         res->have_lam = it.have_lam;
         memcpy(res->lam, it.lam, sizeof res->lam);
@@ -716,6 +784,7 @@ int tr_actuate(tr_model *m, tr_data *d, const tr_act_spec *sp, tr_act_result *re
         memcpy(res->c, it.c, (size_t)n * sizeof(double));
         res->status = tr_act_final(a, a->cur, it.c, sp->judge, res->r);
         if (a->stop) status = a->stop;
+        verdict(&it, res, back);
         res->solves = a->solves;
         res->jacobians = a->jacobians;
     }

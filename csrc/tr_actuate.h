@@ -35,7 +35,8 @@ enum tr_act_kind {
 /* How a run ended. */
 enum tr_act_outcome {
     TR_ACT_DONE = 0,        /* the target met (square, least squares) or a KKT point */
-    TR_ACT_STUCK = 1,       /* no step reduces the residual: a (bounded) least-squares point */
+    TR_ACT_STUCK = 1,       /* no step reduces the residual (a least-squares point where
+                               res->optimal says so) */
     TR_ACT_UNREACHABLE = 2, /* the target lies beyond what the tensions allow */
     TR_ACT_MAX_ITER = 3,    /* out of iterations */
     TR_ACT_MOVED = 4,       /* (a step's outcome) moved to a new iterate */
@@ -82,12 +83,21 @@ typedef struct {
 /* What a run did. */
 typedef struct {
     int outcome;    /* tr_act_outcome of the last step */
-    int optimal;    /* minimum change: a KKT point verified (other kinds: 1) */
+    int optimal;    /* minimum change: a KKT point verified; square: the target reached;
+                       least squares: reached, or a least-squares point */
     int augmented;  /* 1: the target was solved inside the shooting system first */
     int iterations; /* outer iterations */
     int solves;     /* equilibrium solves, the final one included */
     int jacobians;  /* linearisations */
     int status;     /* the final solve's status (TR_SUCCEEDED: its state is the answer) */
+    /* The verdict (verdict() in tr_actuate.c): the final solve succeeded, and the target
+     * was reached (square), reached at a verified KKT point (minimum change), or reached
+     * or a least-squares point no state the run solved improves on (least squares).  The
+     * state returned (square, least squares) is never worse than one the run solved. */
+    int success;
+    /* Square, least squares: max_j |a_j^T r| / (|a_j| |r|) at the state returned (least
+     * squares: <= TR_ACT_GTOL a least-squares point; NaN: not measured there). */
+    double optimality;
     int have_lam;   /* 1: lam and mus were set (minimum change) */
     double r[6];    /* (m) the target residual at the state returned */
     double lam[6];  /* (m) the target's multipliers (scaled units) */

@@ -367,3 +367,64 @@ int tr_qp(int n, const double *H, const double *g, int me, const double *A, int 
     }
     return nact;
 }
+
+/* ------------------------------------------------------------------ least squares */
+void tr_gauss_newton(int n, int m, const double *A, const double *r, double *H, double *g)
+{
+    double tr = 0.0;
+    int i, j, l;
+    for (i = 0; i < n; i++) {
+        for (j = 0; j < n; j++) {
+            double s = 0.0;
+            for (l = 0; l < m; l++) s += A[l * n + i] * A[l * n + j];
+            H[i * n + j] = s;
+        }
+        tr += H[i * n + i];
+        g[i] = 0.0;
+        for (l = 0; l < m; l++) g[i] += A[l * n + i] * r[l];
+    }
+    for (i = 0; i < n; i++) H[i * n + i] += 1e-12 * (tr / n + 1e-300);
+}
+
+double tr_lsq_cosine(int n, int m, const double *A, const double *r, int mi, const double *G,
+                     const double *h)
+{
+    double rn = 0.0, worst = 0.0;
+    int i, j, l;
+    for (l = 0; l < m; l++) rn += r[l] * r[l];
+    rn = sqrt(rn);
+    for (j = 0; j < n; j++) {
+        double g = 0.0, an = 0.0;
+        int blocked = 0;
+        for (l = 0; l < m; l++) {
+            g += A[l * n + j] * r[l];
+            an += A[l * n + j] * A[l * n + j];
+        }
+        for (i = 0; i < mi && !blocked; i++) blocked = G[i * n + j] * g > 0.0 && h[i] >= 0.0;
+        if (!blocked && an > 0.0 && rn > 0.0) worst = fmax(worst, fabs(g) / (sqrt(an) * rn));
+    }
+    return worst;
+}
+
+void tr_bfgs_update(int n, double *H, const double *s, double *y, double *Hs)
+{
+    double sHs, sy;
+    int i, j;
+    for (i = 0; i < n; i++) {
+        Hs[i] = 0.0;
+        for (j = 0; j < n; j++) Hs[i] += H[i * n + j] * s[j];
+    }
+    sHs = 0.0;
+    for (i = 0; i < n; i++) sHs += s[i] * Hs[i];
+    if (!(sHs > 0.0)) return;
+    sy = 0.0;
+    for (i = 0; i < n; i++) sy += s[i] * y[i];
+    if (sy < 0.2 * sHs) {
+        const double th = 0.8 * sHs / (sHs - sy);
+        for (i = 0; i < n; i++) y[i] = th * y[i] + (1.0 - th) * Hs[i];
+        sy = 0.0;
+        for (i = 0; i < n; i++) sy += s[i] * y[i];
+    }
+    for (i = 0; i < n; i++)
+        for (j = 0; j < n; j++) H[i * n + j] += -Hs[i] * Hs[j] / sHs + y[i] * y[j] / sy;
+}

@@ -52,6 +52,24 @@ size_t tr_lstsq_work_len(int r, int c);
 int tr_lstsq(int r, int c, const double *M, int trans, const double *b, double rcond, double *x,
              double *work);
 
+/* The Gauss-Newton model of 1/2 |r + A u|^2 (A m x n, row-major): H (n x n) = A^T A,
+ * regularised by 1e-12 of its mean diagonal, and g (n) = A^T r. */
+void tr_gauss_newton(int n, int m, const double *A, const double *r, double *H, double *g);
+
+/* The first-order test of a least-squares point of |r + A u| at u = 0 under bounds G u >= h
+ * (G mi x n, each row one nonzero; a row with h >= 0 is active at u = 0 and blocks the
+ * descent -a_j^T r of its control where the two point against each other): max_j |a_j^T r| /
+ * (|a_j| |r|) over the controls not blocked (MINPACK's gtol cosine; 0 for a control whose
+ * column a_j is zero). */
+double tr_lsq_cosine(int n, int m, const double *A, const double *r, int mi, const double *G,
+                     const double *h);
+
+/* Powell's damped BFGS update of H (n x n) for the step s and the change y of the
+ * gradient (y is damped in place; Hs: n doubles of scratch, H s on return): the curvature
+ * the plain least change (H = I) leaves out, so that the iteration converges
+ * superlinearly. */
+void tr_bfgs_update(int n, double *H, const double *s, double *y, double *Hs);
+
 #ifdef __cplusplus
 }
 #endif

@@ -20,7 +20,9 @@ const char glue_problem_actuate_doc[] =
     "first; judge: the final solve is judged for stability.  The dict of solve() for the\n"
     "final solve, with 'actuation': controls (n,), residual (m,), iterations, solves,\n"
     "jacobians, outcome ('done', 'stuck', 'unreachable', 'max_iter'), optimal, augmented,\n"
-    "multipliers (m,) or None, tension_multipliers (nt,) or None, floors (nt,), why.\n"
+    "multipliers (m,) or None, tension_multipliers (nt,) or None, floors (nt,), why,\n"
+    "success (the run's verdict, tr_act_result.success), optimality (least squares: the\n"
+    "first-order test's cosine at the state returned, NaN where not measured).\n"
     "ValueError for a specification that does not fit, RuntimeError when a linearisation\n"
     "fails, KeyboardInterrupt on Ctrl-C.";
 
@@ -69,14 +71,15 @@ static PyObject *report(const tr_act_spec *sp, const tr_act_result *res, int nt)
 {
     npy_intp n = sp->n, m = sp->target.m, t = nt;
     return Py_BuildValue(
-        "{s:N,s:N,s:i,s:i,s:i,s:s,s:O,s:O,s:N,s:N,s:N,s:s}", "controls", glue_array(1, &n, res->c),
-        "residual", glue_array(1, &m, res->r), "iterations", res->iterations, "solves", res->solves,
-        "jacobians", res->jacobians, "outcome",
+        "{s:N,s:N,s:i,s:i,s:i,s:s,s:O,s:O,s:N,s:N,s:N,s:s,s:O,s:d}", "controls",
+        glue_array(1, &n, res->c), "residual", glue_array(1, &m, res->r), "iterations",
+        res->iterations, "solves", res->solves, "jacobians", res->jacobians, "outcome",
         outcomes[res->outcome >= 0 && res->outcome < 4 ? res->outcome : 1], "optimal",
         res->optimal ? Py_True : Py_False, "augmented", res->augmented ? Py_True : Py_False,
         "multipliers", res->have_lam ? glue_array(1, &m, res->lam) : Py_NewRef(Py_None),
         "tension_multipliers", res->have_lam ? glue_array(1, &t, res->mus) : Py_NewRef(Py_None),
-        "floors", glue_array(1, &t, res->floors), "why", res->why);
+        "floors", glue_array(1, &t, res->floors), "why", res->why, "success",
+        res->success ? Py_True : Py_False, "optimality", res->optimality);
 }
 
 PyObject *glue_problem_actuate(ProblemObject *self, PyObject *args, PyObject *kwds)

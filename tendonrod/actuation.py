@@ -233,10 +233,23 @@ def actuate(
         The equilibrium at the controls found, its ``displacement`` and ``tension`` filled
         (a forward :func:`tendonrod.solve` of them reproduces it), and ``actuation``
         (:class:`ActuationResult`: residual, distance, iterations, multipliers).
-        ``success`` is the outer verdict: the target reached (to ``tol``), or, with fewer
-        controls than components, the least-squares optimum found; an unreachable target
-        gives ``success=False`` with the closest reachable state found and its distance,
-        never an exception.  ``status`` stays the core's status of the final solve.
+        ``success`` is the core's verdict (``csrc/tr_actuate.c``), per kind of target, and
+        in every kind the final solve of the state returned succeeded (judged for
+        stability unless ``options.accept_unstable``):
+
+        * square: the target reached (the residual's max-norm <= ``tol``);
+        * minimum change: reached, and the least change verified (a KKT point);
+        * least squares: reached, or a least-squares point: at the state returned every
+          control's column a_j of the linearisation is orthogonal to the residual r to a
+          cosine of 1e-4, ``|a_j^T r| <= 1e-4 |a_j| |r|`` (a control held at a bound that
+          blocks its descent left out), and the run solved no state closer to the target
+          by more than ``tol``.  The test is local: a reachable target may have
+          least-squares points elsewhere.
+
+        The state returned (square and least squares) is never farther from the target
+        than a state the run solved, its start included; an unreachable target gives
+        ``success=False`` with that state and its distance, never an exception.
+        ``status`` stays the core's status of the final solve.
 
     Notes
     -----
@@ -348,7 +361,6 @@ def _finish(sol, report, strict):
     why = report.get("why", "")
     iterations = report.get("iterations", 0)
     solves, jacobians = report.get("solves", 1), report.get("jacobians", 0)
-    converged = report.get("outcome") in ("done", "stuck", "unreachable")
     floors = report.get("floors")
     mus = report.get("tension_multipliers")
     constrained = (
@@ -358,9 +370,7 @@ def _finish(sol, report, strict):
     distance = float(np.abs(r).max()) if r is not None else math.inf
     reached = distance <= tol
     optimal = report.get("optimal", False)
-    ok = sol.success and (
-        (reached and optimal) or (kind == "least-squares" and converged and not why)
-    )
+    ok = sol.success and report.get("success", False)  # the core's verdict (tr_actuate.h)
     if reached and not sol.success:
         # the controls reach the target, but the final solve does not accept the state
         # (unstable, or it failed): its reason first, and no "reached" before it
@@ -377,7 +387,7 @@ def _finish(sol, report, strict):
         msg = f"target reached: residual {distance:.3g} <= tol {tol:g}"
     elif not sol.success:
         msg = f"target not reached: {why or 'a solve failed'}: {sol.message}"
-    elif kind == "least-squares" and converged and not why:
+    elif ok:  # (least squares: a least-squares point)
         msg = f"least-squares optimum: the closest reachable state is {distance:.3g} away"
     else:
         msg = (
