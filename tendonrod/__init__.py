@@ -31,6 +31,7 @@ gsl_version: str = _core.gsl_version
 from . import analytic
 from . import path as _path_mod  # callable: tr.path(...) runs tendonrod.path.path
 from . import sweep as _sweep_mod  # callable: tr.sweep(...) runs tendonrod.sweep.sweep
+from ._linearize import jacobian
 from ._sweep_module import make_callable
 from .actuation import ActuationResult, actuate
 from .batch import BatchResult, solve_batch
@@ -41,7 +42,7 @@ from .model import DistributedLoad, PointLoad, PointMass, Robot, Rod, Scene, Ten
 from .options import Options
 from .path import Path, SpecialPoint
 from .plausibility import PlausibilityWarning
-from .problem import Problem, jacobian
+from .problem import Problem
 from .results import ConvergenceError, ConvergenceWarning
 from .solver import Solution, compliance, solve
 

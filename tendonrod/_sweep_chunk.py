@@ -199,19 +199,21 @@ def _batch_chunk(task: dict):
     # the solver tolerance, several times faster)
     exact = options is None or options.steps == 0 or options.integrator == "adaptive"
     try:
-        res = solve_batch(
-            first,
-            displacement=disp if idisp else None,
-            tension=ten if iten else None,
-            forces=forces if npl else None,
-            moments=moments if npl else None,
-            distributed=dist,
-            options=options,
-            chunksize=n,
-            warm_start=bool(task["warm_start"]),
-            exact=exact,
-            retry_cold=False,
-        )
+        with warnings.catch_warnings():  # the sweep reports its failures at the end
+            warnings.simplefilter("ignore", ConvergenceWarning)
+            res = solve_batch(
+                first,
+                displacement=disp if idisp else None,
+                tension=ten if iten else None,
+                forces=forces if npl else None,
+                moments=moments if npl else None,
+                distributed=dist,
+                options=options,
+                chunksize=n,
+                warm_start=bool(task["warm_start"]),
+                exact=exact,
+                retry_cold=False,
+            )
     except ValueError:
         return None
     records = []

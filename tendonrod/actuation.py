@@ -28,7 +28,6 @@ from __future__ import annotations
 
 import dataclasses
 import math
-import warnings
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
@@ -40,7 +39,7 @@ from .compiled import is_planar, value_vector
 from .model import Scene
 from .options import _check_options, _replace
 from .problem import Problem
-from .results import ConvergenceError, ConvergenceWarning
+from .results import report_failure
 from .solution import Solution, _in_rod_units
 
 __all__ = ["actuate", "ActuationResult"]
@@ -323,7 +322,8 @@ def actuate(
             **target.spec(),
         )
     except RuntimeError as exc:  # a linearisation or a step failed (e.g. its budget)
-        raise ConvergenceError(f"tendonrod.actuate: {exc}", sol) from None
+        report.update(controls=c0, why=f"the iteration failed: {exc}")
+        return _finish(sol, report, strict)
     act = raw["actuation"]
     c = act["controls"]
     final = Solution(
@@ -412,7 +412,5 @@ def _finish(sol, report, strict):
         last = "" if reached and not sol.success else f" (last solve: {sol.message})"
         sol.success = False
         sol.message = f"tr.actuate: {msg}{last}{_in_rod_units(sol)}"
-        if strict:
-            raise ConvergenceError(sol.message, sol)
-        warnings.warn(sol.message, ConvergenceWarning, stacklevel=3)
+        report_failure(sol, strict, sol.message, stacklevel=3)
     return sol

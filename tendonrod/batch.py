@@ -30,6 +30,7 @@ from .compiled import _TD, _with_dloads, is_planar, pack_scene
 from .model import Scene
 from .mounting import base_pose, points_out, rotations_out, vectors_in
 from .options import Options, _check_options
+from .results import failed_points, report_failure
 
 __all__ = ["solve_batch", "BatchResult", "DEFAULT_CHUNKSIZE"]
 
@@ -151,6 +152,7 @@ def solve_batch(
     predict: bool = True,
     exact: bool = False,
     tension_tendon_displacement: bool = True,
+    strict: bool = False,
 ) -> BatchResult:
     """Solve ``n`` variants of ``scene`` that differ only in actuation and load values.
 
@@ -197,6 +199,10 @@ def solve_batch(
         tension-controlled tendons: that is then NaN at the points the lean loop solved
         (about 20 % faster; scenes whose tendons are all displacement-controlled skip the
         pass anyway).
+    strict : bool
+        Raise :class:`~tendonrod.ConvergenceError` (its ``solution`` the
+        :class:`BatchResult`) instead of a :class:`~tendonrod.ConvergenceWarning` when
+        some point did not succeed.
 
     With ``options.steps > 0`` (a fixed step count) warm points first run a lean
     Newton/Broyden loop on the core's residual (the carried Jacobian, cubic
@@ -271,7 +277,10 @@ def solve_batch(
     }
     found = batch_findings(scene, options, raw, values, point_loads, distributed)
     plausibility.summarize(found, "tendonrod.solve_batch", where="BatchResult.plausibility")
-    return dataclasses.replace(res, plausibility=found)
+    res = dataclasses.replace(res, plausibility=found)
+    msg = failed_points("tendonrod.solve_batch", res.success, res.failures())
+    report_failure(res, strict, msg)
+    return res
 
 
 def _tendon_values(tendons, n, idisp, iten, displacement, tension):

@@ -15,11 +15,12 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ._linearize import jacobian
 from .linearization import _design_names, design_value, with_design
 from .model import Scene
 from .options import _check_options
-from .problem import _probe_scene, jacobian
-from .results import ConvergenceError, ConvergenceWarning
+from .problem import _probe_scene
+from .results import ConvergenceError, ConvergenceWarning, report_failure
 from .solver import solve
 
 __all__ = ["fit", "FitResult"]
@@ -55,7 +56,12 @@ class FitResult:
         Evaluations of the residuals (each a solve per scene) and of their Jacobian (a
         linearisation per scene).
     solutions : tuple of Solution
-        Each scene solved at the fitted values.
+        Each scene solved at the fitted values (empty when a scene did not solve).
+    status : int
+        SciPy's status (``least_squares``: > 0 a convergence test met, 0 the evaluation
+        budget spent), or -1: a scene did not solve.
+    nit : int
+        Levenberg-Marquardt iterations (one Jacobian evaluation each: ``njev``).
 
     Examples
     --------
@@ -78,6 +84,8 @@ class FitResult:
     nfev: int
     njev: int
     solutions: tuple
+    status: int = 0
+    nit: int = 0
 
     def as_dict(self) -> dict:
         """``{name: (value, stderr)}``."""
@@ -193,7 +201,7 @@ class _Model:
         self.njev += 1
         out = []
         for sol in self.solve(p):
-            jac = jacobian(sol, s=self.s, design=self.paths, load=False)
+            jac = jacobian(sol, s=self.s, design=self.paths, load=False, strict=True)
             d = np.asarray(jac.design)
             out.append(d[None, :3, :] if self.s is None else d[:, :3, :])
         return np.array(out)
@@ -210,6 +218,7 @@ def fit(
     options=None,
     max_nfev: int = 50,
     xtol: float = 1e-10,
+    strict: bool = False,
 ) -> FitResult:
     """Fit design parameters to positions measured on a set of loaded scenes.
 
@@ -238,6 +247,11 @@ def fit(
         Most residual evaluations (each a solve of every scene).
     xtol : float
         SciPy's relative step tolerance on the parameters.
+    strict : bool
+        Raise :class:`~tendonrod.ConvergenceError` (its ``solution`` the
+        :class:`FitResult`) instead of a :class:`~tendonrod.ConvergenceWarning` when the
+        fit does not succeed (no convergence test met, or a scene did not solve at some
+        parameter values: then the values are NaN and ``message`` says which).
 
     Returns
     -------
@@ -251,7 +265,7 @@ def fit(
     ImportError
         Without SciPy (``pip install tendonrod[fit]``).
     ConvergenceError
-        If a scene does not solve at some parameter values.
+        With ``strict=True``, if the fit does not succeed.
 
     Examples
     --------
@@ -302,7 +316,28 @@ def fit(
         J = model.jacobian(x * scale) * (w[..., None] if sig is not None else 1.0)
         return J.reshape(-1, len(paths)) * scale
 
-    res = least_squares(resid, p0 / scale, jac=jac, method="lm", xtol=xtol, max_nfev=max_nfev)
+    try:
+        res = least_squares(resid, p0 / scale, jac=jac, method="lm", xtol=xtol, max_nfev=max_nfev)
+    except ConvergenceError as exc:
+        nan = np.full(len(paths), np.nan)
+        out = FitResult(
+            names=tuple(paths),
+            values=nan,
+            stderr=nan,
+            covariance=np.full((len(paths), len(paths)), np.nan),
+            initial=p0,
+            residuals=np.full(meas.shape, np.nan),
+            rms=math.nan,
+            success=False,
+            message=str(exc),
+            nfev=model.nfev,
+            njev=model.njev,
+            solutions=(),
+            status=-1,
+            nit=model.njev,
+        )
+        report_failure(out, strict, out.message)
+        return out
     p = res.x * scale
     r = model.positions(p) - meas
     J = model.jacobian(p).reshape(-1, len(paths))
@@ -312,7 +347,7 @@ def fit(
     else:
         dof = max(r.size - len(paths), 1)
         cov = np.linalg.pinv(J.T @ J) * float(r.ravel() @ r.ravel()) / dof
-    return FitResult(
+    out = FitResult(
         names=tuple(paths),
         values=p,
         stderr=np.sqrt(np.maximum(np.diag(cov), 0.0)),
@@ -325,4 +360,8 @@ def fit(
         nfev=model.nfev,
         njev=model.njev,
         solutions=tuple(model.solve(p)),
+        status=int(res.status),
+        nit=model.njev,
     )
+    report_failure(out, strict, f"tendonrod.fit did not succeed: {out.message}")
+    return out

@@ -165,7 +165,12 @@ class Jacobian(Generic[_LoadT]):
         singular (a tension that cannot change the shape, e.g. of two inextensible
         tendons sharing one path, is indeterminate): then the slack one.
     solution : Solution
-        The solved state linearised.
+        The solved state linearised (the unconverged one when ``success`` is False).
+    success, status, message, nit, nfev
+        The common fields (:class:`~tendonrod.results.Outcome`): True, 0, ``""``, 0
+        (a linearisation iterates not) and the shooting evaluations when the linearisation
+        was taken; False, < 0 and why not (the derivatives then NaN) when the scene did not
+        solve or the linearisation failed.
 
     Examples
     --------
@@ -188,6 +193,11 @@ class Jacobian(Generic[_LoadT]):
     at_switch: np.ndarray
     switch_side: np.ndarray
     solution: object
+    success: bool = True
+    status: int = 0
+    message: str = ""
+    nit: int = 0
+    nfev: int = 0
 
     def __repr__(self):
         shape = "" if np.ndim(self.s) == 0 else f" at {np.size(self.s)} arc lengths"

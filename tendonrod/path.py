@@ -29,6 +29,7 @@ from .compiled import _with_dloads, pack_scene, structure_difference, value_vect
 from .linearization import PARAM_KIND, design_parameter
 from .model import Scene
 from .options import Options, _check_options
+from .results import report_failure
 
 __all__ = ["path", "Path", "SpecialPoint"]
 
@@ -262,6 +263,7 @@ def path(
     max_step: float = 0.2,
     max_points: int = 400,
     switch: int = 0,
+    strict: bool = False,
 ) -> Path:
     """The equilibrium branch of ``scene`` as ``parameter`` runs over ``span``.
 
@@ -286,12 +288,17 @@ def path(
     switch : 0, +1 or -1
         0: follow the branch through bifurcations.  +1 / -1: at the first bifurcation,
         turn onto the crossing branch (the two signs give its two sides).
+    strict : bool
+        Raise :class:`~tendonrod.ConvergenceError` (its ``solution`` the result) instead of
+        a :class:`~tendonrod.ConvergenceWarning` when the path stops before the end of
+        the span.
 
     Returns
     -------
     Path
-        The points; ``success`` False with the reason in ``message`` when the path
-        stopped before the end of the span (the points up to there are kept).
+        The points; ``success`` False with the reason in ``message`` (and the failure
+        rule: a warning, or the error with ``strict``) when the path stopped before the
+        end of the span (the points up to there are kept).
 
     Examples
     --------
@@ -338,7 +345,9 @@ def path(
         cancel=current_token(),
         **kw,
     )
-    return _path_of(s0, parameter, (p0, p1), raw)
+    res = _path_of(s0, parameter, (p0, p1), raw)
+    report_failure(res, strict, f"tendonrod.path stopped early: {res.message}")
+    return res
 
 
 def _path_of(scene: Scene, parameter: str, span: tuple, raw: dict) -> Path:

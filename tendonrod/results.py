@@ -9,16 +9,24 @@ core actually solved (:class:`Formulation`), the rod state at given arc lengths
 
 from __future__ import annotations
 
+import warnings
 from dataclasses import dataclass, fields
 from typing import Any
 
 import numpy as np
 
-__all__ = ["Formulation", "RodState", "ConvergenceWarning", "ConvergenceError"]
+__all__ = ["Formulation", "RodState", "ConvergenceWarning", "ConvergenceError", "report_failure"]
 
 
 class ConvergenceWarning(RuntimeWarning):
-    """Issued by :func:`tendonrod.solve` when the shooting iteration did not converge.
+    """Issued when a computation did not succeed: the one failure rule of every entry point
+    that can fail (:func:`~tendonrod.solve`, :meth:`~tendonrod.Problem.solve`,
+    :func:`~tendonrod.solve_batch`, :func:`~tendonrod.sweep`, :func:`~tendonrod.path`,
+    :func:`~tendonrod.jacobian`, :func:`~tendonrod.actuate`, :func:`~tendonrod.fit`): by
+    default the result is returned with ``success`` False and this warning is issued;
+    with ``strict=True`` :class:`ConvergenceError` is raised instead.  (Only
+    :func:`~tendonrod.compliance` always raises: it returns a bare matrix, which has no
+    ``success`` to carry the verdict.)
 
     Examples
     --------
@@ -34,9 +42,11 @@ class ConvergenceWarning(RuntimeWarning):
 
 
 class ConvergenceError(RuntimeError):
-    """Raised by ``solve(..., strict=True)`` when the iteration did not converge.
+    """Raised by an entry point called with ``strict=True`` when it did not succeed (and
+    always by :func:`~tendonrod.compliance`); see :class:`ConvergenceWarning`.
 
-    Attribute ``solution`` holds the (unconverged) :class:`~tendonrod.solver.Solution`.
+    Attribute ``solution`` holds the unsuccessful result (a
+    :class:`~tendonrod.solver.Solution`, or the entry point's own result type).
 
     Examples
     --------
@@ -52,6 +62,24 @@ class ConvergenceError(RuntimeError):
     def __init__(self, message: str, solution: Any = None):
         super().__init__(message)
         self.solution = solution
+
+
+def report_failure(result: Any, strict: bool, message: str, stacklevel: int = 3) -> None:
+    """The one failure rule: nothing when ``result.success`` is true (all of it, for an
+    array over points); else :class:`ConvergenceError` carrying ``result`` (``strict``) or
+    a :class:`ConvergenceWarning` at the caller's caller (``stacklevel``) with ``message``."""
+    if bool(np.all(result.success)):
+        return
+    if strict:
+        raise ConvergenceError(message, result)
+    warnings.warn(message, ConvergenceWarning, stacklevel=stacklevel + 1)
+
+
+def failed_points(who: str, success: np.ndarray, failures: list) -> str:
+    """The message of a run over points some of which failed: how many, and the first."""
+    n_bad, n = int(np.size(success) - np.count_nonzero(success)), int(np.size(success))
+    first = failures[0] if failures else ()
+    return f"{who}: {n_bad} of {n} points did not succeed (the first: {first})"
 
 
 @dataclass(frozen=True)

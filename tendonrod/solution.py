@@ -10,7 +10,6 @@ vectors in the world frame unless said otherwise.  The core solves in the base f
 from __future__ import annotations
 
 import math
-import warnings
 
 import numpy as np
 from numpy.typing import NDArray
@@ -20,7 +19,7 @@ from .model import Scene
 from .mounting import base_pose, pairs_out, points_out, rotations_out, vectors_in, vectors_out
 from .options import Options, _replace
 from .plausibility import tendon_radius
-from .results import ConvergenceError, ConvergenceWarning, Formulation, RodState
+from .results import Formulation, RodState, report_failure
 
 __all__ = ["Solution"]
 
@@ -512,6 +511,4 @@ def _report(sol: Solution, strict: bool, who: str, stacklevel: int) -> None:
         f"nit {sol.nit}, nfev {sol.nfev}, residual {sol.residual_norm:.3g})"
         f"{_in_rod_units(sol)}"
     )
-    if strict:
-        raise ConvergenceError(msg, sol)
-    warnings.warn(msg, ConvergenceWarning, stacklevel=stacklevel)
+    report_failure(sol, strict, msg, stacklevel=stacklevel)

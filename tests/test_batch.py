@@ -148,7 +148,11 @@ def test_failed_point_is_isolated_with_its_message():
     F[:, 0, 0] = np.linspace(0.0, 0.2, n)
     F[4, 0, 0] = 1e4  # FL^2/EI ~ 1e5: no converged solve within these caps
     opts = tr.Options(continuation=False, max_iter=15, max_nfev=200)
-    res = tr.solve_batch(scene, forces=F, options=opts)
+    with pytest.raises(tr.ConvergenceError, match="1 of 9 points did not succeed") as err:
+        tr.solve_batch(scene, forces=F, options=opts, strict=True)
+    assert isinstance(err.value.solution, tr.BatchResult)
+    with pytest.warns(tr.ConvergenceWarning, match=r"the first: \(4, "):
+        res = tr.solve_batch(scene, forces=F, options=opts)
     assert res.status[4] < 0 and not res.success[4]
     assert res.message[4] and "converged in" not in res.message[4]
     assert [i for i, _, _ in res.failures()] == [4]

@@ -391,10 +391,15 @@ def test_unconverged_is_refused():
     assert not bad.success
     with pytest.raises(ValueError, match="did not converge"):
         tr.jacobian(bad)
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore", tr.ConvergenceWarning)
-        with pytest.raises(tr.ConvergenceError):
-            tr.jacobian(scene, options=tr.Options(max_iter=1, continuation=False))
+    opts = tr.Options(max_iter=1, continuation=False)
+    with pytest.raises(tr.ConvergenceError, match="the scene did not solve"):
+        tr.jacobian(scene, options=opts, strict=True)
+    # the failure rule's default: a warning and a result that says so, its numbers NaN
+    with pytest.warns(tr.ConvergenceWarning, match="the scene did not solve"):
+        J = tr.jacobian(scene, options=opts, design=["EI"])
+    assert not J.success and J.status < 0 and "did not solve" in J.message
+    assert J.actuation.shape == (6, 3) and np.isnan(J.actuation).all()
+    assert J.load.shape == (6, 6) and J.design.shape == (6, 1)
     with pytest.raises(RuntimeError, match="successful solve first"):
         tr.Problem(scene).jacobian()
 

@@ -169,9 +169,10 @@ def test_executor_honoured(kind):
 def test_failed_points_recorded_and_sweep_continues():
     sc = base_scene()
     offsets = [0.01, -0.01, 0.02]  # -0.01: the Tendon rejects it (build fails)
-    res = tr.sweep(
-        sc, {"robot.tendons[0].offset": offsets, "loads[0].force": FORCES[:2]}, progress=False
-    )
+    with pytest.warns(tr.ConvergenceWarning, match="2 of 6"):
+        res = tr.sweep(
+            sc, {"robot.tendons[0].offset": offsets, "loads[0].force": FORCES[:2]}, progress=False
+        )
     # a scene the builder cannot build: an error without a core status, NaN values
     assert res.outcome[1].tolist() == [OUTCOME_ERROR] * 2
     assert res.status[1].tolist() == [STATUS_NONE] * 2
@@ -188,14 +189,15 @@ def test_failed_points_recorded_and_sweep_continues():
     # F L^2/EI = 2.5 cannot be solved in one step; the unloaded robot is solved by the
     # initial guess itself
     opts = tr.Options(max_iter=1, continuation=False)
-    res2 = tr.sweep(
-        sc,
-        {"loads[0].force": [(0.0, 0.0, 0.0), (-3.0, 0.0, 0.0), (0.0, 0.0, 0.0)]},
-        grid=False,
-        options=opts,
-        warm_start=False,
-        progress=False,
-    )
+    with pytest.warns(tr.ConvergenceWarning, match="1 of 3"):
+        res2 = tr.sweep(
+            sc,
+            {"loads[0].force": [(0.0, 0.0, 0.0), (-3.0, 0.0, 0.0), (0.0, 0.0, 0.0)]},
+            grid=False,
+            options=opts,
+            warm_start=False,
+            progress=False,
+        )
     assert res2.outcome.tolist() == [OUTCOME_OK, OUTCOME_NOT_CONVERGED, OUTCOME_OK]
     # the non-converged point keeps its solve's (negative) core status, named by the core
     with pytest.warns(tr.ConvergenceWarning):  # the same cold solve
@@ -242,7 +244,8 @@ def test_status_is_the_core_status_of_each_solve(kind, monkeypatch):
     monkeypatch.setattr(
         chunk_mod, "solve_batch", lambda *a, **k: batched.append(1) or real_batch(*a, **k)
     )
-    res = tr.sweep(sc, {name: values}, grid=False, chunksize=3, options=opts, progress=False)
+    with pytest.warns(tr.ConvergenceWarning, match="did not succeed"):
+        res = tr.sweep(sc, {name: values}, grid=False, chunksize=3, options=opts, progress=False)
     assert bool(batched) == (kind == "batch")  # the path under test was taken
     ref = _series_status([set_path(sc, name, v) for v in values], 3, opts)
     assert res.status.tolist() == [st for st, _ in ref]
@@ -301,7 +304,8 @@ def test_caveat_status_kept_and_outcome_from_success(kind, monkeypatch):
         if kind == "batch"
         else {"robot.tendons[0].EA": [1e5, 2e5, 3e5, 4e5]}
     )
-    res = tr.sweep(sc, vary, grid=False, chunksize=4, max_workers=1, progress=False)
+    with pytest.warns(tr.ConvergenceWarning, match="1 of 4"):
+        res = tr.sweep(sc, vary, grid=False, chunksize=4, max_workers=1, progress=False)
     assert res.status.tolist() == [0, 1, 3, 0]
     assert res.outcome.tolist() == [OUTCOME_OK, OUTCOME_OK, OUTCOME_NOT_CONVERGED, OUTCOME_OK]
     assert res.success.tolist() == [True, True, False, True]
@@ -317,13 +321,14 @@ def test_measure_error_keeps_the_solve_status():
     def bad_measure(scene, sol):
         raise RuntimeError("measure broke")
 
-    res = tr.sweep(
-        base_scene(),
-        {"loads[0].force": FORCES[:2]},
-        grid=False,
-        measure=bad_measure,
-        progress=False,
-    )
+    with pytest.warns(tr.ConvergenceWarning, match="1 of 2|2 of 2"):
+        res = tr.sweep(
+            base_scene(),
+            {"loads[0].force": FORCES[:2]},
+            grid=False,
+            measure=bad_measure,
+            progress=False,
+        )
     assert res.outcome.tolist() == [OUTCOME_ERROR] * 2
     assert res.status.tolist() == [0, 0] and (res.nit >= 0).all()
     assert all("measure broke" in f[3] for f in res.failures())
