@@ -43,7 +43,7 @@ from .options import Options
 from .path import Path, SpecialPoint
 from .plausibility import PlausibilityWarning
 from .problem import Problem
-from .results import ConvergenceError, ConvergenceWarning
+from .results import ConvergenceError, ConvergenceWarning, Result
 from .solver import Solution, compliance, solve
 
 make_callable(_sweep_mod)
@@ -125,6 +125,7 @@ __all__ += [
     "ConvergenceWarning",
     "ConvergenceError",
     "PlausibilityWarning",
+    "Result",
 ]
 __all__ += ["sweep", "SweepResult", "tip_measure", "ComplianceMeasure", "load"]
 __all__ += ["solve_batch", "BatchResult"]

@@ -28,6 +28,9 @@ class SweepResult:
     """Tidy arrays of a sweep.  Indexing ``res[name]`` returns ``data[name]``
     or, for a varied parameter, its value at every point.
 
+    A :class:`~tendonrod.Result`: ``success``, ``status``, ``message``, ``nit``, ``nfev``
+    mean the same on every result type.
+
     Attributes
     ----------
     names : tuple of str
@@ -51,8 +54,8 @@ class SweepResult:
         point did not run.
     message : ndarray of object (str), shape ``shape``
         The solver's message, or the exception's ("not run" if it did not run).
-    nit : ndarray of int64, shape ``shape``
-        Solver iterations (-1 where no solve returned).
+    nit, nfev : ndarray of int64, shape ``shape``
+        Solver iterations and residual evaluations (-1 where no solve returned).
     data : dict name -> ndarray
         What ``measure`` returned, stacked: shape ``shape + item shape``;
         NaN where a point raised.
@@ -78,6 +81,7 @@ class SweepResult:
     status: np.ndarray
     message: np.ndarray
     nit: np.ndarray
+    nfev: np.ndarray
     data: dict
     chunksize: int
     plausibility: np.ndarray | None = None

@@ -49,6 +49,9 @@ __all__ = ["actuate", "ActuationResult"]
 class ActuationResult:
     """What :func:`actuate` did (``Solution.actuation``).
 
+    A :class:`~tendonrod.Result`: ``success``, ``status``, ``message``, ``nit``, ``nfev``
+    mean the same on every result type.
+
     Attributes
     ----------
     kind : str
@@ -85,6 +88,15 @@ class ActuationResult:
         The tension constraints' multipliers (>= 0; nonzero only where active).
     message : str
         What happened.
+    success : bool
+        The verdict of the run (as the returned ``Solution.success``).
+    status : int
+        The final solve's status when ``success``; else negative (-1, or the final solve's
+        status when that failed).
+    nit : int
+        Outer iterations (``iterations``).
+    nfev : int
+        Equilibrium solves (``solves``): the outer problem's function evaluations.
 
     Examples
     --------
@@ -112,6 +124,10 @@ class ActuationResult:
     multipliers: np.ndarray | None
     tension_multipliers: np.ndarray | None
     message: str
+    success: bool = True
+    status: int = 0
+    nit: int = 0
+    nfev: int = 0
 
 
 # --------------------------------------------------------------------------- controls
@@ -406,6 +422,10 @@ def _finish(sol, report, strict):
         multipliers=report.get("multipliers"),
         tension_multipliers=None if mus is None else np.array(mus),
         message=msg,
+        success=bool(ok),
+        status=int(sol.status) if ok else min(int(sol.status), -1),
+        nit=int(iterations),
+        nfev=int(solves),
     )
     sol.actuation = result
     if not ok:

@@ -43,6 +43,9 @@ do not depend on the machine or the number of threads)."""
 class BatchResult:
     """Tip quantities of ``n`` solved points (arrays over the points, in input order).
 
+    A :class:`~tendonrod.Result`: ``success``, ``status``, ``message``, ``nit``, ``nfev``
+    mean the same on every result type.
+
     Attributes
     ----------
     tip_position : (n, 3) world frame [m]

@@ -30,6 +30,9 @@ __all__ = ["fit", "FitResult"]
 class FitResult:
     """What :func:`fit` found.
 
+    A :class:`~tendonrod.Result`: ``success``, ``status``, ``message``, ``nit``, ``nfev``
+    mean the same on every result type.
+
     Attributes
     ----------
     names : tuple of str

@@ -82,6 +82,9 @@ class SpecialPoint:
 class Path:
     """The branch of a scene's equilibria along one parameter, point by point.
 
+    A :class:`~tendonrod.Result`: ``success``, ``status``, ``message``, ``nit``, ``nfev``
+    mean the same on every result type.
+
     Row ``i`` of every array is the ``i``-th point along the branch (special points where
     they lie on it).  Past a limit point the parameter runs back, so one value can appear
     on several rows, one per equilibrium.
@@ -127,6 +130,10 @@ class Path:
         0, or the core status of the stop (:attr:`message` says why).
     message : str
         What happened: where the path ended and why.
+    nit : int
+        Continuation steps taken: the points of the path.
+    nfev : int
+        Residual evaluations: -1, not counted (the core's path does not report them).
 
     Examples
     --------
@@ -158,6 +165,8 @@ class Path:
     status: int
     message: str
     unknowns: np.ndarray | None = dataclasses.field(repr=False, default=None)
+    nit: int = 0
+    nfev: int = -1
 
     def __len__(self) -> int:
         return int(self.value.shape[0])
@@ -386,4 +395,5 @@ def _path_of(scene: Scene, parameter: str, span: tuple, raw: dict) -> Path:
         status=int(raw["status"]),
         message=raw["message"],
         unknowns=raw["unknowns"],
+        nit=int(raw["par"].shape[0]),
     )

@@ -11,11 +11,59 @@ from __future__ import annotations
 
 import warnings
 from dataclasses import dataclass, fields
-from typing import Any
+from typing import Any, Protocol, runtime_checkable
 
 import numpy as np
 
-__all__ = ["Formulation", "RodState", "ConvergenceWarning", "ConvergenceError", "report_failure"]
+__all__ = [
+    "Result",
+    "Formulation",
+    "RodState",
+    "ConvergenceWarning",
+    "ConvergenceError",
+    "report_failure",
+]
+
+
+@runtime_checkable
+class Result(Protocol):
+    """The fields every result type carries, documented once: :class:`~tendonrod.Solution`
+    (``solve``, ``Problem.solve``, ``actuate``), :class:`~tendonrod.BatchResult`,
+    :class:`~tendonrod.SweepResult`, :class:`~tendonrod.Branch` (``path``),
+    :class:`~tendonrod.Jacobian`, :class:`~tendonrod.FitResult` and
+    :class:`~tendonrod.actuation.ActuationResult` (``Solution.actuation``) each have them,
+    plus their own fields.  For a result over points (``solve_batch``, ``sweep``) each is
+    an array with one entry per point.
+
+    Attributes
+    ----------
+    success : bool
+        The verdict, decided where the computation ran (the C core for a solve); a False
+        one is reported by the failure rule (:class:`ConvergenceWarning`, or
+        :class:`ConvergenceError` with ``strict=True``).
+    status : int
+        0 ok, > 0 finished with a caveat (``message`` says which), < 0 failed; a solve's
+        is the core's (``tendonrod._core.strerror`` names it).
+    message : str
+        What happened, in words.
+    nit : int
+        Iterations (-1 where none ran).
+    nfev : int
+        Residual (function) evaluations (-1 where not counted).
+
+    Examples
+    --------
+    >>> robot = tr.Robot(tr.Rod(0.2, 0.8e-3, 207e9, 79.6e9, kirchhoff=True), [tr.Tendon(0.01)])
+    >>> sol = tr.solve(tr.Scene(robot, displacement=[0.01]))
+    >>> isinstance(sol, tr.Result), sol.success, sol.status
+    (True, True, 0)
+    """
+
+    success: Any
+    status: Any
+    message: Any
+    nit: Any
+    nfev: Any
 
 
 class ConvergenceWarning(RuntimeWarning):

@@ -92,6 +92,9 @@ def _guess_vector(guess, scene: Scene, options: Options):
 class Solution:
     """Result of :func:`solve`.
 
+    A :class:`~tendonrod.Result`: ``success``, ``status``, ``message``, ``nit``, ``nfev``
+    mean the same on every result type.
+
     Attributes
     ----------
     success : bool

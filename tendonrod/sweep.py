@@ -434,6 +434,7 @@ def _assemble(names, shape, point_values, done, npoints, chunksize) -> SweepResu
     message = np.empty(npoints, dtype=object)
     message[:] = "not run"
     nit = np.full(npoints, -1, dtype=np.int64)
+    nfev = np.full(npoints, -1, dtype=np.int64)
     items: list = [None] * npoints
     found = np.empty(npoints, dtype=object)
     found.fill(())
@@ -444,6 +445,7 @@ def _assemble(names, shape, point_values, done, npoints, chunksize) -> SweepResu
             status[i] = r["status"]
             message[i] = r["message"]
             nit[i] = r["nit"]
+            nfev[i] = r.get("nfev", -1)  # (files of 0.1 did not record it)
             items[i] = r["data"]
             # (files written before plausibility findings were recorded have none)
             found[i] = tuple(Finding.from_dict(f) for f in r.get("plausibility", ()))
@@ -489,6 +491,7 @@ def _assemble(names, shape, point_values, done, npoints, chunksize) -> SweepResu
         status=status.reshape(shape),
         message=message.reshape(shape),
         nit=nit.reshape(shape),
+        nfev=nfev.reshape(shape),
         data=data,
         chunksize=chunksize,
         plausibility=found.reshape(shape),
