@@ -127,14 +127,14 @@ def jacobian(
     probed = _probe_scene(scene, s_vals)
     if isinstance(scene_or_solution, _Solution) and probed is scene and options is sol.options:
         # the solution's own structure: linearise its state, no solve
-        prob = Problem(scene, options)
+        prob = Problem(scene, options=options)
         prob._last = sol
         state = (sol.unknowns, max(1, sol.formulation.steps))
         try:
             return prob._jacobian(sol, s, design, load, method, False, state, side)
         except ConvergenceError as exc:
             return _failed(scene, s_vals, s, design, load, exc.solution, str(exc), strict)
-    prob = Problem(probed, options)
+    prob = Problem(probed, options=options)
     psol = Solution(prob._run(guess), prob.scene, prob.options)
     if not psol.success:
         msg = f"tendonrod.jacobian: the scene did not solve: {psol.message}{_in_rod_units(psol)}"
@@ -171,5 +171,5 @@ def _failed(scene, s_vals, s, design, load, sol, message, strict) -> Jacobian[An
         nit=0 if sol is None else int(sol.nit),
         nfev=0 if sol is None else int(sol.nfev),
     )
-    report_failure(jac, strict, message, stacklevel=4)
+    report_failure(jac, strict, message)
     return jac

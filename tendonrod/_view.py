@@ -100,7 +100,7 @@ def _warm(scenes_labels, options) -> list:
 
     out, prob = [], None
     for label, sc in scenes_labels:
-        prob = Problem(sc, options) if prob is None else prob
+        prob = Problem(sc, options=options) if prob is None else prob
         sol = prob.solve(sc)
         if sol.success:
             out.append((label, sol))

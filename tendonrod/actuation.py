@@ -302,7 +302,7 @@ def actuate(
     kind = "square" if n == m else ("minimum-change" if n > m else "least-squares")
     # the iterates are not judged for stability (a verdict per iterate would cost more than
     # the iterate); the state returned is, by a final solve with the caller's options
-    prob = Problem(scene, _replace(options, accept_unstable=True))
+    prob = Problem(scene, options=_replace(options, accept_unstable=True))
     sol = prob._solve_quiet(scene, guess)
     report = {"kind": kind, "target": target.given, "tendons": tuple(idx), "tol": tol}
     if not sol.success:
@@ -432,5 +432,5 @@ def _finish(sol, report, strict):
         last = "" if reached and not sol.success else f" (last solve: {sol.message})"
         sol.success = False
         sol.message = f"tr.actuate: {msg}{last}{_in_rod_units(sol)}"
-        report_failure(sol, strict, sol.message, stacklevel=3)
+        report_failure(sol, strict, sol.message)
     return sol

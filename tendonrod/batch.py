@@ -24,6 +24,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from . import _core, plausibility
+from ._deprecation import renamed_keywords
 from ._interrupt import current_token, new_token
 from ._plausible import batch_findings
 from .compiled import _TD, _with_dloads, is_planar, pack_scene
@@ -139,6 +140,7 @@ def _points(arr, name: str, tail: tuple, what: str, n: int | None):
     return np.ascontiguousarray(a), a.shape[0]
 
 
+@renamed_keywords("tendonrod.solve_batch", threads="workers")
 def solve_batch(
     scene: Scene,
     *,
@@ -148,7 +150,7 @@ def solve_batch(
     moments=None,
     distributed=None,
     options: Options | None = None,
-    threads: int = 1,
+    workers: int = 1,
     chunksize: int | None = None,
     warm_start: bool = True,
     retry_cold: bool = True,
@@ -177,8 +179,9 @@ def solve_batch(
         the scene's distributed loads).
     options : tendonrod.Options, optional
         As for :func:`tendonrod.solve`; ``tip_only`` is implied and ``nodes`` ignored.
-    threads : int
-        Worker threads (the C core runs with the GIL released); chunks are shared out.
+    workers : int
+        Worker threads (the C core runs with the GIL released); chunks are shared out
+        (``threads=`` before 0.2).
     chunksize : int, optional
         Points per warm-started chunk (default :data:`DEFAULT_CHUNKSIZE`).
     warm_start : bool
@@ -233,7 +236,7 @@ def solve_batch(
     >>> bool(res.success.all()), res.tension[:, 0].round(3)
     (True, array([3.267, 2.854, 2.426, 1.983, 1.525]))
     """
-    options, chunksize = _check_arguments(scene, options, threads, chunksize)
+    options, chunksize = _check_arguments(scene, options, workers, chunksize)
     rod, tendons, loads, dist = pack_scene(scene)
     controls = scene.displacement_controlled()
     idisp = [i for i, c in enumerate(controls) if c]
@@ -263,7 +266,7 @@ def solve_batch(
     )
     kw = _with_dloads(kw, scene)
     packed = (rod, tendons, loads, dist)
-    parts = _run_chunks(packed, values, point_loads, distributed, kw, n, chunksize, threads)
+    parts = _run_chunks(packed, values, point_loads, distributed, kw, n, chunksize, workers)
     res = _assemble(parts, n, chunksize, options)
     if pose is not None:
         res = dataclasses.replace(
@@ -311,14 +314,14 @@ def _point_load_values(loads, n, forces, moments):
     return point_loads
 
 
-def _run_chunks(packed, values, point_loads, distributed, kw, n, chunksize, threads) -> list:
+def _run_chunks(packed, values, point_loads, distributed, kw, n, chunksize, workers) -> list:
     """The core's result of every chunk of ``chunksize`` points, in order (chunks shared
-    out to ``threads`` worker threads; each chunk starts cold)."""
+    out to ``workers`` worker threads; each chunk starts cold)."""
     rod, tendons, loads, dist = packed
     bounds = [(a, min(a + chunksize, n)) for a in range(0, n, chunksize)] or [(0, 0)]
     # Ctrl-C: on this thread the core sees it itself; worker threads stop at their next
     # poll once the token is set (a solve_batch inside a sweep worker polls the sweep's)
-    serial = threads == 1 or len(bounds) == 1
+    serial = workers == 1 or len(bounds) == 1
     token = current_token() if serial else new_token()
 
     def run(b):
@@ -337,7 +340,7 @@ def _run_chunks(packed, values, point_loads, distributed, kw, n, chunksize, thre
 
     if serial:
         return [run(b) for b in bounds]
-    with cf.ThreadPoolExecutor(max_workers=min(int(threads), len(bounds))) as ex:
+    with cf.ThreadPoolExecutor(max_workers=min(int(workers), len(bounds))) as ex:
         try:
             return list(ex.map(run, bounds))
         except BaseException:
@@ -345,13 +348,13 @@ def _run_chunks(packed, values, point_loads, distributed, kw, n, chunksize, thre
             raise
 
 
-def _check_arguments(scene, options, threads, chunksize):
+def _check_arguments(scene, options, workers, chunksize):
     """``(options, chunksize)`` checked, with their defaults; ValueError otherwise."""
     if not isinstance(scene, Scene):
         raise ValueError(f"scene must be a tendonrod.Scene, got {scene!r}")
     options = _check_options(options)
-    if isinstance(threads, bool) or not isinstance(threads, (int, np.integer)) or threads < 1:
-        raise ValueError(f"threads must be an int >= 1, got {threads!r}")
+    if isinstance(workers, bool) or not isinstance(workers, (int, np.integer)) or workers < 1:
+        raise ValueError(f"workers must be an int >= 1, got {workers!r}")
     if not (isinstance(options, Options)):
         raise ValueError(f"options must be a tendonrod.Options, got {options!r}")
     if chunksize is None:

@@ -15,6 +15,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ._deprecation import renamed_keywords
 from ._linearize import jacobian
 from .linearization import _design_names, design_value, with_design
 from .model import Scene
@@ -210,6 +211,7 @@ class _Model:
         return np.array(out)
 
 
+@renamed_keywords("tendonrod.fit", xtol="tol", max_nfev="max_iter")
 def fit(
     scenes,
     measured,
@@ -219,8 +221,8 @@ def fit(
     sigma=None,
     x0=None,
     options=None,
-    max_nfev: int = 50,
-    xtol: float = 1e-10,
+    tol: float = 1e-10,
+    max_iter: int = 50,
     strict: bool = False,
 ) -> FitResult:
     """Fit design parameters to positions measured on a set of loaded scenes.
@@ -246,10 +248,12 @@ def fit(
         Starting values (default: the first scene's values).
     options : Options, optional
         Solver options of every solve.
-    max_nfev : int
-        Most residual evaluations (each a solve of every scene).
-    xtol : float
-        SciPy's relative step tolerance on the parameters.
+    tol : float
+        The relative step tolerance on the parameters (SciPy's ``xtol``; ``xtol=`` before
+        0.2).
+    max_iter : int
+        Most iterations, counted as SciPy's ``least_squares`` counts them: residual
+        evaluations, each a solve of every scene (``max_nfev=`` before 0.2).
     strict : bool
         Raise :class:`~tendonrod.ConvergenceError` (its ``solution`` the
         :class:`FitResult`) instead of a :class:`~tendonrod.ConvergenceWarning` when the
@@ -297,10 +301,10 @@ def fit(
     meas = _measured(measured, len(scenes), ns)
     sig = _sigma(sigma, meas.shape)
     # (an upper bound far beyond any fit, that SciPy's C long takes)
-    if isinstance(max_nfev, bool) or not isinstance(max_nfev, int) or not 1 <= max_nfev <= 10**9:
-        raise ValueError(f"max_nfev must be an int in [1, 1e9], got {max_nfev!r}")
-    if not (isinstance(xtol, (int, float)) and 0.0 < xtol < 1.0):
-        raise ValueError(f"xtol must be in (0, 1), got {xtol!r}")
+    if isinstance(max_iter, bool) or not isinstance(max_iter, int) or not 1 <= max_iter <= 10**9:
+        raise ValueError(f"max_iter must be an int in [1, 1e9], got {max_iter!r}")
+    if not (isinstance(tol, (int, float)) and 0.0 < tol < 1.0):
+        raise ValueError(f"tol must be in (0, 1), got {tol!r}")
     p0 = _floats(
         [design_value(scenes[0], p) for p in paths] if x0 is None else x0, "x0", "real numbers"
     )
@@ -320,7 +324,7 @@ def fit(
         return J.reshape(-1, len(paths)) * scale
 
     try:
-        res = least_squares(resid, p0 / scale, jac=jac, method="lm", xtol=xtol, max_nfev=max_nfev)
+        res = least_squares(resid, p0 / scale, jac=jac, method="lm", xtol=tol, max_nfev=max_iter)
     except ConvergenceError as exc:
         nan = np.full(len(paths), np.nan)
         out = FitResult(

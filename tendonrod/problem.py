@@ -21,6 +21,7 @@ from typing import Any
 
 import numpy as np
 
+from ._deprecation import keyword_only
 from ._interrupt import current_token
 from ._plausible import Checker
 from ._secant import load_steps, secant_compliance
@@ -61,7 +62,8 @@ class Problem:
     (True, array([2.081]))
     """
 
-    def __init__(self, scene: Scene, options: Options | None = None):
+    @keyword_only("tendonrod.Problem", 2, ("options",))
+    def __init__(self, scene: Scene, *, options: Options | None = None):
         if not isinstance(scene, Scene):
             raise ValueError(f"scene must be a tendonrod.Scene, got {scene!r}")
         self._options = _check_options(options)
@@ -101,7 +103,7 @@ class Problem:
         return {"scene": self._scene, "options": self._options}
 
     def __setstate__(self, state):
-        self.__init__(state["scene"], state["options"])
+        self.__init__(state["scene"], options=state["options"])
 
     def __repr__(self):
         warm = "warm" if self._c.has_solution else "no solution yet"
@@ -171,7 +173,7 @@ class Problem:
         problem; every solution lists its own findings in ``plausibility``.
         """
         sol = self._solve_quiet(scene, guess)
-        _report(sol, strict, "tendonrod.Problem.solve", stacklevel=3)
+        _report(sol, strict, "tendonrod.Problem.solve")
         self._plausible.check(sol, "tendonrod.Problem.solve", once=True)
         return sol
 
@@ -369,7 +371,7 @@ def _solved_probe(sol, s_vals, options: Options, spatial: bool) -> Problem:
     """A Problem of ``sol``'s scene with breakpoints at ``s_vals`` (spatial if asked),
     solved warm from ``sol``; ConvergenceError if that solve fails."""
     opts = _replace(options, force_spatial=True) if spatial else options
-    prob = Problem(_probe_scene(sol.scene, s_vals), opts)
+    prob = Problem(_probe_scene(sol.scene, s_vals), options=opts)
     psol = Solution(prob._run(sol), prob.scene, prob.options)
     if not psol.success:
         raise ConvergenceError(
@@ -406,15 +408,18 @@ def _with_solution(jac: Jacobian, sol) -> Jacobian:
 
 def compliance_problem(scene: Scene, s: float, options: Options) -> Problem:
     """The spatial, tip-only problem of ``scene`` with a breakpoint at ``s``."""
-    return Problem(_probe_scene(scene, s), _replace(options, force_spatial=True, tip_only=True))
+    return Problem(
+        _probe_scene(scene, s), options=_replace(options, force_spatial=True, tip_only=True)
+    )
 
 
+@keyword_only("tendonrod.compliance", 3, ("options",))
 def compliance(
     scene: Scene,
     s: float | None = None,
     guess=None,
-    options: Options | None = None,
     *,
+    options: Options | None = None,
     step=None,
 ) -> np.ndarray:
     """Compliance matrix (6, 6) at arc length ``s`` [m] (default: the tip): the tangent
@@ -467,7 +472,7 @@ def compliance(
         steps = load_steps(step)
         # an output node at s (a recording reads the pose there; the solves record nothing)
         opts = _replace(options, force_spatial=True, tip_only=False, nodes=np.array([s_val]))
-        prob = Problem(_probe_scene(scene, s_val, always=True), opts)
+        prob = Problem(_probe_scene(scene, s_val, always=True), options=opts)
         return secant_compliance(prob, guess, s_val, steps)
     prob = compliance_problem(scene, s_val, options)
     sol = Solution(prob._run(guess), scene, prob.options)

@@ -112,15 +112,17 @@ class ConvergenceError(RuntimeError):
         self.solution = solution
 
 
-def report_failure(result: Any, strict: bool, message: str, stacklevel: int = 3) -> None:
+def report_failure(result: Any, strict: bool, message: str) -> None:
     """The one failure rule: nothing when ``result.success`` is true (all of it, for an
     array over points); else :class:`ConvergenceError` carrying ``result`` (``strict``) or
-    a :class:`ConvergenceWarning` at the caller's caller (``stacklevel``) with ``message``."""
+    a :class:`ConvergenceWarning` with ``message``, attributed to the user's line."""
     if bool(np.all(result.success)):
         return
     if strict:
         raise ConvergenceError(message, result)
-    warnings.warn(message, ConvergenceWarning, stacklevel=stacklevel + 1)
+    from .plausibility import _user_stacklevel
+
+    warnings.warn(message, ConvergenceWarning, stacklevel=_user_stacklevel())
 
 
 def failed_points(who: str, success: np.ndarray, failures: list) -> str:

@@ -505,7 +505,7 @@ def _in_rod_units(sol: Solution) -> str:
     return "; in the rod's units: " + ", ".join(parts)
 
 
-def _report(sol: Solution, strict: bool, who: str, stacklevel: int) -> None:
+def _report(sol: Solution, strict: bool, who: str) -> None:
     """A failed solve is never silent: ConvergenceError (strict) or ConvergenceWarning."""
     if sol.success:
         return
@@ -514,4 +514,4 @@ def _report(sol: Solution, strict: bool, who: str, stacklevel: int) -> None:
         f"nit {sol.nit}, nfev {sol.nfev}, residual {sol.residual_norm:.3g})"
         f"{_in_rod_units(sol)}"
     )
-    report_failure(sol, strict, msg, stacklevel=stacklevel)
+    report_failure(sol, strict, msg)

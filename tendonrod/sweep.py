@@ -66,6 +66,7 @@ from typing import Any
 
 import numpy as np
 
+from ._deprecation import renamed_keywords
 from ._interrupt import cancel_scope, new_token
 from ._sweep_chunk import (
     OUTCOME_ERROR,
@@ -163,6 +164,7 @@ class ComplianceMeasure:
         return out
 
 
+@renamed_keywords("tendonrod.sweep", max_workers="workers")
 def sweep(
     base: Any,
     vary: Mapping[str, Any] | None = None,
@@ -172,7 +174,7 @@ def sweep(
     measure: Callable[[Any, Any], Mapping] | None = None,
     options: Any = None,
     executor: cf.Executor | None = None,
-    max_workers: int | None = None,
+    workers: int | None = None,
     chunksize: int | None = None,
     warm_start: bool = True,
     path: str | os.PathLike | None = None,
@@ -202,9 +204,12 @@ def sweep(
         Passed to every :func:`tendonrod.solve`.  Default: ``Options(tip_only=True)``
         with the default ``measure`` (it reads only tip quantities), else ``Options()``.
     executor : concurrent.futures.Executor, optional
-        Runs the chunks; default a ``ThreadPoolExecutor`` with ``max_workers``
-        (default ``os.cpu_count()``) threads, shut down at the end.  An
+        Runs the chunks; default a ``ThreadPoolExecutor`` with ``workers`` threads,
+        shut down at the end.  An
         executor you pass is left running.
+    workers : int, optional
+        Worker threads of the default executor (default ``os.cpu_count()``;
+        ``max_workers=`` before 0.2).
     chunksize : int, optional
         Points per warm-started chunk (see the module docstring).
     warm_start : bool
@@ -242,8 +247,8 @@ def sweep(
         chunksize = shape[-1] if (grid and shape) else min(npoints, _DEFAULT_LIST_CHUNK)
     # a chunk never holds more than every point
     chunksize = min(_count("chunksize", chunksize), max(npoints, 1))
-    if max_workers is not None:
-        max_workers = _count("max_workers", max_workers)
+    if workers is not None:
+        workers = _count("workers", workers)
     if options is not None:
         options = _check_options(options)
     if measure is None:
@@ -272,7 +277,7 @@ def sweep(
         for t in tasks:
             t["batch"] = True
     bar = progress_bar(progress, npoints, done)
-    _run(tasks, done, fh, bar, executor, max_workers)
+    _run(tasks, done, fh, bar, executor, workers)
     res = _assemble(names, shape, point_values, done, npoints, chunksize)
     assert res.plausibility is not None  # _assemble fills it
     summarize(
@@ -373,13 +378,13 @@ def _tasks(scenes, chunksize, done, measure, options, warm_start) -> list:
     ]
 
 
-def _run(tasks, done, fh, bar, executor, max_workers) -> None:
+def _run(tasks, done, fh, bar, executor, workers) -> None:
     """Run the chunks on ``executor`` (default: a thread pool, shut down at the end),
     with the solver's convergence warnings silenced, then close the file and the bar."""
     own = executor is None
     if own and tasks:
-        workers = max_workers or os.cpu_count() or 1
-        executor = cf.ThreadPoolExecutor(max_workers=min(workers, len(tasks)))
+        n = workers or os.cpu_count() or 1
+        executor = cf.ThreadPoolExecutor(max_workers=min(n, len(tasks)))
     try:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", ConvergenceWarning)

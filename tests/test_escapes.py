@@ -143,7 +143,7 @@ def test_path_huge_integers_name_the_parameter(kwargs, name):
         tr.path(_scene(), "loads[0].force[0]", **kwargs)
 
 
-@pytest.mark.parametrize("name", ["measured", "sigma", "x0", "s", "max_nfev"])
+@pytest.mark.parametrize("name", ["measured", "sigma", "x0", "s", "max_iter"])
 def test_fit_huge_integers_name_the_parameter(name):
     sc = _scene()
     tip = tr.solve(sc).tip_position
@@ -153,7 +153,7 @@ def test_fit_huge_integers_name_the_parameter(name):
         "sigma": HUGE,
         "x0": [HUGE],
         "s": [HUGE],
-        "max_nfev": HUGE,
+        "max_iter": HUGE,
     }[name]
     with pytest.raises(ValueError, match=name):
         tr.fit(**args)

@@ -134,7 +134,7 @@ def test_grid_shape_and_chunking_independence():
 def test_executor_honoured(kind):
     sc = base_scene()
     ref = tr.sweep(
-        sc, {"loads[0].force": FORCES}, grid=False, chunksize=2, max_workers=1, progress=False
+        sc, {"loads[0].force": FORCES}, grid=False, chunksize=2, workers=1, progress=False
     )
     submitted = []
 
@@ -305,7 +305,7 @@ def test_caveat_status_kept_and_outcome_from_success(kind, monkeypatch):
         else {"robot.tendons[0].EA": [1e5, 2e5, 3e5, 4e5]}
     )
     with pytest.warns(tr.ConvergenceWarning, match="1 of 4"):
-        res = tr.sweep(sc, vary, grid=False, chunksize=4, max_workers=1, progress=False)
+        res = tr.sweep(sc, vary, grid=False, chunksize=4, workers=1, progress=False)
     assert res.status.tolist() == [0, 1, 3, 0]
     assert res.outcome.tolist() == [OUTCOME_OK, OUTCOME_OK, OUTCOME_NOT_CONVERGED, OUTCOME_OK]
     assert res.success.tolist() == [True, True, False, True]
@@ -355,7 +355,7 @@ WORKER = textwrap.dedent("""
     def run(path):
         base, vary = args()
         return tr.sweep(base, vary, grid=False, chunksize=2, measure=slow_measure, path=path,
-                        max_workers=1, progress=False)
+                        workers=1, progress=False)
 """)
 
 
