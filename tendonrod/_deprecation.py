@@ -9,11 +9,14 @@ warning naming the new spelling and the release that removes the old one.
 from __future__ import annotations
 
 import functools
+import inspect
+import sys
+import types
 import warnings
 from collections.abc import Callable
 from typing import Any, ParamSpec, TypeVar
 
-__all__ = ["deprecated", "renamed_keywords", "keyword_only"]
+__all__ = ["deprecated", "renamed_keywords", "keyword_only", "old_module"]
 
 SINCE = "0.2"
 REMOVED_IN = "0.3"
@@ -90,3 +93,22 @@ def keyword_only(
         return inner
 
     return wrap
+
+
+class _CallableModule(types.ModuleType):
+    """An old module that was also the function of its name (``tr.sweep``, ``tr.path``):
+    importing it rebinds the package's attribute to the module, so the module stays
+    callable for as long as it lives."""
+
+    def __call__(self, *args: Any, **kwargs: Any) -> Any:
+        return self.__dict__["_function"](*args, **kwargs)
+
+
+def old_module(name: str, new: str, function: Callable[..., Any]) -> None:
+    """Turn the module ``name`` (being imported) into the deprecated alias of ``new``: warn
+    (once), and make it callable as ``function``."""
+    deprecated(f"the module {name}", f"{new} (tendonrod.{function.__name__} is the function)")
+    module = sys.modules[name]
+    module.__class__ = _CallableModule
+    module.__dict__["_function"] = function
+    module.__dict__["__signature__"] = inspect.signature(function)

@@ -24,7 +24,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from . import _core
-from ._sweep_paths import get_path, set_path
+from ._scene_paths import get_path, set_path
 from .model import Scene
 
 __all__ = ["Jacobian", "design_parameter", "design_value", "with_design"]

@@ -34,7 +34,7 @@ from .compiled import is_planar
 
 __all__ = [
     "is_planar",
-    "path",
+    "branch",
     "robot",
     "shapes",
     "sweep_lines",
@@ -403,18 +403,26 @@ def tension_vs_load(F, tension, ax=None, labels=None, ylabel: str = "tendon tens
     return ax
 
 
-def path(
+def branch(
     p, displacement: str = "x", ax=None, scale: float = 1.0, ylabel=None, color=None, **kwargs
 ):
-    """Plot a :class:`tendonrod.Path`: its parameter (divided by ``scale``, e.g. EI/L^2 for
+    """Plot a :class:`tendonrod.Branch` (the result of :func:`tendonrod.path`): its parameter (divided by ``scale``, e.g. EI/L^2 for
     a force) against a tip displacement [m] (``"x"``, ``"y"``, ``"z"``: that component of
     the tip position minus its start value; ``"norm"``: the distance from the start's tip).
     Stable stretches solid, unstable dashed, undecided dotted; limit points as circles,
     bifurcation points as squares.  ``ylabel`` (default the parameter's path) should give
     the unit.  Returns the Axes."""
-    from ._plot_path import draw
+    from ._plot_branch import draw
 
     return draw(p, _ax(ax), displacement, float(scale), ylabel, color, **kwargs)
+
+
+def path(*args, **kwargs):
+    """Deprecated since 0.2 (removed in 0.3): :func:`branch`."""
+    from ._deprecation import deprecated
+
+    deprecated("tendonrod.plot.path", "tendonrod.plot.branch")
+    return branch(*args, **kwargs)
 
 
 def view(x, scene=None, **kwargs):
@@ -422,7 +430,7 @@ def view(x, scene=None, **kwargs):
 
     Parameters
     ----------
-    x : Solution, list of Solution, Path, SweepResult or BatchResult
+    x : Solution, list of Solution, Branch, SweepResult or BatchResult
         What to show; several (a path's points, a sweep's or batch's converged points, a
         list of solutions) get a slider and a play button, one step per point.
     scene : Scene or list of Scene, optional

@@ -39,7 +39,7 @@ from hypothesis import HealthCheck, event, given, settings
 from hypothesis import strategies as st
 
 import tendonrod as tr
-from tendonrod.sweep import OUTCOME_ERROR, OUTCOME_NOT_CONVERGED, OUTCOME_OK, STATUS_NONE
+from tendonrod.sweeps import OUTCOME_ERROR, OUTCOME_NOT_CONVERGED, OUTCOME_OK, STATUS_NONE
 
 # Hostile values are absurd on purpose: the plausibility rules (slenderness, angles in
 # degrees, strain) warn of them, and solves of such scenes may not converge.  Those

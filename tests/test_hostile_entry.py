@@ -57,7 +57,7 @@ from test_hostile import (
 )
 
 import tendonrod as tr
-from tendonrod.sweep import (
+from tendonrod.sweeps import (
     OUTCOME_ERROR,
     OUTCOME_NOT_CONVERGED,
     OUTCOME_NOT_RUN,

@@ -78,7 +78,7 @@ CHILD = textwrap.dedent(
                        tip_position=(0.3, 0.3, -0.2), options=slow, max_iter=10**6)
         elif mode == "sweep":
             tr.sweep(scene(0.0), {"loads[0].force[2]": [0.0, -30.0 * fs, -31.0 * fs]},
-                     options=slow, chunksize=1, workers=2, path=path, progress=False)
+                     options=slow, chunksize=1, workers=2, file=path, progress=False)
         out["finished"] = True
     except KeyboardInterrupt:
         out["caught"] = time.monotonic()

@@ -190,7 +190,7 @@ def test_plot_path():
     with pytest.warns(tr.ConvergenceWarning, match="tendonrod.path stopped early"):
         p = tr.path(scene, "loads[0].force[0]", (0.0, -math.copysign(0.5 * Pe, x0)))
     fig, ax = plt.subplots()
-    out = tr.plot.path(p, "x", ax=ax, scale=EI / L**2, ylabel="H L²/EI")
+    out = tr.plot.branch(p, "x", ax=ax, scale=EI / L**2, ylabel="H L²/EI")
     assert out is ax
     styles = {ln.get_linestyle() for ln in ax.lines}
     assert "--" in styles  # the unstable stretch

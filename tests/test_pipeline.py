@@ -69,7 +69,7 @@ def _batch_kwargs(scene):
 
 
 def _value_at(scene, path):
-    from tendonrod.sweep import get_path
+    from tendonrod.sweeps import get_path
 
     return get_path(scene, path)
 

@@ -16,7 +16,7 @@ import tendonrod as tr
 from tendonrod import _plausible_rules as PR
 from tendonrod import plausibility as P
 from tendonrod._plausible import Recorder, _scene_screen, _state_findings
-from tendonrod.sweep import tip_measure
+from tendonrod.sweeps import tip_measure
 
 PW = tr.PlausibilityWarning
 # Issue 13's wire: L = 0.25 m, d = 1.2 mm, E = 60 GPa, G = 23 GPa.
@@ -408,9 +408,9 @@ def test_sweep_file_keeps_the_findings(tmp_path):
     base, taus = _ramp()
     path = tmp_path / "sweep.jsonl"
     with pytest.warns(PW):
-        a = tr.sweep(base, {"tension[0]": taus}, path=path, chunksize=4, progress=False)
+        a = tr.sweep(base, {"tension[0]": taus}, file=path, chunksize=4, progress=False)
     with pytest.warns(PW) as rec:
-        b = tr.sweep(base, {"tension[0]": taus}, path=path, chunksize=4, progress=False)
+        b = tr.sweep(base, {"tension[0]": taus}, file=path, chunksize=4, progress=False)
     assert len(rec) == 2
     assert [tuple(x) for x in b.plausibility] == [tuple(x) for x in a.plausibility]
     assert any(a.plausibility) and isinstance(b.plausibility[-1][0], P.Finding)

@@ -234,7 +234,7 @@ def test_rotation_vector():
 def test_sweep_compliance_measure_offers_both():
     """ComplianceMeasure(step=h) records the secant beside the tangent, each what
     tr.compliance gives for the point's scene (the same cold solves: bitwise)."""
-    from tendonrod.sweep import ComplianceMeasure, set_path
+    from tendonrod.sweeps import ComplianceMeasure, set_path
 
     EI, L = EI17, L17
     base = plain_scene(KIRCH17)

@@ -18,7 +18,7 @@ import pytest
 
 import tendonrod as tr
 from tendonrod.bench import references as refs
-from tendonrod.sweep import tip_measure
+from tendonrod.sweeps import tip_measure
 
 ROD = dict(length=0.25, diameter=1.2e-3, E=60e9, G=23e9)
 ANY = tr.Options(accept_unstable=True)

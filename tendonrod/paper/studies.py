@@ -14,7 +14,7 @@ from .. import analytic
 from ..model import PointLoad, Robot, Scene, Tendon
 from ..results import ConvergenceWarning
 from ..solver import compliance, solve
-from ..sweep import sweep, tip_measure
+from ..sweeps import sweep, tip_measure
 from .closed_forms import closed_form_tip_sigma_vs_alpha
 from .robots import (
     ALPHA_PAPER,

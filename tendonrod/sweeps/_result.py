@@ -6,7 +6,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ._sweep_chunk import (
+from ._chunk import (
     OUTCOME_ERROR,
     OUTCOME_NOT_CONVERGED,
     OUTCOME_NOT_RUN,

@@ -23,12 +23,12 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .batch import solve_batch
-from .compiled import is_planar
-from .model import PointLoad, Scene
-from .plausibility import PlausibilityWarning
-from .results import ConvergenceWarning
-from .solver import solve
+from ..batch import solve_batch
+from ..compiled import is_planar
+from ..model import PointLoad, Scene
+from ..plausibility import PlausibilityWarning
+from ..results import ConvergenceWarning
+from ..solver import solve
 
 OUTCOME_OK = 0
 """The solve succeeded (its ``success`` is True; its status may carry a caveat)."""
