@@ -401,6 +401,9 @@ def _finish(sol, report, strict):
             f"found is {distance:.3g} away (positions / L, angles in rad) after {iterations} "
             f"iterations"
         )
+    hint = "" if ok or reached or not sol.success else _slack_hint(sol, report["tendons"])
+    if hint:
+        msg += f" -- {hint}"
     route = "augmented" if report.get("augmented") else "linearisation"
     msg += f"; {iterations} iterations, {solves} solves, {jacobians} linearisations"
     if route == "augmented":
@@ -427,10 +430,34 @@ def _finish(sol, report, strict):
         nit=int(iterations),
         nfev=int(solves),
     )
-    sol.actuation = result
+    # the run's verdict joins the final solve's before the Solution is handed out (a
+    # Solution is read-only from then on)
+    verdict: dict = {"actuation": result}
     if not ok:
         last = "" if reached and not sol.success else f" (last solve: {sol.message})"
-        sol.success = False
-        sol.message = f"tr.actuate: {msg}{last}{_in_rod_units(sol)}"
-        report_failure(sol, strict, sol.message)
+        verdict.update(success=False, message=f"tr.actuate: {msg}{last}{_in_rod_units(sol)}")
+    vars(sol).update(verdict)
+    report_failure(sol, strict, sol.message)
     return sol
+
+
+def _slack_hint(sol, tendons) -> str:
+    """Of a target not reached: which actuated tendon ended slack (a tendon only pulls)
+    and the tendon opposite it, not actuated, that the target would need."""
+    robot = sol.scene.robot
+    tension, slack = np.asarray(sol.tension), np.asarray(sol.slack)
+    others = [j for j in range(robot.n_tendons) if j not in tendons]
+    parts = []
+    for i in tendons:
+        if tension[i] > 0.0:
+            continue
+        part = f"tendon {i} went slack (tension 0, slack {slack[i]:.3g} m): a tendon only pulls"
+        angle = robot.tendons[i].angle
+        opposite = [j for j in others if math.cos(robot.tendons[j].angle - angle) < 0.0]
+        if opposite:
+            j = min(opposite, key=lambda j: math.cos(robot.tendons[j].angle - angle))
+            part += f"; the target would need tendon {j}, opposite it (add it to tendons=)"
+        else:
+            part += "; the target would need a tendon on the opposite side"
+        parts.append(part)
+    return "; ".join(parts)

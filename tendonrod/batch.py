@@ -53,6 +53,7 @@ class BatchResult:
     tip_rotation : (n, 3, 3) tip body-to-world rotation
     tension, slack, displacement : (n, ntendon) [N], [m], [m] (actuator displacement
         consistent with the solution, as ``Solution.displacement``)
+    taut : (n, ntendon) bool, the tendons that carry tension (as ``Solution.taut``)
     status : (n,) int, the core's status (0 ok, > 0 converged with a caveat, < 0 failed;
         ``tendonrod._core.strerror``)
     success : (n,) bool, the core's verdict per point (as ``Solution.success``: status
@@ -98,6 +99,12 @@ class BatchResult:
 
     def __len__(self) -> int:
         return int(self.status.shape[0])
+
+    @property
+    def taut(self) -> np.ndarray:
+        """(n, ntendon) bool: the tendons that carry tension at each point (``tension > 0``,
+        as ``Solution.taut``)."""
+        return np.asarray(self.tension) > 0.0
 
     def __repr__(self) -> str:
         return (

@@ -10,6 +10,7 @@ vectors in the world frame unless said otherwise.  The core solves in the base f
 from __future__ import annotations
 
 import math
+from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
@@ -134,6 +135,8 @@ class Solution:
         by friction along s; 0 distal of its anchor (computed on first access).
     slack : ndarray (ntendon,)
         Tendon slack [m] (>= 0; > 0 only where the tension is 0).
+    taut : ndarray (ntendon,) of bool
+        The tendons that carry tension (``tension > 0``).
     displacement : ndarray (ntendon,)
         Actuator displacement [m] consistent with the solution for every tendon (> 0
         retracts), so "actuate by tension, then lock the actuator" is two calls.
@@ -185,30 +188,66 @@ class Solution:
     (True, True, array([0.1273, 0.    , 0.1274]), array([3.267]))
     """
 
+    raw: dict
+    scene: Scene
+    options: Options
+    success: bool
+    status: int
+    message: str
+    nit: int
+    nfev: int
+    njev: int
+    residual_norm: float
+    tension: NDArray[np.float64]
+    slack: NDArray[np.float64]
+    unknowns: NDArray[np.float64] | None
+    jacobian: NDArray[np.float64] | None
+    jacobian_cond: float
+    continuation_steps: int
+    truncation_estimate: float
+    truncation_carried: bool
+    _formulation: Formulation | None
+    _pose: Any
+
     def __init__(self, raw: dict, scene: Scene, options: Options):
         # Kept light: solve() runs in tight loops. The glue returns float64 arrays of the
-        # documented shapes; they are used as they are.
-        self.raw = raw
-        self.scene = scene
-        self.options = options
-        self.success = bool(raw["success"])
-        self.status = int(raw["status"])
+        # documented shapes; they are used as they are.  Written into __dict__ at once:
+        # a Solution is read-only after the solve (__setattr__).
         msg = raw.get("message", "")
-        self.message = msg.decode() if isinstance(msg, bytes) else str(msg)
-        self.nit = int(raw.get("nit", 0))
-        self.nfev = int(raw.get("nfev", 0))
-        self.njev = int(raw.get("njev", 0))
-        self.residual_norm = float(raw.get("residual_norm", math.nan))
-        self.tension: NDArray[np.float64] = raw["tension"]
-        self.slack: NDArray[np.float64] = raw["slack"]
-        self.unknowns = raw.get("unknowns")
-        self.jacobian = raw.get("jacobian")
-        self.jacobian_cond = float(raw.get("jacobian_cond", math.nan))
-        self.continuation_steps = int(raw.get("continuation_steps", 0))
-        self.truncation_estimate = float(raw.get("truncation_estimate", math.nan))
-        self.truncation_carried = bool(raw.get("truncation_carried", False))
-        self._formulation: Formulation | None = None
-        self._pose = None if scene is None else base_pose(scene.robot)
+        vars(self).update(
+            raw=raw,
+            scene=scene,
+            options=options,
+            success=bool(raw["success"]),
+            status=int(raw["status"]),
+            message=msg.decode() if isinstance(msg, bytes) else str(msg),
+            nit=int(raw.get("nit", 0)),
+            nfev=int(raw.get("nfev", 0)),
+            njev=int(raw.get("njev", 0)),
+            residual_norm=float(raw.get("residual_norm", math.nan)),
+            tension=raw["tension"],
+            slack=raw["slack"],
+            unknowns=raw.get("unknowns"),
+            jacobian=raw.get("jacobian"),
+            jacobian_cond=float(raw.get("jacobian_cond", math.nan)),
+            continuation_steps=int(raw.get("continuation_steps", 0)),
+            truncation_estimate=float(raw.get("truncation_estimate", math.nan)),
+            truncation_carried=bool(raw.get("truncation_carried", False)),
+            _formulation=None,
+            _pose=None if scene is None else base_pose(scene.robot),
+        )
+
+    def __setattr__(self, name: str, value) -> None:
+        # the lazy outputs cache themselves under private names; the results are the solve's
+        if not name.startswith("_"):
+            raise AttributeError(
+                f"Solution.{name} is read-only: a Solution is what the solve returned "
+                "(solve again, or copy what you need)"
+            )
+        object.__setattr__(self, name, value)
+
+    def __delattr__(self, name: str) -> None:
+        raise AttributeError(f"Solution.{name} is read-only: a Solution is what the solve returned")
 
     # ------------------------------------------------------------ lazy outputs
     # A solve computes the tip state, the tensions and slacks; the states at the output
@@ -265,6 +304,12 @@ class Solution:
         actuator less what friction took along s (more, sliding out); 0 distal of its
         anchor."""
         return self._recorded()["tendon_tension"]
+
+    @property
+    def taut(self) -> NDArray[np.bool_]:
+        """(ntendon,) bool: the tendons that carry tension (``tension > 0``); the others are
+        slack (their ``slack`` [m] says by how much) or exactly at the switch."""
+        return np.asarray(self.tension) > 0.0
 
     @property
     def displacement(self) -> NDArray[np.float64]:
