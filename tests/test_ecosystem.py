@@ -1,4 +1,4 @@
-"""Small things with big effects (issue 18, item 6): a solution saved to .npz and loaded
+"""Small things with big effects: a solution saved to .npz and loaded
 back bit for bit; ``tr.sweep`` and ``tr.path`` plain functions (their old modules warn
 and still work); the ImportError
 of an unbuilt source tree saying what to do."""
@@ -81,7 +81,7 @@ def test_load_refuses_foreign_file(tmp_path):
         tr.load(path)
 
 
-def test_sweep_and_path_are_functions_their_modules_renamed():
+def test_sweep_and_path_are_functions_their_modules_renamed(rod):
     assert inspect.isfunction(tr.sweep) and inspect.isfunction(tr.path)
     assert tr.sweep is tr.sweeps.sweep and tr.path is tr.continuation.path
     for name in ("tip_measure", "ComplianceMeasure", "SweepResult", "load", "Branch"):
@@ -94,7 +94,6 @@ def test_sweep_and_path_are_functions_their_modules_renamed():
         progress=False,
     )
     assert res.success.all()
-    rod = tr.Rod(length=0.2, diameter=0.8e-3, E=207e9, G=79.6e9, kirchhoff=True)
     scene = tr.Scene(tr.Robot(rod, []), loads=[tr.PointLoad(s=0.2, force=(0.0, 0.0, 0.0))])
     p = tr.path(scene, "loads[0].force[0]", (0.0, 0.01), max_points=20)
     assert p.success and isinstance(p, tr.Branch), p.message

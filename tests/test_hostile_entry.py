@@ -1544,10 +1544,9 @@ def test_cosserat_rod_rigid_in_extension():
     assert sol.success, sol.message
 
 
-def test_problem_compliance_after_a_failed_solve():
+def test_problem_compliance_after_a_failed_solve(rod):
     """B13: Problem.compliance linearises at the last successful solution even when a
     later solve failed."""
-    rod = tr.Rod(length=0.2, diameter=0.8e-3, E=207e9, G=79.6e9, kirchhoff=True)
     loads = [tr.PointLoad(s=0.2, force=(-0.1, 0.05, 0))]  # out of plane: spatial
     scene = tr.Scene(tr.Robot(rod, [tr.Tendon(offset=0.01)]), displacement=[0.004], loads=loads)
     hopeless = dataclasses.replace(scene, displacement=[0.5])  # 2.5 L: no equilibrium

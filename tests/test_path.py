@@ -324,11 +324,10 @@ def test_raw_path_loop_does_not_leak():
     assert [sys.getrefcount(a) for a in args] == before
 
 
-def test_a_path_point_exactly_at_the_bifurcation():
+def test_a_path_point_exactly_at_the_bifurcation(rod):
     """The 0.2 m, 0.8 mm steel column: the refinement lands on the Euler load exactly,
     where the bordered Jacobian is singular to the last bit; that point is the bifurcation
     (to 1e-8 relative, measured 2e-14), and switching there follows the buckled branch."""
-    rod = tr.Rod(length=0.2, diameter=0.8e-3, E=207e9, G=79.6e9, kirchhoff=True)
     Pe = math.pi**2 * rod.bending_stiffness / (4 * 0.2**2)
     scene = tr.Scene(tr.Robot(rod, []), loads=[tr.PointLoad(s=0.2, force=(0.0, 0.0, 0.0))])
     for side in (0, 1):

@@ -288,11 +288,10 @@ def test_robot_frame_gravity_and_arrows_inside_the_limits():
     assert len([c for c in ax.collections if type(c).__name__ == "Line3DCollection"]) == 1
 
 
-def test_plots_own_their_axes():
+def test_plots_own_their_axes(rod):
     """Without ax= every plot draws on a new figure's Axes (never pyplot's current one): a
     planar plot after a spatial one stays planar, tension labels included; with ax= it
     draws there.  Each returns its Axes."""
-    rod = tr.Rod(0.2, 0.8e-3, 207e9, 79.6e9, kirchhoff=True)
     spatial = tr.solve(
         tr.Scene(
             tr.Robot(rod, [tr.Tendon(0.01)]),
