@@ -211,31 +211,30 @@ class Solution:
 
     def __init__(self, raw: dict, scene: Scene, options: Options):
         # Kept light: solve() runs in tight loops. The glue returns float64 arrays of the
-        # documented shapes; they are used as they are.  Written into __dict__ at once:
+        # documented shapes; they are used as they are.  Written into __dict__ directly:
         # a Solution is read-only after the solve (__setattr__).
+        d = self.__dict__
+        d["raw"] = raw
+        d["scene"] = scene
+        d["options"] = options
+        d["success"] = bool(raw["success"])
+        d["status"] = int(raw["status"])
         msg = raw.get("message", "")
-        vars(self).update(
-            raw=raw,
-            scene=scene,
-            options=options,
-            success=bool(raw["success"]),
-            status=int(raw["status"]),
-            message=msg.decode() if isinstance(msg, bytes) else str(msg),
-            nit=int(raw.get("nit", 0)),
-            nfev=int(raw.get("nfev", 0)),
-            njev=int(raw.get("njev", 0)),
-            residual_norm=float(raw.get("residual_norm", math.nan)),
-            tension=raw["tension"],
-            slack=raw["slack"],
-            unknowns=raw.get("unknowns"),
-            jacobian=raw.get("jacobian"),
-            jacobian_cond=float(raw.get("jacobian_cond", math.nan)),
-            continuation_steps=int(raw.get("continuation_steps", 0)),
-            truncation_estimate=float(raw.get("truncation_estimate", math.nan)),
-            truncation_carried=bool(raw.get("truncation_carried", False)),
-            _formulation=None,
-            _pose=None if scene is None else base_pose(scene.robot),
-        )
+        d["message"] = msg.decode() if isinstance(msg, bytes) else str(msg)
+        d["nit"] = int(raw.get("nit", 0))
+        d["nfev"] = int(raw.get("nfev", 0))
+        d["njev"] = int(raw.get("njev", 0))
+        d["residual_norm"] = float(raw.get("residual_norm", math.nan))
+        d["tension"] = raw["tension"]
+        d["slack"] = raw["slack"]
+        d["unknowns"] = raw.get("unknowns")
+        d["jacobian"] = raw.get("jacobian")
+        d["jacobian_cond"] = float(raw.get("jacobian_cond", math.nan))
+        d["continuation_steps"] = int(raw.get("continuation_steps", 0))
+        d["truncation_estimate"] = float(raw.get("truncation_estimate", math.nan))
+        d["truncation_carried"] = bool(raw.get("truncation_carried", False))
+        d["_formulation"] = None
+        d["_pose"] = None if scene is None else base_pose(scene.robot)
 
     def __setattr__(self, name: str, value) -> None:
         # the lazy outputs cache themselves under private names; the results are the solve's
