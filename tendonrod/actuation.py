@@ -159,11 +159,13 @@ def _control_set(scene: Scene, tendons):
     r = r if r > 0.0 else rod.length
     q_scale, tau_scale = r, rod.bending_stiffness / (r * rod.length)
     scale = np.array([q_scale if disp[i] else tau_scale for i in idx])
+    assert scene.displacement is not None and scene.tension is not None  # (Scene fills them)
     values = np.array([scene.displacement[i] if disp[i] else scene.tension[i] for i in idx])
     return idx, values, scale, q_scale, tau_scale
 
 
 def _with_controls(scene: Scene, idx, c) -> Scene:
+    assert scene.displacement is not None and scene.tension is not None  # (Scene fills them)
     disp, ten = list(scene.displacement), list(scene.tension)
     for i, v in zip(idx, c):
         if disp[i] is not None:

@@ -374,7 +374,7 @@ def sweep_lines(res, x: str, y: str, component=None, ax=None, xlabel=None, ylabe
         idx = [0] * nd
         for k, c in zip(others, combo):
             idx[k] = c
-        sl = list(idx)
+        sl: list = list(idx)
         sl[axis] = slice(None)
         lab = ", ".join(
             f"{names[k]} = {_fmt(np.asarray(res[names[k]])[tuple(idx)])}" for k in others

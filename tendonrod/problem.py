@@ -327,6 +327,7 @@ class Problem:
 
     def _compliance_here(self, s: float):
         """The compliance at breakpoint ``s`` of the workspace's solved state."""
+        assert self._last is not None  # (the callers' precondition)
         try:
             C = self._c.compliance(s, cancel=current_token())
         except RuntimeError as exc:  # the linearisation itself failed (e.g. its budget)
@@ -353,7 +354,7 @@ def _probe_scene(scene: Scene, s, always: bool = False) -> Scene:
     ]
     if not extra:
         return scene
-    return dataclasses.replace(scene, loads=list(scene.loads) + extra)
+    return dataclasses.replace(scene, loads=[*scene.loads, *extra])
 
 
 def _arc_lengths(s, L: float):

@@ -190,7 +190,7 @@ _ROUTINGS = ("parallel", "converging", "helical", "spline", "disks")
 def _rod_kwargs(rod: Mapping, key: str) -> dict:
     fields = {f.name for f in dataclasses.fields(Rod)} - {"segments"}
     _unknown(rod, fields, key)
-    kwargs = {}
+    kwargs: dict = {}
     for name, value in rod.items():
         if name in _ROD_BOOLS:
             kwargs[name] = _boolean(value, f"{key}.{name}")
@@ -358,7 +358,7 @@ def _parse_mass(raw: Any, j: int, length: float):
     key = f"mass[{j}]"
     table = _table(raw, key)
     _unknown(table, ("s", "mass"), key)
-    kwargs = {}
+    kwargs: dict = {}
     for name in ("s", "mass"):
         if name not in table:
             raise SceneFileError(f"{key}.{name}", "missing (required)")
@@ -407,7 +407,7 @@ def _parse_disks(raw: Any, length: float):
 def _parse_base(raw: Any) -> dict:
     table = _table(raw, "base")
     _unknown(table, ("position", "rotation"), "base")
-    out = {}
+    out: dict = {}
     if "position" in table:
         out["base_position"] = _vector3(table["position"], "base.position")
     if "rotation" in table:
