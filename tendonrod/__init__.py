@@ -6,10 +6,14 @@ with prescribed tendon displacements (or tensions).
 - :func:`tendonrod.solve` -- a geometrically exact Cosserat-rod/tendon solver
   (Section IV) with prescribed displacements, tendon stretch, pretension, slack;
   :class:`tendonrod.Problem` -- a scene's structure compiled once, solved warm.
-- :mod:`tendonrod.sweep` (a module that is also callable: ``tr.sweep(scene, vary)`` is
-  :func:`tendonrod.sweep.sweep`), :func:`tendonrod.solve_batch` -- many scenes at once.
-- :mod:`tendonrod.path` (callable too: ``tr.path(scene, parameter, span)``) -- an
-  equilibrium branch followed through limit and bifurcation points.
+- :func:`tendonrod.sweep` (its module :mod:`tendonrod.sweeps`),
+  :func:`tendonrod.solve_batch` -- many scenes at once.
+- :func:`tendonrod.path` -- an equilibrium branch (:class:`tendonrod.Branch`) followed
+  through limit and bifurcation points (its module :mod:`tendonrod.continuation`).
+- Every result carries ``success``, ``status``, ``message``, ``nit``, ``nfev``
+  (:class:`tendonrod.Result`); every entry point that can fail warns
+  (:class:`ConvergenceWarning`) or, with ``strict=True``, raises
+  (:class:`ConvergenceError`).
 - :meth:`Solution.save` / :func:`tendonrod.load` -- a solution to an ``.npz`` file and back.
 - :mod:`tendonrod.plot`, :mod:`tendonrod.paper` (the paper's studies and figures) and
   :mod:`tendonrod.scenefile` are imported on first use; :mod:`tendonrod.bench` holds
@@ -18,44 +22,74 @@ with prescribed tendon displacements (or tensions).
 SI units everywhere, angles in radians.
 """
 
-from typing import TYPE_CHECKING
-
-from ._build_check import import_core
+from . import _build_check
 from ._version import __version__
 
-_core = import_core()
+_core = _build_check.import_core()
 
 gsl_version: str = _core.gsl_version
 """Version of the GSL library tendonrod._core was built against."""
 
 from . import analytic
-from . import path as _path_mod  # callable: tr.path(...) runs tendonrod.path.path
-from . import sweep as _sweep_mod  # callable: tr.sweep(...) runs tendonrod.sweep.sweep
-from ._sweep_module import make_callable
+from ._io import read_solution as _read_solution
+from ._linearize import jacobian
 from .actuation import ActuationResult, actuate
 from .batch import BatchResult, solve_batch
+from .continuation import Branch, SpecialPoint, path
 from .fit import FitResult, fit
 from .friction import Slip, slip
 from .linearization import Jacobian
 from .model import DistributedLoad, PointLoad, PointMass, Robot, Rod, Scene, Tendon
 from .options import Options
-from .path import Path, SpecialPoint
 from .plausibility import PlausibilityWarning
-from .problem import Problem, jacobian
-from .results import ConvergenceError, ConvergenceWarning
+from .problem import Problem
+from .results import ConvergenceError, ConvergenceWarning, Result
 from .solver import Solution, compliance, solve
+from .sweeps import ComplianceMeasure, SweepResult, sweep, tip_measure
 
-make_callable(_sweep_mod)
-make_callable(_path_mod)
-if TYPE_CHECKING:
-    # what a type checker sees: tr.sweep and tr.path as the functions they call (their
-    # modules stay importable by name: from tendonrod.sweep import OUTCOME_OK)
-    from .path import path as path
-    from .sweep import sweep as sweep
-else:
-    path, sweep = _path_mod, _sweep_mod
-from ._io import read_solution
-from .sweep import ComplianceMeasure, SweepResult, tip_measure
+__all__ = [
+    "__version__",
+    "gsl_version",
+    "analytic",
+    # the scene
+    "Rod",
+    "Tendon",
+    "Robot",
+    "Scene",
+    "PointLoad",
+    "PointMass",
+    "DistributedLoad",
+    "Options",
+    # solving
+    "solve",
+    "Problem",
+    "Solution",
+    "load",
+    "compliance",
+    "jacobian",
+    "Jacobian",
+    "actuate",
+    "ActuationResult",
+    "fit",
+    "FitResult",
+    "slip",
+    "Slip",
+    # many scenes
+    "solve_batch",
+    "BatchResult",
+    "sweep",
+    "SweepResult",
+    "tip_measure",
+    "ComplianceMeasure",
+    "path",
+    "Branch",
+    "SpecialPoint",
+    # verdicts
+    "Result",
+    "ConvergenceWarning",
+    "ConvergenceError",
+    "PlausibilityWarning",
+]
 
 
 def load(path) -> Solution:
@@ -85,47 +119,34 @@ def load(path) -> Solution:
     >>> bool((tr.load(path).tip_position == sol.tip_position).all())
     True
     """
-    return Solution(*read_solution(path))
+    return Solution(*_read_solution(path))
 
 
 _LAZY_SUBMODULES = ("plot", "paper", "scenefile")
+# the documented modules, besides the names of __all__ (the implementation's modules are
+# importable by name, but not listed)
+_PUBLIC_MODULES = _LAZY_SUBMODULES + ("analytic", "routing", "sweeps", "continuation", "bench")
+# old names kept for 0.2 (tendonrod._deprecation): old name -> (new spelling, the object)
+_DEPRECATED = {"Path": ("tendonrod.Branch", Branch)}
 
 
 def __getattr__(name):
     """``tendonrod.plot``, ``tendonrod.paper`` and ``tendonrod.scenefile`` on first use
-    (they are not needed to solve, and plot and paper reach for matplotlib)."""
+    (they are not needed to solve, and plot and paper reach for matplotlib); the old names
+    of ``_DEPRECATED`` with a ``DeprecationWarning``."""
     if name in _LAZY_SUBMODULES:
         import importlib
 
         return importlib.import_module(f".{name}", __name__)
+    if name in _DEPRECATED:
+        from ._deprecation import deprecated
+
+        new, obj = _DEPRECATED[name]
+        deprecated(f"tendonrod.{name}", new)
+        return obj
     raise AttributeError(f"module 'tendonrod' has no attribute {name!r}")
 
 
-__all__ = ["analytic", "gsl_version", "__version__"]
-__all__ += [
-    "Rod",
-    "Tendon",
-    "Robot",
-    "Scene",
-    "PointLoad",
-    "PointMass",
-    "DistributedLoad",
-    "Options",
-    "Solution",
-    "Problem",
-    "solve",
-    "compliance",
-    "jacobian",
-    "Jacobian",
-    "actuate",
-    "ActuationResult",
-    "fit",
-    "FitResult",
-    "ConvergenceWarning",
-    "ConvergenceError",
-    "PlausibilityWarning",
-]
-__all__ += ["sweep", "SweepResult", "tip_measure", "ComplianceMeasure", "load"]
-__all__ += ["solve_batch", "BatchResult"]
-__all__ += ["path", "Path", "SpecialPoint"]
-__all__ += ["slip", "Slip"]
+def __dir__():
+    """The public names only: ``__all__`` and the documented modules."""
+    return sorted(set(__all__) | set(_PUBLIC_MODULES))

@@ -46,6 +46,7 @@ def load_steps(step) -> np.ndarray:
             "step must be a finite, nonzero load step (a real number for all six columns, "
             f"or six: {', '.join(_COMPONENTS)}), got {step!r}"
         )
+    assert h is not None  # (ok says so)
     return h
 
 

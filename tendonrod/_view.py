@@ -49,13 +49,13 @@ def _plotly():
 def _steps(x, scene, options, max_frames: int) -> list:
     """``[(label, Solution), ...]`` of what ``x`` holds (see :func:`view`)."""
     from .batch import BatchResult
-    from .path import Path
+    from .continuation import Branch
     from .solution import Solution
-    from .sweep import SweepResult
+    from .sweeps import SweepResult
 
     if isinstance(x, Solution):
         return [("", x)]
-    if isinstance(x, Path):
+    if isinstance(x, Branch):
         return _path_steps(x, options, max_frames)
     if isinstance(x, SweepResult):
         return _sweep_steps(x, scene, options, max_frames)
@@ -100,7 +100,7 @@ def _warm(scenes_labels, options) -> list:
 
     out, prob = [], None
     for label, sc in scenes_labels:
-        prob = Problem(sc, options) if prob is None else prob
+        prob = Problem(sc, options=options) if prob is None else prob
         sol = prob.solve(sc)
         if sol.success:
             out.append((label, sol))
@@ -110,7 +110,7 @@ def _warm(scenes_labels, options) -> list:
 
 
 def _sweep_steps(res, scene, options, max_frames: int) -> list:
-    from ._sweep_paths import set_path
+    from ._scene_paths import set_path
     from .model import Scene
 
     if not isinstance(scene, Scene):

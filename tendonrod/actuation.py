@@ -28,7 +28,6 @@ from __future__ import annotations
 
 import dataclasses
 import math
-import warnings
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
@@ -40,7 +39,7 @@ from .compiled import is_planar, value_vector
 from .model import Scene
 from .options import _check_options, _replace
 from .problem import Problem
-from .results import ConvergenceError, ConvergenceWarning
+from .results import report_failure
 from .solution import Solution, _in_rod_units
 
 __all__ = ["actuate", "ActuationResult"]
@@ -49,6 +48,9 @@ __all__ = ["actuate", "ActuationResult"]
 @dataclass(frozen=True, eq=False)
 class ActuationResult:
     """What :func:`actuate` did (``Solution.actuation``).
+
+    A :class:`~tendonrod.Result`: ``success``, ``status``, ``message``, ``nit``, ``nfev``
+    mean the same on every result type.
 
     Attributes
     ----------
@@ -86,6 +88,15 @@ class ActuationResult:
         The tension constraints' multipliers (>= 0; nonzero only where active).
     message : str
         What happened.
+    success : bool
+        The verdict of the run (as the returned ``Solution.success``).
+    status : int
+        The final solve's status when ``success``; else negative (-1, or the final solve's
+        status when that failed).
+    nit : int
+        Outer iterations (``iterations``).
+    nfev : int
+        Equilibrium solves (``solves``): the outer problem's function evaluations.
 
     Examples
     --------
@@ -113,6 +124,10 @@ class ActuationResult:
     multipliers: np.ndarray | None
     tension_multipliers: np.ndarray | None
     message: str
+    success: bool = True
+    status: int = 0
+    nit: int = 0
+    nfev: int = 0
 
 
 # --------------------------------------------------------------------------- controls
@@ -144,11 +159,13 @@ def _control_set(scene: Scene, tendons):
     r = r if r > 0.0 else rod.length
     q_scale, tau_scale = r, rod.bending_stiffness / (r * rod.length)
     scale = np.array([q_scale if disp[i] else tau_scale for i in idx])
+    assert scene.displacement is not None and scene.tension is not None  # (Scene fills them)
     values = np.array([scene.displacement[i] if disp[i] else scene.tension[i] for i in idx])
     return idx, values, scale, q_scale, tau_scale
 
 
 def _with_controls(scene: Scene, idx, c) -> Scene:
+    assert scene.displacement is not None and scene.tension is not None  # (Scene fills them)
     disp, ten = list(scene.displacement), list(scene.tension)
     for i, v in zip(idx, c):
         if disp[i] is not None:
@@ -300,7 +317,7 @@ def actuate(
     kind = "square" if n == m else ("minimum-change" if n > m else "least-squares")
     # the iterates are not judged for stability (a verdict per iterate would cost more than
     # the iterate); the state returned is, by a final solve with the caller's options
-    prob = Problem(scene, _replace(options, accept_unstable=True))
+    prob = Problem(scene, options=_replace(options, accept_unstable=True))
     sol = prob._solve_quiet(scene, guess)
     report = {"kind": kind, "target": target.given, "tendons": tuple(idx), "tol": tol}
     if not sol.success:
@@ -336,7 +353,8 @@ def actuate(
             **target.spec(),
         )
     except RuntimeError as exc:  # a linearisation or a step failed (e.g. its budget)
-        raise ConvergenceError(f"tendonrod.actuate: {exc}", sol) from None
+        report.update(controls=c0, why=f"the iteration failed: {exc}")
+        return _finish(sol, report, strict)
     act = raw["actuation"]
     c = act["controls"]
     final = Solution(
@@ -395,6 +413,9 @@ def _finish(sol, report, strict):
             f"found is {distance:.3g} away (positions / L, angles in rad) after {iterations} "
             f"iterations"
         )
+    hint = "" if ok or reached or not sol.success else _slack_hint(sol, report["tendons"])
+    if hint:
+        msg += f" -- {hint}"
     route = "augmented" if report.get("augmented") else "linearisation"
     msg += f"; {iterations} iterations, {solves} solves, {jacobians} linearisations"
     if route == "augmented":
@@ -416,13 +437,39 @@ def _finish(sol, report, strict):
         multipliers=report.get("multipliers"),
         tension_multipliers=None if mus is None else np.array(mus),
         message=msg,
+        success=bool(ok),
+        status=int(sol.status) if ok else min(int(sol.status), -1),
+        nit=int(iterations),
+        nfev=int(solves),
     )
-    sol.actuation = result
+    # the run's verdict joins the final solve's before the Solution is handed out (a
+    # Solution is read-only from then on)
+    verdict: dict = {"actuation": result}
     if not ok:
         last = "" if reached and not sol.success else f" (last solve: {sol.message})"
-        sol.success = False
-        sol.message = f"tr.actuate: {msg}{last}{_in_rod_units(sol)}"
-        if strict:
-            raise ConvergenceError(sol.message, sol)
-        warnings.warn(sol.message, ConvergenceWarning, stacklevel=3)
+        verdict.update(success=False, message=f"tr.actuate: {msg}{last}{_in_rod_units(sol)}")
+    vars(sol).update(verdict)
+    report_failure(sol, strict, sol.message)
     return sol
+
+
+def _slack_hint(sol, tendons) -> str:
+    """Of a target not reached: which actuated tendon ended slack (a tendon only pulls)
+    and the tendon opposite it, not actuated, that the target would need."""
+    robot = sol.scene.robot
+    tension, slack = np.asarray(sol.tension), np.asarray(sol.slack)
+    others = [j for j in range(robot.n_tendons) if j not in tendons]
+    parts = []
+    for i in tendons:
+        if tension[i] > 0.0:
+            continue
+        part = f"tendon {i} went slack (tension 0, slack {slack[i]:.3g} m): a tendon only pulls"
+        angle = robot.tendons[i].angle
+        opposite = [j for j in others if math.cos(robot.tendons[j].angle - angle) < 0.0]
+        if opposite:
+            j = min(opposite, key=lambda j: math.cos(robot.tendons[j].angle - angle))
+            part += f"; the target would need tendon {j}, opposite it (add it to tendons=)"
+        else:
+            part += "; the target would need a tendon on the opposite side"
+        parts.append(part)
+    return "; ".join(parts)

@@ -24,12 +24,14 @@ from dataclasses import dataclass
 import numpy as np
 
 from . import _core, plausibility
+from ._deprecation import renamed_keywords
 from ._interrupt import current_token, new_token
 from ._plausible import batch_findings
 from .compiled import _TD, _with_dloads, is_planar, pack_scene
 from .model import Scene
 from .mounting import base_pose, points_out, rotations_out, vectors_in
 from .options import Options, _check_options
+from .results import failed_points, report_failure
 
 __all__ = ["solve_batch", "BatchResult", "DEFAULT_CHUNKSIZE"]
 
@@ -42,12 +44,16 @@ do not depend on the machine or the number of threads)."""
 class BatchResult:
     """Tip quantities of ``n`` solved points (arrays over the points, in input order).
 
+    A :class:`~tendonrod.Result`: ``success``, ``status``, ``message``, ``nit``, ``nfev``
+    mean the same on every result type.
+
     Attributes
     ----------
     tip_position : (n, 3) world frame [m]
     tip_rotation : (n, 3, 3) tip body-to-world rotation
     tension, slack, displacement : (n, ntendon) [N], [m], [m] (actuator displacement
         consistent with the solution, as ``Solution.displacement``)
+    taut : (n, ntendon) bool, the tendons that carry tension (as ``Solution.taut``)
     status : (n,) int, the core's status (0 ok, > 0 converged with a caveat, < 0 failed;
         ``tendonrod._core.strerror``)
     success : (n,) bool, the core's verdict per point (as ``Solution.success``: status
@@ -94,6 +100,12 @@ class BatchResult:
     def __len__(self) -> int:
         return int(self.status.shape[0])
 
+    @property
+    def taut(self) -> np.ndarray:
+        """(n, ntendon) bool: the tendons that carry tension at each point (``tension > 0``,
+        as ``Solution.taut``)."""
+        return np.asarray(self.tension) > 0.0
+
     def __repr__(self) -> str:
         return (
             f"BatchResult(n={len(self)}, {int(np.count_nonzero(self.success))} converged, "
@@ -135,6 +147,7 @@ def _points(arr, name: str, tail: tuple, what: str, n: int | None):
     return np.ascontiguousarray(a), a.shape[0]
 
 
+@renamed_keywords("tendonrod.solve_batch", threads="workers")
 def solve_batch(
     scene: Scene,
     *,
@@ -144,13 +157,14 @@ def solve_batch(
     moments=None,
     distributed=None,
     options: Options | None = None,
-    threads: int = 1,
+    workers: int = 1,
     chunksize: int | None = None,
     warm_start: bool = True,
     retry_cold: bool = True,
     predict: bool = True,
     exact: bool = False,
     tension_tendon_displacement: bool = True,
+    strict: bool = False,
 ) -> BatchResult:
     """Solve ``n`` variants of ``scene`` that differ only in actuation and load values.
 
@@ -172,8 +186,9 @@ def solve_batch(
         the scene's distributed loads).
     options : tendonrod.Options, optional
         As for :func:`tendonrod.solve`; ``tip_only`` is implied and ``nodes`` ignored.
-    threads : int
-        Worker threads (the C core runs with the GIL released); chunks are shared out.
+    workers : int
+        Worker threads (the C core runs with the GIL released); chunks are shared out
+        (``threads=`` before 0.2).
     chunksize : int, optional
         Points per warm-started chunk (default :data:`DEFAULT_CHUNKSIZE`).
     warm_start : bool
@@ -197,6 +212,10 @@ def solve_batch(
         tension-controlled tendons: that is then NaN at the points the lean loop solved
         (about 20 % faster; scenes whose tendons are all displacement-controlled skip the
         pass anyway).
+    strict : bool
+        Raise :class:`~tendonrod.ConvergenceError` (its ``solution`` the
+        :class:`BatchResult`) instead of a :class:`~tendonrod.ConvergenceWarning` when
+        some point did not succeed.
 
     With ``options.steps > 0`` (a fixed step count) warm points first run a lean
     Newton/Broyden loop on the core's residual (the carried Jacobian, cubic
@@ -224,7 +243,7 @@ def solve_batch(
     >>> bool(res.success.all()), res.tension[:, 0].round(3)
     (True, array([3.267, 2.854, 2.426, 1.983, 1.525]))
     """
-    options, chunksize = _check_arguments(scene, options, threads, chunksize)
+    options, chunksize = _check_arguments(scene, options, workers, chunksize)
     rod, tendons, loads, dist = pack_scene(scene)
     controls = scene.displacement_controlled()
     idisp = [i for i, c in enumerate(controls) if c]
@@ -254,7 +273,7 @@ def solve_batch(
     )
     kw = _with_dloads(kw, scene)
     packed = (rod, tendons, loads, dist)
-    parts = _run_chunks(packed, values, point_loads, distributed, kw, n, chunksize, threads)
+    parts = _run_chunks(packed, values, point_loads, distributed, kw, n, chunksize, workers)
     res = _assemble(parts, n, chunksize, options)
     if pose is not None:
         res = dataclasses.replace(
@@ -271,7 +290,10 @@ def solve_batch(
     }
     found = batch_findings(scene, options, raw, values, point_loads, distributed)
     plausibility.summarize(found, "tendonrod.solve_batch", where="BatchResult.plausibility")
-    return dataclasses.replace(res, plausibility=found)
+    res = dataclasses.replace(res, plausibility=found)
+    msg = failed_points("tendonrod.solve_batch", res.success, res.failures())
+    report_failure(res, strict, msg)
+    return res
 
 
 def _tendon_values(tendons, n, idisp, iten, displacement, tension):
@@ -299,14 +321,14 @@ def _point_load_values(loads, n, forces, moments):
     return point_loads
 
 
-def _run_chunks(packed, values, point_loads, distributed, kw, n, chunksize, threads) -> list:
+def _run_chunks(packed, values, point_loads, distributed, kw, n, chunksize, workers) -> list:
     """The core's result of every chunk of ``chunksize`` points, in order (chunks shared
-    out to ``threads`` worker threads; each chunk starts cold)."""
+    out to ``workers`` worker threads; each chunk starts cold)."""
     rod, tendons, loads, dist = packed
     bounds = [(a, min(a + chunksize, n)) for a in range(0, n, chunksize)] or [(0, 0)]
     # Ctrl-C: on this thread the core sees it itself; worker threads stop at their next
     # poll once the token is set (a solve_batch inside a sweep worker polls the sweep's)
-    serial = threads == 1 or len(bounds) == 1
+    serial = workers == 1 or len(bounds) == 1
     token = current_token() if serial else new_token()
 
     def run(b):
@@ -325,7 +347,7 @@ def _run_chunks(packed, values, point_loads, distributed, kw, n, chunksize, thre
 
     if serial:
         return [run(b) for b in bounds]
-    with cf.ThreadPoolExecutor(max_workers=min(int(threads), len(bounds))) as ex:
+    with cf.ThreadPoolExecutor(max_workers=min(int(workers), len(bounds))) as ex:
         try:
             return list(ex.map(run, bounds))
         except BaseException:
@@ -333,13 +355,13 @@ def _run_chunks(packed, values, point_loads, distributed, kw, n, chunksize, thre
             raise
 
 
-def _check_arguments(scene, options, threads, chunksize):
+def _check_arguments(scene, options, workers, chunksize):
     """``(options, chunksize)`` checked, with their defaults; ValueError otherwise."""
     if not isinstance(scene, Scene):
         raise ValueError(f"scene must be a tendonrod.Scene, got {scene!r}")
     options = _check_options(options)
-    if isinstance(threads, bool) or not isinstance(threads, (int, np.integer)) or threads < 1:
-        raise ValueError(f"threads must be an int >= 1, got {threads!r}")
+    if isinstance(workers, bool) or not isinstance(workers, (int, np.integer)) or workers < 1:
+        raise ValueError(f"workers must be an int >= 1, got {workers!r}")
     if not (isinstance(options, Options)):
         raise ValueError(f"options must be a tendonrod.Options, got {options!r}")
     if chunksize is None:

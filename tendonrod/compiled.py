@@ -51,6 +51,7 @@ def pack_scene(scene: Scene):
     rod[_ROD["kirchhoff"]] = 1.0 if r.kirchhoff else 0.0
     nt = robot.n_tendons
     tendons = np.empty((nt, len(_core.TENDON_COLUMNS)))
+    assert scene.displacement is not None and scene.tension is not None  # (Scene fills them)
     for i, t in enumerate(robot.tendons):
         disp = scene.displacement[i]
         row = tendons[i]
@@ -209,7 +210,7 @@ def _structure(scene: Scene) -> tuple:
     key = scene.__dict__.get("_problem_structure")
     if key is None:
         L = scene.robot.rod.length
-        items = [
+        items: list[tuple[str, object]] = [
             (f"displacement[{i}] (control kind)", "displacement" if c else "tension")
             for i, c in enumerate(scene.displacement_controlled())
         ]

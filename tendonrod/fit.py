@@ -15,11 +15,13 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ._deprecation import renamed_keywords
+from ._linearize import jacobian
 from .linearization import _design_names, design_value, with_design
 from .model import Scene
 from .options import _check_options
-from .problem import _probe_scene, jacobian
-from .results import ConvergenceError, ConvergenceWarning
+from .problem import _probe_scene
+from .results import ConvergenceError, ConvergenceWarning, report_failure
 from .solver import solve
 
 __all__ = ["fit", "FitResult"]
@@ -28,6 +30,9 @@ __all__ = ["fit", "FitResult"]
 @dataclass(frozen=True, eq=False)
 class FitResult:
     """What :func:`fit` found.
+
+    A :class:`~tendonrod.Result`: ``success``, ``status``, ``message``, ``nit``, ``nfev``
+    mean the same on every result type.
 
     Attributes
     ----------
@@ -55,7 +60,12 @@ class FitResult:
         Evaluations of the residuals (each a solve per scene) and of their Jacobian (a
         linearisation per scene).
     solutions : tuple of Solution
-        Each scene solved at the fitted values.
+        Each scene solved at the fitted values (empty when a scene did not solve).
+    status : int
+        SciPy's status (``least_squares``: > 0 a convergence test met, 0 the evaluation
+        budget spent), or -1: a scene did not solve.
+    nit : int
+        Levenberg-Marquardt iterations (one Jacobian evaluation each: ``njev``).
 
     Examples
     --------
@@ -78,6 +88,8 @@ class FitResult:
     nfev: int
     njev: int
     solutions: tuple
+    status: int = 0
+    nit: int = 0
 
     def as_dict(self) -> dict:
         """``{name: (value, stderr)}``."""
@@ -193,12 +205,13 @@ class _Model:
         self.njev += 1
         out = []
         for sol in self.solve(p):
-            jac = jacobian(sol, s=self.s, design=self.paths, load=False)
+            jac = jacobian(sol, s=self.s, design=self.paths, load=False, strict=True)
             d = np.asarray(jac.design)
             out.append(d[None, :3, :] if self.s is None else d[:, :3, :])
         return np.array(out)
 
 
+@renamed_keywords("tendonrod.fit", xtol="tol", max_nfev="max_iter")
 def fit(
     scenes,
     measured,
@@ -208,8 +221,9 @@ def fit(
     sigma=None,
     x0=None,
     options=None,
-    max_nfev: int = 50,
-    xtol: float = 1e-10,
+    tol: float = 1e-10,
+    max_iter: int = 50,
+    strict: bool = False,
 ) -> FitResult:
     """Fit design parameters to positions measured on a set of loaded scenes.
 
@@ -234,10 +248,17 @@ def fit(
         Starting values (default: the first scene's values).
     options : Options, optional
         Solver options of every solve.
-    max_nfev : int
-        Most residual evaluations (each a solve of every scene).
-    xtol : float
-        SciPy's relative step tolerance on the parameters.
+    tol : float
+        The relative step tolerance on the parameters (SciPy's ``xtol``; ``xtol=`` before
+        0.2).
+    max_iter : int
+        Most iterations, counted as SciPy's ``least_squares`` counts them: residual
+        evaluations, each a solve of every scene (``max_nfev=`` before 0.2).
+    strict : bool
+        Raise :class:`~tendonrod.ConvergenceError` (its ``solution`` the
+        :class:`FitResult`) instead of a :class:`~tendonrod.ConvergenceWarning` when the
+        fit does not succeed (no convergence test met, or a scene did not solve at some
+        parameter values: then the values are NaN and ``message`` says which).
 
     Returns
     -------
@@ -251,7 +272,7 @@ def fit(
     ImportError
         Without SciPy (``pip install tendonrod[fit]``).
     ConvergenceError
-        If a scene does not solve at some parameter values.
+        With ``strict=True``, if the fit does not succeed.
 
     Examples
     --------
@@ -280,10 +301,10 @@ def fit(
     meas = _measured(measured, len(scenes), ns)
     sig = _sigma(sigma, meas.shape)
     # (an upper bound far beyond any fit, that SciPy's C long takes)
-    if isinstance(max_nfev, bool) or not isinstance(max_nfev, int) or not 1 <= max_nfev <= 10**9:
-        raise ValueError(f"max_nfev must be an int in [1, 1e9], got {max_nfev!r}")
-    if not (isinstance(xtol, (int, float)) and 0.0 < xtol < 1.0):
-        raise ValueError(f"xtol must be in (0, 1), got {xtol!r}")
+    if isinstance(max_iter, bool) or not isinstance(max_iter, int) or not 1 <= max_iter <= 10**9:
+        raise ValueError(f"max_iter must be an int in [1, 1e9], got {max_iter!r}")
+    if not (isinstance(tol, (int, float)) and 0.0 < tol < 1.0):
+        raise ValueError(f"tol must be in (0, 1), got {tol!r}")
     p0 = _floats(
         [design_value(scenes[0], p) for p in paths] if x0 is None else x0, "x0", "real numbers"
     )
@@ -302,7 +323,28 @@ def fit(
         J = model.jacobian(x * scale) * (w[..., None] if sig is not None else 1.0)
         return J.reshape(-1, len(paths)) * scale
 
-    res = least_squares(resid, p0 / scale, jac=jac, method="lm", xtol=xtol, max_nfev=max_nfev)
+    try:
+        res = least_squares(resid, p0 / scale, jac=jac, method="lm", xtol=tol, max_nfev=max_iter)
+    except ConvergenceError as exc:
+        nan = np.full(len(paths), np.nan)
+        out = FitResult(
+            names=tuple(paths),
+            values=nan,
+            stderr=nan,
+            covariance=np.full((len(paths), len(paths)), np.nan),
+            initial=p0,
+            residuals=np.full(meas.shape, np.nan),
+            rms=math.nan,
+            success=False,
+            message=str(exc),
+            nfev=model.nfev,
+            njev=model.njev,
+            solutions=(),
+            status=-1,
+            nit=model.njev,
+        )
+        report_failure(out, strict, out.message)
+        return out
     p = res.x * scale
     r = model.positions(p) - meas
     J = model.jacobian(p).reshape(-1, len(paths))
@@ -312,7 +354,7 @@ def fit(
     else:
         dof = max(r.size - len(paths), 1)
         cov = np.linalg.pinv(J.T @ J) * float(r.ravel() @ r.ravel()) / dof
-    return FitResult(
+    out = FitResult(
         names=tuple(paths),
         values=p,
         stderr=np.sqrt(np.maximum(np.diag(cov), 0.0)),
@@ -325,4 +367,8 @@ def fit(
         nfev=model.nfev,
         njev=model.njev,
         solutions=tuple(model.solve(p)),
+        status=int(res.status),
+        nit=model.njev,
     )
+    report_failure(out, strict, f"tendonrod.fit did not succeed: {out.message}")
+    return out

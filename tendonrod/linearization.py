@@ -24,7 +24,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from . import _core
-from ._sweep_paths import get_path, set_path
+from ._scene_paths import get_path, set_path
 from .model import Scene
 
 __all__ = ["Jacobian", "design_parameter", "design_value", "with_design"]
@@ -119,6 +119,9 @@ _LoadT = TypeVar("_LoadT", bound="NDArray[np.float64] | None")
 class Jacobian(Generic[_LoadT]):
     """The linearisation of a solved scene at arc length ``s`` (:func:`tendonrod.jacobian`).
 
+    A :class:`~tendonrod.Result`: ``success``, ``status``, ``message``, ``nit``, ``nfev``
+    mean the same on every result type.
+
     Every derivative is taken at the solved state by the implicit function theorem on the
     converged shooting system, the other inputs held: the other tendons' prescribed
     displacements and tensions, the loads, the design.  Rows ``[dx (3) [m], dtheta (3)
@@ -165,7 +168,13 @@ class Jacobian(Generic[_LoadT]):
         singular (a tension that cannot change the shape, e.g. of two inextensible
         tendons sharing one path, is indeterminate): then the slack one.
     solution : Solution
-        The solved state linearised.
+        The solved state linearised (the unconverged one when ``success`` is False).
+    success, status, message, nit, nfev
+        The common fields (:class:`~tendonrod.results.Outcome`): True, 0, ``""``, 0 (a
+        linearisation does not iterate) and -1 (its shooting evaluations are not counted)
+        when the linearisation was taken; False, < 0 and why not (the derivatives then NaN;
+        ``nit``, ``nfev`` the failed solve's) when the scene did not solve or the
+        linearisation failed.
 
     Examples
     --------
@@ -188,6 +197,11 @@ class Jacobian(Generic[_LoadT]):
     at_switch: np.ndarray
     switch_side: np.ndarray
     solution: object
+    success: bool = True
+    status: int = 0
+    message: str = ""
+    nit: int = 0
+    nfev: int = -1
 
     def __repr__(self):
         shape = "" if np.ndim(self.s) == 0 else f" at {np.size(self.s)} arc lengths"

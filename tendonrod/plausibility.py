@@ -225,6 +225,10 @@ def _user_stacklevel() -> int:
     f: FrameType | None = sys._getframe(1)
     while f is not None:
         code = f.f_code
+        if code.co_filename.startswith("<frozen importlib"):
+            # an import of ours: warnings.warn skips these frames when counting
+            f = f.f_back
+            continue
         inside = code.co_filename.startswith(_PKG_DIR) or (
             code.co_filename == "<string>" and code.co_name == "__init__"
         )

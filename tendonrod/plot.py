@@ -1,9 +1,9 @@
 """Plotting helpers (matplotlib, imported inside each function).
 
-Every function takes ``ax=None`` (None: the current Axes of pyplot, or a new
-3D Axes where one is needed), draws, labels the axes with units or as the
-nondimensional group, and returns the Axes.  Nothing here calls
-``plt.show()`` or ``savefig``.
+Every plot function takes ``ax=None`` (None: a new figure and Axes, 3-D where one is
+needed; never pyplot's current Axes), draws, labels the axes with units or as the
+nondimensional group, and returns the Axes.  Nothing here calls ``plt.show()`` or
+``savefig``.
 
 - :func:`robot` -- the solved robot: backbone, tendons along their routes
   r(s) (linear, helical or a path) mapped through the solved frames, spacer disks,
@@ -11,7 +11,8 @@ nondimensional group, and returns the Axes.  Nothing here calls
 - :func:`shapes` -- several backbones in the x-z plane (deflection curves).
 - :func:`sweep_lines` -- a recorded quantity of a sweep against one varied parameter.
 - :func:`tension_vs_load` -- tendon tensions against a load.
-- :func:`path` -- a load path (:func:`tendonrod.path`): parameter against a tip displacement.
+- :func:`branch` -- a load path (:func:`tendonrod.path`, a :class:`tendonrod.Branch`):
+  parameter against a tip displacement (:func:`path` before 0.2).
 - :func:`savefig` -- a figure to PNG, PDF or SVG by the file's suffix (reproducible
   metadata, the bounding box fitted to what is drawn).
 - :func:`view` -- an interactive 3-D view (Plotly, the ``view`` extra) of a solution, a
@@ -34,7 +35,7 @@ from .compiled import is_planar
 
 __all__ = [
     "is_planar",
-    "path",
+    "branch",
     "robot",
     "shapes",
     "sweep_lines",
@@ -49,13 +50,14 @@ FORMATS = ("png", "pdf", "svg")
 
 
 def _ax(ax, projection=None):
+    """``ax``, or a new figure's Axes (3-D with ``projection="3d"``): a plot never draws
+    into whatever Axes happens to be current (a planar plot after a spatial one would land
+    in the 3-D Axes)."""
     if ax is not None:
         return ax
     from ._extras import optional_import
 
     plt = optional_import("matplotlib.pyplot", "tendonrod.plot")
-    if projection is None:
-        return plt.gca()
     return plt.figure().add_subplot(projection=projection)
 
 
@@ -87,8 +89,8 @@ def robot(
     scene : tendonrod.Scene, optional
         Default ``sol.scene``.
     ax : Axes, optional
-        A 3D Axes (spatial view) or 2D Axes (x-z view).  None: 2D for planar
-        scenes, else a new 3D Axes.
+        A 3D Axes (spatial view) or 2D Axes (x-z view).  None: a new figure's Axes, 2D
+        for planar scenes, else 3D.
     planar : bool, optional
         Force the x-z view (True) or the 3D view (False); default from ``ax`` or
         :func:`is_planar`.
@@ -115,6 +117,11 @@ def robot(
         The base frame as arrows L/8 long at the base (x red, y green, z blue; the x-z
         view shows x and z) and, when the scene has gravity, an arrow "g" along it beside
         the robot.  The axis limits take in these arrows and the load arrows.
+
+    Returns
+    -------
+    Axes
+        ``ax``, or the new one.
     """
     scene = getattr(sol, "scene", None) if scene is None else scene
     if scene is None:
@@ -319,7 +326,8 @@ def shapes(
     unit: str = "m",
 ):
     """Backbones ``{label: (N, 3) positions [m]}`` projected on ``plane`` ('xz', 'yz'
-    or 'xy'); ``scale`` multiplies coordinates (1e3 with unit='mm')."""
+    or 'xy'); ``scale`` multiplies coordinates (1e3 with unit='mm').  Returns the Axes
+    (``ax``, or a new figure's)."""
     ax = _ax(ax)
     i, j = ("xyz".index(plane[0]), "xyz".index(plane[1]))
     for label, P in curves.items():
@@ -340,7 +348,8 @@ def sweep_lines(res, x: str, y: str, component=None, ax=None, xlabel=None, ylabe
     ``x``: a varied name (its values must be scalars, or vectors, which are plotted by
     their norm); ``y``: a recorded key; ``component``: index into the item shape (e.g.
     ``0`` for the x of ``tip_position``, ``(2, 2)`` for a rotation entry).  Give
-    ``xlabel``/``ylabel`` with units; the defaults are the names.
+    ``xlabel``/``ylabel`` with units; the defaults are the names.  Returns the Axes
+    (``ax``, or a new figure's).
     """
     ax = _ax(ax)
     names = list(res.names)
@@ -365,7 +374,7 @@ def sweep_lines(res, x: str, y: str, component=None, ax=None, xlabel=None, ylabe
         idx = [0] * nd
         for k, c in zip(others, combo):
             idx[k] = c
-        sl = list(idx)
+        sl: list = list(idx)
         sl[axis] = slice(None)
         lab = ", ".join(
             f"{names[k]} = {_fmt(np.asarray(res[names[k]])[tuple(idx)])}" for k in others
@@ -390,7 +399,8 @@ def _fmt(v):
 
 
 def tension_vs_load(F, tension, ax=None, labels=None, ylabel: str = "tendon tension [N]"):
-    """Tendon tension(s) (K, nt) [N] against load F (K,) [N] (the paper's Figs. 17-18)."""
+    """Tendon tension(s) (K, nt) [N] against load F (K,) [N] (the paper's Figs. 17-18).
+    Returns the Axes (``ax``, or a new figure's)."""
     ax = _ax(ax)
     T = np.asarray(tension).reshape(len(F), -1)
     for i in range(T.shape[1]):
@@ -403,18 +413,26 @@ def tension_vs_load(F, tension, ax=None, labels=None, ylabel: str = "tendon tens
     return ax
 
 
-def path(
+def branch(
     p, displacement: str = "x", ax=None, scale: float = 1.0, ylabel=None, color=None, **kwargs
 ):
-    """Plot a :class:`tendonrod.Path`: its parameter (divided by ``scale``, e.g. EI/L^2 for
+    """Plot a :class:`tendonrod.Branch` (the result of :func:`tendonrod.path`): its parameter (divided by ``scale``, e.g. EI/L^2 for
     a force) against a tip displacement [m] (``"x"``, ``"y"``, ``"z"``: that component of
     the tip position minus its start value; ``"norm"``: the distance from the start's tip).
     Stable stretches solid, unstable dashed, undecided dotted; limit points as circles,
     bifurcation points as squares.  ``ylabel`` (default the parameter's path) should give
-    the unit.  Returns the Axes."""
-    from ._plot_path import draw
+    the unit.  Returns the Axes (``ax``, or a new figure's)."""
+    from ._plot_branch import draw
 
     return draw(p, _ax(ax), displacement, float(scale), ylabel, color, **kwargs)
+
+
+def path(*args, **kwargs):
+    """Deprecated since 0.2 (removed in 0.3): :func:`branch`."""
+    from ._deprecation import deprecated
+
+    deprecated("tendonrod.plot.path", "tendonrod.plot.branch")
+    return branch(*args, **kwargs)
 
 
 def view(x, scene=None, **kwargs):
@@ -422,7 +440,7 @@ def view(x, scene=None, **kwargs):
 
     Parameters
     ----------
-    x : Solution, list of Solution, Path, SweepResult or BatchResult
+    x : Solution, list of Solution, Branch, SweepResult or BatchResult
         What to show; several (a path's points, a sweep's or batch's converged points, a
         list of solutions) get a slider and a play button, one step per point.
     scene : Scene or list of Scene, optional

@@ -17,11 +17,11 @@ and the options and drops the warm state.  Ctrl-C during a solve raises
 
 from __future__ import annotations
 
-from typing import Any, Literal, overload
+from typing import Any
 
 import numpy as np
-from numpy.typing import NDArray
 
+from ._deprecation import keyword_only
 from ._interrupt import current_token
 from ._plausible import Checker
 from ._secant import load_steps, secant_compliance
@@ -40,7 +40,7 @@ from .options import Options, _check_options, _replace
 from .results import ConvergenceError
 from .solution import Solution, _guess_vector, _in_rod_units, _report
 
-__all__ = ["Problem", "compliance", "jacobian"]
+__all__ = ["Problem", "compliance"]
 
 
 class Problem:
@@ -62,7 +62,8 @@ class Problem:
     (True, array([2.081]))
     """
 
-    def __init__(self, scene: Scene, options: Options | None = None):
+    @keyword_only("tendonrod.Problem", 2, ("options",))
+    def __init__(self, scene: Scene, *, options: Options | None = None):
         if not isinstance(scene, Scene):
             raise ValueError(f"scene must be a tendonrod.Scene, got {scene!r}")
         self._options = _check_options(options)
@@ -102,7 +103,7 @@ class Problem:
         return {"scene": self._scene, "options": self._options}
 
     def __setstate__(self, state):
-        self.__init__(state["scene"], state["options"])
+        self.__init__(state["scene"], options=state["options"])
 
     def __repr__(self):
         warm = "warm" if self._c.has_solution else "no solution yet"
@@ -172,7 +173,7 @@ class Problem:
         problem; every solution lists its own findings in ``plausibility``.
         """
         sol = self._solve_quiet(scene, guess)
-        _report(sol, strict, "tendonrod.Problem.solve", stacklevel=3)
+        _report(sol, strict, "tendonrod.Problem.solve")
         self._plausible.check(sol, "tendonrod.Problem.solve", once=True)
         return sol
 
@@ -326,6 +327,7 @@ class Problem:
 
     def _compliance_here(self, s: float):
         """The compliance at breakpoint ``s`` of the workspace's solved state."""
+        assert self._last is not None  # (the callers' precondition)
         try:
             C = self._c.compliance(s, cancel=current_token())
         except RuntimeError as exc:  # the linearisation itself failed (e.g. its budget)
@@ -352,7 +354,7 @@ def _probe_scene(scene: Scene, s, always: bool = False) -> Scene:
     ]
     if not extra:
         return scene
-    return dataclasses.replace(scene, loads=list(scene.loads) + extra)
+    return dataclasses.replace(scene, loads=[*scene.loads, *extra])
 
 
 def _arc_lengths(s, L: float):
@@ -370,7 +372,7 @@ def _solved_probe(sol, s_vals, options: Options, spatial: bool) -> Problem:
     """A Problem of ``sol``'s scene with breakpoints at ``s_vals`` (spatial if asked),
     solved warm from ``sol``; ConvergenceError if that solve fails."""
     opts = _replace(options, force_spatial=True) if spatial else options
-    prob = Problem(_probe_scene(sol.scene, s_vals), opts)
+    prob = Problem(_probe_scene(sol.scene, s_vals), options=opts)
     psol = Solution(prob._run(sol), prob.scene, prob.options)
     if not psol.success:
         raise ConvergenceError(
@@ -407,15 +409,18 @@ def _with_solution(jac: Jacobian, sol) -> Jacobian:
 
 def compliance_problem(scene: Scene, s: float, options: Options) -> Problem:
     """The spatial, tip-only problem of ``scene`` with a breakpoint at ``s``."""
-    return Problem(_probe_scene(scene, s), _replace(options, force_spatial=True, tip_only=True))
+    return Problem(
+        _probe_scene(scene, s), options=_replace(options, force_spatial=True, tip_only=True)
+    )
 
 
+@keyword_only("tendonrod.compliance", 3, ("options",))
 def compliance(
     scene: Scene,
     s: float | None = None,
     guess=None,
-    options: Options | None = None,
     *,
+    options: Options | None = None,
     step=None,
 ) -> np.ndarray:
     """Compliance matrix (6, 6) at arc length ``s`` [m] (default: the tip): the tangent
@@ -448,8 +453,11 @@ def compliance(
     or buckling the tangent is large or negative.  For a design figure at a given load,
     ask for the secant at that load step, with the sign the load has.
 
-    If a solve fails, :class:`ConvergenceError` is raised (a linearisation about an
-    unconverged state means nothing, nor does a secant to one).
+    If a solve fails, :class:`ConvergenceError` is raised, always: a linearisation about
+    an unconverged state means nothing, nor does a secant to one, and a bare matrix has
+    no ``success`` to carry the verdict (the one exception to the failure rule of
+    :class:`~tendonrod.ConvergenceWarning`; :func:`tendonrod.jacobian` gives the same
+    numbers in a result that does carry it).
 
     Examples
     --------
@@ -465,7 +473,7 @@ def compliance(
         steps = load_steps(step)
         # an output node at s (a recording reads the pose there; the solves record nothing)
         opts = _replace(options, force_spatial=True, tip_only=False, nodes=np.array([s_val]))
-        prob = Problem(_probe_scene(scene, s_val, always=True), opts)
+        prob = Problem(_probe_scene(scene, s_val, always=True), options=opts)
         return secant_compliance(prob, guess, s_val, steps)
     prob = compliance_problem(scene, s_val, options)
     sol = Solution(prob._run(guess), scene, prob.options)
@@ -476,121 +484,3 @@ def compliance(
         )
     prob._last = sol
     return prob._compliance_here(s_val)
-
-
-# the types: J.load is an array with load=True (the default), None only with load=False
-# fmt: off
-@overload
-def jacobian(scene_or_solution, s=None, *, design=(), load: Literal[True] = True, method: str = "forward", side=None, guess=None, options=None) -> Jacobian[NDArray[np.float64]]: ...
-@overload
-def jacobian(scene_or_solution, s=None, *, design=(), load: bool, method: str = "forward", side=None, guess=None, options=None) -> Jacobian[NDArray[np.float64] | None]: ...
-# fmt: on
-def jacobian(
-    scene_or_solution,
-    s=None,
-    *,
-    design=(),
-    load: bool = True,
-    method: str = "forward",
-    side=None,
-    guess=None,
-    options=None,
-) -> Jacobian[Any]:
-    """The linearisation of a solved scene at arc length ``s`` [m] (default: the tip):
-    how the backbone point at ``s`` and the tendon tensions move per unit change of each
-    tendon's control value, of a load applied at ``s`` and of named design parameters.
-
-    By the implicit function theorem on the converged shooting system: linear solves
-    with its Jacobian, no further nonlinear solve -- the derivatives of the solution the
-    solver converged to.  Their accuracy is that of the differences of the shooting map
-    over its k unknowns (``method``): forward by default (k + 1 evaluations, step 5e-8 in
-    the solver's scaled units), within ~1e-7 of the exact derivatives relative to each
-    column on the test scenes (~2e-8 on the Fig. 11c robot; ~1e-6 where a direction the
-    pose barely feels moves the unknowns fast, e.g. the common tension level of a stiff
-    taut tendon pair on a straight robot), or central (2 k + 1 evaluations, step 3e-6, a
-    truncation error near 1e-11: the numbers of :func:`tendonrod.compliance`).  A
-    parameter that does not enter the shooting map in closed form (a design parameter, a
-    tension control, a load off the tip) is differenced centrally either way.
-
-    Parameters
-    ----------
-    scene_or_solution : Scene or Solution
-        A scene (solved first, from ``guess``) or a converged solution (its state is
-        taken again in one or two shooting evaluations).
-    s : float or array (N,), optional
-        Arc length(s) in (0, L] [m]; default the tip.  Off the tip, anchors and point
-        loads, the scene is solved once more with zero point loads there.
-    design : sequence of str
-        Design parameters to differentiate with respect to, by name (``"EI"``,
-        ``"robot.tendons[0].EA"``, ``"tendons[1].offset"``; see
-        :mod:`tendonrod.linearization`).
-    load : bool
-        Compute the compliance block (default True).
-    method : {"forward", "central"}
-        The differences of the shooting map over its unknowns: first-order (default;
-        ~1e-7 relative at worst) or central (about twice the evaluations, ~1e-11).
-    side : array (ntendon,) of +1 / -1 / 0, optional
-        For a displacement-controlled tendon at its taut/slack switch: the taut (+1) or
-        slack (-1) side's derivatives; 0 (default) the side it is on.
-    guess, options
-        As in :func:`tendonrod.solve`.
-
-    Returns
-    -------
-    Jacobian
-        ``actuation`` (6, ntendon), ``tension`` (ntendon, ntendon), ``load`` (6, 6),
-        ``design`` (6, ndesign), ``design_tension`` (ntendon, ndesign), ``at_switch``.
-
-    Raises
-    ------
-    ConvergenceError
-        If the scene does not solve (a linearisation about an unconverged state means
-        nothing).
-    ValueError
-        For a bad ``s``, an unknown design parameter, or a Solution that did not converge.
-
-    Examples
-    --------
-    >>> robot = tr.Robot(tr.Rod(0.2, 0.8e-3, 207e9, 79.6e9, kirchhoff=True), [tr.Tendon(0.01)])
-    >>> tr.jacobian(tr.Scene(robot, displacement=[0.01]), design=["EI"]).design.shape
-    (6, 1)
-    """
-    from .solution import Solution as _Solution
-
-    if isinstance(scene_or_solution, _Solution):
-        sol = scene_or_solution
-        if not sol.success:
-            raise ValueError(
-                "scene_or_solution: a Solution that did not converge cannot be linearised "
-                f"(status {sol.status}: {sol.message})"
-            )
-        scene = sol.scene
-        options = sol.options if options is None else options
-        guess = sol if guess is None else guess
-    elif isinstance(scene_or_solution, Scene):
-        scene = scene_or_solution
-    else:
-        raise ValueError(
-            f"scene_or_solution must be a tendonrod.Scene or Solution, got {scene_or_solution!r}"
-        )
-    L = scene.robot.rod.length
-    s_vals, _ = _arc_lengths(s, L)
-    _design_names(scene, design)
-    _forward(method)
-    _sides(side, scene.robot.n_tendons)
-    probed = _probe_scene(scene, s_vals)
-    if isinstance(scene_or_solution, _Solution) and probed is scene and options is sol.options:
-        # the solution's own structure: linearise its state, no solve
-        prob = Problem(scene, options)
-        prob._last = sol
-        state = (sol.unknowns, max(1, sol.formulation.steps))
-        return prob._jacobian(sol, s, design, load, method, False, state, side)
-    prob = Problem(probed, options)
-    psol = Solution(prob._run(guess), prob.scene, prob.options)
-    if not psol.success:
-        raise ConvergenceError(
-            f"tendonrod.jacobian: the scene did not solve: {psol.message}{_in_rod_units(psol)}",
-            psol,
-        )
-    prob._last = psol
-    return prob.jacobian(s, design=design, load=load, method=method, side=side)

@@ -9,16 +9,72 @@ core actually solved (:class:`Formulation`), the rod state at given arc lengths
 
 from __future__ import annotations
 
+import warnings
 from dataclasses import dataclass, fields
-from typing import Any
+from typing import Any, Protocol, runtime_checkable
 
 import numpy as np
 
-__all__ = ["Formulation", "RodState", "ConvergenceWarning", "ConvergenceError"]
+__all__ = [
+    "Result",
+    "Formulation",
+    "RodState",
+    "ConvergenceWarning",
+    "ConvergenceError",
+    "report_failure",
+]
+
+
+@runtime_checkable
+class Result(Protocol):
+    """The fields every result type carries, documented once: :class:`~tendonrod.Solution`
+    (``solve``, ``Problem.solve``, ``actuate``), :class:`~tendonrod.BatchResult`,
+    :class:`~tendonrod.SweepResult`, :class:`~tendonrod.Branch` (``path``),
+    :class:`~tendonrod.Jacobian`, :class:`~tendonrod.FitResult` and
+    :class:`~tendonrod.actuation.ActuationResult` (``Solution.actuation``) each have them,
+    plus their own fields.  For a result over points (``solve_batch``, ``sweep``) each is
+    an array with one entry per point.
+
+    Attributes
+    ----------
+    success : bool
+        The verdict, decided where the computation ran (the C core for a solve); a False
+        one is reported by the failure rule (:class:`ConvergenceWarning`, or
+        :class:`ConvergenceError` with ``strict=True``).
+    status : int
+        0 ok, > 0 finished with a caveat (``message`` says which), < 0 failed; a solve's
+        is the core's (``tendonrod._core.strerror`` names it).
+    message : str
+        What happened, in words.
+    nit : int
+        Iterations (-1 where none ran).
+    nfev : int
+        Residual (function) evaluations (-1 where not counted).
+
+    Examples
+    --------
+    >>> robot = tr.Robot(tr.Rod(0.2, 0.8e-3, 207e9, 79.6e9, kirchhoff=True), [tr.Tendon(0.01)])
+    >>> sol = tr.solve(tr.Scene(robot, displacement=[0.01]))
+    >>> isinstance(sol, tr.Result), sol.success, sol.status
+    (True, True, 0)
+    """
+
+    success: Any
+    status: Any
+    message: Any
+    nit: Any
+    nfev: Any
 
 
 class ConvergenceWarning(RuntimeWarning):
-    """Issued by :func:`tendonrod.solve` when the shooting iteration did not converge.
+    """Issued when a computation did not succeed: the one failure rule of every entry point
+    that can fail (:func:`~tendonrod.solve`, :meth:`~tendonrod.Problem.solve`,
+    :func:`~tendonrod.solve_batch`, :func:`~tendonrod.sweep`, :func:`~tendonrod.path`,
+    :func:`~tendonrod.jacobian`, :func:`~tendonrod.actuate`, :func:`~tendonrod.fit`): by
+    default the result is returned with ``success`` False and this warning is issued;
+    with ``strict=True`` :class:`ConvergenceError` is raised instead.  (Only
+    :func:`~tendonrod.compliance` always raises: it returns a bare matrix, which has no
+    ``success`` to carry the verdict.)
 
     Examples
     --------
@@ -34,9 +90,11 @@ class ConvergenceWarning(RuntimeWarning):
 
 
 class ConvergenceError(RuntimeError):
-    """Raised by ``solve(..., strict=True)`` when the iteration did not converge.
+    """Raised by an entry point called with ``strict=True`` when it did not succeed (and
+    always by :func:`~tendonrod.compliance`); see :class:`ConvergenceWarning`.
 
-    Attribute ``solution`` holds the (unconverged) :class:`~tendonrod.solver.Solution`.
+    Attribute ``solution`` holds the unsuccessful result (a
+    :class:`~tendonrod.solver.Solution`, or the entry point's own result type).
 
     Examples
     --------
@@ -52,6 +110,26 @@ class ConvergenceError(RuntimeError):
     def __init__(self, message: str, solution: Any = None):
         super().__init__(message)
         self.solution = solution
+
+
+def report_failure(result: Any, strict: bool, message: str) -> None:
+    """The one failure rule: nothing when ``result.success`` is true (all of it, for an
+    array over points); else :class:`ConvergenceError` carrying ``result`` (``strict``) or
+    a :class:`ConvergenceWarning` with ``message``, attributed to the user's line."""
+    if bool(np.all(result.success)):
+        return
+    if strict:
+        raise ConvergenceError(message, result)
+    from .plausibility import _user_stacklevel
+
+    warnings.warn(message, ConvergenceWarning, stacklevel=_user_stacklevel())
+
+
+def failed_points(who: str, success: np.ndarray, failures: list) -> str:
+    """The message of a run over points some of which failed: how many, and the first."""
+    n_bad, n = int(np.size(success) - np.count_nonzero(success)), int(np.size(success))
+    first = failures[0] if failures else ()
+    return f"{who}: {n_bad} of {n} points did not succeed (the first: {first})"
 
 
 @dataclass(frozen=True)

@@ -10,7 +10,7 @@ vectors in the world frame unless said otherwise.  The core solves in the base f
 from __future__ import annotations
 
 import math
-import warnings
+from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
@@ -20,7 +20,7 @@ from .model import Scene
 from .mounting import base_pose, pairs_out, points_out, rotations_out, vectors_in, vectors_out
 from .options import Options, _replace
 from .plausibility import tendon_radius
-from .results import ConvergenceError, ConvergenceWarning, Formulation, RodState
+from .results import Formulation, RodState, report_failure
 
 __all__ = ["Solution"]
 
@@ -93,6 +93,9 @@ def _guess_vector(guess, scene: Scene, options: Options):
 class Solution:
     """Result of :func:`solve`.
 
+    A :class:`~tendonrod.Result`: ``success``, ``status``, ``message``, ``nit``, ``nfev``
+    mean the same on every result type.
+
     Attributes
     ----------
     success : bool
@@ -132,6 +135,8 @@ class Solution:
         by friction along s; 0 distal of its anchor (computed on first access).
     slack : ndarray (ntendon,)
         Tendon slack [m] (>= 0; > 0 only where the tension is 0).
+    taut : ndarray (ntendon,) of bool
+        The tendons that carry tension (``tension > 0``).
     displacement : ndarray (ntendon,)
         Actuator displacement [m] consistent with the solution for every tendon (> 0
         retracts), so "actuate by tension, then lock the actuator" is two calls.
@@ -183,30 +188,65 @@ class Solution:
     (True, True, array([0.1273, 0.    , 0.1274]), array([3.267]))
     """
 
+    raw: dict
+    scene: Scene
+    options: Options
+    success: bool
+    status: int
+    message: str
+    nit: int
+    nfev: int
+    njev: int
+    residual_norm: float
+    tension: NDArray[np.float64]
+    slack: NDArray[np.float64]
+    unknowns: NDArray[np.float64] | None
+    jacobian: NDArray[np.float64] | None
+    jacobian_cond: float
+    continuation_steps: int
+    truncation_estimate: float
+    truncation_carried: bool
+    _formulation: Formulation | None
+    _pose: Any
+
     def __init__(self, raw: dict, scene: Scene, options: Options):
         # Kept light: solve() runs in tight loops. The glue returns float64 arrays of the
-        # documented shapes; they are used as they are.
-        self.raw = raw
-        self.scene = scene
-        self.options = options
-        self.success = bool(raw["success"])
-        self.status = int(raw["status"])
+        # documented shapes; they are used as they are.  Written into __dict__ directly:
+        # a Solution is read-only after the solve (__setattr__).
+        d = self.__dict__
+        d["raw"] = raw
+        d["scene"] = scene
+        d["options"] = options
+        d["success"] = bool(raw["success"])
+        d["status"] = int(raw["status"])
         msg = raw.get("message", "")
-        self.message = msg.decode() if isinstance(msg, bytes) else str(msg)
-        self.nit = int(raw.get("nit", 0))
-        self.nfev = int(raw.get("nfev", 0))
-        self.njev = int(raw.get("njev", 0))
-        self.residual_norm = float(raw.get("residual_norm", math.nan))
-        self.tension: NDArray[np.float64] = raw["tension"]
-        self.slack: NDArray[np.float64] = raw["slack"]
-        self.unknowns = raw.get("unknowns")
-        self.jacobian = raw.get("jacobian")
-        self.jacobian_cond = float(raw.get("jacobian_cond", math.nan))
-        self.continuation_steps = int(raw.get("continuation_steps", 0))
-        self.truncation_estimate = float(raw.get("truncation_estimate", math.nan))
-        self.truncation_carried = bool(raw.get("truncation_carried", False))
-        self._formulation: Formulation | None = None
-        self._pose = None if scene is None else base_pose(scene.robot)
+        d["message"] = msg.decode() if isinstance(msg, bytes) else str(msg)
+        d["nit"] = int(raw.get("nit", 0))
+        d["nfev"] = int(raw.get("nfev", 0))
+        d["njev"] = int(raw.get("njev", 0))
+        d["residual_norm"] = float(raw.get("residual_norm", math.nan))
+        d["tension"] = raw["tension"]
+        d["slack"] = raw["slack"]
+        d["unknowns"] = raw.get("unknowns")
+        d["jacobian"] = raw.get("jacobian")
+        d["jacobian_cond"] = float(raw.get("jacobian_cond", math.nan))
+        d["continuation_steps"] = int(raw.get("continuation_steps", 0))
+        d["truncation_estimate"] = float(raw.get("truncation_estimate", math.nan))
+        d["truncation_carried"] = bool(raw.get("truncation_carried", False))
+        d["_formulation"] = None
+        d["_pose"] = None if scene is None else base_pose(scene.robot)
+
+    def __setattr__(self, name: str, value) -> None:
+        # the lazy outputs cache themselves under private names; the results are the solve's
+        if not name.startswith("_"):
+            raise AttributeError(
+                f"Solution.{name} is read-only: a Solution is what the solve returned "
+                "(solve again, or copy what you need)"
+            )
+        object.__setattr__(self, name, value)
+
+    def __delattr__(self, name: str) -> None:
+        raise AttributeError(f"Solution.{name} is read-only: a Solution is what the solve returned")
 
     # ------------------------------------------------------------ lazy outputs
     # A solve computes the tip state, the tensions and slacks; the states at the output
@@ -263,6 +303,12 @@ class Solution:
         actuator less what friction took along s (more, sliding out); 0 distal of its
         anchor."""
         return self._recorded()["tendon_tension"]
+
+    @property
+    def taut(self) -> NDArray[np.bool_]:
+        """(ntendon,) bool: the tendons that carry tension (``tension > 0``); the others are
+        slack (their ``slack`` [m] says by how much) or exactly at the switch."""
+        return np.asarray(self.tension) > 0.0
 
     @property
     def displacement(self) -> NDArray[np.float64]:
@@ -503,7 +549,7 @@ def _in_rod_units(sol: Solution) -> str:
     return "; in the rod's units: " + ", ".join(parts)
 
 
-def _report(sol: Solution, strict: bool, who: str, stacklevel: int) -> None:
+def _report(sol: Solution, strict: bool, who: str) -> None:
     """A failed solve is never silent: ConvergenceError (strict) or ConvergenceWarning."""
     if sol.success:
         return
@@ -512,6 +558,4 @@ def _report(sol: Solution, strict: bool, who: str, stacklevel: int) -> None:
         f"nit {sol.nit}, nfev {sol.nfev}, residual {sol.residual_norm:.3g})"
         f"{_in_rod_units(sol)}"
     )
-    if strict:
-        raise ConvergenceError(msg, sol)
-    warnings.warn(msg, ConvergenceWarning, stacklevel=stacklevel)
+    report_failure(sol, strict, msg)

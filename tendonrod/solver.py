@@ -20,6 +20,7 @@ otherwise (the core solves in the base frame, :mod:`tendonrod.mounting`).
 
 from __future__ import annotations
 
+from ._deprecation import keyword_only
 from .compiled import is_planar, pack_scene
 from .model import Scene
 from .options import Options
@@ -41,8 +42,9 @@ __all__ = [
 ]
 
 
+@keyword_only("tendonrod.solve", 2, ("options", "strict"))
 def solve(
-    scene: Scene, guess=None, options: Options | None = None, strict: bool = False
+    scene: Scene, guess=None, *, options: Options | None = None, strict: bool = False
 ) -> Solution:
     """Solve ``scene``: the static equilibrium of the robot under its actuation and loads.
 
@@ -83,8 +85,8 @@ def solve(
     >>> tr.solve(scene, guess=sol).nit  # warm: from a solution
     0
     """
-    prob = Problem(scene, options)
+    prob = Problem(scene, options=options)
     sol = Solution(prob._run(guess), scene, prob.options)
-    _report(sol, strict, "tendonrod.solve", stacklevel=3)
+    _report(sol, strict, "tendonrod.solve")
     prob._plausible.check(sol, "tendonrod.solve", once=False)
     return sol

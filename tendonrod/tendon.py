@@ -228,6 +228,26 @@ class Tendon:
             twist=twist,
         )
 
+    @classmethod
+    def ring(cls, n: int, offset: float, *, phase: float = 0.0, **kwargs) -> tuple[Tendon, ...]:
+        """``n`` tendons equally spaced around the rod at radial offset ``offset`` [m]:
+        tendon i at angle ``phase + 2 pi i / n`` [rad] from body x toward y; ``kwargs``
+        (``EA``, ``pretension``, ``slope``, ``end``, ``friction``, ...) go to each.
+
+        Examples
+        --------
+        >>> ring = tr.Tendon.ring(3, 0.01, EA=3e3)
+        >>> [round(t.angle, 4) for t in ring], ring[2].EA
+        ([0.0, 2.0944, 4.1888], 3000.0)
+        """
+        if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or n < 1:
+            raise ValueError(f"Tendon.ring: n must be an int >= 1, got {n!r}")
+        phase = _real("Tendon.ring", "phase", phase)
+        return tuple(
+            cls(offset=offset, angle=phase + 2.0 * math.pi * i / int(n), **kwargs)
+            for i in range(int(n))
+        )
+
     def radius(self, s) -> np.ndarray:
         """Channel radius ``slope*s + offset`` [m] at arc length(s) ``s``."""
         return self.slope * np.asarray(s, dtype=float) + self.offset

@@ -10,7 +10,7 @@ import time
 import numpy as np
 
 import tendonrod as tr
-from tendonrod.sweep import tip_measure
+from tendonrod.sweeps import tip_measure
 
 
 def args(n=24):
@@ -68,6 +68,6 @@ def drive(path):
             chunksize=2,
             measure=slow_measure,
             executor=client.get_executor(),
-            path=path,
+            file=path,
             progress=False,
         )

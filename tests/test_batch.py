@@ -148,7 +148,11 @@ def test_failed_point_is_isolated_with_its_message():
     F[:, 0, 0] = np.linspace(0.0, 0.2, n)
     F[4, 0, 0] = 1e4  # FL^2/EI ~ 1e5: no converged solve within these caps
     opts = tr.Options(continuation=False, max_iter=15, max_nfev=200)
-    res = tr.solve_batch(scene, forces=F, options=opts)
+    with pytest.raises(tr.ConvergenceError, match="1 of 9 points did not succeed") as err:
+        tr.solve_batch(scene, forces=F, options=opts, strict=True)
+    assert isinstance(err.value.solution, tr.BatchResult)
+    with pytest.warns(tr.ConvergenceWarning, match=r"the first: \(4, "):
+        res = tr.solve_batch(scene, forces=F, options=opts)
     assert res.status[4] < 0 and not res.success[4]
     assert res.message[4] and "converged in" not in res.message[4]
     assert [i for i, _, _ in res.failures()] == [4]
@@ -174,7 +178,7 @@ def test_failed_point_is_isolated_with_its_message():
         ),
         ({"forces": np.full((2, 1, 3), np.nan)}, "forces"),
         ({}, "at least one"),
-        ({"forces": np.zeros((2, 1, 3)), "threads": 0}, "threads"),
+        ({"forces": np.zeros((2, 1, 3)), "workers": 0}, "workers"),
         ({"forces": np.zeros((2, 1, 3)), "chunksize": 0}, "chunksize"),
     ],
 )
@@ -207,7 +211,7 @@ def test_deterministic_and_independent_of_threads():
     F[:, 0, 0] = np.linspace(-0.1, 0.1, n)
     a = tr.solve_batch(scene, forces=F, chunksize=6)
     b = tr.solve_batch(scene, forces=F, chunksize=6)
-    c = tr.solve_batch(scene, forces=F, chunksize=6, threads=2)
+    c = tr.solve_batch(scene, forces=F, chunksize=6, workers=2)
     for r in (b, c):
         assert np.array_equal(a.tip_position, r.tip_position)  # bitwise
         assert np.array_equal(a.tension, r.tension)
@@ -281,7 +285,7 @@ def test_sweep_uses_the_batch_path_bitwise(monkeypatch):
     real = core.Problem
     monkeypatch.setattr(core, "Problem", lambda *a, **k: calls.append(1) or real(*a, **k))
     res = tr.sweep(
-        scene, {"displacement[0]": qs, "loads[0].force": forces}, progress=False, max_workers=2
+        scene, {"displacement[0]": qs, "loads[0].force": forces}, progress=False, workers=2
     )
     assert not calls  # every chunk went through the batch
     tr.solve(scene, options=opts)

@@ -19,7 +19,7 @@ PENDING = {
     "PointMass",
     "DistributedLoad",
     "plot.is_planar",
-    "plot.path",
+    "plot.branch",
     "plot.robot",
     "plot.shapes",
     "plot.sweep_lines",
@@ -35,8 +35,6 @@ def _public():
         obj = getattr(tr, name)
         if isinstance(obj, str) or name == "analytic":
             continue  # __version__, gsl_version; the module is listed below
-        if name in ("sweep", "path"):  # the modules are callable: document their function
-            obj = getattr(obj, name)
         yield name, obj
     for mod in (analytic, plot, routing, scenefile):
         short = mod.__name__.split(".")[-1]

@@ -1,7 +1,9 @@
-"""Small things with big effects (issue 18, item 6): a solution saved to .npz and loaded
-back bit for bit; ``tendonrod.sweep`` the module (and still callable); the ImportError
+"""Small things with big effects: a solution saved to .npz and loaded
+back bit for bit; ``tr.sweep`` and ``tr.path`` plain functions (their old modules warn
+and still work); the ImportError
 of an unbuilt source tree saying what to do."""
 
+import inspect
 import math
 import os
 import pathlib
@@ -79,14 +81,12 @@ def test_load_refuses_foreign_file(tmp_path):
         tr.load(path)
 
 
-def test_sweep_is_the_module_and_callable():
-    import tendonrod.sweep as m
-
-    assert m.__name__ == "tendonrod.sweep" and m is sys.modules["tendonrod.sweep"]
-    assert callable(tr.sweep) and m.sweep.__name__ == "sweep"
-    for name in ("tip_measure", "ComplianceMeasure", "SweepResult", "load"):
+def test_sweep_and_path_are_functions_their_modules_renamed(rod):
+    assert inspect.isfunction(tr.sweep) and inspect.isfunction(tr.path)
+    assert tr.sweep is tr.sweeps.sweep and tr.path is tr.continuation.path
+    for name in ("tip_measure", "ComplianceMeasure", "SweepResult", "load", "Branch"):
         assert name in tr.__all__ and hasattr(tr, name)
-    assert tr.tip_measure is m.tip_measure and tr.ComplianceMeasure is m.ComplianceMeasure
+    assert tr.tip_measure is tr.sweeps.tip_measure and tr.Branch is tr.continuation.Branch
     res = tr.sweep(
         _scene(),
         {"loads[0].force": [(0.0, 0.0, -0.1), (0.0, 0.0, -0.2)]},
@@ -94,18 +94,42 @@ def test_sweep_is_the_module_and_callable():
         progress=False,
     )
     assert res.success.all()
-
-
-def test_path_is_the_module_and_callable():
-    import tendonrod.path as m
-
-    assert m.__name__ == "tendonrod.path" and m is sys.modules["tendonrod.path"]
-    assert callable(tr.path) and m.path.__name__ == "path"
-    assert tr.Path is m.Path and tr.SpecialPoint is m.SpecialPoint
-    rod = tr.Rod(length=0.2, diameter=0.8e-3, E=207e9, G=79.6e9, kirchhoff=True)
     scene = tr.Scene(tr.Robot(rod, []), loads=[tr.PointLoad(s=0.2, force=(0.0, 0.0, 0.0))])
     p = tr.path(scene, "loads[0].force[0]", (0.0, 0.01), max_points=20)
-    assert p.success, p.message
+    assert p.success and isinstance(p, tr.Branch), p.message
+
+
+# importing an old module rebinds the package's attribute to it: in a child process
+OLD_MODULES = """
+import inspect, warnings
+import tendonrod as tr
+with warnings.catch_warnings(record=True) as w:
+    warnings.simplefilter("always")
+    import tendonrod.sweep as ms
+    from tendonrod.path import Path, SpecialPoint
+    import tendonrod.path as mp
+texts = [str(x.message) for x in w if x.category is DeprecationWarning]
+assert len(texts) == 2, texts
+assert "the module tendonrod.sweep is deprecated" in texts[0] and "tendonrod.sweeps" in texts[0]
+assert "the module tendonrod.path is deprecated" in texts[1]
+assert Path is tr.Branch and ms.OUTCOME_OK == tr.sweeps.OUTCOME_OK
+# the old modules stay callable as the functions they were
+assert callable(tr.sweep) and tr.sweep is ms and ms.sweep is tr.sweeps.sweep
+assert str(inspect.signature(ms)) == str(inspect.signature(tr.sweeps.sweep))
+print("ok")
+"""
+
+
+def test_old_modules_warn_and_still_work():
+    env = dict(os.environ, PYTHONPATH=str(ROOT))
+    out = subprocess.run(
+        [sys.executable, "-W", "error", "-c", OLD_MODULES],
+        capture_output=True,
+        text=True,
+        env=env,
+        timeout=120,
+    )
+    assert out.returncode == 0 and out.stdout.strip() == "ok", out.stderr
 
 
 def test_version_defined_once():

@@ -95,7 +95,7 @@ def test_cli_exits_2_on_a_deeply_nested_scene_file(tmp_path):
 
 def test_sweep_path_a_directory_is_refused(tmp_path):
     with pytest.raises(ValueError, match="is a directory"):
-        tr.sweep(_scene(), {"loads[0].force[0]": [0.1]}, path=tmp_path, progress=False)
+        tr.sweep(_scene(), {"loads[0].force[0]": [0.1]}, file=tmp_path, progress=False)
 
 
 @pytest.mark.parametrize(
@@ -105,7 +105,7 @@ def test_sweep_path_an_undecodable_file_is_refused_not_overwritten(tmp_path, con
     path = tmp_path / "sweep.jsonl"
     path.write_bytes(content)
     with pytest.raises(ValueError, match="sweep"):
-        tr.sweep(_scene(), {"loads[0].force[0]": [0.1]}, path=path, progress=False)
+        tr.sweep(_scene(), {"loads[0].force[0]": [0.1]}, file=path, progress=False)
     assert path.read_bytes() == content  # never overwritten
 
 
@@ -143,7 +143,7 @@ def test_path_huge_integers_name_the_parameter(kwargs, name):
         tr.path(_scene(), "loads[0].force[0]", **kwargs)
 
 
-@pytest.mark.parametrize("name", ["measured", "sigma", "x0", "s", "max_nfev"])
+@pytest.mark.parametrize("name", ["measured", "sigma", "x0", "s", "max_iter"])
 def test_fit_huge_integers_name_the_parameter(name):
     sc = _scene()
     tip = tr.solve(sc).tip_position
@@ -153,7 +153,7 @@ def test_fit_huge_integers_name_the_parameter(name):
         "sigma": HUGE,
         "x0": [HUGE],
         "s": [HUGE],
-        "max_nfev": HUGE,
+        "max_iter": HUGE,
     }[name]
     with pytest.raises(ValueError, match=name):
         tr.fit(**args)

@@ -39,7 +39,7 @@ from hypothesis import HealthCheck, event, given, settings
 from hypothesis import strategies as st
 
 import tendonrod as tr
-from tendonrod.sweep import OUTCOME_ERROR, OUTCOME_NOT_CONVERGED, OUTCOME_OK, STATUS_NONE
+from tendonrod.sweeps import OUTCOME_ERROR, OUTCOME_NOT_CONVERGED, OUTCOME_OK, STATUS_NONE
 
 # Hostile values are absurd on purpose: the plausibility rules (slenderness, angles in
 # degrees, strain) warn of them, and solves of such scenes may not converge.  Those
@@ -1973,7 +1973,7 @@ def _sweep_base():
 def test_sweep_hostile_points(path, values, bad):
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        r = tr.sweep(_sweep_base(), vary={path: values}, max_workers=2)
+        r = tr.sweep(_sweep_base(), vary={path: values}, workers=2)
     outcome = np.asarray(r.outcome).ravel()
     status = np.asarray(r.status).ravel()
     msgs = np.asarray(r.message).ravel()
@@ -1996,7 +1996,7 @@ def test_sweep_hostile_points(path, values, bad):
         (dict(vary={"nonexistent.path": [1]}), "nonexistent"),
         (dict(vary={"displacement[5]": [1]}), "displacement[5]"),
         (dict(vary={"displacement[0]": [0.1]}, chunksize=0), "chunksize"),
-        (dict(vary={"displacement[0]": [0.1]}, max_workers=0), "max_workers"),
+        (dict(vary={"displacement[0]": [0.1]}, workers=0), "workers"),
         (dict(vary={"displacement[0]": []}), "displacement[0]"),
         (dict(vary={"displacement[0]": [0.1, 0.2], "tension[0]": [1.0]}, grid=False), "grid"),
     ],
@@ -2043,8 +2043,8 @@ def _batch_scene():
         (dict(moments=np.zeros((2, 1, 2))), "moments"),
         (dict(distributed=np.full((2, 3), math.inf)), "distributed"),
         (dict(displacement=np.zeros((3, 1)), forces=np.zeros((2, 1, 3))), "forces"),
-        (dict(displacement=np.zeros((3, 1)), threads=0), "threads"),
-        (dict(displacement=np.zeros((3, 1)), threads=-1), "threads"),
+        (dict(displacement=np.zeros((3, 1)), workers=0), "workers"),
+        (dict(displacement=np.zeros((3, 1)), workers=-1), "workers"),
         (dict(displacement=np.zeros((3, 1)), chunksize=0), "chunksize"),
         (dict(displacement=np.zeros((3, 1)), chunksize=math.nan), "chunksize"),
         (dict(), "displacement"),
@@ -2090,7 +2090,7 @@ def test_solve_batch_hostile_points_fail_alone():
     )
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        r = tr.solve_batch(sc, displacement=q, forces=F, threads=2, chunksize=2)
+        r = tr.solve_batch(sc, displacement=q, forces=F, workers=2, chunksize=2)
         for i in range(len(q)):
             assert isinstance(r.message[i], str) and r.message[i], i
             if r.status[i] < 0:

@@ -57,7 +57,7 @@ from test_hostile import (
 )
 
 import tendonrod as tr
-from tendonrod.sweep import (
+from tendonrod.sweeps import (
     OUTCOME_ERROR,
     OUTCOME_NOT_CONVERGED,
     OUTCOME_NOT_RUN,
@@ -1153,7 +1153,7 @@ def test_solve_batch_entry(entry_worker, spec, ospec, data):
     moments, distributed; ~3 % absurd elements or arguments), threads, chunksize and
     options: a ValueError/TypeError naming the bad argument, or a result whose every
     point is an honest failure or a finite success; the first (cold) point agrees with
-    tr.solve of its scene, and threads=2 is bitwise threads=1."""
+    tr.solve of its scene, and workers=2 is bitwise workers=1."""
     try:
         scene, accepted = build_scene(spec)
         arg, opts, opt_names, opt_acc = build_options(ospec, scene.robot.rod.length)
@@ -1193,12 +1193,12 @@ def test_solve_batch_entry(entry_worker, spec, ospec, data):
     threads = data.draw(st.sampled_from([1, 1, 2, 2**70, np.int64(2)]))
     if absurd_here(data.draw):
         threads = data.draw(st.sampled_from([0, -1, 1.5, "2", None, True]))
-        refuse.add("threads")
+        refuse.add("workers")
     chunksize = data.draw(st.sampled_from([None, 1, 2, 3, 2**70, HUGE]))
     if absurd_here(data.draw):
         chunksize = data.draw(st.sampled_from([0, -1, 2.0, "1", math.nan, True]))
         refuse.add("chunksize")
-    kw = dict(arrays, options=arg, threads=threads, chunksize=chunksize)
+    kw = dict(arrays, options=arg, workers=threads, chunksize=chunksize)
     out = entry_worker.call("tendonrod.solve_batch", scene, **kw)
     if out[0] == "raise":
         check_call(out, refuse | accepted | opt_acc, "tr.solve_batch")
@@ -1212,7 +1212,7 @@ def test_solve_batch_entry(entry_worker, spec, ospec, data):
     event(f"batch: {int(np.count_nonzero(r.success))}/{npts} converged")
     deterministic = opts is None or opts.max_time == 0.0
     if threads == 2 and deterministic:
-        again = entry_worker.call("tendonrod.solve_batch", scene, **dict(kw, threads=1))
+        again = entry_worker.call("tendonrod.solve_batch", scene, **dict(kw, workers=1))
         assert again[0] == "ok", again
         assert np.array_equal(r.status, again[1].status), (r.status, again[1].status)
         assert np.array_equal(r.tip_position, again[1].tip_position, equal_nan=True)
@@ -1247,17 +1247,17 @@ def sweep_options(ospec, scene):
 
 @st.composite
 def sweep_arguments(draw):
-    """``(kwargs, absurd names)``: chunksize and max_workers, ~3 % absurd (not nan or
+    """``(kwargs, absurd names)``: chunksize and workers, ~3 % absurd (not nan or
     strings: finding F12 of test_hostile.py and B9; not 10**400: B6)."""
     kw, names = {}, set()
     kw["chunksize"] = draw(st.sampled_from([None, 1, 2, 2**70]))
     if absurd_here(draw):
         kw["chunksize"] = draw(st.sampled_from([0, -1, -(2**70)]))
         names.add("chunksize")
-    kw["max_workers"] = draw(st.sampled_from([1, 2]))
+    kw["workers"] = draw(st.sampled_from([1, 2]))
     if absurd_here(draw):
-        kw["max_workers"] = draw(st.sampled_from([0, -2]))
-        names.add("max_workers")
+        kw["workers"] = draw(st.sampled_from([0, -2]))
+        names.add("workers")
     return kw, names
 
 
@@ -1511,10 +1511,10 @@ def test_vector_with_huge_finite_int():
     assert tr.PointLoad(s=0.1, force=(2**70, 0, 0)).force[0] == 2.0**70
 
 
-def test_sweep_names_max_workers():
-    """B9: a non-integer max_workers is refused naming max_workers."""
-    with pytest.raises((ValueError, TypeError), match="max_workers"):
-        tr.sweep(_scene(), {"loads[0].force[0]": [0.1]}, max_workers="two", progress=False)
+def test_sweep_names_workers():
+    """B9: a non-integer workers is refused naming workers."""
+    with pytest.raises((ValueError, TypeError), match="workers"):
+        tr.sweep(_scene(), {"loads[0].force[0]": [0.1]}, workers="two", progress=False)
 
 
 def test_tip_position_is_the_tip_whatever_the_nodes():
@@ -1544,14 +1544,13 @@ def test_cosserat_rod_rigid_in_extension():
     assert sol.success, sol.message
 
 
-def test_problem_compliance_after_a_failed_solve():
+def test_problem_compliance_after_a_failed_solve(rod):
     """B13: Problem.compliance linearises at the last successful solution even when a
     later solve failed."""
-    rod = tr.Rod(length=0.2, diameter=0.8e-3, E=207e9, G=79.6e9, kirchhoff=True)
     loads = [tr.PointLoad(s=0.2, force=(-0.1, 0.05, 0))]  # out of plane: spatial
     scene = tr.Scene(tr.Robot(rod, [tr.Tendon(offset=0.01)]), displacement=[0.004], loads=loads)
     hopeless = dataclasses.replace(scene, displacement=[0.5])  # 2.5 L: no equilibrium
-    prob = tr.Problem(scene, tr.Options(continuation=False))
+    prob = tr.Problem(scene, options=tr.Options(continuation=False))
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", tr.ConvergenceWarning)
         assert prob.solve().success

@@ -71,14 +71,14 @@ CHILD = textwrap.dedent(
             prob.solve()
         elif mode == "batch":
             F = [[[30.0 * fs, 0.3 * 30.0 * fs, -30.0 * fs]], [[31.0 * fs, 0.0, -31.0 * fs]]]
-            tr.solve_batch(scene(30.0), forces=F, options=slow, threads=2, chunksize=1)
+            tr.solve_batch(scene(30.0), forces=F, options=slow, workers=2, chunksize=1)
         elif mode == "actuate":
             # an unreachable tip position: ~14 s of steps inside the core's iteration
             tr.actuate(tr.Scene(robot, displacement=[0.01, -0.002, -0.002]),
                        tip_position=(0.3, 0.3, -0.2), options=slow, max_iter=10**6)
         elif mode == "sweep":
             tr.sweep(scene(0.0), {"loads[0].force[2]": [0.0, -30.0 * fs, -31.0 * fs]},
-                     options=slow, chunksize=1, max_workers=2, path=path, progress=False)
+                     options=slow, chunksize=1, workers=2, file=path, progress=False)
         out["finished"] = True
     except KeyboardInterrupt:
         out["caught"] = time.monotonic()

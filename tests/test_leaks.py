@@ -287,7 +287,7 @@ def test_solve_batch_loop_does_not_leak():
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
             for _ in range(n):
-                r = tr.solve_batch(sc, displacement=q, threads=2, chunksize=5)
+                r = tr.solve_batch(sc, displacement=q, workers=2, chunksize=5)
                 try:
                     tr.solve_batch(sc, displacement=bad)
                 except ValueError:

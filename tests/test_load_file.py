@@ -11,6 +11,7 @@ import io
 import json
 import math
 import os
+import pathlib
 import subprocess
 import sys
 import warnings
@@ -386,3 +387,45 @@ def test_random_edits_of_the_header_load_usable_or_are_refused(tmp_path):
             warnings.simplefilter("ignore")
             tr.solve(back.scene, guess=back, options=back.options)
     assert 0 < loaded < 300, loaded  # some edits are legal values, most are not
+
+
+# Files written by tendonrod 0.1's Solution.save (tests/data/solution_0.1_*.npz, made with
+# the 0.1 tree): a spatial three-tendon robot with two slack tendons, and a planar tip-only
+# solve.  They must keep loading, with the common result fields and the taut mask.
+_DATA_01 = pathlib.Path(__file__).resolve().parent / "data"
+
+
+def _scenes_01():
+    rod = tr.Rod(length=0.2, diameter=0.8e-3, E=207e9, G=79.6e9, kirchhoff=True)
+    angles = (0.0, 2.0943951023931953, 4.1887902047863905)
+    robot = tr.Robot(rod, [tr.Tendon(offset=0.01, angle=a, EA=3e3) for a in angles])
+    spatial = tr.Scene(
+        robot,
+        displacement=[0.004, -0.002, -0.006],
+        loads=[tr.PointLoad(s=0.2, force=(0.0, 0.05, -0.1))],
+    )
+    planar = tr.Scene(
+        tr.Robot(rod, [tr.Tendon(offset=0.01)]),
+        displacement=[0.0157],
+        loads=[tr.PointLoad(s=0.2, force=(0.0, 0.0, -0.2))],
+    )
+    return {
+        "spatial": (spatial, tr.Options()),
+        "planar_tip_only": (planar, tr.Options(tip_only=True)),
+    }
+
+
+@pytest.mark.parametrize("name", ["spatial", "planar_tip_only"])
+def test_solutions_saved_by_0_1_still_load(name):
+    scene, options = _scenes_01()[name]
+    old = tr.load(_DATA_01 / f"solution_0.1_{name}.npz")
+    assert old.scene == scene and old.options == options
+    assert isinstance(old, tr.Result) and old.success and old.status >= 0
+    fresh = tr.solve(scene, options=options)
+    # the same scene solved today: equal to well within the solver's tolerance (1e-10 of
+    # the scaled residual; positions ~0.2 m), whatever the core's last bits
+    np.testing.assert_allclose(old.tip_position, fresh.tip_position, rtol=0, atol=1e-9)
+    np.testing.assert_allclose(old.tension, fresh.tension, rtol=0, atol=1e-7)
+    assert old.taut.tolist() == fresh.taut.tolist()
+    if name == "spatial":
+        assert old.taut.tolist() == [True, False, False] and old.position.shape[1] == 3

@@ -89,7 +89,8 @@ def test_limit_point_against_an_independent_elastica_solve():
     scene = tr.Scene(scene.robot, loads=[tr.PointLoad(s=L, force=(0.0, 0.0, -P))])
     x0 = tr.solve(scene).tip_position[0]
     assert abs(x0) > 0.1 * L  # buckled
-    p = tr.path(scene, "loads[0].force[0]", (0.0, -math.copysign(0.5 * Pe, x0)))
+    with pytest.warns(tr.ConvergenceWarning, match="tendonrod.path stopped early"):
+        p = tr.path(scene, "loads[0].force[0]", (0.0, -math.copysign(0.5 * Pe, x0)))
     kinds = [sp.kind for sp in p.special_points]
     assert kinds == ["limit"], p
     lim = p.special_points[0]
@@ -170,7 +171,8 @@ def test_bad_parameters_are_named():
 
 def test_full_path_stops_honestly():
     scene, EI, L, Pe = column()
-    p = tr.path(scene, "loads[0].force[2]", (0.0, -3.0 * Pe), max_points=5)
+    with pytest.warns(tr.ConvergenceWarning, match="tendonrod.path stopped early"):
+        p = tr.path(scene, "loads[0].force[2]", (0.0, -3.0 * Pe), max_points=5)
     assert not p.success and len(p) == 5 and "max_points" in p.message
 
 
@@ -185,9 +187,10 @@ def test_plot_path():
     P = 1.5 * Pe
     scene = tr.Scene(scene.robot, loads=[tr.PointLoad(s=L, force=(0.0, 0.0, -P))])
     x0 = tr.solve(scene).tip_position[0]
-    p = tr.path(scene, "loads[0].force[0]", (0.0, -math.copysign(0.5 * Pe, x0)))
+    with pytest.warns(tr.ConvergenceWarning, match="tendonrod.path stopped early"):
+        p = tr.path(scene, "loads[0].force[0]", (0.0, -math.copysign(0.5 * Pe, x0)))
     fig, ax = plt.subplots()
-    out = tr.plot.path(p, "x", ax=ax, scale=EI / L**2, ylabel="H L²/EI")
+    out = tr.plot.branch(p, "x", ax=ax, scale=EI / L**2, ylabel="H L²/EI")
     assert out is ax
     styles = {ln.get_linestyle() for ln in ax.lines}
     assert "--" in styles  # the unstable stretch
@@ -220,7 +223,8 @@ def test_path_stops_where_the_tendon_reaches_ei_over_r2():
     ends at that point naming the tendon, the arc length, the tension and EI/r^2 as a
     stalled solve does, not with a bifurcation."""
     scene, EI, r, fs = _robot90()
-    p = tr.path(scene, "loads[0].force[0]", (0.0, -60 * fs), max_step=1.0)
+    with pytest.warns(tr.ConvergenceWarning, match="tendonrod.path stopped early"):
+        p = tr.path(scene, "loads[0].force[0]", (0.0, -60 * fs), max_step=1.0)
     assert not p.success and p.special_points == []
     assert p.message.startswith("the path ends at "), p.message
     i, s, tau, limit = _named(p.message)
@@ -244,7 +248,8 @@ def test_path_stops_where_the_equations_are_singular():
     the tendon at the base, its tension and EI/r^2, not with a bifurcation (the stress
     suite's 'snap near 58' was this point)."""
     scene, EI, r, fs = _robot90()
-    p = tr.path(scene, "loads[0].force[0]", (0.0, 60 * fs), max_step=2.0)
+    with pytest.warns(tr.ConvergenceWarning, match="tendonrod.path stopped early"):
+        p = tr.path(scene, "loads[0].force[0]", (0.0, 60 * fs), max_step=2.0)
     assert not p.success and p.special_points == []
     assert p.message.startswith("the path ends at ") and "singular" in p.message, p.message
     i, s, tau, limit = _named(p.message)
@@ -319,11 +324,10 @@ def test_raw_path_loop_does_not_leak():
     assert [sys.getrefcount(a) for a in args] == before
 
 
-def test_a_path_point_exactly_at_the_bifurcation():
+def test_a_path_point_exactly_at_the_bifurcation(rod):
     """The 0.2 m, 0.8 mm steel column: the refinement lands on the Euler load exactly,
     where the bordered Jacobian is singular to the last bit; that point is the bifurcation
     (to 1e-8 relative, measured 2e-14), and switching there follows the buckled branch."""
-    rod = tr.Rod(length=0.2, diameter=0.8e-3, E=207e9, G=79.6e9, kirchhoff=True)
     Pe = math.pi**2 * rod.bending_stiffness / (4 * 0.2**2)
     scene = tr.Scene(tr.Robot(rod, []), loads=[tr.PointLoad(s=0.2, force=(0.0, 0.0, 0.0))])
     for side in (0, 1):

@@ -69,7 +69,7 @@ def _batch_kwargs(scene):
 
 
 def _value_at(scene, path):
-    from tendonrod.sweep import get_path
+    from tendonrod.sweeps import get_path
 
     return get_path(scene, path)
 
@@ -84,7 +84,7 @@ def test_every_entry_point_gives_one_verdict(name):
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", tr.ConvergenceWarning)
         ref = tr.solve(scene, options=opts)
-        prob = tr.Problem(scene, opts).solve()
+        prob = tr.Problem(scene, options=opts).solve()
         batch = tr.solve_batch(scene, options=opts, **kw)
         sw_batch = tr.sweep(scene, {path: [_value_at(scene, path)]}, options=opts, progress=False)
         L = scene.robot.rod.length

@@ -16,10 +16,10 @@ import tendonrod as tr
 from tendonrod import _plausible_rules as PR
 from tendonrod import plausibility as P
 from tendonrod._plausible import Recorder, _scene_screen, _state_findings
-from tendonrod.sweep import tip_measure
+from tendonrod.sweeps import tip_measure
 
 PW = tr.PlausibilityWarning
-# Issue 13's wire: L = 0.25 m, d = 1.2 mm, E = 60 GPa, G = 23 GPa.
+# A superelastic wire robot: L = 0.25 m, d = 1.2 mm, E = 60 GPa, G = 23 GPa.
 L13, D13 = 0.25, 1.2e-3
 KIRCH = tr.Rod(L13, D13, 60e9, 23e9, kirchhoff=True)
 COSS = tr.Rod(L13, D13, 60e9, 23e9)
@@ -60,7 +60,7 @@ def test_angle_in_degrees_warns_at_the_users_line_and_stays_legal():
         tr.Tendon(offset=0.01, angle=-7.0)
 
 
-def test_friction_as_a_percentage_warns_and_stays_legal():
+def test_friction_as_a_percentage_warns_and_stays_legal(rod):
     with pytest.warns(
         PW, match=r"Tendon.friction = 30 is a Coulomb coefficient beyond 2: .* percentage"
     ):
@@ -71,7 +71,6 @@ def test_friction_as_a_percentage_warns_and_stays_legal():
         tr.Tendon(offset=0.01, friction=2.0)  # the limit itself is plausible
         tr.Tendon(offset=0.01, friction=0.3)
     # a scene's input findings name the tendon
-    rod = tr.Rod(0.2, 0.8e-3, 207e9, 79.6e9, kirchhoff=True)
     robot = quiet(tr.Robot, rod, [quiet(tr.Tendon, offset=0.01, friction=25.0)])
     found = P.input_findings(tr.Scene(robot, tension=[0.1]))
     assert [f.rule for f in found] == ["friction"] and "robot.tendons[0].friction" in found[
@@ -91,7 +90,7 @@ def test_slenderness_and_offset_warn_with_value_and_slip():
     # no diameter: the round section's 4 sqrt(EI/EA) (here 4 sqrt(1e-6) = 4 mm)
     with pytest.warns(PW, match="4 sqrt"):
         tr.Rod(0.03, EI=1e3, GJ=1e3, EA=1e9, GA=1e9)
-    # a tendon offset of 0.5 m on a 0.25 m rod (issue 13)
+    # a tendon offset of 0.5 m on a 0.25 m rod (a typo for 5 mm, say)
     with pytest.warns(PW, match=r"tendon 0's radius 0.5 m .* 2 L, beyond 0.5 L .* mm given as m"):
         robot = tr.Robot(COSS, [tr.Tendon(offset=0.5)])
     sol = quiet(tr.solve, tr.Scene(robot, displacement=[0.0]))  # legal: it solves
@@ -337,9 +336,8 @@ def test_many_points_give_one_warning_per_rule():
     assert len(rec) == 6
 
 
-def test_sensible_scenes_stay_silent():
+def test_sensible_scenes_stay_silent(rod):
     """The README's robot, the paper's Fig. 11 and 17 robots under their loads."""
-    rod = tr.Rod(length=0.2, diameter=0.8e-3, E=207e9, G=79.6e9, kirchhoff=True)
     robot = tr.Robot(rod, [tr.Tendon(offset=0.01, angle=0.0)])
     with warnings.catch_warnings():
         warnings.simplefilter("error", PW)
@@ -408,9 +406,9 @@ def test_sweep_file_keeps_the_findings(tmp_path):
     base, taus = _ramp()
     path = tmp_path / "sweep.jsonl"
     with pytest.warns(PW):
-        a = tr.sweep(base, {"tension[0]": taus}, path=path, chunksize=4, progress=False)
+        a = tr.sweep(base, {"tension[0]": taus}, file=path, chunksize=4, progress=False)
     with pytest.warns(PW) as rec:
-        b = tr.sweep(base, {"tension[0]": taus}, path=path, chunksize=4, progress=False)
+        b = tr.sweep(base, {"tension[0]": taus}, file=path, chunksize=4, progress=False)
     assert len(rec) == 2
     assert [tuple(x) for x in b.plausibility] == [tuple(x) for x in a.plausibility]
     assert any(a.plausibility) and isinstance(b.plausibility[-1][0], P.Finding)

@@ -286,3 +286,31 @@ def test_robot_frame_gravity_and_arrows_inside_the_limits():
     # without the frame: only the load's arrow
     ax = P.robot(sol, frame=False)
     assert len([c for c in ax.collections if type(c).__name__ == "Line3DCollection"]) == 1
+
+
+def test_plots_own_their_axes(rod):
+    """Without ax= every plot draws on a new figure's Axes (never pyplot's current one): a
+    planar plot after a spatial one stays planar, tension labels included; with ax= it
+    draws there.  Each returns its Axes."""
+    spatial = tr.solve(
+        tr.Scene(
+            tr.Robot(rod, [tr.Tendon(0.01)]),
+            displacement=[0.01],
+            loads=[tr.PointLoad(s=0.2, force=(0.0, 0.05, 0.0))],
+        )
+    )
+    planar = tr.solve(tr.Scene(tr.Robot(rod, [tr.Tendon(0.01)]), displacement=[0.01]))
+    plt.close("all")
+    a3 = P.robot(spatial)
+    a2 = P.robot(planar, tension_labels=True)
+    assert a3.name == "3d" and a2.name != "3d" and a2.figure is not a3.figure
+    others = [
+        P.shapes({"a": planar.position}),
+        P.tension_vs_load([0.0, 1.0], [[1.0], [2.0]]),
+    ]
+    figures = {id(a.figure) for a in [a3, a2, *others]}
+    assert len(figures) == 4  # one new figure each
+    fig, ax = plt.subplots()
+    assert P.shapes({"a": planar.position}, ax=ax) is ax
+    assert P.robot(planar, ax=ax) is ax and P.tension_vs_load([0.0], [[1.0]], ax=ax) is ax
+    plt.close("all")

@@ -127,7 +127,7 @@ def test_values_change_without_recompiling():
 
 
 def test_pickle_keeps_scene_and_options_not_the_warm_state():
-    prob = tr.Problem(scene(0.3), tr.Options(tip_only=True))
+    prob = tr.Problem(scene(0.3), options=tr.Options(tip_only=True))
     prob.solve()
     back = pickle.loads(pickle.dumps(prob))
     assert back.options == prob.options and back.scene == prob.scene
@@ -148,7 +148,7 @@ def test_one_thread_at_a_time():
         displacement=[0.01, -0.002, -0.002],
         loads=[tr.PointLoad(s=L, force=(1e3, 3e2, -1e3))],
     )
-    prob = tr.Problem(hopeless, slow)
+    prob = tr.Problem(hopeless, options=slow)
     token = tr._core.Cancel()
     errors = []
 

@@ -1,6 +1,6 @@
 """The secant (finite-load) compliance, ``tr.compliance(scene, s, step=h)``, against
 independent answers: the exact elastica, its h^2 approach to the tangent, the closed
-forms on both sides of a taut/slack switch, and the tangent trap of issue 13 (a
+forms on both sides of a taut/slack switch, and the tangent trap near a switch (a
 four-tendon robot whose side tendons are slack by 31 um).
 
 Sign convention of the closed forms: with the tendon at +x, a world force -F e_x
@@ -23,7 +23,7 @@ from tendonrod._secant import rotation_vector
 L17 = 0.2
 KIRCH17 = tr.Rod(L17, 0.8e-3, 207e9, 79.6e9, kirchhoff=True)
 EI17 = KIRCH17.bending_stiffness
-# Issue 13's robot: L = 0.25 m, d = 1.2 mm, E = 60 GPa, G = 23 GPa, Cosserat backbone.
+# A superelastic wire robot: L = 0.25 m, d = 1.2 mm, E = 60 GPa, G = 23 GPa, Cosserat backbone.
 L13 = 0.25
 ROD13 = tr.Rod(L13, 1.2e-3, 60e9, 23e9)
 
@@ -117,7 +117,7 @@ def test_secant_sees_a_slack_switch_the_tangent_cannot():
 
 
 def test_tangent_trap_four_tendon_robot():
-    """Issue 13: a four-tendon robot bent 60 deg by the tendon at +x (the one at -x paid
+    """The tangent trap: a four-tendon robot bent 60 deg by the tendon at +x (the one at -x paid
     out) compresses its backbone, so the side tendons at +-y, on the neutral plane of the
     bend, are slack by exactly that compression, tau L / EA = 31 um.  The tangent
     out-of-plane compliance is blind to them (it equals that of the robot without the
@@ -234,7 +234,7 @@ def test_rotation_vector():
 def test_sweep_compliance_measure_offers_both():
     """ComplianceMeasure(step=h) records the secant beside the tangent, each what
     tr.compliance gives for the point's scene (the same cold solves: bitwise)."""
-    from tendonrod.sweep import ComplianceMeasure, set_path
+    from tendonrod.sweeps import ComplianceMeasure, set_path
 
     EI, L = EI17, L17
     base = plain_scene(KIRCH17)

@@ -18,7 +18,7 @@ import pytest
 
 import tendonrod as tr
 from tendonrod.bench import references as refs
-from tendonrod.sweep import tip_measure
+from tendonrod.sweeps import tip_measure
 
 ROD = dict(length=0.25, diameter=1.2e-3, E=60e9, G=23e9)
 ANY = tr.Options(accept_unstable=True)
@@ -95,12 +95,11 @@ def test_warm_ramp_across_the_bifurcation():
             assert math.hypot(*sol.tip_position[:2]) > 0.3 * rod.length, f
 
 
-def test_warm_jump_is_redone_from_the_guess():
+def test_warm_jump_is_redone_from_the_guess(rod):
     """Stress finding S7: the plain rod warm-started from F L^2/EI = 90.85 to 100 landed
     0.41 L from the exact elastica with success; now the warm answer is found unstable,
     redone by continuation from the guess, and on the elastica to 1e-9 L (verified solve
     against the elliptic-integral solution)."""
-    rod = tr.Rod(0.2, 0.8e-3, 207e9, 79.6e9, kirchhoff=True)
     EI, L = rod.bending_stiffness, rod.length
 
     def scene(fl):

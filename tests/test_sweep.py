@@ -19,7 +19,7 @@ import numpy as np
 import pytest
 
 import tendonrod as tr
-from tendonrod.sweep import (
+from tendonrod.sweeps import (
     OUTCOME_ERROR,
     OUTCOME_NOT_CONVERGED,
     OUTCOME_OK,
@@ -134,7 +134,7 @@ def test_grid_shape_and_chunking_independence():
 def test_executor_honoured(kind):
     sc = base_scene()
     ref = tr.sweep(
-        sc, {"loads[0].force": FORCES}, grid=False, chunksize=2, max_workers=1, progress=False
+        sc, {"loads[0].force": FORCES}, grid=False, chunksize=2, workers=1, progress=False
     )
     submitted = []
 
@@ -169,9 +169,10 @@ def test_executor_honoured(kind):
 def test_failed_points_recorded_and_sweep_continues():
     sc = base_scene()
     offsets = [0.01, -0.01, 0.02]  # -0.01: the Tendon rejects it (build fails)
-    res = tr.sweep(
-        sc, {"robot.tendons[0].offset": offsets, "loads[0].force": FORCES[:2]}, progress=False
-    )
+    with pytest.warns(tr.ConvergenceWarning, match="2 of 6"):
+        res = tr.sweep(
+            sc, {"robot.tendons[0].offset": offsets, "loads[0].force": FORCES[:2]}, progress=False
+        )
     # a scene the builder cannot build: an error without a core status, NaN values
     assert res.outcome[1].tolist() == [OUTCOME_ERROR] * 2
     assert res.status[1].tolist() == [STATUS_NONE] * 2
@@ -188,14 +189,15 @@ def test_failed_points_recorded_and_sweep_continues():
     # F L^2/EI = 2.5 cannot be solved in one step; the unloaded robot is solved by the
     # initial guess itself
     opts = tr.Options(max_iter=1, continuation=False)
-    res2 = tr.sweep(
-        sc,
-        {"loads[0].force": [(0.0, 0.0, 0.0), (-3.0, 0.0, 0.0), (0.0, 0.0, 0.0)]},
-        grid=False,
-        options=opts,
-        warm_start=False,
-        progress=False,
-    )
+    with pytest.warns(tr.ConvergenceWarning, match="1 of 3"):
+        res2 = tr.sweep(
+            sc,
+            {"loads[0].force": [(0.0, 0.0, 0.0), (-3.0, 0.0, 0.0), (0.0, 0.0, 0.0)]},
+            grid=False,
+            options=opts,
+            warm_start=False,
+            progress=False,
+        )
     assert res2.outcome.tolist() == [OUTCOME_OK, OUTCOME_NOT_CONVERGED, OUTCOME_OK]
     # the non-converged point keeps its solve's (negative) core status, named by the core
     with pytest.warns(tr.ConvergenceWarning):  # the same cold solve
@@ -228,7 +230,7 @@ def test_status_is_the_core_status_of_each_solve(kind, monkeypatch):
     """res.status is the status tr.solve gives the same point (same warm starts), on the
     batch path (a load component) and the per-point path (a design parameter); res.success
     is the solve's success and res.outcome follows it."""
-    import tendonrod._sweep_chunk as chunk_mod
+    import tendonrod.sweeps._chunk as chunk_mod
 
     sc = set_path(base_scene(), "loads[0].force", (-1.0, 0.0, 0.0))
     # few iterations, no continuation: some points fail (warm-started from far away)
@@ -242,7 +244,8 @@ def test_status_is_the_core_status_of_each_solve(kind, monkeypatch):
     monkeypatch.setattr(
         chunk_mod, "solve_batch", lambda *a, **k: batched.append(1) or real_batch(*a, **k)
     )
-    res = tr.sweep(sc, {name: values}, grid=False, chunksize=3, options=opts, progress=False)
+    with pytest.warns(tr.ConvergenceWarning, match="did not succeed"):
+        res = tr.sweep(sc, {name: values}, grid=False, chunksize=3, options=opts, progress=False)
     assert bool(batched) == (kind == "batch")  # the path under test was taken
     ref = _series_status([set_path(sc, name, v) for v in values], 3, opts)
     assert res.status.tolist() == [st for st, _ in ref]
@@ -269,7 +272,7 @@ def test_caveat_status_kept_and_outcome_from_success(kind, monkeypatch):
     """A converged solve with a caveat status (1 truncation) counts as a success and keeps
     its status; status 3 with success False does not: the outcome is read from the
     solve's success, never from the status number."""
-    import tendonrod._sweep_chunk as chunk_mod
+    import tendonrod.sweeps._chunk as chunk_mod
 
     sc = base_scene()
     restated = {1: (1, True), 2: (3, False)}  # point -> (status, success)
@@ -301,7 +304,8 @@ def test_caveat_status_kept_and_outcome_from_success(kind, monkeypatch):
         if kind == "batch"
         else {"robot.tendons[0].EA": [1e5, 2e5, 3e5, 4e5]}
     )
-    res = tr.sweep(sc, vary, grid=False, chunksize=4, max_workers=1, progress=False)
+    with pytest.warns(tr.ConvergenceWarning, match="1 of 4"):
+        res = tr.sweep(sc, vary, grid=False, chunksize=4, workers=1, progress=False)
     assert res.status.tolist() == [0, 1, 3, 0]
     assert res.outcome.tolist() == [OUTCOME_OK, OUTCOME_OK, OUTCOME_NOT_CONVERGED, OUTCOME_OK]
     assert res.success.tolist() == [True, True, False, True]
@@ -317,13 +321,14 @@ def test_measure_error_keeps_the_solve_status():
     def bad_measure(scene, sol):
         raise RuntimeError("measure broke")
 
-    res = tr.sweep(
-        base_scene(),
-        {"loads[0].force": FORCES[:2]},
-        grid=False,
-        measure=bad_measure,
-        progress=False,
-    )
+    with pytest.warns(tr.ConvergenceWarning, match="1 of 2|2 of 2"):
+        res = tr.sweep(
+            base_scene(),
+            {"loads[0].force": FORCES[:2]},
+            grid=False,
+            measure=bad_measure,
+            progress=False,
+        )
     assert res.outcome.tolist() == [OUTCOME_ERROR] * 2
     assert res.status.tolist() == [0, 0] and (res.nit >= 0).all()
     assert all("measure broke" in f[3] for f in res.failures())
@@ -334,7 +339,7 @@ WORKER = textwrap.dedent("""
     import math, sys, time
     import numpy as np
     import tendonrod as tr
-    from tendonrod.sweep import tip_measure
+    from tendonrod.sweeps import tip_measure
 
     def slow_measure(scene, sol):
         time.sleep(0.1)          # slows the sweep down so that the test can kill it half way
@@ -349,8 +354,8 @@ WORKER = textwrap.dedent("""
 
     def run(path):
         base, vary = args()
-        return tr.sweep(base, vary, grid=False, chunksize=2, measure=slow_measure, path=path,
-                        max_workers=1, progress=False)
+        return tr.sweep(base, vary, grid=False, chunksize=2, measure=slow_measure, file=path,
+                        workers=1, progress=False)
 """)
 
 
@@ -401,7 +406,7 @@ def test_resume_after_sigkill(tmp_path, monkeypatch):
         grid=False,
         chunksize=2,
         measure=sweep_worker.slow_measure,
-        path=str(path),
+        file=str(path),
         progress=False,
     )  # same sweep: nothing left to run
     assert path.read_bytes() == after
@@ -412,24 +417,24 @@ def test_torn_last_line_and_foreign_file(tmp_path):
     sc = base_scene()
     path = tmp_path / "s.jsonl"
     full = tr.sweep(
-        sc, {"loads[0].force": FORCES}, grid=False, chunksize=2, path=path, progress=False
+        sc, {"loads[0].force": FORCES}, grid=False, chunksize=2, file=path, progress=False
     )
     text = path.read_bytes()
     path.write_bytes(text[:-25])  # a write cut short by a crash
     res = tr.sweep(
-        sc, {"loads[0].force": FORCES}, grid=False, chunksize=2, path=path, progress=False
+        sc, {"loads[0].force": FORCES}, grid=False, chunksize=2, file=path, progress=False
     )
     for k in full.data:
         assert np.array_equal(res[k], full[k]), k
     assert path.read_bytes().count(b"\n") == text.count(b"\n")
     with pytest.raises(ValueError, match="different sweep"):
         tr.sweep(
-            sc, {"loads[0].force": FORCES[:3]}, grid=False, chunksize=2, path=path, progress=False
+            sc, {"loads[0].force": FORCES[:3]}, grid=False, chunksize=2, file=path, progress=False
         )
     other = tmp_path / "notes.txt"
     other.write_text("my notes\n")
     with pytest.raises(ValueError, match="no sweep header"):
-        tr.sweep(sc, {"loads[0].force": FORCES}, grid=False, path=other, progress=False)
+        tr.sweep(sc, {"loads[0].force": FORCES}, grid=False, file=other, progress=False)
     assert other.read_text() == "my notes\n"
 
 
@@ -439,7 +444,7 @@ def test_old_format_file_refused(tmp_path):
     from (its codes would read as core statuses) nor overwritten."""
     sc = base_scene()
     path = tmp_path / "s.jsonl"
-    kw = dict(grid=False, chunksize=2, path=path, progress=False)
+    kw = dict(grid=False, chunksize=2, file=path, progress=False)
     tr.sweep(sc, {"loads[0].force": FORCES[:4]}, **kw)
     header, *chunks = [json.loads(line) for line in path.read_text().splitlines()]
     assert header["tendonrod_sweep"] == 2
@@ -477,7 +482,7 @@ def test_resume_with_callable_object_measure(tmp_path):
         grid=False,
         chunksize=2,
         measure=PlainMeasure(),
-        path=path,
+        file=path,
         progress=False,
     )
     size = path.stat().st_size
@@ -487,7 +492,7 @@ def test_resume_with_callable_object_measure(tmp_path):
         grid=False,
         chunksize=2,
         measure=PlainMeasure(),
-        path=path,
+        file=path,
         progress=False,
     )  # a new instance: same sweep, read back
     assert path.stat().st_size == size and np.array_equal(a["tip"], b["tip"])
@@ -502,7 +507,7 @@ def test_result_is_picklable_dataclass():
 
 
 def test_compliance_measure():
-    from tendonrod.sweep import ComplianceMeasure
+    from tendonrod.sweeps import ComplianceMeasure
 
     sc = base_scene()
     res = tr.sweep(

@@ -96,7 +96,7 @@ def test_driver_killed_then_resumed(tmp_path, monkeypatch):
             vary,
             measure=helpers.slow_measure,
             executor=client.get_executor(),
-            path=str(path),
+            file=str(path),
             **KW,
         )
     after = path.read_bytes()

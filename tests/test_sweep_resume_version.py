@@ -9,7 +9,8 @@ import numpy as np
 import pytest
 
 import tendonrod as tr
-from tendonrod import _sweep_file, _sweep_progress
+from tendonrod.sweeps import _file as _sweep_file
+from tendonrod.sweeps import _progress as _sweep_progress
 
 FORCES = [(-f, 0.0, 0.0) for f in np.linspace(0.1, 1.2, 6)]
 
@@ -64,7 +65,7 @@ def test_progress_bar_in_a_terminal(monkeypatch):
         made.append(bar)
         return bar
 
-    monkeypatch.setattr(tr.sweep, "progress_bar", spy)
+    monkeypatch.setattr(tr.sweeps.run, "progress_bar", spy)
     tr.sweep(base_scene(), {"loads[0].force": FORCES}, grid=False, chunksize=2)
     (bar,) = made
     assert bar is not None and bar.n == bar.total == len(FORCES) and bar.delay == 2.0
@@ -77,7 +78,7 @@ def test_resume_across_versions_recomputes(tmp_path, monkeypatch):
     sc, vary = base_scene(), {"loads[0].force": FORCES}
     kw = dict(grid=False, chunksize=2, progress=False)
     path = tmp_path / "s.jsonl"
-    full = tr.sweep(sc, vary, path=path, **kw)
+    full = tr.sweep(sc, vary, file=path, **kw)
     header = json.loads(path.read_text().splitlines()[0])
     assert header["tendonrod"] == tr.__version__
     # the file as another version wrote it: its header names that version, and its
@@ -91,13 +92,13 @@ def test_resume_across_versions_recomputes(tmp_path, monkeypatch):
     path.write_text("\n".join(json.dumps(o) for o in [header, *chunks]) + "\n")
     old = path.read_text()
     with pytest.warns(UserWarning, match=r"written by tendonrod 0\.0\.1, this is tendonrod"):
-        res = tr.sweep(sc, vary, path=path, **kw)
+        res = tr.sweep(sc, vary, file=path, **kw)
     for k in full.data:
         assert np.array_equal(res[k], full[k]), k  # recomputed, nothing reused
     assert (tmp_path / "s.jsonl.tendonrod-0.0.1").read_text() == old  # kept aside
     assert json.loads(path.read_text().splitlines()[0])["tendonrod"] == tr.__version__
     # the same version resumes (nothing to do) silently
-    again = tr.sweep(sc, vary, path=path, **kw)
+    again = tr.sweep(sc, vary, file=path, **kw)
     assert all(np.array_equal(again[k], full[k]) for k in full.data)
 
 

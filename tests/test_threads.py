@@ -289,7 +289,7 @@ def test_solve_batch_threads_bitwise():
     F = np.zeros((n, 2, 3))
     F[:, 0, 1] = np.linspace(0.0, 0.2, n)
     runs = [
-        tr.solve_batch(sc, displacement=q, tension=t, forces=F, threads=th, chunksize=7)
+        tr.solve_batch(sc, displacement=q, tension=t, forces=F, workers=th, chunksize=7)
         for th in (1, 2, 4, 1)
     ]
     for r in runs[1:]:

@@ -131,11 +131,10 @@ def test_carry_needs_the_same_structure_and_a_verification():
 
 
 @pytest.mark.parametrize("via", ["problem", "guess"])
-def test_a_prescribed_tension_is_part_of_the_record(via):
+def test_a_prescribed_tension_is_part_of_the_record(via, rod):
     # a helical tendon's tension turns the robot while the unknowns (the base reaction,
     # which balances the external loads: none here) stay near 0: the record of the
     # straight robot (2 steps, exact there) must not vouch for the turned one
-    rod = tr.Rod(length=0.2, diameter=0.8e-3, E=207e9, G=79.6e9, kirchhoff=True)
     robot = tr.Robot(rod, [tr.Tendon.helical(0.01, turns=1.0, length=0.2)])
     straight = tr.Scene(robot, tension=[0.0])
     prob = tr.Problem(straight)

@@ -18,9 +18,9 @@ import time
 
 import numpy as np
 
+from ..continuation import path
 from ..model import PointLoad, Robot, Rod, Scene, Tendon
 from ..options import Options
-from ..path import path
 from ..solver import solve
 from . import references as refs
 

@@ -98,7 +98,7 @@ def _flood():
     """1,000 points, all curled beyond 360 deg: one warning per rule for the sweep, the
     batch and a Problem's loop (a Problem warns once per rule for its life)."""
     from ..batch import solve_batch
-    from ..sweep import sweep
+    from ..sweeps import sweep
 
     t0 = time.perf_counter()
     base = _circle(400.0)
@@ -121,7 +121,7 @@ def _agree():
     """tr.solve, Problem.solve, solve_batch and sweep find the same on a ramp through
     360 deg of curl (tension-controlled: the same solution at every entry point)."""
     from ..batch import solve_batch
-    from ..sweep import sweep, tip_measure
+    from ..sweeps import sweep, tip_measure
 
     t0 = time.perf_counter()
     base = _circle(330.0)

@@ -25,7 +25,7 @@ from typing import Any
 
 import numpy as np
 
-from ._version import __version__
+from .._version import __version__
 
 _FORMAT_VERSION = 2
 

@@ -23,12 +23,12 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .batch import solve_batch
-from .compiled import is_planar
-from .model import PointLoad, Scene
-from .plausibility import PlausibilityWarning
-from .results import ConvergenceWarning
-from .solver import solve
+from ..batch import solve_batch
+from ..compiled import is_planar
+from ..model import PointLoad, Scene
+from ..plausibility import PlausibilityWarning
+from ..results import ConvergenceWarning
+from ..solver import solve
 
 OUTCOME_OK = 0
 """The solve succeeded (its ``success`` is True; its status may carry a caveat)."""
@@ -44,7 +44,7 @@ STATUS_NONE = -1000
 build or the solve raised, or it did not run).  Outside the core's status range."""
 
 
-def _record(index, outcome, status, nit, message, data, findings=()) -> dict:
+def _record(index, outcome, status, nit, message, data, findings=(), nfev=-1) -> dict:
     """One point's record, as stored in the sweep's file (plain JSON types; ``findings``
     the point's plausibility findings, stored as dicts)."""
     return {
@@ -52,6 +52,7 @@ def _record(index, outcome, status, nit, message, data, findings=()) -> dict:
         "outcome": outcome,
         "status": status,
         "nit": nit,
+        "nfev": nfev,
         "message": message,
         "data": data,
         "plausibility": [f.to_dict() for f in findings],
@@ -114,6 +115,7 @@ def _run_chunk(task: dict) -> dict:
                     str(sol.message),
                     {k: v.tolist() for k, v in values.items()},
                     sol.plausibility,
+                    int(getattr(sol, "nfev", -1)),
                 )
             )
             if ok:
@@ -122,8 +124,9 @@ def _run_chunk(task: dict) -> dict:
             # a solve that returned before ``measure`` raised keeps its status and nit
             status = STATUS_NONE if sol is None else int(sol.status)
             nit = -1 if sol is None else int(getattr(sol, "nit", -1))
+            nfev = -1 if sol is None else int(getattr(sol, "nfev", -1))
             message = f"{type(exc).__name__}: {exc}"
-            records.append(_record(index, OUTCOME_ERROR, status, nit, message, None))
+            records.append(_record(index, OUTCOME_ERROR, status, nit, message, None, (), nfev))
     return {"chunk": task["chunk"], "records": records}
 
 
@@ -199,19 +202,21 @@ def _batch_chunk(task: dict):
     # the solver tolerance, several times faster)
     exact = options is None or options.steps == 0 or options.integrator == "adaptive"
     try:
-        res = solve_batch(
-            first,
-            displacement=disp if idisp else None,
-            tension=ten if iten else None,
-            forces=forces if npl else None,
-            moments=moments if npl else None,
-            distributed=dist,
-            options=options,
-            chunksize=n,
-            warm_start=bool(task["warm_start"]),
-            exact=exact,
-            retry_cold=False,
-        )
+        with warnings.catch_warnings():  # the sweep reports its failures at the end
+            warnings.simplefilter("ignore", ConvergenceWarning)
+            res = solve_batch(
+                first,
+                displacement=disp if idisp else None,
+                tension=ten if iten else None,
+                forces=forces if npl else None,
+                moments=moments if npl else None,
+                distributed=dist,
+                options=options,
+                chunksize=n,
+                warm_start=bool(task["warm_start"]),
+                exact=exact,
+                retry_cold=False,
+            )
     except ValueError:
         return None
     records = []
@@ -234,6 +239,7 @@ def _batch_chunk(task: dict):
                 str(res.message[k]),
                 data,
                 res.plausibility[k] if res.plausibility is not None else (),
+                int(res.nfev[k]),
             )
         )
     return {"chunk": task["chunk"], "records": records}
