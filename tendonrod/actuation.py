@@ -388,7 +388,9 @@ def _finish(sol, report, strict):
     distance = float(np.abs(r).max()) if r is not None else math.inf
     reached = distance <= tol
     optimal = report.get("optimal", False)
-    ok = sol.success and report.get("success", False)  # the core's verdict (tr_actuate.h)
+    # the core's verdict (tr_actuate.h: the target kind's rule and the final solve's);
+    # a run that never reached the core (the first solve failed) has none: no success
+    ok = bool(report.get("success", False))
     if reached and not sol.success:
         # the controls reach the target, but the final solve does not accept the state
         # (unstable, or it failed): its reason first, and no "reached" before it
