@@ -423,6 +423,9 @@ PyObject *glue_array(int nd, const npy_intp *dims, const double *src)
         npy_intp n = PyArray_SIZE((PyArrayObject *)arr);
         if (n > 0) memcpy(PyArray_DATA((PyArrayObject *)arr), src, (size_t)n * sizeof(double));
     }
+    /* a result is what the core computed: read-only, so a Solution cannot be edited in
+     * place (np.array(x) or x.copy() gives a writeable copy) */
+    if (arr && src) PyArray_CLEARFLAGS((PyArrayObject *)arr, NPY_ARRAY_WRITEABLE);
     return arr;
 }
 

@@ -203,6 +203,13 @@ def test_solution_is_read_only():
     with pytest.raises(AttributeError, match="read-only"):
         del sol.status
     assert sol.success and sol.position.shape[1] == 3  # the lazy outputs still fill
+    # nor can its arrays be edited in place (a copy can)
+    for name in ("tension", "slack", "displacement", "tip_position", "position", "rotation"):
+        arr = getattr(sol, name)
+        with pytest.raises(ValueError, match="read-only"):
+            arr[...] = 0.0
+        copy = np.array(arr)
+        copy[...] = 0.0
 
 
 PUBLIC_MODULES = {
