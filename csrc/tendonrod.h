@@ -100,13 +100,18 @@ enum tr_control { TR_DISPLACEMENT = 0, TR_TENSION = 1 };
 #define TR_MAX_CONTINUATION_CAP 1000000
 #define TR_MAX_NODES            1000000
 /* Work is counted in units of one right-hand-side evaluation of a planar Kirchhoff rod
- * without tendons (~33 ns here); an evaluation of a scene's ODE counts its relative cost
- * (tr_model.rhs_work: a spatial Cosserat rod with three tendons ~9).  The default budget
- * lets a hopeless solve give up after ~0.7 s whatever the formulation.  Converged solves
- * take 10^2-10^6 units, and up to ~1.6e7 where a warm solve lands on an unstable
- * equilibrium and continues from its guess along stable stages (a plain rod stepped from
- * F L^2/EI = 91 to 100 at 2440 RK8 steps: 1.55e7). */
-#define TR_DEFAULT_MAX_WORK 2e7
+ * without tendons (~25-30 ns of CPU here); an evaluation of a scene's ODE counts its
+ * relative cost (tr_model.rhs_work: a spatial Cosserat rod with three tendons ~9), the
+ * dense linear algebra its own (tr_lu_work, tr_trsv_work in tr_internal.h).  The default
+ * budget lets a hopeless solve give up after ~1 s whatever the formulation (the same
+ * budget for any number of shooting segments; an LU it cannot pay for is not started).
+ * Converged solves take 10^2-10^6 units, up to ~1.6e7 where a warm solve lands on an
+ * unstable equilibrium and continues from its guess along stable stages (a plain rod
+ * stepped from F L^2/EI = 91 to 100 at 2440 RK8 steps: 1.55e7), 3.05e7 for a tendon at
+ * 45 deg under a tensile load L sqrt(T/EI) = 30 (8 automatic segments, continuation; the
+ * stress suite's costliest success within ~1 s), 8.6e7 for 2.6 kN on a 1.2 mm wire (41
+ * segments, 1.6 s: beyond the default, it says so and names max_work). */
+#define TR_DEFAULT_MAX_WORK 3.5e7
 /* Largest work budget and wall-clock limit accepted. */
 #define TR_MAX_WORK_CAP 1e15
 #define TR_MAX_TIME_CAP 1e9

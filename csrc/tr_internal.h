@@ -345,6 +345,42 @@ static inline double tr_rhs_work(const tr_model *m)
     return base * (1.0 + TR_FRIC_WORK * m->nfric);
 }
 
+/* The cost of the linear algebra of a Newton step on k unknowns [work units, see
+ * TR_DEFAULT_MAX_WORK; one unit ~27-30 ns of CPU measured here with tr.solve at 2000
+ * steps].  GSL's LU with its own CBLAS (which skips zero multipliers), CPU time: a dense
+ * k x k matrix ~0.15 ns per k^3 (k = 300..1140; 0.13-0.28 on Broyden-updated Jacobians
+ * of 996 unknowns), the sparse Jacobians of multiple shooting 0.04-0.1 ns per k^3 at a
+ * fraction 0.009-0.044 of nonzeros (k = 109..1332, planar and spatial): TR_LU_WORK k^3
+ * times min(1, TR_LU_SPARSE_BASE + TR_LU_SPARSE_SCALE x the fraction) covers both.  One
+ * pair of triangular solves: 0.8-1.3 ns per k^2.  Counted in tr_lu_factor and the solves
+ * (tr_newton.c), the path's bordered LU (tr_path.c) and the hybrid method's QR
+ * (tr_hybrid.c). */
+#define TR_LU_WORK         0.006
+#define TR_LU_SPARSE_BASE  0.2
+#define TR_LU_SPARSE_SCALE 8.0
+#define TR_TRSV_WORK       0.05
+static inline double tr_lu_work(int k, double nonzero_fraction)
+{
+    const double f = TR_LU_SPARSE_BASE + TR_LU_SPARSE_SCALE * nonzero_fraction;
+    return TR_LU_WORK * (f < 1.0 ? f : 1.0) * (double)k * (double)k * (double)k;
+}
+/* The fraction of nonzeros of the k x k matrix a (row stride tda). */
+static inline double tr_nonzero_fraction(const double *a, int k, size_t tda)
+{
+    long nnz = 0;
+    int i, j;
+    for (i = 0; i < k; i++)
+        for (j = 0; j < k; j++) nnz += a[(size_t)i * tda + j] != 0.0;
+    return k > 0 ? (double)nnz / ((double)k * k) : 1.0;
+}
+static inline double tr_trsv_work(int k)
+{
+    return TR_TRSV_WORK * (double)k * (double)k;
+}
+/* Largest number of solve pairs (J, J^T) of the 1-norm condition estimate (Hager's
+ * iteration converges in 2-3 in practice; LAPACK's dlacon stops at 5). */
+#define TR_COND_EST_ITERS 5
+
 /* tr_model.c: the same scene compiled with nshoot shooting segments (the formulation,
  * planar or spatial, kept), or NULL (msg says why); copy the values of src into dst,
  * a model of the same scene (another shooting formulation). */
@@ -550,8 +586,8 @@ double tr_shared_weight(const tr_model *m, int i);
 /* the tension [N] by which the shared level of the solution in d->x can move before its
  * residuals exceed the tolerance (or the residual reached): how well they fix it */
 double tr_shared_resolution(const tr_model *m, tr_data *d);
-/* the work budget of a solve: Options.max_work, times the segments where the model chose
- * multiple shooting itself (its Jacobians cost that much more) */
+/* the work budget of a solve: Options.max_work, whatever the formulation (the dense LU of
+ * many shooting segments is counted as the work it is) */
 double tr_work_budget(const tr_data *d);
 /* tr_watch.c: the smallest path-length rate of a taut tendon on the state of x (at the
  * current continuation parameters), kept in d->watch_* when below the last kept one or

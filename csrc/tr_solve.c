@@ -492,12 +492,11 @@ static void stop_message(const tr_model *m, tr_data *d)
                        d->opt.max_time, where, sep, first);
     } else {
         tr_set_message(d,
-                       "the work budget ran out (max_work = %.3g units%s) "
+                       "the work budget ran out (max_work = %.3g units) "
                        "%s: the scene may have no equilibrium near the path tried; raise "
                        "Options.max_work, give a guess from a nearby solved scene, or approach "
                        "this scene in smaller steps (a sweep)%s%s",
-                       d->opt.max_work, m->shoot_auto ? " x the shooting segments" : "", where, sep,
-                       first);
+                       d->opt.max_work, where, sep, first);
     }
 }
 
