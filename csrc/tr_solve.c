@@ -606,6 +606,7 @@ static int solve(const tr_model *m, tr_data *d, const double *guess, const doubl
         const int vs = tr_verify_steps(m, d);
         if (vs != TR_OK) status = vs;
     }
+    status = tr_verify_fixed(m, d, status);
     status = past_centre(m, d, status);
     status = solve_condition(m, d, status, from_last ? d->J_last : jac);
     status = shared_resolved(m, d, status);

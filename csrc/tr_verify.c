@@ -46,6 +46,30 @@ static double doubling_estimate(const tr_model *m, tr_data *d)
     return est / (1.0 - pow(2.0, -order));
 }
 
+int tr_verify_fixed(const tr_model *m, tr_data *d, int status)
+{
+    const int finishing = d->finishing;
+    double est;
+    if (status < 0 || d->opt.steps <= 0 || d->opt.integrator == TR_ADAPTIVE) return status;
+    /* two evaluations, paid beyond the budget like the final outputs (an interrupt still
+     * stops them) */
+    d->finishing = 1;
+    est = doubling_estimate(m, d);
+    d->finishing = finishing;
+    if (d->stop) return status;
+    d->truncation = est;
+    if (status == TR_OK && !(est <= TR_FIXED_TRUNC_WARN * d->opt.tol)) {
+        tr_set_message(d,
+                       "converged, but the truncation error at the fixed %d steps is estimated "
+                       "at %.3g (scaled, by step doubling), above %g x tol: the answer is "
+                       "only that accurate; raise Options.steps, use a higher-order "
+                       "integrator, or let the solver choose the steps (steps = 0)",
+                       d->steps, est, TR_FIXED_TRUNC_WARN);
+        return TR_TRUNCATION;
+    }
+    return status;
+}
+
 /* Richardson: the step count whose truncation error est (N / Nn)^p is
  * TR_REFINE_SAFETY tol, at least N + 1 (2N when est is not finite), capped. */
 static int refined_steps(const tr_data *d, int N, double est)

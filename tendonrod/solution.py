@@ -15,6 +15,7 @@ import warnings
 import numpy as np
 from numpy.typing import NDArray
 
+from . import _core
 from .compiled import _compile, _structure_key, structure_difference
 from .model import Scene
 from .mounting import base_pose, pairs_out, points_out, rotations_out, vectors_in, vectors_out
@@ -504,8 +505,12 @@ def _in_rod_units(sol: Solution) -> str:
 
 
 def _report(sol: Solution, strict: bool, who: str, stacklevel: int) -> None:
-    """A failed solve is never silent: ConvergenceError (strict) or ConvergenceWarning."""
+    """A failed solve is never silent: ConvergenceError (strict) or ConvergenceWarning.
+    A success the core flags as only as accurate as its truncation error (its message
+    says so) warns too."""
     if sol.success:
+        if sol.status == _core.STATUS_TRUNCATION:
+            warnings.warn(f"{who}: {sol.message}", ConvergenceWarning, stacklevel=stacklevel)
         return
     msg = (
         f"{who} did not converge: {sol.message} (status {sol.status}, "
