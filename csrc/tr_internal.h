@@ -79,6 +79,11 @@ enum {
  * of width L / lambda), capped so that max_nfev stays a time bound for huge loads. */
 #define TR_AUTO_PER_LAMBDA 2.0
 #define TR_AUTO_MAX        256
+/* ... and at least TR_AUTO_PER_TURN times that per radian the tendons turn the rod
+ * (tau r l / EI, q / r): two tension-controlled tendons curling a rod 1,580 deg (27.5
+ * rad) do not converge from 2 rk8 steps, from 8 they do (17 with this rule); a bend up
+ * to pi keeps the minimum count (0.6 pi < 2 rk8 steps, 2.4 pi < 16 rk4 steps) ... */
+#define TR_AUTO_PER_TURN 0.3
 /* ... and at least TR_AUTO_PER_FRIC times that per unit of the friction's exponent
  * sum mu theta (measured: mu theta = 4.5 converges from 32 rk8 steps, not 16) */
 #define TR_AUTO_PER_FRIC 4.0

@@ -202,33 +202,34 @@ void tr_polish(const tr_model *m, tr_data *d)
 
 /* Automatic initial step count: the fixed minimum, or enough steps to resolve the
  * boundary layers of width L / lambda that a load of magnitude F makes, lambda =
- * L sqrt(F / EI) (TR_AUTO_PER_LAMBDA steps per unit lambda). */
+ * L sqrt(F / EI) (TR_AUTO_PER_LAMBDA steps per unit lambda), or the tendons' own
+ * curling (TR_AUTO_PER_TURN of that per radian), or a frictional tendon's tension change. */
 int tr_auto_steps(const tr_model *m, const tr_data *d)
 {
     const int base = d->opt.integrator == TR_RK4 ? TR_AUTO_RK4 : TR_AUTO_RK8;
     const double per = d->opt.integrator == TR_RK4 ? 4.0 * TR_AUTO_PER_LAMBDA : TR_AUTO_PER_LAMBDA;
-    double F = m->L * tru_norm3(m->dist), lam;
-    int b, n;
+    double F = m->L * tru_norm3(m->dist), lam, turn = 0.0, g = 0.0;
+    int b, n, i;
     for (b = 1; b <= m->nseg; b++) F += tru_norm3(m->bpF + 3 * b);
     if (m->has_pdist)
         for (b = 0; b < m->nseg; b++)
             F += (m->bp[b + 1] - m->bp[b]) * tru_norm3(m->seg_pdist + 3 * b);
     lam = m->L * sqrt(F / m->EI);
     n = (int)ceil(fmin(per * lam, (double)TR_AUTO_MAX));
-    if (m->nfric) {
-        /* a frictional tendon's tension changes like e^(mu theta) over its turning theta
-         * (estimated as q / r for a displacement, tau r L / EI for a tension) */
-        double g = 0.0;
-        int i;
-        for (i = 0; i < m->nt; i++) {
-            const tr_tendon *t = &m->tendon[i];
-            const double r = fmax(fabs(t->b), fabs(t->b + t->a * t->t));
-            double th;
-            if (t->fric_index < 0 || !(r > 0.0)) continue;
-            th = t->control == TR_DISPLACEMENT ? fabs(t->value) / r : t->value * r * t->t / m->EI;
-            g += t->mu * th;
-        }
-        n = (int)fmax(n, ceil(fmin(per * TR_AUTO_PER_FRIC * g, (double)TR_AUTO_MAX)));
+    /* a tendon turns the rod by about tau r l / EI for a tension tau over its length l,
+     * q / r for a retraction q; a frictional one changes its tension like e^(mu theta)
+     * over that turning */
+    for (i = 0; i < m->nt; i++) {
+        const tr_tendon *t = &m->tendon[i];
+        const double r = fmax(fabs(t->b), fabs(t->b + t->a * t->t));
+        double th;
+        if (!(r > 0.0)) continue;
+        th = t->control == TR_DISPLACEMENT ? fabs(t->value) / r : fabs(t->value) * r * t->t / m->EI;
+        if (!isfinite(th)) continue;
+        turn += th;
+        if (t->fric_index >= 0) g += t->mu * th;
     }
+    n = (int)fmax(n, ceil(fmin(per * TR_AUTO_PER_TURN * turn, (double)TR_AUTO_MAX)));
+    if (m->nfric) n = (int)fmax(n, ceil(fmin(per * TR_AUTO_PER_FRIC * g, (double)TR_AUTO_MAX)));
     return n > base ? n : base;
 }
