@@ -34,7 +34,8 @@ extern "C" {
 enum tr_status {
     TR_OK = 0,
     TR_TRUNCATION = 1,      /* converged, but the step-doubling truncation estimate
-                                stayed above tol at the step cap */
+                                stayed above tol at the step cap (automatic steps), or
+                                above TR_FIXED_TRUNC_WARN tol (fixed steps) */
     TR_ILLCONDITIONED = 2,  /* converged, but the final Jacobian is nearly singular
                                 (tensions may be poorly determined) */
     TR_OFFPATH = 3,         /* converged by a direct solve after load continuation from
@@ -48,6 +49,10 @@ enum tr_status {
                                 was reached from the guess, along the load path or past a
                                 symmetric bifurcation on it (tr_branch.c); NOT counted as
                                 success (Options.accept_unstable: such a solve succeeds) */
+    TR_FRICTION_HELD = 6,   /* converged with channel friction (whose stability is not
+                                tested), but the frictionless twin of the state (mu = 0, the
+                                same tensions) is unstable: friction alone holds it, if it
+                                does; a success with a caveat (d->stab_twin) */
     TR_CONTINUE = 100,      /* iteration in progress (tr_solve_iterate/test only) */
     TR_EINVAL = -1,         /* invalid model or option value */
     TR_ENOMEM = -2,         /* allocation failed */
@@ -567,7 +572,11 @@ typedef struct tr_data {
     double stability;
     double stab_gap; /* no eigenvalue within this of zero [EI/L] (0: not known) */
     char stab_reason[256];
-    char branch_note[512]; /* how tr_branch reached a stable answer ("": it did not act) */
+    int stab_twin; /* channel friction: the frictionless twin's verdict at the state (1 / 0 /
+                      -1 as stable; -1 also without friction) */
+    double stab_twin_margin; /* its margin [EI/L] (NaN: none) */
+    int stab_twin_index;     /* its negative modes (-1: none) */
+    char branch_note[512];   /* how tr_branch reached a stable answer ("": it did not act) */
     /* the closest approach of a taut tendon to the centre of curvature (tr_watch.c) on
      * the state where a load path stalled: the smallest path-length rate |w| / |w_ref|,
      * the tendon, the arc length, its tension and the limit EI / r^2 there */

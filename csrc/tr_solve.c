@@ -471,6 +471,28 @@ static void diagnose_segments(const tr_model *m, tr_data *d, int status)
                    g, M, m->nshoot, first);
 }
 
+/* A converged solve with channel friction whose frictionless twin is unstable
+ * (tr_stability.c): a success with that caveat, and where to look for the state the twin
+ * would take. */
+static int friction_held(const tr_model *m, tr_data *d, int status)
+{
+    char done[TR_MSGLEN];
+    if (status != TR_OK || m->nfric == 0 || d->stab_twin != 0) return status;
+    tr_message_converged(done, TR_MSGLEN, d->nit, d->fnorm, d->opt.tol);
+    tr_set_message(d,
+                   "%s; held by friction only, if at all: stability with friction is not "
+                   "tested, and the frictionless twin of this state (mu = 0, the same "
+                   "tensions) is unstable (margin %.4g EI/L, %d negative %s); for the state "
+                   "the rod takes where friction does not hold, solve with friction = 0, or "
+                   "with a small tip load across the bending plane%s",
+                   done, d->stab_twin_margin, d->stab_twin_index,
+                   d->stab_twin_index == 1 ? "mode" : "modes",
+                   m->planar ? " and force_spatial=True (this planar formulation cannot "
+                               "leave the plane)"
+                             : "");
+    return TR_FRICTION_HELD;
+}
+
 /* The message of a solve that the budget or an interrupt stopped. */
 static void stop_message(const tr_model *m, tr_data *d)
 {
@@ -610,6 +632,7 @@ static int solve(const tr_model *m, tr_data *d, const double *guess, const doubl
     status = past_centre(m, d, status);
     status = solve_condition(m, d, status, from_last ? d->J_last : jac);
     status = shared_resolved(m, d, status);
+    status = friction_held(m, d, status);
     if (d->stop) {
         status = d->stop;
         stop_message(m, d);

@@ -506,10 +506,10 @@ def _in_rod_units(sol: Solution) -> str:
 
 def _report(sol: Solution, strict: bool, who: str, stacklevel: int) -> None:
     """A failed solve is never silent: ConvergenceError (strict) or ConvergenceWarning.
-    A success the core flags as only as accurate as its truncation error (its message
-    says so) warns too."""
+    A success the core flags with a caveat its message explains (only as accurate as its
+    truncation error; held by friction only, its frictionless twin unstable) warns too."""
     if sol.success:
-        if sol.status == _core.STATUS_TRUNCATION:
+        if sol.status in (_core.STATUS_TRUNCATION, _core.STATUS_FRICTION_HELD):
             warnings.warn(f"{who}: {sol.message}", ConvergenceWarning, stacklevel=stacklevel)
         return
     msg = (
