@@ -147,11 +147,17 @@ static int solve_condition(const tr_model *m, tr_data *d, int status, const doub
      * Broyden-updated one is accurate only along recent steps): it makes the
      * condition estimate meaningful and warm starts from it Newton-fast.  Warm
      * solves keep the updated one (it came from a nearby fresh one). */
+    /* a converged solve's final Jacobian, polish and condition estimate are its outputs,
+     * paid beyond the budget (bounded: one Jacobian, TR_POLISH_STEPS + 1 LUs); an
+     * interrupt still stops them */
+    const int finishing = d->finishing;
+    if (status >= 0) d->finishing = 1;
     if (status >= 0 && !jac && !d->J_fresh && d->k > 0 && tr_fd_jacobian(m, d) != TR_OK)
         d->have_J = 0;
     if (status >= 0 && d->have_J) tr_polish(m, d);
+    if (!d->stop) d->jacobian_cond = d->have_J ? tr_jacobian_cond(d) : NAN;
+    d->finishing = finishing;
     if (d->stop) return d->stop;
-    d->jacobian_cond = d->have_J ? tr_jacobian_cond(d) : NAN;
     if (status >= 0 && d->shared_mode) {
         /* the near-null direction is the shared tension level, solved on its own */
         const size_t len = strlen(d->branch_note);
