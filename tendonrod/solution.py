@@ -150,14 +150,15 @@ class Solution:
     continuation_steps : int
         Continuation stages used (0: solved directly).
     truncation_estimate : float
-        Estimate of the integrator's truncation error (scaled, relative) [-] at the
-        automatic step count (NaN when ``Options.steps`` is given or the integrator is
-        adaptive): measured by step doubling, or -- for a warm solve that ended close
-        to a solution whose step count was verified (``truncation_carried``) -- the
-        bound ``2 e_v (1 + delta)^(p+1)`` carried from that verification, where ``delta``
-        is how far the scaled unknowns and the prescribed tensions moved (relative) and ``p``
-        the integrator's order.
-        Either way it is <= ``options.tol`` on success.
+        Estimate of the integrator's truncation error (scaled, relative) [-] (NaN for
+        the adaptive integrator): measured by step doubling, or -- for a warm solve at
+        the automatic step count that ended close to a solution whose step count was
+        verified (``truncation_carried``) -- the bound ``2 e_v (1 + delta)^(p+1)``
+        carried from that verification, where ``delta`` is how far the scaled unknowns
+        and the prescribed tensions moved (relative) and ``p`` the integrator's order.
+        At the automatic step count it is <= ``options.tol`` on success; with
+        ``Options.steps`` it is what those steps give, and above 1e4 ``tol`` the solve
+        warns (``status`` 1).
     truncation_carried : bool
         True when the step count was not verified again (see ``truncation_estimate``);
         a sweep re-verifies once its unknowns drift more than that bound allows.
