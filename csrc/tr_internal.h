@@ -87,6 +87,14 @@ enum {
 /* ... and at least TR_AUTO_PER_FRIC times that per unit of the friction's exponent
  * sum mu theta (measured: mu theta = 4.5 converges from 32 rk8 steps, not 16) */
 #define TR_AUTO_PER_FRIC 4.0
+/* Channel friction: the frictionless twin's stability verdict (tr_stability.c) is reported
+ * only where friction changes the tensions by at most e^TR_TWIN_FRIC_MAX (~22 %) along
+ * the channels: farther, the frictional state is far from any frictionless equilibrium
+ * and the twin's Hessian at it is no verdict (on the stress suite, bends of 90-225 deg
+ * with mu theta 1.2-3.1 gave 'unstable' twins whose frictionless solves are stable).  The
+ * reproducer of a hidden instability, mu theta = 0.1 x pi/3: its twin's margin -0.091
+ * EI/L against -0.088 of the frictionless solve. */
+#define TR_TWIN_FRIC_MAX 0.2
 /* ... and a frictional solve that fails there tries again at this many times the steps
  * (tr_solve.c) */
 #define TR_FRIC_REFINE 4
@@ -325,6 +333,10 @@ static inline double tr_tension_at(const tr_model *m, const tr_data *d, int i, c
 const double *tr_tensions_at(const tr_model *m, const tr_data *d, const double *y);
 /* dst's friction (a model of the same scene, compiled without it) set to src's. */
 void tr_friction_copy(tr_model *dst, const tr_model *src);
+/* The exponent of the friction's tension change, summed over the frictional tendons:
+ * mu theta with theta the turning a tendon gives the rod (q / r for a retraction, tau r l
+ * / EI for a tension); a tension changes like e^(mu theta) along its channel. */
+double tr_friction_exponent(const tr_model *m);
 /* The right-hand side's friction: per frictional taut tendon, TR_FRIC_NCOL numbers (its
  * state slot, slide mu, tension / |w|, t (3), r (3), a_i (3), tau'); the friction loads solve
  * the implicit equation by fixed-point iteration to TR_FRIC_TOL (relative) within

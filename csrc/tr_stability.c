@@ -271,6 +271,15 @@ static void friction_twin(const tr_model *m, tr_data *d, int quick)
     char twin[120];
     const char *r;
     size_t n;
+    const double g = tr_friction_exponent(m);
+    if (!(g <= TR_TWIN_FRIC_MAX)) {
+        snprintf(d->stab_reason, sizeof d->stab_reason,
+                 "not tested: friction in the tendon channels is not conservative, and it "
+                 "changes the tensions like e^%.3g along them: no frictionless state is "
+                 "close enough to compare",
+                 g);
+        return;
+    }
     if (!quick || !verdict_quick(m, d)) verdict_full(m, d, quick);
     d->stab_twin = d->stable;
     d->stab_twin_margin = d->stability;

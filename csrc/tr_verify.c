@@ -225,10 +225,9 @@ int tr_auto_steps(const tr_model *m, const tr_data *d)
         double th;
         if (!(r > 0.0)) continue;
         th = t->control == TR_DISPLACEMENT ? fabs(t->value) / r : fabs(t->value) * r * t->t / m->EI;
-        if (!isfinite(th)) continue;
-        turn += th;
-        if (t->fric_index >= 0) g += t->mu * th;
+        if (isfinite(th)) turn += th;
     }
+    g = tr_friction_exponent(m);
     n = (int)fmax(n, ceil(fmin(per * TR_AUTO_PER_TURN * turn, (double)TR_AUTO_MAX)));
     if (m->nfric) n = (int)fmax(n, ceil(fmin(per * TR_AUTO_PER_FRIC * g, (double)TR_AUTO_MAX)));
     return n > base ? n : base;
