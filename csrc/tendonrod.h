@@ -34,7 +34,8 @@ extern "C" {
 enum tr_status {
     TR_OK = 0,
     TR_TRUNCATION = 1,      /* converged, but the step-doubling truncation estimate
-                                stayed above tol at the step cap */
+                                stayed above tol at the step cap (automatic steps), or
+                                above TR_FIXED_TRUNC_WARN tol (fixed steps) */
     TR_ILLCONDITIONED = 2,  /* converged, but the final Jacobian is nearly singular
                                 (tensions may be poorly determined) */
     TR_OFFPATH = 3,         /* converged by a direct solve after load continuation from
@@ -48,6 +49,10 @@ enum tr_status {
                                 was reached from the guess, along the load path or past a
                                 symmetric bifurcation on it (tr_branch.c); NOT counted as
                                 success (Options.accept_unstable: such a solve succeeds) */
+    TR_FRICTION_HELD = 6,   /* converged with channel friction (whose stability is not
+                                tested), but the frictionless twin of the state (mu = 0, the
+                                same tensions) is unstable: friction alone holds it, if it
+                                does; a success with a caveat (d->stab_twin) */
     TR_CONTINUE = 100,      /* iteration in progress (tr_solve_iterate/test only) */
     TR_EINVAL = -1,         /* invalid model or option value */
     TR_ENOMEM = -2,         /* allocation failed */
@@ -100,13 +105,18 @@ enum tr_control { TR_DISPLACEMENT = 0, TR_TENSION = 1 };
 #define TR_MAX_CONTINUATION_CAP 1000000
 #define TR_MAX_NODES            1000000
 /* Work is counted in units of one right-hand-side evaluation of a planar Kirchhoff rod
- * without tendons (~33 ns here); an evaluation of a scene's ODE counts its relative cost
- * (tr_model.rhs_work: a spatial Cosserat rod with three tendons ~9).  The default budget
- * lets a hopeless solve give up after ~0.7 s whatever the formulation.  Converged solves
- * take 10^2-10^6 units, and up to ~1.6e7 where a warm solve lands on an unstable
- * equilibrium and continues from its guess along stable stages (a plain rod stepped from
- * F L^2/EI = 91 to 100 at 2440 RK8 steps: 1.55e7). */
-#define TR_DEFAULT_MAX_WORK 2e7
+ * without tendons (~25-30 ns of CPU here); an evaluation of a scene's ODE counts its
+ * relative cost (tr_model.rhs_work: a spatial Cosserat rod with three tendons ~9), the
+ * dense linear algebra its own (tr_lu_work, tr_trsv_work in tr_internal.h).  The default
+ * budget lets a hopeless solve give up after ~1 s whatever the formulation (the same
+ * budget for any number of shooting segments; an LU it cannot pay for is not started).
+ * Converged solves take 10^2-10^6 units, up to ~1.6e7 where a warm solve lands on an
+ * unstable equilibrium and continues from its guess along stable stages (a plain rod
+ * stepped from F L^2/EI = 91 to 100 at 2440 RK8 steps: 1.55e7), 3.05e7 for a tendon at
+ * 45 deg under a tensile load L sqrt(T/EI) = 30 (8 automatic segments, continuation; the
+ * stress suite's costliest success within ~1 s), 8.6e7 for 2.6 kN on a 1.2 mm wire (41
+ * segments, 1.6 s: beyond the default, it says so and names max_work). */
+#define TR_DEFAULT_MAX_WORK 3.5e7
 /* Largest work budget and wall-clock limit accepted. */
 #define TR_MAX_WORK_CAP 1e15
 #define TR_MAX_TIME_CAP 1e9
@@ -562,7 +572,11 @@ typedef struct tr_data {
     double stability;
     double stab_gap; /* no eigenvalue within this of zero [EI/L] (0: not known) */
     char stab_reason[256];
-    char branch_note[512]; /* how tr_branch reached a stable answer ("": it did not act) */
+    int stab_twin; /* channel friction: the frictionless twin's verdict at the state (1 / 0 /
+                      -1 as stable; -1 also without friction) */
+    double stab_twin_margin; /* its margin [EI/L] (NaN: none) */
+    int stab_twin_index;     /* its negative modes (-1: none) */
+    char branch_note[512];   /* how tr_branch reached a stable answer ("": it did not act) */
     /* the closest approach of a taut tendon to the centre of curvature (tr_watch.c) on
      * the state where a load path stalled: the smallest path-length rate |w| / |w_ref|,
      * the tendon, the arc length, its tension and the limit EI / r^2 there */

@@ -236,7 +236,7 @@ static int solve_point(batch_ws *w, const tr_batch_in *in, int have, int record,
     tr_model *m = w->m;
     tr_data *d = w->d;
     const double *g = w->hist_g[0];
-    double wt[4];
+    double wt[4], spent = 0.0;
     int st = TR_EINVAL;
     *cold = !(in->warm && have);
     *nit = *nfev = 0;
@@ -254,6 +254,7 @@ static int solve_point(batch_ws *w, const tr_batch_in *in, int have, int record,
         if (st == TR_OK) st = record ? tr_record(m, d) : tr_record_tip(m, d);
         *nit = d->nit;
         *nfev = d->nfev;
+        spent = d->spent;
         if (st == TR_OK || st == TR_EINTERRUPTED) return st;
     }
     if (*cold)
@@ -262,8 +263,14 @@ static int solve_point(batch_ws *w, const tr_batch_in *in, int have, int record,
         st = tr_solve_from(m, d, g, w->J, w->ver.steps > 0 ? &w->ver : NULL);
     *nit += d->nit;
     *nfev += d->nfev;
-    if (st < 0 && st != TR_EINTERRUPTED && !*cold && in->retry_cold) {
+    spent += d->spent;
+    /* a point has one work budget: the cold retry gets what the warm tries left */
+    if (st < 0 && st != TR_EINTERRUPTED && st != TR_EBUDGET && !*cold && in->retry_cold &&
+        spent < d->opt.max_work) {
+        const double budget = d->opt.max_work;
+        d->opt.max_work = budget - spent;
         st = tr_solve(m, d, NULL, NULL);
+        d->opt.max_work = budget;
         *nit += d->nit;
         *nfev += d->nfev;
         *cold = 1;

@@ -17,6 +17,8 @@ const char *tr_strerror(int status)
         return "converged off the load path (continuation stalled), confirmed by a second "
                "formulation";
     case TR_UNSTABLE: return "converged to an unstable equilibrium";
+    case TR_FRICTION_HELD:
+        return "converged with channel friction; the frictionless twin of the state is unstable";
     case TR_CONTINUE: return "iteration in progress";
     case TR_EINVAL: return "invalid model or option";
     case TR_ENOMEM: return "out of memory";

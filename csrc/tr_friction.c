@@ -77,3 +77,18 @@ const double *tr_tensions_at(const tr_model *m, const tr_data *d, const double *
     for (i = 0; i < m->nt; i++) d->tau_here[i] = tr_tension_at(m, d, i, y);
     return d->tau_here;
 }
+
+double tr_friction_exponent(const tr_model *m)
+{
+    double g = 0.0;
+    int i;
+    for (i = 0; i < m->nt; i++) {
+        const tr_tendon *t = &m->tendon[i];
+        const double r = fmax(fabs(t->b), fabs(t->b + t->a * t->t));
+        double th;
+        if (t->fric_index < 0 || !(r > 0.0)) continue;
+        th = t->control == TR_DISPLACEMENT ? fabs(t->value) / r : fabs(t->value) * r * t->t / m->EI;
+        if (isfinite(th)) g += t->mu * th;
+    }
+    return g;
+}

@@ -27,6 +27,8 @@ static int hyb_jac(tr_data *d, const double *x, const double *f0, gsl_matrix *J)
         if (tr_fd_column(d->model, d, x, f0, j, J->data + j, J->tda, 0) != TR_OK)
             return GSL_EBADFUNC;
     d->njev++;
+    /* hybridsj factors each new Jacobian by QR: about twice an LU's multiply-adds */
+    d->spent += 2.0 * tr_lu_work(k, tr_nonzero_fraction(J->data, k, J->tda));
     return GSL_SUCCESS;
 }
 
@@ -74,6 +76,7 @@ int tr_hybrid_run(const tr_model *m, tr_data *d, int max_iter)
         }
         st = gsl_multiroot_fdfsolver_iterate(s);
         it++;
+        d->spent += 3.0 * tr_trsv_work(k); /* the dogleg's solves and the rank-1 update */
         if (st == GSL_EMAXITER)
             status = TR_EMAXFEV;
         else if (st == GSL_EBADFUNC)

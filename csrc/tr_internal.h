@@ -79,9 +79,22 @@ enum {
  * of width L / lambda), capped so that max_nfev stays a time bound for huge loads. */
 #define TR_AUTO_PER_LAMBDA 2.0
 #define TR_AUTO_MAX        256
+/* ... and at least TR_AUTO_PER_TURN times that per radian the tendons turn the rod
+ * (tau r l / EI, q / r): two tension-controlled tendons curling a rod 1,580 deg (27.5
+ * rad) do not converge from 2 rk8 steps, from 8 they do (17 with this rule); a bend up
+ * to pi keeps the minimum count (0.6 pi < 2 rk8 steps, 2.4 pi < 16 rk4 steps) ... */
+#define TR_AUTO_PER_TURN 0.3
 /* ... and at least TR_AUTO_PER_FRIC times that per unit of the friction's exponent
  * sum mu theta (measured: mu theta = 4.5 converges from 32 rk8 steps, not 16) */
 #define TR_AUTO_PER_FRIC 4.0
+/* Channel friction: the frictionless twin's stability verdict (tr_stability.c) is reported
+ * only where friction changes the tensions by at most e^TR_TWIN_FRIC_MAX (~22 %) along
+ * the channels: farther, the frictional state is far from any frictionless equilibrium
+ * and the twin's Hessian at it is no verdict (on the stress suite, bends of 90-225 deg
+ * with mu theta 1.2-3.1 gave 'unstable' twins whose frictionless solves are stable).  The
+ * reproducer of a hidden instability, mu theta = 0.1 x pi/3: its twin's margin -0.091
+ * EI/L against -0.088 of the frictionless solve. */
+#define TR_TWIN_FRIC_MAX 0.2
 /* ... and a frictional solve that fails there tries again at this many times the steps
  * (tr_solve.c) */
 #define TR_FRIC_REFINE 4
@@ -89,6 +102,13 @@ enum {
 #define TR_STEP_CAP 8192
 /* Step refinement aims the Richardson-predicted truncation at this fraction of tol. */
 #define TR_REFINE_SAFETY 0.5
+/* Fixed steps: a converged solve whose step-doubling truncation estimate exceeds this
+ * many times tol is reported as TR_TRUNCATION (converged with a caveat; Python warns).
+ * Between tol and this the estimate is reported without a warning: fixed steps are a
+ * choice of accuracy, and 1e4 tol (1e-6 of the scales at the default tol, 0.2 um on a
+ * 0.2 m rod) is where it stops being a detail.  Measured: the README robot with rk4 at
+ * 4 steps is 3.4e-3 L off, at 8 steps 2.2e-4 L, rk8 at 2 steps 3.3e-6 L -- each warns. */
+#define TR_FIXED_TRUNC_WARN 1e4
 /* Rounds of step refinement (each at least N + 1 steps, usually one suffices). */
 #define TR_REFINE_ROUNDS 16
 /* A verification record vouches for a solution whose scaled unknowns moved at most this
@@ -313,6 +333,10 @@ static inline double tr_tension_at(const tr_model *m, const tr_data *d, int i, c
 const double *tr_tensions_at(const tr_model *m, const tr_data *d, const double *y);
 /* dst's friction (a model of the same scene, compiled without it) set to src's. */
 void tr_friction_copy(tr_model *dst, const tr_model *src);
+/* The exponent of the friction's tension change, summed over the frictional tendons:
+ * mu theta with theta the turning a tendon gives the rod (q / r for a retraction, tau r l
+ * / EI for a tension); a tension changes like e^(mu theta) along its channel. */
+double tr_friction_exponent(const tr_model *m);
 /* The right-hand side's friction: per frictional taut tendon, TR_FRIC_NCOL numbers (its
  * state slot, slide mu, tension / |w|, t (3), r (3), a_i (3), tau'); the friction loads solve
  * the implicit equation by fixed-point iteration to TR_FRIC_TOL (relative) within
@@ -344,6 +368,42 @@ static inline double tr_rhs_work(const tr_model *m)
                                   : (m->kirchhoff ? 4.0 : 7.5) + 0.5 * m->nt;
     return base * (1.0 + TR_FRIC_WORK * m->nfric);
 }
+
+/* The cost of the linear algebra of a Newton step on k unknowns [work units, see
+ * TR_DEFAULT_MAX_WORK; one unit ~27-30 ns of CPU measured here with tr.solve at 2000
+ * steps].  GSL's LU with its own CBLAS (which skips zero multipliers), CPU time: a dense
+ * k x k matrix ~0.15 ns per k^3 (k = 300..1140; 0.13-0.28 on Broyden-updated Jacobians
+ * of 996 unknowns), the sparse Jacobians of multiple shooting 0.04-0.1 ns per k^3 at a
+ * fraction 0.009-0.044 of nonzeros (k = 109..1332, planar and spatial): TR_LU_WORK k^3
+ * times min(1, TR_LU_SPARSE_BASE + TR_LU_SPARSE_SCALE x the fraction) covers both.  One
+ * pair of triangular solves: 0.8-1.3 ns per k^2.  Counted in tr_lu_factor and the solves
+ * (tr_newton.c), the path's bordered LU (tr_path.c) and the hybrid method's QR
+ * (tr_hybrid.c). */
+#define TR_LU_WORK         0.006
+#define TR_LU_SPARSE_BASE  0.2
+#define TR_LU_SPARSE_SCALE 8.0
+#define TR_TRSV_WORK       0.05
+static inline double tr_lu_work(int k, double nonzero_fraction)
+{
+    const double f = TR_LU_SPARSE_BASE + TR_LU_SPARSE_SCALE * nonzero_fraction;
+    return TR_LU_WORK * (f < 1.0 ? f : 1.0) * (double)k * (double)k * (double)k;
+}
+/* The fraction of nonzeros of the k x k matrix a (row stride tda). */
+static inline double tr_nonzero_fraction(const double *a, int k, size_t tda)
+{
+    long nnz = 0;
+    int i, j;
+    for (i = 0; i < k; i++)
+        for (j = 0; j < k; j++) nnz += a[(size_t)i * tda + j] != 0.0;
+    return k > 0 ? (double)nnz / ((double)k * k) : 1.0;
+}
+static inline double tr_trsv_work(int k)
+{
+    return TR_TRSV_WORK * (double)k * (double)k;
+}
+/* Largest number of solve pairs (J, J^T) of the 1-norm condition estimate (Hager's
+ * iteration converges in 2-3 in practice; LAPACK's dlacon stops at 5). */
+#define TR_COND_EST_ITERS 5
 
 /* tr_model.c: the same scene compiled with nshoot shooting segments (the formulation,
  * planar or spatial, kept), or NULL (msg says why); copy the values of src into dst,
@@ -550,8 +610,8 @@ double tr_shared_weight(const tr_model *m, int i);
 /* the tension [N] by which the shared level of the solution in d->x can move before its
  * residuals exceed the tolerance (or the residual reached): how well they fix it */
 double tr_shared_resolution(const tr_model *m, tr_data *d);
-/* the work budget of a solve: Options.max_work, times the segments where the model chose
- * multiple shooting itself (its Jacobians cost that much more) */
+/* the work budget of a solve: Options.max_work, whatever the formulation (the dense LU of
+ * many shooting segments is counted as the work it is) */
 double tr_work_budget(const tr_data *d);
 /* tr_watch.c: the smallest path-length rate of a taut tendon on the state of x (at the
  * current continuation parameters), kept in d->watch_* when below the last kept one or
@@ -613,6 +673,10 @@ int tr_verify_steps(const tr_model *m, tr_data *d);
 /* 1 when the workspace's verification record vouches for the current solution without
  * a new verification (d->truncation then holds the carried bound), else 0. */
 int tr_verify_carried(const tr_model *m, tr_data *d);
+/* Fixed steps (steps > 0, a fixed-step integrator): the step-doubling estimate of the
+ * converged solution's truncation error into d->truncation, never acted on; above
+ * TR_FIXED_TRUNC_WARN tol a success becomes TR_TRUNCATION with a message that says so. */
+int tr_verify_fixed(const tr_model *m, tr_data *d, int status);
 /* Full Newton steps from a converged point while the step is still large. */
 void tr_polish(const tr_model *m, tr_data *d);
 

@@ -115,6 +115,5 @@ int tr_auto_segments(double growth)
 
 double tr_work_budget(const tr_data *d)
 {
-    const tr_model *m = d->model;
-    return m && m->shoot_auto ? d->opt.max_work * m->nshoot : d->opt.max_work;
+    return d->opt.max_work;
 }

@@ -156,6 +156,7 @@ static int jacobian(path_ws *w, tr_model *m, tr_data *d, const tr_path_spec *sp,
     for (i = 0; i < k; i++) w->A[i * n + k] = (ft[i] - w->F[i]) / h;
     for (j = 0; j < n; j++) w->A[k * n + j] = c[j];
     for (i = 0; i < n * n; i++) gsl_matrix_set(w->LU, (size_t)(i / n), (size_t)(i % n), w->A[i]);
+    d->spent += tr_lu_work(n, tr_nonzero_fraction(w->A, n, (size_t)n));
     if (gsl_linalg_LU_decomp(w->LU, w->perm, &signum) != GSL_SUCCESS) return TR_ESINGULAR;
     w->det_sign = signum;
     for (i = 0; i < n; i++) {
@@ -257,6 +258,7 @@ static int tangent(path_ws *w, tr_model *m, tr_data *d, const tr_path_spec *sp, 
         gsl_matrix_set(w->LU, (size_t)(i / n), (size_t)(i % n), w->A[i]);
     {
         int signum;
+        d->spent += tr_lu_work(n, tr_nonzero_fraction(w->A, n, (size_t)n));
         if (gsl_linalg_LU_decomp(w->LU, w->perm, &signum) != GSL_SUCCESS) return TR_ESINGULAR;
         *det = signum;
         for (i = 0; i < n; i++) {

@@ -147,11 +147,17 @@ static int solve_condition(const tr_model *m, tr_data *d, int status, const doub
      * Broyden-updated one is accurate only along recent steps): it makes the
      * condition estimate meaningful and warm starts from it Newton-fast.  Warm
      * solves keep the updated one (it came from a nearby fresh one). */
+    /* a converged solve's final Jacobian, polish and condition estimate are its outputs,
+     * paid beyond the budget (bounded: one Jacobian, TR_POLISH_STEPS + 1 LUs); an
+     * interrupt still stops them */
+    const int finishing = d->finishing;
+    if (status >= 0) d->finishing = 1;
     if (status >= 0 && !jac && !d->J_fresh && d->k > 0 && tr_fd_jacobian(m, d) != TR_OK)
         d->have_J = 0;
     if (status >= 0 && d->have_J) tr_polish(m, d);
+    if (!d->stop) d->jacobian_cond = d->have_J ? tr_jacobian_cond(d) : NAN;
+    d->finishing = finishing;
     if (d->stop) return d->stop;
-    d->jacobian_cond = d->have_J ? tr_jacobian_cond(d) : NAN;
     if (status >= 0 && d->shared_mode) {
         /* the near-null direction is the shared tension level, solved on its own */
         const size_t len = strlen(d->branch_note);
@@ -471,6 +477,28 @@ static void diagnose_segments(const tr_model *m, tr_data *d, int status)
                    g, M, m->nshoot, first);
 }
 
+/* A converged solve with channel friction whose frictionless twin is unstable
+ * (tr_stability.c): a success with that caveat, and where to look for the state the twin
+ * would take. */
+static int friction_held(const tr_model *m, tr_data *d, int status)
+{
+    char done[TR_MSGLEN];
+    if (status != TR_OK || m->nfric == 0 || d->stab_twin != 0) return status;
+    tr_message_converged(done, TR_MSGLEN, d->nit, d->fnorm, d->opt.tol);
+    tr_set_message(d,
+                   "%s; held by friction only, if at all: stability with friction is not "
+                   "tested, and the frictionless twin of this state (mu = 0, the same "
+                   "tensions) is unstable (margin %.4g EI/L, %d negative %s); for the state "
+                   "the rod takes where friction does not hold, solve with friction = 0, or "
+                   "with a small tip load across the bending plane%s",
+                   done, d->stab_twin_margin, d->stab_twin_index,
+                   d->stab_twin_index == 1 ? "mode" : "modes",
+                   m->planar ? " and force_spatial=True (this planar formulation cannot "
+                               "leave the plane)"
+                             : "");
+    return TR_FRICTION_HELD;
+}
+
 /* The message of a solve that the budget or an interrupt stopped. */
 static void stop_message(const tr_model *m, tr_data *d)
 {
@@ -492,12 +520,11 @@ static void stop_message(const tr_model *m, tr_data *d)
                        d->opt.max_time, where, sep, first);
     } else {
         tr_set_message(d,
-                       "the work budget ran out (max_work = %.3g units%s) "
+                       "the work budget ran out (max_work = %.3g units) "
                        "%s: the scene may have no equilibrium near the path tried; raise "
                        "Options.max_work, give a guess from a nearby solved scene, or approach "
                        "this scene in smaller steps (a sweep)%s%s",
-                       d->opt.max_work, m->shoot_auto ? " x the shooting segments" : "", where, sep,
-                       first);
+                       d->opt.max_work, where, sep, first);
     }
 }
 
@@ -607,9 +634,11 @@ static int solve(const tr_model *m, tr_data *d, const double *guess, const doubl
         const int vs = tr_verify_steps(m, d);
         if (vs != TR_OK) status = vs;
     }
+    status = tr_verify_fixed(m, d, status);
     status = past_centre(m, d, status);
     status = solve_condition(m, d, status, from_last ? d->J_last : jac);
     status = shared_resolved(m, d, status);
+    status = friction_held(m, d, status);
     if (d->stop) {
         status = d->stop;
         stop_message(m, d);

@@ -61,16 +61,11 @@ static double level_margin(const tr_model *m, const tr_data *d, struct tr_stab_w
     return tr_btd_smallest(&w->h, neg > 0);
 }
 
-/* A world-fixed point moment: not conservative for spatial perturbations (reason set). */
+/* A world-fixed point moment: not conservative for spatial perturbations (reason set).
+ * Channel friction is not either; it is handled by friction_twin. */
 static int not_conservative(const tr_model *m, tr_data *d)
 {
     int b;
-    if (m->nfric > 0) {
-        snprintf(d->stab_reason, sizeof d->stab_reason,
-                 "not tested: friction in the tendon channels is not conservative (no energy "
-                 "whose minimum decides stability)");
-        return 1;
-    }
     for (b = 1; b <= m->nseg; b++)
         if (m->bpM[3 * b] != 0.0 || m->bpM[3 * b + 1] != 0.0 || m->bpM[3 * b + 2] != 0.0) {
             snprintf(d->stab_reason, sizeof d->stab_reason,
@@ -84,6 +79,8 @@ static int not_conservative(const tr_model *m, tr_data *d)
 
 static void verdict_reset(tr_data *d)
 {
+    d->stab_twin = d->stab_twin_index = -1;
+    d->stab_twin_margin = NAN;
     d->stable = -1;
     d->stability = NAN;
     d->stab_index = -1;
@@ -264,11 +261,52 @@ static void switch_or_note(const tr_model *m, tr_data *d)
         slack_side_note(m, d);
 }
 
+/* Channel friction has no energy whose minimum decides stability (a sound test for it,
+ * e.g. on the stick/slip cone, is not known here): the state is not tested, and the
+ * verdict of its frictionless twin -- the same state and tensions, the energy without
+ * friction -- is reported in d->stab_twin and the reason.  An unstable twin means that
+ * friction alone holds the state, if it does. */
+static void friction_twin(const tr_model *m, tr_data *d, int quick)
+{
+    char twin[120];
+    const char *r;
+    size_t n;
+    const double g = tr_friction_exponent(m);
+    if (!(g <= TR_TWIN_FRIC_MAX)) {
+        snprintf(d->stab_reason, sizeof d->stab_reason,
+                 "not tested: friction in the tendon channels is not conservative, and it "
+                 "changes the tensions like e^%.3g along them: no frictionless state is "
+                 "close enough to compare",
+                 g);
+        return;
+    }
+    if (!quick || !verdict_quick(m, d)) verdict_full(m, d, quick);
+    d->stab_twin = d->stable;
+    d->stab_twin_margin = d->stability;
+    d->stab_twin_index = d->stab_index;
+    r = d->stab_reason[0] ? d->stab_reason : "not decided";
+    n = strlen(r) < sizeof twin - 1 ? strlen(r) : sizeof twin - 1;
+    memcpy(twin, r, n);
+    twin[n] = '\0';
+    d->stable = -1;
+    d->stability = NAN;
+    d->stab_index = -1;
+    d->stab_gap = 0.0;
+    snprintf(d->stab_reason, sizeof d->stab_reason,
+             "not tested: friction in the tendon channels is not conservative; the "
+             "frictionless twin of this state (mu = 0, the same tensions) is %s",
+             twin);
+}
+
 void tr_stability(const tr_model *m, tr_data *d)
 {
     verdict_reset(d);
     if (not_conservative(m, d)) return;
     tr_set_tensions(m, d, d->x);
+    if (m->nfric > 0) {
+        friction_twin(m, d, 0);
+        return;
+    }
     verdict_full(m, d, 0);
     switch_or_note(m, d);
 }
@@ -278,6 +316,10 @@ void tr_stability_quick(const tr_model *m, tr_data *d)
     verdict_reset(d);
     if (not_conservative(m, d)) return;
     tr_set_tensions(m, d, d->x);
+    if (m->nfric > 0) {
+        friction_twin(m, d, 1);
+        return;
+    }
     if (!verdict_quick(m, d)) verdict_full(m, d, 1);
     switch_or_note(m, d);
 }

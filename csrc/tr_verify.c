@@ -46,6 +46,30 @@ static double doubling_estimate(const tr_model *m, tr_data *d)
     return est / (1.0 - pow(2.0, -order));
 }
 
+int tr_verify_fixed(const tr_model *m, tr_data *d, int status)
+{
+    const int finishing = d->finishing;
+    double est;
+    if (status < 0 || d->opt.steps <= 0 || d->opt.integrator == TR_ADAPTIVE) return status;
+    /* two evaluations, paid beyond the budget like the final outputs (an interrupt still
+     * stops them) */
+    d->finishing = 1;
+    est = doubling_estimate(m, d);
+    d->finishing = finishing;
+    if (d->stop) return status;
+    d->truncation = est;
+    if (status == TR_OK && !(est <= TR_FIXED_TRUNC_WARN * d->opt.tol)) {
+        tr_set_message(d,
+                       "converged, but the truncation error at the fixed %d steps is estimated "
+                       "at %.3g (scaled, by step doubling), above %g x tol: the answer is "
+                       "only that accurate; raise Options.steps, use a higher-order "
+                       "integrator, or let the solver choose the steps (steps = 0)",
+                       d->steps, est, TR_FIXED_TRUNC_WARN);
+        return TR_TRUNCATION;
+    }
+    return status;
+}
+
 /* Richardson: the step count whose truncation error est (N / Nn)^p is
  * TR_REFINE_SAFETY tol, at least N + 1 (2N when est is not finite), capped. */
 static int refined_steps(const tr_data *d, int N, double est)
@@ -178,33 +202,33 @@ void tr_polish(const tr_model *m, tr_data *d)
 
 /* Automatic initial step count: the fixed minimum, or enough steps to resolve the
  * boundary layers of width L / lambda that a load of magnitude F makes, lambda =
- * L sqrt(F / EI) (TR_AUTO_PER_LAMBDA steps per unit lambda). */
+ * L sqrt(F / EI) (TR_AUTO_PER_LAMBDA steps per unit lambda), or the tendons' own
+ * curling (TR_AUTO_PER_TURN of that per radian), or a frictional tendon's tension change. */
 int tr_auto_steps(const tr_model *m, const tr_data *d)
 {
     const int base = d->opt.integrator == TR_RK4 ? TR_AUTO_RK4 : TR_AUTO_RK8;
     const double per = d->opt.integrator == TR_RK4 ? 4.0 * TR_AUTO_PER_LAMBDA : TR_AUTO_PER_LAMBDA;
-    double F = m->L * tru_norm3(m->dist), lam;
-    int b, n;
+    double F = m->L * tru_norm3(m->dist), lam, turn = 0.0, g = 0.0;
+    int b, n, i;
     for (b = 1; b <= m->nseg; b++) F += tru_norm3(m->bpF + 3 * b);
     if (m->has_pdist)
         for (b = 0; b < m->nseg; b++)
             F += (m->bp[b + 1] - m->bp[b]) * tru_norm3(m->seg_pdist + 3 * b);
     lam = m->L * sqrt(F / m->EI);
     n = (int)ceil(fmin(per * lam, (double)TR_AUTO_MAX));
-    if (m->nfric) {
-        /* a frictional tendon's tension changes like e^(mu theta) over its turning theta
-         * (estimated as q / r for a displacement, tau r L / EI for a tension) */
-        double g = 0.0;
-        int i;
-        for (i = 0; i < m->nt; i++) {
-            const tr_tendon *t = &m->tendon[i];
-            const double r = fmax(fabs(t->b), fabs(t->b + t->a * t->t));
-            double th;
-            if (t->fric_index < 0 || !(r > 0.0)) continue;
-            th = t->control == TR_DISPLACEMENT ? fabs(t->value) / r : t->value * r * t->t / m->EI;
-            g += t->mu * th;
-        }
-        n = (int)fmax(n, ceil(fmin(per * TR_AUTO_PER_FRIC * g, (double)TR_AUTO_MAX)));
+    /* a tendon turns the rod by about tau r l / EI for a tension tau over its length l,
+     * q / r for a retraction q; a frictional one changes its tension like e^(mu theta)
+     * over that turning */
+    for (i = 0; i < m->nt; i++) {
+        const tr_tendon *t = &m->tendon[i];
+        const double r = fmax(fabs(t->b), fabs(t->b + t->a * t->t));
+        double th;
+        if (!(r > 0.0)) continue;
+        th = t->control == TR_DISPLACEMENT ? fabs(t->value) / r : fabs(t->value) * r * t->t / m->EI;
+        if (isfinite(th)) turn += th;
     }
+    g = tr_friction_exponent(m);
+    n = (int)fmax(n, ceil(fmin(per * TR_AUTO_PER_TURN * turn, (double)TR_AUTO_MAX)));
+    if (m->nfric) n = (int)fmax(n, ceil(fmin(per * TR_AUTO_PER_FRIC * g, (double)TR_AUTO_MAX)));
     return n > base ? n : base;
 }

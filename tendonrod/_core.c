@@ -67,6 +67,8 @@ static int add_constants(PyObject *module)
      * the Python layer names */
     if (PyModule_AddIntConstant(module, "STATUS_OFFPATH", TR_OFFPATH) < 0 ||
         PyModule_AddIntConstant(module, "STATUS_CONFIRMED", TR_CONFIRMED) < 0 ||
+        PyModule_AddIntConstant(module, "STATUS_TRUNCATION", TR_TRUNCATION) < 0 ||
+        PyModule_AddIntConstant(module, "STATUS_FRICTION_HELD", TR_FRICTION_HELD) < 0 ||
         PyModule_AddIntConstant(module, "STATUS_UNSTABLE", TR_UNSTABLE) < 0 ||
         PyModule_AddIntConstant(module, "STATUS_EBUDGET", TR_EBUDGET) < 0 ||
         PyModule_AddIntConstant(module, "STATUS_EINTERRUPTED", TR_EINTERRUPTED) < 0)

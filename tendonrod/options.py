@@ -108,11 +108,11 @@ class Options:
     max_work : float
         Work budget of one solve, everything included (continuation, step verification,
         the confirmation of an equilibrium found off the load path), in units of one
-        right-hand-side evaluation of a planar Kirchhoff rod (~33 ns here; one of a
-        spatial Cosserat rod with three tendons counts ~9).  Default 2e7: a hopeless
-        solve gives up after about 0.7 s whatever the formulation (times the shooting
-        segments where ``auto_shooting`` chose them), with a message that says the budget
-        ran out; converged solves take 10^2-10^6, and up to ~1.6e7 where a warm solve
+        right-hand-side evaluation of a planar Kirchhoff rod (~25-30 ns here; one of a
+        spatial Cosserat rod with three tendons counts ~9; the LU factorisations and the
+        condition estimate count their CPU time in the same units).  Default 3.5e7: a
+        hopeless solve gives up after about 1 s whatever the formulation, with a
+        message that says the budget ran out; converged solves take 10^2-10^6, and up to ~1.6e7 where a warm solve
         lands on an unstable equilibrium and continues from its guess.  Deterministic: a
         solve stays bitwise reproducible.
     max_time : float

@@ -10,17 +10,19 @@ vectors in the world frame unless said otherwise.  The core solves in the base f
 from __future__ import annotations
 
 import math
+import warnings
 from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
 
+from . import _core
 from .compiled import _compile, _structure_key, structure_difference
 from .model import Scene
 from .mounting import base_pose, pairs_out, points_out, rotations_out, vectors_in, vectors_out
 from .options import Options, _replace
-from .plausibility import tendon_radius
-from .results import Formulation, RodState, report_failure
+from .plausibility import _user_stacklevel, tendon_radius
+from .results import ConvergenceWarning, Formulation, RodState, report_failure
 
 __all__ = ["Solution"]
 
@@ -154,14 +156,15 @@ class Solution:
     continuation_steps : int
         Continuation stages used (0: solved directly).
     truncation_estimate : float
-        Estimate of the integrator's truncation error (scaled, relative) [-] at the
-        automatic step count (NaN when ``Options.steps`` is given or the integrator is
-        adaptive): measured by step doubling, or -- for a warm solve that ended close
-        to a solution whose step count was verified (``truncation_carried``) -- the
-        bound ``2 e_v (1 + delta)^(p+1)`` carried from that verification, where ``delta``
-        is how far the scaled unknowns and the prescribed tensions moved (relative) and ``p``
-        the integrator's order.
-        Either way it is <= ``options.tol`` on success.
+        Estimate of the integrator's truncation error (scaled, relative) [-] (NaN for
+        the adaptive integrator): measured by step doubling, or -- for a warm solve at
+        the automatic step count that ended close to a solution whose step count was
+        verified (``truncation_carried``) -- the bound ``2 e_v (1 + delta)^(p+1)``
+        carried from that verification, where ``delta`` is how far the scaled unknowns
+        and the prescribed tensions moved (relative) and ``p`` the integrator's order.
+        At the automatic step count it is <= ``options.tol`` on success; with
+        ``Options.steps`` it is what those steps give, and above 1e4 ``tol`` the solve
+        warns (``status`` 1).
     truncation_carried : bool
         True when the step count was not verified again (see ``truncation_estimate``);
         a sweep re-verifies once its unknowns drift more than that bound allows.
@@ -550,8 +553,14 @@ def _in_rod_units(sol: Solution) -> str:
 
 
 def _report(sol: Solution, strict: bool, who: str) -> None:
-    """A failed solve is never silent: ConvergenceError (strict) or ConvergenceWarning."""
+    """A failed solve is never silent: ConvergenceError (strict) or ConvergenceWarning.
+    A success the core flags with a caveat its message explains (only as accurate as its
+    truncation error; held by friction only, its frictionless twin unstable) warns too."""
     if sol.success:
+        if sol.status in (_core.STATUS_TRUNCATION, _core.STATUS_FRICTION_HELD):
+            warnings.warn(
+                f"{who}: {sol.message}", ConvergenceWarning, stacklevel=_user_stacklevel()
+            )
         return
     msg = (
         f"{who} did not converge: {sol.message} (status {sol.status}, "
