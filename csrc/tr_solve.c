@@ -101,7 +101,10 @@ static int solve_continuation(const tr_model *m, tr_data *d, int status, int for
         return TR_OK;
     }
     memcpy(second, d->message, TR_MSGLEN);
-    tr_set_message(d, "%s; then %s", first, second);
+    if (strcmp(first, second) == 0) /* the same cause both ways: said once */
+        tr_set_message(d, "%s (directly, and again along the load path)", first);
+    else
+        tr_set_message(d, "%s; then %s", first, second);
     if (st2 == TR_EMAXFEV || d->stop) return st2;
     if (!forced) return TR_ECONTINUATION;
     /* the load path stalled (a limit point: snap-through): an equilibrium may still

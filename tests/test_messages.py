@@ -31,6 +31,19 @@ def test_a_cold_solve_does_not_advise_dropping_a_guess():
     assert "try no guess" not in sol.message, sol.message
 
 
+def test_a_cause_met_directly_and_along_the_load_path_is_said_once():
+    """Three tendons under a hopeless tip load (1e6 N and 1e3 N m): the direct solve and
+    the load path fail for the same reason, which the message gives once, not twice."""
+    rod = tr.Rod(length=0.2, diameter=0.8e-3, E=207e9, G=79.6e9)
+    robot = tr.Robot(rod, tr.Tendon.ring(3, 0.01))
+    load = tr.PointLoad(s=0.2, force=(1e6, -1e6, 1e6), moment=(1e3, 0.0, 0.0))
+    sol = _quiet_solve(tr.Scene(robot, displacement=[0.01, 0.0, 0.0], loads=[load]))
+    assert not sol.success
+    clauses = [c.strip() for c in re.split(r"[;(]", sol.message) if len(c.strip()) > 20]
+    repeated = {c for c in clauses if clauses.count(c) > 1}
+    assert not repeated, sol.message
+
+
 def test_a_perfect_column_names_no_side_it_did_not_take():
     """At 3 P_E the perfect column buckles to one side; a message that names the
     symmetry-breaking push as deciding the side must name the side the answer took."""
