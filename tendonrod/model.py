@@ -21,6 +21,7 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 from dataclasses import KW_ONLY, dataclass
+from typing import cast
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -110,7 +111,7 @@ class Rod:
     precurvature: Vec3Like = (0.0, 0.0, 0.0)  # stored as a tuple
     segments: tuple = ()
 
-    def __post_init__(self):
+    def __post_init__(self) -> None:
         own = "Rod"
         pc, segs = backbone.check_backbone(self)
         object.__setattr__(self, "precurvature", pc)
@@ -205,32 +206,37 @@ class Rod:
             return None if self.G is None else self.G * A
         raise KeyError(name)  # pragma: no cover
 
+    def _needed(self, name: str) -> float:
+        """A rigidity the model uses: known, since ``__post_init__`` refuses a rod without it."""
+        return cast(float, self._effective(name))
+
     @property
     def bending_stiffness(self) -> float:
         """Effective bending rigidity EI [N m^2]."""
-        return self._effective("EI")
+        return self._needed("EI")
 
     @property
     def torsional_stiffness(self) -> float:
         """Effective torsional rigidity GJ [N m^2]."""
-        return self._effective("GJ")
+        return self._needed("GJ")
 
     @property
     def axial_stiffness(self) -> float:
         """Effective axial rigidity EA [N] (``inf`` for a Kirchhoff rod)."""
-        return math.inf if self.kirchhoff else self._effective("EA")
+        return math.inf if self.kirchhoff else self._needed("EA")
 
     @property
     def shear_stiffness(self) -> float:
         """Effective shear rigidity GA [N] (``inf`` for a Kirchhoff rod)."""
-        return math.inf if self.kirchhoff else self._effective("GA")
+        return math.inf if self.kirchhoff else self._needed("GA")
 
     @property
     def mass_per_length(self) -> float:
         """rho A [kg/m]: ``density * pi d^2 / 4`` (0 without a density)."""
         if self.density is None:
             return 0.0
-        return self.density * (math.pi * self.diameter * self.diameter / 4.0)
+        d = cast(float, self.diameter)  # __post_init__ refuses a density without a diameter
+        return self.density * (math.pi * d * d / 4.0)
 
     @classmethod
     def segmented(cls, parts) -> Rod:
@@ -281,7 +287,7 @@ class Robot:
     base_position: Vec3Like = (0.0, 0.0, 0.0)  # stored as a tuple
     base_rotation: ArrayLike = _IDENTITY  # (3, 3); stored as a tuple of rows
 
-    def __post_init__(self):
+    def __post_init__(self) -> None:
         object.__setattr__(
             self, "base_position", _vec3("Robot", "base_position", self.base_position)
         )
@@ -339,7 +345,7 @@ class Robot:
         t = self.tendons[i]
         return self.rod.length if t.end is None else min(t.end, self.rod.length)
 
-    def _check_pretension(self):
+    def _check_pretension(self) -> None:
         pre = [i for i, t in enumerate(self.tendons) if t.pretension > 0.0]
         if not pre:
             return
@@ -408,7 +414,7 @@ def _actuation(name: str, values, n: int) -> tuple[float | None, ...]:
         raise ValueError(
             f"Scene.{name} must have one entry per tendon ({n}), got {len(vals)}: {values!r}"
         )
-    out = []
+    out: list[float | None] = []
     for i, v in enumerate(vals):
         if v is None:
             out.append(None)
@@ -476,7 +482,7 @@ class Scene:
     gravity: Vec3Like = (0.0, 0.0, 0.0)  # stored as a tuple
     sliding: str | Sequence[str] = "in"
 
-    def __post_init__(self):
+    def __post_init__(self) -> None:
         if not isinstance(self.robot, Robot):
             raise ValueError(f"Scene.robot must be a tendonrod.Robot, got {self.robot!r}")
         n = self.robot.n_tendons
@@ -582,4 +588,5 @@ class Scene:
 
     def displacement_controlled(self) -> tuple[bool, ...]:
         """Per tendon: True where the displacement is prescribed (tension unknown)."""
-        return tuple(d is not None for d in self.displacement)
+        disp = cast(tuple[float | None, ...], self.displacement)  # filled by __post_init__
+        return tuple(d is not None for d in disp)

@@ -48,6 +48,7 @@ def run_case(case: StressCase) -> dict:
             r = case.ramp()
             rec.update(r)
         else:
+            assert case.build is not None  # a case without a ramp builds its scene
             scene, opts = case.build()
             t0 = time.perf_counter()
             sol = solve_quiet(scene, opts)

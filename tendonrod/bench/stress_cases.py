@@ -34,7 +34,7 @@ class StressCase:
 
     name: str
     group: str
-    build: Callable
+    build: Callable | None  # None for a ramp
     well_posed: bool = True
     expect_words: tuple = ()
     check: Callable | None = None
@@ -191,7 +191,8 @@ def _load_cases() -> list[StressCase]:
                         e = float(np.linalg.norm(sol.tip_position - ref) / L)
                         return e, e < 1e-6, "vs exact elastica"
 
-                wp, words = True, ()
+                wp = True
+                words: tuple[str, ...] = ()
                 if (mag == 100.0 and (tl, lab) in KAPPA_R_LIMIT) or (
                     mag == 30.0 and (tl, lab) == ("90deg", "transverse-x")
                 ):

@@ -26,6 +26,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+from collections.abc import Callable
 
 import numpy as np
 
@@ -190,7 +191,8 @@ def _reference_check(mu, sliding, F, kind, value, EA, tendon=0):
 #: Loaded Kirchhoff cases against the free-body reference: (mu, sliding, tip force (Fx,
 #: Fz) [N], control kind, its value [N or m], tendon EA [N]).  Loads against the bend
 #: reverse the curvature along the rod (a kink of the friction law).
-LOADED = (
+_Loaded = tuple[float, str, tuple[float, float], str, float, float]
+LOADED: tuple[_Loaded, ...] = (
     (1.0, "in", (-0.5, 0.0), "tension", 3.0, math.inf),
     (1.0, "out", (-0.5, -0.3), "displacement", 0.012, math.inf),
     (0.5, "in", (-0.2, -0.1), "displacement", 0.008, 2e3),
@@ -198,6 +200,11 @@ LOADED = (
     (2.0, "out", (-0.2, -0.1), "tension", 1.5, math.inf),
     (1.0, "out", (0.0, -0.2), "displacement", 0.008, 2e3),
 )
+
+
+def _cosserat_build(case: _Loaded) -> Callable[[], tuple[Scene, Options]]:
+    """The builder of a loaded case (a row of :data:`LOADED`) on a Cosserat backbone."""
+    return lambda: (_loaded_scene(*case, kirchhoff=False), Options())
 
 
 def _loaded_cases(StressCase) -> list:
@@ -226,7 +233,7 @@ def _loaded_cases(StressCase) -> list:
     # verified at 206 steps); there the Cosserat rod's tension, growing like 1/(s* - s)
     # toward the tip, leaves a truncation of 3e-9 at the step cap: counted as beyond the
     # model's reach, a failure that must name the tendon at the centre of curvature
-    cosserat = (
+    cosserat: tuple[tuple[float, str, tuple[float, float], str, float, float, bool], ...] = (
         LOADED[0] + (True,),
         (1.0, "out", (-0.4, -0.2), "displacement", 0.012, math.inf, True),
         LOADED[1] + (False,),
@@ -236,12 +243,7 @@ def _loaded_cases(StressCase) -> list:
             StressCase(
                 f"friction/loaded/mu={mu:g}/{sl}/F=({F[0]:g},{F[1]:g})N/{kind}={val:g}/cosserat",
                 GROUP,
-                (
-                    lambda a=(mu, sl, F, kind, val, EA): (
-                        _loaded_scene(*a, kirchhoff=False),
-                        Options(),
-                    )
-                ),
+                _cosserat_build((mu, sl, F, kind, val, EA)),
                 well_posed=ok,
                 expect_words=() if ok else KAPPA_R_WORDS,
             )
@@ -319,14 +321,14 @@ def _slack_cases(StressCase) -> list:
                 check=_slack_elastica(0.5, sl)[1],
             )
         )
-    for sl in (("in", "out"), ("out", "in")):
+    for pair in (("in", "out"), ("out", "in")):
         cases.append(
             StressCase(
-                f"friction/slack/opposing/mu=(0.5,1)/{sl[0]},{sl[1]}/planar",
+                f"friction/slack/opposing/mu=(0.5,1)/{pair[0]},{pair[1]}/planar",
                 GROUP,
-                (lambda s=sl: (_opposing(s), Options())),
-                check=_reference_check(0.5, sl[0], F_PAIR, "displacement", Q0, EA_PAIR),
-                quick=sl == ("in", "out"),
+                (lambda s=pair: (_opposing(s), Options())),
+                check=_reference_check(0.5, pair[0], F_PAIR, "displacement", Q0, EA_PAIR),
+                quick=pair == ("in", "out"),
             )
         )
     cases.append(

@@ -89,15 +89,12 @@ def _exact_scenes() -> list[WPScene]:
     L, EI = p["L"], EI_of(p)
     M = (0.0, math.pi * EI / L, 0.0)  # a half circle
     sc = Scene(Robot(rod_of(p, kirchhoff=False), []), loads=[PointLoad(s=L, moment=M)])
+
+    def circle(L=L, EI=EI, M=M):
+        return refs.circle_end_moment(L, EI, M)[0][0]
+
     scenes.append(
-        WPScene(
-            "circle",
-            "circle: end moment, half turn (exact)",
-            sc,
-            lambda L=L, EI=EI, M=M: refs.circle_end_moment(L, EI, M)[0][0],
-            "exact",
-            _tip_scale,
-        )
+        WPScene("circle", "circle: end moment, half turn (exact)", sc, circle, "exact", _tip_scale)
     )
     # 2. elastica: Kirchhoff cantilever, transverse tip force F L^2/EI = 5 (tip angle 70 deg).
     F = 5.0 * EI / L**2
@@ -262,7 +259,7 @@ def wp_settings(quick: bool):
         rk4 = [4, 6, 8, 12, 16, 24, 32, 48, 64, 96, 128, 192, 256, 512, 1024]
         rk8 = [1, 2, 3, 4, 5, 6, 8, 10, 12, 16, 24, 32, 48, 64]
         rt = [1e-4, 1e-5, 1e-6, 1e-7, 1e-8, 1e-9, 1e-10, 1e-11, 1e-12, 1e-13]
-    out = []
+    out: list[tuple[str, dict[str, object], float]] = []
     for n in rk4:
         out.append(("rk4", dict(integrator="rk4", steps=n), n))
     for n in rk8:
@@ -305,10 +302,10 @@ def run_work_precision(
             raise ValueError(
                 f"unknown work-precision scene(s) {sorted(unknown)}; known: {[s.name for s in allsc]}"
             )
-    scenes = [s for s in allsc if not scenes or s.name in scenes]
-    refs_ = load_references(scenes, out, log)
+    chosen = [s for s in allsc if not scenes or s.name in scenes]
+    refs_ = load_references(chosen, out, log)
     rows = []
-    for sc in scenes:
+    for sc in chosen:
         ref = refs_[sc.name]
         # cross-check: the core's own adaptive integrator at its tightest setting
         xs = solve_quiet(
@@ -329,7 +326,7 @@ def run_work_precision(
                     )
         rows.append(_default_row(sc, ref, xerr, repeats, log))
     write_csv(os.path.join(out, "work_precision.csv"), rows, WP_COLS)
-    plot_work_precision(rows, scenes, os.path.join(out, "work_precision.png"))
+    plot_work_precision(rows, chosen, os.path.join(out, "work_precision.png"))
     summary = summarize_work_precision(rows)
     with open(os.path.join(out, "work_precision_summary.md"), "w") as fh:
         fh.write(summary)

@@ -96,13 +96,13 @@ def asbuilt_scenes(WPScene) -> list:
             _tip_scale,
         )
     )
-    sc, a = precurved_scene()
+    sc, args = precurved_scene()
     out.append(
         WPScene(
             "precurved",
             "precurved u*=(5,15,10)/m, end moment (exact helix)",
             sc,
-            lambda a=a: refs.precurved_helix_end_moment(*a)[1],
+            lambda a=args: refs.precurved_helix_end_moment(*a)[1],
             "exact",
             _tip_scale,
         )

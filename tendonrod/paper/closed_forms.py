@@ -4,6 +4,7 @@
 from __future__ import annotations
 
 import math
+from typing import Any
 
 import numpy as np
 
@@ -54,7 +55,7 @@ def design_study(
     EI, L = rod.bending_stiffness, rod.length
     alphas = np.logspace(-1, 5, 241) if alphas is None else np.asarray(alphas, dtype=float)
     cf = closed_form_tip_sigma_vs_alpha(alphas)
-    out = {
+    out: dict[Any, Any] = {
         "alpha": alphas,
         "target": target_sigma,
         "parallel": cf["parallel"],

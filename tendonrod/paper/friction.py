@@ -22,6 +22,7 @@ Every function returns plain arrays in a dict; :mod:`tendonrod.paper.charts` dra
 from __future__ import annotations
 
 import math
+from typing import Any
 
 import numpy as np
 
@@ -168,7 +169,11 @@ def actuation_hysteresis(
     """
     q_max = float(actuate(friction_robot(0.0, proto), theta_max, options=options).displacements[0])
     q = np.linspace(0.0, q_max, n)
-    out = {"q": q, "frictions": tuple(float(m) for m in frictions), "theta_max": theta_max}
+    out: dict[Any, Any] = {
+        "q": q,
+        "frictions": tuple(float(m) for m in frictions),
+        "theta_max": theta_max,
+    }
     for mu in (0.0, *out["frictions"]):
         robot = friction_robot(mu, proto)
         rec = {}

@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
@@ -109,7 +110,12 @@ def prototype_shapes(
     (axial, lateral) [m], lateral positive along F (downwards in the experiment)."""
     d = proto.design(routing)
     s = np.linspace(0.0, d["L"], n)
-    out = {"s": s, "routing": routing, "z": proto.z_loads[-4:], "forces": tuple(forces)}
+    out: dict[Any, Any] = {
+        "s": s,
+        "routing": routing,
+        "z": proto.z_loads[-4:],
+        "forces": tuple(forces),
+    }
     for F in forces:
         for z in proto.z_loads[-4:]:
             out[(F, z)] = analytic.planar_shape(s, F, z, d["L"], d["EI"], d["a"], d["b"], d["k"])
@@ -140,12 +146,12 @@ def actuation_tradeoff(
     the closed-form tension (eqs. 37-38), and 'shape_loaded' / 'q_loaded' for the bottom
     panel (None where the root find did not converge).
     """
-    out = {"theta": theta, "load": load}
+    out: dict[Any, Any] = {"theta": theta, "load": load}
     for routing in ("parallel", "converging"):
         robot = _prototype_robot(routing, proto)
         act = actuate(robot, theta, options=options)
         d = proto.design(routing)
-        rec = {
+        rec: dict[Any, Any] = {
             "shape": np.asarray(act.solution.position),
             "tension": float(act.tensions[0]),
             "q_over_L": float(act.displacements[0] / d["L"]),

@@ -10,6 +10,7 @@ import math
 import warnings
 from collections.abc import Sequence
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
@@ -150,6 +151,7 @@ def actuate(
     if not (isinstance(tendon, (int, np.integer)) and 0 <= tendon < nt):
         raise ValueError(f"tendon must be a tendon index in 0..{nt - 1}, got {tendon!r}")
     scene = Scene(robot, tension=list(base))
+    target: dict[str, Any]
     if is_planar(scene):
         target = {"tip_angle": float(theta)}
     else:

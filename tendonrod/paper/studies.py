@@ -7,6 +7,7 @@ from __future__ import annotations
 import dataclasses
 import math
 import warnings
+from typing import Any
 
 import numpy as np
 
@@ -92,7 +93,7 @@ def straight_load_sweep(rod=None, offset: float = 0.01, loads=None, options=None
     EI, L = rod.bending_stiffness, rod.length
     F_nd = np.linspace(0.0, 3.0, 31) if loads is None else np.asarray(loads, dtype=float)
     F = F_nd * EI / L**2
-    out = {"F_nd": F_nd}
+    out: dict[Any, Any] = {"F_nd": F_nd}
     cases = {
         "no tendon": (Robot(rod, []), 0.0, 0.0),
         "parallel": (single_tendon_robot(rod, "parallel", offset), 0.0, math.inf),
@@ -164,7 +165,7 @@ def out_of_plane_comparison(
     r^2 k L / (3 EI) in ``alphas3`` and tension held.  Returns backbones (N, 3) [m]."""
     rod = paper_rod_ivb() if rod is None else rod
     EI = rod.bending_stiffness
-    out = {"force": np.asarray(force, dtype=float), "alphas3": tuple(alphas3)}
+    out: dict[Any, Any] = {"force": np.asarray(force, dtype=float), "alphas3": tuple(alphas3)}
     forces = np.outer(np.linspace(0.0, 1.0, 11)[1:], force)
     for a3 in alphas3:
         EA = tendon_EA(3.0 * a3, EI, offset)
@@ -202,7 +203,7 @@ def torsion_paradox(
     rod = paper_rod_ivb() if rod is None else rod
     EI, GJ, L = rod.bending_stiffness, rod.torsional_stiffness, rod.length
     M_nd = np.linspace(0.0, twist_max, n)
-    out = {"M_nd": M_nd, "no tendon": M_nd.copy(), "alphas": tuple(alphas)}
+    out: dict[Any, Any] = {"M_nd": M_nd, "no tendon": M_nd.copy(), "alphas": tuple(alphas)}
     for alpha in alphas:
         EA = tendon_EA(alpha, EI, offset)
         robot = Robot(
@@ -240,7 +241,7 @@ def compliance_map(
     rod = paper_rod_ivb() if rod is None else rod
     EI, L = rod.bending_stiffness, rod.length
     zeta = np.linspace(0.05, 1.0, 20) if zeta is None else np.asarray(zeta, dtype=float)
-    out = {"zeta": zeta, "theta": theta, "alpha": alpha}
+    out: dict[Any, Any] = {"zeta": zeta, "theta": theta, "alpha": alpha}
     for routing in routings:
         robot = single_tendon_robot(rod, routing, offset, alpha)
         act = actuate(robot, theta, options=options)
@@ -297,7 +298,11 @@ def tip_compliance_vs_alpha(
     rod = paper_rod_ivb() if rod is None else rod
     EI, L = rod.bending_stiffness, rod.length
     alphas = np.logspace(-1, 4, 21) if alphas is None else np.asarray(alphas, dtype=float)
-    out = {"alpha": alphas, "theta": theta, "closed": closed_form_tip_sigma_vs_alpha(alphas)}
+    out: dict[Any, Any] = {
+        "alpha": alphas,
+        "theta": theta,
+        "closed": closed_form_tip_sigma_vs_alpha(alphas),
+    }
     for routing in ("parallel", "converging"):
         act = actuate(single_tendon_robot(rod, routing, offset, math.inf), theta, options=options)
         EAs = [tendon_EA(a, EI, offset) for a in alphas]
@@ -368,7 +373,7 @@ def slack_study(
         act = actuate(robot, theta, options=options)
     F = np.linspace(0.0, F_max, n)
     tip0 = np.asarray(act.solution.tip_position)
-    out = {
+    out: dict[Any, Any] = {
         "F": F,
         "theta": theta,
         "opposing": opposing,

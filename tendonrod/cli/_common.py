@@ -1,0 +1,30 @@
+"""What the subcommands share: the exit codes, --plot's check, --sliding's override."""
+
+from __future__ import annotations
+
+EXIT_OK = 0
+EXIT_NOT_CONVERGED = 1
+EXIT_BAD_INPUT = 2
+EXIT_MISSING_DEPENDENCY = 3
+EXIT_CODES = (
+    "Exit codes: 0 ok; 1 did not converge / a figure failed; 2 bad input; 3 an optional "
+    "dependency is not installed (the message names the extra to install)."
+)
+
+
+def _require_plot(args) -> None:
+    """With --plot, matplotlib must be there before the solve starts (else exit 3)."""
+    if args.plot:
+        from tendonrod._extras import optional_import
+
+        optional_import("matplotlib.pyplot", "--plot")
+
+
+def _with_sliding(spec, sliding):
+    """``spec`` with every tendon's sliding direction set to ``sliding`` ("in" / "out"),
+    or unchanged when it is None (the command line's --sliding over the file's)."""
+    import dataclasses
+
+    if sliding is None:
+        return spec
+    return dataclasses.replace(spec, scene=dataclasses.replace(spec.scene, sliding=sliding))
