@@ -23,10 +23,7 @@ from ..plausibility import Finding, PlausibilityWarning, summarize
 from ..results import ConvergenceWarning, failed_points, report_failure
 from ..solver import compliance
 from ._chunk import (
-    OUTCOME_ERROR,
-    OUTCOME_NOT_CONVERGED,
     OUTCOME_NOT_RUN,
-    OUTCOME_OK,
     STATUS_NONE,
     _BuildFailure,
     _run_chunk,
@@ -37,19 +34,8 @@ from ._file import append_line, fingerprint_of, open_progress
 from ._progress import progress_bar
 from ._result import SweepResult
 
-__all__ = [
-    "sweep",
-    "SweepResult",
-    "set_path",
-    "get_path",
-    "tip_measure",
-    "ComplianceMeasure",
-    "OUTCOME_OK",
-    "OUTCOME_NOT_CONVERGED",
-    "OUTCOME_ERROR",
-    "OUTCOME_NOT_RUN",
-    "STATUS_NONE",
-]
+# what this module defines (the package, tendonrod.sweeps, re-exports it with the rest)
+__all__ = ["sweep", "tip_measure", "ComplianceMeasure"]
 
 _DEFAULT_LIST_CHUNK = 32
 
