@@ -214,7 +214,7 @@ typedef struct tr_options {
                              evaluation, see TR_DEFAULT_MAX_WORK], everything included
                              (continuation, step verification, confirmation); deterministic,
                              so a solve stays bitwise reproducible; default TR_DEFAULT_MAX_WORK
-                             (a hopeless solve gives up within ~0.7 s) */
+                             (a hopeless solve gives up within ~1 s) */
     double max_time;       /* wall-clock limit per solve [s], 0: none; default 0.  Opt-in and
                              not deterministic (the machine's speed decides where it stops) */
     int auto_shooting;     /* 1: with shooting_segments = 1, the model chooses multiple
