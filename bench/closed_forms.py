@@ -11,7 +11,7 @@ form: s an array, every design parameter a scalar.
 
 Run:  MPLBACKEND=Agg .venv/bin/python bench/closed_forms.py
 Writes bench/results/closed_forms.csv and bench/results/closed_forms.png.
-Goal (issue 2): ufunc >= 2x the NumPy expression, and >= 5e7 evaluations/s
+Goal: ufunc >= 2x the NumPy expression, and >= 5e7 evaluations/s
 for `deflection` on one core.  (The one-line formulas -- equivalent_stiffness,
 pattern_factor, actuation tensions -- are memory-bound: NumPy's SIMD loops
 run them at about the same speed as, or faster than, our scalar loops with

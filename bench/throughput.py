@@ -1,4 +1,4 @@
-"""Throughput of a 10,000-point load sweep (issue 7), measured in one run.
+"""Throughput of a 10,000-point load sweep, measured in one run.
 
 Scene: a three-tendon robot (tendons at 0, 120, 240 deg, offset 10 mm, 0.8 mm
 nitinol-like steel rod 0.2 m long, Cosserat, inextensible tendons): tendon 0 is

@@ -114,7 +114,7 @@ def tension_findings(robot, s, m_body, tensions) -> list:
     - u1 sin phi)``, ``u = m_b / EI``), reaching 0.9 somewhere on [0, end]: its path is
     then within 10 % of the backbone's centre of curvature (where ``|w_i| = 1 - r kappa``
     vanishes).  A tendon alone at a moment-free tip bends the backbone to ``kappa = tau
-    r / EI``, so this is the issue's ``tau >= 0.9 EI/r^2`` measured where it matters:
+    r / EI``, so this is the rule's ``tau >= 0.9 EI/r^2`` measured where it matters:
     tensions that other tendons balance (high antagonistic tension) do not count.
     ``s`` (N,) [m], ``m_body`` (N, 3) [N m], ``tensions`` (nt,) [N]."""
     EI = robot.rod.bending_stiffness

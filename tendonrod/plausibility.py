@@ -88,7 +88,7 @@ __all__ = [
 # --------------------------------------------------------------------------- thresholds
 #: Backbone axial or shear strain [-] beyond which linear elasticity (and, for a
 #: Kirchhoff rod, the inextensible model) is out of its range: metals yield below
-#: 1 %, superelastic NiTi's plateau ends near 6-8 %; 2 % is the issue's limit.
+#: 1 %, superelastic NiTi's plateau ends near 6-8 %; 2 % is the rule's limit.
 MAX_STRAIN = 0.02
 #: L/d below which a rod is too stubby for rod theory (shear, warping and the
 #: section's own deformation are no longer small).

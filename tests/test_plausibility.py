@@ -248,7 +248,7 @@ def test_self_intersection_prefilter_loses_no_pair():
 
 def test_tension_rule_measures_how_close_a_tendon_comes_to_the_centre_of_curvature():
     """A lone parallel tendon at a free tip bends the rod to kappa = tau r / EI: r kappa is
-    the tension over EI/r^2, the issue's rule.  A converging tendon is tilted by its slope
+    the tension over EI/r^2, the rule.  A converging tendon is tilted by its slope
     a, so at the base r kappa = x solves x = (tau r^2/EI) (1 - x) / sqrt(a^2 + (1 - x)^2)
     (moment balance of the distal part): 1.4 EI/r^2 takes it to only 0.914 of the way."""
     found = quiet(tr.solve, circle(0.95 * 180 / math.pi * L13 / R5)).plausibility  # 0.95 EI/r^2

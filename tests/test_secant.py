@@ -134,7 +134,7 @@ def test_tangent_trap_four_tendon_robot():
     compression = tau * L13 / ROD13.axial_stiffness
     assert abs(sol.slack[1] - compression) <= 1e-5 * compression
     assert abs(sol.slack[3] - compression) <= 1e-5 * compression
-    assert 30e-6 < compression < 32e-6  # the 31 um
+    assert 30e-6 < compression < 32e-6  # tau L / EA: 31 um
     Ct = tr.compliance(sc)
     # without the side tendons (and the slack one at -x), the same bent backbone
     alone = tr.Scene(tr.Robot(ROD13, [tr.Tendon(offset=r)]), displacement=[q], loads=sc.loads)
@@ -148,7 +148,7 @@ def test_tangent_trap_four_tendon_robot():
     # the robot is symmetric about its x-z plane: +-0.1 N along y are mirror images
     assert abs(Cp[1, 1] - Cm[1, 1]) <= 1e-7 * Cp[1, 1]
     ratio = Ct[1, 1] / Cp[1, 1]
-    assert 2.5 < ratio < 2.8, ratio  # the "2.6x softer than the secant at 0.1 N"
+    assert 2.5 < ratio < 2.8, ratio  # 2.6x softer than the secant at 0.1 N
     # at +0.1 N the tendon on the convex side (-y) is taut, the other still slack
     loaded = tr.Scene(
         sc.robot, displacement=sc.displacement, loads=[tr.PointLoad(s=L13, force=(0, 0.1, 0))]

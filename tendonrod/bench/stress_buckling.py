@@ -18,7 +18,7 @@ from ..problem import Problem
 from . import references as refs
 from .common import FIG17, rod_of
 
-# the wire: L = 0.25 m, d = 1.2 mm, E = 60 GPa, G = 23 GPa (P_E = 0.241 N)
+# the NiTi wire of the strain rule: L = 0.25 m, d = 1.2 mm, E = 60 GPa, G = 23 GPa (P_E = 0.241 N)
 WIRE = dict(L=0.25, d=1.2e-3, E=60e9, G=23e9)
 
 

@@ -23,7 +23,7 @@ from ..solver import solve
 
 __all__ = ["plausibility_cases"]
 
-# Issue 13's wire: L = 0.25 m, d = 1.2 mm, E = 60 GPa, G = 23 GPa.
+# The NiTi wire of the plausibility rules: L = 0.25 m, d = 1.2 mm, E = 60 GPa, G = 23 GPa.
 _L, _D, _E, _G = 0.25, 1.2e-3, 60e9, 23e9
 
 
