@@ -12,181 +12,11 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "tr_act_iter.h"
 #include "tr_act_run.h"
 #include "tr_internal.h"
 #include "tr_qp.h"
 #include "tru_math.h"
-
-/* A step's outcome when a linearisation or the step's QP failed (it->err says which). */
-enum { ACT_ERROR = -1 };
-
-typedef struct {
-    act_run *a;
-    const tr_act_spec *sp;
-    int n, nt, mt, lsq, err;
-    int *disp;         /* (nt) 1: displacement-controlled */
-    double *c;         /* (n) the current controls (the state is a->cur) */
-    int lin;           /* 1: A, T, sw are the current state's linearisation */
-    double *A, *T;     /* (mt x n), (nt x n) */
-    int *sw;           /* (nt) the sides of their switch the tendons' derivatives are from */
-    double *side;      /* (nt) the sides asked for */
-    int nslack_side;   /* tendons at their switch linearised on the slack side */
-    int *slack_side;   /* (nt) */
-    int rows_ok, nfix; /* the trust region's fixed rows at this state (nfix of them) */
-    double *Gfix, *hfix;
-    double *H;    /* (n x n) quasi-Newton Hessian of the Lagrangian (minimum change) */
-    double nu;    /* the merit's penalty on the target and tension floors */
-    double delta; /* trust region (scaled controls) */
-    int rejected, optimal, have_lam;
-    double gcos;   /* square, least squares: the optimality test's cosine at state gcos_at */
-    int gcos_at;   /* (the slot; -1: none) */
-    double lam[6]; /* the target's multipliers */
-    double *mus;   /* (nt) the tension floors' multipliers */
-    /* scratch */
-    double *cn, *c2, *ca, *u, *v, *dd, *u0, *gold, *gnew, *s, *y, *Hs, *g0, *qg;
-    double *QH, *G, *h, *mu, *M, *rhs, *floor, *psi, *psin, *gbuf, *qpw;
-    int *active, *rows, *keep;
-} act_iter;
-
-static double maxabs(const double *v, int n)
-{
-    return tru_maxnorm(v, n);
-}
-
-static double dot(const double *x, const double *y, int n)
-{
-    double s = 0.0;
-    int i;
-    for (i = 0; i < n; i++) s += x[i] * y[i];
-    return s;
-}
-
-static int equal(const double *x, const double *y, int n)
-{
-    int i;
-    for (i = 0; i < n; i++)
-        if (!(x[i] == y[i])) return 0;
-    return 1;
-}
-
-static const act_state *cur(const act_iter *it)
-{
-    return it->a->pool + it->a->cur;
-}
-
-/* Move to state s at controls c (copied). */
-static void set_state(act_iter *it, const double *c, int s)
-{
-    if (c != it->c) memcpy(it->c, c, (size_t)it->n * sizeof(double));
-    it->a->cur = s;
-    it->lin = it->rows_ok = 0;
-    it->nslack_side = 0;
-    /* within 1e4 tol of the target, iterate solves are polished (see tr_act_run.c) */
-    it->a->polish = maxabs(it->a->pool[s].r, it->mt) <= 1e4 * it->sp->tol;
-}
-
-/* The guess (6 + 2 nt) of the equilibrium at controls cn that differ from the current ones
- * only in slack displacement controls: the same equilibrium (a slack tendon moves
- * nothing), those tendons' slack changed by the length paid out, c - cn. */
-static const double *slack_state(act_iter *it, const double *cn)
-{
-    const act_state *st = cur(it);
-    const int nt = it->nt;
-    int j;
-    memcpy(it->gbuf, st->g, (size_t)(6 + 2 * nt) * sizeof(double));
-    for (j = 0; j < it->n; j++)
-        if (cn[j] != it->c[j]) {
-            const int i = it->sp->idx[j];
-            it->gbuf[6 + i] = 0.0;
-            it->gbuf[6 + nt + i] = fmax(st->slack[i] + (it->c[j] - cn[j]), 0.0);
-        }
-    return it->gbuf;
-}
-
-/* Slack displacement controls moved to the taut side of their switch, their slack taken
- * up (a hair past it, 1e-12 of the scale), where the linearisation sees them act (on the
- * slack side pulling one moves nothing, and the iteration would never pull it back): in
- * least squares every slack one; in the least change those held taut (a finite floor,
- * which then keeps them there), and those below their scene value, drawn toward it (up to
- * the switch at most: a pull the least change gets for free).  A slack tendon moves
- * nothing, so the target residual stays where it was. */
-static void to_taut_side(act_iter *it)
-{
-    const tr_act_spec *sp = it->sp;
-    const act_state *st = cur(it);
-    double *cn = it->cn;
-    int j, s;
-    memcpy(cn, it->c, (size_t)it->n * sizeof(double));
-    for (j = 0; j < it->n; j++) {
-        const int i = sp->idx[j];
-        const double slack = st->slack[i];
-        if (!(it->disp[i] && slack > 0.0)) continue;
-        if (it->lsq || isfinite(sp->floor0[i]))
-            cn[j] += slack + 1e-12 * sp->scale[j];
-        else if (sp->c0[j] > it->c[j])
-            cn[j] = fmin(it->c[j] + slack + 1e-12 * sp->scale[j], sp->c0[j]);
-    }
-    if (equal(cn, it->c, it->n)) return;
-    s = tr_act_solve(it->a, cn, slack_state(it, cn));
-    if (s < 0) {
-        tr_act_solve(it->a, it->c, NULL); /* the workspace's warm state back at c */
-        return;
-    }
-    set_state(it, cn, s);
-}
-
-/* The side of its switch whose derivatives each tendon at it is to get: the taut one for
- * the displacement controls of least squares, those the least change holds taut (their
- * steps keep them there) and those it would pull toward their scene value (pulling acts
- * through the taut side); the side it is on for the others. */
-static void wanted_sides(act_iter *it)
-{
-    const tr_act_spec *sp = it->sp;
-    int j;
-    memset(it->side, 0, (size_t)it->nt * sizeof(double));
-    for (j = 0; j < it->n; j++) {
-        const int i = sp->idx[j], pull = sp->c0[j] > it->c[j] && !it->lsq;
-        if (it->disp[i] && (it->lsq || isfinite(sp->floor0[i]) || pull)) it->side[i] = 1.0;
-    }
-    for (j = 0; j < it->nslack_side; j++) it->side[it->slack_side[j]] = -1.0;
-}
-
-/* The linearisation at the current state, computed on first use (a state that meets the
- * target in a square or least-squares problem needs none): 0, or -1 (it->err set). */
-static int linearisation(act_iter *it)
-{
-    int status;
-    if (it->lin) return 0;
-    to_taut_side(it);
-    wanted_sides(it);
-    status = tr_act_linearize(it->a, it->a->cur, it->side, it->A, it->T, it->sw);
-    if (status != TR_OK) {
-        it->err = status;
-        return -1;
-    }
-    it->lin = 1;
-    return 0;
-}
-
-/* Lower bounds on the signed tensions (nt) [N]: the scene's taut tendons' (min_tension),
- * and 0 for the displacement controls taut or at the taut side of their switch now (the
- * least change puts one that would rather be slack exactly at its switch, where it stops
- * costing).  0, or -1 (a linearisation failed). */
-static int floors(act_iter *it, double *f)
-{
-    const tr_act_spec *sp = it->sp;
-    int j, need = 0;
-    memcpy(f, sp->floor0, (size_t)it->nt * sizeof(double));
-    for (j = 0; j < it->n; j++)
-        need |= it->disp[sp->idx[j]] && !(cur(it)->tension[sp->idx[j]] > 0.0);
-    if (need && linearisation(it) < 0) return -1;
-    for (j = 0; j < it->n; j++) {
-        const int i = sp->idx[j];
-        const int held = cur(it)->tension[i] > 0.0 || (need && it->sw[i] > 0);
-        if (it->disp[i] && held) f[i] = fmax(f[i], 0.0);
-    }
-    return 0;
-}
 
 static double merit(const act_iter *it, const double *c, const double *r, const double *psi,
                     const double *floor)
@@ -226,7 +56,7 @@ static int box(act_iter *it, int at, double delta)
     const int n = it->n;
     int j, r;
     if (!it->rows_ok) { /* the rows but the region's size: fixed at a state */
-        if (linearisation(it) < 0) return -1;
+        if (tr_act_linearisation(it) < 0) return -1;
         memset(it->Gfix, 0, (size_t)(3 * n) * n * sizeof(double));
         r = 0;
         for (j = 0; j < n; j++) it->Gfix[(r + j) * n + j] = 1.0;
@@ -241,7 +71,7 @@ static int box(act_iter *it, int at, double delta)
             }
         for (j = 0; j < n; j++) {
             const int i = sp->idx[j];
-            const double sl = cur(it)->slack[i];
+            const double sl = tr_act_cur(it)->slack[i];
             if (it->disp[i] && sl > 0.0 && it->sw[i] <= 0) {
                 it->Gfix[r * n + j] = -1.0;
                 it->hfix[r - 2 * n] = -sl / sp->scale[j];
@@ -276,7 +106,7 @@ static double predicted(const act_iter *it, const double *r, const double *u)
     double s = 0.0;
     int i;
     for (i = 0; i < it->mt; i++) {
-        const double v = r[i] + dot(it->A + i * it->n, u, it->n);
+        const double v = r[i] + tr_act_dot(it->A + i * it->n, u, it->n);
         s += v * v;
     }
     return s;
@@ -294,10 +124,10 @@ static int accepted(act_iter *it, const double *cn, int s, const int *rows, int 
         grad(it, it->c, rows, nr, it->gold);
         for (i = 0; i < n; i++) it->s[i] = (cn[i] - it->c[i]) / it->sp->scale[i];
         for (i = 0; i < it->nt; i++)
-            same &= (cur(it)->tension[i] > 0.0) == (it->a->pool[s].tension[i] > 0.0);
-        set_state(it, cn, s);
+            same &= (tr_act_cur(it)->tension[i] > 0.0) == (it->a->pool[s].tension[i] > 0.0);
+        tr_act_set_state(it, cn, s);
         if (same) {
-            if (linearisation(it) < 0) return -1;
+            if (tr_act_linearisation(it) < 0) return -1;
             grad(it, it->ca, rows, nr, it->gnew);
             for (i = 0; i < n; i++) it->y[i] = it->gnew[i] - it->gold[i];
             tr_bfgs_update(it->n, it->H, it->s, it->y, it->Hs);
@@ -308,7 +138,7 @@ static int accepted(act_iter *it, const double *cn, int s, const int *rows, int 
             for (i = 0; i < n; i++) it->H[i * n + i] = 1.0;
         }
     } else {
-        set_state(it, cn, s);
+        tr_act_set_state(it, cn, s);
     }
     it->rejected = 0;
     return 0;
@@ -331,7 +161,7 @@ static void to_best(act_iter *it)
     double dmax = 0.0;
     int j;
     for (j = 0; j < it->n; j++) dmax = fmax(dmax, fabs(b->key[j] - it->c[j]) / it->sp->scale[j]);
-    set_state(it, b->key, it->a->best);
+    tr_act_set_state(it, b->key, it->a->best);
     it->delta = fmax(dmax / 2.0, 1e-6);
     it->rejected = 0;
 }
@@ -342,7 +172,7 @@ static void to_best(act_iter *it)
  * fidelity test may have reduced the residual), else it stops. */
 static int refused(act_iter *it, const double *u)
 {
-    it->delta = maxabs(u, it->n) / 4.0;
+    it->delta = tru_maxnorm(u, it->n) / 4.0;
     it->rejected++;
     if (it->rejected < TR_ACT_MAX_REJECTED) return TR_ACT_REJECTED;
     if (it->lsq && better_known(it)) {
@@ -363,7 +193,7 @@ static int chord(act_iter *it, double *cn, int s, double rnorm, const int *keep,
 {
     const tr_act_spec *sp = it->sp;
     const int n = it->n, mt = it->mt;
-    const double rmax = maxabs(it->a->pool[s].r, mt);
+    const double rmax = tru_maxnorm(it->a->pool[s].r, mt);
     int i, j, s2;
     if (!(sp->tol < rmax && rmax <= 1e-2 * rnorm)) return s;
     memcpy(it->M, it->A, (size_t)mt * n * sizeof(double));
@@ -374,7 +204,7 @@ static int chord(act_iter *it, double *cn, int s, double rnorm, const int *keep,
     if (tr_act_lstsq(it->a, mt + nk, n, it->M, it->rhs, 1e-12, it->dd) < 0) return s;
     for (j = 0; j < n; j++) it->c2[j] = cn[j] + it->dd[j] * sp->scale[j];
     s2 = tr_act_solve(it->a, it->c2, NULL);
-    if (s2 < 0 || !(maxabs(it->a->pool[s2].r, mt) < rmax)) {
+    if (s2 < 0 || !(tru_maxnorm(it->a->pool[s2].r, mt) < rmax)) {
         tr_act_solve(it->a, cn, NULL); /* the workspace's warm state back at cn */
         return s;
     }
@@ -391,9 +221,9 @@ static int sqp(act_iter *it)
     const double *r, *c;
     double rnorm, rr, phi, viol = 0.0, mmax = 0.0;
     int i, j, nf = 0, nb, nk = 0, s, s2;
-    if (linearisation(it) < 0) return ACT_ERROR; /* first: it may move the state */
-    r = cur(it)->r, c = it->c;
-    if (floors(it, it->floor) < 0) return ACT_ERROR;
+    if (tr_act_linearisation(it) < 0) return ACT_ERROR; /* first: it may move the state */
+    r = tr_act_cur(it)->r, c = it->c;
+    if (tr_act_floors(it, it->floor) < 0) return ACT_ERROR;
     for (i = 0; i < nt; i++)
         if (isfinite(it->floor[i])) it->rows[nf++] = i;
     tr_act_psi(it->a, it->a->cur, it->psi);
@@ -408,8 +238,8 @@ static int sqp(act_iter *it)
     tr_gauss_newton(it->n, it->mt, it->A, r, it->QH, it->qg);
     memset(it->g0, 0, (size_t)n * sizeof(double));
     if (qp(it, it->QH, it->qg, 0, it->A, nb, it->g0, it->v, it->lam) < 0) return ACT_ERROR;
-    rnorm = maxabs(r, mt);
-    rr = dot(r, r, mt);
+    rnorm = tru_maxnorm(r, mt);
+    rr = tr_act_dot(r, r, mt);
     if (rnorm > sp->tol && !(rr - predicted(it, r, it->v) > 1e-28 * rr))
         return TR_ACT_UNREACHABLE; /* no step within the tensions brings the target nearer */
     if ((nb = box(it, nf, it->delta)) < 0) return ACT_ERROR;
@@ -426,9 +256,9 @@ static int sqp(act_iter *it)
     viol /= sp->tau_scale;
     /* stay: the step and the stationarity residual H u of the linearised problem's
      * optimality conditions both below TR_ACT_KKT_TOL (scaled units), a KKT point */
-    for (i = 0; i < n; i++) it->Hs[i] = dot(it->H + i * n, it->u, n);
+    for (i = 0; i < n; i++) it->Hs[i] = tr_act_dot(it->H + i * n, it->u, n);
     if (rnorm <= sp->tol && viol <= 1e-9 &&
-        fmax(maxabs(it->u, n), maxabs(it->Hs, n)) <= TR_ACT_KKT_TOL) {
+        fmax(tru_maxnorm(it->u, n), tru_maxnorm(it->Hs, n)) <= TR_ACT_KKT_TOL) {
         it->optimal = 1;
         return TR_ACT_DONE;
     }
@@ -458,7 +288,7 @@ static int sqp(act_iter *it)
         }
     }
     if (s < 0) return refused(it, it->u);
-    if (maxabs(it->u, n) >= 0.9 * it->delta && maxabs(it->a->pool[s].r, mt) <= rnorm)
+    if (tru_maxnorm(it->u, n) >= 0.9 * it->delta && tru_maxnorm(it->a->pool[s].r, mt) <= rnorm)
         it->delta *= 2.0;
     for (i = 0; i < nf; i++) /* the tension floors the step holds */
         if (it->mus[it->rows[i]] > 0.0) it->keep[nk++] = it->rows[i];
@@ -475,16 +305,16 @@ static int lm(act_iter *it)
     const double *r;
     double rr, pred, rho, umax, e2, au2;
     int i, j, l, nb, nheld = 0, nflip = 0, s;
-    if (maxabs(cur(it)->r, mt) <= sp->tol) return TR_ACT_DONE;
-    if (linearisation(it) < 0) return ACT_ERROR; /* first: it may take up slack */
-    r = cur(it)->r;
+    if (tru_maxnorm(tr_act_cur(it)->r, mt) <= sp->tol) return TR_ACT_DONE;
+    if (tr_act_linearisation(it) < 0) return ACT_ERROR; /* first: it may take up slack */
+    r = tr_act_cur(it)->r;
     tr_gauss_newton(it->n, it->mt, it->A, r, it->QH, it->qg);
     if ((nb = box(it, 0, it->delta)) < 0) return ACT_ERROR;
     /* a displacement control at its switch (taut side, no tension to speak of): its
      * linearisation holds for pulling only (paid out, it goes slack and moves nothing) */
     for (j = 0; j < n; j++) {
         const int i = sp->idx[j];
-        if (it->disp[i] && it->sw[i] > 0 && cur(it)->tension[i] <= 1e-9 * sp->tau_scale) {
+        if (it->disp[i] && it->sw[i] > 0 && tr_act_cur(it)->tension[i] <= 1e-9 * sp->tau_scale) {
             memset(it->G + (size_t)(nb + nheld) * n, 0, (size_t)n * sizeof(double));
             it->G[(nb + nheld) * n + j] = 1.0;
             it->h[nb + nheld] = 0.0;
@@ -504,7 +334,7 @@ static int lm(act_iter *it)
         const int i = sp->idx[it->keep[j]];
         double size = 0.0;
         for (l = 0; l < n; l++) size += fabs(it->T[i * n + l] * it->u[l]);
-        if (cur(it)->tension[i] + dot(it->T + i * n, it->u, n) < -1e-6 * size)
+        if (tr_act_cur(it)->tension[i] + tr_act_dot(it->T + i * n, it->u, n) < -1e-6 * size)
             it->slack_side[nflip++] = i;
     }
     if (nflip && !it->nslack_side) {
@@ -515,9 +345,9 @@ static int lm(act_iter *it)
     /* (the rows after the region's 2n: bounds, held controls) */
     it->gcos = tr_lsq_cosine(n, mt, it->A, r, nb + nheld - 2 * n, it->G + 2 * n * n, it->h + 2 * n);
     it->gcos_at = it->a->cur;
-    rr = dot(r, r, mt);
+    rr = tr_act_dot(r, r, mt);
     pred = rr - predicted(it, r, it->u);
-    umax = maxabs(it->u, n);
+    umax = tru_maxnorm(it->u, n);
     if (!(pred > 1e-28 * rr) || umax <= 1e-13) {
         if (it->lsq && better_known(it)) { /* (not a minimum: a better state is known) */
             to_best(it);
@@ -531,7 +361,7 @@ static int lm(act_iter *it)
     /* the fidelity of the linearisation over the step: e = r_new - (r + A u) against A u */
     e2 = au2 = 0.0;
     for (i = 0; i < mt; i++) {
-        const double au = dot(it->A + i * n, it->u, n);
+        const double au = tr_act_dot(it->A + i * n, it->u, n);
         const double e = it->a->pool[s].r[i] - r[i] - au;
         e2 += e * e;
         au2 += au * au;
@@ -540,7 +370,7 @@ static int lm(act_iter *it)
     /* (least squares: a square target's Newton steps meet its root where the residual
      * falls, so that test alone keeps them) */
     if (sp->kind != TR_ACT_LEAST_SQUARES) e2 = 0.0;
-    if (maxabs(it->a->pool[s].r, mt) > sp->tol &&
+    if (tru_maxnorm(it->a->pool[s].r, mt) > sp->tol &&
         (rho <= 1e-4 || e2 > TR_ACT_FIDELITY * TR_ACT_FIDELITY * au2))
         return refused(it, it->u);
     if (rho > 0.75 && umax >= 0.9 * it->delta &&
@@ -560,107 +390,28 @@ static int release(act_iter *it)
     const tr_act_spec *sp = it->sp;
     const double tiny = 1e-9 * sp->tau_scale;
     int j, s, ok;
-    if (linearisation(it) < 0) return -1;
+    if (tr_act_linearisation(it) < 0) return -1;
     memcpy(it->cn, it->c, (size_t)it->n * sizeof(double));
     for (j = 0; j < it->n; j++) {
         const int i = sp->idx[j];
-        const double ten = cur(it)->tension[i];
+        const double ten = tr_act_cur(it)->tension[i];
         const int at_floor = it->have_lam && it->mus[i] > 0.0;
         const int at_switch = it->sw[i] > 0 || ten <= tiny;
         if (it->disp[i] && at_switch && (at_floor || ten <= 0.0) && it->cn[j] > sp->c0[j])
             it->cn[j] = sp->c0[j];
     }
-    if (equal(it->cn, it->c, it->n)) return 0;
-    s = tr_act_solve(it->a, it->cn, slack_state(it, it->cn));
-    ok = s >= 0 && maxabs(it->a->pool[s].r, it->mt) <= sp->tol;
+    if (tr_act_equal(it->cn, it->c, it->n)) return 0;
+    s = tr_act_solve(it->a, it->cn, tr_act_slack_state(it, it->cn));
+    ok = s >= 0 && tru_maxnorm(it->a->pool[s].r, it->mt) <= sp->tol;
     for (j = 0; j < it->n && ok; j++)
         if (it->cn[j] != it->c[j]) ok = it->a->pool[s].tension[sp->idx[j]] == 0.0;
     if (ok) {
-        set_state(it, it->cn, s);
+        tr_act_set_state(it, it->cn, s);
     } else { /* back to the verified point (and the workspace's warm state at it) */
         s = tr_act_solve(it->a, it->c, NULL);
-        if (s >= 0) set_state(it, it->c, s);
+        if (s >= 0) tr_act_set_state(it, it->c, s);
     }
     return 0;
-}
-
-/* ------------------------------------------------------------------ buffers */
-static int iter_alloc(act_iter *it, act_run *a, const tr_act_spec *sp)
-{
-    const size_t n = (size_t)sp->n, nt = (size_t)a->nt, mt = (size_t)sp->target.m;
-    const size_t gmax = nt + 5 * n + 1, qpw = tr_qp_work_len(sp->n, sp->target.m, (int)gmax);
-    /* every buffer and its length: one block of doubles, one of ints */
-    struct {
-        double **p;
-        size_t len;
-    } dv[] = {{&it->c, n},
-              {&it->cn, n},
-              {&it->c2, n},
-              {&it->ca, n},
-              {&it->u, n},
-              {&it->v, n},
-              {&it->dd, n},
-              {&it->u0, n},
-              {&it->gold, n},
-              {&it->gnew, n},
-              {&it->s, n},
-              {&it->y, n},
-              {&it->Hs, n},
-              {&it->g0, n},
-              {&it->qg, n},
-              {&it->H, n * n},
-              {&it->QH, n * n},
-              {&it->A, mt * n},
-              {&it->T, nt * n},
-              {&it->Gfix, 3 * n * n},
-              {&it->hfix, n},
-              {&it->G, gmax * n},
-              {&it->h, gmax},
-              {&it->mu, gmax},
-              {&it->M, (mt + nt) * n},
-              {&it->rhs, mt + nt},
-              {&it->mus, nt},
-              {&it->floor, nt},
-              {&it->psi, nt},
-              {&it->psin, nt},
-              {&it->side, nt},
-              {&it->gbuf, 6 + 2 * nt},
-              {&it->qpw, qpw}};
-    struct {
-        int **p;
-        size_t len;
-    } iv[] = {{&it->sw, nt},   {&it->slack_side, nt}, {&it->disp, nt},
-              {&it->rows, nt}, {&it->keep, nt + n},   {&it->active, gmax}};
-    const size_t nd = sizeof dv / sizeof dv[0], ni = sizeof iv / sizeof iv[0];
-    size_t len = 0, ilen = 0, j;
-    double *w;
-    int *iw, i;
-    memset(it, 0, sizeof *it);
-    it->a = a, it->sp = sp, it->n = (int)n, it->nt = (int)nt, it->mt = (int)mt;
-    for (j = 0; j < nd; j++) len += dv[j].len;
-    for (j = 0; j < ni; j++) ilen += iv[j].len;
-    w = (double *)calloc(len, sizeof(double));
-    iw = (int *)calloc(ilen, sizeof(int));
-    if (!w || !iw) {
-        free(w);
-        free(iw);
-        return -1;
-    }
-    for (j = 0; j < nd; j++) *dv[j].p = w, w += dv[j].len;
-    for (j = 0; j < ni; j++) *iv[j].p = iw, iw += iv[j].len;
-    for (i = 0; i < (int)nt; i++) it->disp[i] = a->m->tendon[i].control == TR_DISPLACEMENT;
-    for (i = 0; i < (int)n; i++) it->H[i * (int)n + i] = 1.0;
-    it->delta = TR_ACT_DELTA0;
-    it->lsq = sp->kind != TR_ACT_MIN_CHANGE;
-    it->gcos = NAN;
-    it->gcos_at = -1;
-    return 0;
-}
-
-static void iter_free(act_iter *it)
-{
-    free(it->c);
-    free(it->sw);
 }
 
 /* ------------------------------------------------------------------ the verdict */
@@ -675,7 +426,7 @@ static void iter_free(act_iter *it)
 static void verdict(const act_iter *it, tr_act_result *res, int back)
 {
     const tr_act_spec *sp = it->sp;
-    const int reached = maxabs(res->r, it->mt) <= sp->tol;
+    const int reached = tru_maxnorm(res->r, it->mt) <= sp->tol;
     const int here = it->gcos_at == it->a->cur && !back;
     int ok;
     res->optimality = it->lsq && here ? it->gcos : NAN;
@@ -714,14 +465,14 @@ int tr_actuate(tr_model *m, tr_data *d, const tr_act_spec *sp, tr_act_result *re
     memset(res->why, 0, sizeof res->why);
     if ((status = tr_act_check_spec(m, d, sp)) != TR_OK) return status;
     if (!(a = tr_act_run_alloc(m, d, sp))) return TR_ENOMEM;
-    if (iter_alloc(&it, a, sp) < 0) {
+    if (tr_act_iter_alloc(&it, a, sp) < 0) {
         tr_act_run_free(a);
         return TR_ENOMEM;
     }
     s = tr_act_run_first(a);
     memcpy(it.c, sp->c0, (size_t)n * sizeof(double));
     res->augmented = 0;
-    if (sp->augmented && maxabs(a->pool[s].r, it.mt) > sp->tol) {
+    if (sp->augmented && tru_maxnorm(a->pool[s].r, it.mt) > sp->tol) {
         /* the target inside the shooting system first; the iteration polishes or takes over */
         const int s2 = tr_act_augmented(a, it.cn);
         if (s2 >= 0) {
@@ -738,7 +489,7 @@ int tr_actuate(tr_model *m, tr_data *d, const tr_act_spec *sp, tr_act_result *re
         if (it.disp[t] && a->pool[s].slack[t] > 0.0)
             it.cn[j] += a->pool[s].slack[t] + 1e-12 * sp->scale[j];
     }
-    if (!equal(it.cn, it.c, n)) {
+    if (!tr_act_equal(it.cn, it.c, n)) {
         const int s2 = tr_act_solve(a, it.cn, NULL);
         if (s2 >= 0) {
             s = s2;
@@ -748,7 +499,7 @@ int tr_actuate(tr_model *m, tr_data *d, const tr_act_spec *sp, tr_act_result *re
             if (s3 >= 0) s = s3;
         }
     }
-    set_state(&it, it.c, s);
+    tr_act_set_state(&it, it.c, s);
     while (nit < sp->max_iter && !a->stop) {
         nit++;
         out = sp->kind == TR_ACT_MIN_CHANGE ? sqp(&it) : lm(&it);
@@ -761,10 +512,10 @@ int tr_actuate(tr_model *m, tr_data *d, const tr_act_spec *sp, tr_act_result *re
     if (out == TR_ACT_DONE && sp->kind == TR_ACT_MIN_CHANGE && release(&it) < 0) out = ACT_ERROR;
     if (out != ACT_ERROR && !a->stop && it.lsq && better_known(&it)) {
         /* never worse than a state the run solved (or its start): the best one returned */
-        set_state(&it, a->pool[a->best].key, a->best);
+        tr_act_set_state(&it, a->pool[a->best].key, a->best);
         back = 1;
     }
-    if (out != ACT_ERROR && !a->stop && floors(&it, res->floors) < 0) out = ACT_ERROR;
+    if (out != ACT_ERROR && !a->stop && tr_act_floors(&it, res->floors) < 0) out = ACT_ERROR;
     status = TR_OK;
     if (a->stop) {
         status = a->stop;
@@ -788,7 +539,7 @@ int tr_actuate(tr_model *m, tr_data *d, const tr_act_spec *sp, tr_act_result *re
         res->solves = a->solves;
         res->jacobians = a->jacobians;
     }
-    iter_free(&it);
+    tr_act_iter_free(&it);
     tr_act_run_free(a);
     return status;
 }
