@@ -135,3 +135,51 @@ def _rotation(owner: str, name: str, value) -> tuple:
             f"{owner}.{name} must be a proper rotation (det +1), got {value!r} (a reflection)"
         )
     return tuple(tuple(float(x) for x in row) for row in arr)
+
+
+# --------------------------------------------------------------------------- per tendon
+def _actuation(name: str, values, n: int) -> tuple[float | None, ...]:
+    if values is None:
+        return (None,) * n
+    if isinstance(values, (str, bytes)):
+        raise ValueError(f"Scene.{name} must be a sequence of length {n}, got {values!r}")
+    try:
+        vals = list(values)
+    except TypeError:
+        raise ValueError(
+            f"Scene.{name} must be a sequence of length {n} (one entry per "
+            f"tendon, None where not prescribed), got {values!r}"
+        ) from None
+    if len(vals) != n:
+        raise ValueError(
+            f"Scene.{name} must have one entry per tendon ({n}), got {len(vals)}: {values!r}"
+        )
+    out: list[float | None] = []
+    for i, v in enumerate(vals):
+        if v is None:
+            out.append(None)
+            continue
+        x = _real("Scene", f"{name}[{i}]", v)
+        if name == "tension" and x < 0.0:
+            raise ValueError(f"Scene.tension[{i}] must be >= 0 (a tendon cannot push), got {v!r}")
+        out.append(x)
+    return tuple(out)
+
+
+def _sliding(values, n: int) -> tuple[str, ...]:
+    """Scene.sliding as one "in" / "out" per tendon (ValueError naming the entry)."""
+    vals = [values] * n if isinstance(values, str) else values
+    try:
+        vals = list(vals)
+    except TypeError:
+        raise ValueError(
+            f'Scene.sliding must be "in", "out" or one per tendon, got {values!r}'
+        ) from None
+    if len(vals) != n:
+        raise ValueError(
+            f"Scene.sliding must have one entry per tendon ({n}), got {len(vals)}: {values!r}"
+        )
+    for i, v in enumerate(vals):
+        if v not in ("in", "out"):
+            raise ValueError(f'Scene.sliding[{i}] must be "in" or "out", got {v!r}')
+    return tuple(vals)

@@ -33,13 +33,15 @@ from ._fields import (
     _LENGTH_MAX,
     _LENGTH_MIN,
     Vec3Like,
+    _actuation,
     _length,
     _nonnegative,
     _positive,
-    _real,
     _rotation,
+    _sliding,
     _vec3,
 )
+from ._pretension import check_pretension
 from .loads import DistributedLoad, PointLoad, PointMass
 from .tendon import Tendon
 
@@ -251,11 +253,10 @@ class Rod:
 
 
 # --------------------------------------------------------------------------- robot
-# Relative tolerance on "the routing radius stays >= 0" and "the pretension set is
-# balanced": both are exact geometric statements that round-off can miss by a few
-# ulps (a converging tendon's radius at the tip is offset - offset/L*L).
+# Relative tolerance on "the routing radius stays >= 0" and "an anchor lies on the rod":
+# exact geometric statements that round-off can miss by a few ulps (a converging
+# tendon's radius at the tip is offset - offset/L*L).
 _GEOM_RTOL = 1e-12
-_BALANCE_RTOL = 1e-9
 
 
 @dataclass(frozen=True)
@@ -327,7 +328,7 @@ class Robot:
                     f"Robot.tendons[{i}].path ends at s = {t.path.knots[-1]!r} m, but the tendon "
                     f"is anchored at {self.tendon_end(i)!r} m: the path must span [0, end]"
                 )
-        self._check_pretension()
+        check_pretension(self.rod, tendons, [self.tendon_end(i) for i in range(len(tendons))])
         plausibility.warn(plausibility.offset_findings(self))
 
     @property
@@ -345,106 +346,8 @@ class Robot:
         t = self.tendons[i]
         return self.rod.length if t.end is None else min(t.end, self.rod.length)
 
-    def _check_pretension(self) -> None:
-        pre = [i for i, t in enumerate(self.tendons) if t.pretension > 0.0]
-        if not pre:
-            return
-        parts = self.rod.segments or (self.rod,)
-        if any(t.twist is not None or t.path is not None for t in self.tendons):
-            raise ValueError(
-                f"Robot.tendons[{pre[0]}].pretension={self.tendons[pre[0]].pretension!r}: "
-                f"pretension with helical or path-routed tendons is not supported"
-            )
-        if any(p.precurvature[2] != 0.0 for p in parts):
-            raise ValueError(
-                f"Robot.tendons[{pre[0]}].pretension={self.tendons[pre[0]].pretension!r}: "
-                f"pretension on a pretwisted backbone (precurvature uz != 0) is not supported "
-                f"(its turning channels twist the unloaded robot); prescribe tensions or "
-                f"displacements"
-            )
-        # balance on every segment between anchors: sum tau_p r_i(s) = 0 for all s there,
-        # i.e. both the offset and the slope moments vanish for the tendons present.
-        ends = sorted({self.tendon_end(i) for i in range(self.n_tendons)})
-        start = 0.0
-        for e in ends:
-            active = [i for i in range(self.n_tendons) if self.tendon_end(i) >= e]
-            mb = np.zeros(2)
-            ma = np.zeros(2)
-            scale = 0.0
-            for i in active:
-                t = self.tendons[i]
-                d = np.array([math.cos(t.angle), math.sin(t.angle)])
-                mb += t.pretension * t.offset * d
-                ma += t.pretension * t.slope * e * d
-                scale += t.pretension * (t.offset + abs(t.slope) * e)
-            if np.hypot(*mb) > _BALANCE_RTOL * scale or np.hypot(*ma) > _BALANCE_RTOL * scale:
-                vals = {i: self.tendons[i].pretension for i in active}
-                raise ValueError(
-                    f"Robot.tendons pretension {vals} is not balanced on s in [{start:g}, {e:g}] m: "
-                    f"sum of pretension * r_i(s) must vanish there (moment "
-                    f"{mb.tolist()} N m from offsets, {ma.tolist()} N m from slopes), otherwise "
-                    f"the 'unloaded' robot is not straight and pretension is not defined"
-                )
-            start = e
-        if self.rod.kirchhoff:
-            rigid = [i for i in pre if math.isinf(self.tendons[i].EA)]
-            if rigid:
-                raise ValueError(
-                    f"Robot.tendons[{rigid[0]}].pretension={self.tendons[rigid[0]].pretension!r} "
-                    f"needs axial compliance: an inextensible tendon (EA=inf) on a Kirchhoff "
-                    f"(inextensible) backbone cannot hold a defined pretension; give the tendon "
-                    f"a finite EA or use a Cosserat backbone (kirchhoff=False)"
-                )
-
 
 # --------------------------------------------------------------------------- scene
-def _actuation(name: str, values, n: int) -> tuple[float | None, ...]:
-    if values is None:
-        return (None,) * n
-    if isinstance(values, (str, bytes)):
-        raise ValueError(f"Scene.{name} must be a sequence of length {n}, got {values!r}")
-    try:
-        vals = list(values)
-    except TypeError:
-        raise ValueError(
-            f"Scene.{name} must be a sequence of length {n} (one entry per "
-            f"tendon, None where not prescribed), got {values!r}"
-        ) from None
-    if len(vals) != n:
-        raise ValueError(
-            f"Scene.{name} must have one entry per tendon ({n}), got {len(vals)}: {values!r}"
-        )
-    out: list[float | None] = []
-    for i, v in enumerate(vals):
-        if v is None:
-            out.append(None)
-            continue
-        x = _real("Scene", f"{name}[{i}]", v)
-        if name == "tension" and x < 0.0:
-            raise ValueError(f"Scene.tension[{i}] must be >= 0 (a tendon cannot push), got {v!r}")
-        out.append(x)
-    return tuple(out)
-
-
-def _sliding(values, n: int) -> tuple[str, ...]:
-    """Scene.sliding as one "in" / "out" per tendon (ValueError naming the entry)."""
-    vals = [values] * n if isinstance(values, str) else values
-    try:
-        vals = list(vals)
-    except TypeError:
-        raise ValueError(
-            f'Scene.sliding must be "in", "out" or one per tendon, got {values!r}'
-        ) from None
-    if len(vals) != n:
-        raise ValueError(
-            f"Scene.sliding must have one entry per tendon ({n}), got {len(vals)}: {values!r}"
-        )
-    for i, v in enumerate(vals):
-        if v not in ("in", "out"):
-            raise ValueError(f'Scene.sliding[{i}] must be "in" or "out", got {v!r}')
-    return tuple(vals)
-
-
 @dataclass(frozen=True)
 class Scene:
     """A robot with its actuation and external loads.
