@@ -1,6 +1,9 @@
-"""What the subcommands share: the exit codes, --plot's check, --sliding's override."""
+"""What the subcommands share: the exit codes, the scene file read, --plot's check,
+--sliding's override."""
 
 from __future__ import annotations
+
+import sys
 
 EXIT_OK = 0
 EXIT_NOT_CONVERGED = 1
@@ -28,3 +31,22 @@ def _with_sliding(spec, sliding):
     if sliding is None:
         return spec
     return dataclasses.replace(spec, scene=dataclasses.replace(spec.scene, sliding=sliding))
+
+
+def _read_spec(command: str, path: str, sliding):
+    """The scene file at ``path`` with the command line's ``--sliding`` over its own, or
+    None after one error line on stderr naming the command (the caller exits 2)."""
+    from tendonrod.scenefile import SceneFileError, load_scene
+
+    try:
+        spec = load_scene(path)
+    except SceneFileError as exc:
+        print(f"tendonrod {command}: error: {exc}", file=sys.stderr)
+        return None
+    except OSError as exc:
+        print(
+            f"tendonrod {command}: error: cannot read scene file {path!r}: {exc.strerror or exc}",
+            file=sys.stderr,
+        )
+        return None
+    return _with_sliding(spec, sliding)

@@ -5,7 +5,7 @@ from __future__ import annotations
 import sys
 import time
 
-from ._common import EXIT_BAD_INPUT, EXIT_NOT_CONVERGED, EXIT_OK, _require_plot, _with_sliding
+from ._common import EXIT_BAD_INPUT, EXIT_NOT_CONVERGED, EXIT_OK, _read_spec, _require_plot
 from ._output import _write_solution
 
 
@@ -60,21 +60,10 @@ def _cmd_actuate(args) -> int:
     import numpy as np
 
     import tendonrod as tr
-    from tendonrod.scenefile import SceneFileError, load_scene
 
-    try:
-        spec = load_scene(args.scene)
-    except SceneFileError as exc:
-        print(f"tendonrod actuate: error: {exc}", file=sys.stderr)
+    spec = _read_spec("actuate", args.scene, args.sliding)
+    if spec is None:
         return EXIT_BAD_INPUT
-    except OSError as exc:
-        print(
-            f"tendonrod actuate: error: cannot read scene file {args.scene!r}: "
-            f"{exc.strerror or exc}",
-            file=sys.stderr,
-        )
-        return EXIT_BAD_INPUT
-    spec = _with_sliding(spec, args.sliding)
     _require_plot(args)
     target, problem = _cli_target(args, spec)
     if problem:
