@@ -51,6 +51,17 @@ OUT = os.path.join(HERE, "results")
 REF = tr.Options(integrator="adaptive", rtol=1e-13, tol=1e-12)
 SWEEP = 21  # load sets per sweep, 1 % apart
 REPS = 5  # solves (or sweeps) per round and measurement
+NO_VERDICT = tr.Options(accept_unstable=True)
+# the peers' cold solves in thread CPU time [ms], measured interleaved on a loaded
+# machine of this kind (../shared/peers.md, "how to measure on a loaded machine")
+PEER_CPU_MS = {
+    "Till T0 (gravity +x)": 90.7,
+    "Till T1 (no load)": 68.5,
+    "Till T2 (tip -0.2 N x)": 90.5,
+    "Till T3 (tip 0.2 N y)": 87.3,
+    "Rao R (tip 0.1 N x)": 107.6,
+    "Rao R (tip -0.1 N y)": 57.8,
+}
 
 # goals (us): spatial scenes; planar ones "about half"; peers: cold ratio
 GOAL = {"spatial": (200.0, 30.0, 20.0), "planar": (100.0, 15.0, 10.0)}
@@ -89,6 +100,32 @@ def scenes() -> dict:
             four,
             displacement=[4e-3, 2e-3, -5e-3, -3e-3],
             loads=[tr.DistributedLoad(force=(0, 0, -0.5))],
+        ),
+        "spatial",
+        None,
+    )
+    # the same robot co-contracted: stiff tendons (EA = 1e5 N), the first retracted
+    # r pi/2 and the other two held at 0 (tensions ~5 kN), out-of-plane tip load -- the
+    # scene where the stability verdict is hardest
+    stiff = tr.Robot(
+        rod, [tr.Tendon(offset=r, angle=2 * math.pi * i / 3, EA=1e5) for i in range(3)]
+    )
+    out["3 tendons co-contracted, EA 1e5 N"] = (
+        tr.Scene(
+            stiff,
+            displacement=[r * math.pi / 2, 0.0, 0.0],
+            loads=[tr.PointLoad(s=L, force=(0, 0.5, 0))],
+        ),
+        "spatial",
+        None,
+    )
+    # a plain Cosserat cantilever under a transverse tip load F L^2/EI = 10: direct Newton
+    # converges where a cold solve goes by load continuation
+    plain = tr.Rod(0.2, 2e-3, 1e7, 1e7 / 3)
+    out["plain cantilever F L^2/EI = 10"] = (
+        tr.Scene(
+            tr.Robot(plain, []),
+            loads=[tr.PointLoad(s=0.2, force=(10 * plain.bending_stiffness / 0.2**2, 0, 0))],
         ),
         "spatial",
         None,
@@ -216,17 +253,26 @@ def harness_input(sweep, nodes: int) -> str:
 
 # --------------------------------------------------------------------------- python
 def median_time(fn, reps: int) -> float:
-    ts = []
+    return median_times(fn, reps)[0]
+
+
+def median_times(fn, reps: int) -> tuple[float, float]:
+    """Medians [s] of wall time and of this thread's CPU time over ``reps`` calls."""
+    wall, cpu = [], []
     for _ in range(reps):
-        t0 = time.perf_counter()
+        t0, c0 = time.perf_counter(), time.thread_time()
         fn()
-        ts.append(time.perf_counter() - t0)
-    return statistics.median(ts)
+        cpu.append(time.thread_time() - c0)
+        wall.append(time.perf_counter() - t0)
+    return statistics.median(wall), statistics.median(cpu)
 
 
 def python_round(sw, chain, reps: int) -> dict:
-    """Per-call medians [us] of the three kinds on one sweep."""
-    cold = median_time(lambda: tr.solve(sw[0]), reps)
+    """Per-call medians [us] of the three kinds on one sweep (wall time), the cold solve
+    in thread CPU time too, and the cold solve without the stability verdict
+    (``accept_unstable=True``: what the verdict costs)."""
+    cold, cold_cpu = median_times(lambda: tr.solve(sw[0]), reps)
+    bare, bare_cpu = median_times(lambda: tr.solve(sw[0], options=NO_VERDICT), reps)
 
     def warm_guess():
         for i in range(1, len(sw)):
@@ -242,7 +288,14 @@ def python_round(sw, chain, reps: int) -> dict:
 
     wg = median_time(warm_guess, reps) / (len(sw) - 1)
     wp = statistics.median(warm_problem() for _ in range(reps)) / (len(sw) - 1)
-    return {"cold_us": 1e6 * cold, "warm_guess_us": 1e6 * wg, "warm_us": 1e6 * wp}
+    return {
+        "cold_us": 1e6 * cold,
+        "warm_guess_us": 1e6 * wg,
+        "warm_us": 1e6 * wp,
+        "cold_cpu_us": 1e6 * cold_cpu,
+        "noverdict_us": 1e6 * bare,
+        "noverdict_cpu_us": 1e6 * bare_cpu,
+    }
 
 
 def bench_scene(name, scene, klass, peer_ms, harness, rounds):
@@ -262,6 +315,12 @@ def bench_scene(name, scene, klass, peer_ms, harness, rounds):
         med["py_" + key] = statistics.median(r[key] for r in py)
         med["c_" + key] = statistics.median(r[key] for r in c)
         med["overhead_" + key] = statistics.median(p[key] - q[key] for p, q in zip(py, c))
+    for key in ("cold_cpu_us", "noverdict_us", "noverdict_cpu_us"):
+        med["py_" + key] = statistics.median(r[key] for r in py)
+    # the verdict's share of a default cold solve, per round (CPU time), then the median
+    med["verdict_share"] = statistics.median(
+        1.0 - r["noverdict_cpu_us"] / r["cold_cpu_us"] for r in py
+    )
     cold = tr.solve(scene)
     warm = tr.solve(sw[1], guess=chain[0])
     prob = tr.Problem(sw[0])
@@ -274,6 +333,7 @@ def bench_scene(name, scene, klass, peer_ms, harness, rounds):
         formulation=repr(cold.formulation),
         steps=cold.formulation.steps,
         tip_err=float(np.linalg.norm(cold.tip_position - ref.tip_position) / L),
+        nit_cold=cold.nit,
         nfev_cold=cold.nfev,
         nfev_warm_guess=warm.nfev,
         nfev_warm=pw.nfev,
@@ -286,6 +346,9 @@ def bench_scene(name, scene, klass, peer_ms, harness, rounds):
         goal_warm_us=goal[2],
         peer_ms=peer_ms if peer_ms else math.nan,
         peer_ratio=(1e3 * peer_ms / med["py_cold_us"]) if peer_ms else math.nan,
+        peer_cpu_ratio=(
+            1e3 * PEER_CPU_MS[name] / med["py_cold_cpu_us"] if name in PEER_CPU_MS else math.nan
+        ),
     )
     return row
 
@@ -308,7 +371,7 @@ def main(argv=None):
         print(
             f"{'scene':<38s} {'steps':>5s} {'tip err/L':>9s} | {'cold us (C)':>16s} "
             f"{'warm tr.solve (C)':>18s} {'warm Problem (C)':>17s} | overhead cold/warm/P "
-            f"| goals | peer x"
+            f"| goals | peer x | verdict % | nit"
         )
         for name, (scene, klass, peer_ms) in scenes().items():
             r = bench_scene(name, scene, klass, peer_ms, harness, rounds)
@@ -320,7 +383,8 @@ def main(argv=None):
                 r["overhead_warm_us"] <= GOAL_OVERHEAD_US,
             ]
             peer = (
-                f"{r['peer_ratio']:.0f}x {mark(r['peer_ratio'] >= GOAL_PEER_RATIO)}"
+                f"{r['peer_ratio']:.0f}x wall, {r['peer_cpu_ratio']:.0f}x CPU "
+                f"{mark(r['peer_cpu_ratio'] >= GOAL_PEER_RATIO)}"
                 if peer_ms
                 else ""
             )
@@ -330,7 +394,8 @@ def main(argv=None):
                 f"{r['py_warm_guess_us']:8.1f} ({r['c_warm_guess_us']:6.1f}) "
                 f"{r['py_warm_us']:8.1f} ({r['c_warm_us']:6.1f}) | "
                 f"{r['overhead_cold_us']:5.1f} {r['overhead_warm_guess_us']:5.1f} "
-                f"{r['overhead_warm_us']:5.1f} | {' '.join(mark(g) for g in goals)} | {peer}",
+                f"{r['overhead_warm_us']:5.1f} | {' '.join(mark(g) for g in goals)} | {peer} | "
+                f"{100 * r['verdict_share']:4.0f} | {r['nit_cold']}",
                 flush=True,
             )
     la1 = os.getloadavg()[0]
