@@ -204,7 +204,7 @@ int harness_run(FILE *in, int reps, double out[6])
             char msg[TR_MSGLEN];
             for (j = 0; j < s.nl; j++)
                 memcpy(lv + 6 * j, s.loads[i] + 7 * j + 1, 6 * sizeof(double));
-            if (tr_model_set_values(m, s.values[i], lv, s.dist[i], msg, sizeof msg)) {
+            if (tr_data_set_values(m, d, s.values[i], lv, s.dist[i], msg, sizeof msg)) {
                 fprintf(stderr, "set_values: %s\n", msg);
                 return 1;
             }

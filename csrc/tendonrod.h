@@ -5,8 +5,11 @@
  * an immutable tr_model; every mutable buffer of a solve lives in a tr_data
  * workspace allocated for that model.  Solver functions read the model and
  * write the data:  int tr_solve(const tr_model *m, tr_data *d, ...).
- * Threads may share a model; each thread owns its data.  Nothing allocates
- * between tr_data_alloc() and tr_data_free(); there is no global state.
+ * The model is constant after compilation: the values that change between calls
+ * (actuation, pretension, loads, friction coefficients, the target, a linearisation's
+ * design perturbation) are the workspace's inputs (tr_data_set_values, ...).  One
+ * compiled model serves every thread of a batch or sweep read-only; each thread owns
+ * its data.  There is no global state.
  *
  * Conventions (docs/model.md): SI units, radians.  Base at the origin, base frame =
  * world frame, undeformed rod along +z.  R is body-to-world, stored row-major.
@@ -332,6 +335,8 @@ typedef struct tr_model {
     double target[9];         /* angle: theta [rad]; position: p (3) world [m]; direction: the
                                 unit tip tangent (3) world and a unit basis b1 (3), b2 (3) of
                                 the plane normal to it */
+    int view;                 /* 0: a compiled model; 1: a workspace's inputs (tr_data.in): the
+                                values its solves use over the compiled model's structure */
 } tr_model;
 
 /* Compile a scene.  rod = [L, EI, GJ, EA, GA, kirchhoff]; tendons (nt x 8) rows
@@ -363,10 +368,12 @@ int tr_model_alloc_ext(tr_model **out, const double rod[6], const double *tendon
  * precurvature ux or uz. */
 int tr_sections_planar(const double *sections, int nsec);
 void tr_model_free(tr_model *m);
-/* A deep copy of m (NULL when out of memory): a model whose values can be set while m
- * stays shared. */
+/* A deep copy of m (NULL when out of memory). */
 tr_model *tr_model_clone(const tr_model *m);
-/* Set the values of a compiled model without changing its structure: value (nt) the
+/* Deprecated (kept for one release): the tr_data_set_* setters set a workspace's values.
+ * These set a model's defaults, which workspaces allocated afterwards start from; call
+ * them before any workspace of the model exists.
+ * Set the values of a compiled model without changing its structure: value (nt) the
  * actuation value of every tendon (q [m] or tau [N] per its control mode), load
  * (nl x 6) [F (3) N, M (3) N m] world frame of every point load (positions stay),
  * dist (3) the distributed force [N/m], world frame; NULL keeps what the model has.
@@ -376,7 +383,8 @@ tr_model *tr_model_clone(const tr_model *m);
  * the model is then unchanged. */
 int tr_model_set_values(tr_model *m, const double *value, const double *load, const double *dist,
                         char *msg, size_t msglen);
-/* Set the tendons' pretensions (nt) [N] of a compiled model: the rest lengths are
+/* Deprecated as tr_model_set_values (tr_data_set_pretension).  Set the tendons'
+ * pretensions (nt) [N] of a compiled model: the rest lengths are
  * recomputed and the scene checks redone (m->scene_status).  TR_EINVAL with a message
  * when a value is not finite or negative; the model is then unchanged. */
 int tr_model_set_pretension(tr_model *m, const double *pretension, char *msg, size_t msglen);
@@ -402,7 +410,8 @@ enum tr_target_kind {
  * Their prescribed displacements then only start the solve; tr_solve reports the
  * displacements the solution needs.  TR_EINVAL with a message for a kind this
  * formulation lacks, a wrong count, a tendon that is not displacement-controlled, or
- * values that are not finite; the model is then unchanged. */
+ * values that are not finite; the model is then unchanged.  Deprecated as
+ * tr_model_set_values: tr_data_set_target sets a workspace's target. */
 int tr_model_set_target(tr_model *m, int kind, const double *values, const int *tendons, int n,
                         char *msg, size_t msglen);
 /* 1 when a scene of these flat arrays (as for tr_model_alloc) lies in the x-z plane:
@@ -418,8 +427,22 @@ int tr_is_planar_dist(const double *tendons, int nt, const double *loads, int nl
 
 typedef struct tr_data {
     const tr_model *model; /* the model this workspace was allocated for */
-    tr_options opt;        /* options of this workspace */
-    int k;                 /* number of unknowns */
+    /* inputs (tr_inputs.c): the values of this workspace's solves -- actuation,
+     * pretensions and rest lengths, point and distributed loads, friction coefficients,
+     * the target -- over the compiled model's structure, which stays constant */
+    const tr_model *vm;   /* the model the solver reads: &in (or, for a workspace allocated
+                              on another workspace's view, that view) */
+    tr_model in;          /* the view: the compiled model's structure arrays (shared,
+                              read-only), this workspace's value arrays */
+    tr_tendon *in_tendon; /* (2 nt) the view's tendons; then their copy before a perturbation */
+    tr_tendon *in_tendon_save;
+    double *in_block; /* the view's value arrays, and a design perturbation's sections
+                              and seg_rod (in_sec, in_seg_rod) */
+    double *in_sec, *in_seg_rod;
+    tr_model in_save; /* the view before a design perturbation */
+    int in_perturbed; /* 1 while a design perturbation is applied (tr_inputs_perturb) */
+    tr_options opt;   /* options of this workspace */
+    int k;            /* number of unknowns */
     /* iteration */
     double *x, *f;         /* (k) scaled unknowns / residual */
     double *xt, *ft, *dx;  /* (k) trial point, trial residual, step */
@@ -474,12 +497,10 @@ typedef struct tr_data {
     double *bp_pose; /* ((nseg + 1) x 12) p, R at each breakpoint (cold-start shape pass) */
     gsl_multiroot_fdfsolver *hyb; /* hybridsj workspace (jacobian_method = TR_JAC_HYBRID) */
     /* linearisation (tr_linearize) */
-    double *Yx;             /* (6 nseg x k) d(pose at the breakpoints)/d(unknowns) */
-    double *lin_pose;       /* (3 x (nseg + 1) x 12) poses at the breakpoints: the solution's,
+    double *Yx;       /* (6 nseg x k) d(pose at the breakpoints)/d(unknowns) */
+    double *lin_pose; /* (3 x (nseg + 1) x 12) poses at the breakpoints: the solution's,
                                 and those of the two other points of a difference stencil */
-    struct tr_model *lin_m; /* a copy of the model whose design values a linearisation
-                                perturbs, allocated the first time one needs it */
-    int *lin_side;          /* (nt) the side of its taut/slack switch a tendon's derivatives
+    int *lin_side;    /* (nt) the side of its taut/slack switch a tendon's derivatives
                                take (tr_linearize's at_switch) */
     /* work budget and the caller's poll hook (tr_set_poll) */
     double spent;           /* work of this solve [units, see TR_DEFAULT_MAX_WORK] */
@@ -604,6 +625,22 @@ typedef struct tr_data {
 tr_data *tr_data_alloc(const tr_model *m, const tr_options *opt, int nnode, const double *node_s,
                        char *msg, size_t msglen);
 void tr_data_free(tr_data *d);
+
+/* ---------------------------------------------------------------- inputs */
+/* The values a workspace's solves use (MuJoCo's mjData inputs): a compiled model is never
+ * written after compilation (tr_model_set_friction belongs to compilation), so one model
+ * serves any number of workspaces and threads read-only.  tr_data_alloc copies the
+ * values the model was compiled with (the defaults); these set them per workspace, with
+ * the same meaning and checks as the tr_model_set_* functions below (TR_EINVAL with a
+ * message, the workspace then unchanged; also when d is not m's workspace). */
+int tr_data_set_values(const tr_model *m, tr_data *d, const double *value, const double *load,
+                       const double *dist, char *msg, size_t msglen);
+int tr_data_set_pretension(const tr_model *m, tr_data *d, const double *pretension, char *msg,
+                           size_t msglen);
+int tr_data_set_target(const tr_model *m, tr_data *d, int kind, const double *values,
+                       const int *tendons, int n, char *msg, size_t msglen);
+/* The model's own values (those it was compiled with) again. */
+void tr_data_reset_inputs(const tr_model *m, tr_data *d);
 
 /* ---------------------------------------------------------------- solver */
 /* Set the unknowns from a physical guess (6 + 2 nt: n(0) world, m(0) world,

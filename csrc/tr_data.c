@@ -2,8 +2,8 @@
  * tr_data.c -- the workspace of one solve: everything that changes, allocated here and
  * freed in tr_data_free.  The solve loop allocates nothing but the nested workspaces
  * allocated on first use: the stability test's grid (tr_stab_workspace, below: again
- * when a verdict needs another grid), the confirmation's (tr_confirm.c) and the
- * linearisation's model copy (tr_compliance.c).
+ * when a verdict needs another grid) and the confirmation's (tr_confirm.c).  The
+ * workspace's inputs (the values its solves use) are tr_inputs.c's.
  */
 #include <math.h>
 #include <stdlib.h>
@@ -97,9 +97,10 @@ static struct tr_stab_ws *stab_alloc(const tr_model *m, const tr_options *opt, i
 }
 
 /* The workspace *wp for nuni uniform elements (reallocated when it has another count). */
-struct tr_stab_ws *tr_stab_workspace(const tr_model *m, tr_data *d, struct tr_stab_ws **wp,
+struct tr_stab_ws *tr_stab_workspace(const tr_model *m_, tr_data *d, struct tr_stab_ws **wp,
                                      int nuni, int cosserat)
 {
+    const tr_model *m = TR_IN(m_, d);
     if (!*wp || (*wp)->nuni != nuni || (*wp)->cosserat != cosserat) {
         tr_stab_free(*wp);
         *wp = stab_alloc(m, &d->opt, nuni, cosserat);
@@ -128,7 +129,7 @@ void tr_data_free(tr_data *d)
     if (d->ad_ev_shoot) gsl_odeiv2_evolve_free(d->ad_ev_shoot);
     if (d->ad_ev_rec) gsl_odeiv2_evolve_free(d->ad_ev_rec);
     free(d->Yx);
-    tr_model_free(d->lin_m);
+    tr_inputs_free(d);
     free(d->x_last);
     free(d->x_guess);
     tr_data_free(d->confirm_d);
@@ -348,8 +349,8 @@ tr_data *tr_data_alloc(const tr_model *m, const tr_options *opt, int nnode, cons
     d->opt = *opt;
     d->k = m->n_unknowns;
     d->jac_method = opt->jacobian_method;
-    if (alloc_buffers(m, d) != 0 || alloc_integrators(m, d, opt) != 0 ||
-        alloc_nodes(m, d, nnode, node_s) != 0)
+    if (tr_inputs_alloc(m, d) != 0 || alloc_buffers(m, d) != 0 ||
+        alloc_integrators(m, d, opt) != 0 || alloc_nodes(m, d, nnode, node_s) != 0)
         goto nomem;
     if (opt->jacobian_method == TR_JAC_HYBRID) {
         d->hyb = gsl_multiroot_fdfsolver_alloc(gsl_multiroot_fdfsolver_hybridsj, (size_t)d->k);

@@ -93,9 +93,10 @@ static PyObject *problem_set_values(ProblemObject *self, PyObject *args, PyObjec
         values_of(ol, "point_loads", 6 * (npy_intp)self->m->nl, &l) < 0 ||
         values_of(od, "dist", 3, &dd) < 0 || values_of(op, "pretension", self->m->nt, &p) < 0)
         goto done;
-    if (tr_model_set_values(self->m, DATA_OR_NULL(v), DATA_OR_NULL(l), DATA_OR_NULL(dd), msg,
-                            sizeof msg) != TR_OK ||
-        (p && tr_model_set_pretension(self->m, DATA_OR_NULL(p), msg, sizeof msg) != TR_OK)) {
+    if (tr_data_set_values(self->m, self->d, DATA_OR_NULL(v), DATA_OR_NULL(l), DATA_OR_NULL(dd),
+                           msg, sizeof msg) != TR_OK ||
+        (p &&
+         tr_data_set_pretension(self->m, self->d, DATA_OR_NULL(p), msg, sizeof msg) != TR_OK)) {
         PyErr_SetString(PyExc_ValueError, msg);
         goto done;
     }
@@ -120,7 +121,7 @@ static PyObject *problem_set_value_vector(ProblemObject *self, PyObject *arg)
     if (glue_problem_check(self) < 0) return NULL;
     if (values_of(arg, "value vector", m->nt + 6 * (npy_intp)m->nl + 3, &v) < 0) return NULL;
     p = (const double *)PyArray_DATA(v);
-    if (tr_model_set_values(self->m, p, p + m->nt, p + m->nt + 6 * m->nl, msg, sizeof msg) !=
+    if (tr_data_set_values(m, self->d, p, p + m->nt, p + m->nt + 6 * m->nl, msg, sizeof msg) !=
         TR_OK) {
         PyErr_SetString(PyExc_ValueError, msg);
         goto done;
@@ -155,7 +156,7 @@ static PyObject *problem_set_target(ProblemObject *self, PyObject *args)
         }
         idx[i] = (int)x;
     }
-    status = tr_model_set_target(self->m, kind, val, idx, n, msg, sizeof msg);
+    status = tr_data_set_target(self->m, self->d, kind, val, idx, n, msg, sizeof msg);
     Py_DECREF(v);
     Py_DECREF(t);
     if (status != TR_OK) {
@@ -513,7 +514,7 @@ static PyMethodDef problem_methods[] = {
      "set_target(kind, values, tendons): the residual of a tip target (kind 1 angle [rad]\n"
      "(planar), 2 direction (3), 3 position (3) [m] world; 0 none) replaces the length\n"
      "constraints of the displacement-controlled tendons `tendons`, one per component\n"
-     "(tr_model_set_target); a solve then reports the displacements that reach it.\n"
+     "(tr_data_set_target); a solve then reports the displacements that reach it.\n"
      "ValueError naming what is wrong."},
     {"solve", (PyCFunction)(void (*)(void))problem_solve, METH_VARARGS | METH_KEYWORDS,
      "solve(*, guess=None, jacobian=None, verified=None, warm=True, cancel=None, record=True,\n"

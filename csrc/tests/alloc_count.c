@@ -121,7 +121,7 @@ static int run(const struct family *f, long n[4])
         double value[NT_MAX], load[6];
         for (i = 0; i < f->nt; i++) value[i] = 1.01 * f->tendon[i][TR_TD_VALUE];
         for (i = 0; i < 3; i++) load[i] = 1.01 * f->F[i], load[3 + i] = 1.01 * f->M[i];
-        if (tr_model_set_values(m, f->nt ? value : NULL, load, NULL, msg, sizeof msg) != TR_OK) {
+        if (tr_data_set_values(m, d, f->nt ? value : NULL, load, NULL, msg, sizeof msg) != TR_OK) {
             fprintf(stderr, "%s: values: %s\n", f->name, msg);
             return -1000;
         }
