@@ -11,9 +11,8 @@
  * A stage of the driver (tr_solve.c, solve_confirm), which runs the second solve itself:
  * tr_confirm_begin notes the equilibrium and sets the second formulation up,
  * tr_confirm_judge compares the two.  The second formulation is compiled and its
- * workspace allocated the first time a solve in this workspace needs it (a rare path),
- * then kept and freed with the workspace; this workspace's inputs are copied into its
- * inputs before each use.
+ * workspace allocated with the workspace (tr_data_alloc_confirm) and freed with it; this
+ * workspace's inputs are copied into its inputs before each use.
  */
 #include <math.h>
 #include <string.h>
@@ -25,26 +24,19 @@
 static int confirm_workspace(const tr_model *m, tr_data *d, int nshoot, const char *first)
 {
     char msg[TR_MSGLEN];
-    if (d->confirm_d && d->confirm_m->nshoot != nshoot) {
+    /* allocated with the workspace when continuation is on; here otherwise */
+    if (!d->confirm_d && tr_data_alloc_confirm(m, d, msg, sizeof msg) != 0) {
         tr_data_free(d->confirm_d);
         tr_model_free(d->confirm_m);
         d->confirm_d = NULL;
         d->confirm_m = NULL;
+        tr_set_message(d, "%s; not confirmed: the second formulation could not be set up (%s)",
+                       first, msg);
+        return -1;
     }
-    if (!d->confirm_d) {
-        tr_options o = d->opt;
-        o.shooting_segments = nshoot;
-        o.tip_only = 1;
-        d->confirm_m = tr_model_reshoot(m, &o, nshoot, msg, sizeof msg);
-        if (d->confirm_m) d->confirm_d = tr_data_alloc(d->confirm_m, &o, 1, NULL, msg, sizeof msg);
-        if (d->confirm_d) d->confirm_d->is_confirm = 1;
-        if (!d->confirm_d) {
-            tr_model_free(d->confirm_m);
-            d->confirm_m = NULL;
-            tr_set_message(d, "%s; not confirmed: the second formulation could not be set up (%s)",
-                           first, msg);
-            return -1;
-        }
+    if (!d->confirm_d || d->confirm_m->nshoot != nshoot) {
+        tr_set_message(d, "%s; not confirmed: no second formulation of %d segments", first, nshoot);
+        return -1;
     }
     tr_inputs_copy(d->confirm_d, m);
     tr_set_poll(d->confirm_d, d->poll, d->poll_ctx);

@@ -1,9 +1,10 @@
 /*
  * tr_data.c -- the workspace of one solve: everything that changes, allocated here and
- * freed in tr_data_free.  The solve loop allocates nothing but the nested workspaces
- * allocated on first use: the stability test's grid (tr_stab_workspace, below: again
- * when a verdict needs another grid) and the confirmation's (tr_confirm.c).  The
- * workspace's inputs (the values its solves use) are tr_inputs.c's.
+ * freed in tr_data_free, nothing in between: the stability test's grid workspaces with
+ * room for the finest grid the test refines to (tr_stab_workspace, below, sets a grid in
+ * place), and with TR_ALLOC_CONFIRM the confirmation's second formulation (else it is
+ * allocated by the first solve that needs it, tr_confirm.c).  The workspace's inputs
+ * (the values its solves use) are tr_inputs.c's.
  */
 #include <math.h>
 #include <stdlib.h>
@@ -13,6 +14,9 @@
 #include "tendonrod.h"
 #include "tr_internal.h"
 #include "tr_stab.h"
+
+static tr_data *data_alloc(const tr_model *m, const tr_options *opt, int nnode,
+                           const double *node_s, int nested, int flags, char *msg, size_t msglen);
 
 /* ------------------------------------------------------------ the stability test's grid */
 void tr_stab_free(struct tr_stab_ws *w)
@@ -25,25 +29,92 @@ void tr_stab_free(struct tr_stab_ws *w)
     free(w);
 }
 
-/* The grid: nuni uniform elements and every breakpoint, sorted, merged within 1e-12 L. */
+/* The arrays a grid of w->nuni elements uses zeroed, as a workspace allocated for that grid
+ * alone would have them (the blocks hold room for the finest grid and are touched only as
+ * far as a grid uses them): each array as long as it would be there, cap = nuni + nseg + 2
+ * nodes of nb coordinates; the recording workspace's node arrays over its ngrid nodes. */
+static void stab_zero(const tr_model *m, struct tr_stab_ws *w)
+{
+    const size_t cap = (size_t)w->nuni + m->nseg + 2, nb = (size_t)w->nb;
+    const size_t nt = (size_t)(m->nt > 0 ? m->nt : 1), nblk = cap * nb * nb, nv = cap * nb;
+    const size_t ns = nblk > nt * nt ? nblk : nt * nt, n = (size_t)w->ngrid;
+    const size_t z = sizeof(double);
+    memset(w->R, 0, 9 * cap * z);
+    memset(w->p, 0, 3 * cap * z);
+    memset(w->F, 0, 3 * cap * z);
+    memset(w->vhat, 0, 3 * cap * z);
+    memset(w->tau, 0, nt * z);
+    memset(w->g, 0, nv * z);
+    memset(w->dx, 0, nv * z);
+    memset(w->h.D, 0, nblk * z);
+    memset(w->h.E, 0, nblk * z);
+    memset(w->h.Pv, 0, nblk * z);
+    memset(w->h.U, 0, nblk * z);
+    memset(w->h.S, 0, ns * z);
+    memset(w->h.Mw, 0, nv * z);
+    memset(w->h.Pe, 0, nv * z);
+    memset(w->h.B, 0, nv * nt * z);
+    memset(w->h.X, 0, nv * nt * z);
+    memset(w->h.cb, 0, nt * z);
+    memset(w->h.Se, 0, nt * z);
+    memset(w->h.Sv, 0, nt * nt * z);
+    memset(w->sw_buf, 0, 10 * nv * z);
+    if (w->rec) {
+        tr_data *r = w->rec;
+        memset(r->pos, 0, 3 * n * z);
+        memset(r->rot, 0, 9 * n * z);
+        memset(r->force, 0, 3 * n * z);
+        memset(r->moment, 0, 3 * n * z);
+        memset(r->node_tension, 0, (size_t)m->nt * n * z);
+        memset(r->node_rest, 0, (size_t)m->nt * n * z);
+    }
+}
+
+/* The grid of nuni uniform elements into w: those nodes and every breakpoint, sorted,
+ * merged within 1e-12 L; its recording workspace set to record there (no allocation:
+ * w holds room for the finest grid). */
+static void stab_grid(const tr_model *m, struct tr_stab_ws *w, int nuni, int cosserat, int zero)
+{
+    int i, b, n = 0;
+    w->nuni = nuni, w->nb = cosserat ? 6 : 3, w->cosserat = cosserat;
+    for (i = 0, b = 1; i <= nuni || b < m->nseg;) {
+        const double su = i <= nuni ? m->L * i / nuni : INFINITY;
+        const double sb = b < m->nseg ? m->bp[b] : INFINITY;
+        if (sb < su - 1e-12 * m->L) {
+            w->s[n] = sb, w->kind[n++] = 1, b++;
+        } else if (fabs(sb - su) <= 1e-12 * m->L) {
+            w->s[n] = sb, w->kind[n++] = 1, b++, i++;
+        } else {
+            w->s[n] = i == nuni ? m->L : su, w->kind[n++] = i % 2 == 0, i++;
+        }
+    }
+    w->ngrid = n;
+    if (zero) stab_zero(m, w);
+    if (w->rec) {
+        w->rec->nnode = n;
+        for (i = 0; i < n; i++) w->rec->s[i] = w->s[i] > m->L ? m->L : w->s[i];
+    }
+}
+
+/* A grid workspace with room for the finest grid the test refines to (TR_STAB_MAX_ELEMENTS
+ * uniform elements, Cosserat: 6 coordinates per node), set to nuni elements.  The large
+ * blocks are only touched as far as a grid uses them. */
 static struct tr_stab_ws *stab_alloc(const tr_model *m, const tr_options *opt, int nuni,
                                      int cosserat)
 {
     struct tr_stab_ws *w = (struct tr_stab_ws *)calloc(1, sizeof *w);
-    const int cap = nuni + m->nseg + 2, nb = cosserat ? 6 : 3, nt = m->nt > 0 ? m->nt : 1;
+    const int cap = TR_STAB_MAX_ELEMENTS + m->nseg + 2, nb = 6, nt = m->nt > 0 ? m->nt : 1;
     const size_t nblk = (size_t)cap * nb * nb, nv = (size_t)cap * nb;
     size_t len;
     double *q;
-    int i, b, n = 0;
     char msg[TR_MSGLEN];
     tr_options o = *opt;
     if (!w) return NULL;
-    w->nuni = nuni, w->nb = nb, w->cosserat = cosserat;
     w->s = (double *)malloc((size_t)cap * sizeof(double));
     w->kind = (int *)malloc(((size_t)cap * 2 + nt) * sizeof(int));
     len = 18 * (size_t)cap + nt + 2 * nv + 5 * nblk + 2 * nv + 2 * nv * nt + 2 * (size_t)nt +
           2 * (size_t)nt * nt + 10 * nv;
-    w->R = (double *)calloc(len, sizeof(double));
+    w->R = (double *)malloc(len * sizeof(double)); /* zeroed per grid (stab_zero) */
     if (!w->s || !w->kind || !w->R) {
         tr_stab_free(w);
         return NULL;
@@ -75,40 +146,33 @@ static struct tr_stab_ws *stab_alloc(const tr_model *m, const tr_options *opt, i
     }
     q += (size_t)nt * nt;
     w->sw_buf = q; /* 10 nv */
-    for (i = 0, b = 1; i <= nuni || b < m->nseg;) {
-        const double su = i <= nuni ? m->L * i / nuni : INFINITY;
-        const double sb = b < m->nseg ? m->bp[b] : INFINITY;
-        if (sb < su - 1e-12 * m->L) {
-            w->s[n] = sb, w->kind[n++] = 1, b++;
-        } else if (fabs(sb - su) <= 1e-12 * m->L) {
-            w->s[n] = sb, w->kind[n++] = 1, b++, i++;
-        } else {
-            w->s[n] = i == nuni ? m->L : su, w->kind[n++] = i % 2 == 0, i++;
-        }
-    }
-    w->ngrid = n;
+    /* the recording workspace allocated on the finest grid, then set to this one */
+    stab_grid(m, w, TR_STAB_MAX_ELEMENTS, 1, 0);
     o.tip_only = 0;
-    w->rec = tr_data_alloc(m, &o, n, w->s, msg, sizeof msg);
+    w->rec = data_alloc(m, &o, w->ngrid, w->s, 2, 0, msg, sizeof msg);
     if (!w->rec) {
         tr_stab_free(w);
         return NULL;
     }
+    stab_grid(m, w, nuni, cosserat, 1);
     return w;
 }
 
-/* The workspace *wp for nuni uniform elements (reallocated when it has another count). */
+/* The workspace *wp set to nuni uniform elements (allocated with the workspace; here only
+ * where tr_data_alloc did not: a workspace of another's view, or accept_unstable). */
 struct tr_stab_ws *tr_stab_workspace(const tr_model *m_, tr_data *d, struct tr_stab_ws **wp,
                                      int nuni, int cosserat)
 {
     const tr_model *m = TR_IN(m_, d);
-    if (!*wp || (*wp)->nuni != nuni || (*wp)->cosserat != cosserat) {
-        tr_stab_free(*wp);
+    if (nuni > TR_STAB_MAX_ELEMENTS) return NULL;
+    if (!*wp) {
         *wp = stab_alloc(m, &d->opt, nuni, cosserat);
+    } else if ((*wp)->nuni != nuni || (*wp)->cosserat != cosserat) {
+        stab_grid(m, *wp, nuni, cosserat, 1);
     }
     return *wp;
 }
 
-/* ------------------------------------------------------------ the workspace */
 void tr_data_free(tr_data *d)
 {
     if (!d) return;
@@ -276,7 +340,7 @@ static int merge_nodes(const tr_model *m, int nnode, double *s, int nn)
 
 /* The output nodes and their arrays (s, the 18 recorded states, the nt tendon tensions and
  * rest lengths per node, in one block).  0, or -1 when out of memory. */
-static int alloc_nodes(const tr_model *m, tr_data *d, int nnode, const double *node_s)
+static int alloc_nodes(const tr_model *m, tr_data *d, int nnode, const double *node_s, int zero)
 {
     int i, nn;
     if (d->opt.tip_only)
@@ -285,7 +349,8 @@ static int alloc_nodes(const tr_model *m, tr_data *d, int nnode, const double *n
         nn = nnode;
     else
         nn = nnode + 2 * (m->nseg - 1); /* upper bound; the merge sets the count */
-    d->s = (double *)calloc((size_t)nn * (19 + 2 * m->nt), sizeof(double));
+    d->s = zero ? (double *)calloc((size_t)nn * (19 + 2 * m->nt), sizeof(double))
+                : (double *)malloc((size_t)nn * (19 + 2 * m->nt) * sizeof(double));
     if (!d->s) return -1;
     d->node_tension = d->s + 19 * nn;
     d->node_rest = d->node_tension + (size_t)m->nt * nn;
@@ -328,8 +393,30 @@ static int check_nodes(const tr_model *m, const tr_options *opt, int nnode, cons
     return TR_OK;
 }
 
-tr_data *tr_data_alloc(const tr_model *m, const tr_options *opt, int nnode, const double *node_s,
-                       char *msg, size_t msglen)
+/* The second formulation that confirms an equilibrium found off the load path (tr_confirm.c):
+ * the scene compiled with TR_CONFIRM_SEGMENTS shooting segments (twice the model's from
+ * there on), its workspace tip-only and without nested workspaces of its own (a workspace
+ * that confirms does not confirm in turn, nor judge stability).  None when no finer
+ * formulation exists.  0, or -1 when it could not be set up (msg says why). */
+int tr_data_alloc_confirm(const tr_model *m, tr_data *d, char *msg, size_t msglen)
+{
+    const int M = m->nshoot, M2 = M >= TR_CONFIRM_SEGMENTS ? 2 * M : TR_CONFIRM_SEGMENTS;
+    tr_options o = d->opt;
+    if (M2 > TR_MAX_SHOOTING_SEGMENTS) return 0;
+    o.shooting_segments = M2;
+    o.tip_only = 1;
+    d->confirm_m = tr_model_reshoot(m, &o, M2, msg, msglen);
+    if (!d->confirm_m) return -1;
+    d->confirm_d = data_alloc(d->confirm_m, &o, 1, NULL, 1, 0, msg, msglen);
+    return d->confirm_d ? 0 : -1;
+}
+
+/* nested: 0 a caller's workspace (with the stability test's grids unless accept_unstable,
+ * and with TR_ALLOC_CONFIRM the confirmation's workspace when continuation may need it), 1 a confirming one
+ * (neither), 2 a grid's recording (neither; its node arrays left for stab_zero to clear as
+ * far as a grid uses them).  A workspace of another workspace's view has neither. */
+static tr_data *data_alloc(const tr_model *m, const tr_options *opt, int nnode,
+                           const double *node_s, int nested, int flags, char *msg, size_t msglen)
 {
     tr_data *d;
     if (msg && msglen) msg[0] = '\0';
@@ -349,12 +436,26 @@ tr_data *tr_data_alloc(const tr_model *m, const tr_options *opt, int nnode, cons
     d->opt = *opt;
     d->k = m->n_unknowns;
     d->jac_method = opt->jacobian_method;
+    d->is_confirm = nested == 1;
     if (tr_inputs_alloc(m, d) != 0 || alloc_buffers(m, d) != 0 ||
-        alloc_integrators(m, d, opt) != 0 || alloc_nodes(m, d, nnode, node_s) != 0)
+        alloc_integrators(m, d, opt) != 0 || alloc_nodes(m, d, nnode, node_s, nested != 2) != 0)
         goto nomem;
     if (opt->jacobian_method == TR_JAC_HYBRID) {
         d->hyb = gsl_multiroot_fdfsolver_alloc(gsl_multiroot_fdfsolver_hybridsj, (size_t)d->k);
         if (!d->hyb) goto nomem;
+    }
+    if (nested == 0 && !m->view) {
+        if (!opt->accept_unstable && (!(d->stab = stab_alloc(d->vm, opt, TR_STAB_ELEMENTS, 0)) ||
+                                      !(d->stab_quick = stab_alloc(d->vm, opt, TR_STAB_QUICK, 0))))
+            goto nomem;
+        if ((flags & TR_ALLOC_CONFIRM) && opt->continuation &&
+            tr_data_alloc_confirm(d->vm, d, msg, msglen) != 0) {
+            char why[TR_MSGLEN];
+            tr_msgf(why, sizeof why, "%s", msg);
+            tr_msgf(msg, msglen, "the confirming formulation could not be set up: %s", why);
+            tr_data_free(d);
+            return NULL;
+        }
     }
     d->probe_bp = -1;
     d->lam_act = d->lam_load = d->lam_hom = d->lam_fric = 1.0;
@@ -366,4 +467,16 @@ nomem:
     tr_msgf(msg, msglen, "out of memory while allocating the solver workspace");
     tr_data_free(d);
     return NULL;
+}
+
+tr_data *tr_data_alloc(const tr_model *m, const tr_options *opt, int nnode, const double *node_s,
+                       char *msg, size_t msglen)
+{
+    return data_alloc(m, opt, nnode, node_s, 0, 0, msg, msglen);
+}
+
+tr_data *tr_data_alloc_ext(const tr_model *m, const tr_options *opt, int nnode,
+                           const double *node_s, int flags, char *msg, size_t msglen)
+{
+    return data_alloc(m, opt, nnode, node_s, 0, flags, msg, msglen);
 }

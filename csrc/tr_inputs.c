@@ -1,5 +1,6 @@
 /*
- * tr_inputs.c -- the inputs of a workspace: every value that changes between calls.
+ * tr_inputs.c -- the inputs of a workspace: every value that changes between calls; and
+ * the accessors of the opaque workspace (what a caller reads of it).
  *
  * A compiled model is constant: its structure (sections, routes, control kinds, which
  * tendons have friction, the load positions, the shooting segments) and the values it
@@ -312,4 +313,75 @@ int tr_inputs_perturb(tr_data *d, int kind, int index, double delta)
     if (tr_rest_lengths(mp, NULL, 0) == TR_OK) return TR_OK;
     tr_inputs_restore(d);
     return TR_EINVAL;
+}
+
+/* ------------------------------------------------------ reading a workspace */
+void tr_data_result(const tr_data *d, tr_result *r)
+{
+    r->status = d->status;
+    r->nit = d->nit, r->nfev = d->nfev, r->njev = d->njev;
+    r->cont_steps = d->cont_steps;
+    r->steps = d->steps;
+    r->ver_carried = d->ver_carried;
+    r->work = d->spent;
+    r->residual_norm = d->residual_norm;
+    r->jacobian_cond = d->jacobian_cond;
+    r->truncation = d->truncation;
+    r->message = d->message;
+}
+
+void tr_data_outputs(const tr_data *d, tr_outputs *o)
+{
+    o->nnode = d->nnode, o->k = d->k, o->lazy = d->lazy;
+    o->s = d->s, o->pos = d->pos, o->rot = d->rot, o->force = d->force, o->moment = d->moment;
+    o->node_tension = d->node_tension, o->node_rest = d->node_rest;
+    o->tension = d->tension, o->slack = d->slack, o->displacement = d->displacement;
+    o->tip = d->tip, o->tip_angle = d->tip_angle;
+    o->x = d->x, o->J = d->J;
+}
+
+void tr_data_verdict(const tr_data *d, tr_verdict *v)
+{
+    v->stable = d->stable, v->index = d->stab_index;
+    v->margin = d->stability;
+    v->reason = d->stab_reason;
+}
+
+int tr_data_verified(const tr_data *d, tr_verified *v)
+{
+    v->steps = d->have_ver ? d->steps_ver : 0;
+    v->estimate = d->est_ver;
+    v->x = d->x_ver;
+    v->values = d->have_ver && d->have_val_ver ? d->val_ver : NULL;
+    return d->have_ver;
+}
+
+const char *tr_data_carry_reason(const tr_data *d)
+{
+    return d->carry_valid ? d->carry_reason : NULL;
+}
+
+const tr_options *tr_data_options(const tr_data *d)
+{
+    return &d->opt;
+}
+
+const char *tr_data_message(const tr_data *d)
+{
+    return d->message;
+}
+
+int tr_data_has_last(const tr_data *d)
+{
+    return d->have_last;
+}
+
+void tr_data_set_lazy(tr_data *d, int lazy)
+{
+    d->lazy = lazy != 0;
+}
+
+void tr_data_set_polish_once(tr_data *d, int polish_once)
+{
+    d->polish_once = polish_once != 0;
 }

@@ -196,7 +196,7 @@ static PyObject *problem_solve(ProblemObject *self, PyObject *args, PyObject *kw
         PyObject *ox, *oval = Py_None;
         if (!PyArg_ParseTuple(ov, "idO|O;verified must be (steps, estimate, unknowns[, values])",
                               &ver.steps, &ver.estimate, &ox, &oval) ||
-            values_of(ox, "verified unknowns", d->k, &xv) < 0 ||
+            values_of(ox, "verified unknowns", self->m->n_unknowns, &xv) < 0 ||
             (oval != Py_None && values_of(oval, "verified values", self->m->nt, &vv) < 0))
             goto done;
         if (ver.steps < 1 || ver.steps > TR_MAX_STEPS || !(ver.estimate >= 0.0) ||
@@ -229,7 +229,7 @@ static PyObject *problem_solve(ProblemObject *self, PyObject *args, PyObject *kw
     g = a.guess ? (const double *)PyArray_DATA(a.guess) : NULL;
     if (a.jac && PyArray_DIM(a.jac, 0) == self->m->n_unknowns)
         jac = (const double *)PyArray_DATA(a.jac);
-    d->lazy = !record;
+    tr_data_set_lazy(d, !record);
     tr_set_poll(d, glue_poll_hook, &poll);
     self->busy = 1;
     Py_BEGIN_ALLOW_THREADS;
@@ -246,7 +246,7 @@ static PyObject *problem_solve(ProblemObject *self, PyObject *args, PyObject *kw
     if (glue_poll_finish(&poll, status) == 0 && glue_problem_form(self))
         result = glue_solve_result(self->m, d, status, self->form);
 done:
-    d->lazy = 0;
+    tr_data_set_lazy(d, 0);
     Py_XDECREF(xv);
     Py_XDECREF(vv);
     glue_args_clear(&a);
@@ -261,14 +261,14 @@ static PyObject *problem_record_from(ProblemObject *self, PyObject *args, PyObje
     int steps, status;
     if (glue_problem_check(self) < 0) return NULL;
     if (!PyArg_ParseTupleAndKeywords(args, kwds, "Oi", kwlist, &ox, &steps)) return NULL;
-    if (values_of(ox, "unknowns", self->d->k, &x) < 0) return NULL;
+    if (values_of(ox, "unknowns", self->m->n_unknowns, &x) < 0) return NULL;
     self->busy = 1;
     Py_BEGIN_ALLOW_THREADS;
     status = tr_record_from(self->m, self->d, (const double *)PyArray_DATA(x), steps);
     Py_END_ALLOW_THREADS;
     self->busy = 0;
     if (status == TR_EINVAL) {
-        glue_err(PyExc_ValueError, "record_from: %s", self->d->message);
+        glue_err(PyExc_ValueError, "record_from: %s", tr_data_message(self->d));
         goto done;
     }
     /* a recording that fails (the last iterate of a failed solve) has NaN states */
@@ -287,20 +287,23 @@ static PyObject *problem_stability(ProblemObject *self, PyObject *args, PyObject
     tr_data *d = self->d;
     if (glue_problem_check(self) < 0) return NULL;
     if (!PyArg_ParseTupleAndKeywords(args, kwds, "Oi|p", kwlist, &ox, &steps, &quick)) return NULL;
-    if (values_of(ox, "unknowns", d->k, &x) < 0) return NULL;
+    if (values_of(ox, "unknowns", self->m->n_unknowns, &x) < 0) return NULL;
     self->busy = 1;
     Py_BEGIN_ALLOW_THREADS;
     status = tr_stability_of(self->m, d, (const double *)PyArray_DATA(x), steps, quick);
     Py_END_ALLOW_THREADS;
     self->busy = 0;
     if (status == TR_EINVAL) {
-        glue_err(PyExc_ValueError, "stability: %s", d->message);
+        glue_err(PyExc_ValueError, "stability: %s", tr_data_message(d));
         goto done;
     }
-    result =
-        Py_BuildValue("{s:N,s:d,s:i,s:s}", "stable",
-                      d->stable < 0 ? Py_NewRef(Py_None) : PyBool_FromLong(d->stable), "stability",
-                      d->stability, "index", d->stab_index, "reason", d->stab_reason);
+    {
+        tr_verdict v;
+        tr_data_verdict(d, &v);
+        result = Py_BuildValue("{s:N,s:d,s:i,s:s}", "stable",
+                               v.stable < 0 ? Py_NewRef(Py_None) : PyBool_FromLong(v.stable),
+                               "stability", v.margin, "index", v.index, "reason", v.reason);
+    }
 done:
     Py_XDECREF(x);
     return result;
@@ -332,7 +335,7 @@ static PyObject *problem_compliance(ProblemObject *self, PyObject *args, PyObjec
     if (glue_poll_finish(&poll, status) < 0) return NULL;
     if (status != TR_OK) {
         glue_err(status == TR_EINVAL ? PyExc_ValueError : PyExc_RuntimeError, "%s",
-                 self->d->message);
+                 tr_data_message(self->d));
         return NULL;
     }
     return glue_array(2, dims, C);
@@ -372,12 +375,12 @@ static PyObject *problem_linearize(ProblemObject *self, PyObject *args, PyObject
         return NULL;
     if (ox != Py_None) {
         /* the state of a converged solution of this structure, set without solving */
-        if (values_of(ox, "unknowns", self->d->k, &xa) < 0) return NULL;
+        if (values_of(ox, "unknowns", self->m->n_unknowns, &xa) < 0) return NULL;
         status = tr_state_from(self->m, self->d, (const double *)PyArray_DATA(xa), steps);
         Py_DECREF(xa);
         self->last_status = TR_CONTINUE; /* the workspace no longer holds its last solve */
         if (status != TR_OK) {
-            glue_err(PyExc_ValueError, "linearize: %s", self->d->message);
+            glue_err(PyExc_ValueError, "linearize: %s", tr_data_message(self->d));
             return NULL;
         }
     } else if (!TR_SUCCEEDED(self->last_status)) {
@@ -446,16 +449,20 @@ static PyObject *problem_linearize(ProblemObject *self, PyObject *args, PyObject
     if (glue_poll_finish(&poll, status) < 0) goto done;
     if (status != TR_OK) {
         glue_err(status == TR_EINVAL ? PyExc_ValueError : PyExc_RuntimeError, "%s",
-                 self->d->message);
+                 tr_data_message(self->d));
         goto done;
     }
     if (!(sw = PyTuple_New(nt))) goto done;
     for (i = 0; i < nt; i++) PyTuple_SET_ITEM(sw, i, PyLong_FromLong(at_switch[i]));
     /* the shooting Jacobian at the state (scaled), for a solve from a nearby state */
-    dims[0] = dims[1] = self->d->k;
-    if (!(jac = glue_array(2, dims, self->d->J))) goto done;
+    dims[0] = dims[1] = self->m->n_unknowns;
+    {
+        tr_outputs o;
+        tr_data_outputs(self->d, &o);
+        if (!(jac = glue_array(2, dims, o.J))) goto done;
+    }
     result = Py_BuildValue("{s:O,s:O,s:O,s:O,s:i,s:O}", "pose", pose, "tension", ten, "slack", sl,
-                           "at_switch", sw, "k", self->d->k, "jacobian", jac);
+                           "at_switch", sw, "k", self->m->n_unknowns, "jacobian", jac);
 done:
     Py_XDECREF(pose);
     Py_XDECREF(ten);
@@ -491,7 +498,7 @@ static PyObject *problem_last_success(ProblemObject *self, void *closure)
 
 static PyObject *problem_has_solution(ProblemObject *self, void *closure)
 {
-    return PyBool_FromLong(self->d && self->d->have_last);
+    return PyBool_FromLong(self->d && tr_data_has_last(self->d));
 }
 
 static PyObject *problem_breakpoints(ProblemObject *self, void *closure)

@@ -81,6 +81,29 @@ def test_threads_share_one_compiled_model(build):
     assert r.stdout.strip() == "ok 20 solves 20 linearisations of 20"
 
 
+def test_solves_allocate_nothing(build):
+    """Nothing the core allocates between tr_data_alloc and tr_data_free: a scene of each
+    stress family (plain, large load, tendons planar and spatial, slack, off the load path
+    and confirmed, buckled column, friction, multiple shooting, Cosserat with a tension),
+    solved cold, then warm and cold again in the same workspace, while csrc/tests/
+    alloc_count.c counts every malloc/calloc/realloc by caller.  The core's count is 0 in
+    every family (the stability grids up to the finest and the confirmation's workspace
+    come with the workspace); GSL's LU factorisation allocates its pivot vector per call
+    (GSL >= 2.7), which is counted apart and not asserted."""
+    import sys
+
+    if not sys.platform.startswith("linux"):
+        pytest.skip("interposes glibc's allocator")
+    exe = build(CSRC / "tests" / "alloc_count.c", "-std=gnu99", "-ldl")
+    r = subprocess.run([str(exe)], capture_output=True, text=True, timeout=300)
+    assert r.returncode == 0, r.stderr + r.stdout
+    rows = [line.split() for line in r.stdout.splitlines()[1:] if line.strip()]
+    assert len(rows) == 10, r.stdout
+    for name, core0, _gsl0, core1, _gsl1, status in rows:
+        assert (int(core0), int(core1)) == (0, 0), f"{name}: {core0} + {core1} allocations"
+        assert int(status) >= 0, f"{name}: the first solve failed ({status})"
+
+
 def test_the_extension_exports_only_its_init():
     """tendonrod._core is built with hidden visibility: of the names its dynamic symbol
     table defines, PyInit__core is the only one of ours (the core's tr_* and the glue's

@@ -17,6 +17,7 @@
 #include <gsl/gsl_errno.h>
 
 #include "tendonrod.h"
+#include "tr_internal.h" /* reads the workspace's fields */
 
 enum { NTHREAD = 4, NSTEP = 5, NT_MAX = 3, NOUT = 2 + 18 + NT_MAX + 6 * 2 };
 
