@@ -1,10 +1,10 @@
 /*
  * tr_data.c -- the workspace of one solve: everything that changes, allocated here and
- * freed in tr_data_free, nothing in between: the stability test's grid workspaces with
- * room for the finest grid the test refines to (tr_stab_workspace, below, sets a grid in
- * place), and with TR_ALLOC_CONFIRM the confirmation's second formulation (else it is
- * allocated by the first solve that needs it, tr_confirm.c).  The workspace's inputs
- * (the values its solves use) are tr_inputs.c's.
+ * freed in tr_data_free.  With TR_ALLOC_ALL nothing in between: the stability test's grid
+ * workspaces with room for the finest grid the test refines to (tr_stab_workspace, below,
+ * sets a grid in place) and the confirmation's second formulation come with it; without,
+ * the first solve that needs them allocates them (tr_stab_workspace, tr_confirm.c).  The
+ * workspace's inputs (the values its solves use) are tr_inputs.c's.
  */
 #include <math.h>
 #include <stdlib.h>
@@ -29,44 +29,62 @@ void tr_stab_free(struct tr_stab_ws *w)
     free(w);
 }
 
-/* The arrays a grid of w->nuni elements uses zeroed, as a workspace allocated for that grid
- * alone would have them (the blocks hold room for the finest grid and are touched only as
- * far as a grid uses them): each array as long as it would be there, cap = nuni + nseg + 2
- * nodes of nb coordinates; the recording workspace's node arrays over its ngrid nodes. */
-static void stab_zero(const tr_model *m, struct tr_stab_ws *w)
+/* The doubles of a grid's arrays: cap nodes of nb coordinates, nt tendons. */
+static size_t stab_len(size_t cap, size_t nb, size_t nt)
+{
+    const size_t nblk = cap * nb * nb, nv = cap * nb;
+    return 18 * cap + nt + 2 * nv + 5 * nblk + 2 * nv + 2 * nv * nt + 2 * nt + 2 * nt * nt +
+           10 * nv;
+}
+
+/* The arrays of the grid w holds (cap = nuni + nseg + 2 nodes of w->nb coordinates) laid
+ * out one after the other from the start of its blocks, as a workspace allocated for that
+ * grid alone had them, and zeroed as such a one was (the blocks hold room for the finest
+ * grid; a grid touches only what it uses); the recording workspace's node arrays likewise
+ * over its nodes. */
+static void stab_layout(const tr_model *m, struct tr_stab_ws *w)
 {
     const size_t cap = (size_t)w->nuni + m->nseg + 2, nb = (size_t)w->nb;
     const size_t nt = (size_t)(m->nt > 0 ? m->nt : 1), nblk = cap * nb * nb, nv = cap * nb;
-    const size_t ns = nblk > nt * nt ? nblk : nt * nt, n = (size_t)w->ngrid;
-    const size_t z = sizeof(double);
-    memset(w->R, 0, 9 * cap * z);
-    memset(w->p, 0, 3 * cap * z);
-    memset(w->F, 0, 3 * cap * z);
-    memset(w->vhat, 0, 3 * cap * z);
-    memset(w->tau, 0, nt * z);
-    memset(w->g, 0, nv * z);
-    memset(w->dx, 0, nv * z);
-    memset(w->h.D, 0, nblk * z);
-    memset(w->h.E, 0, nblk * z);
-    memset(w->h.Pv, 0, nblk * z);
-    memset(w->h.U, 0, nblk * z);
-    memset(w->h.S, 0, ns * z);
-    memset(w->h.Mw, 0, nv * z);
-    memset(w->h.Pe, 0, nv * z);
-    memset(w->h.B, 0, nv * nt * z);
-    memset(w->h.X, 0, nv * nt * z);
-    memset(w->h.cb, 0, nt * z);
-    memset(w->h.Se, 0, nt * z);
-    memset(w->h.Sv, 0, nt * nt * z);
-    memset(w->sw_buf, 0, 10 * nv * z);
+    double *q;
+    w->node = w->kind + cap;
+    w->col = w->node + cap;
+    memset(w->R, 0, stab_len(cap, nb, nt) * sizeof(double));
+    q = w->R + 9 * cap;
+    w->p = q, q += 3 * cap;
+    w->F = q, q += 3 * cap;
+    w->vhat = q, q += 3 * cap;
+    w->tau = q, q += nt;
+    w->g = q, q += nv;
+    w->dx = q, q += nv;
+    w->h.D = q, q += nblk;
+    w->h.E = q, q += nblk;
+    w->h.Pv = q, q += nblk;
+    w->h.U = q, q += nblk;
+    w->h.S = q, q += nblk; /* (nt x nt <= the space of a block array) */
+    w->h.Mw = q, q += nv;
+    w->h.Pe = q, q += nv;
+    w->h.B = q, q += nv * nt;
+    w->h.X = q, q += nv * nt;
+    w->h.cb = q, q += nt;
+    w->h.Se = q, q += nt;
+    w->h.Sv = q, q += nt * nt;
+    if (nt * nt > nblk) {
+        /* many tendons on a short grid: the Schur complement gets its own space */
+        w->h.S = q;
+    }
+    q += nt * nt;
+    w->sw_buf = q; /* 10 nv */
     if (w->rec) {
         tr_data *r = w->rec;
-        memset(r->pos, 0, 3 * n * z);
-        memset(r->rot, 0, 9 * n * z);
-        memset(r->force, 0, 3 * n * z);
-        memset(r->moment, 0, 3 * n * z);
-        memset(r->node_tension, 0, (size_t)m->nt * n * z);
-        memset(r->node_rest, 0, (size_t)m->nt * n * z);
+        const size_t n = (size_t)w->ngrid;
+        r->pos = r->s + n;
+        r->rot = r->s + 4 * n;
+        r->force = r->s + 13 * n;
+        r->moment = r->s + 16 * n;
+        r->node_tension = r->s + 19 * n;
+        r->node_rest = r->node_tension + (size_t)m->nt * n;
+        memset(r->pos, 0, (18 + 2 * (size_t)m->nt) * n * sizeof(double));
     }
 }
 
@@ -89,7 +107,7 @@ static void stab_grid(const tr_model *m, struct tr_stab_ws *w, int nuni, int cos
         }
     }
     w->ngrid = n;
-    if (zero) stab_zero(m, w);
+    if (zero) stab_layout(m, w);
     if (w->rec) {
         w->rec->nnode = n;
         for (i = 0; i < n; i++) w->rec->s[i] = w->s[i] > m->L ? m->L : w->s[i];
@@ -100,54 +118,24 @@ static void stab_grid(const tr_model *m, struct tr_stab_ws *w, int nuni, int cos
  * uniform elements, Cosserat: 6 coordinates per node), set to nuni elements.  The large
  * blocks are only touched as far as a grid uses them. */
 static struct tr_stab_ws *stab_alloc(const tr_model *m, const tr_options *opt, int nuni,
-                                     int cosserat)
+                                     int cosserat, int cap_nuni, int cap_nb)
 {
     struct tr_stab_ws *w = (struct tr_stab_ws *)calloc(1, sizeof *w);
-    const int cap = TR_STAB_MAX_ELEMENTS + m->nseg + 2, nb = 6, nt = m->nt > 0 ? m->nt : 1;
-    const size_t nblk = (size_t)cap * nb * nb, nv = (size_t)cap * nb;
-    size_t len;
-    double *q;
+    const int cap = cap_nuni + m->nseg + 2, nt = m->nt > 0 ? m->nt : 1;
     char msg[TR_MSGLEN];
     tr_options o = *opt;
     if (!w) return NULL;
     w->s = (double *)malloc((size_t)cap * sizeof(double));
     w->kind = (int *)malloc(((size_t)cap * 2 + nt) * sizeof(int));
-    len = 18 * (size_t)cap + nt + 2 * nv + 5 * nblk + 2 * nv + 2 * nv * nt + 2 * (size_t)nt +
-          2 * (size_t)nt * nt + 10 * nv;
-    w->R = (double *)malloc(len * sizeof(double)); /* zeroed per grid (stab_zero) */
+    /* zeroed per grid as far as it is used (stab_layout) */
+    w->R = (double *)malloc(stab_len((size_t)cap, (size_t)cap_nb, (size_t)nt) * sizeof(double));
     if (!w->s || !w->kind || !w->R) {
         tr_stab_free(w);
         return NULL;
     }
-    w->node = w->kind + cap;
-    w->col = w->node + cap;
-    q = w->R + 9 * cap;
-    w->p = q, q += 3 * cap;
-    w->F = q, q += 3 * cap;
-    w->vhat = q, q += 3 * cap;
-    w->tau = q, q += nt;
-    w->g = q, q += nv;
-    w->dx = q, q += nv;
-    w->h.D = q, q += nblk;
-    w->h.E = q, q += nblk;
-    w->h.Pv = q, q += nblk;
-    w->h.U = q, q += nblk;
-    w->h.S = q, q += nblk; /* (nt x nt <= the space of a block array) */
-    w->h.Mw = q, q += nv;
-    w->h.Pe = q, q += nv;
-    w->h.B = q, q += nv * nt;
-    w->h.X = q, q += nv * nt;
-    w->h.cb = q, q += nt;
-    w->h.Se = q, q += nt;
-    w->h.Sv = q, q += (size_t)nt * nt;
-    if ((size_t)nt * nt > nblk) {
-        /* many tendons on a short grid: the Schur complement gets its own space */
-        w->h.S = q;
-    }
-    q += (size_t)nt * nt;
-    w->sw_buf = q; /* 10 nv */
+    w->cap_nuni = cap_nuni, w->cap_nb = cap_nb;
     /* the recording workspace allocated on the finest grid, then set to this one */
-    stab_grid(m, w, TR_STAB_MAX_ELEMENTS, 1, 0);
+    stab_grid(m, w, cap_nuni, cap_nb == 6, 0);
     o.tip_only = 0;
     w->rec = data_alloc(m, &o, w->ngrid, w->s, 2, 0, msg, sizeof msg);
     if (!w->rec) {
@@ -158,18 +146,25 @@ static struct tr_stab_ws *stab_alloc(const tr_model *m, const tr_options *opt, i
     return w;
 }
 
-/* The workspace *wp set to nuni uniform elements (allocated with the workspace; here only
- * where tr_data_alloc did not: a workspace of another's view, or accept_unstable). */
+/* The workspace *wp set to nuni uniform elements: in place when it has room (allocated with
+ * the workspace: TR_ALLOC_GRIDS the first grids, TR_ALLOC_FINEST the finest), else allocated
+ * here (a workspace without them, or a finer grid than it has room for). */
 struct tr_stab_ws *tr_stab_workspace(const tr_model *m_, tr_data *d, struct tr_stab_ws **wp,
                                      int nuni, int cosserat)
 {
     const tr_model *m = TR_IN(m_, d);
+    struct tr_stab_ws *w = *wp;
     if (nuni > TR_STAB_MAX_ELEMENTS) return NULL;
-    if (!*wp) {
-        *wp = stab_alloc(m, &d->opt, nuni, cosserat);
-    } else if ((*wp)->nuni != nuni || (*wp)->cosserat != cosserat) {
-        stab_grid(m, *wp, nuni, cosserat, 1);
+    if (w && (w->nuni != nuni || w->cosserat != cosserat) &&
+        (nuni > w->cap_nuni || (cosserat ? 6 : 3) > w->cap_nb)) {
+        /* finer than it has room for (a workspace without TR_ALLOC_FINEST): a new one */
+        tr_stab_free(w);
+        w = *wp = NULL;
     }
+    if (!w)
+        *wp = stab_alloc(m, &d->opt, nuni, cosserat, nuni, cosserat ? 6 : 3);
+    else if (w->nuni != nuni || w->cosserat != cosserat)
+        stab_grid(m, w, nuni, cosserat, 1);
     return *wp;
 }
 
@@ -411,8 +406,9 @@ int tr_data_alloc_confirm(const tr_model *m, tr_data *d, char *msg, size_t msgle
     return d->confirm_d ? 0 : -1;
 }
 
-/* nested: 0 a caller's workspace (with the stability test's grids unless accept_unstable,
- * and with TR_ALLOC_CONFIRM the confirmation's workspace when continuation may need it), 1 a confirming one
+/* nested: 0 a caller's workspace (with TR_ALLOC_GRIDS or _FINEST the stability test's grids
+ * unless accept_unstable, with TR_ALLOC_CONFIRM the confirmation's workspace when
+ * continuation may need it), 1 a confirming one
  * (neither), 2 a grid's recording (neither; its node arrays left for stab_zero to clear as
  * far as a grid uses them).  A workspace of another workspace's view has neither. */
 static tr_data *data_alloc(const tr_model *m, const tr_options *opt, int nnode,
@@ -445,8 +441,13 @@ static tr_data *data_alloc(const tr_model *m, const tr_options *opt, int nnode,
         if (!d->hyb) goto nomem;
     }
     if (nested == 0 && !m->view) {
-        if (!opt->accept_unstable && (!(d->stab = stab_alloc(d->vm, opt, TR_STAB_ELEMENTS, 0)) ||
-                                      !(d->stab_quick = stab_alloc(d->vm, opt, TR_STAB_QUICK, 0))))
+        const int fine = (flags & TR_ALLOC_FINEST) != 0;
+        if ((flags & (TR_ALLOC_GRIDS | TR_ALLOC_FINEST)) && !opt->accept_unstable &&
+            (!(d->stab =
+                   stab_alloc(d->vm, opt, TR_STAB_ELEMENTS, 0,
+                              fine ? TR_STAB_MAX_ELEMENTS : TR_STAB_ELEMENTS, fine ? 6 : 3)) ||
+             !(d->stab_quick = stab_alloc(d->vm, opt, TR_STAB_QUICK, 0,
+                                          fine ? TR_STAB_MAX_ELEMENTS : TR_STAB_QUICK, 3))))
             goto nomem;
         if ((flags & TR_ALLOC_CONFIRM) && opt->continuation &&
             tr_data_alloc_confirm(d->vm, d, msg, msglen) != 0) {

@@ -82,14 +82,14 @@ def test_threads_share_one_compiled_model(build):
 
 
 def test_solves_allocate_nothing(build):
-    """Nothing the core allocates between tr_data_alloc and tr_data_free: a scene of each
-    stress family (plain, large load, tendons planar and spatial, slack, off the load path
-    and confirmed, buckled column, friction, multiple shooting, Cosserat with a tension),
-    solved cold, then warm and cold again in the same workspace, while csrc/tests/
-    alloc_count.c counts every malloc/calloc/realloc by caller.  The core's count is 0 in
-    every family (the stability grids up to the finest and the confirmation's workspace
-    come with the workspace); GSL's LU factorisation allocates its pivot vector per call
-    (GSL >= 2.7), which is counted apart and not asserted."""
+    """Nothing the core allocates between tr_data_alloc_ext(TR_ALLOC_ALL) and tr_data_free:
+    a scene of each stress family (plain, large load, tendons planar and spatial, slack,
+    off the load path and confirmed, buckled column, friction, multiple shooting, Cosserat
+    with a tension), solved cold, then warm and cold again in the same workspace, while
+    csrc/tests/alloc_count.c counts every malloc/calloc/realloc by caller.  The core's count
+    is 0 in every family (the stability grids with room for the finest and the
+    confirmation's workspace come with the workspace); GSL's LU factorisation allocates its
+    pivot vector per call (GSL >= 2.7), which is counted apart and not asserted."""
     import sys
 
     if not sys.platform.startswith("linux"):

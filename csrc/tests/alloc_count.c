@@ -1,5 +1,5 @@
 /* Allocations during solves: a scene of each stress family is compiled and given its
- * workspace (tr_data_alloc_ext with TR_ALLOC_CONFIRM: everything a solve can need), then
+ * workspace (tr_data_alloc_ext with TR_ALLOC_ALL: everything a solve can need), then
  * solved cold, warm and cold again while every malloc, calloc and realloc of the process is counted (this file interposes them), by who asked:
  * the core or a shared library (GSL).  Prints one line per family: the allocations of the
  * first solve (core, GSL), of the next two (core, GSL), the first one's status; exits 0.
@@ -106,7 +106,7 @@ static int run(const struct family *f, long n[4])
         fprintf(stderr, "%s: friction: %s\n", f->name, msg);
         return -1000;
     }
-    d = tr_data_alloc_ext(m, &o, 21, NULL, TR_ALLOC_CONFIRM, msg, sizeof msg);
+    d = tr_data_alloc_ext(m, &o, 21, NULL, TR_ALLOC_ALL, msg, sizeof msg);
     if (!d) {
         fprintf(stderr, "%s: data: %s\n", f->name, msg);
         return -1000;
