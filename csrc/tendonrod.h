@@ -463,7 +463,14 @@ void tr_data_free(tr_data *d);
  * serves any number of workspaces and threads read-only.  tr_data_alloc copies the
  * values the model was compiled with (the defaults); these set them per workspace, with
  * the same meaning and checks as the tr_model_set_* functions below (TR_EINVAL with a
- * message, the workspace then unchanged; also when d is not m's workspace). */
+ * message, the workspace then unchanged; also when d is not m's workspace).  Values that
+ * enter precomputed data are redone in the workspace, each at the cost of its own size:
+ * point loads -> their sums at the breakpoints (O(nl + nseg)); pretensions -> the rest
+ * lengths and the scene checks (O(nt^2)); actuation values -> the indeterminacy check
+ * (O(nt^2)).  A linearisation's or a path's design parameter (rigidities, a tendon's EA,
+ * offset, slope, friction) -> the per-segment rigidities and the tendon's frame and rest
+ * lengths, on copies the workspace holds (O(nseg + nt)); the model's arrays are shared
+ * by every workspace, never copied per workspace but the values' own. */
 int tr_data_set_values(const tr_model *m, tr_data *d, const double *value, const double *load,
                        const double *dist, char *msg, size_t msglen);
 int tr_data_set_pretension(const tr_model *m, tr_data *d, const double *pretension, char *msg,
