@@ -115,21 +115,34 @@ static int compile(const sweep *s, int i, tr_model **m, tr_data **d)
         tr_model_free(*m);
         return -1;
     }
-    (*d)->lazy = 1;
+    tr_data_set_lazy(*d, 1);
     return 0;
+}
+
+static int nfev_of(const tr_data *d)
+{
+    tr_result r;
+    tr_data_result(d, &r);
+    return r.nfev;
 }
 
 static void keep(const tr_model *m, const tr_data *d, start *st)
 {
+    const size_t k = (size_t)m->n_unknowns;
+    const char *reason = tr_data_carry_reason(d);
+    tr_outputs o;
+    tr_verified v;
+    tr_data_outputs(d, &o);
+    tr_data_verified(d, &v);
     tr_base_state(m, d, st->g);
-    memcpy(st->J, d->J, (size_t)d->k * d->k * sizeof(double));
-    memcpy(st->xv, d->x_ver, (size_t)d->k * sizeof(double));
-    st->ver.steps = d->have_ver ? d->steps_ver : 0;
-    st->ver.estimate = d->est_ver;
+    memcpy(st->J, o.J, k * k * sizeof(double));
+    memcpy(st->xv, v.x, k * sizeof(double));
+    st->ver.steps = v.steps;
+    st->ver.estimate = v.estimate;
     st->ver.x = st->xv;
     st->have_carry = tr_carry_len(m, d) <= (int)(sizeof st->carry / sizeof st->carry[0]) &&
                      tr_carry_get(m, d, st->carry);
-    snprintf(st->reason, sizeof st->reason, "%s", d->carry_reason);
+    snprintf(st->reason, sizeof st->reason, "%s", reason ? reason : "");
 }
 
 /* tr_solve_from the start p, with its verdict record as a Solution passes it. */
@@ -141,7 +154,7 @@ static int solve_from(const tr_model *m, tr_data *d, const start *p)
 
 static int fail(const char *what, const tr_data *d)
 {
-    fprintf(stderr, "%s: %s\n", what, d->message);
+    fprintf(stderr, "%s: %s\n", what, tr_data_message(d));
     return 1;
 }
 
@@ -167,7 +180,7 @@ int harness_run(FILE *in, int reps, double out[6])
     /* the chain of solutions along the sweep: the guesses of warm_guess */
     for (i = 0; i < s.K; i++) {
         if (compile(&s, i, &m, &d) < 0) return 1;
-        if (d->k > MAXU) return fail("too many unknowns for this harness", d);
+        if (m->n_unknowns > MAXU) return fail("too many unknowns for this harness", d);
         st = i == 0 ? tr_solve(m, d, NULL, NULL) : solve_from(m, d, &starts[i - 1]);
         if (!TR_SUCCEEDED(st)) return fail("sweep", d);
         keep(m, d, &starts[i]);
@@ -178,7 +191,7 @@ int harness_run(FILE *in, int reps, double out[6])
         double t0 = now();
         if (compile(&s, 0, &m, &d) < 0) return 1;
         st = tr_solve(m, d, NULL, NULL);
-        nfev_c += d->nfev;
+        nfev_c += nfev_of(d);
         if (!TR_SUCCEEDED(st)) return fail("cold", d);
         tr_data_free(d);
         tr_model_free(m);
@@ -189,7 +202,7 @@ int harness_run(FILE *in, int reps, double out[6])
             const start *p = &starts[i - 1];
             if (compile(&s, i, &m, &d) < 0) return 1;
             st = solve_from(m, d, p);
-            nfev_g += d->nfev;
+            nfev_g += nfev_of(d);
             if (!TR_SUCCEEDED(st)) return fail("warm_guess", d);
             tr_data_free(d);
             tr_model_free(m);
@@ -204,12 +217,12 @@ int harness_run(FILE *in, int reps, double out[6])
             char msg[TR_MSGLEN];
             for (j = 0; j < s.nl; j++)
                 memcpy(lv + 6 * j, s.loads[i] + 7 * j + 1, 6 * sizeof(double));
-            if (tr_model_set_values(m, s.values[i], lv, s.dist[i], msg, sizeof msg)) {
+            if (tr_data_set_values(m, d, s.values[i], lv, s.dist[i], msg, sizeof msg)) {
                 fprintf(stderr, "set_values: %s\n", msg);
                 return 1;
             }
             st = tr_solve_warm(m, d);
-            nfev_w += d->nfev;
+            nfev_w += nfev_of(d);
             if (!TR_SUCCEEDED(st)) return fail("warm", d);
         }
         tw[r] = (now() - t0) / (s.K - 1);

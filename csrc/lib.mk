@@ -8,7 +8,8 @@
 PREFIX   ?= /usr/local
 CC       ?= cc
 CBUILD   := build/c
-TR_VERSION = $(shell sed -n 's/^__version__ = "\(.*\)"$$/\1/p' tendonrod/_version.py)
+# the C library's version, from tendonrod.h (TR_VERSION_MAJOR, _MINOR, _PATCH)
+TR_VERSION = $(shell sed -n 's/^\#define TR_VERSION_\(MAJOR\|MINOR\|PATCH\) \([0-9]*\)$$/\2/p' csrc/tendonrod.h | paste -sd.)
 # 0.x: no ABI promise between minor versions, so the soname carries major.minor
 TR_SOVER   = $(word 1,$(subst ., ,$(TR_VERSION))).$(word 2,$(subst ., ,$(TR_VERSION)))
 SONAME     = libtendonrod.so.$(TR_SOVER)

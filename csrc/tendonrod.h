@@ -5,8 +5,11 @@
  * an immutable tr_model; every mutable buffer of a solve lives in a tr_data
  * workspace allocated for that model.  Solver functions read the model and
  * write the data:  int tr_solve(const tr_model *m, tr_data *d, ...).
- * Threads may share a model; each thread owns its data.  Nothing allocates
- * between tr_data_alloc() and tr_data_free(); there is no global state.
+ * The model is constant after compilation: the values that change between calls
+ * (actuation, pretension, loads, friction coefficients, the target, a linearisation's
+ * design perturbation) are the workspace's inputs (tr_data_set_values, ...).  One
+ * compiled model serves every thread of a batch or sweep read-only; each thread owns
+ * its data.  There is no global state.
  *
  * Conventions (docs/model.md): SI units, radians.  Base at the origin, base frame =
  * world frame, undeformed rod along +z.  R is body-to-world, stored row-major.
@@ -14,21 +17,24 @@
  * sin phi_i, 0) and is anchored at s = t_i <= L.  q > 0 retracts a tendon.
  *
  * Status codes: 0 success, > 0 finished with a caveat, < 0 failure;
- * tr_strerror() names each, and tr_data.message says what happened and what
+ * tr_strerror() names each, and tr_data_message() says what happened and what
  * to do about it.
  */
 #ifndef TENDONROD_H
 #define TENDONROD_H
 
 #include <stddef.h>
-#include <gsl/gsl_matrix.h>
-#include <gsl/gsl_permutation.h>
-#include <gsl/gsl_odeiv2.h>
-#include <gsl/gsl_multiroots.h>
 
 #ifdef __cplusplus
 extern "C" {
 #endif
+
+/* The C library's version (libtendonrod's soname carries major.minor: 0.x makes no ABI
+ * promise between minor versions).  0.2: the workspace is opaque (accessors), the values
+ * that change between calls are the workspace's inputs (tr_data_set_*); CHANGELOG.md. */
+#define TR_VERSION_MAJOR 0
+#define TR_VERSION_MINOR 2
+#define TR_VERSION_PATCH 0
 
 /* ---------------------------------------------------------------- status */
 enum tr_status {
@@ -231,8 +237,6 @@ tr_options tr_default_options(void);
 int tr_options_check(const tr_options *opt, char *msg, size_t msglen);
 
 /* ----------------------------------------------------------------- model */
-struct tr_stab_ws;
-
 typedef struct tr_tendon {
     double b;          /* offset at s = 0 [m] */
     double phi;        /* angle of the routing plane about e3, body frame [rad] */
@@ -332,6 +336,8 @@ typedef struct tr_model {
     double target[9];         /* angle: theta [rad]; position: p (3) world [m]; direction: the
                                 unit tip tangent (3) world and a unit basis b1 (3), b2 (3) of
                                 the plane normal to it */
+    int view;                 /* 0: a compiled model; 1: a workspace's inputs (tr_data.in): the
+                                values its solves use over the compiled model's structure */
 } tr_model;
 
 /* Compile a scene.  rod = [L, EI, GJ, EA, GA, kirchhoff]; tendons (nt x 8) rows
@@ -363,10 +369,12 @@ int tr_model_alloc_ext(tr_model **out, const double rod[6], const double *tendon
  * precurvature ux or uz. */
 int tr_sections_planar(const double *sections, int nsec);
 void tr_model_free(tr_model *m);
-/* A deep copy of m (NULL when out of memory): a model whose values can be set while m
- * stays shared. */
+/* A deep copy of m (NULL when out of memory). */
 tr_model *tr_model_clone(const tr_model *m);
-/* Set the values of a compiled model without changing its structure: value (nt) the
+/* Deprecated (kept for one release): the tr_data_set_* setters set a workspace's values.
+ * These set a model's defaults, which workspaces allocated afterwards start from; call
+ * them before any workspace of the model exists.
+ * Set the values of a compiled model without changing its structure: value (nt) the
  * actuation value of every tendon (q [m] or tau [N] per its control mode), load
  * (nl x 6) [F (3) N, M (3) N m] world frame of every point load (positions stay),
  * dist (3) the distributed force [N/m], world frame; NULL keeps what the model has.
@@ -376,7 +384,8 @@ tr_model *tr_model_clone(const tr_model *m);
  * the model is then unchanged. */
 int tr_model_set_values(tr_model *m, const double *value, const double *load, const double *dist,
                         char *msg, size_t msglen);
-/* Set the tendons' pretensions (nt) [N] of a compiled model: the rest lengths are
+/* Deprecated as tr_model_set_values (tr_data_set_pretension).  Set the tendons'
+ * pretensions (nt) [N] of a compiled model: the rest lengths are
  * recomputed and the scene checks redone (m->scene_status).  TR_EINVAL with a message
  * when a value is not finite or negative; the model is then unchanged. */
 int tr_model_set_pretension(tr_model *m, const double *pretension, char *msg, size_t msglen);
@@ -402,7 +411,8 @@ enum tr_target_kind {
  * Their prescribed displacements then only start the solve; tr_solve reports the
  * displacements the solution needs.  TR_EINVAL with a message for a kind this
  * formulation lacks, a wrong count, a tendon that is not displacement-controlled, or
- * values that are not finite; the model is then unchanged. */
+ * values that are not finite; the model is then unchanged.  Deprecated as
+ * tr_model_set_values: tr_data_set_target sets a workspace's target. */
 int tr_model_set_target(tr_model *m, int kind, const double *values, const int *tendons, int n,
                         char *msg, size_t msglen);
 /* 1 when a scene of these flat arrays (as for tr_model_alloc) lies in the x-z plane:
@@ -416,185 +426,9 @@ int tr_is_planar_dist(const double *tendons, int nt, const double *loads, int nl
 /* ------------------------------------------------------------------ data */
 #define TR_MSGLEN 1024
 
-typedef struct tr_data {
-    const tr_model *model; /* the model this workspace was allocated for */
-    tr_options opt;        /* options of this workspace */
-    int k;                 /* number of unknowns */
-    /* iteration */
-    double *x, *f;         /* (k) scaled unknowns / residual */
-    double *xt, *ft, *dx;  /* (k) trial point, trial residual, step */
-    double *xs, *xp, *fs;  /* (k) continuation: unknowns at the stage start and at the
-                              previous stage, residual at the stage start */
-    double *J;             /* (k x k) scaled Jacobian, row-major */
-    double *work;          /* (k) a right-hand side (condition number, compliance) */
-    double *hyb_f;         /* (k) residual evaluated for GSL's hybrid Jacobian callback */
-    int *switched;         /* (ndisp) a tendon switched between taut and slack in a step */
-    gsl_matrix *LU;        /* (k x k) LU factors */
-    gsl_permutation *perm; /* (k) */
-    double fnorm;          /* max-norm of f */
-    int have_J, J_fresh, J_refresh;
-    int jac_method;  /* tr_jacobian_method in use (continuation: TR_JAC_NEWTON) */
-    int steps_moved; /* 1 once the step verification ran: polish the residual below tol */
-    /* evaluation context */
-    double lam_act;     /* continuation: actuation (q, prescribed tau) scaled by it */
-    double lam_load;    /* continuation: point and distributed loads scaled by it */
-    double lam_fric;    /* continuation: the friction coefficients scaled by it */
-    double *tau, *beta; /* (nt) current tension [N] / slack [m] */
-    int seg;            /* segment being integrated */
-    int rec;            /* 1: recording layout (all path lengths) */
-    int steps;          /* current total fixed steps */
-    int steps_double;   /* 1: every segment takes twice its steps (step-doubling estimate) */
-    int probe_bp;       /* breakpoint of the probe load of a linearisation, -1 none */
-    double probe[6];    /* probe load (world F, M) added at probe_bp */
-    double *capture;    /* NULL, or ((nseg + 1) x 12): an evaluation stores p (3) world [m],
-                               R (9) row-major at each breakpoint b = 1..nseg in row b (the state
-                               just proximal of the breakpoint's jump) -- a linearisation */
-    /* integrator workspaces */
-    double *y, *k1, *k2, *k3, *k4, *yt, *yerr; /* (n_states_rec) */
-    double *ysave;  /* (n_states_rec) a saved end state (step verification, recording check) */
-    double *x_of_y; /* (k) the unknowns of the last shooting evaluation whose end state is y */
-    double *f_of_y; /* (k) its residual */
-    int y_steps;    /* its step count; -1: y holds no such end state (recording, doubled
-                       steps, a compliance probe, continuation) */
-    gsl_odeiv2_system sys_shoot, sys_rec;
-    gsl_odeiv2_step *rk8_shoot, *rk8_rec;
-    gsl_odeiv2_step *ad_step_shoot, *ad_step_rec;
-    gsl_odeiv2_control *ad_ctl_shoot, *ad_ctl_rec;
-    gsl_odeiv2_evolve *ad_ev_shoot, *ad_ev_rec;
-    /* cold guess: the small-deflection linear model over the displacement-controlled
-     * tendons, sum_j C_ij tau_j = rhs_i, solved on an active set */
-    double *lin_C;   /* (ndisp x ndisp) compliance C_ij [m/N] */
-    double *lin_A;   /* (ndisp x ndisp) C restricted to the active set, factored in place */
-    double *lin_rhs; /* (ndisp) right-hand side [m] */
-    double *lin_sol; /* (ndisp) tension change over the pretension [N] */
-    double *lin_pre; /* (ndisp) pretension [N] */
-    double *lin_tmp; /* (ndisp) scatter buffer */
-    int *lin_act;    /* (ndisp) 1: taut (in the active set) */
-    int *lin_map;    /* (ndisp) active-set index -> tendon gamma index */
-    double *bp_pose; /* ((nseg + 1) x 12) p, R at each breakpoint (cold-start shape pass) */
-    gsl_multiroot_fdfsolver *hyb; /* hybridsj workspace (jacobian_method = TR_JAC_HYBRID) */
-    /* linearisation (tr_linearize) */
-    double *Yx;             /* (6 nseg x k) d(pose at the breakpoints)/d(unknowns) */
-    double *lin_pose;       /* (3 x (nseg + 1) x 12) poses at the breakpoints: the solution's,
-                                and those of the two other points of a difference stencil */
-    struct tr_model *lin_m; /* a copy of the model whose design values a linearisation
-                                perturbs, allocated the first time one needs it */
-    int *lin_side;          /* (nt) the side of its taut/slack switch a tendon's derivatives
-                               take (tr_linearize's at_switch) */
-    /* work budget and the caller's poll hook (tr_set_poll) */
-    double spent;           /* work of this solve [units, see TR_DEFAULT_MAX_WORK] */
-    int stop;               /* 0, or TR_EBUDGET / TR_EINTERRUPTED once a poll said stop */
-    int finishing;          /* 1 while the final outputs are computed: beyond the budget */
-    int (*poll)(void *ctx); /* called about every TR_POLL_INTERVAL; nonzero: stop */
-    void *poll_ctx;         /* its argument */
-    double t_start, t_poll; /* wall clock at the solve's start and at the last poll [s] */
-    /* the last successful solve, for tr_solve_warm */
-    double *x_last; /* (k) its scaled unknowns */
-    double *J_last; /* (k x k) its Jacobian */
-    int steps_last; /* its verified step count */
-    int have_last;  /* 1 once a solve succeeded in this workspace */
-    /* the step verification that vouches for the current step count (steps = 0): the
-     * scaled unknowns it measured at, its truncation estimate and step count; and the
-     * one of the last successful solve */
-    double *x_ver, *x_ver_last;     /* (k) each */
-    double *val_ver, *val_ver_last; /* (nt) each: the actuation values it was measured at */
-    double est_ver, est_ver_last;
-    int steps_ver, steps_ver_last;
-    int have_ver, have_ver_last;
-    int have_val_ver, have_val_ver_last; /* 1: val_ver is known */
-    int ver_carried; /* 1: this solve's step count was vouched for by tr_verify_carried */
-    /* the stable branch (tr_branch.c) */
-    double lam_hom;            /* continuation from the guess: residual - (1 - lam_hom) f_guess */
-    double lam_imp;            /* an imperfection at probe_bp, scaled by 1 - lam_imp */
-    double *x_guess, *f_guess; /* (k) the unknowns this solve started from, their residual */
-    double *x_alt;             /* (k) an unstable answer, kept while a stable one is sought */
-    double tip_guess[3];       /* tip position at x_guess, world [m]; NaN: not known */
-    int via_path;              /* 1: the answer came from a continuation */
-    int ramp_stable;           /* 1: a continuation stage must end stable (tr_ramp) */
-    int cont_total;            /* continuation stages of the attempts before this one */
-    int lu_sign;               /* sign of det J at the last tr_lu_factor (0: singular) */
-    /* the verdict of the last successful solve, kept by a warm solve close to it */
-    int carry_valid, carry_stable, carry_index, carry_det;
-    int stab_kept;       /* 1: this solve's verdict was kept from the last one */
-    double carry_gap;    /* no eigenvalue of the verdict within this of zero [EI/L] */
-    double carry_margin; /* its margin [EI/L] (NaN: not computed) */
-    double *carry_x;     /* (k) its scaled unknowns */
-    double *carry_val;   /* (nt + 7 (nseg + 1) + 3) its actuation values, breakpoints, their
-                           loads and the distributed force (scaled, tr_branch.c) */
-    char carry_reason[256];
-    /* the second formulation that confirms an equilibrium found off the load path,
-     * allocated the first time a solve needs it */
-    struct tr_model *confirm_m;
-    struct tr_data *confirm_d;
-    int is_confirm;   /* 1: this workspace confirms another's (no nested confirmation) */
-    int nfev_confirm; /* evaluations spent confirming, added to nfev at the end */
-    /* counters and results */
-    int nit, nfev, njev, cont_steps;
-    int status;
-    char message[TR_MSGLEN];
-    double residual_norm; /* final scaled residual max-norm */
-    double jacobian_cond; /* 1-norm condition number of the final Jacobian */
-    double truncation;    /* step-doubling estimate (scaled residual), NaN if not estimated */
-    /* output (recording pass) */
-    int nnode;            /* number of output nodes (1 when tip_only) */
-    double *s;            /* (nnode) arc length [m] */
-    double *pos;          /* (nnode x 3) position, world [m] */
-    double *rot;          /* (nnode x 9) rotation body-to-world, row-major */
-    double *force;        /* (nnode x 3) internal force, world [N] */
-    double *moment;       /* (nnode x 3) internal moment, world [N m] */
-    double *tension;      /* (nt) tension [N] (at the actuator) */
-    double *node_tension; /* (nnode x nt) each tendon's tension at each node [N]: its tension
-                             at the actuator, less its friction deficit there; 0 distal of
-                             its anchor and where it is slack */
-    double *node_rest;    /* (nnode x nt) a frictional tendon's rest (unstretched) length from
-                             the base to each node [m], int |w| / (1 + tau/EA) ds: the
-                             material coordinate of the tendon there; NaN for the others */
-    double *tau_here;     /* (nt) scratch: the tensions at a state (tr_tensions_at) */
-    double *fric_ws;      /* (TR_FRIC_NCOL nfric) scratch of the right-hand side */
-    double *fric_g;       /* (9 nfric) each frictional tendon's normal load tau t^' (3, body,
-                             [N/m], 0 where slack) at the last right-hand side, and two copies */
-    double *ysw;          /* (2 n_states_rec) scratch of the steps that cross a kink of the
-                             friction law (tr_integrate.c) */
-    int *fric_done;       /* (nfric) scratch of the same */
-    double *slack;        /* (nt) slack [m] */
-    double *displacement; /* (nt) actuator displacement [m] */
-    double tip[18];       /* tip state of the solution: p (3) world [m], R (9) body-to-world
-                             row-major, internal force (3) [N] and moment (3) [N m], world */
-    double tip_angle;     /* planar formulation: the tip tangent's angle from +z toward +x
-                             [rad], unwrapped along s (the integrated theta); spatial: NaN */
-    /* stability of the solution (tr_stability.c): stable 1 / 0 / -1 (not tested or
-     * critical within the test's accuracy, stab_reason says which), the margin (the
-     * smallest eigenvalue of the constrained second variation, scaled by EI/L) and the
-     * number of negative modes */
-    struct tr_stab_ws *stab;       /* its workspace, allocated the first time */
-    struct tr_stab_ws *stab_quick; /* the quick test's */
-    int stable, stab_index;
-    double stability;
-    double stab_gap; /* no eigenvalue within this of zero [EI/L] (0: not known) */
-    char stab_reason[256];
-    int stab_twin; /* channel friction: the frictionless twin's verdict at the state (1 / 0 /
-                      -1 as stable; -1 also without friction) */
-    double stab_twin_margin; /* its margin [EI/L] (NaN: none) */
-    int stab_twin_index;     /* its negative modes (-1: none) */
-    char branch_note[512];   /* how tr_branch reached a stable answer ("": it did not act) */
-    /* the closest approach of a taut tendon to the centre of curvature (tr_watch.c) on
-     * the state where a load path stalled: the smallest path-length rate |w| / |w_ref|,
-     * the tendon, the arc length, its tension and the limit EI / r^2 there */
-    double ea_scale;     /* the tendons' EA in the length residuals scaled by it (1; below 1 on the
-                        way up from softer tendons, tr_solve.c) */
-    double tol_override; /* > 0: the Newton layer's convergence tolerance in place of
-                            opt.tol (the options are never written during a solve) */
-    int shared_mode;     /* 1: Jacobians carry the shared tension direction of stiff tendon sets
-                        from a difference of its own (tr_newton.c), and steps may grow with it */
-    int watch_have, watch_tendon;
-    double watch_rate, watch_s, watch_tau, watch_limit, watch_act, watch_load;
-    int lazy;        /* 1: tr_solve fills only the tip, tensions and slacks (and the
-                             displacement of displacement-controlled tendons; NaN for the
-                             others); the node arrays stay untouched until tr_record_from */
-    int polish_once; /* 1: a converged solve takes one more Newton step whatever its size
-                        (kept unless it raises the residual), so that a change of the values
-                        too small to lift the residual above tol still moves the state */
-} tr_data;
+/* The workspace of a model's solves (tr_data_alloc): opaque; what a caller reads of it is
+ * read through the accessors below (tr_data_result, tr_data_outputs, ...). */
+typedef struct tr_data tr_data;
 
 /* Allocate a workspace.  nodes: if node_s is NULL, nnode uniform nodes over
  * [0, L] plus every interior load/anchor breakpoint twice (state before and after
@@ -603,7 +437,48 @@ typedef struct tr_data {
  * the tip.  Returns NULL on failure (msg says why). */
 tr_data *tr_data_alloc(const tr_model *m, const tr_options *opt, int nnode, const double *node_s,
                        char *msg, size_t msglen);
+/* tr_data_alloc with flags, for a workspace that serves many solves (a controller, a batch,
+ * a Problem): with TR_ALLOC_ALL nothing the core does allocates until tr_data_free.
+ * tr_data_alloc (no flag) allocates every buffer of a solve but the nested workspaces
+ * below, which the first solve that needs them allocates and the workspace keeps: a
+ * workspace allocated per solve (Python's tr.solve) pays only for what it uses.
+ *   TR_ALLOC_GRIDS: the stability test's grid workspaces for its first grids (unless
+ *     accept_unstable); a verdict that refines beyond them allocates a finer one;
+ *   TR_ALLOC_FINEST: the same with room for the finest grid the test refines to
+ *     (TR_STAB_MAX_ELEMENTS elements, Cosserat: two grids of ~800 nodes, ~2 MB each);
+ *   TR_ALLOC_CONFIRM: the confirmation's second formulation (the scene compiled with 8 or
+ *     2 M shooting segments, and its workspace), used on a rare path (continuation
+ *     stalled, a direct solve converged off the load path).
+ * Measured on a Python tr.solve warm from a guess (no verdict needed): GRIDS +25 us,
+ * FINEST +160 us, FINEST | CONFIRM ~ +300 us.  GSL's LU factorisation still allocates its
+ * pivot vector per call (GSL >= 2.7). */
+enum { TR_ALLOC_GRIDS = 1, TR_ALLOC_FINEST = 2, TR_ALLOC_CONFIRM = 4, TR_ALLOC_ALL = 7 };
+tr_data *tr_data_alloc_ext(const tr_model *m, const tr_options *opt, int nnode,
+                           const double *node_s, int flags, char *msg, size_t msglen);
 void tr_data_free(tr_data *d);
+
+/* ---------------------------------------------------------------- inputs */
+/* The values a workspace's solves use (MuJoCo's mjData inputs): a compiled model is never
+ * written after compilation (tr_model_set_friction belongs to compilation), so one model
+ * serves any number of workspaces and threads read-only.  tr_data_alloc copies the
+ * values the model was compiled with (the defaults); these set them per workspace, with
+ * the same meaning and checks as the tr_model_set_* functions below (TR_EINVAL with a
+ * message, the workspace then unchanged; also when d is not m's workspace).  Values that
+ * enter precomputed data are redone in the workspace, each at the cost of its own size:
+ * point loads -> their sums at the breakpoints (O(nl + nseg)); pretensions -> the rest
+ * lengths and the scene checks (O(nt^2)); actuation values -> the indeterminacy check
+ * (O(nt^2)).  A linearisation's or a path's design parameter (rigidities, a tendon's EA,
+ * offset, slope, friction) -> the per-segment rigidities and the tendon's frame and rest
+ * lengths, on copies the workspace holds (O(nseg + nt)); the model's arrays are shared
+ * by every workspace, never copied per workspace but the values' own. */
+int tr_data_set_values(const tr_model *m, tr_data *d, const double *value, const double *load,
+                       const double *dist, char *msg, size_t msglen);
+int tr_data_set_pretension(const tr_model *m, tr_data *d, const double *pretension, char *msg,
+                           size_t msglen);
+int tr_data_set_target(const tr_model *m, tr_data *d, int kind, const double *values,
+                       const int *tendons, int n, char *msg, size_t msglen);
+/* The model's own values (those it was compiled with) again. */
+void tr_data_reset_inputs(const tr_model *m, tr_data *d);
 
 /* ---------------------------------------------------------------- solver */
 /* Set the unknowns from a physical guess (6 + 2 nt: n(0) world, m(0) world,
@@ -760,6 +635,75 @@ int tr_tip_state(const tr_model *m, tr_data *d);
 /* tr_tip_state, and the tip node of a tip-only workspace filled from it (no recording
  * pass), e.g. after tr_solve_lean. */
 int tr_record_tip(const tr_model *m, tr_data *d);
+
+/* ------------------------------------------------------- reading a workspace */
+/* What the last solve did: its status, counts and measures, and its message. */
+typedef struct tr_result {
+    int status;           /* d's status (tr_solve's return) */
+    int nit, nfev, njev;  /* iterations, residual evaluations, Jacobians */
+    int cont_steps;       /* continuation stages */
+    int steps;            /* the step count it ended at (fixed-step integrators) */
+    int ver_carried;      /* 1: that step count was vouched for by the guess's verification */
+    double work;          /* work spent [units, see TR_DEFAULT_MAX_WORK] */
+    double residual_norm; /* final scaled residual max-norm */
+    double jacobian_cond; /* 1-norm condition number of the final Jacobian (NaN: none) */
+    double truncation;    /* step-doubling estimate (scaled residual), NaN if not estimated */
+    const char *message;  /* what happened and what to do about it (the workspace's) */
+} tr_result;
+void tr_data_result(const tr_data *d, tr_result *r);
+/* The state of the last solve or recording, pointers into the workspace (valid until its
+ * next call): nodes and the states there, the tendons' tensions, slacks and displacements,
+ * the tip, the scaled unknowns and the Jacobian. */
+typedef struct tr_outputs {
+    int nnode;                  /* output nodes (1 when tip_only) */
+    int k;                      /* unknowns */
+    int lazy;                   /* 1: the node arrays were not filled (tr_data_set_lazy) */
+    const double *s;            /* (nnode) arc length [m] */
+    const double *pos;          /* (nnode x 3) position, world [m] */
+    const double *rot;          /* (nnode x 9) rotation body-to-world, row-major */
+    const double *force;        /* (nnode x 3) internal force, world [N] */
+    const double *moment;       /* (nnode x 3) internal moment, world [N m] */
+    const double *node_tension; /* (nnode x nt) each tendon's tension at each node [N] */
+    const double *node_rest;    /* (nnode x nt) a frictional tendon's rest length from the base
+                                 to each node [m]; NaN for the others */
+    const double *tension;      /* (nt) tension at the actuator [N] */
+    const double *slack;        /* (nt) slack [m] */
+    const double *displacement; /* (nt) actuator displacement [m] */
+    const double *tip;          /* (18) p (3) world [m], R (9) row-major, force (3) [N], moment
+                                 (3) [N m] world */
+    double tip_angle;           /* planar: the tip tangent's angle from +z toward +x [rad],
+                                 unwrapped; spatial: NaN */
+    const double *x;            /* (k) scaled unknowns */
+    const double *J;            /* (k x k) scaled Jacobian, row-major */
+} tr_outputs;
+void tr_data_outputs(const tr_data *d, tr_outputs *o);
+/* The stability verdict of the last solve (tr_stability, or judged by tr_solve): stable
+ * 1 / 0 / -1 (not tested, or critical within the test's accuracy: reason says which), the
+ * margin [EI/L] (NaN: not computed), the number of negative modes, the reason. */
+typedef struct tr_verdict {
+    int stable, index;
+    double margin;
+    const char *reason;
+} tr_verdict;
+void tr_data_verdict(const tr_data *d, tr_verdict *v);
+/* The step verification that vouches for the current step count (as tr_verified, its
+ * pointers into the workspace): 1 and v filled, or 0 when there is none. */
+int tr_data_verified(const tr_data *d, tr_verified *v);
+/* The reason of the verdict record a warm solve may keep (tr_carry_get), or NULL when the
+ * workspace has none. */
+const char *tr_data_carry_reason(const tr_data *d);
+/* The options of the workspace, its message, whether it holds a successful solve for
+ * tr_solve_warm; and the lazy flag: 1, a solve fills the tip, tensions and slacks only (and
+ * the displacement of displacement-controlled tendons; NaN for the others), the node arrays
+ * stay untouched until tr_record_from. */
+const tr_options *tr_data_options(const tr_data *d);
+const char *tr_data_message(const tr_data *d);
+int tr_data_has_last(const tr_data *d);
+void tr_data_set_lazy(tr_data *d, int lazy);
+/* 1: a converged solve takes one more Newton step whatever its size (kept unless it raises
+ * the residual), so that a change of the values too small to lift the residual above tol
+ * still moves the state. */
+void tr_data_set_polish_once(tr_data *d, int polish_once);
 
 #ifdef __cplusplus
 }

@@ -25,8 +25,9 @@
 #include "tru_math.h"
 
 /* ------------------------------------------------------------------ buffers */
-int tr_act_check_spec(const tr_model *m, tr_data *d, const tr_act_spec *sp)
+int tr_act_check_spec(const tr_model *m_, tr_data *d, const tr_act_spec *sp)
 {
+    const tr_model *m = TR_IN(m_, d);
     const tr_act_target *tg = &sp->target;
     int j, i;
     if (!TR_SUCCEEDED(d->status) || !d->have_last) {
@@ -67,8 +68,9 @@ int tr_act_check_spec(const tr_model *m, tr_data *d, const tr_act_spec *sp)
     return TR_OK;
 }
 
-act_run *tr_act_run_alloc(tr_model *m, tr_data *d, const tr_act_spec *sp)
+act_run *tr_act_run_alloc(const tr_model *m_, tr_data *d, const tr_act_spec *sp)
 {
+    const tr_model *m = TR_IN(m_, d);
     const int n = sp->n, nt = m->nt, k = d->k, ls = nt + sp->target.m > n ? nt + sp->target.m : n;
     const size_t per = (size_t)(6 + 2 * nt) + 2 * (size_t)k + (size_t)k * k + 3 * (size_t)nt + n;
     const size_t len = ACT_POOL * per + (size_t)k * k + nt + n + 6 * (size_t)nt +
@@ -319,7 +321,7 @@ static int set_controls(act_run *a, const double *c)
         a->vals[i] = v;
         a->key[j] = v;
     }
-    return tr_model_set_values(a->m, a->vals, NULL, NULL, msg, sizeof msg) == TR_OK ? 0 : -1;
+    return tr_data_set_values(a->m, a->d, a->vals, NULL, NULL, msg, sizeof msg) == TR_OK ? 0 : -1;
 }
 
 /* The step-verification record of slot s, or NULL. */
@@ -439,13 +441,13 @@ int tr_act_augmented(act_run *a, double *c)
     double q[6];
     int j, status, ok;
     if (tg->has_R || a->n != tg->m || a->n > 6 ||
-        tr_model_set_target(a->m, tg->goal, vals, sp->idx, a->n, msg, sizeof msg) != TR_OK)
+        tr_data_set_target(a->m, d, tg->goal, vals, sp->idx, a->n, msg, sizeof msg) != TR_OK)
         return -1;
     a->solves++;
     d->lazy = 1;
     status = tr_solve_warm(a->m, d);
     d->lazy = 0;
-    tr_model_set_target(a->m, TR_TARGET_NONE, NULL, NULL, 0, msg, sizeof msg);
+    tr_data_set_target(a->m, d, TR_TARGET_NONE, NULL, NULL, 0, msg, sizeof msg);
     a->ws_ok = 0;
     if (status == TR_EINTERRUPTED) a->stop = status;
     ok = TR_SUCCEEDED(status);

@@ -53,7 +53,7 @@ typedef struct {
 } act_state;
 
 typedef struct {
-    tr_model *m;
+    const tr_model *m;
     tr_data *d;
     const tr_act_spec *sp;
     int n, nt, k, mt; /* controls, tendons, unknowns, target components */
@@ -80,7 +80,7 @@ typedef struct {
  * a workspace without a converged solve to start from. */
 int tr_act_check_spec(const tr_model *m, tr_data *d, const tr_act_spec *sp);
 /* Allocate the run's buffers (NULL: out of memory); free with tr_act_run_free. */
-act_run *tr_act_run_alloc(tr_model *m, tr_data *d, const tr_act_spec *sp);
+act_run *tr_act_run_alloc(const tr_model *m, tr_data *d, const tr_act_spec *sp);
 void tr_act_run_free(act_run *a);
 /* The workspace's current state (a converged solve at the scene's controls) as the
  * run's first: its slot. */

@@ -456,8 +456,9 @@ static void verdict(const act_iter *it, tr_act_result *res, int back)
 }
 
 /* ------------------------------------------------------------------ the run */
-int tr_actuate(tr_model *m, tr_data *d, const tr_act_spec *sp, tr_act_result *res)
+int tr_actuate(const tr_model *m_, tr_data *d, const tr_act_spec *sp, tr_act_result *res)
 {
+    const tr_model *m = TR_IN(m_, d);
     const int n = sp->n;
     act_run *a;
     act_iter it;

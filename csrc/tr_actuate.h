@@ -5,7 +5,7 @@
  *
  * A run starts from a converged solve of the scene in its workspace.  A square target
  * whose controls are all displacements may first be solved inside the shooting system
- * (tr_model_set_target: one Newton solve).  Then come trust-region steps on the
+ * (tr_data_set_target: one Newton solve).  Then come trust-region steps on the
  * linearisation of the current equilibrium, every accepted iterate a converged warm
  * solve: Levenberg-Marquardt where the target has at least as many components as there
  * are controls, a composite-step sequential quadratic program for the least change of the
@@ -114,7 +114,7 @@ typedef struct {
  * target may still be out of reach: res->outcome, res->r), TR_EINVAL for a spec this model
  * does not fit (message in d->message), TR_ENOMEM, or the status of a linearisation that
  * failed (TR_EBUDGET, TR_EINTERRUPTED, ...). */
-int tr_actuate(tr_model *m, tr_data *d, const tr_act_spec *spec, tr_act_result *res);
+int tr_actuate(const tr_model *m, tr_data *d, const tr_act_spec *spec, tr_act_result *res);
 
 #ifdef __cplusplus
 }

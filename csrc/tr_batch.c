@@ -1,8 +1,8 @@
 /*
  * tr_batch.c -- batch solves of one robot design (see tr_batch.h): a loop over the
- * core's public API.  The base model is cloned once (tr_model_clone) and each point's
- * values are set on the clone (tr_model_set_values); one workspace serves every
- * point.  A warm point starts from the last converged one (its base state by
+ * core's public API.  The base model is shared read-only (several threads may run
+ * batches of one model at once); each point's values are set in the one workspace that
+ * serves every point (tr_data_set_values).  A warm point starts from the last converged one (its base state by
  * tr_base_state, its unknowns and Jacobian) or from an extrapolation along the line
  * of the last converged points; with a fixed step count it first tries the lean
  * solve (tr_solve_lean), then the full tr_solve.
@@ -16,7 +16,7 @@
 
 /* Workspace of one batch call. */
 typedef struct batch_ws {
-    tr_model *m;                   /* clone of the base model; values set per point */
+    const tr_model *m;             /* the base model, shared read-only */
     tr_data *d;                    /* the one workspace */
     int k, ng, np;                 /* unknowns; guess length 6 + 2 nt; varied values */
     double *hist_g[TR_BATCH_HIST]; /* (ng) base states of the last converged points, newest first */
@@ -34,7 +34,6 @@ typedef struct batch_ws {
 static void ws_free(batch_ws *w)
 {
     tr_data_free(w->d);
-    tr_model_free(w->m);
     free(w->block);
 }
 
@@ -52,8 +51,8 @@ static int ws_alloc(batch_ws *w, const tr_model *base, const tr_options *opt, in
     len = (size_t)TR_BATCH_HIST * (w->ng + w->k + np) + np + w->ng + 2 * (size_t)w->k +
           (size_t)w->k * w->k + (size_t)base->nt;
     w->block = (double *)calloc(len + 1, sizeof(double));
-    w->m = tr_model_clone(base);
-    if (!w->block || !w->m) {
+    w->m = base;
+    if (!w->block) {
         tr_msgf(msg, msglen, "out of memory while setting up the batch");
         return TR_ENOMEM;
     }
@@ -233,7 +232,7 @@ static void write_point(const tr_batch_out *out, int p, const tr_model *m, const
 static int solve_point(batch_ws *w, const tr_batch_in *in, int have, int record, int *nit,
                        int *nfev, int *cold)
 {
-    tr_model *m = w->m;
+    const tr_model *m = w->m;
     tr_data *d = w->d;
     const double *g = w->hist_g[0];
     double wt[4], spent = 0.0;
@@ -322,7 +321,7 @@ int tr_batch_solve(const tr_model *m, const tr_options *opt, const tr_batch_in *
         const double *v = in->value ? in->value + (size_t)p * m->nt : NULL;
         const double *l = in->load ? in->load + (size_t)p * 6 * m->nl : NULL;
         const double *dd = in->dist ? in->dist + (size_t)p * 3 : NULL;
-        if (tr_model_set_values(w.m, v, l, dd, pmsg, sizeof pmsg) != TR_OK) {
+        if (tr_data_set_values(w.m, w.d, v, l, dd, pmsg, sizeof pmsg) != TR_OK) {
             char full[TR_MSGLEN + 32];
             tr_msgf(full, sizeof full, "point %d: %s", p, pmsg);
             write_failed_point(out, p, m->nt, m->n_unknowns, TR_EINVAL, full);

@@ -3,8 +3,9 @@
  *
  * A batch shares everything that fixes the shape of the shooting problem with a
  * compiled base model: rod, tendon routing, control modes, load positions, the
- * formulation (planar/spatial).  Per point it varies only values (set on a private
- * clone of the model with tr_model_set_values):
+ * formulation (planar/spatial); the model is only read, so threads may run batches of
+ * one model at once.  Per point it varies only values (the inputs of its one workspace,
+ * tr_data_set_values):
  *   - the actuation value of every tendon (q [m] for displacement-controlled tendons,
  *     tau [N] for tension-controlled ones, following the base model's control modes),
  *   - the force and moment of every point load (world frame),

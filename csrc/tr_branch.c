@@ -71,8 +71,9 @@ static double values_of(const tr_model *m, double *v, const double *old)
     return change;
 }
 
-void tr_branch_keep(const tr_model *m, tr_data *d)
+void tr_branch_keep(const tr_model *m_, tr_data *d)
 {
+    const tr_model *m = TR_IN(m_, d);
     /* a kept verdict leaves the base it was kept from: later solves compare with the
      * solve that judged it, so that small changes do not add up unseen */
     if (d->stab_kept) return;
@@ -365,8 +366,9 @@ static int branch(const tr_model *m, tr_data *d, int status, int cold)
     return d->stable == 0 ? TR_UNSTABLE : TR_OFFPATH;
 }
 
-int tr_branch(const tr_model *m, tr_data *d, int status, int cold)
+int tr_branch(const tr_model *m_, tr_data *d, int status, int cold)
 {
+    const tr_model *m = TR_IN(m_, d);
     d->cont_total = d->cont_steps;
     d->cont_steps = 0;
     status = branch(m, d, status, cold);
@@ -375,8 +377,9 @@ int tr_branch(const tr_model *m, tr_data *d, int status, int cold)
     return status;
 }
 
-int tr_branch_lean(const tr_model *m, tr_data *d)
+int tr_branch_lean(const tr_model *m_, tr_data *d)
 {
+    const tr_model *m = TR_IN(m_, d);
     if (d->opt.accept_unstable) return 1;
     judge(m, d, 1);
     if (d->stable == 0) return 0;
@@ -386,13 +389,15 @@ int tr_branch_lean(const tr_model *m, tr_data *d)
 
 /* The flat record: stable, index, det sign, gap, margin, then carry_x (k), carry_val
  * (values_of's list). */
-int tr_carry_len(const tr_model *m, const tr_data *d)
+int tr_carry_len(const tr_model *m_, const tr_data *d)
 {
+    const tr_model *m = TR_IN(m_, d);
     return 5 + d->k + m->nt + 7 * (m->nseg + 1) + 3;
 }
 
-int tr_carry_get(const tr_model *m, const tr_data *d, double *rec)
+int tr_carry_get(const tr_model *m_, const tr_data *d, double *rec)
 {
+    const tr_model *m = TR_IN(m_, d);
     const int k = d->k, nv = tr_carry_len(m, d) - 5 - k;
     if (!d->carry_valid) return 0;
     rec[0] = d->carry_stable, rec[1] = d->carry_index, rec[2] = d->carry_det;
@@ -402,8 +407,9 @@ int tr_carry_get(const tr_model *m, const tr_data *d, double *rec)
     return 1;
 }
 
-int tr_carry_set(const tr_model *m, tr_data *d, const double *rec, int len, const char *reason)
+int tr_carry_set(const tr_model *m_, tr_data *d, const double *rec, int len, const char *reason)
 {
+    const tr_model *m = TR_IN(m_, d);
     const int k = d->k, nv = tr_carry_len(m, d) - 5 - k;
     int i;
     if (len != tr_carry_len(m, d) || !(rec[0] == 0.0 || rec[0] == 1.0) ||

@@ -118,9 +118,9 @@ static int check_params(const tr_model *m, tr_data *d, const tr_param *par, int 
 static int eval_moved(const tr_model *m, tr_data *d, const lin_dir *dir, double delta, double *f,
                       double *pose)
 {
-    const tr_model *me = m;
     const double *x = d->x;
-    int status;
+    double value = 0.0;
+    int status, moved = 0;
     if (dir && dir->unknown >= 0) {
         memcpy(d->xt, d->x, (size_t)d->k * sizeof(double));
         if (dir->xi) {
@@ -134,26 +134,26 @@ static int eval_moved(const tr_model *m, tr_data *d, const lin_dir *dir, double 
         d->probe_bp = dir->par.index / 6;
         d->probe[dir->par.index % 6] = delta;
     } else if (dir && dir->par.kind == TR_PAR_VALUE) {
-        d->lin_m->tendon[dir->par.index].value = m->tendon[dir->par.index].value + delta;
-        me = d->lin_m;
+        /* the workspace's input moved, and put back exactly */
+        value = d->in.tendon[dir->par.index].value;
+        d->in.tendon[dir->par.index].value = value + delta;
+        moved = 1;
     } else if (dir) {
         const double K = rigidity(m, &dir->par);
         if (K > 0.0) delta = 1.0 / (1.0 / K + delta) - K; /* a step of the compliance */
-        if (tr_model_perturb(d->lin_m, m, dir->par.kind, dir->par.index, delta) != TR_OK) {
-            tr_model_perturb(d->lin_m, m, dir->par.kind, dir->par.index, 0.0);
+        if (tr_inputs_perturb(d, dir->par.kind, dir->par.index, delta) != TR_OK) {
             tr_set_message(d, "linearise: the perturbed tendon set has no rest lengths");
             return TR_EINVAL;
         }
-        me = d->lin_m;
+        moved = 2;
     }
     d->capture = pose;
-    d->model = me; /* the right-hand side reads the workspace's model */
-    status = tr_residual(me, d, x, f);
-    d->model = m;
+    status = tr_residual(m, d, x, f);
     d->capture = NULL;
     d->probe_bp = -1;
     memset(d->probe, 0, sizeof d->probe);
-    if (me != m) tr_model_perturb(d->lin_m, m, dir->par.kind, dir->par.index, 0.0);
+    if (moved == 1) d->in.tendon[dir->par.index].value = value;
+    if (moved == 2) tr_inputs_restore(d);
     return status;
 }
 
@@ -373,10 +373,11 @@ static int linearize(const tr_model *m, tr_data *d, const tr_param *par, int np,
     return TR_OK;
 }
 
-int tr_linearize(const tr_model *m, tr_data *d, const tr_param *par, int np, const int *rows,
+int tr_linearize(const tr_model *m_, tr_data *d, const tr_param *par, int np, const int *rows,
                  int nrow, double *dpose, double *dtension, double *dslack, int *at_switch,
                  int scheme)
 {
+    const tr_model *m = TR_IN(m_, d);
     int i, status, scratch = 0;
     if (np < 0 || nrow < 0 || (np > 0 && !par) || (nrow > 0 && !rows) ||
         (np > 0 && nrow > 0 && !dpose)) {
@@ -385,17 +386,14 @@ int tr_linearize(const tr_model *m, tr_data *d, const tr_param *par, int np, con
     }
     status = check_params(m, d, par, np, rows, nrow);
     if (status != TR_OK) return status;
+    /* a value or a design perturbed in the workspace's own inputs (not a nested view) */
     for (i = 0; i < np; i++)
         if (par[i].kind != TR_PAR_LOAD &&
             !(par[i].kind == TR_PAR_VALUE && m->tendon[par[i].index].control == TR_DISPLACEMENT))
             scratch = 1;
-    if (scratch) {
-        if (!d->lin_m && !(d->lin_m = tr_model_clone(m))) {
-            tr_set_message(d, "linearise: out of memory");
-            return TR_ENOMEM;
-        }
-        tr_model_sync_values(d->lin_m, m);
-        tr_model_perturb(d->lin_m, m, TR_PAR_VALUE, 0, 0.0);
+    if (scratch && d->vm != &d->in) {
+        tr_set_message(d, "linearise: a nested workspace has no inputs of its own");
+        return TR_EINVAL;
     }
     d->lam_act = d->lam_load = d->lam_hom = 1.0;
     tr_poll_start(d); /* a budget of its own; the caller's interrupt still applies */
@@ -416,8 +414,9 @@ int tr_linearize(const tr_model *m, tr_data *d, const tr_param *par, int np, con
     return status;
 }
 
-int tr_compliance(const tr_model *m, tr_data *d, double s_probe, double C[36])
+int tr_compliance(const tr_model *m_, tr_data *d, double s_probe, double C[36])
 {
+    const tr_model *m = TR_IN(m_, d);
     tr_param par[6];
     double dpose[36];
     int pb = -1, b, q, i, status;

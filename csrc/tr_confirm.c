@@ -11,8 +11,8 @@
  * A stage of the driver (tr_solve.c, solve_confirm), which runs the second solve itself:
  * tr_confirm_begin notes the equilibrium and sets the second formulation up,
  * tr_confirm_judge compares the two.  The second formulation is compiled and its
- * workspace allocated the first time a solve in this workspace needs it (a rare path),
- * then kept and freed with the workspace; its values are synchronised before each use.
+ * workspace allocated with the workspace (tr_data_alloc_confirm) and freed with it; this
+ * workspace's inputs are copied into its inputs before each use.
  */
 #include <math.h>
 #include <string.h>
@@ -24,28 +24,21 @@
 static int confirm_workspace(const tr_model *m, tr_data *d, int nshoot, const char *first)
 {
     char msg[TR_MSGLEN];
-    if (d->confirm_d && d->confirm_m->nshoot != nshoot) {
+    /* allocated with the workspace when continuation is on; here otherwise */
+    if (!d->confirm_d && tr_data_alloc_confirm(m, d, msg, sizeof msg) != 0) {
         tr_data_free(d->confirm_d);
         tr_model_free(d->confirm_m);
         d->confirm_d = NULL;
         d->confirm_m = NULL;
+        tr_set_message(d, "%s; not confirmed: the second formulation could not be set up (%s)",
+                       first, msg);
+        return -1;
     }
-    if (!d->confirm_d) {
-        tr_options o = d->opt;
-        o.shooting_segments = nshoot;
-        o.tip_only = 1;
-        d->confirm_m = tr_model_reshoot(m, &o, nshoot, msg, sizeof msg);
-        if (d->confirm_m) d->confirm_d = tr_data_alloc(d->confirm_m, &o, 1, NULL, msg, sizeof msg);
-        if (d->confirm_d) d->confirm_d->is_confirm = 1;
-        if (!d->confirm_d) {
-            tr_model_free(d->confirm_m);
-            d->confirm_m = NULL;
-            tr_set_message(d, "%s; not confirmed: the second formulation could not be set up (%s)",
-                           first, msg);
-            return -1;
-        }
+    if (!d->confirm_d || d->confirm_m->nshoot != nshoot) {
+        tr_set_message(d, "%s; not confirmed: no second formulation of %d segments", first, nshoot);
+        return -1;
     }
-    tr_model_sync_values(d->confirm_m, m);
+    tr_inputs_copy(d->confirm_d, m);
     tr_set_poll(d->confirm_d, d->poll, d->poll_ctx);
     /* the confirmation spends at most half of what is left of this solve's budget (the
      * stages after it need some) */
@@ -55,8 +48,9 @@ static int confirm_workspace(const tr_model *m, tr_data *d, int nshoot, const ch
     return 0;
 }
 
-int tr_confirm_begin(const tr_model *m, tr_data *d, tr_confirm *c)
+int tr_confirm_begin(const tr_model *m_, tr_data *d, tr_confirm *c)
 {
+    const tr_model *m = TR_IN(m_, d);
     const int M = m->nshoot;
     double nw[3], mw[3];
     c->segments = M >= TR_CONFIRM_SEGMENTS ? 2 * M : TR_CONFIRM_SEGMENTS;
@@ -73,8 +67,9 @@ int tr_confirm_begin(const tr_model *m, tr_data *d, tr_confirm *c)
     return TR_CONTINUE;
 }
 
-int tr_confirm_judge(const tr_model *m, tr_data *d, const tr_confirm *c, int st)
+int tr_confirm_judge(const tr_model *m_, tr_data *d, const tr_confirm *c, int st)
 {
+    const tr_model *m = TR_IN(m_, d);
     const tr_data *cd = d->confirm_d;
     const int M2 = c->segments;
     double dtip = 0.0, dten = 0.0, tmax = 0.0;

@@ -21,8 +21,9 @@ static void tip_of(const tr_model *m, tr_data *d, const double *x, double p[3])
     tr_state_world(m, d->y, p, R, n, mo);
 }
 
-int tr_ramp(const tr_model *m, tr_data *d, double *lamp, const char *what, double dmax)
+int tr_ramp(const tr_model *m_, tr_data *d, double *lamp, const char *what, double dmax)
 {
+    const tr_model *m = TR_IN(m_, d);
     const int k = d->k;
     const int iter_cap = d->opt.max_iter < TR_CONT_ITER ? d->opt.max_iter : TR_CONT_ITER;
     double lam = *lamp, dlam = TR_CONT_DLAM0 < dmax ? TR_CONT_DLAM0 : dmax, dlam_prev = 0.0;
@@ -161,8 +162,9 @@ static int continuation_run(const tr_model *m, tr_data *d)
     return tr_ramp(m, d, &d->lam_fric, "friction (at full actuation and loads)", 1.0);
 }
 
-int tr_continuation(const tr_model *m, tr_data *d)
+int tr_continuation(const tr_model *m_, tr_data *d)
 {
+    const tr_model *m = TR_IN(m_, d);
     const int saved = d->jac_method;
     int status;
     d->jac_method = TR_JAC_NEWTON;

@@ -1,9 +1,10 @@
 /*
  * tr_data.c -- the workspace of one solve: everything that changes, allocated here and
- * freed in tr_data_free.  The solve loop allocates nothing but the nested workspaces
- * allocated on first use: the stability test's grid (tr_stab_workspace, below: again
- * when a verdict needs another grid), the confirmation's (tr_confirm.c) and the
- * linearisation's model copy (tr_compliance.c).
+ * freed in tr_data_free.  With TR_ALLOC_ALL nothing in between: the stability test's grid
+ * workspaces with room for the finest grid the test refines to (tr_stab_workspace, below,
+ * sets a grid in place) and the confirmation's second formulation come with it; without,
+ * the first solve that needs them allocates them (tr_stab_workspace, tr_confirm.c).  The
+ * workspace's inputs (the values its solves use) are tr_inputs.c's.
  */
 #include <math.h>
 #include <stdlib.h>
@@ -13,6 +14,9 @@
 #include "tendonrod.h"
 #include "tr_internal.h"
 #include "tr_stab.h"
+
+static tr_data *data_alloc(const tr_model *m, const tr_options *opt, int nnode,
+                           const double *node_s, int nested, int flags, char *msg, size_t msglen);
 
 /* ------------------------------------------------------------ the stability test's grid */
 void tr_stab_free(struct tr_stab_ws *w)
@@ -25,31 +29,27 @@ void tr_stab_free(struct tr_stab_ws *w)
     free(w);
 }
 
-/* The grid: nuni uniform elements and every breakpoint, sorted, merged within 1e-12 L. */
-static struct tr_stab_ws *stab_alloc(const tr_model *m, const tr_options *opt, int nuni,
-                                     int cosserat)
+/* The doubles of a grid's arrays: cap nodes of nb coordinates, nt tendons. */
+static size_t stab_len(size_t cap, size_t nb, size_t nt)
 {
-    struct tr_stab_ws *w = (struct tr_stab_ws *)calloc(1, sizeof *w);
-    const int cap = nuni + m->nseg + 2, nb = cosserat ? 6 : 3, nt = m->nt > 0 ? m->nt : 1;
-    const size_t nblk = (size_t)cap * nb * nb, nv = (size_t)cap * nb;
-    size_t len;
+    const size_t nblk = cap * nb * nb, nv = cap * nb;
+    return 18 * cap + nt + 2 * nv + 5 * nblk + 2 * nv + 2 * nv * nt + 2 * nt + 2 * nt * nt +
+           10 * nv;
+}
+
+/* The arrays of the grid w holds (cap = nuni + nseg + 2 nodes of w->nb coordinates) laid
+ * out one after the other from the start of its blocks, as a workspace allocated for that
+ * grid alone had them, and zeroed as such a one was (the blocks hold room for the finest
+ * grid; a grid touches only what it uses); the recording workspace's node arrays likewise
+ * over its nodes. */
+static void stab_layout(const tr_model *m, struct tr_stab_ws *w)
+{
+    const size_t cap = (size_t)w->nuni + m->nseg + 2, nb = (size_t)w->nb;
+    const size_t nt = (size_t)(m->nt > 0 ? m->nt : 1), nblk = cap * nb * nb, nv = cap * nb;
     double *q;
-    int i, b, n = 0;
-    char msg[TR_MSGLEN];
-    tr_options o = *opt;
-    if (!w) return NULL;
-    w->nuni = nuni, w->nb = nb, w->cosserat = cosserat;
-    w->s = (double *)malloc((size_t)cap * sizeof(double));
-    w->kind = (int *)malloc(((size_t)cap * 2 + nt) * sizeof(int));
-    len = 18 * (size_t)cap + nt + 2 * nv + 5 * nblk + 2 * nv + 2 * nv * nt + 2 * (size_t)nt +
-          2 * (size_t)nt * nt + 10 * nv;
-    w->R = (double *)calloc(len, sizeof(double));
-    if (!w->s || !w->kind || !w->R) {
-        tr_stab_free(w);
-        return NULL;
-    }
     w->node = w->kind + cap;
     w->col = w->node + cap;
+    memset(w->R, 0, stab_len(cap, nb, nt) * sizeof(double));
     q = w->R + 9 * cap;
     w->p = q, q += 3 * cap;
     w->F = q, q += 3 * cap;
@@ -68,13 +68,33 @@ static struct tr_stab_ws *stab_alloc(const tr_model *m, const tr_options *opt, i
     w->h.X = q, q += nv * nt;
     w->h.cb = q, q += nt;
     w->h.Se = q, q += nt;
-    w->h.Sv = q, q += (size_t)nt * nt;
-    if ((size_t)nt * nt > nblk) {
+    w->h.Sv = q, q += nt * nt;
+    if (nt * nt > nblk) {
         /* many tendons on a short grid: the Schur complement gets its own space */
         w->h.S = q;
     }
-    q += (size_t)nt * nt;
+    q += nt * nt;
     w->sw_buf = q; /* 10 nv */
+    if (w->rec) {
+        tr_data *r = w->rec;
+        const size_t n = (size_t)w->ngrid;
+        r->pos = r->s + n;
+        r->rot = r->s + 4 * n;
+        r->force = r->s + 13 * n;
+        r->moment = r->s + 16 * n;
+        r->node_tension = r->s + 19 * n;
+        r->node_rest = r->node_tension + (size_t)m->nt * n;
+        memset(r->pos, 0, (18 + 2 * (size_t)m->nt) * n * sizeof(double));
+    }
+}
+
+/* The grid of nuni uniform elements into w: those nodes and every breakpoint, sorted,
+ * merged within 1e-12 L; its recording workspace set to record there (no allocation:
+ * w holds room for the finest grid). */
+static void stab_grid(const tr_model *m, struct tr_stab_ws *w, int nuni, int cosserat, int zero)
+{
+    int i, b, n = 0;
+    w->nuni = nuni, w->nb = cosserat ? 6 : 3, w->cosserat = cosserat;
     for (i = 0, b = 1; i <= nuni || b < m->nseg;) {
         const double su = i <= nuni ? m->L * i / nuni : INFINITY;
         const double sb = b < m->nseg ? m->bp[b] : INFINITY;
@@ -87,27 +107,67 @@ static struct tr_stab_ws *stab_alloc(const tr_model *m, const tr_options *opt, i
         }
     }
     w->ngrid = n;
+    if (zero) stab_layout(m, w);
+    if (w->rec) {
+        w->rec->nnode = n;
+        for (i = 0; i < n; i++) w->rec->s[i] = w->s[i] > m->L ? m->L : w->s[i];
+    }
+}
+
+/* A grid workspace with room for the finest grid the test refines to (TR_STAB_MAX_ELEMENTS
+ * uniform elements, Cosserat: 6 coordinates per node), set to nuni elements.  The large
+ * blocks are only touched as far as a grid uses them. */
+static struct tr_stab_ws *stab_alloc(const tr_model *m, const tr_options *opt, int nuni,
+                                     int cosserat, int cap_nuni, int cap_nb)
+{
+    struct tr_stab_ws *w = (struct tr_stab_ws *)calloc(1, sizeof *w);
+    const int cap = cap_nuni + m->nseg + 2, nt = m->nt > 0 ? m->nt : 1;
+    char msg[TR_MSGLEN];
+    tr_options o = *opt;
+    if (!w) return NULL;
+    w->s = (double *)malloc((size_t)cap * sizeof(double));
+    w->kind = (int *)malloc(((size_t)cap * 2 + nt) * sizeof(int));
+    /* zeroed per grid as far as it is used (stab_layout) */
+    w->R = (double *)malloc(stab_len((size_t)cap, (size_t)cap_nb, (size_t)nt) * sizeof(double));
+    if (!w->s || !w->kind || !w->R) {
+        tr_stab_free(w);
+        return NULL;
+    }
+    w->cap_nuni = cap_nuni, w->cap_nb = cap_nb;
+    /* the recording workspace allocated on the finest grid, then set to this one */
+    stab_grid(m, w, cap_nuni, cap_nb == 6, 0);
     o.tip_only = 0;
-    w->rec = tr_data_alloc(m, &o, n, w->s, msg, sizeof msg);
+    w->rec = data_alloc(m, &o, w->ngrid, w->s, 2, 0, msg, sizeof msg);
     if (!w->rec) {
         tr_stab_free(w);
         return NULL;
     }
+    stab_grid(m, w, nuni, cosserat, 1);
     return w;
 }
 
-/* The workspace *wp for nuni uniform elements (reallocated when it has another count). */
-struct tr_stab_ws *tr_stab_workspace(const tr_model *m, tr_data *d, struct tr_stab_ws **wp,
+/* The workspace *wp set to nuni uniform elements: in place when it has room (allocated with
+ * the workspace: TR_ALLOC_GRIDS the first grids, TR_ALLOC_FINEST the finest), else allocated
+ * here (a workspace without them, or a finer grid than it has room for). */
+struct tr_stab_ws *tr_stab_workspace(const tr_model *m_, tr_data *d, struct tr_stab_ws **wp,
                                      int nuni, int cosserat)
 {
-    if (!*wp || (*wp)->nuni != nuni || (*wp)->cosserat != cosserat) {
-        tr_stab_free(*wp);
-        *wp = stab_alloc(m, &d->opt, nuni, cosserat);
+    const tr_model *m = TR_IN(m_, d);
+    struct tr_stab_ws *w = *wp;
+    if (nuni > TR_STAB_MAX_ELEMENTS) return NULL;
+    if (w && (w->nuni != nuni || w->cosserat != cosserat) &&
+        (nuni > w->cap_nuni || (cosserat ? 6 : 3) > w->cap_nb)) {
+        /* finer than it has room for (a workspace without TR_ALLOC_FINEST): a new one */
+        tr_stab_free(w);
+        w = *wp = NULL;
     }
+    if (!w)
+        *wp = stab_alloc(m, &d->opt, nuni, cosserat, nuni, cosserat ? 6 : 3);
+    else if (w->nuni != nuni || w->cosserat != cosserat)
+        stab_grid(m, w, nuni, cosserat, 1);
     return *wp;
 }
 
-/* ------------------------------------------------------------ the workspace */
 void tr_data_free(tr_data *d)
 {
     if (!d) return;
@@ -128,7 +188,7 @@ void tr_data_free(tr_data *d)
     if (d->ad_ev_shoot) gsl_odeiv2_evolve_free(d->ad_ev_shoot);
     if (d->ad_ev_rec) gsl_odeiv2_evolve_free(d->ad_ev_rec);
     free(d->Yx);
-    tr_model_free(d->lin_m);
+    tr_inputs_free(d);
     free(d->x_last);
     free(d->x_guess);
     tr_data_free(d->confirm_d);
@@ -275,7 +335,7 @@ static int merge_nodes(const tr_model *m, int nnode, double *s, int nn)
 
 /* The output nodes and their arrays (s, the 18 recorded states, the nt tendon tensions and
  * rest lengths per node, in one block).  0, or -1 when out of memory. */
-static int alloc_nodes(const tr_model *m, tr_data *d, int nnode, const double *node_s)
+static int alloc_nodes(const tr_model *m, tr_data *d, int nnode, const double *node_s, int zero)
 {
     int i, nn;
     if (d->opt.tip_only)
@@ -284,7 +344,8 @@ static int alloc_nodes(const tr_model *m, tr_data *d, int nnode, const double *n
         nn = nnode;
     else
         nn = nnode + 2 * (m->nseg - 1); /* upper bound; the merge sets the count */
-    d->s = (double *)calloc((size_t)nn * (19 + 2 * m->nt), sizeof(double));
+    d->s = zero ? (double *)calloc((size_t)nn * (19 + 2 * m->nt), sizeof(double))
+                : (double *)malloc((size_t)nn * (19 + 2 * m->nt) * sizeof(double));
     if (!d->s) return -1;
     d->node_tension = d->s + 19 * nn;
     d->node_rest = d->node_tension + (size_t)m->nt * nn;
@@ -327,8 +388,31 @@ static int check_nodes(const tr_model *m, const tr_options *opt, int nnode, cons
     return TR_OK;
 }
 
-tr_data *tr_data_alloc(const tr_model *m, const tr_options *opt, int nnode, const double *node_s,
-                       char *msg, size_t msglen)
+/* The second formulation that confirms an equilibrium found off the load path (tr_confirm.c):
+ * the scene compiled with TR_CONFIRM_SEGMENTS shooting segments (twice the model's from
+ * there on), its workspace tip-only and without nested workspaces of its own (a workspace
+ * that confirms does not confirm in turn, nor judge stability).  None when no finer
+ * formulation exists.  0, or -1 when it could not be set up (msg says why). */
+int tr_data_alloc_confirm(const tr_model *m, tr_data *d, char *msg, size_t msglen)
+{
+    const int M = m->nshoot, M2 = M >= TR_CONFIRM_SEGMENTS ? 2 * M : TR_CONFIRM_SEGMENTS;
+    tr_options o = d->opt;
+    if (M2 > TR_MAX_SHOOTING_SEGMENTS) return 0;
+    o.shooting_segments = M2;
+    o.tip_only = 1;
+    d->confirm_m = tr_model_reshoot(m, &o, M2, msg, msglen);
+    if (!d->confirm_m) return -1;
+    d->confirm_d = data_alloc(d->confirm_m, &o, 1, NULL, 1, 0, msg, msglen);
+    return d->confirm_d ? 0 : -1;
+}
+
+/* nested: 0 a caller's workspace (with TR_ALLOC_GRIDS or _FINEST the stability test's grids
+ * unless accept_unstable, with TR_ALLOC_CONFIRM the confirmation's workspace when
+ * continuation may need it), 1 a confirming one
+ * (neither), 2 a grid's recording (neither; its node arrays left for stab_zero to clear as
+ * far as a grid uses them).  A workspace of another workspace's view has neither. */
+static tr_data *data_alloc(const tr_model *m, const tr_options *opt, int nnode,
+                           const double *node_s, int nested, int flags, char *msg, size_t msglen)
 {
     tr_data *d;
     if (msg && msglen) msg[0] = '\0';
@@ -348,12 +432,31 @@ tr_data *tr_data_alloc(const tr_model *m, const tr_options *opt, int nnode, cons
     d->opt = *opt;
     d->k = m->n_unknowns;
     d->jac_method = opt->jacobian_method;
-    if (alloc_buffers(m, d) != 0 || alloc_integrators(m, d, opt) != 0 ||
-        alloc_nodes(m, d, nnode, node_s) != 0)
+    d->is_confirm = nested == 1;
+    if (tr_inputs_alloc(m, d) != 0 || alloc_buffers(m, d) != 0 ||
+        alloc_integrators(m, d, opt) != 0 || alloc_nodes(m, d, nnode, node_s, nested != 2) != 0)
         goto nomem;
     if (opt->jacobian_method == TR_JAC_HYBRID) {
         d->hyb = gsl_multiroot_fdfsolver_alloc(gsl_multiroot_fdfsolver_hybridsj, (size_t)d->k);
         if (!d->hyb) goto nomem;
+    }
+    if (nested == 0 && !m->view) {
+        const int fine = (flags & TR_ALLOC_FINEST) != 0;
+        if ((flags & (TR_ALLOC_GRIDS | TR_ALLOC_FINEST)) && !opt->accept_unstable &&
+            (!(d->stab =
+                   stab_alloc(d->vm, opt, TR_STAB_ELEMENTS, 0,
+                              fine ? TR_STAB_MAX_ELEMENTS : TR_STAB_ELEMENTS, fine ? 6 : 3)) ||
+             !(d->stab_quick = stab_alloc(d->vm, opt, TR_STAB_QUICK, 0,
+                                          fine ? TR_STAB_MAX_ELEMENTS : TR_STAB_QUICK, 3))))
+            goto nomem;
+        if ((flags & TR_ALLOC_CONFIRM) && opt->continuation &&
+            tr_data_alloc_confirm(d->vm, d, msg, msglen) != 0) {
+            char why[TR_MSGLEN];
+            tr_msgf(why, sizeof why, "%s", msg);
+            tr_msgf(msg, msglen, "the confirming formulation could not be set up: %s", why);
+            tr_data_free(d);
+            return NULL;
+        }
     }
     d->probe_bp = -1;
     d->lam_act = d->lam_load = d->lam_hom = d->lam_fric = 1.0;
@@ -365,4 +468,16 @@ nomem:
     tr_msgf(msg, msglen, "out of memory while allocating the solver workspace");
     tr_data_free(d);
     return NULL;
+}
+
+tr_data *tr_data_alloc(const tr_model *m, const tr_options *opt, int nnode, const double *node_s,
+                       char *msg, size_t msglen)
+{
+    return data_alloc(m, opt, nnode, node_s, 0, 0, msg, msglen);
+}
+
+tr_data *tr_data_alloc_ext(const tr_model *m, const tr_options *opt, int nnode,
+                           const double *node_s, int flags, char *msg, size_t msglen)
+{
+    return data_alloc(m, opt, nnode, node_s, 0, flags, msg, msglen);
 }

@@ -70,8 +70,9 @@ void tr_friction_copy(tr_model *dst, const tr_model *src)
     layout(dst);
 }
 
-const double *tr_tensions_at(const tr_model *m, const tr_data *d, const double *y)
+const double *tr_tensions_at(const tr_model *m_, const tr_data *d, const double *y)
 {
+    const tr_model *m = TR_IN(m_, d);
     int i;
     if (m->nfric == 0) return d->tau;
     for (i = 0; i < m->nt; i++) d->tau_here[i] = tr_tension_at(m, d, i, y);

@@ -149,8 +149,9 @@ static void cold_guess(const tr_model *m, tr_data *d, double *x);
 /* Cold start: the straight-robot base moment or the shape pass's, whichever has
  * the smaller residual (a load on a bent robot wants the shape; a strong tensile
  * load that straightens the robot wants the straight one); nodes from the shape. */
-void tr_cold_start(const tr_model *m, tr_data *d)
+void tr_cold_start(const tr_model *m_, tr_data *d)
 {
+    const tr_model *m = TR_IN(m_, d);
     const int nf = tr_n_force(m), k = d->k;
     double straight[6], shaped[6], ra = INFINITY, rb = INFINITY;
     int c;
@@ -397,8 +398,9 @@ static void cold_guess(const tr_model *m, tr_data *d, double *x)
  * tension (nt) [N], slack (nt) [m]] with n(0), m(0) the internal force and moment of
  * the backbone at the base; the unknowns are the base reaction of the whole section
  * (backbone plus the tendon pulls, see tr_tendon_pull_sum), scaled, and the gammas. */
-int tr_unknowns_from_guess(const tr_model *m, tr_data *d, const double *g, double *x)
+int tr_unknowns_from_guess(const tr_model *m_, tr_data *d, const double *g, double *x)
 {
+    const tr_model *m = TR_IN(m_, d);
     const int k = d->k, off = tr_n_force(m);
     double tn[3], tm[3];
     int i;
@@ -423,8 +425,9 @@ int tr_unknowns_from_guess(const tr_model *m, tr_data *d, const double *g, doubl
     return TR_OK;
 }
 
-void tr_base_state(const tr_model *m, const tr_data *d, double *g)
+void tr_base_state(const tr_model *m_, const tr_data *d, double *g)
 {
+    const tr_model *m = TR_IN(m_, d);
     const int off = tr_n_force(m), nt = m->nt;
     const double *x = d->x;
     double tn[3], tm[3];

@@ -15,7 +15,7 @@
 static int hyb_f(const gsl_vector *x, void *params, gsl_vector *f)
 {
     tr_data *d = (tr_data *)params;
-    return tr_residual(d->model, d, x->data, f->data) == TR_OK ? GSL_SUCCESS : GSL_EBADFUNC;
+    return tr_residual(d->vm, d, x->data, f->data) == TR_OK ? GSL_SUCCESS : GSL_EBADFUNC;
 }
 
 static int hyb_jac(tr_data *d, const double *x, const double *f0, gsl_matrix *J)
@@ -24,8 +24,7 @@ static int hyb_jac(tr_data *d, const double *x, const double *f0, gsl_matrix *J)
     int j;
     if (d->nfev + k > d->opt.max_nfev) return GSL_EMAXITER;
     for (j = 0; j < k; j++)
-        if (tr_fd_column(d->model, d, x, f0, j, J->data + j, J->tda, 0) != TR_OK)
-            return GSL_EBADFUNC;
+        if (tr_fd_column(d->vm, d, x, f0, j, J->data + j, J->tda, 0) != TR_OK) return GSL_EBADFUNC;
     d->njev++;
     /* hybridsj factors each new Jacobian by QR: about twice an LU's multiply-adds */
     d->spent += 2.0 * tr_lu_work(k, tr_nonzero_fraction(J->data, k, J->tda));
@@ -35,19 +34,20 @@ static int hyb_jac(tr_data *d, const double *x, const double *f0, gsl_matrix *J)
 static int hyb_df(const gsl_vector *x, void *params, gsl_matrix *J)
 {
     tr_data *d = (tr_data *)params;
-    if (tr_residual(d->model, d, x->data, d->hyb_f) != TR_OK) return GSL_EBADFUNC;
+    if (tr_residual(d->vm, d, x->data, d->hyb_f) != TR_OK) return GSL_EBADFUNC;
     return hyb_jac(d, x->data, d->hyb_f, J);
 }
 
 static int hyb_fdf(const gsl_vector *x, void *params, gsl_vector *f, gsl_matrix *J)
 {
     tr_data *d = (tr_data *)params;
-    if (tr_residual(d->model, d, x->data, f->data) != TR_OK) return GSL_EBADFUNC;
+    if (tr_residual(d->vm, d, x->data, f->data) != TR_OK) return GSL_EBADFUNC;
     return hyb_jac(d, x->data, f->data, J);
 }
 
 int tr_hybrid_run(const tr_model *m, tr_data *d, int max_iter)
 {
+    (void)m; /* the callbacks read the workspace's view */
     const int k = d->k;
     gsl_multiroot_function_fdf F;
     gsl_vector_view xv = gsl_vector_view_array(d->x, (size_t)k);

@@ -15,8 +15,9 @@
 
 /* Number of fixed steps on segment seg: the total spread in proportion to
  * length, at least one. */
-int tr_segment_steps(const tr_model *m, const tr_data *d, int seg)
+int tr_segment_steps(const tr_model *m_, const tr_data *d, int seg)
 {
+    const tr_model *m = TR_IN(m_, d);
     const double len = m->bp[seg + 1] - m->bp[seg];
     const double nk = floor(d->steps * len / m->L + 0.5);
     return (nk < 1.0 ? 1 : (int)nk) * (d->steps_double ? 2 : 1);
@@ -59,8 +60,8 @@ static int one_step(tr_data *d, int method, double s, double h, double *y, int d
 /* The channels' normal loads tau t^' (3 per frictional tendon, 0 where slack) at (s, y). */
 static int normals(tr_data *d, double s, const double *y, double *G)
 {
-    if (tr_rhs(s, y, d->ysw + d->model->n_states_rec, d) != GSL_SUCCESS) return TR_ENONFINITE;
-    memcpy(G, d->fric_g, 3 * (size_t)d->model->nfric * sizeof(double));
+    if (tr_rhs(s, y, d->ysw + d->vm->n_states_rec, d) != GSL_SUCCESS) return TR_ENONFINITE;
+    memcpy(G, d->fric_g, 3 * (size_t)d->vm->nfric * sizeof(double));
     return TR_OK;
 }
 
@@ -84,7 +85,7 @@ static int reversal(int nf, const double *G0, const double *G1, const int *done)
  * s), so that no step straddles it. */
 static int kink_step(tr_data *d, int method, double s, double h, double *y, int dim, int *have)
 {
-    const tr_model *m = d->model;
+    const tr_model *m = d->vm;
     const int nf = m->nfric;
     double *y0 = d->ysw, *G0 = d->fric_g + 3 * nf, *G1 = G0 + 3 * nf;
     int *done = d->fric_done, k, pass, st;
@@ -137,9 +138,10 @@ static int kink_step(tr_data *d, int method, double s, double h, double *y, int 
     return one_step(d, method, s, s1 - s, y, dim);
 }
 
-int tr_integrate_with(const tr_model *m, tr_data *d, int method, double s0, double s1, int nsteps,
+int tr_integrate_with(const tr_model *m_, tr_data *d, int method, double s0, double s1, int nsteps,
                       double *y)
 {
+    const tr_model *m = TR_IN(m_, d);
     const int dim = d->rec ? m->n_states_rec : m->n_states;
     int status = TR_OK;
     if (!(s1 > s0)) return TR_OK;
@@ -197,7 +199,8 @@ int tr_integrate_with(const tr_model *m, tr_data *d, int method, double s0, doub
     return status;
 }
 
-int tr_integrate(const tr_model *m, tr_data *d, double s0, double s1, int nsteps, double *y)
+int tr_integrate(const tr_model *m_, tr_data *d, double s0, double s1, int nsteps, double *y)
 {
+    const tr_model *m = TR_IN(m_, d);
     return tr_integrate_with(m, d, d->opt.integrator, s0, s1, nsteps, y);
 }

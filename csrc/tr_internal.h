@@ -14,6 +14,8 @@
 
 #include "tendonrod.h"
 
+#include "tr_data.h"
+
 /* State layouts (docs/model.md): spatial p (3), R (9, row-major), n_b (3), m_b (3),
  * then path lengths; planar x, z, theta, n_b1, n_b3, m_b2, then path lengths. */
 enum { TR_Y_P = 0, TR_Y_R = 3, TR_Y_N = 12, TR_Y_M = 15, TR_Y_LEN = 18 };
@@ -406,16 +408,37 @@ static inline double tr_trsv_work(int k)
 #define TR_COND_EST_ITERS 5
 
 /* tr_model.c: the same scene compiled with nshoot shooting segments (the formulation,
- * planar or spatial, kept), or NULL (msg says why); copy the values of src into dst,
- * a model of the same scene (another shooting formulation). */
+ * planar or spatial, kept), or NULL (msg says why); the point-load sums at the
+ * breakpoints (bpF, bpM) from m->load. */
 tr_model *tr_model_reshoot(const tr_model *m, const tr_options *opt, int nshoot, char *msg,
                            size_t msglen);
-void tr_model_sync_values(tr_model *dst, const tr_model *src);
-/* tr_model.c: design parameter (kind, index) of mp, a copy of m, set to m's value + delta
- * with what follows from it (the tendon's base frame and reference length, every rest
- * length), the scales kept so that the unknowns keep their meaning; delta = 0 restores
- * m's design.  TR_OK, or TR_EINVAL when the perturbed tendon set has no rest lengths. */
-int tr_model_perturb(tr_model *mp, const tr_model *m, int kind, int index, double delta);
+void tr_sum_breakpoint_loads(tr_model *m);
+
+/* tr_inputs.c: the model a solve reads, given the model and the workspace passed to an
+ * entry point: the workspace's view of its inputs when m is its model (or already that
+ * view); another model as it is (the entry point's check then refuses it). */
+#define TR_IN(m, d) ((m) == (d)->model ? (d)->vm : (m))
+/* 1 when d is a workspace of m (its model or its view). */
+#define TR_OWNS(m, d) ((m) == (d)->model || (m) == (d)->vm)
+/* tr_inputs.c: the view of a new workspace (tr_data_alloc; 0, or -1 out of memory) and its
+ * arrays freed; the values of src (a view or a model of the same scene, perhaps another
+ * segmentation: the confirmation's) copied into dst's view; a design parameter (kind,
+ * index) of the view set to its value + delta with what follows from it (the tendon's
+ * base frame and reference length, every rest length), the scales kept so that the
+ * unknowns keep their meaning -- TR_OK, or TR_EINVAL when the perturbed tendon set has
+ * no rest lengths (the view then restored) -- and the view restored. */
+int tr_inputs_alloc(const tr_model *m, tr_data *d);
+/* tr_data.c: the confirming formulation of a workspace (d->confirm_m, d->confirm_d): the
+ * scene with TR_CONFIRM_SEGMENTS shooting segments (twice the model's from there on), none
+ * beyond TR_MAX_SHOOTING_SEGMENTS; 0, or -1 (msg says why). */
+int tr_data_alloc_confirm(const tr_model *m, tr_data *d, char *msg, size_t msglen);
+/* tr_inputs.c: the workspace's own view for a setter (a perturbation undone first), or
+ * NULL with a message when d is not m's workspace (or a nested one). */
+tr_model *tr_inputs_view(const tr_model *m, tr_data *d, char *msg, size_t msglen);
+void tr_inputs_free(tr_data *d);
+void tr_inputs_copy(tr_data *dst, const tr_model *src);
+int tr_inputs_perturb(tr_data *d, int kind, int index, double delta);
+void tr_inputs_restore(tr_data *d);
 
 /* tr_target.c: the scaled residual of row `row` of the model's tip target at the end
  * state y (target rows: angle [rad], position / L, direction in log coordinates [rad]);

@@ -5,8 +5,8 @@
  * breakpoints (tendon anchors, point loads and shooting nodes inside (0, L]) with
  * the active-tendon lists per segment, choose the formulation (planar or spatial;
  * unknowns; path-length states only for displacement-controlled tendons), set the
- * scales, then the tendon-set checks of tr_tendons.c.  Also: deep copies, and the
- * values (actuation, load magnitudes) of a compiled model set in place.
+ * scales, then the tendon-set checks of tr_tendons.c.  Also: deep copies, and the same
+ * scene compiled with another number of shooting segments (the confirmation's).
  */
 #include <math.h>
 #include <stdlib.h>
@@ -184,7 +184,7 @@ static int read_loads(tr_model *m, const double *loads, char *msg, size_t msglen
 }
 
 /* Point-load sums at the breakpoints, world frame, from m->load. */
-static void sum_breakpoint_loads(tr_model *m)
+void tr_sum_breakpoint_loads(tr_model *m)
 {
     int i, c;
     memset(m->bpF, 0, (size_t)3 * (m->nseg + 1) * sizeof(double));
@@ -305,7 +305,7 @@ static int place_breakpoints(tr_model *m)
         m->tendon[i].end_bp = find_bp(m, m->tendon[i].t);
         m->tendon[i].t = m->bp[m->tendon[i].end_bp];
     }
-    sum_breakpoint_loads(m);
+    tr_sum_breakpoint_loads(m);
     sum_segment_dloads(m);
     for (k = 0; k < m->nseg; k++) {
         m->seg_act_start[k] = nact;
@@ -541,96 +541,6 @@ tr_model *tr_model_clone(const tr_model *m)
     return c;
 }
 
-/* The values tr_model_set_values would set, checked first so that a refused set
- * leaves the model unchanged. */
-static int check_values(const tr_model *m, const double *value, const double *load,
-                        const double *dist, char *msg, size_t msglen)
-{
-    int i, c;
-    for (i = 0; value && i < m->nt; i++) {
-        if (!isfinite(value[i])) {
-            tr_msgf(msg, msglen, "tendon %d value %g is not finite", i, value[i]);
-            return TR_EINVAL;
-        }
-        if (m->tendon[i].control == TR_TENSION && value[i] < 0.0) {
-            tr_msgf(msg, msglen, "tendon %d tension = %g N must be >= 0 (a tendon cannot push)", i,
-                    value[i]);
-            return TR_EINVAL;
-        }
-    }
-    for (i = 0; load && i < m->nl; i++) {
-        const double *l = load + 6 * i;
-        for (c = 0; c < 6; c++)
-            if (!isfinite(l[c])) {
-                tr_msgf(msg, msglen, "load %d component %d = %g is not finite", i, c, l[c]);
-                return TR_EINVAL;
-            }
-        if (m->planar && (l[1] != 0.0 || l[3] != 0.0 || l[5] != 0.0)) {
-            tr_msgf(msg, msglen,
-                    "load %d leaves the x-z plane (Fy, Mx or Mz nonzero) but the model was "
-                    "compiled planar; compile it with force_spatial",
-                    i);
-            return TR_EINVAL;
-        }
-    }
-    if (dist) {
-        for (c = 0; c < 3; c++)
-            if (!isfinite(dist[c])) {
-                tr_msgf(msg, msglen, "dist[%d] = %g is not finite", c, dist[c]);
-                return TR_EINVAL;
-            }
-        if (m->planar && dist[1] != 0.0) {
-            tr_msgf(msg, msglen,
-                    "distributed load has a y component %g but the model was compiled planar; "
-                    "compile it with force_spatial",
-                    dist[1]);
-            return TR_EINVAL;
-        }
-    }
-    return TR_OK;
-}
-
-int tr_model_set_values(tr_model *m, const double *value, const double *load, const double *dist,
-                        char *msg, size_t msglen)
-{
-    int i, c;
-    if (check_values(m, value, load, dist, msg, msglen) != TR_OK) return TR_EINVAL;
-    for (i = 0; value && i < m->nt; i++) m->tendon[i].value = value[i];
-    if (load) {
-        for (i = 0; i < m->nl; i++)
-            for (c = 0; c < 6; c++) m->load[TR_LD_NCOL * i + TR_LD_F + c] = load[6 * i + c];
-        sum_breakpoint_loads(m);
-    }
-    if (dist) {
-        memcpy(m->dist, dist, 3 * sizeof(double));
-        m->has_dist = (dist[0] != 0.0 || dist[1] != 0.0 || dist[2] != 0.0);
-    }
-    /* the pretension check does not depend on values; the indeterminacy check does */
-    if (m->scene_status != TR_EPRETENSION && value) {
-        m->scene_message[0] = '\0';
-        m->scene_status = tr_check_indeterminate(m, m->scene_message, sizeof m->scene_message);
-    }
-    return TR_OK;
-}
-
-int tr_model_set_pretension(tr_model *m, const double *pretension, char *msg, size_t msglen)
-{
-    int i, status;
-    for (i = 0; i < m->nt; i++)
-        if (!(pretension[i] >= 0.0 && isfinite(pretension[i]))) {
-            tr_msgf(msg, msglen, "tendon %d pretension = %g N must be finite and >= 0", i,
-                    pretension[i]);
-            return TR_EINVAL;
-        }
-    for (i = 0; i < m->nt; i++) m->tendon[i].pretension = pretension[i];
-    m->scene_message[0] = '\0';
-    status = tr_rest_lengths(m, m->scene_message, sizeof m->scene_message);
-    if (status == TR_OK)
-        status = tr_check_indeterminate(m, m->scene_message, sizeof m->scene_message);
-    m->scene_status = status;
-    return TR_OK;
-}
-
 tr_model *tr_model_reshoot(const tr_model *m, const tr_options *opt, int nshoot, char *msg,
                            size_t msglen)
 {
@@ -667,84 +577,4 @@ tr_model *tr_model_reshoot(const tr_model *m, const tr_options *opt, int nshoot,
         tr_friction_copy(out, m);
     free(tendons);
     return out;
-}
-
-void tr_model_sync_values(tr_model *dst, const tr_model *src)
-{
-    int i;
-    for (i = 0; i < src->nt; i++) {
-        dst->tendon[i].value = src->tendon[i].value;
-        dst->tendon[i].pretension = src->tendon[i].pretension;
-        dst->tendon[i].rest = src->tendon[i].rest;
-        dst->tendon[i].rest_dev = src->tendon[i].rest_dev;
-        dst->tendon[i].target_row = src->tendon[i].target_row;
-    }
-    dst->target_kind = src->target_kind;
-    memcpy(dst->target, src->target, sizeof dst->target);
-    memcpy(dst->load, src->load, (size_t)TR_LD_NCOL * src->nl * sizeof(double));
-    sum_breakpoint_loads(dst);
-    memcpy(dst->dist, src->dist, sizeof dst->dist);
-    dst->has_dist = src->has_dist;
-    dst->scene_status = src->scene_status;
-    memcpy(dst->scene_message, src->scene_message, sizeof dst->scene_message);
-}
-
-int tr_model_perturb(tr_model *mp, const tr_model *m, int kind, int index, double delta)
-{
-    /* m's design first (a previous perturbation undone), then the one change */
-    mp->EI = m->EI;
-    mp->GJ = m->GJ;
-    mp->EA = m->EA;
-    mp->GA = m->GA;
-    memcpy(mp->tendon, m->tendon, (size_t)m->nt * sizeof(tr_tendon));
-    memcpy(mp->sec, m->sec, (size_t)TR_SC_NCOL * m->nsec * sizeof(double));
-    tr_fill_segment_rods(mp);
-    if (delta == 0.0) return TR_OK;
-    /* a backbone of several sections has a rigidity per section, not one for the rod; a
-     * single (precurved) section is the rod */
-    if (m->nsec > 1 && kind >= TR_PAR_ROD_EI && kind <= TR_PAR_ROD_GA) return TR_EINVAL;
-    switch (kind) {
-    case TR_PAR_ROD_EI:
-        mp->EI += delta;
-        if (m->nsec == 1) mp->sec[TR_SC_EI] += delta;
-        break;
-    case TR_PAR_ROD_GJ:
-        mp->GJ += delta;
-        if (m->nsec == 1) mp->sec[TR_SC_GJ] += delta;
-        break;
-    case TR_PAR_ROD_EA:
-        mp->EA += delta;
-        if (m->nsec == 1) mp->sec[TR_SC_EA] += delta;
-        break;
-    case TR_PAR_ROD_GA:
-        mp->GA += delta;
-        if (m->nsec == 1) mp->sec[TR_SC_GA] += delta;
-        break;
-    case TR_PAR_TENDON_EA: mp->tendon[index].EA += delta; break;
-    case TR_PAR_FRICTION:
-        if (mp->tendon[index].fric_index < 0) return TR_EINVAL;
-        mp->tendon[index].mu += delta;
-        break;
-    case TR_PAR_OFFSET:
-    case TR_PAR_SLOPE: {
-        tr_tendon *t = &mp->tendon[index];
-        /* a piecewise path has no offset or slope */
-        if (t->route == TR_ROUTE_PIECE) return TR_EINVAL;
-        if (kind == TR_PAR_OFFSET)
-            t->b += delta;
-        else
-            t->a += delta;
-        t->wref = sqrt(1.0 + t->a * t->a);
-        tr_tendon_base_frame_straight(t);
-        if (mp->precurved || t->route != TR_ROUTE_LINEAR) tr_tendon_base_frame(mp, index);
-        if (mp->planar) {
-            t->t0[1] = 0.0;
-            t->rt0[0] = 0.0;
-        }
-        break;
-    }
-    default: return TR_EINVAL;
-    }
-    tr_fill_segment_rods(mp);
-    return tr_rest_lengths(mp, NULL, 0) == TR_OK ? TR_OK : TR_EINVAL;
 }

@@ -15,8 +15,9 @@
 #include "tr_internal.h"
 #include "tru_math.h"
 
-void tr_solve_reset(const tr_model *m, tr_data *d, int steps)
+void tr_solve_reset(const tr_model *m_, tr_data *d, int steps)
 {
+    const tr_model *m = TR_IN(m_, d);
     (void)m;
     d->nit = d->nfev = d->njev = d->cont_steps = 0;
     d->steps_moved = 0;
@@ -116,8 +117,9 @@ static int shared_column(const tr_model *m, tr_data *d)
     return TR_OK;
 }
 
-double tr_shared_resolution(const tr_model *m, tr_data *d)
+double tr_shared_resolution(const tr_model *m_, tr_data *d)
 {
+    const tr_model *m = TR_IN(m_, d);
     const int k = d->k, off = tr_n_force(m);
     double gmax = 0.0, h, jc = 0.0, dtau, dg;
     int i;
@@ -144,8 +146,9 @@ double tr_shared_resolution(const tr_model *m, tr_data *d)
     return dtau;
 }
 
-int tr_fd_jacobian(const tr_model *m, tr_data *d)
+int tr_fd_jacobian(const tr_model *m_, tr_data *d)
 {
+    const tr_model *m = TR_IN(m_, d);
     const int k = d->k;
     /* the end state of the solution, if y holds it, survives the perturbed evaluations */
     const int keep = tr_holds_end_state(d, d->x);
@@ -307,11 +310,12 @@ static void broyden_update(int k, double *J, const double *s, double ss, const d
     }
 }
 
-int tr_solve_init(const tr_model *m, tr_data *d, const double *guess, const double *jac)
+int tr_solve_init(const tr_model *m_, tr_data *d, const double *guess, const double *jac)
 {
+    const tr_model *m = TR_IN(m_, d);
     const int k = d->k;
     int i, status;
-    if (d->model != m) {
+    if (!TR_OWNS(m, d)) {
         tr_set_message(d, "workspace was allocated for a different model");
         return TR_EINVAL;
     }
@@ -337,8 +341,9 @@ int tr_solve_init(const tr_model *m, tr_data *d, const double *guess, const doub
     return status;
 }
 
-int tr_solve_test(const tr_model *m, const tr_data *d)
+int tr_solve_test(const tr_model *m_, const tr_data *d)
 {
+    const tr_model *m = TR_IN(m_, d);
     (void)m;
     return d->fnorm <= tr_tol(d) ? TR_OK : TR_CONTINUE;
 }
@@ -444,8 +449,9 @@ static double step_cap(const tr_model *m, const tr_data *d)
     return cap;
 }
 
-int tr_solve_iterate(const tr_model *m, tr_data *d)
+int tr_solve_iterate(const tr_model *m_, tr_data *d)
 {
+    const tr_model *m = TR_IN(m_, d);
     const int k = d->k;
     int attempt, i;
     for (attempt = 0; attempt < 3; attempt++) {
@@ -487,8 +493,9 @@ int tr_solve_iterate(const tr_model *m, tr_data *d)
     return TR_ENOPROGRESS;
 }
 
-int tr_newton_run(const tr_model *m, tr_data *d, int max_iter, int stall, double ratio)
+int tr_newton_run(const tr_model *m_, tr_data *d, int max_iter, int stall, double ratio)
 {
+    const tr_model *m = TR_IN(m_, d);
     int it = 0;
     double hist[TR_STALL_ITERS]; /* residual norms of the last TR_STALL_ITERS iterations */
     if (d->jac_method == TR_JAC_HYBRID && d->hyb) {
@@ -530,12 +537,13 @@ int tr_newton_run(const tr_model *m, tr_data *d, int max_iter, int stall, double
     }
 }
 
-int tr_solve_lean(const tr_model *m, tr_data *d, const double *x0, const double *jac, int max_iter)
+int tr_solve_lean(const tr_model *m_, tr_data *d, const double *x0, const double *jac, int max_iter)
 {
+    const tr_model *m = TR_IN(m_, d);
     const int k = d->k;
     double fn, fnt;
     int i, st;
-    if (d->model != m) {
+    if (!TR_OWNS(m, d)) {
         tr_set_message(d, "workspace was allocated for a different model");
         return d->status = TR_EINVAL;
     }

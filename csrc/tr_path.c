@@ -35,7 +35,6 @@
 
 typedef struct {
     int k, n;       /* unknowns, n = k + 1 */
-    tr_model *m0;   /* the model as given (design kinds: the base of tr_model_perturb) */
     double *vals;   /* (nt + 6 nl + 3) the value vector (TR_PATH_SLOT) */
     double lam_set; /* lambda whose value is set in the model */
     double *A;      /* (n x n) bordered Jacobian, row-major */
@@ -56,7 +55,6 @@ typedef struct {
 
 static void ws_free(path_ws *w)
 {
-    if (w->m0) tr_model_free(w->m0);
     free(w->vals);
     free(w->A);
     if (w->LU) gsl_matrix_free(w->LU);
@@ -80,10 +78,7 @@ static int ws_alloc(path_ws *w, const tr_model *m, const tr_data *d, const tr_pa
     w->perm = gsl_permutation_alloc((size_t)n);
     w->rhs = gsl_vector_alloc((size_t)n);
     w->sol = gsl_vector_alloc((size_t)n);
-    if (sp->kind != TR_PATH_SLOT) w->m0 = tr_model_clone(m);
-    if (!w->vals || !w->A || !w->F || !w->LU || !w->perm || !w->rhs || !w->sol ||
-        (sp->kind != TR_PATH_SLOT && !w->m0))
-        return TR_ENOMEM;
+    if (!w->vals || !w->A || !w->F || !w->LU || !w->perm || !w->rhs || !w->sol) return TR_ENOMEM;
     w->X = w->F + n;
     w->Xa = w->X + n;
     w->ta = w->Xa + n;
@@ -104,7 +99,7 @@ static int ws_alloc(path_ws *w, const tr_model *m, const tr_data *d, const tr_pa
 }
 
 /* The model's parameter at lambda. */
-static int set_lambda(path_ws *w, tr_model *m, tr_data *d, const tr_path_spec *sp, double lam)
+static int set_lambda(path_ws *w, const tr_model *m, tr_data *d, const tr_path_spec *sp, double lam)
 {
     const double p = sp->p0 + lam * (sp->p1 - sp->p0);
     int st;
@@ -112,11 +107,12 @@ static int set_lambda(path_ws *w, tr_model *m, tr_data *d, const tr_path_spec *s
     if (sp->kind == TR_PATH_SLOT) {
         const int nt = m->nt, idx = sp->index;
         w->vals[idx] = p;
-        st = tr_model_set_values(
-            m, idx < nt ? w->vals : NULL, idx >= nt && idx < nt + 6 * m->nl ? w->vals + nt : NULL,
-            idx >= nt + 6 * m->nl ? w->vals + nt + 6 * m->nl : NULL, w->msg, sizeof w->msg);
+        st = tr_data_set_values(m, d, idx < nt ? w->vals : NULL,
+                                idx >= nt && idx < nt + 6 * m->nl ? w->vals + nt : NULL,
+                                idx >= nt + 6 * m->nl ? w->vals + nt + 6 * m->nl : NULL, w->msg,
+                                sizeof w->msg);
     } else {
-        st = tr_model_perturb(m, w->m0, sp->kind, sp->index, p - sp->p0);
+        st = tr_inputs_perturb(d, sp->kind, sp->index, p - sp->p0);
         if (st != TR_OK)
             tr_msgf(w->msg, sizeof w->msg, "the parameter at %.10g leaves no valid rest lengths",
                     p);
@@ -128,7 +124,7 @@ static int set_lambda(path_ws *w, tr_model *m, tr_data *d, const tr_path_spec *s
 }
 
 /* F(X) into w->F (k); TR_OK or the evaluation's failure. */
-static int eval(path_ws *w, tr_model *m, tr_data *d, const tr_path_spec *sp, const double *X)
+static int eval(path_ws *w, const tr_model *m, tr_data *d, const tr_path_spec *sp, const double *X)
 {
     int st = set_lambda(w, m, d, sp, X[w->k]);
     if (st != TR_OK) return st;
@@ -137,8 +133,8 @@ static int eval(path_ws *w, tr_model *m, tr_data *d, const tr_path_spec *sp, con
 
 /* The bordered Jacobian [J F_lambda; c^T] at X (F(X) in w->F) into w->A, factored; the
  * sign of its determinant in w->det_sign.  TR_ESINGULAR when exactly singular. */
-static int jacobian(path_ws *w, tr_model *m, tr_data *d, const tr_path_spec *sp, const double *X,
-                    const double *c)
+static int jacobian(path_ws *w, const tr_model *m, tr_data *d, const tr_path_spec *sp,
+                    const double *X, const double *c)
 {
     const int k = w->k, n = w->n;
     const double lam = X[k], h0 = TR_FD_H * (fabs(lam) > 1.0 ? fabs(lam) : 1.0);
@@ -195,8 +191,8 @@ static void point_budget(tr_data *d)
 
 /* Newton on F = 0, c . X = target from w->X (in place).  TR_OK when converged (scaled
  * residual <= tol, then one more step kept if it reduces the residual). */
-static int correct(path_ws *w, tr_model *m, tr_data *d, const tr_path_spec *sp, const double *c,
-                   double target)
+static int correct(path_ws *w, const tr_model *m, tr_data *d, const tr_path_spec *sp,
+                   const double *c, double target)
 {
     const int k = w->k, n = w->n;
     double fn, fprev = INFINITY, *r = w->r, *dx = w->dx;
@@ -239,8 +235,8 @@ static int correct(path_ws *w, tr_model *m, tr_data *d, const tr_path_spec *sp, 
 
 /* The unit tangent at w->X (converged, F in w->F) oriented along dir (n) into t, and the
  * sign of det [J F_lambda; t^T] into *det. */
-static int tangent(path_ws *w, tr_model *m, tr_data *d, const tr_path_spec *sp, const double *dir,
-                   double *t, double *det)
+static int tangent(path_ws *w, const tr_model *m, tr_data *d, const tr_path_spec *sp,
+                   const double *dir, double *t, double *det)
 {
     const int n = w->n;
     double nrm;
@@ -273,7 +269,7 @@ static int tangent(path_ws *w, tr_model *m, tr_data *d, const tr_path_spec *sp, 
  * steps), re-solved at lambda fixed when the count is raised.  TR_OK, or why not (a
  * truncation caveat counts as a failure here: the step is retried shorter); d->steps is
  * restored on failure. */
-static int verify(path_ws *w, tr_model *m, tr_data *d, const tr_path_spec *sp)
+static int verify(path_ws *w, const tr_model *m, tr_data *d, const tr_path_spec *sp)
 {
     const int k = w->k, steps = d->steps;
     int st;
@@ -299,7 +295,7 @@ static int verify(path_ws *w, tr_model *m, tr_data *d, const tr_path_spec *sp)
 }
 
 /* Judge and store the verified point w->X.  TR_OK, or why not. */
-static int store(path_ws *w, tr_model *m, tr_data *d, const tr_path_spec *sp, tr_path_out *o,
+static int store(path_ws *w, const tr_model *m, tr_data *d, const tr_path_spec *sp, tr_path_out *o,
                  int kind, int branch, double tlam)
 {
     const int k = w->k, nt = m->nt, row = o->n;
@@ -342,8 +338,8 @@ static double indicator(int kind, const double *t, double det, int k)
 
 /* Locate the zero of the indicator of `kind` on the step from (Xa, ta), value ga, to the
  * point at arclength sb, value gb; the point found is left in w->X, its tangent in w->t. */
-static int refine(path_ws *w, tr_model *m, tr_data *d, const tr_path_spec *sp, int kind, double ga,
-                  double sb, double gb, double *tlam_out)
+static int refine(path_ws *w, const tr_model *m, tr_data *d, const tr_path_spec *sp, int kind,
+                  double ga, double sb, double gb, double *tlam_out)
 {
     const int n = w->n, k = w->k;
     const double gmax = fmax(fabs(ga), fabs(gb));
@@ -391,7 +387,7 @@ static int refine(path_ws *w, tr_model *m, tr_data *d, const tr_path_spec *sp, i
 
 /* The indicator of `kind` at the point corrected from X_a + s t_a (left in w->X, its
  * tangent in w->t). */
-static int indicator_at(path_ws *w, tr_model *m, tr_data *d, const tr_path_spec *sp, int kind,
+static int indicator_at(path_ws *w, const tr_model *m, tr_data *d, const tr_path_spec *sp, int kind,
                         double s, double *g)
 {
     double det;
@@ -407,8 +403,8 @@ static int indicator_at(path_ws *w, tr_model *m, tr_data *d, const tr_path_spec 
  * than TR_PATH_LOCATE_TOL relative (the truncation error of the linearisation that
  * decides where the indicator vanishes; automatic steps only).  The caller restores
  * d->steps. */
-static int locate(path_ws *w, tr_model *m, tr_data *d, const tr_path_spec *sp, int kind, double ga,
-                  double sb, double gb, double *tlam)
+static int locate(path_ws *w, const tr_model *m, tr_data *d, const tr_path_spec *sp, int kind,
+                  double ga, double sb, double gb, double *tlam)
 {
     double p, prev, g0, g1;
     int st = refine(w, m, d, sp, kind, ga, sb, gb, tlam), round;
@@ -432,7 +428,7 @@ static int locate(path_ws *w, tr_model *m, tr_data *d, const tr_path_spec *sp, i
 
 /* The null vector of the bordered Jacobian at a bifurcation (factored there, last row the
  * tangent), by two steps of inverse iteration, into z (unit). */
-static int null_vector(path_ws *w, tr_model *m, tr_data *d, const tr_path_spec *sp, double *z)
+static int null_vector(path_ws *w, const tr_model *m, tr_data *d, const tr_path_spec *sp, double *z)
 {
     const int n = w->n;
     double nrm;
@@ -452,7 +448,8 @@ static int null_vector(path_ws *w, tr_model *m, tr_data *d, const tr_path_spec *
 }
 
 /* The start: a solve at p0, its tangent into the span. */
-static int path_start(path_ws *w, tr_model *m, tr_data *d, const tr_path_spec *sp, tr_path_out *o)
+static int path_start(path_ws *w, const tr_model *m, tr_data *d, const tr_path_spec *sp,
+                      tr_path_out *o)
 {
     const int k = w->k, n = w->n;
     double det;
@@ -474,7 +471,8 @@ static int path_start(path_ws *w, tr_model *m, tr_data *d, const tr_path_spec *s
 
 /* Switch at the bifurcation in w->X onto the crossing branch: its first point in w->X,
  * its tangent in w->t.  ds: the step to take. */
-static int switch_branch(path_ws *w, tr_model *m, tr_data *d, const tr_path_spec *sp, double ds)
+static int switch_branch(path_ws *w, const tr_model *m, tr_data *d, const tr_path_spec *sp,
+                         double ds)
 {
     const int n = w->n;
     double *z = w->c, big = 0.0, det;
@@ -501,7 +499,7 @@ static int switch_branch(path_ws *w, tr_model *m, tr_data *d, const tr_path_spec
  * names it by (tr_watch_named: a path-length rate below TR_WATCH_RATE), the message names
  * the tendon, the arc length, its tension and EI/r^2.  1 when named, else 0 (the message
  * untouched). */
-static int ends_at_tendon(path_ws *w, tr_model *m, tr_data *d, const tr_path_spec *sp,
+static int ends_at_tendon(path_ws *w, const tr_model *m, tr_data *d, const tr_path_spec *sp,
                           const double *X, const char *what)
 {
     char named[TR_MSGLEN];
@@ -523,7 +521,7 @@ static void wrap_message(tr_data *d, int st, const char *head)
 /* One step from (Xa, ta) with the step w->ds: predict, correct, the tangent tb (det in
  * w->detb), and past the span's end the point exactly at it (w->last: 1 at p1, 2 at p0);
  * then verified.  The point in w->X.  TR_OK, or why the step failed. */
-static int take_step(path_ws *w, tr_model *m, tr_data *d, const tr_path_spec *sp)
+static int take_step(path_ws *w, const tr_model *m, tr_data *d, const tr_path_spec *sp)
 {
     const int k = w->k, n = w->n;
     double lamb;
@@ -554,7 +552,7 @@ static int take_step(path_ws *w, tr_model *m, tr_data *d, const tr_path_spec *sp
  * located and stored; at the first bifurcation with sp->side, the switch (w->switched:
  * the new branch's first point stored, in Xa / ta).  Else the new point is in w->X with
  * its tangent in tb again.  TR_OK, or a failure with the message set. */
-static int special_between(path_ws *w, tr_model *m, tr_data *d, const tr_path_spec *sp,
+static int special_between(path_ws *w, const tr_model *m, tr_data *d, const tr_path_spec *sp,
                            tr_path_out *o)
 {
     const int k = w->k, n = w->n;
@@ -655,8 +653,9 @@ static int end_message(path_ws *w, tr_data *d, const tr_path_spec *sp, const tr_
     return st;
 }
 
-int tr_path(tr_model *m, tr_data *d, const tr_path_spec *sp, tr_path_out *o)
+int tr_path(const tr_model *m_, tr_data *d, const tr_path_spec *sp, tr_path_out *o)
 {
+    const tr_model *m = TR_IN(m_, d);
     path_ws w;
     int st;
     o->n = 0;

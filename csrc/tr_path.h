@@ -64,7 +64,7 @@ typedef struct {
  * in d->message; the solver's reason kept).  TR_OK when p1 was reached; else the status of
  * the stop (TR_ECONTINUATION: full or stalled; TR_EINTERRUPTED; the start's failure).
  * Allocates its work arrays once, before its loop. */
-int tr_path(tr_model *m, tr_data *d, const tr_path_spec *spec, tr_path_out *out);
+int tr_path(const tr_model *m, tr_data *d, const tr_path_spec *spec, tr_path_out *out);
 
 #ifdef __cplusplus
 }

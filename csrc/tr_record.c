@@ -145,8 +145,9 @@ static int record_pass(const tr_model *m, tr_data *d, int allow_rk4, int *used)
  * against the shooting integration's tip: redone at the shooting steps when they
  * differ grossly (> TR_RECORD_GROSS, scaled), else the tip node is replaced by the
  * shooting tip. */
-int tr_record(const tr_model *m, tr_data *d)
+int tr_record(const tr_model *m_, tr_data *d)
 {
+    const tr_model *m = TR_IN(m_, d);
     int used = 0, status = record_pass(m, d, 1, &used);
     if (status == TR_OK && used) {
         double diff = 0.0;
@@ -167,8 +168,9 @@ int tr_record(const tr_model *m, tr_data *d)
     return status;
 }
 
-int tr_tip_state(const tr_model *m, tr_data *d)
+int tr_tip_state(const tr_model *m_, tr_data *d)
 {
+    const tr_model *m = TR_IN(m_, d);
     double *t = d->tip;
     const int lenbase = m->planar ? TR_YP_LEN : TR_Y_LEN;
     int i;
@@ -198,8 +200,9 @@ int tr_tip_state(const tr_model *m, tr_data *d)
     return TR_OK;
 }
 
-int tr_record_tip(const tr_model *m, tr_data *d)
+int tr_record_tip(const tr_model *m_, tr_data *d)
 {
+    const tr_model *m = TR_IN(m_, d);
     int st;
     if (d->nnode != 1 || !(fabs(d->s[0] - m->L) <= 1e-12 * m->L)) {
         tr_set_message(d, "tr_record_tip needs a tip-only workspace");
@@ -219,10 +222,11 @@ int tr_record_tip(const tr_model *m, tr_data *d)
     return st;
 }
 
-int tr_state_from(const tr_model *m, tr_data *d, const double *x, int steps)
+int tr_state_from(const tr_model *m_, tr_data *d, const double *x, int steps)
 {
+    const tr_model *m = TR_IN(m_, d);
     int i;
-    if (d->model != m || steps < 1 || steps > TR_MAX_STEPS) {
+    if (!TR_OWNS(m, d) || steps < 1 || steps > TR_MAX_STEPS) {
         tr_set_message(d,
                        "a state from unknowns: a workspace of another model, or steps = %d "
                        "out of range",
@@ -236,8 +240,9 @@ int tr_state_from(const tr_model *m, tr_data *d, const double *x, int steps)
     return TR_OK;
 }
 
-int tr_record_from(const tr_model *m, tr_data *d, const double *x, int steps)
+int tr_record_from(const tr_model *m_, tr_data *d, const double *x, int steps)
 {
+    const tr_model *m = TR_IN(m_, d);
     int i;
     const int st = tr_state_from(m, d, x, steps);
     if (st == TR_ENONFINITE) {

@@ -26,8 +26,9 @@
 /* Tensions and slacks of the unknowns x: from each displacement-controlled tendon's
  * gamma, and the prescribed tension (scaled by the actuation continuation
  * parameter) of the others. */
-void tr_set_tensions(const tr_model *m, tr_data *d, const double *x)
+void tr_set_tensions(const tr_model *m_, tr_data *d, const double *x)
 {
+    const tr_model *m = TR_IN(m_, d);
     const int off = tr_n_force(m);
     int i;
     for (i = 0; i < m->nt; i++) {
@@ -44,8 +45,9 @@ void tr_set_tensions(const tr_model *m, tr_data *d, const double *x)
 
 /* Base state from the unknowns (tensions already set): the backbone carries the
  * base reaction minus the tendon pulls. */
-void tr_init_state(const tr_model *m, const tr_data *d, const double *x, double *y, int dim)
+void tr_init_state(const tr_model *m_, const tr_data *d, const double *x, double *y, int dim)
 {
+    const tr_model *m = TR_IN(m_, d);
     double tn[3], tm[3];
     int i;
     tr_tendon_pull_sum(m, d->tau, tn, tm);
@@ -111,8 +113,9 @@ static void anchor_sum(const tr_model *m, const tr_data *d, int b, const double 
  * moment or an anchor), the continuing tendons kink and push on the backbone;
  * t^+ depends on n_b+, m_b+, so this is a small Newton solve with the matrix of
  * the right-hand side. */
-void tr_apply_jump(const tr_model *m, const tr_data *d, int b, double *y)
+void tr_apply_jump(const tr_model *m_, const tr_data *d, int b, double *y)
 {
+    const tr_model *m = TR_IN(m_, d);
     const double s = m->bp[b];
     double F[3], M[3], Fb[3], Mb[3], nb[3], mb[3], fn[3], fm[3], Cn[3], Cm[3];
     const double *tau = tr_tensions_at(m, d, y); /* continuous across the breakpoint */
@@ -274,16 +277,18 @@ int tr_holds_end_state(const tr_data *d, const double *x)
     return d->y_steps == d->steps && memcmp(d->x_of_y, x, (size_t)d->k * sizeof(double)) == 0;
 }
 
-void tr_restore_end_state(const tr_model *m, tr_data *d, const double *x, const double *f)
+void tr_restore_end_state(const tr_model *m_, tr_data *d, const double *x, const double *f)
 {
+    const tr_model *m = TR_IN(m_, d);
     memcpy(d->y, d->ysave, (size_t)m->n_states * sizeof(double));
     memcpy(d->x_of_y, x, (size_t)d->k * sizeof(double));
     memcpy(d->f_of_y, f, (size_t)d->k * sizeof(double));
     d->y_steps = d->steps;
 }
 
-int tr_residual(const tr_model *m, tr_data *d, const double *x, double *f)
+int tr_residual(const tr_model *m_, tr_data *d, const double *x, double *f)
 {
+    const tr_model *m = TR_IN(m_, d);
     int k, status;
     double *y = d->y;
     d->rec = 0;
@@ -326,9 +331,10 @@ static int on_slack_side(const tr_model *m, const double *x, int j)
     return 0;
 }
 
-int tr_fd_column(const tr_model *m, tr_data *d, const double *x, const double *f0, int j,
+int tr_fd_column(const tr_model *m_, tr_data *d, const double *x, const double *f0, int j,
                  double *col, size_t stride, int backward)
 {
+    const tr_model *m = TR_IN(m_, d);
     const int k = d->k;
     int i, status;
     double h = TR_FD_H * (fabs(x[j]) > 1.0 ? fabs(x[j]) : 1.0);

@@ -683,7 +683,7 @@ static int rhs_planar_fric(const tr_model *m, const tr_data *d, double s, const 
 int tr_rhs(double s, const double y[], double dyds[], void *params)
 {
     tr_data *d = (tr_data *)params;
-    const tr_model *m = d->model;
+    const tr_model *m = d->vm;
     d->spent += m->rhs_work;
     if (m->planar)
         return m->nfric     ? rhs_planar_fric(m, d, s, y, dyds, m->general)

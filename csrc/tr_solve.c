@@ -27,7 +27,7 @@ static int solve_begin(const tr_model *m, tr_data *d, const tr_verified *v)
     tr_solve_reset(m, d, steps);
     d->watch_have = 0;
     d->shared_mode = 0;
-    if (d->model != m) {
+    if (!TR_OWNS(m, d)) {
         tr_set_message(d, "workspace was allocated for a different model");
         return TR_EINVAL;
     }
@@ -581,7 +581,7 @@ static int solve_record(const tr_model *m, tr_data *d, int status)
  * guess's (v), or none. */
 static void begin_verified(tr_data *d, const tr_verified *v, int from_last)
 {
-    const size_t kb = (size_t)d->k * sizeof(double), nb = (size_t)d->model->nt * sizeof(double);
+    const size_t kb = (size_t)d->k * sizeof(double), nb = (size_t)d->vm->nt * sizeof(double);
     d->have_ver = d->ver_carried = d->have_val_ver = 0;
     if (from_last && d->have_ver_last) {
         memcpy(d->x_ver, d->x_ver_last, kb);
@@ -654,19 +654,22 @@ static int solve(const tr_model *m, tr_data *d, const double *guess, const doubl
     return d->status = status;
 }
 
-int tr_solve(const tr_model *m, tr_data *d, const double *guess, const double *jac)
+int tr_solve(const tr_model *m_, tr_data *d, const double *guess, const double *jac)
 {
+    const tr_model *m = TR_IN(m_, d);
     return solve(m, d, guess, jac, NULL, 0);
 }
 
-int tr_solve_from(const tr_model *m, tr_data *d, const double *guess, const double *jac,
+int tr_solve_from(const tr_model *m_, tr_data *d, const double *guess, const double *jac,
                   const tr_verified *v)
 {
+    const tr_model *m = TR_IN(m_, d);
     return solve(m, d, guess, jac, v, 0);
 }
 
-int tr_solve_warm(const tr_model *m, tr_data *d)
+int tr_solve_warm(const tr_model *m_, tr_data *d)
 {
+    const tr_model *m = TR_IN(m_, d);
     return solve(m, d, NULL, NULL, NULL, d->have_last);
 }
 

@@ -49,28 +49,29 @@
 
 /* ------------------------------------------------------------ the workspace */
 struct tr_stab_ws {
-    int nuni;         /* uniform elements of the fine grid */
-    int nb, cosserat; /* coordinates per node; 1: Cosserat elements (else Kirchhoff) */
-    int ngrid;        /* nodes of the fine grid: uniform ones and every breakpoint */
-    double *s;        /* (ngrid) their arc lengths [m] */
-    int *kind;        /* (ngrid) 1: in the coarse grid too (even uniform node or breakpoint) */
-    int *node;        /* (ngrid) the grid nodes of the level being assembled */
-    tr_data *rec;     /* recording workspace on the grid */
-    double *R, *p;    /* (ngrid x 9), (ngrid x 3) the configuration: recorded, then moved
+    int nuni;             /* uniform elements of the fine grid */
+    int cap_nuni, cap_nb; /* the finest grid and coordinates per node it has room for */
+    int nb, cosserat;     /* coordinates per node; 1: Cosserat elements (else Kirchhoff) */
+    int ngrid;            /* nodes of the fine grid: uniform ones and every breakpoint */
+    double *s;            /* (ngrid) their arc lengths [m] */
+    int *kind;            /* (ngrid) 1: in the coarse grid too (even uniform node or breakpoint) */
+    int *node;            /* (ngrid) the grid nodes of the level being assembled */
+    tr_data *rec;         /* recording workspace on the grid */
+    double *R, *p;        /* (ngrid x 9), (ngrid x 3) the configuration: recorded, then moved
                         to the discrete equilibrium */
-    double *tau;      /* (nt) the tensions, idem */
-    double *g, *dx;   /* (ngrid nb) gradient of the energy, Newton step */
-    double *F, *vhat; /* (ngrid x 3) per element: the dead force beyond it (Kirchhoff), its
+    double *tau;          /* (nt) the tensions, idem */
+    double *g, *dx;       /* (ngrid nb) gradient of the energy, Newton step */
+    double *F, *vhat;     /* (ngrid x 3) per element: the dead force beyond it (Kirchhoff), its
                          free strain (Cosserat), from the recorded state */
-    int *col;         /* (nt) bordered column of each tendon, -1: none */
+    int *col;             /* (nt) bordered column of each tendon, -1: none */
     unsigned long long sw_mask; /* tendons (index < 64) bordered though slack: those at
                                    their switch, for tr_switch.c (0 otherwise) */
     double *sw_buf;             /* (10 x ngrid nb) scratch of tr_switch.c */
     tr_btd h;                   /* the Hessian and its factors */
 };
 
-/* tr_data.c: the workspace *wp for nuni uniform elements (reallocated when it has another
- * count). */
+/* tr_data.c: the workspace *wp set to nuni uniform elements (in place when it has room for
+ * them, else reallocated). */
 struct tr_stab_ws *tr_stab_workspace(const tr_model *m, tr_data *d, struct tr_stab_ws **wp,
                                      int nuni, int cosserat);
 /* tr_stab_energy.c: the level's elements from the recorded state (the grid nodes w->node[0..nn-1]); 0, or

@@ -43,8 +43,9 @@ static void element(const tr_model *m, const struct tr_stab_ws *w, int k, tr_ele
  * at later nodes, the distributed force with their trapezoid weights), the free strain of
  * each Cosserat element; the configuration and tensions reset to the recorded ones.
  * Returns 0, or -1 when an element turns by more than TR_STAB_MAX_ROT. */
-int tr_stab_level_setup(const tr_model *m, const tr_data *d, struct tr_stab_ws *w, int nn)
+int tr_stab_level_setup(const tr_model *m_, const tr_data *d, struct tr_stab_ws *w, int nn)
 {
+    const tr_model *m = TR_IN(m_, d);
     double Fb[3] = {0, 0, 0};
     int k, c, j;
     memcpy(w->R, w->rec->rot, (size_t)9 * w->ngrid * sizeof(double));
@@ -248,8 +249,9 @@ void tr_stab_discrete_equilibrium(const tr_model *m, struct tr_stab_ws *w, int n
 }
 
 /* ------------------------------------------------------------ the load-induced stiffness */
-double tr_stiffness_scale(const tr_model *m, const tr_data *d)
+double tr_stiffness_scale(const tr_model *m_, const tr_data *d)
 {
+    const tr_model *m = TR_IN(m_, d);
     double t = tr_load_scale(m);
     int i;
     for (i = 0; i < m->nt; i++) {

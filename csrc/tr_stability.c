@@ -298,8 +298,9 @@ static void friction_twin(const tr_model *m, tr_data *d, int quick)
              twin);
 }
 
-void tr_stability(const tr_model *m, tr_data *d)
+void tr_stability(const tr_model *m_, tr_data *d)
 {
+    const tr_model *m = TR_IN(m_, d);
     verdict_reset(d);
     if (not_conservative(m, d)) return;
     tr_set_tensions(m, d, d->x);
@@ -311,8 +312,9 @@ void tr_stability(const tr_model *m, tr_data *d)
     switch_or_note(m, d);
 }
 
-void tr_stability_quick(const tr_model *m, tr_data *d)
+void tr_stability_quick(const tr_model *m_, tr_data *d)
 {
+    const tr_model *m = TR_IN(m_, d);
     verdict_reset(d);
     if (not_conservative(m, d)) return;
     tr_set_tensions(m, d, d->x);
@@ -324,10 +326,11 @@ void tr_stability_quick(const tr_model *m, tr_data *d)
     switch_or_note(m, d);
 }
 
-int tr_stability_of(const tr_model *m, tr_data *d, const double *x, int steps, int quick)
+int tr_stability_of(const tr_model *m_, tr_data *d, const double *x, int steps, int quick)
 {
+    const tr_model *m = TR_IN(m_, d);
     int i;
-    if (d->model != m || steps < 1 || steps > TR_MAX_STEPS) {
+    if (!TR_OWNS(m, d) || steps < 1 || steps > TR_MAX_STEPS) {
         tr_set_message(d,
                        "tr_stability_of: a workspace of another model, or steps = %d out of "
                        "range",

@@ -24,8 +24,9 @@
 #include "tr_internal.h"
 #include "tr_stab.h"
 
-int tr_switch_count(const tr_model *m, const tr_data *d)
+int tr_switch_count(const tr_model *m_, const tr_data *d)
 {
+    const tr_model *m = TR_IN(m_, d);
     int i, a = 0;
     for (i = 0; i < m->nt; i++)
         a += m->tendon[i].control == TR_DISPLACEMENT && d->tau[i] == 0.0 && d->beta[i] == 0.0;
@@ -303,8 +304,9 @@ static void list_tendons(char *buf, size_t len, const int *A, int a, int set)
     if (first) snprintf(buf, len, "none");
 }
 
-void tr_switch_verdict(const tr_model *m, tr_data *d)
+void tr_switch_verdict(const tr_model *m_, tr_data *d)
 {
+    const tr_model *m = TR_IN(m_, d);
     int A[TR_SWITCH_MAX], a = 0, i, fS = 0, fT = 0, und = 0, cS, cT;
     double mf, mc, err;
     struct tr_stab_ws *w;

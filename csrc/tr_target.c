@@ -89,6 +89,13 @@ int tr_model_set_target(tr_model *m, int kind, const double *values, const int *
     return TR_OK;
 }
 
+int tr_data_set_target(const tr_model *m, tr_data *d, int kind, const double *values,
+                       const int *tendons, int n, char *msg, size_t msglen)
+{
+    tr_model *v = tr_inputs_view(m, d, msg, msglen);
+    return v ? tr_model_set_target(v, kind, values, tendons, n, msg, msglen) : TR_EINVAL;
+}
+
 double tr_target_residual(const tr_model *m, const double *y, int row)
 {
     if (m->target_kind == TR_TARGET_ANGLE) return y[TR_YP_TH] - m->target[0];
@@ -106,8 +113,9 @@ double tr_target_residual(const tr_model *m, const double *y, int row)
     }
 }
 
-double tr_target_displacement(const tr_model *m, const tr_data *d, int i, double len)
+double tr_target_displacement(const tr_model *m_, const tr_data *d, int i, double len)
 {
+    const tr_model *m = TR_IN(m_, d);
     const tr_tendon *t = &m->tendon[i];
     /* the length constraint solved for q: s_i + q + beta - (1 + tau/EA) rest = 0, with the
      * path-length excess len = s_i - sref and rest = sref + rest_dev */

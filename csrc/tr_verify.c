@@ -46,8 +46,9 @@ static double doubling_estimate(const tr_model *m, tr_data *d)
     return est / (1.0 - pow(2.0, -order));
 }
 
-int tr_verify_fixed(const tr_model *m, tr_data *d, int status)
+int tr_verify_fixed(const tr_model *m_, tr_data *d, int status)
 {
+    const tr_model *m = TR_IN(m_, d);
     const int finishing = d->finishing;
     double est;
     if (status < 0 || d->opt.steps <= 0 || d->opt.integrator == TR_ADAPTIVE) return status;
@@ -91,8 +92,9 @@ static int refined_steps(const tr_data *d, int N, double est)
  * is what is compared with tol.  While it is too big, the count is raised to the
  * Richardson prediction for TR_REFINE_SAFETY tol (at least N + 1 steps) and the
  * Newton iteration continues from the current point at the new count. */
-int tr_verify_steps(const tr_model *m, tr_data *d)
+int tr_verify_steps(const tr_model *m_, tr_data *d)
 {
+    const tr_model *m = TR_IN(m_, d);
     const int k = d->k;
     int round, c;
     for (round = 0; round < TR_REFINE_ROUNDS; round++) {
@@ -139,8 +141,9 @@ int tr_verify_steps(const tr_model *m, tr_data *d)
  * unknowns grows it by about (1 + delta)^(p+1); that bound, with the factor of safety,
  * is reported as the truncation estimate.  A sweep of small steps re-verifies once its
  * unknowns drift that far from the last verification. */
-int tr_verify_carried(const tr_model *m, tr_data *d)
+int tr_verify_carried(const tr_model *m_, tr_data *d)
 {
+    const tr_model *m = TR_IN(m_, d);
     const double order = d->opt.integrator == TR_RK4 ? 4.0 : 8.0;
     double delta = 0.0, bound;
     int i;
@@ -173,8 +176,9 @@ int tr_verify_carried(const tr_model *m, tr_data *d)
  * is still large -- a small residual that does not pin the unknowns, as for stiff
  * antagonistic tendons on an inextensible backbone -- take full Newton steps while
  * they do not increase the residual. */
-void tr_polish(const tr_model *m, tr_data *d)
+void tr_polish(const tr_model *m_, tr_data *d)
 {
+    const tr_model *m = TR_IN(m_, d);
     const int k = d->k;
     int p, i;
     for (p = 0; p < TR_POLISH_STEPS; p++) {
@@ -204,8 +208,9 @@ void tr_polish(const tr_model *m, tr_data *d)
  * boundary layers of width L / lambda that a load of magnitude F makes, lambda =
  * L sqrt(F / EI) (TR_AUTO_PER_LAMBDA steps per unit lambda), or the tendons' own
  * curling (TR_AUTO_PER_TURN of that per radian), or a frictional tendon's tension change. */
-int tr_auto_steps(const tr_model *m, const tr_data *d)
+int tr_auto_steps(const tr_model *m_, const tr_data *d)
 {
+    const tr_model *m = TR_IN(m_, d);
     const int base = d->opt.integrator == TR_RK4 ? TR_AUTO_RK4 : TR_AUTO_RK8;
     const double per = d->opt.integrator == TR_RK4 ? 4.0 * TR_AUTO_PER_LAMBDA : TR_AUTO_PER_LAMBDA;
     double F = m->L * tru_norm3(m->dist), lam, turn = 0.0, g = 0.0;

@@ -79,8 +79,9 @@ static void check_at(const tr_model *m, const tr_data *d, int k, double s, const
     }
 }
 
-double tr_watch_curvature(const tr_model *m, tr_data *d, const double *x, int keep)
+double tr_watch_curvature(const tr_model *m_, tr_data *d, const double *x, int keep)
 {
+    const tr_model *m = TR_IN(m_, d);
     double *y = d->y, best = INFINITY, bs = NAN, br = NAN, bt = NAN;
     int k, j, c, bi = -1;
     if (m->nt == 0 || d->k == 0) return NAN;
@@ -139,8 +140,9 @@ static int watch_format(const tr_data *d, const char *where, char *buf, size_t l
     return 1;
 }
 
-int tr_watch_message(const tr_model *m, const tr_data *d, char *buf, size_t len)
+int tr_watch_message(const tr_model *m_, const tr_data *d, char *buf, size_t len)
 {
+    const tr_model *m = TR_IN(m_, d);
     char where[128];
     (void)m;
     if (d->watch_act < 1.0)
@@ -154,9 +156,10 @@ int tr_watch_message(const tr_model *m, const tr_data *d, char *buf, size_t len)
     return watch_format(d, where, buf, len);
 }
 
-int tr_watch_named(const tr_model *m, tr_data *d, const double *x, const char *where, char *buf,
+int tr_watch_named(const tr_model *m_, tr_data *d, const double *x, const char *where, char *buf,
                    size_t len)
 {
+    const tr_model *m = TR_IN(m_, d);
     d->watch_have = 0;
     d->lam_act = d->lam_load = 1.0;
     tr_watch_curvature(m, d, x, 2);

@@ -178,16 +178,16 @@ PyObject *glue_problem_actuate(ProblemObject *self, PyObject *args, PyObject *kw
     if (glue_poll_finish(&poll, status) < 0) goto done;
     if (status != TR_OK) {
         glue_err(status == TR_EINVAL ? PyExc_ValueError : PyExc_RuntimeError, "%s (status %d: %s)",
-                 self->d->message, status, tr_strerror(status));
+                 tr_data_message(self->d), status, tr_strerror(status));
         goto done;
     }
     /* the final solve was lazy: no node arrays (record_from computes them) */
-    self->d->lazy = 1;
+    tr_data_set_lazy(self->d, 1);
     if (!glue_problem_form(self) ||
         !(result = glue_solve_result(self->m, self->d, res.status, self->form)) ||
         !(rep = report(&sp, &res, nt)) || glue_set(result, "actuation", rep) < 0)
         Py_CLEAR(result);
-    self->d->lazy = 0;
+    tr_data_set_lazy(self->d, 0);
 done:
     PyMem_Free(buf);
     Py_XDECREF(at);

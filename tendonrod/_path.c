@@ -28,7 +28,7 @@ static PyObject *result_of(const tr_model *m, const tr_data *d, const tr_path_ou
     npy_intp n = o->n, d2[2];
     if (!res) return NULL;
     if (glue_set(res, "status", PyLong_FromLong(status)) < 0 ||
-        glue_set(res, "message", PyUnicode_FromString(d->message)) < 0 ||
+        glue_set(res, "message", PyUnicode_FromString(tr_data_message(d))) < 0 ||
         glue_set(res, "n", PyLong_FromLong(o->n)) < 0 ||
         glue_set(res, "par", glue_array(1, &n, o->par)) < 0 ||
         glue_set(res, "margin", glue_array(1, &n, o->margin)) < 0 ||
@@ -45,7 +45,7 @@ static PyObject *result_of(const tr_model *m, const tr_data *d, const tr_path_ou
     if (glue_set(res, "tip", glue_array(2, d2, o->tip)) < 0) goto fail;
     d2[1] = m->nt;
     if (glue_set(res, "tension", glue_array(2, d2, o->tension)) < 0) goto fail;
-    d2[1] = d->k;
+    d2[1] = m->n_unknowns;
     if (glue_set(res, "unknowns", glue_array(2, d2, o->x)) < 0) goto fail;
     return res;
 fail:
@@ -110,7 +110,7 @@ PyObject *glue_path(PyObject *self, PyObject *args, PyObject *kwds)
         goto done;
     }
     out.cap = (int)cap;
-    out.par = (double *)malloc((size_t)cap * (6 + 18 + m->nt + d->k) * sizeof(double));
+    out.par = (double *)malloc((size_t)cap * (6 + 18 + m->nt + m->n_unknowns) * sizeof(double));
     out.stable = (int *)malloc((size_t)cap * 4 * sizeof(int));
     if (!out.par || !out.stable) {
         PyErr_NoMemory();
@@ -126,14 +126,14 @@ PyObject *glue_path(PyObject *self, PyObject *args, PyObject *kwds)
     out.kind = out.stable + cap;
     out.branch = out.kind + cap;
     out.steps = out.branch + cap;
-    d->lazy = 1;
+    tr_data_set_lazy(d, 1);
     tr_set_poll(d, glue_poll_hook, &poll);
     Py_BEGIN_ALLOW_THREADS;
     status = tr_path(m, d, &sp, &out);
     Py_END_ALLOW_THREADS;
     tr_set_poll(d, NULL, NULL);
     if (status == TR_EINVAL && out.n == 0) {
-        glue_err(PyExc_ValueError, "path: %s", d->message);
+        glue_err(PyExc_ValueError, "path: %s", tr_data_message(d));
         goto done;
     }
     if (glue_poll_finish(&poll, status) == 0) result = result_of(m, d, &out, status);

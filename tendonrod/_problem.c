@@ -93,9 +93,10 @@ static PyObject *problem_set_values(ProblemObject *self, PyObject *args, PyObjec
         values_of(ol, "point_loads", 6 * (npy_intp)self->m->nl, &l) < 0 ||
         values_of(od, "dist", 3, &dd) < 0 || values_of(op, "pretension", self->m->nt, &p) < 0)
         goto done;
-    if (tr_model_set_values(self->m, DATA_OR_NULL(v), DATA_OR_NULL(l), DATA_OR_NULL(dd), msg,
-                            sizeof msg) != TR_OK ||
-        (p && tr_model_set_pretension(self->m, DATA_OR_NULL(p), msg, sizeof msg) != TR_OK)) {
+    if (tr_data_set_values(self->m, self->d, DATA_OR_NULL(v), DATA_OR_NULL(l), DATA_OR_NULL(dd),
+                           msg, sizeof msg) != TR_OK ||
+        (p &&
+         tr_data_set_pretension(self->m, self->d, DATA_OR_NULL(p), msg, sizeof msg) != TR_OK)) {
         PyErr_SetString(PyExc_ValueError, msg);
         goto done;
     }
@@ -120,7 +121,7 @@ static PyObject *problem_set_value_vector(ProblemObject *self, PyObject *arg)
     if (glue_problem_check(self) < 0) return NULL;
     if (values_of(arg, "value vector", m->nt + 6 * (npy_intp)m->nl + 3, &v) < 0) return NULL;
     p = (const double *)PyArray_DATA(v);
-    if (tr_model_set_values(self->m, p, p + m->nt, p + m->nt + 6 * m->nl, msg, sizeof msg) !=
+    if (tr_data_set_values(m, self->d, p, p + m->nt, p + m->nt + 6 * m->nl, msg, sizeof msg) !=
         TR_OK) {
         PyErr_SetString(PyExc_ValueError, msg);
         goto done;
@@ -155,7 +156,7 @@ static PyObject *problem_set_target(ProblemObject *self, PyObject *args)
         }
         idx[i] = (int)x;
     }
-    status = tr_model_set_target(self->m, kind, val, idx, n, msg, sizeof msg);
+    status = tr_data_set_target(self->m, self->d, kind, val, idx, n, msg, sizeof msg);
     Py_DECREF(v);
     Py_DECREF(t);
     if (status != TR_OK) {
@@ -195,7 +196,7 @@ static PyObject *problem_solve(ProblemObject *self, PyObject *args, PyObject *kw
         PyObject *ox, *oval = Py_None;
         if (!PyArg_ParseTuple(ov, "idO|O;verified must be (steps, estimate, unknowns[, values])",
                               &ver.steps, &ver.estimate, &ox, &oval) ||
-            values_of(ox, "verified unknowns", d->k, &xv) < 0 ||
+            values_of(ox, "verified unknowns", self->m->n_unknowns, &xv) < 0 ||
             (oval != Py_None && values_of(oval, "verified values", self->m->nt, &vv) < 0))
             goto done;
         if (ver.steps < 1 || ver.steps > TR_MAX_STEPS || !(ver.estimate >= 0.0) ||
@@ -228,7 +229,7 @@ static PyObject *problem_solve(ProblemObject *self, PyObject *args, PyObject *kw
     g = a.guess ? (const double *)PyArray_DATA(a.guess) : NULL;
     if (a.jac && PyArray_DIM(a.jac, 0) == self->m->n_unknowns)
         jac = (const double *)PyArray_DATA(a.jac);
-    d->lazy = !record;
+    tr_data_set_lazy(d, !record);
     tr_set_poll(d, glue_poll_hook, &poll);
     self->busy = 1;
     Py_BEGIN_ALLOW_THREADS;
@@ -245,7 +246,7 @@ static PyObject *problem_solve(ProblemObject *self, PyObject *args, PyObject *kw
     if (glue_poll_finish(&poll, status) == 0 && glue_problem_form(self))
         result = glue_solve_result(self->m, d, status, self->form);
 done:
-    d->lazy = 0;
+    tr_data_set_lazy(d, 0);
     Py_XDECREF(xv);
     Py_XDECREF(vv);
     glue_args_clear(&a);
@@ -260,14 +261,14 @@ static PyObject *problem_record_from(ProblemObject *self, PyObject *args, PyObje
     int steps, status;
     if (glue_problem_check(self) < 0) return NULL;
     if (!PyArg_ParseTupleAndKeywords(args, kwds, "Oi", kwlist, &ox, &steps)) return NULL;
-    if (values_of(ox, "unknowns", self->d->k, &x) < 0) return NULL;
+    if (values_of(ox, "unknowns", self->m->n_unknowns, &x) < 0) return NULL;
     self->busy = 1;
     Py_BEGIN_ALLOW_THREADS;
     status = tr_record_from(self->m, self->d, (const double *)PyArray_DATA(x), steps);
     Py_END_ALLOW_THREADS;
     self->busy = 0;
     if (status == TR_EINVAL) {
-        glue_err(PyExc_ValueError, "record_from: %s", self->d->message);
+        glue_err(PyExc_ValueError, "record_from: %s", tr_data_message(self->d));
         goto done;
     }
     /* a recording that fails (the last iterate of a failed solve) has NaN states */
@@ -286,20 +287,23 @@ static PyObject *problem_stability(ProblemObject *self, PyObject *args, PyObject
     tr_data *d = self->d;
     if (glue_problem_check(self) < 0) return NULL;
     if (!PyArg_ParseTupleAndKeywords(args, kwds, "Oi|p", kwlist, &ox, &steps, &quick)) return NULL;
-    if (values_of(ox, "unknowns", d->k, &x) < 0) return NULL;
+    if (values_of(ox, "unknowns", self->m->n_unknowns, &x) < 0) return NULL;
     self->busy = 1;
     Py_BEGIN_ALLOW_THREADS;
     status = tr_stability_of(self->m, d, (const double *)PyArray_DATA(x), steps, quick);
     Py_END_ALLOW_THREADS;
     self->busy = 0;
     if (status == TR_EINVAL) {
-        glue_err(PyExc_ValueError, "stability: %s", d->message);
+        glue_err(PyExc_ValueError, "stability: %s", tr_data_message(d));
         goto done;
     }
-    result =
-        Py_BuildValue("{s:N,s:d,s:i,s:s}", "stable",
-                      d->stable < 0 ? Py_NewRef(Py_None) : PyBool_FromLong(d->stable), "stability",
-                      d->stability, "index", d->stab_index, "reason", d->stab_reason);
+    {
+        tr_verdict v;
+        tr_data_verdict(d, &v);
+        result = Py_BuildValue("{s:N,s:d,s:i,s:s}", "stable",
+                               v.stable < 0 ? Py_NewRef(Py_None) : PyBool_FromLong(v.stable),
+                               "stability", v.margin, "index", v.index, "reason", v.reason);
+    }
 done:
     Py_XDECREF(x);
     return result;
@@ -331,7 +335,7 @@ static PyObject *problem_compliance(ProblemObject *self, PyObject *args, PyObjec
     if (glue_poll_finish(&poll, status) < 0) return NULL;
     if (status != TR_OK) {
         glue_err(status == TR_EINVAL ? PyExc_ValueError : PyExc_RuntimeError, "%s",
-                 self->d->message);
+                 tr_data_message(self->d));
         return NULL;
     }
     return glue_array(2, dims, C);
@@ -371,12 +375,12 @@ static PyObject *problem_linearize(ProblemObject *self, PyObject *args, PyObject
         return NULL;
     if (ox != Py_None) {
         /* the state of a converged solution of this structure, set without solving */
-        if (values_of(ox, "unknowns", self->d->k, &xa) < 0) return NULL;
+        if (values_of(ox, "unknowns", self->m->n_unknowns, &xa) < 0) return NULL;
         status = tr_state_from(self->m, self->d, (const double *)PyArray_DATA(xa), steps);
         Py_DECREF(xa);
         self->last_status = TR_CONTINUE; /* the workspace no longer holds its last solve */
         if (status != TR_OK) {
-            glue_err(PyExc_ValueError, "linearize: %s", self->d->message);
+            glue_err(PyExc_ValueError, "linearize: %s", tr_data_message(self->d));
             return NULL;
         }
     } else if (!TR_SUCCEEDED(self->last_status)) {
@@ -445,16 +449,20 @@ static PyObject *problem_linearize(ProblemObject *self, PyObject *args, PyObject
     if (glue_poll_finish(&poll, status) < 0) goto done;
     if (status != TR_OK) {
         glue_err(status == TR_EINVAL ? PyExc_ValueError : PyExc_RuntimeError, "%s",
-                 self->d->message);
+                 tr_data_message(self->d));
         goto done;
     }
     if (!(sw = PyTuple_New(nt))) goto done;
     for (i = 0; i < nt; i++) PyTuple_SET_ITEM(sw, i, PyLong_FromLong(at_switch[i]));
     /* the shooting Jacobian at the state (scaled), for a solve from a nearby state */
-    dims[0] = dims[1] = self->d->k;
-    if (!(jac = glue_array(2, dims, self->d->J))) goto done;
+    dims[0] = dims[1] = self->m->n_unknowns;
+    {
+        tr_outputs o;
+        tr_data_outputs(self->d, &o);
+        if (!(jac = glue_array(2, dims, o.J))) goto done;
+    }
     result = Py_BuildValue("{s:O,s:O,s:O,s:O,s:i,s:O}", "pose", pose, "tension", ten, "slack", sl,
-                           "at_switch", sw, "k", self->d->k, "jacobian", jac);
+                           "at_switch", sw, "k", self->m->n_unknowns, "jacobian", jac);
 done:
     Py_XDECREF(pose);
     Py_XDECREF(ten);
@@ -490,7 +498,7 @@ static PyObject *problem_last_success(ProblemObject *self, void *closure)
 
 static PyObject *problem_has_solution(ProblemObject *self, void *closure)
 {
-    return PyBool_FromLong(self->d && self->d->have_last);
+    return PyBool_FromLong(self->d && tr_data_has_last(self->d));
 }
 
 static PyObject *problem_breakpoints(ProblemObject *self, void *closure)
@@ -513,7 +521,7 @@ static PyMethodDef problem_methods[] = {
      "set_target(kind, values, tendons): the residual of a tip target (kind 1 angle [rad]\n"
      "(planar), 2 direction (3), 3 position (3) [m] world; 0 none) replaces the length\n"
      "constraints of the displacement-controlled tendons `tendons`, one per component\n"
-     "(tr_model_set_target); a solve then reports the displacements that reach it.\n"
+     "(tr_data_set_target); a solve then reports the displacements that reach it.\n"
      "ValueError naming what is wrong."},
     {"solve", (PyCFunction)(void (*)(void))problem_solve, METH_VARARGS | METH_KEYWORDS,
      "solve(*, guess=None, jacobian=None, verified=None, warm=True, cancel=None, record=True,\n"

@@ -25,16 +25,21 @@ PyObject *glue_formulation(const tr_model *m, const tr_data *d)
         glue_set(form, "shooting_growth", PyFloat_FromDouble(m->shoot_growth)) < 0 ||
         glue_set(form, "shooting_auto", PyBool_FromLong(m->shoot_auto)) < 0)
         goto fail;
-    if (d && (glue_set(form, "tip_only", PyBool_FromLong(d->opt.tip_only)) < 0 ||
-              glue_set(form, "integrator",
-                       PyUnicode_FromString(glue_integrators[d->opt.integrator])) < 0 ||
-              glue_set(form, "steps",
-                       PyLong_FromLong(d->opt.integrator == TR_ADAPTIVE ? 0 : d->steps)) < 0 ||
-              glue_set(form, "slack_model",
-                       PyUnicode_FromString(glue_slack_models[d->opt.slack_model])) < 0 ||
-              glue_set(form, "jacobian_method",
-                       PyUnicode_FromString(glue_jacobians[d->opt.jacobian_method])) < 0))
-        goto fail;
+    if (d) {
+        const tr_options *o = tr_data_options(d);
+        tr_result r;
+        tr_data_result(d, &r);
+        if (glue_set(form, "tip_only", PyBool_FromLong(o->tip_only)) < 0 ||
+            glue_set(form, "integrator", PyUnicode_FromString(glue_integrators[o->integrator])) <
+                0 ||
+            glue_set(form, "steps", PyLong_FromLong(o->integrator == TR_ADAPTIVE ? 0 : r.steps)) <
+                0 ||
+            glue_set(form, "slack_model", PyUnicode_FromString(glue_slack_models[o->slack_model])) <
+                0 ||
+            glue_set(form, "jacobian_method",
+                     PyUnicode_FromString(glue_jacobians[o->jacobian_method])) < 0)
+            goto fail;
+    }
     return form;
 fail:
     Py_DECREF(form);
@@ -43,18 +48,20 @@ fail:
 
 static int set_counts(PyObject *res, const tr_data *d, int status)
 {
+    tr_result r;
+    tr_data_result(d, &r);
     return glue_set(res, "status", PyLong_FromLong(status)) < 0 ||
-                   glue_set(res, "message", PyUnicode_FromString(d->message)) < 0 ||
+                   glue_set(res, "message", PyUnicode_FromString(r.message)) < 0 ||
                    glue_set(res, "success", PyBool_FromLong(TR_SUCCEEDED(status))) < 0 ||
-                   glue_set(res, "nit", PyLong_FromLong(d->nit)) < 0 ||
-                   glue_set(res, "nfev", PyLong_FromLong(d->nfev)) < 0 ||
-                   glue_set(res, "njev", PyLong_FromLong(d->njev)) < 0 ||
-                   glue_set(res, "work", PyFloat_FromDouble(d->spent)) < 0 ||
-                   glue_set(res, "residual_norm", PyFloat_FromDouble(d->residual_norm)) < 0 ||
-                   glue_set(res, "jacobian_cond", PyFloat_FromDouble(d->jacobian_cond)) < 0 ||
-                   glue_set(res, "truncation_estimate", PyFloat_FromDouble(d->truncation)) < 0 ||
-                   glue_set(res, "truncation_carried", PyBool_FromLong(d->ver_carried)) < 0 ||
-                   glue_set(res, "continuation_steps", PyLong_FromLong(d->cont_steps)) < 0
+                   glue_set(res, "nit", PyLong_FromLong(r.nit)) < 0 ||
+                   glue_set(res, "nfev", PyLong_FromLong(r.nfev)) < 0 ||
+                   glue_set(res, "njev", PyLong_FromLong(r.njev)) < 0 ||
+                   glue_set(res, "work", PyFloat_FromDouble(r.work)) < 0 ||
+                   glue_set(res, "residual_norm", PyFloat_FromDouble(r.residual_norm)) < 0 ||
+                   glue_set(res, "jacobian_cond", PyFloat_FromDouble(r.jacobian_cond)) < 0 ||
+                   glue_set(res, "truncation_estimate", PyFloat_FromDouble(r.truncation)) < 0 ||
+                   glue_set(res, "truncation_carried", PyBool_FromLong(r.ver_carried)) < 0 ||
+                   glue_set(res, "continuation_steps", PyLong_FromLong(r.cont_steps)) < 0
                ? -1
                : 0;
 }
@@ -64,9 +71,12 @@ static int set_counts(PyObject *res, const tr_data *d, int status)
 static PyObject *result_formulation(const tr_model *m, const tr_data *d, PyObject *form)
 {
     PyObject *f;
+    tr_result r;
     if (!form) return glue_formulation(m, d);
     if (!(f = PyDict_Copy(form))) return NULL;
-    if (glue_set(f, "steps", PyLong_FromLong(d->opt.integrator == TR_ADAPTIVE ? 0 : d->steps)) <
+    tr_data_result(d, &r);
+    if (glue_set(f, "steps",
+                 PyLong_FromLong(tr_data_options(d)->integrator == TR_ADAPTIVE ? 0 : r.steps)) <
         0) {
         Py_DECREF(f);
         return NULL;
@@ -77,72 +87,80 @@ static PyObject *result_formulation(const tr_model *m, const tr_data *d, PyObjec
 PyObject *glue_solve_result(const tr_model *m, const tr_data *d, int status, PyObject *form)
 {
     PyObject *res = PyDict_New(), *base = NULL;
-    const int N = d->nnode, nt = m->nt, k = d->k;
+    tr_outputs o;
+    tr_verified v;
+    tr_verdict vd;
+    const char *carry;
+    int N, nt = m->nt, k, have_ver;
     npy_intp dims[3];
     if (!res) return NULL;
+    tr_data_outputs(d, &o);
+    have_ver = tr_data_verified(d, &v);
+    tr_data_verdict(d, &vd);
+    carry = tr_data_carry_reason(d);
+    N = o.nnode, k = o.k;
     if (set_counts(res, d, status) < 0) goto fail;
-    if (!d->lazy) {
+    if (!o.lazy) {
         dims[0] = N;
-        if (glue_set(res, "s", glue_array(1, dims, d->s)) < 0) goto fail;
+        if (glue_set(res, "s", glue_array(1, dims, o.s)) < 0) goto fail;
         dims[1] = 3;
-        if (glue_set(res, "position", glue_array(2, dims, d->pos)) < 0 ||
-            glue_set(res, "force", glue_array(2, dims, d->force)) < 0 ||
-            glue_set(res, "moment", glue_array(2, dims, d->moment)) < 0)
+        if (glue_set(res, "position", glue_array(2, dims, o.pos)) < 0 ||
+            glue_set(res, "force", glue_array(2, dims, o.force)) < 0 ||
+            glue_set(res, "moment", glue_array(2, dims, o.moment)) < 0)
             goto fail;
         dims[2] = 3;
-        if (glue_set(res, "rotation", glue_array(3, dims, d->rot)) < 0) goto fail;
+        if (glue_set(res, "rotation", glue_array(3, dims, o.rot)) < 0) goto fail;
         dims[1] = nt;
-        if (glue_set(res, "tendon_tension", glue_array(2, dims, d->node_tension)) < 0 ||
-            glue_set(res, "tendon_rest", glue_array(2, dims, d->node_rest)) < 0)
+        if (glue_set(res, "tendon_tension", glue_array(2, dims, o.node_tension)) < 0 ||
+            glue_set(res, "tendon_rest", glue_array(2, dims, o.node_rest)) < 0)
             goto fail;
     }
     dims[0] = nt;
-    if (glue_set(res, "tension", glue_array(1, dims, d->tension)) < 0 ||
-        glue_set(res, "slack", glue_array(1, dims, d->slack)) < 0 ||
-        glue_set(res, "displacement", glue_array(1, dims, d->displacement)) < 0)
+    if (glue_set(res, "tension", glue_array(1, dims, o.tension)) < 0 ||
+        glue_set(res, "slack", glue_array(1, dims, o.slack)) < 0 ||
+        glue_set(res, "displacement", glue_array(1, dims, o.displacement)) < 0)
         goto fail;
     /* the tip state of the solution (the shooting tip, whatever the output nodes) */
     dims[0] = 3;
-    if (glue_set(res, "tip_position", glue_array(1, dims, d->tip)) < 0 ||
-        glue_set(res, "tip_force", glue_array(1, dims, d->tip + 12)) < 0 ||
-        glue_set(res, "tip_moment", glue_array(1, dims, d->tip + 15)) < 0)
+    if (glue_set(res, "tip_position", glue_array(1, dims, o.tip)) < 0 ||
+        glue_set(res, "tip_force", glue_array(1, dims, o.tip + 12)) < 0 ||
+        glue_set(res, "tip_moment", glue_array(1, dims, o.tip + 15)) < 0)
         goto fail;
     dims[1] = 3;
-    if (glue_set(res, "tip_rotation", glue_array(2, dims, d->tip + 3)) < 0 ||
-        glue_set(res, "tip_angle", PyFloat_FromDouble(d->tip_angle)) < 0)
+    if (glue_set(res, "tip_rotation", glue_array(2, dims, o.tip + 3)) < 0 ||
+        glue_set(res, "tip_angle", PyFloat_FromDouble(o.tip_angle)) < 0)
         goto fail;
     dims[0] = 6 + 2 * nt;
     if (!(base = glue_array(1, dims, NULL))) goto fail;
     tr_base_state(m, d, (double *)PyArray_DATA((PyArrayObject *)base));
     if (glue_set(res, "base_state", base) < 0) goto fail;
     dims[0] = k;
-    if (glue_set(res, "unknowns", glue_array(1, dims, d->x)) < 0) goto fail;
+    if (glue_set(res, "unknowns", glue_array(1, dims, o.x)) < 0) goto fail;
     /* the step verification that vouches for the step count (NaN: none) */
-    if (glue_set(res, "verified_estimate", PyFloat_FromDouble(d->have_ver ? d->est_ver : NAN)) <
-            0 ||
+    if (glue_set(res, "verified_estimate", PyFloat_FromDouble(have_ver ? v.estimate : NAN)) < 0 ||
         glue_set(res, "verified_unknowns",
-                 d->have_ver ? glue_array(1, dims, d->x_ver) : (Py_INCREF(Py_None), Py_None)) < 0)
+                 have_ver ? glue_array(1, dims, v.x) : (Py_INCREF(Py_None), Py_None)) < 0)
         goto fail;
     dims[0] = nt;
     if (glue_set(res, "verified_values",
-                 d->have_ver && d->have_val_ver ? glue_array(1, dims, d->val_ver)
-                                                : (Py_INCREF(Py_None), Py_None)) < 0)
+                 have_ver && v.values ? glue_array(1, dims, v.values)
+                                      : (Py_INCREF(Py_None), Py_None)) < 0)
         goto fail;
     dims[0] = k;
     dims[1] = k;
-    if (glue_set(res, "jacobian", glue_array(2, dims, d->J)) < 0) goto fail;
+    if (glue_set(res, "jacobian", glue_array(2, dims, o.J)) < 0) goto fail;
     if (glue_set(res, "formulation", result_formulation(m, d, form)) < 0) goto fail;
     /* the verdict record a warm solve from this one may keep (None: there is none) */
     {
         PyObject *rec = Py_None;
         npy_intp n = tr_carry_len(m, d);
         Py_INCREF(rec);
-        if (d->carry_valid && TR_SUCCEEDED(status)) {
+        if (carry && TR_SUCCEEDED(status)) {
             Py_DECREF(rec);
             if (!(rec = glue_array(1, &n, NULL))) goto fail;
             tr_carry_get(m, d, (double *)PyArray_DATA((PyArrayObject *)rec));
             {
-                PyObject *t = Py_BuildValue("(Ns)", rec, d->carry_reason);
+                PyObject *t = Py_BuildValue("(Ns)", rec, carry);
                 if (!t) goto fail;
                 rec = t;
             }
@@ -151,12 +169,11 @@ PyObject *glue_solve_result(const tr_model *m, const tr_data *d, int status, PyO
     }
     /* the verdict every converged solve judges (tr_branch.c); the margin may be NaN (the
      * quick test decided without it) */
-    if (status >= 0 && status != TR_CONTINUE && !d->opt.accept_unstable &&
+    if (status >= 0 && status != TR_CONTINUE && !tr_data_options(d)->accept_unstable &&
         glue_set(res, "stability_verdict",
                  Py_BuildValue("{s:N,s:d,s:i,s:s}", "stable",
-                               d->stable < 0 ? Py_NewRef(Py_None) : PyBool_FromLong(d->stable),
-                               "stability", d->stability, "index", d->stab_index, "reason",
-                               d->stab_reason)) < 0)
+                               vd.stable < 0 ? Py_NewRef(Py_None) : PyBool_FromLong(vd.stable),
+                               "stability", vd.margin, "index", vd.index, "reason", vd.reason)) < 0)
         goto fail;
     return res;
 fail:
@@ -276,7 +293,7 @@ PyObject *glue_compliance(PyObject *self, PyObject *args, PyObject *kwds)
     Py_END_ALLOW_THREADS;
     if (glue_poll_finish(&poll, status) < 0) goto done;
     if (status < 0) {
-        glue_err(PyExc_RuntimeError, "compliance: %s (status %d: %s)", d->message, status,
+        glue_err(PyExc_RuntimeError, "compliance: %s (status %d: %s)", tr_data_message(d), status,
                  tr_strerror(status));
         goto done;
     }

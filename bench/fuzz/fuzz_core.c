@@ -44,6 +44,7 @@
 #include <gsl/gsl_errno.h>
 
 #include "tendonrod.h"
+#include "tr_internal.h" /* reads the workspace's fields */
 #include "tr_closed.h"
 
 #ifndef M_PI

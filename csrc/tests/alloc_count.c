@@ -1,6 +1,6 @@
 /* Allocations during solves: a scene of each stress family is compiled and given its
- * workspace (tr_data_alloc), then solved cold, warm and cold again while every malloc,
- * calloc and realloc of the process is counted (this file interposes them), by who asked:
+ * workspace (tr_data_alloc_ext with TR_ALLOC_ALL: everything a solve can need), then
+ * solved cold, warm and cold again while every malloc, calloc and realloc of the process is counted (this file interposes them), by who asked:
  * the core or a shared library (GSL).  Prints one line per family: the allocations of the
  * first solve (core, GSL), of the next two (core, GSL), the first one's status; exits 0.
  * glibc only (__libc_*, dladdr); under valgrind, whose allocator takes the place of
@@ -106,7 +106,7 @@ static int run(const struct family *f, long n[4])
         fprintf(stderr, "%s: friction: %s\n", f->name, msg);
         return -1000;
     }
-    d = tr_data_alloc(m, &o, 21, NULL, msg, sizeof msg);
+    d = tr_data_alloc_ext(m, &o, 21, NULL, TR_ALLOC_ALL, msg, sizeof msg);
     if (!d) {
         fprintf(stderr, "%s: data: %s\n", f->name, msg);
         return -1000;
@@ -121,7 +121,7 @@ static int run(const struct family *f, long n[4])
         double value[NT_MAX], load[6];
         for (i = 0; i < f->nt; i++) value[i] = 1.01 * f->tendon[i][TR_TD_VALUE];
         for (i = 0; i < 3; i++) load[i] = 1.01 * f->F[i], load[3 + i] = 1.01 * f->M[i];
-        if (tr_model_set_values(m, f->nt ? value : NULL, load, NULL, msg, sizeof msg) != TR_OK) {
+        if (tr_data_set_values(m, d, f->nt ? value : NULL, load, NULL, msg, sizeof msg) != TR_OK) {
             fprintf(stderr, "%s: values: %s\n", f->name, msg);
             return -1000;
         }

@@ -8,6 +8,7 @@
 #include <string.h>
 #include <gsl/gsl_errno.h>
 #include "tendonrod.h"
+#include "tr_internal.h" /* reads the workspace's fields */
 
 int main(void)
 {

@@ -2,6 +2,7 @@
 #include <math.h>
 #include <gsl/gsl_errno.h>
 #include "tendonrod.h"
+#include "tr_internal.h" /* reads the workspace's fields */
 int main(int argc, char **argv){
   gsl_set_error_handler_off();
   double L=0.1, dd=1.04e-3, E=210e9, G=80e9, A=M_PI*dd*dd/4, I=M_PI*pow(dd,4)/64, EI=E*I, r=0.01;

@@ -15,6 +15,7 @@
 #include <math.h>
 #include <stdio.h>
 #include <gsl/gsl_errno.h>
+#include <gsl/gsl_math.h> /* M_PI */
 #include <tendonrod.h>
 
 int main(void)
@@ -33,6 +34,8 @@ int main(void)
     tr_options o = tr_default_options();
     tr_model *m = NULL;
     tr_data *dat;
+    tr_result res;  /* what a solve did (counts, message) */
+    tr_outputs out; /* its state: tip, tensions, displacements, nodes */
     double err, q;
     int st;
 
@@ -49,13 +52,14 @@ int main(void)
         return 1;
     }
     st = tr_solve(m, dat, NULL, NULL);
-    printf("tension %.3g N: %s (%d iterations): %s\n", tau, tr_strerror(st), dat->nit,
-           dat->message);
+    tr_data_result(dat, &res);
+    tr_data_outputs(dat, &out);
+    printf("tension %.3g N: %s (%d iterations): %s\n", tau, tr_strerror(st), res.nit, res.message);
     if (!TR_SUCCEEDED(st)) return 1;
-    err = hypot(dat->tip[0] - arc_x, dat->tip[2] - arc_z);
-    printf("  tip (%.9f, %.9f, %.9f) m, arc (%.9f, 0, %.9f) m, |difference| %.2e m\n", dat->tip[0],
-           dat->tip[1], dat->tip[2], arc_x, arc_z, err);
-    q = dat->displacement[0];
+    err = hypot(out.tip[0] - arc_x, out.tip[2] - arc_z);
+    printf("  tip (%.9f, %.9f, %.9f) m, arc (%.9f, 0, %.9f) m, |difference| %.2e m\n", out.tip[0],
+           out.tip[1], out.tip[2], arc_x, arc_z, err);
+    q = out.displacement[0];
     printf("  tendon displacement %.6f m (arc: r kappa L = %.6f m)\n", q, r * kappa * L);
     tr_data_free(dat);
     tr_model_free(m);
@@ -77,8 +81,9 @@ int main(void)
         return 1;
     }
     st = tr_solve(m, dat, NULL, NULL);
+    tr_data_outputs(dat, &out);
     printf("locked at q = %.6f m, 0.1 N down: %s; tip (%.6f, %.6f, %.6f) m, tension %.4f N\n", q,
-           tr_strerror(st), dat->tip[0], dat->tip[1], dat->tip[2], dat->tension[0]);
+           tr_strerror(st), out.tip[0], out.tip[1], out.tip[2], out.tension[0]);
     tr_data_free(dat);
     tr_model_free(m);
     return TR_SUCCEEDED(st) ? 0 : 1;
