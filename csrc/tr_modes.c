@@ -21,6 +21,7 @@
  * estimate, and where the ratio of successive grid differences is not near 4 (outside the
  * asymptotic range) the finest grid's difference is.
  */
+#include <float.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -68,6 +69,7 @@ typedef struct {
     int *idx;                   /* (nfine) scratch: a node's block on a grid (-1: base) */
     struct tr_stab_ws w;        /* the verdict's level workspace on the finest grid */
     double *X, *Y, *Z, *T, *K, *Mp, *C, *th, *th_old, *lam; /* subspace iteration */
+    double lmax;                /* the finest grid's largest_bound [rad^2/s^2] */
     gsl_eigen_gensymmv_workspace *gw;
     gsl_matrix_view Kv, Mv, Cv;
     gsl_vector_view thv;
@@ -375,6 +377,27 @@ static void prolong(modes_ws *s, int l)
     }
 }
 
+/* Gershgorin's bound on the largest eigenvalue of the grid's pencil (the rows with a
+ * mass): the scale of the round-off in the eigenvalues, eps times it. */
+static double largest_bound(const tr_btd *h)
+{
+    const int nb = h->nb, nb2 = nb * nb;
+    double g = 0.0;
+    int j, r, c;
+    for (j = 0; j < h->nblk; j++)
+        for (r = 0; r < nb; r++) {
+            double rad = 0.0;
+            if (!(h->Mw[j * nb + r] > 0.0)) continue;
+            for (c = 0; c < nb; c++) {
+                rad += fabs(h->D[j * nb2 + r * nb + c]);
+                if (j + 1 < h->nblk) rad += fabs(h->E[j * nb2 + r * nb + c]);
+                if (j > 0) rad += fabs(h->E[(j - 1) * nb2 + c * nb + r]);
+            }
+            g = fmax(g, rad / h->Mw[j * nb + r]);
+        }
+    return g;
+}
+
 /* ------------------------------------------------------------ results */
 /* Richardson extrapolation of eigenvalue i over the grids, its accuracy estimate. */
 static void extrapolate(const modes_ws *s, int i, double *val, double *err)
@@ -400,11 +423,13 @@ static void extrapolate(const modes_ws *s, int i, double *val, double *err)
             !(fabs(d0 / d1 - 4.0) <= TR_MODES_RATIO_BAND)) /* not second order yet */
             *err = fmax(*err, fabs(d1));
     }
-    *err += 1e-14 * fabs(*val);
+    *err += TR_MODES_ROUNDOFF * DBL_EPSILON * s->lmax;
 }
 
-/* The finest grid's shapes, normalised: max over the nodes of |dp| and L |dtheta| is 1 m,
- * the largest such entry positive; the modal mass x^T M x of that shape [kg]. */
+/* The finest grid's shapes, normalised: the largest centre-line displacement |dp| over
+ * the nodes is 1 m (a mode that moves the centre line by less than TR_MODES_TWIST of L
+ * times its largest rotation, such as pure torsion: the largest L |dtheta| is), the
+ * entry of largest magnitude positive; the modal mass x^T M x of that shape [kg]. */
 static void shapes(const tr_model *m, const modes_ws *s, tr_modes_out *o)
 {
     const struct tr_stab_ws *w = &s->w;
@@ -416,7 +441,7 @@ static void shapes(const tr_model *m, const modes_ws *s, tr_modes_out *o)
     }
     for (i = 0; i < s->n; i++) {
         double *dp = o->dpos + (size_t)i * ns * 3, *dr = o->drot + (size_t)i * ns * 3;
-        double amp = 0.0, big = 0.0, sc, mm = 0.0;
+        double ap = 0.0, ar = 0.0, bp = 0.0, br = 0.0, big, sc, mm = 0.0;
         for (c = 0; c < 3; c++) dp[c] = dr[c] = 0.0;
         for (j = 1; j < ns; j++) {
             const double *x = s->X + (size_t)(j - 1) * 6 * p;
@@ -426,15 +451,17 @@ static void shapes(const tr_model *m, const modes_ws *s, tr_modes_out *o)
                 for (c = 0; c < 3; c++) acc += R[3 * r + c] * x[c * p + i];
                 dr[3 * j + r] = acc;
                 dp[3 * j + r] = x[(3 + r) * p + i];
-                if (fabs(acc) * m->L > fabs(big)) big = acc * m->L;
-                if (fabs(dp[3 * j + r]) > fabs(big)) big = dp[3 * j + r];
+                if (fabs(acc) > fabs(br)) br = acc;
+                if (fabs(dp[3 * j + r]) > fabs(bp)) bp = dp[3 * j + r];
             }
-            amp = fmax(amp, fmax(sqrt(dp[3 * j] * dp[3 * j] + dp[3 * j + 1] * dp[3 * j + 1] +
-                                      dp[3 * j + 2] * dp[3 * j + 2]),
-                                 m->L * sqrt(dr[3 * j] * dr[3 * j] + dr[3 * j + 1] * dr[3 * j + 1] +
-                                             dr[3 * j + 2] * dr[3 * j + 2])));
+            ap = fmax(ap, sqrt(dp[3 * j] * dp[3 * j] + dp[3 * j + 1] * dp[3 * j + 1] +
+                               dp[3 * j + 2] * dp[3 * j + 2]));
+            ar = fmax(ar, m->L * sqrt(dr[3 * j] * dr[3 * j] + dr[3 * j + 1] * dr[3 * j + 1] +
+                                      dr[3 * j + 2] * dr[3 * j + 2]));
         }
-        sc = amp > 0.0 ? (big < 0.0 ? -1.0 : 1.0) / amp : 1.0;
+        if (!(ap > TR_MODES_TWIST * ar)) ap = ar, bp = br;
+        big = bp;
+        sc = ap > 0.0 ? (big < 0.0 ? -1.0 : 1.0) / ap : 1.0;
         for (j = 0; j < 3 * ns; j++) dp[j] *= sc, dr[j] *= sc;
         for (j = 0; j < s->nv; j++) mm += s->X[(size_t)j * p + i] * s->X[(size_t)j * p + i] * w->h.Mw[j];
         o->modal_mass[i] = mm * sc * sc;
@@ -547,6 +574,7 @@ int tr_modes(const tr_model *m, tr_data *d, const double *x, int steps, const tr
                     l, nn - 1);
         if (st != TR_OK) goto done;
         for (i = 0; i < sp.n; i++) s.lam[l * sp.n + i] = s.th[i] * m->EI / m->L;
+        s.lmax = largest_bound(&s.w.h) * m->EI / m->L;
         if (l + 1 < s.nlev) grid_nodes(&s, l); /* idx: this grid's blocks, for prolong */
     }
     {
