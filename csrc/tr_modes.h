@@ -37,6 +37,10 @@
 /* The Sturm check of a grid's n Ritz values: no eigenvalue of the pencil is missed below
  * (1 - TR_MODES_STURM) lambda_n. */
 #define TR_MODES_STURM 1e-7
+/* ... or below it by this many times the round-off (eps times Gershgorin's bound on the
+ * largest eigenvalue), where that is larger: a fine grid's count does not resolve its
+ * n-th eigenvalue better. */
+#define TR_MODES_STURM_ROUNDOFF 10.0
 /* The extrapolation is trusted where the ratio of successive grid differences is within
  * [4 - TR_MODES_RATIO_BAND, 4 + TR_MODES_RATIO_BAND] (second order: 4); elsewhere the
  * accuracy estimate is the finest grid's difference itself. */
@@ -44,8 +48,8 @@
 
 /* The round-off of a grid's eigenvalues: this many times eps times Gershgorin's bound on
  * its largest (the solves' residuals are eps |H| |x|; measured: the lowest cantilever
- * eigenvalue's round-off at 96 to 192 elements is 0.01 to 0.1 of eps times the bound). */
-#define TR_MODES_ROUNDOFF 1.0
+ * eigenvalue's round-off at 96 to 192 elements is 0.01 to 0.19 of eps times the bound). */
+#define TR_MODES_ROUNDOFF 0.3
 /* A mode whose centre line moves by less than this times L |dtheta| (pure torsion) is
  * normalised by its rotation. */
 #define TR_MODES_TWIST 1e-6

@@ -39,7 +39,7 @@ from .continuation import Branch, SpecialPoint, path
 from .fit import FitResult, fit
 from .friction import Slip, slip
 from .linearization import Jacobian
-from .modes import Modes, modes
+from .vibration import Modes, modes
 from .model import DistributedLoad, PointLoad, PointMass, Robot, Rod, Scene, Tendon
 from .options import Options
 from .plausibility import PlausibilityWarning
