@@ -316,6 +316,8 @@ static int grid_eigen(tr_data *d, modes_ws *s, int nn, double lref, double lmax,
     tr_btd *h = &s->w.h;
     const int nv = (nn - 1) * 6, p = s->p, n = s->n;
     const double *Mw = h->Mw;
+    /* the Ritz values settle to their round-off, not below */
+    const double floor_ = TR_MODES_STURM_ROUNDOFF * DBL_EPSILON * lmax;
     double sig;
     int it, i, j, c, sing, cnt, st;
     sig = lowest_shift(h, lref, nfac);
@@ -360,7 +362,8 @@ static int grid_eigen(tr_data *d, modes_ws *s, int nn, double lref, double lmax,
             for (i = 0; i < nv; i++) s->X[(size_t)i * p + c] *= nm;
         }
         for (i = 0; i < n; i++)
-            change = fmax(change, fabs(s->th[i] - s->th_old[i]) / fabs(s->th[i] - sig));
+            change = fmax(change, fabs(s->th[i] - s->th_old[i]) /
+                                      fmax(fabs(s->th[i] - sig), floor_ / TR_MODES_RITZ_TOL));
         if (!(change > TR_MODES_RITZ_TOL)) break;
         memcpy(s->th_old, s->th, (size_t)p * sizeof(double));
     }
