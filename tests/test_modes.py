@@ -306,3 +306,35 @@ def test_result_protocol_and_repr():
     assert "Modes(n=2" in repr(m) and "Hz" in repr(m)
     # work is bounded by counting: at most TR_MODES_SWEEPS sweeps per grid
     assert m.nit <= 3 * 300
+
+
+def test_plot_modes():
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    m = tr.modes(_cantilever(), n=4)
+    plt.close("all")
+    ax = tr.plot.modes(m)
+    # the equilibrium and two lines (+-) per mode of the first three
+    assert len(ax.lines) == 1 + 2 * 3
+    fig, given = plt.subplots()
+    assert tr.plot.modes(m, which=[3], ax=given) is given and len(given.lines) == 3
+    assert tr.plot.modes(m, plane="3d").name == "3d"
+    with pytest.raises(ValueError, match="which"):
+        tr.plot.modes(m, which=[7])
+    with pytest.raises(ValueError, match="plane"):
+        tr.plot.modes(m, plane="zz")
+    plt.close("all")
+
+
+def test_damping_ratio_kelvin_voigt():
+    eta = 1e-5  # [s]
+    rod = tr.Rod(L, D, E, G, density=RHO, kirchhoff=True, damping=eta)
+    m = tr.modes(tr.Scene(tr.Robot(rod, [])), n=2)
+    # an unloaded rod: C = eta K exactly, zeta = eta omega / 2
+    assert np.allclose(m.damping_ratio, eta * np.sqrt(m.omega2) / 2, rtol=1e-12)
+    assert tr.modes(_cantilever(), n=1).damping_ratio is None
+    with pytest.raises(ValueError, match="Rod.damping must be >= 0"):
+        tr.Rod(L, D, E, G, damping=-1.0)
