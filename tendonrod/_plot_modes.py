@@ -30,7 +30,7 @@ def draw(m, ax_of, which, scale, plane: str, **kwargs):
         f = m.frequencies[k]
         fs = f"{f.real:.4g} Hz" if np.isreal(f) else f"{f.imag:.4g}i Hz"
         color = f"C{j}"
-        ax.plot(*((p0 + a * d)[:, c] for c in cols), color=color, label=f"mode {k}: {fs}",
+        ax.plot(*((p0 + a * d)[:, c] for c in cols), color=color, label=f"[{k}] {fs}",
                 **kwargs)
         ax.plot(*((p0 - a * d)[:, c] for c in cols), color=color, ls="--", **kwargs)
     names = "xyz"
@@ -40,6 +40,6 @@ def draw(m, ax_of, which, scale, plane: str, **kwargs):
         ax.set_xlabel(f"{names[cols[0]]} [m]")
         ax.set_ylabel(f"{names[cols[1]]} [m]")
         ax.set_aspect("equal", adjustable="datalim")
-    ax.set_title(f"mode shapes (displacement x {a:.3g}, both signs)")
+    ax.set_title(f"modes, shapes x {a:.3g} m (+/-)")
     ax.legend(fontsize="small")
     return ax
