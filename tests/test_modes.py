@@ -338,3 +338,25 @@ def test_damping_ratio_kelvin_voigt():
     assert tr.modes(_cantilever(), n=1).damping_ratio is None
     with pytest.raises(ValueError, match="Rod.damping must be >= 0"):
         tr.Rod(L, D, E, G, damping=-1.0)
+
+
+def test_mounted_robot_shapes_in_the_world_frame():
+    rod = tr.Rod(L, D, E, G, density=RHO, kirchhoff=True)
+    R0 = np.array([[0.0, 0.0, 1.0], [0.0, 1.0, 0.0], [-1.0, 0.0, 0.0]])  # base z along +x
+    p0 = np.array([0.1, 0.2, 0.3])
+    mounted = tr.Scene(tr.Robot(rod, [], base_position=p0, base_rotation=R0))
+    a, b = tr.modes(_cantilever(), n=2), tr.modes(mounted, n=2)
+    # no gravity: the same robot, the same frequencies (to round-off), its shapes rotated
+    assert np.allclose(a.omega2, b.omega2, rtol=1e-10)
+    assert np.allclose(b.position, p0 + a.position @ R0.T, atol=1e-12)
+    assert np.allclose(np.abs(b.shape_position[:, -1] @ R0), np.abs(a.shape_position[:, -1]),
+                       atol=1e-9)
+
+
+def test_friction_refused():
+    rod = tr.Rod(L, 1e-3, E, G, density=RHO, kirchhoff=True)
+    robot = tr.Robot(rod, [tr.Tendon(offset=0.005, friction=0.1)])
+    sol = tr.solve(tr.Scene(robot, tension=[1.0]))
+    with pytest.warns(tr.ConvergenceWarning, match="channel friction"):
+        m = tr.modes(sol)
+    assert not m.success and "friction=0" in m.message
