@@ -35,6 +35,29 @@ SETTINGS = [(12, 3), (16, 3), (24, 3), (32, 3), (24, 2)]
 REFERENCE = (32, 4)
 
 
+NOTES = """
+Notes.
+
+- Errors are against the 32 x 4 reference (256 elements, Richardson to h^8); at 256
+  elements the round-off of the lowest eigenvalue is ~1e-8 of it, so errors below ~3e-8
+  are the reference's as much as the setting's.  The estimate (`Modes.accuracy`) is the
+  difference of the last two extrapolations plus 0.3 eps times Gershgorin's bound on the
+  largest eigenvalue: conservative by 10 to 40 times here.
+- Default (24 x 3): every frequency to 1e-7 or better, the estimate below 1e-6 -- the
+  goal's accuracy, certified by the result itself.  16 x 3 reaches 3e-7 at two thirds of
+  the cost, but its estimate (up to 5e-6) does not certify 1e-6.  Two grids (24 x 2) are
+  not enough: 1e-5.
+- Cost: the goal is 2 ms; the default takes 11 to 13 ms of CPU.  Three quarters of it
+  are the element Hessians of the verdict's assembly (tr_stab_energy.c): 78 hyper-dual
+  evaluations of the element energy per element (~0.6 us each, 168 elements over the
+  three grids), plus 12 per taut displacement-held tendon for its bordered column.  The
+  subspace iteration takes 8 sweeps a grid (it stops at the Ritz values' round-off);
+  the recording of the solution at the finest grid's nodes is ~1%.  Reaching 2 ms needs
+  a cheaper element Hessian (one forward pass with 12-direction dual numbers, or the
+  analytic second variation) in tr_element.c.
+"""
+
+
 def scenes():
     rod = tr.Rod(0.2, 1e-3, 207e9, 79.6e9, density=7800.0)
     tendons = [tr.Tendon(offset=0.005, angle=2 * math.pi * k / 3, EA=2e3) for k in range(3)]
@@ -115,6 +138,7 @@ def main():
                 fh.write(f"| {r['scene']} | {r['elements']} x {r['levels']} | {r['fine']} | "
                          f"{r['cpu_ms']:.2f} | {r['wall_ms']:.2f} | {r['sweeps']} | "
                          f"{r['max_error']:.1e} | {r['max_estimate']:.1e} |\n")
+        fh.write(NOTES)
     print("wrote bench/results/modes.md, modes.csv")
 
 

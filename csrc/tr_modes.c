@@ -115,7 +115,11 @@ static void ws_free(modes_ws *s)
     memset(s, 0, sizeof *s);
 }
 
-/* The finest grid's nodes and every buffer, once per call.  0 or -1 (out of memory). */
+/* The finest grid's nodes and every buffer, once per call.  0 or -1 (out of memory).
+ * The verdict's level workspace is carved as tr_data.c's stab_alloc carves it, on this
+ * grid (piecewise uniform between breakpoints and point masses, so that every element
+ * halves from grid to grid) instead of the verdict's uniform one: one function there
+ * taking the nodes would serve both. */
 static int ws_alloc(const tr_model *m, tr_data *d, const tr_modes_spec *sp, int nel, double *gb,
                     modes_ws *s)
 {
