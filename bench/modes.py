@@ -97,28 +97,57 @@ def main():
     for name, sol in scenes().items():
         ref = core_call(sol, *REFERENCE)()
         f_ref = np.sqrt(ref["omega2"]) / (2 * math.pi)
-        print(f"{name}: bend {sol.bending_angle:.3f} rad, reference f [Hz] =",
-              np.array2string(f_ref, precision=6))
+        print(
+            f"{name}: bend {sol.bending_angle:.3f} rad, reference f [Hz] =",
+            np.array2string(f_ref, precision=6),
+        )
         _, cpu_py, wall_py = timed(lambda: tr.modes(sol), max(3, args.rounds // 4))
         for el, lv in SETTINGS:
             r, cpu, wall = timed(core_call(sol, el, lv), args.rounds)
             f = np.sqrt(r["omega2"]) / (2 * math.pi)
             err = np.abs(f / f_ref - 1)
             est = 0.5 * r["error"] / r["omega2"]
-            rows.append(dict(scene=name, elements=el, levels=lv, fine=el << (lv - 1),
-                             cpu_ms=1e3 * cpu, wall_ms=1e3 * wall, sweeps=r["nit"],
-                             factorisations=r["nfac"], max_error=err.max(),
-                             max_estimate=est.max(),
-                             errors=" ".join(f"{x:.1e}" for x in err),
-                             estimates=" ".join(f"{x:.1e}" for x in est)))
-            print(f"  {el:3d} x {lv}: C {1e3 * cpu:6.2f} ms cpu {1e3 * wall:6.2f} ms wall, "
-                  f"max error {err.max():.1e}, max estimate {est.max():.1e}, "
-                  f"sweeps {r['nit']}")
-        print(f"  tr.modes(solution) (default 24 x 3, with compile and checks): "
-              f"{1e3 * cpu_py:.2f} ms cpu {1e3 * wall_py:.2f} ms wall")
-        rows.append(dict(scene=name, elements=24, levels=3, fine=96, cpu_ms=1e3 * cpu_py,
-                         wall_ms=1e3 * wall_py, sweeps="", factorisations="", max_error="",
-                         max_estimate="", errors="tr.modes(solution)", estimates=""))
+            rows.append(
+                dict(
+                    scene=name,
+                    elements=el,
+                    levels=lv,
+                    fine=el << (lv - 1),
+                    cpu_ms=1e3 * cpu,
+                    wall_ms=1e3 * wall,
+                    sweeps=r["nit"],
+                    factorisations=r["nfac"],
+                    max_error=err.max(),
+                    max_estimate=est.max(),
+                    errors=" ".join(f"{x:.1e}" for x in err),
+                    estimates=" ".join(f"{x:.1e}" for x in est),
+                )
+            )
+            print(
+                f"  {el:3d} x {lv}: C {1e3 * cpu:6.2f} ms cpu {1e3 * wall:6.2f} ms wall, "
+                f"max error {err.max():.1e}, max estimate {est.max():.1e}, "
+                f"sweeps {r['nit']}"
+            )
+        print(
+            f"  tr.modes(solution) (default 24 x 3, with compile and checks): "
+            f"{1e3 * cpu_py:.2f} ms cpu {1e3 * wall_py:.2f} ms wall"
+        )
+        rows.append(
+            dict(
+                scene=name,
+                elements=24,
+                levels=3,
+                fine=96,
+                cpu_ms=1e3 * cpu_py,
+                wall_ms=1e3 * wall_py,
+                sweeps="",
+                factorisations="",
+                max_error="",
+                max_estimate="",
+                errors="tr.modes(solution)",
+                estimates="",
+            )
+        )
     out = os.path.join(HERE, "results")
     with open(os.path.join(out, "modes.csv"), "w", newline="") as fh:
         w = csv.DictWriter(fh, fieldnames=list(rows[0]))
@@ -126,18 +155,26 @@ def main():
         w.writerows(rows)
     with open(os.path.join(out, "modes.md"), "w") as fh:
         fh.write("# tr.modes: six frequencies of a three-tendon robot\n\n")
-        fh.write("Written by `bench/modes.py` (the robot and the reference are described "
-                 "there); medians over rounds on this machine.\n\n")
-        fh.write("| scene | elements x grids | finest | C cpu ms | C wall ms | sweeps | "
-                 "max rel. error | max estimate |\n|---|---|---|---|---|---|---|---|\n")
+        fh.write(
+            "Written by `bench/modes.py` (the robot and the reference are described "
+            "there); medians over rounds on this machine.\n\n"
+        )
+        fh.write(
+            "| scene | elements x grids | finest | C cpu ms | C wall ms | sweeps | "
+            "max rel. error | max estimate |\n|---|---|---|---|---|---|---|---|\n"
+        )
         for r in rows:
             if r["errors"] == "tr.modes(solution)":
-                fh.write(f"| {r['scene']} | `tr.modes(sol)` default | 96 | {r['cpu_ms']:.2f} | "
-                         f"{r['wall_ms']:.2f} | | | |\n")
+                fh.write(
+                    f"| {r['scene']} | `tr.modes(sol)` default | 96 | {r['cpu_ms']:.2f} | "
+                    f"{r['wall_ms']:.2f} | | | |\n"
+                )
             else:
-                fh.write(f"| {r['scene']} | {r['elements']} x {r['levels']} | {r['fine']} | "
-                         f"{r['cpu_ms']:.2f} | {r['wall_ms']:.2f} | {r['sweeps']} | "
-                         f"{r['max_error']:.1e} | {r['max_estimate']:.1e} |\n")
+                fh.write(
+                    f"| {r['scene']} | {r['elements']} x {r['levels']} | {r['fine']} | "
+                    f"{r['cpu_ms']:.2f} | {r['wall_ms']:.2f} | {r['sweeps']} | "
+                    f"{r['max_error']:.1e} | {r['max_estimate']:.1e} |\n"
+                )
         fh.write(NOTES)
     print("wrote bench/results/modes.md, modes.csv")
 

@@ -67,12 +67,12 @@ static void at_solution(const tr_model *m, tr_data *d, const double *x, int step
 
 /* ------------------------------------------------------------ the grids */
 typedef struct {
-    int nlev, nfine, n, p, nv;  /* grids; nodes of the finest; modes; subspace; max unknowns */
-    int *lev;                   /* (nfine) the coarsest grid holding each node */
-    int *idx;                   /* (nfine) scratch: a node's block on a grid (-1: base) */
-    struct tr_stab_ws w;        /* the verdict's level workspace on the finest grid */
+    int nlev, nfine, n, p, nv; /* grids; nodes of the finest; modes; subspace; max unknowns */
+    int *lev;                  /* (nfine) the coarsest grid holding each node */
+    int *idx;                  /* (nfine) scratch: a node's block on a grid (-1: base) */
+    struct tr_stab_ws w;       /* the verdict's level workspace on the finest grid */
     double *X, *Y, *Z, *T, *K, *Mp, *C, *th, *th_old, *lam; /* subspace iteration */
-    double lmax;                /* the finest grid's largest_bound [rad^2/s^2] */
+    double lmax; /* the finest grid's largest_bound [rad^2/s^2] */
     gsl_eigen_gensymmv_workspace *gw;
     gsl_matrix_view Kv, Mv, Cv;
     gsl_vector_view thv;
@@ -145,8 +145,8 @@ static int ws_alloc(const tr_model *m, tr_data *d, const tr_modes_spec *sp, int 
     len = 18 * (size_t)cap + nt + 2 * nv + 5 * nblk + 2 * nv + 2 * nv * nt + 2 * (size_t)nt +
           2 * (size_t)nt * nt;
     w->R = (double *)calloc(len, sizeof(double));
-    s->X = (double *)malloc((3 * nv * pp + 3 * pp * pp + 3 * pp + (size_t)nlev * pp) *
-                            sizeof(double));
+    s->X =
+        (double *)malloc((3 * nv * pp + 3 * pp * pp + 3 * pp + (size_t)nlev * pp) * sizeof(double));
     s->gw = gsl_eigen_gensymmv_alloc(pp);
     if (!w->s || !s->lev || !w->R || !s->X || !s->gw) return -1;
     s->idx = s->lev + cap;
@@ -286,7 +286,8 @@ static double largest_bound(const tr_btd *h)
             double rad = 0.0;
             if (!(mr > 0.0)) continue;
             for (c = 0; c < nb; c++) {
-                if (Mw[j * nb + c] > 0.0) rad += fabs(h->D[j * nb2 + r * nb + c]) / sqrt(Mw[j * nb + c]);
+                if (Mw[j * nb + c] > 0.0)
+                    rad += fabs(h->D[j * nb2 + r * nb + c]) / sqrt(Mw[j * nb + c]);
                 if (j + 1 < h->nblk && Mw[(j + 1) * nb + c] > 0.0)
                     rad += fabs(h->E[j * nb2 + r * nb + c]) / sqrt(Mw[(j + 1) * nb + c]);
                 if (j > 0 && Mw[(j - 1) * nb + c] > 0.0)
@@ -404,7 +405,8 @@ static void prolong(modes_ws *s, int l)
         if (s->lev[j] > l) continue;
         k++; /* node j is block k - 1 on grid l */
         if (s->idx[j] >= 0) {
-            for (c = 0; c < 6 * p; c++) s->X[(size_t)(k - 1) * 6 * p + c] = s->Z[(size_t)s->idx[j] * 6 * p + c];
+            for (c = 0; c < 6 * p; c++)
+                s->X[(size_t)(k - 1) * 6 * p + c] = s->Z[(size_t)s->idx[j] * 6 * p + c];
         } else {
             int a = j - 1, b = j + 1;
             while (s->idx[a] == -2) a--;
@@ -482,7 +484,8 @@ static void shapes(const tr_model *m, const modes_ws *s, tr_modes_out *o)
         big = bp;
         sc = ap > 0.0 ? (big < 0.0 ? -1.0 : 1.0) / ap : 1.0;
         for (j = 0; j < 3 * ns; j++) dp[j] *= sc, dr[j] *= sc;
-        for (j = 0; j < s->nv; j++) mm += s->X[(size_t)j * p + i] * s->X[(size_t)j * p + i] * w->h.Mw[j];
+        for (j = 0; j < s->nv; j++)
+            mm += s->X[(size_t)j * p + i] * s->X[(size_t)j * p + i] * w->h.Mw[j];
         o->modal_mass[i] = mm * sc * sc;
     }
 }
@@ -598,8 +601,8 @@ int tr_modes(const tr_model *m, tr_data *d, const double *x, int steps, const tr
     }
     {
         const size_t n = (size_t)sp.n, ns = (size_t)s.nfine;
-        double *q = (double *)malloc((4 * n + (size_t)s.nlev * n + 4 * ns + 6 * n * ns) *
-                                     sizeof(double));
+        double *q =
+            (double *)malloc((4 * n + (size_t)s.nlev * n + 4 * ns + 6 * n * ns) * sizeof(double));
         if (!q) {
             st = TR_ENOMEM;
             goto done;
@@ -615,8 +618,8 @@ int tr_modes(const tr_model *m, tr_data *d, const double *x, int steps, const tr
     }
     o->ns = s.nfine;
     shapes(m, &s, o);
-    tr_msgf(o->message, sizeof o->message, "%d modes on %d grids (%d to %d elements)", sp.n,
-            s.nlev, nel, s.nfine - 1);
+    tr_msgf(o->message, sizeof o->message, "%d modes on %d grids (%d to %d elements)", sp.n, s.nlev,
+            nel, s.nfine - 1);
 done:
     o->nit = nit, o->nfac = nfac;
     if (st == TR_EINTERRUPTED || st == TR_EBUDGET)

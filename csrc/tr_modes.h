@@ -21,7 +21,7 @@
 #define TR_MODES_LEVELS       3
 #define TR_MODES_MAX_LEVELS   5
 /* The most modes asked for at once. */
-#define TR_MODES_MAX          64
+#define TR_MODES_MAX 64
 /* A Kirchhoff rod is unshearable and inextensible; its elements get the shear and axial
  * rigidity TR_MODES_PENALTY EI / h^2 (h the grid's nominal element length L / N): an
  * error of order h^2 (the shear deflection of a beam is 3 (EI / GA L^2) = 3 h^2 /
@@ -56,15 +56,15 @@
 
 /* What the caller gives: the mass and the discretisation. */
 typedef struct {
-    int n;             /* modes asked for (1..TR_MODES_MAX) */
-    int nmass;         /* rows of mass: (nmass x 5) [s_end, rho A [kg/m], rho I1, rho I2,
+    int n;     /* modes asked for (1..TR_MODES_MAX) */
+    int nmass; /* rows of mass: (nmass x 5) [s_end, rho A [kg/m], rho I1, rho I2,
                           rho J [kg m]] per section, base first, the last s_end = L */
     const double *mass;
-    int npm;           /* point masses: (npm x 2) [s [m], mass [kg]] on the centre line */
+    int npm; /* point masses: (npm x 2) [s [m], mass [kg]] on the centre line */
     const double *pm;
-    int elements;      /* elements of the coarsest grid (0: TR_MODES_ELEMENTS) */
-    int levels;        /* grids (1..TR_MODES_MAX_LEVELS; 0: TR_MODES_LEVELS) */
-    int rotary;        /* 1: the rotary inertia of the section (0: none, Euler-Bernoulli) */
+    int elements; /* elements of the coarsest grid (0: TR_MODES_ELEMENTS) */
+    int levels;   /* grids (1..TR_MODES_MAX_LEVELS; 0: TR_MODES_LEVELS) */
+    int rotary;   /* 1: the rotary inertia of the section (0: none, Euler-Bernoulli) */
 } tr_modes_spec;
 
 /* What it returns (allocated by tr_modes after the computation, one block: released by

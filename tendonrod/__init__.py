@@ -39,7 +39,6 @@ from .continuation import Branch, SpecialPoint, path
 from .fit import FitResult, fit
 from .friction import Slip, slip
 from .linearization import Jacobian
-from .vibration import Modes, modes
 from .model import DistributedLoad, PointLoad, PointMass, Robot, Rod, Scene, Tendon
 from .options import Options
 from .plausibility import PlausibilityWarning
@@ -47,6 +46,7 @@ from .problem import Problem
 from .results import ConvergenceError, ConvergenceWarning, Result
 from .solver import Solution, compliance, solve
 from .sweeps import ComplianceMeasure, SweepResult, sweep, tip_measure
+from .vibration import Modes, modes
 
 __all__ = [
     "__version__",

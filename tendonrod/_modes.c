@@ -30,8 +30,8 @@ static PyArrayObject *table_of(PyObject *obj, const char *name, int ncol)
 
 PyObject *glue_modes(PyObject *self, PyObject *args, PyObject *kwds)
 {
-    static char *kwlist[] = {"problem", "unknowns", "steps",  "n",      "mass", "point_masses",
-                             "elements", "levels",  "rotary", "cancel", NULL};
+    static char *kwlist[] = {"problem",  "unknowns", "steps",  "n",      "mass", "point_masses",
+                             "elements", "levels",   "rotary", "cancel", NULL};
     PyObject *op, *ox, *omass, *opm, *cancel = Py_None, *res = NULL;
     PyArrayObject *x = NULL, *mass = NULL, *pm = NULL;
     ProblemObject *pr;

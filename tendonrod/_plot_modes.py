@@ -30,8 +30,7 @@ def draw(m, ax_of, which, scale, plane: str, **kwargs):
         f = m.frequencies[k]
         fs = f"{f.real:.4g} Hz" if np.isreal(f) else f"{f.imag:.4g}i Hz"
         color = f"C{j}"
-        ax.plot(*((p0 + a * d)[:, c] for c in cols), color=color, label=f"[{k}] {fs}",
-                **kwargs)
+        ax.plot(*((p0 + a * d)[:, c] for c in cols), color=color, label=f"[{k}] {fs}", **kwargs)
         ax.plot(*((p0 - a * d)[:, c] for c in cols), color=color, ls="--", **kwargs)
     names = "xyz"
     if plane == "3d":

@@ -299,7 +299,11 @@ def modes(
         report_failure(result, strict, result.message)
         return result
     w2 = raw["omega2"]
-    freq = np.sqrt(w2.astype(complex)) / (2 * math.pi) if np.any(w2 < 0) else np.sqrt(w2) / (2 * math.pi)
+    freq = (
+        np.sqrt(w2.astype(complex)) / (2 * math.pi)
+        if np.any(w2 < 0)
+        else np.sqrt(w2) / (2 * math.pi)
+    )
     acc = 0.5 * raw["error"] / np.abs(w2)
     pose = base_pose(scene.robot)
     eta = getattr(rod, "damping", None)

@@ -51,8 +51,12 @@ def _beam_root(omega_guess, *, EI, rhoA, rhoI=0.0, GA=math.inf, tip_mass=0.0, le
     def det(om):
         def f(s, y):
             w, psi, M, Q = y
-            return [psi + (Q / GA if math.isfinite(GA) else 0.0), M / EI,
-                    -Q - rhoI * om**2 * psi, -rhoA * om**2 * w]
+            return [
+                psi + (Q / GA if math.isfinite(GA) else 0.0),
+                M / EI,
+                -Q - rhoI * om**2 * psi,
+                -rhoA * om**2 * w,
+            ]
 
         cols = []
         for y0 in ([0, 0, 1.0, 0], [0, 0, 0, 1.0]):
@@ -68,8 +72,10 @@ def test_euler_bernoulli_cantilever_beta_L_both_planes():
     m = tr.modes(_cantilever(), n=6, options=EB)
     assert m.success and m.n == 6
     # the exact roots of 1 + cos b cosh b = 0 (brentq), and the 7 digits
-    exact = [brentq(lambda b: 1 + math.cos(b) * math.cosh(b), lo, lo + 1.5, xtol=1e-15)
-             for lo in (1.0, 4.0, 7.0)]
+    exact = [
+        brentq(lambda b: 1 + math.cos(b) * math.cosh(b), lo, lo + 1.5, xtol=1e-15)
+        for lo in (1.0, 4.0, 7.0)
+    ]
     assert np.allclose(exact, [1.875104, 4.694091, 7.854757], atol=5e-7)
     beta = _beta(m)
     rel = np.abs(beta**2 / np.repeat(exact, 2) ** 2 - 1)  # frequency ~ beta^2
@@ -119,7 +125,8 @@ def test_timoshenko_beam_cosserat_rod():
         om = math.sqrt(m.omega2[k])
         ref = _beam_root(om, EI=E * i, rhoA=RHO * a, rhoI=RHO * i, GA=G * a)
         eb = [1.875104, 4.694091, 7.854757][ks.index(k) // 2] ** 2 * math.sqrt(
-            E * i / (RHO * a * L**4))
+            E * i / (RHO * a * L**4)
+        )
         # the Timoshenko correction is of order (d/L)^2 (beta L)^2 (E/G + 1) / 16:
         # visible (> 1e-4) and bounded, and the model matches the exact Timoshenko
         # frequency to the goal 1e-6
@@ -131,9 +138,12 @@ def test_first_torsional_frequency():
     # d = 1 cm: the first torsional mode (3993 Hz, whatever d) is the 7th (bending 180,
     # 1129, 3159 Hz, each twice)
     m = tr.modes(_cantilever(kirchhoff=False, d=1e-2), n=8)
-    tors = [k for k in range(m.n)
-            if L * np.abs(m.shape_rotation[k][:, 2]).max() > 0.99
-            and np.abs(m.shape_position[k]).max() < 1e-6]
+    tors = [
+        k
+        for k in range(m.n)
+        if L * np.abs(m.shape_rotation[k][:, 2]).max() > 0.99
+        and np.abs(m.shape_position[k]).max() < 1e-6
+    ]
     assert len(tors) == 1
     # omega = (pi / 2L) sqrt(GJ / (rho J)) = (pi / 2L) sqrt(G / rho)
     exact = math.pi / (2 * L) * math.sqrt(G / RHO)
@@ -150,8 +160,11 @@ def test_tip_point_mass(mu):
     M = mu * RHO * A * L
     m = tr.modes(_cantilever(loads=[tr.PointMass(s=L, mass=M)]), n=2, options=EB)
     b = _beta(m)[0]
-    g = lambda x: 1 + math.cos(x) * math.cosh(x) + mu * x * (math.cos(x) * math.sinh(x)
-                                                             - math.sin(x) * math.cosh(x))
+
+    def g(x):
+        c, s, ch, sh = math.cos(x), math.sin(x), math.cosh(x), math.sinh(x)
+        return 1 + c * ch + mu * x * (c * sh - s * ch)
+
     exact = brentq(g, 0.5, 1.875104, xtol=1e-15)
     assert abs(b**2 / exact**2 - 1) < 1e-6  # the goal, on the frequency
 
@@ -169,13 +182,19 @@ def test_axially_tensioned_cantilever():
         a, b = math.sqrt((T + r) / (2 * EI)), math.sqrt((r - T) / (2 * EI))
         # w = c1 cosh as + c2 sinh as + c3 cos bs + c4 sin bs
         ch, sh, c, s = math.cosh(a * L), math.sinh(a * L), math.cos(b * L), math.sin(b * L)
-        Mx = np.array([
-            [1, 0, 1, 0],
-            [0, a, 0, b],
-            [a * a * ch, a * a * sh, -b * b * c, -b * b * s],
-            [EI * a**3 * sh - T * a * sh, EI * a**3 * ch - T * a * ch,
-             EI * b**3 * s + T * b * s, -EI * b**3 * c - T * b * c],
-        ])
+        Mx = np.array(
+            [
+                [1, 0, 1, 0],
+                [0, a, 0, b],
+                [a * a * ch, a * a * sh, -b * b * c, -b * b * s],
+                [
+                    EI * a**3 * sh - T * a * sh,
+                    EI * a**3 * ch - T * a * ch,
+                    EI * b**3 * s + T * b * s,
+                    -EI * b**3 * c - T * b * c,
+                ],
+            ]
+        )
         return np.linalg.det(Mx / np.abs(Mx).max(axis=1, keepdims=True))
 
     for k in (0, 2):
@@ -350,8 +369,9 @@ def test_mounted_robot_shapes_in_the_world_frame():
     # no gravity: the same robot, the same frequencies (to round-off), its shapes rotated
     assert np.allclose(a.omega2, b.omega2, rtol=1e-10)
     assert np.allclose(b.position, p0 + a.position @ R0.T, atol=1e-12)
-    assert np.allclose(np.abs(b.shape_position[:, -1] @ R0), np.abs(a.shape_position[:, -1]),
-                       atol=1e-9)
+    assert np.allclose(
+        np.abs(b.shape_position[:, -1] @ R0), np.abs(a.shape_position[:, -1]), atol=1e-9
+    )
 
 
 def test_friction_refused():
