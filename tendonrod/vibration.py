@@ -283,9 +283,11 @@ def modes(
         report_failure(result, strict, f"modes: {result.message}")
         return result
     steps = max(1, int(sol.raw["formulation"]["steps"]))
+    unknowns = sol.unknowns
+    assert unknowns is not None  # refused above
     raw = _core.modes(
         _compile(scene, sol.options),
-        sol.unknowns,
+        unknowns,
         steps,
         n,
         mass,
