@@ -29,6 +29,20 @@ from .results import report_failure
 
 __all__ = ["modes", "Modes"]
 
+# the arrays of a saved result, and the tag of its file format
+_ARRAYS = (
+    "frequencies",
+    "omega2",
+    "accuracy",
+    "s",
+    "position",
+    "shape_position",
+    "shape_rotation",
+    "modal_mass",
+    "grid_omega2",
+)
+_FORMAT = "tendonrod.Modes 1"
+
 # the keys of ``options``: coarsest grid's elements, grids, rotary inertia
 _DEFAULTS = {"elements": 24, "levels": 3, "rotary_inertia": True}
 
@@ -92,6 +106,36 @@ class Modes:
     message: str = ""
     nit: int = -1
     nfev: int = -1
+
+    def save(self, path) -> None:
+        """Write the result to ``path`` (``.npz``): every array and the verdict, not the
+        solution (save that with :meth:`Solution.save`).  Read back with :meth:`load`."""
+        arrays = {name: getattr(self, name) for name in _ARRAYS}
+        if self.damping_ratio is not None:
+            arrays["damping_ratio"] = self.damping_ratio
+        meta = np.array([self.success, self.status, self.nit, self.nfev], dtype=np.int64)
+        np.savez(
+            path, format=np.array(_FORMAT), meta=meta, message=np.array(self.message), **arrays
+        )
+
+    @classmethod
+    def load(cls, path) -> Modes:
+        """The result written by :meth:`save` (its ``solution`` None).  ValueError for a
+        file of another kind."""
+        with np.load(path, allow_pickle=False) as f:
+            if "format" not in f or str(f["format"]) != _FORMAT:
+                raise ValueError(f"Modes.load: {path!r} is not a file written by Modes.save")
+            meta = f["meta"]
+            return cls(
+                **{name: f[name] for name in _ARRAYS},
+                damping_ratio=f["damping_ratio"] if "damping_ratio" in f else None,
+                solution=None,
+                success=bool(meta[0]),
+                status=int(meta[1]),
+                message=str(f["message"]),
+                nit=int(meta[2]),
+                nfev=int(meta[3]),
+            )
 
     @property
     def n(self) -> int:

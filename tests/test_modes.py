@@ -381,3 +381,15 @@ def test_friction_refused():
     with pytest.warns(tr.ConvergenceWarning, match="channel friction"):
         m = tr.modes(sol)
     assert not m.success and "friction=0" in m.message
+
+
+def test_save_load(tmp_path):
+    m = tr.modes(_cantilever(), n=3)
+    m.save(tmp_path / "m.npz")
+    back = tr.Modes.load(tmp_path / "m.npz")
+    assert back.success and back.message == m.message and back.nit == m.nit
+    for name in ("frequencies", "omega2", "accuracy", "shape_position", "shape_rotation"):
+        assert np.array_equal(getattr(back, name), getattr(m, name))  # bit for bit
+    np.savez(tmp_path / "x.npz", a=np.zeros(2))
+    with pytest.raises(ValueError, match="not a file written by Modes.save"):
+        tr.Modes.load(tmp_path / "x.npz")
