@@ -88,6 +88,18 @@ class Modes:
     success, status, message, nit, nfev
         As every result (:class:`~tendonrod.Result`): ``nit`` subspace sweeps, ``nfev``
         factorisations of ``K - sigma M``.
+
+    Examples
+    --------
+    The torsional mode of a round steel rod, omega = (pi / 2L) sqrt(G / rho):
+
+    >>> rod = tr.Rod(0.2, 1e-2, 207e9, 79.6e9, density=7800.0)
+    >>> m = tr.modes(tr.Scene(tr.Robot(rod, [])), n=8)
+    >>> k = int(np.argmax(np.abs(m.shape_rotation[:, -1, 2])))  # the twisting one
+    >>> bool(abs(2 * np.pi * m.frequencies[k] / (np.pi / 0.4 * np.sqrt(79.6e9 / 7800)) - 1) < 1e-6)
+    True
+    >>> m.shape_position.shape, bool(m.accuracy[k] < 1e-6)
+    ((8, 97, 3), True)
     """
 
     frequencies: NDArray[Any]
