@@ -274,7 +274,9 @@ def modes(
 
     Notes
     -----
-    Small vibrations about the equilibrium: a slack tendon stays slack, a taut one taut.
+    Small vibrations about the equilibrium: a slack tendon stays slack, a taut one taut;
+    one at its taut/slack switch vibrates as slack (the message names it).  Point masses
+    carry no rotary inertia.
     Channel friction is refused (the static friction state is not an energy; sticking
     tendons would be a different model).  A world-fixed point moment is refused as by
     the stability verdict (not conservative).
@@ -368,6 +370,16 @@ def modes(
     message = raw["message"]
     if sol.stable is None:
         message += f"; the stability verdict: {sol.stability_reason}"
+    tau, slack = np.ravel(sol.raw["tension"]), np.ravel(sol.raw["slack"])
+    held = [] if scene.displacement is None else list(scene.displacement)
+    switch = [
+        i for i, ctl in enumerate(held) if ctl is not None and tau[i] == 0.0 and slack[i] == 0.0
+    ]
+    if switch:
+        message += (
+            f"; tendon(s) {switch} at their taut/slack switch vibrate as slack (about a "
+            f"switch the vibration is not linear)"
+        )
     return Modes(
         frequencies=freq,
         omega2=w2,

@@ -393,3 +393,29 @@ def test_save_load(tmp_path):
     np.savez(tmp_path / "x.npz", a=np.zeros(2))
     with pytest.raises(ValueError, match="not a file written by Modes.save"):
         tr.Modes.load(tmp_path / "x.npz")
+
+
+def test_self_weight_hanging_stiffer_than_standing():
+    # gravity along the rod: hanging (tension from the weight) rings faster than free,
+    # standing (compression) slower; at a tenth of the self-weight buckling load
+    # (7.84 EI/L^3 per length), the first frequency moves by ~0.1 of itself
+    rod = tr.Rod(L, D, E, G, density=RHO, kirchhoff=True)
+    q_cr = 7.837 * rod.bending_stiffness / L**3
+    g = 0.1 * q_cr / rod.mass_per_length
+
+    def first(gz):
+        return tr.modes(tr.Scene(tr.Robot(rod, []), gravity=(0, 0, gz)), n=1).omega2[0]
+
+    hanging, free, standing = first(g), first(0.0), first(-g)
+    assert standing < free < hanging
+    assert 0.02 < 1 - standing / free < 0.3 and 0.02 < hanging / free - 1 < 0.3
+
+
+def test_tendons_at_their_switch_vibrate_slack():
+    rod = tr.Rod(L, 1e-3, E, G, density=RHO, kirchhoff=True)
+    robot = tr.Robot(rod, tr.Tendon.ring(3, 0.005, EA=2e3))
+    m = tr.modes(tr.Scene(robot, displacement=[0.0, 0.0, 0.0]), n=2)
+    bare = tr.modes(tr.Scene(tr.Robot(rod, []), displacement=[]), n=2)
+    assert "[0, 1, 2] at their taut/slack switch" in m.message
+    # slack: the bare rod's frequencies (the tendons add no mass); same grids, same values
+    assert np.allclose(m.omega2, bare.omega2, rtol=1e-12)
