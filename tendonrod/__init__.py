@@ -46,6 +46,7 @@ from .problem import Problem
 from .results import ConvergenceError, ConvergenceWarning, Result
 from .solver import Solution, compliance, solve
 from .sweeps import ComplianceMeasure, SweepResult, sweep, tip_measure
+from .vibration import Modes, modes
 
 __all__ = [
     "__version__",
@@ -83,6 +84,8 @@ __all__ = [
     "ComplianceMeasure",
     "path",
     "Branch",
+    "modes",
+    "Modes",
     "SpecialPoint",
     # verdicts
     "Result",

@@ -106,6 +106,8 @@ static PyMethodDef core_methods[] = {
     {"is_planar", (PyCFunction)glue_is_planar, METH_VARARGS, glue_is_planar_doc},
     {"path", (PyCFunction)(void (*)(void))glue_path, METH_VARARGS | METH_KEYWORDS, glue_path_doc},
     {"qp", (PyCFunction)(void (*)(void))glue_qp, METH_VARARGS | METH_KEYWORDS, glue_qp_doc},
+    {"modes", (PyCFunction)(void (*)(void))glue_modes, METH_VARARGS | METH_KEYWORDS,
+     glue_modes_doc},
     {NULL, NULL, 0, NULL}};
 
 static int add_type(PyObject *module, const char *name, PyTypeObject *type)

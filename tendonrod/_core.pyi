@@ -162,6 +162,19 @@ def qp(
     x0: ArrayLike,
     max_iter: int = ...,
 ) -> tuple[_F, _F, _F, tuple[int, ...]]: ...
+def modes(
+    problem: Problem,
+    unknowns: ArrayLike,
+    steps: int,
+    n: int,
+    mass: ArrayLike,
+    point_masses: ArrayLike,
+    *,
+    elements: int = ...,
+    levels: int = ...,
+    rotary: bool = ...,
+    cancel: Cancel | None = ...,
+) -> dict[str, Any]: ...
 
 # the closed forms of the paper (csrc/tr_closed.c), NumPy ufuncs
 deflection: np.ufunc

@@ -17,6 +17,10 @@
 #ifndef TENDONROD_GLUE_MAIN
 #define NO_IMPORT_ARRAY
 #define NO_IMPORT_UFUNC
+/* _modes.c: the vibration modes of a Problem's solution (tr_modes) */
+PyObject *glue_modes(PyObject *self, PyObject *args, PyObject *kwds);
+extern const char glue_modes_doc[];
+
 #endif
 #include <numpy/arrayobject.h>
 #include <numpy/ufuncobject.h>
@@ -123,5 +127,9 @@ extern const char glue_problem_actuate_doc[];
 /* _qp_glue.c: the small dense QP of the inverse actuation's steps (tr_qp) */
 PyObject *glue_qp(PyObject *self, PyObject *args, PyObject *kwds);
 extern const char glue_qp_doc[];
+
+/* _modes.c: the vibration modes of a Problem's solution (tr_modes) */
+PyObject *glue_modes(PyObject *self, PyObject *args, PyObject *kwds);
+extern const char glue_modes_doc[];
 
 #endif

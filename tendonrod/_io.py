@@ -353,6 +353,10 @@ def _check_records(raw: dict, nt: int) -> None:
         v = raw.get(key, 0.0)
         if isinstance(v, bool) or not isinstance(v, (int, float)):
             raise _Malformed(f"the result's {key} must be a number, got {v!r}")
+    # a step verification vouches with a finite estimate >= 0 (what a warm start passes on)
+    v = raw.get("verified_estimate", 0.0)
+    if raw.get("verified_unknowns") is not None and not (math.isfinite(v) and v >= 0.0):
+        raise _Malformed(f"the result's verified_estimate must be finite and >= 0, got {v!r}")
     carry = raw.get("stability_carry")
     if carry is not None and not (
         isinstance(carry, tuple)

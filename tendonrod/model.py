@@ -81,6 +81,11 @@ class Rod:
     density : float or None
         Mass density rho [kg/m^3] (>= 0, needs ``diameter``): the rod's weight under the
         scene's gravity is the distributed force ``rho A g`` [N/m]; ``None``: weightless.
+        With the diameter it is also the mass of :func:`tendonrod.modes`.
+    damping : float or None
+        Kelvin-Voigt material damping: the retardation time eta [s] (>= 0, finite) of the
+        stress ``K (strain + eta d strain/dt)``; used only by :func:`tendonrod.modes`
+        (the damping ratios); ``None``: undamped.
     precurvature, segments : 3 floats [1/m], tuple of Rod
         Body-frame curvature u* of the unstressed shape (``m_b = K_bt (u - u*)``), and the
         segments of :meth:`segmented`; see :mod:`tendonrod.backbone`.
@@ -110,6 +115,7 @@ class Rod:
     GA: float | None = None
     kirchhoff: bool = False
     density: float | None = None
+    damping: float | None = None
     precurvature: Vec3Like = (0.0, 0.0, 0.0)  # stored as a tuple
     segments: tuple = ()
 
@@ -125,6 +131,11 @@ class Rod:
                     f"Rod.density={self.density!r} needs a diameter (the section area), "
                     f"got diameter=None"
                 )
+        if self.damping is not None:
+            eta = _nonnegative(own, "damping", self.damping)
+            if not math.isfinite(eta):
+                raise ValueError(f"Rod.damping must be finite, got {self.damping!r}")
+            object.__setattr__(self, "damping", eta)
         object.__setattr__(self, "length", _length(own, "length", self.length))
         if self.diameter is not None:
             object.__setattr__(self, "diameter", _length(own, "diameter", self.diameter))

@@ -36,6 +36,7 @@ from .compiled import is_planar
 __all__ = [
     "is_planar",
     "branch",
+    "modes",
     "robot",
     "shapes",
     "sweep_lines",
@@ -425,6 +426,26 @@ def branch(
     from ._plot_branch import draw
 
     return draw(p, _ax(ax), displacement, float(scale), ylabel, color, **kwargs)
+
+
+def modes(m, which=None, ax=None, scale=None, plane: str = "xz", **kwargs):
+    """Plot the mode shapes of a :class:`tendonrod.Modes` (:func:`tendonrod.modes`): the
+    equilibrium's centre line and, per mode in ``which`` (indices; default the first three),
+    the centre line displaced by ``+-scale`` times its shape (``scale`` [m] default 0.15 L;
+    the shapes are normalised to a largest displacement of 1 m), world frame, projected on
+    ``plane`` (``"xz"``, ``"yz"``, ``"xy"``) or in 3-D (``"3d"``).  Returns the Axes.
+
+    Examples
+    --------
+    >>> rod = tr.Rod(0.2, 1e-3, 207e9, 79.6e9, density=7800.0, kirchhoff=True)
+    >>> m = tr.modes(tr.Scene(tr.Robot(rod, [])), n=3)
+    >>> ax = tr.plot.modes(m, which=[0, 2])
+    >>> len(ax.lines)  # the equilibrium, each mode at +- scale
+    5
+    """
+    from ._plot_modes import draw
+
+    return draw(m, lambda proj: _ax(ax, proj), which, scale, plane, **kwargs)
 
 
 def path(*args, **kwargs):
