@@ -50,8 +50,8 @@ PyObject *glue_modes(PyObject *self, PyObject *args, PyObject *kwds)
     pr = (ProblemObject *)op;
     if (glue_problem_check(pr) < 0 || glue_poll_init(&poll, cancel) < 0) return NULL;
     if (!(x = glue_coerce(ox, "unknowns"))) goto done;
-    if (PyArray_SIZE(x) != pr->d->k) {
-        PyErr_Format(PyExc_ValueError, "unknowns must have %d values, got %ld", pr->d->k,
+    if (PyArray_SIZE(x) != pr->m->n_unknowns) {
+        PyErr_Format(PyExc_ValueError, "unknowns must have %d values, got %ld", pr->m->n_unknowns,
                      (long)PyArray_SIZE(x));
         goto done;
     }
