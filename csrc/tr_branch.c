@@ -314,6 +314,12 @@ static int branch(const tr_model *m, tr_data *d, int status, int cold)
     d->branch_note[0] = '\0';
     if (d->opt.accept_unstable || d->is_confirm || status < 0 || d->stop) return status;
     judge(m, d, !cold);
+    if (cold && d->direct_try) {
+        /* a cold start with large loads that direct Newton solved: its answer stands
+         * only if stable (tr_solve.c then takes the load path) */
+        d->direct_try = 0;
+        if (d->stable != 1) return TR_DIRECT_DOUBT;
+    }
     a.jump = 0.0;
     if (!cold && isfinite(d->tip_guess[0])) {
         tip_pose(m, d, p, R);

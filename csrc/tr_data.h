@@ -121,6 +121,8 @@ struct tr_data {
     double *x_alt;             /* (k) an unstable answer, kept while a stable one is sought */
     double tip_guess[3];       /* tip position at x_guess, world [m]; NaN: not known */
     int via_path;              /* 1: the answer came from a continuation */
+    int direct_try;            /* 1: a cold start with large loads tried direct Newton and
+                                  converged: the verdict decides if it stands (tr_branch) */
     int ramp_stable;           /* 1: a continuation stage must end stable (tr_ramp) */
     int cont_total;            /* continuation stages of the attempts before this one */
     int lu_sign;               /* sign of det J at the last tr_lu_factor (0: singular) */

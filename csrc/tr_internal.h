@@ -177,6 +177,23 @@ enum {
  * a direct Newton iteration can land on a looped, unstable elastica. */
 #define TR_DIRECT_LOAD_MAX 6.0
 #define TR_RAMP_LOAD       3.0
+/* Such a cold start with the stability verdict on first tries direct Newton for at most
+ * TR_DIRECT_TRY_ITER iterations, given up once the residual falls by less than
+ * 1/TR_STALL_RATIO over TR_DIRECT_TRY_STALL of them (a try that converges falls by more
+ * in every window of the suite; one that fails plateaus within 3-5), when its loads,
+ * less the axial tension's part (the shooting growth squared: tension stiffens the rod
+ * and cannot loop it), are at most TR_DIRECT_TRY_SCALE.  On the stress suite a direct
+ * solve that converges at all does so in 0-9 iterations below that scale (a plain
+ * cantilever at F L^2/EI = 10: 8, against 52 by continuation; axial tension of any size:
+ * 0-2), and rarely above it (F L^2/EI = 12: 66).  Its answer stands only if the verdict
+ * calls it stable; otherwise the load path decides, as before (an off-path answer, e.g.
+ * a looped elastica, is unstable or not judged: the suite's out-of-plane load at
+ * F L^2/EI = 30 lands 0.09 L from the load path's answer, not judged). */
+#define TR_DIRECT_TRY_SCALE 12.0
+#define TR_DIRECT_TRY_ITER  12
+#define TR_DIRECT_TRY_STALL 3
+/* internal: tr_branch's verdict on such a try that is not stable (never returned) */
+#define TR_DIRECT_DOUBT 101
 /* A continuation stage may move the tip by at most this fraction of L. */
 #define TR_CONT_TIP_JUMP 0.2
 /* Newton iterations of the implicit jump at a breakpoint (converges in 2-4). */

@@ -61,11 +61,22 @@ static int init_from_last(const tr_model *m, tr_data *d)
     return status;
 }
 
+/* A cold start with large loads goes by the load path from the unloaded robot (the
+ * continuation stage, forced): why, in the message. */
+static int direct_fallback(const tr_model *m, tr_data *d, int *forced, const char *why)
+{
+    *forced = 1;
+    tr_set_message(d, "large loads (scaled %.3g > %g)%s: solved by continuation", tr_load_scale(m),
+                   TR_DIRECT_LOAD_MAX, why);
+    return TR_ECONTINUATION;
+}
+
 static int solve_direct(const tr_model *m, tr_data *d, const double *guess, const double *jac,
                         int from_last, int *forced)
 {
     int status = from_last ? init_from_last(m, d) : tr_solve_init(m, d, guess, jac);
     *forced = 0;
+    d->direct_try = 0;
     if (status != TR_OK) return status;
     if (guess || from_last) {
         /* the start, for a continuation from the guess (tr_branch.c) */
@@ -77,12 +88,21 @@ static int solve_direct(const tr_model *m, tr_data *d, const double *guess, cons
     if (!guess && !from_last && d->opt.continuation && d->opt.max_continuation > 0 &&
         tr_load_scale(m) > TR_DIRECT_LOAD_MAX) {
         /* large loads from a cold start: a direct Newton iteration can land on a looped,
-         * unstable equilibrium (buckled-through elastica); follow the load path from
-         * the unloaded robot instead */
-        *forced = 1;
-        tr_set_message(d, "large loads (scaled %.3g > %g): solved by continuation",
-                       tr_load_scale(m), TR_DIRECT_LOAD_MAX);
-        return TR_ECONTINUATION;
+         * unstable elastica.  With the stability verdict on, a short direct try comes
+         * first and stands only if the verdict calls its answer stable (tr_branch);
+         * otherwise, and without the verdict, the load path from the unloaded robot */
+        const double g = tr_shooting_growth(m); /* of the workspace's loads */
+        if (!d->opt.accept_unstable && !d->is_confirm &&
+            tr_load_scale(m) - g * g <= TR_DIRECT_TRY_SCALE) {
+            status = tr_newton_run(m, d, TR_DIRECT_TRY_ITER, TR_DIRECT_TRY_STALL, TR_STALL_RATIO);
+            if (status == TR_OK) {
+                d->direct_try = 1;
+                return TR_OK;
+            }
+            if (status == TR_EMAXFEV || d->stop) return status;
+            return direct_fallback(m, d, forced, " and direct Newton did not converge");
+        }
+        return direct_fallback(m, d, forced, "");
     }
     return tr_newton_run(m, d, d->opt.max_iter, TR_STALL_ITERS, TR_STALL_RATIO);
 }
@@ -618,6 +638,24 @@ static int past_centre(const tr_model *m, tr_data *d, int status)
     return TR_ENOEQUILIBRIUM;
 }
 
+/* A cold direct try whose answer the verdict did not call stable (TR_DIRECT_DOUBT, from
+ * tr_branch): the load path from the unloaded robot instead, through the same stages as a
+ * forced continuation (continuation, confirmation, finer steps, shared level, branch). */
+static int solve_doubted(const tr_model *m, tr_data *d, int status, const double *guess)
+{
+    int forced;
+    if (status != TR_DIRECT_DOUBT) return status;
+    status = direct_fallback(m, d, &forced,
+                             d->stable == 0 ? "; direct Newton reached an unstable equilibrium"
+                                            : "; direct Newton reached an equilibrium whose "
+                                              "stability was not judged");
+    status = solve_continuation(m, d, status, forced);
+    status = solve_confirm(m, d, status);
+    status = solve_finer(m, d, status);
+    status = solve_shared(m, d, status, guess);
+    return tr_branch(m, d, status, 1);
+}
+
 static int solve(const tr_model *m, tr_data *d, const double *guess, const double *jac,
                  const tr_verified *v, int from_last)
 {
@@ -632,6 +670,7 @@ static int solve(const tr_model *m, tr_data *d, const double *guess, const doubl
     status = solve_finer(m, d, status);
     status = solve_shared(m, d, status, guess);
     status = tr_branch(m, d, status, !guess && !from_last);
+    status = solve_doubted(m, d, status, guess);
     if (status >= 0 && d->opt.steps == 0 && d->opt.integrator != TR_ADAPTIVE &&
         !tr_verify_carried(m, d)) {
         const int vs = tr_verify_steps(m, d);

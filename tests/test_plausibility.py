@@ -25,9 +25,6 @@ KIRCH = tr.Rod(L13, D13, 60e9, 23e9, kirchhoff=True)
 COSS = tr.Rod(L13, D13, 60e9, 23e9)
 EI = KIRCH.bending_stiffness
 R5 = 0.005
-# a straight wire pulled to 2-4 % strain goes by load continuation, ~8.6e7 work units
-# (bench/results/stress_findings.md, 'One budget'): the tests of its strain rule allow that
-BIG_BUDGET = tr.Options(max_work=1.5e8)
 # the paper's Fig. 11 robot (L = 0.1 m, d = 1.04 mm, E = 210 GPa, r = 10 mm)
 ROD11 = tr.Rod(0.1, 1.04e-3, 210e9, 80e9, kirchhoff=True)
 
@@ -132,23 +129,21 @@ def test_strain_is_the_axial_and_shear_force_over_the_rigidity():
     """A tip force F on a rod whose EA, GA are known: axial strain F_z/EA everywhere
     along a straight rod, shear strain F_x/GA at the clamp (where R = I)."""
     EA = COSS.axial_stiffness
-    # the 2.6 kN on the 1.2 mm wire, as tension: 3.8 %.  A cold solve takes this straight
-    # wire by load continuation (scaled load 2.7e4 > 6), which needs ~8.6e7 work units
-    # where a direct Newton solve would take 3e6 (bench/results/stress_findings.md, 'One
-    # budget'): the budget is raised here, the rule under test is the strain's
+    # the 2.6 kN on the 1.2 mm wire, as tension: 3.8 %, within the default budget (a pure
+    # tension: the cold solve's direct try converges, no load continuation)
     sc = tr.Scene(tr.Robot(COSS, []), loads=[tr.PointLoad(s=L13, force=(0, 0, 2600.0))])
     with pytest.warns(PW, match=r"backbone axial strain 3.83 %") as rec:
-        sol = tr.solve(sc, options=BIG_BUDGET)
+        sol = tr.solve(sc)
     assert rec[0].filename == __file__
     (f,) = sol.plausibility
     # uniform n3 = 2600 N: the strain is exact to the solver's force tolerance
     assert (f.rule, f.subject) == ("strain", "axial")
     assert f.value == pytest.approx(2600.0 / EA, rel=1e-9)
     ok = tr.Scene(tr.Robot(COSS, []), loads=[tr.PointLoad(s=L13, force=(0, 0, 0.019 * EA))])
-    assert quiet(tr.solve, ok, options=BIG_BUDGET).plausibility == ()
+    assert quiet(tr.solve, ok).plausibility == ()
     # a Kirchhoff rod: the strain its section would take (the model neglects it)
     kir = tr.Scene(tr.Robot(KIRCH, []), loads=[tr.PointLoad(s=L13, force=(0, 0, 2600.0))])
-    (f,) = quiet(tr.solve, kir, options=BIG_BUDGET).plausibility
+    (f,) = quiet(tr.solve, kir).plausibility
     # n3 = 2600 N exactly (a straight rod under an axial load): as above
     assert "Kirchhoff" in f.message and f.value == pytest.approx(2600.0 / EA, rel=1e-9)
     # shear: a stiff-in-bending section (explicit rigidities), F_x = 0.03 GA
@@ -391,7 +386,7 @@ def test_the_bounds_never_hide_a_finding():
         )
     checked = found = 0
     for sc in cases:
-        sol = quiet(tr.solve, sc, options=BIG_BUDGET)  # the straight wires in tension
+        sol = quiet(tr.solve, sc)
         if not sol.success:
             continue
         rec = Recorder(sc, sol.options).record(sol.unknowns, sol.formulation.steps)

@@ -61,14 +61,7 @@ def test_stress_report_files(stress_run):
 #: message, or a success that the verifier rejects) and then reports xfail; when
 #: the solver is fixed they pass as ordinary tests (no strict xfail, so a fix does
 #: not turn the suite red) and this table should shrink.
-KNOWN_FAILURES: dict[str, str] = {
-    "plausibility/strain/2.6kN-on-1.2mm-wire": (
-        "the cold solve goes to load continuation at once (18 stages, 58 LUs of 243 "
-        "unknowns at 41 automatic segments): 8.6e7 work units, beyond the default "
-        "max_work 3.5e7 now that the LU counts (a direct solve converges in 2 iterations, "
-        "3e6 units); stress_findings.md, 'One budget'"
-    ),
-}
+KNOWN_FAILURES: dict[str, str] = {}
 
 
 @pytest.mark.parametrize("name", [c.name for c in QUICK])
