@@ -97,7 +97,8 @@ static inline tr_hd hd_lin3(const tr_hd *x, double a, const tr_hd *y, double b, 
 static inline void hd_matvec3c(tr_hd *r, const tr_hd *A, const double *x)
 {
     int i;
-    for (i = 0; i < 3; i++) r[i] = hd_lin3(A + 3 * i, x[0], A + 3 * i + 1, x[1], A + 3 * i + 2, x[2]);
+    for (i = 0; i < 3; i++)
+        r[i] = hd_lin3(A + 3 * i, x[0], A + 3 * i + 1, x[1], A + 3 * i + 2, x[2]);
 }
 
 static inline tr_hd hd_dot3(const tr_hd *x, const tr_hd *y)

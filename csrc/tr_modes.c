@@ -521,8 +521,8 @@ static int check_spec(const tr_model *m, const tr_modes_spec *sp, char *msg, siz
     return TR_OK;
 }
 
-int tr_modes(const tr_model *m_, tr_data *d, const double *x, int steps,
-             const tr_modes_spec *spec, tr_modes_out *o)
+int tr_modes(const tr_model *m_, tr_data *d, const double *x, int steps, const tr_modes_spec *spec,
+             tr_modes_out *o)
 {
     const tr_model *m = TR_IN(m_, d); /* the workspace's values */
     modes_ws s;
