@@ -19,6 +19,9 @@ Micro-suite (one thread):
     inextensible tendon at 10 mm, q = 15 mm, 0.2 N down at the tip), planar Kirchhoff [us];
   * ``planar_cosserat`` -- the same robot as a Cosserat rod with EA = 3e3 N tendons [us].
 
+Each in wall time and, as ``<name> cpu``, in the calling thread's CPU time (what the
+machine's load does not inflate; ``solve_batch``'s own threads are not counted).
+
     .venv/bin/python bench/compare_builds.py --old /path/to/old/checkout [--rounds 5]
 
 The old checkout must have its extension built in place
@@ -43,10 +46,15 @@ import json, math, statistics, time, warnings
 import numpy as np
 import tendonrod as tr
 
-def med(fn, n):
-    ts = []
+CPU = {}
+def med(fn, n, key=None, scale=1e6):
+    ts, cs = [], []
     for _ in range(n):
-        t0 = time.perf_counter(); fn(); ts.append(time.perf_counter() - t0)
+        t0, c0 = time.perf_counter(), time.thread_time()
+        fn()
+        cs.append(time.thread_time() - c0); ts.append(time.perf_counter() - t0)
+    if key:
+        CPU[key + " cpu"] = statistics.median(cs) * scale
     return statistics.median(ts)
 
 rod = tr.Rod(length=0.1, diameter=1.04e-3, E=210e9, G=80e9, kirchhoff=True)
@@ -59,23 +67,24 @@ def scene(f):
 sc, near = scene(0.5), scene(0.495)
 out = {}
 g = tr.solve(near, strict=True)
-out["solve_cold"] = med(lambda: tr.solve(sc), 200) * 1e6
-out["solve_warm"] = med(lambda: tr.solve(sc, guess=g), 300) * 1e6
+out["solve_cold"] = med(lambda: tr.solve(sc), 200, "solve_cold") * 1e6
+out["solve_warm"] = med(lambda: tr.solve(sc, guess=g), 300, "solve_warm") * 1e6
 o4 = tr.Options(steps=4, tip_only=True)
 g4 = tr.solve(near, options=o4, strict=True)
-out["solve_warm_tip4"] = med(lambda: tr.solve(sc, guess=g4, options=o4), 300) * 1e6
+out["solve_warm_tip4"] = med(lambda: tr.solve(sc, guess=g4, options=o4), 300, "solve_warm_tip4") * 1e6
 F = np.zeros((2000, 1, 3)); F[:, 0, 1] = np.linspace(0.0, 0.5, 2000)
 ol = tr.Options(steps=4, tol=3e-9)
-out["batch_lean"] = med(lambda: tr.solve_batch(sc, forces=F, options=ol), 3) * 1e6 / 2000
+out["batch_lean"] = med(lambda: tr.solve_batch(sc, forces=F, options=ol), 3, "batch_lean", 1e6 / 2000) * 1e6 / 2000
 Fe = F[::7][:300]
-out["batch_exact"] = med(lambda: tr.solve_batch(sc, forces=Fe), 3) * 1e6 / len(Fe)
+out["batch_exact"] = med(lambda: tr.solve_batch(sc, forces=Fe), 3, "batch_exact", 1e6 / len(Fe)) * 1e6 / len(Fe)
 def planar(kirchhoff, EA):
     rod = tr.Rod(length=0.2, diameter=0.8e-3, E=207e9, G=79.6e9, kirchhoff=kirchhoff)
     rob = tr.Robot(rod, [tr.Tendon(offset=0.01, EA=EA)])
     return tr.Scene(rob, displacement=[0.015], loads=[tr.PointLoad(s=0.2, force=(0, 0, -0.2))])
 pk, pc = planar(True, math.inf), planar(False, 3e3)
-out["planar_cold"] = med(lambda: tr.solve(pk), 300) * 1e6
-out["planar_cosserat"] = med(lambda: tr.solve(pc), 300) * 1e6
+out["planar_cold"] = med(lambda: tr.solve(pk), 300, "planar_cold") * 1e6
+out["planar_cosserat"] = med(lambda: tr.solve(pc), 300, "planar_cosserat") * 1e6
+out.update(CPU)
 print(json.dumps(out))
 """
 

@@ -193,12 +193,13 @@ def problem_loop(n):
             prob.solve(sc[0])
         except ValueError:
             pass
-        # confirmed off the load path (second formulation; single shooting kept: by default
-        # this tensile load is compiled with multiple shooting and solves directly), the
-        # automatic multiple shooting itself, and the budget running out
+        # confirmed off the load path (second formulation: tests/test_pipeline.py's
+        # reproducer; a pure tensile load now converges directly), the automatic multiple
+        # shooting itself, and the budget running out
+        conf = tr.Scene(plain, loads=[tr.PointLoad(s=0.1, force=(fs, 0, 196 * fs))])
+        segs = tr.Options(tip_only=True, shooting_segments=4)
+        assert tr.solve(conf, options=segs).status == tr._core.STATUS_CONFIRMED
         off = tr.Scene(plain, loads=[tr.PointLoad(s=0.1, force=(0, 0, 400 * fs))])
-        single = tr.Options(auto_shooting=False)
-        assert tr.solve(off, options=single).status == tr._core.STATUS_CONFIRMED
         assert tr.solve(off).formulation.shooting_auto
         hopeless = tr.Scene(plain, loads=[tr.PointLoad(s=0.1, force=(1e6, 0, 0))])
         assert (

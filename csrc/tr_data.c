@@ -37,14 +37,19 @@ static size_t stab_len(size_t cap, size_t nb, size_t nt)
            10 * nv;
 }
 
-/* The arrays of the grid w holds (cap = nuni + nseg + 2 nodes of w->nb coordinates) laid
- * out one after the other from the start of its blocks, as a workspace allocated for that
- * grid alone had them, and zeroed as such a one was (the blocks hold room for the finest
- * grid; a grid touches only what it uses); the recording workspace's node arrays likewise
- * over its nodes. */
-static void stab_layout(const tr_model *m, struct tr_stab_ws *w)
+size_t tr_stab_len(size_t cap, size_t nb, size_t nt)
 {
-    const size_t cap = (size_t)w->nuni + m->nseg + 2, nb = (size_t)w->nb;
+    return stab_len(cap, nb, nt > 0 ? nt : 1);
+}
+
+/* The arrays of the grid w holds (cap nodes of w->nb coordinates) laid out one after the
+ * other from the start of its blocks, as a workspace allocated for that grid alone had
+ * them, and zeroed as such a one was (the blocks hold room for the finest grid; a grid
+ * touches only what it uses); the recording workspace's node arrays likewise over its
+ * nodes. */
+void tr_stab_layout(const tr_model *m, struct tr_stab_ws *w, size_t cap)
+{
+    const size_t nb = (size_t)w->nb;
     const size_t nt = (size_t)(m->nt > 0 ? m->nt : 1), nblk = cap * nb * nb, nv = cap * nb;
     double *q;
     w->node = w->kind + cap;
@@ -107,7 +112,7 @@ static void stab_grid(const tr_model *m, struct tr_stab_ws *w, int nuni, int cos
         }
     }
     w->ngrid = n;
-    if (zero) stab_layout(m, w);
+    if (zero) tr_stab_layout(m, w, (size_t)w->nuni + m->nseg + 2);
     if (w->rec) {
         w->rec->nnode = n;
         for (i = 0; i < n; i++) w->rec->s[i] = w->s[i] > m->L ? m->L : w->s[i];

@@ -20,7 +20,7 @@
 static void perturbed(tr_hd *out, const double *R, const tr_hd *e)
 {
     tr_hd P[9], ee[6];
-    int i, j, k;
+    int i, j;
     ee[0] = hd_mul(e[0], e[0]), ee[1] = hd_mul(e[1], e[1]), ee[2] = hd_mul(e[2], e[2]);
     ee[3] = hd_mul(e[0], e[1]), ee[4] = hd_mul(e[0], e[2]), ee[5] = hd_mul(e[1], e[2]);
     /* I + e^ + (e e^T - |e|^2 I) / 2 */
@@ -31,11 +31,9 @@ static void perturbed(tr_hd *out, const double *R, const tr_hd *e)
     P[2] = hd_add(hd_scale(ee[4], 0.5), e[1]), P[6] = hd_sub(hd_scale(ee[4], 0.5), e[1]);
     P[5] = hd_sub(hd_scale(ee[5], 0.5), e[0]), P[7] = hd_add(hd_scale(ee[5], 0.5), e[0]);
     for (i = 0; i < 3; i++)
-        for (j = 0; j < 3; j++) {
-            tr_hd acc = hd_c(0.0);
-            for (k = 0; k < 3; k++) acc = hd_add(acc, hd_scale(P[3 * k + j], R[3 * i + k]));
-            out[3 * i + j] = acc;
-        }
+        for (j = 0; j < 3; j++)
+            out[3 * i + j] =
+                hd_lin3(P + j, R[3 * i], P + 3 + j, R[3 * i + 1], P + 6 + j, R[3 * i + 2]);
 }
 
 /* The rotation vector of Q (log map), smooth through Q = I. */
@@ -206,19 +204,82 @@ tr_hd tr_elem_energy(const tr_elem *e, const tr_hd *xa, const tr_hd *xb, int onl
     for (i = 0; i < m->nt; i++) {
         const tr_tendon *t = m->tendon + i;
         double ra[3], rb[3];
-        tr_hd Rra[3], Rrb[3], ci[3], rah[3], rbh[3], len;
+        tr_hd Rra[3], Rrb[3], ci[3], len;
         if (only >= 0 && i != only) continue;
         if (only < 0 && !(e->tau[i] > 0.0)) continue;
         if (!(e->sb <= t->t * (1.0 + 1e-12))) continue;
         eyelet(e, i, e->sa, ra);
         eyelet(e, i, e->sb, rb);
-        for (c = 0; c < 3; c++) rah[c] = hd_c(ra[c]), rbh[c] = hd_c(rb[c]);
-        hd_matvec3(Rra, k.Ra, rah);
-        hd_matvec3(Rrb, k.Rb, rbh);
+        hd_matvec3c(Rra, k.Ra, ra);
+        hd_matvec3c(Rrb, k.Rb, rb);
         for (c = 0; c < 3; c++) ci[c] = hd_sub(hd_add(chord[c], Rrb[c]), Rra[c]);
         len = hd_sqrt(hd_dot3(ci, ci));
         if (only >= 0) return len;
         E = hd_add(E, hd_scale(len, e->tau[i]));
     }
     return only >= 0 ? hd_c(0.0) : E;
+}
+
+/* Variable v of the Hessian's passes: node a's rotation (0-2), node b's (3-5) and, on a
+ * Cosserat element, the chord's change (6-8): the energy sees the positions only through
+ * p_b - p_a, so that perturbing p_b alone gives the derivatives along it. */
+static void seed(tr_hd *xa, tr_hd *xb, int v, int which)
+{
+    tr_hd *x = v < 3 ? xa + v : v < 6 ? xb + v - 3 : xb + v - 3;
+    if (which == 0)
+        x->a += 1.0;
+    else
+        x->b += 1.0;
+}
+
+/* coordinate p of the element (node a's nb, then node b's): its variable and sign */
+static void coordinates(int nb, int *vr, double *sg)
+{
+    int p;
+    for (p = 0; p < 2 * nb; p++) {
+        const int node = p / nb, c = p % nb;
+        vr[p] = c < 3 ? 3 * node + c : 6 + (c - 3);
+        sg[p] = c >= 3 && node == 0 ? -1.0 : 1.0;
+    }
+}
+
+double tr_elem_hessian(const tr_elem *e, int nb, int clamped_a, double *g, double *H)
+{
+    const int n = 2 * nb, nv = nb == 6 ? 9 : 6;
+    double Hv[81], gv[9], sg[2 * TR_ELEM_NB], E0 = 0.0;
+    int vr[2 * TR_ELEM_NB], u, v, c, p, q;
+    for (u = 0; u < nv * nv; u++) Hv[u] = 0.0;
+    for (u = 0; u < nv; u++) gv[u] = 0.0;
+    for (u = clamped_a ? 3 : 0; u < nv; u++)
+        for (v = u; v < nv; v++) {
+            tr_hd xa[TR_ELEM_NB], xb[TR_ELEM_NB], E;
+            for (c = 0; c < TR_ELEM_NB; c++) xa[c] = xb[c] = hd_c(0.0);
+            seed(xa, xb, u, 0);
+            seed(xa, xb, v, 1);
+            E = tr_elem_energy(e, xa, xb, -1);
+            Hv[u * nv + v] = Hv[v * nv + u] = E.c;
+            if (u == v) gv[u] = E.a, E0 = E.v;
+        }
+    coordinates(nb, vr, sg);
+    for (p = 0; p < n; p++) g[p] = sg[p] * gv[vr[p]];
+    for (p = 0; p < n; p++)
+        for (q = 0; q < n; q++) H[p * n + q] = sg[p] * sg[q] * Hv[vr[p] * nv + vr[q]];
+    return E0;
+}
+
+void tr_elem_chord_gradient(const tr_elem *e, int nb, int clamped_a, int i, double *g)
+{
+    const int nv = nb == 6 ? 9 : 6;
+    double gv[9], sg[2 * TR_ELEM_NB];
+    int vr[2 * TR_ELEM_NB], u, c, p;
+    for (u = 0; u < nv; u++) {
+        tr_hd xa[TR_ELEM_NB], xb[TR_ELEM_NB];
+        gv[u] = 0.0;
+        if (clamped_a && u < 3) continue;
+        for (c = 0; c < TR_ELEM_NB; c++) xa[c] = xb[c] = hd_c(0.0);
+        seed(xa, xb, u, 0);
+        gv[u] = tr_elem_energy(e, xa, xb, i).a;
+    }
+    coordinates(nb, vr, sg);
+    for (p = 0; p < 2 * nb; p++) g[p] = sg[p] * gv[vr[p]];
 }

@@ -32,6 +32,14 @@ typedef struct {
  * (body-frame rotation vectors, then positions on a Cosserat element); only == -1: the
  * whole energy, only >= 0: the length of tendon only's chord. */
 tr_hd tr_elem_energy(const tr_elem *e, const tr_hd *xa, const tr_hd *xb, int only);
+/* The whole energy of element e with its gradient g (2 nb) and Hessian H (2 nb x 2 nb,
+ * row-major) in the perturbations of node a's nb coordinates, then node b's: 21 hyper-dual
+ * passes on a Kirchhoff element, 45 on a Cosserat one (its positions enter only through
+ * the chord p_b - p_a), 21 when node a is clamped (clamped_a: its rows are left zero). */
+double tr_elem_hessian(const tr_elem *e, int nb, int clamped_a, double *g, double *H);
+/* The gradient g (2 nb, as tr_elem_hessian's) of the length of tendon i's chord on
+ * element e, one first-order hyper-dual pass per variable. */
+void tr_elem_chord_gradient(const tr_elem *e, int nb, int clamped_a, int i, double *g);
 /* Cosserat: the strain v = Rm^T (p_b - p_a) / h of element e (Rm its midpoint frame). */
 void tr_elem_strain(const tr_elem *e, const tr_hd *xa, const tr_hd *xb, tr_hd *v);
 /* Rm^T x at the recorded state (no perturbation), x world. */

@@ -86,6 +86,21 @@ static inline tr_hd hd_atan2(tr_hd y, tr_hd x)
     return r;
 }
 
+/* a x + b y + c z */
+static inline tr_hd hd_lin3(const tr_hd *x, double a, const tr_hd *y, double b, const tr_hd *z,
+                            double c)
+{
+    return hd_add(hd_add(hd_scale(*x, a), hd_scale(*y, b)), hd_scale(*z, c));
+}
+
+/* r = A x, x constant */
+static inline void hd_matvec3c(tr_hd *r, const tr_hd *A, const double *x)
+{
+    int i;
+    for (i = 0; i < 3; i++)
+        r[i] = hd_lin3(A + 3 * i, x[0], A + 3 * i + 1, x[1], A + 3 * i + 2, x[2]);
+}
+
 static inline tr_hd hd_dot3(const tr_hd *x, const tr_hd *y)
 {
     return hd_add(hd_add(hd_mul(x[0], y[0]), hd_mul(x[1], y[1])), hd_mul(x[2], y[2]));

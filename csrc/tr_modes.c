@@ -116,17 +116,16 @@ static void ws_free(modes_ws *s)
 }
 
 /* The finest grid's nodes and every buffer, once per call.  0 or -1 (out of memory).
- * The verdict's level workspace is carved as tr_data.c's stab_alloc carves it, on this
+ * The verdict's level workspace is carved by tr_stab_layout as the verdict's is, on this
  * grid (piecewise uniform between breakpoints and point masses, so that every element
- * halves from grid to grid) instead of the verdict's uniform one: one function there
- * taking the nodes would serve both. */
+ * halves from grid to grid) instead of the verdict's uniform one. */
 static int ws_alloc(const tr_model *m, tr_data *d, const tr_modes_spec *sp, int nel, double *gb,
                     modes_ws *s)
 {
     const int nlev = sp->levels > 0 ? sp->levels : TR_MODES_LEVELS;
     const int np = grid_breaks(m, sp, gb), nt = m->nt > 0 ? m->nt : 1, nb = 6;
     int cap = 1, k, i, l, j = 0;
-    size_t nv, nblk, len, pp;
+    size_t nv, pp;
     double *q;
     char msg[TR_MSGLEN];
     tr_options o = d->opt;
@@ -134,7 +133,7 @@ static int ws_alloc(const tr_model *m, tr_data *d, const tr_modes_spec *sp, int 
     memset(s, 0, sizeof *s);
     for (k = 0; k < np; k++) cap += piece_elements(m, gb, k, nel) << (nlev - 1);
     s->nlev = nlev, s->nfine = cap, s->n = sp->n;
-    nv = (size_t)(cap - 1) * nb, nblk = (size_t)cap * nb * nb;
+    nv = (size_t)(cap - 1) * nb;
     s->nv = (int)nv;
     s->p = sp->n + (sp->n > TR_MODES_GUARD ? sp->n : TR_MODES_GUARD);
     if (s->p > s->nv) s->p = s->nv;
@@ -142,36 +141,14 @@ static int ws_alloc(const tr_model *m, tr_data *d, const tr_modes_spec *sp, int 
     w->nuni = nel, w->nb = nb, w->cosserat = 1;
     w->s = (double *)malloc((size_t)cap * sizeof(double));
     s->lev = (int *)malloc(((size_t)cap * 3 + nt) * sizeof(int));
-    len = 18 * (size_t)cap + nt + 2 * nv + 5 * nblk + 2 * nv + 2 * nv * nt + 2 * (size_t)nt +
-          2 * (size_t)nt * nt;
-    w->R = (double *)calloc(len, sizeof(double));
+    w->R = (double *)malloc(tr_stab_len((size_t)cap, (size_t)nb, (size_t)nt) * sizeof(double));
     s->X =
         (double *)malloc((3 * nv * pp + 3 * pp * pp + 3 * pp + (size_t)nlev * pp) * sizeof(double));
     s->gw = gsl_eigen_gensymmv_alloc(pp);
     if (!w->s || !s->lev || !w->R || !s->X || !s->gw) return -1;
     s->idx = s->lev + cap;
-    w->node = s->idx + cap;
-    w->col = w->node + cap;
-    q = w->R + 9 * cap;
-    w->p = q, q += 3 * cap;
-    w->F = q, q += 3 * cap;
-    w->vhat = q, q += 3 * cap;
-    w->tau = q, q += nt;
-    w->g = q, q += nv;
-    w->dx = q, q += nv;
-    w->h.D = q, q += nblk;
-    w->h.E = q, q += nblk;
-    w->h.Pv = q, q += nblk;
-    w->h.U = q, q += nblk;
-    w->h.S = q, q += nblk;
-    w->h.Mw = q, q += nv;
-    w->h.Pe = q, q += nv;
-    w->h.B = q, q += nv * nt;
-    w->h.X = q, q += nv * nt;
-    w->h.cb = q, q += nt;
-    w->h.Se = q, q += nt;
-    w->h.Sv = q, q += (size_t)nt * nt;
-    if ((size_t)nt * nt > nblk) w->h.S = q;
+    w->kind = s->idx; /* the layout's kinds are modes' indices; its nodes and columns follow */
+    tr_stab_layout(m, w, (size_t)cap);
     q = s->X;
     s->Y = q + nv * pp, s->Z = q + 2 * nv * pp, q += 3 * nv * pp;
     s->K = q, s->Mp = q + pp * pp, s->C = q + 2 * pp * pp, q += 3 * pp * pp;
@@ -521,8 +498,8 @@ static int check_spec(const tr_model *m, const tr_modes_spec *sp, char *msg, siz
     return TR_OK;
 }
 
-int tr_modes(const tr_model *m_, tr_data *d, const double *x, int steps,
-             const tr_modes_spec *spec, tr_modes_out *o)
+int tr_modes(const tr_model *m_, tr_data *d, const double *x, int steps, const tr_modes_spec *spec,
+             tr_modes_out *o)
 {
     const tr_model *m = TR_IN(m_, d); /* the workspace's values */
     modes_ws s;

@@ -70,6 +70,12 @@ struct tr_stab_ws {
     tr_btd h;                   /* the Hessian and its factors */
 };
 
+/* tr_data.c: the doubles a grid workspace's blocks hold for cap nodes of nb coordinates
+ * and nt tendons (w->R's length), and the grid's arrays laid out in them for cap nodes
+ * of w->nb coordinates (w->kind holding 2 cap + nt ints: kinds, nodes, columns), zeroed;
+ * the verdict's grids and tr_modes' grids are carved by it. */
+size_t tr_stab_len(size_t cap, size_t nb, size_t nt);
+void tr_stab_layout(const tr_model *m, struct tr_stab_ws *w, size_t cap);
 /* tr_data.c: the workspace *wp set to nuni uniform elements (in place when it has room for
  * them, else reallocated). */
 struct tr_stab_ws *tr_stab_workspace(const tr_model *m, tr_data *d, struct tr_stab_ws **wp,

@@ -123,36 +123,26 @@ void tr_stab_assemble(const tr_model *m, struct tr_stab_ws *w, int nn, int nb)
         for (c = 0; c < nb; c++) h->Mw[(j - 1) * nb + c] = c < 3 ? 0.5 * (hl + hr) / m->L : 0.0;
     }
     for (k = 0; k < nn - 1; k++) {
-        const int off = k > 0 ? nb : 0, ne = off + nb;
-        tr_hd xa[TR_ELEM_NB], xb[TR_ELEM_NB];
+        const int off = k > 0 ? nb : 0;
+        double g[2 * TR_ELEM_NB], He[4 * TR_ELEM_NB * TR_ELEM_NB];
+        const int n2 = 2 * nb;
         tr_elem e;
         int p, q;
         element(m, w, k, &e);
-        for (p = 0; p < ne; p++)
-            for (q = p; q < ne; q++) {
-                tr_hd E;
-                int ip, iq, bp_, bq_;
-                for (c = 0; c < nb; c++) xa[c] = xb[c] = hd_c(0.0);
-                if (p < off)
-                    xa[p].a = 1.0;
-                else
-                    xb[p - off].a = 1.0;
-                if (q < off)
-                    xa[q].b += 1.0;
-                else
-                    xb[q - off].b += 1.0;
-                E = tr_elem_energy(&e, xa, xb, -1);
-                /* scatter: coordinate p of node a (p < off, block k - 1) or b (block k) */
-                bp_ = p < off ? k - 1 : k, ip = p < off ? p : p - off;
-                bq_ = q < off ? k - 1 : k, iq = q < off ? q : q - off;
-                if (p == q) w->g[bp_ * nb + ip] += sc * E.a;
-                if (bp_ == bq_) {
-                    h->D[bp_ * nb2 + ip * nb + iq] += sc * E.c;
-                    if (ip != iq) h->D[bp_ * nb2 + iq * nb + ip] += sc * E.c;
-                } else {
-                    h->E[bp_ * nb2 + ip * nb + iq] += sc * E.c;
-                }
+        /* coordinates p < nb are node a's (block k - 1; none on the clamped first node),
+         * the others node b's (block k) */
+        tr_elem_hessian(&e, nb, off == 0, g, He);
+        for (p = nb - off; p < n2; p++) {
+            const int bp_ = p < nb ? k - 1 : k, ip = p < nb ? p : p - nb;
+            w->g[bp_ * nb + ip] += sc * g[p];
+            for (q = nb - off; q < n2; q++) {
+                const int bq_ = q < nb ? k - 1 : k, iq = q < nb ? q : q - nb;
+                if (bp_ == bq_)
+                    h->D[bp_ * nb2 + ip * nb + iq] += sc * He[p * n2 + q];
+                else if (bp_ < bq_)
+                    h->E[bp_ * nb2 + ip * nb + iq] += sc * He[p * n2 + q];
             }
+        }
         if (nb == 6) {
             /* Cosserat: the dead loads are linear in the positions (no Hessian) but part of
              * the gradient: the force at node b, F_beyond(k) - F_beyond(k + 1) */
@@ -162,14 +152,10 @@ void tr_stab_assemble(const tr_model *m, struct tr_stab_ws *w, int nn, int nb)
         }
         for (i = 0; i < m->nt; i++) {
             if (w->col[i] < 0 || !(e.sb <= m->tendon[i].t * (1.0 + 1e-12))) continue;
-            for (p = 0; p < ne; p++) {
-                const int bp_ = p < off ? k - 1 : k, ip = p < off ? p : p - off;
-                for (c = 0; c < nb; c++) xa[c] = xb[c] = hd_c(0.0);
-                if (p < off)
-                    xa[p].a = 1.0;
-                else
-                    xb[p - off].a = 1.0;
-                h->B[(bp_ * nb + ip) * nbord + w->col[i]] += tr_elem_energy(&e, xa, xb, i).a;
+            tr_elem_chord_gradient(&e, nb, off == 0, i, g);
+            for (p = nb - off; p < n2; p++) {
+                const int bp_ = p < nb ? k - 1 : k, ip = p < nb ? p : p - nb;
+                h->B[(bp_ * nb + ip) * nbord + w->col[i]] += g[p];
             }
         }
     }
