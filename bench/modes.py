@@ -47,14 +47,16 @@ Notes.
   goal's accuracy, certified by the result itself.  16 x 3 reaches 3e-7 at two thirds of
   the cost, but its estimate (up to 5e-6) does not certify 1e-6.  Two grids (24 x 2) are
   not enough: 1e-5.
-- Cost: the goal is 2 ms; the default takes 11 to 13 ms of CPU.  Three quarters of it
-  are the element Hessians of the verdict's assembly (tr_stab_energy.c): 78 hyper-dual
-  evaluations of the element energy per element (~0.6 us each, 168 elements over the
-  three grids), plus 12 per taut displacement-held tendon for its bordered column.  The
-  subspace iteration takes 8 sweeps a grid (it stops at the Ritz values' round-off);
-  the recording of the solution at the finest grid's nodes is ~1%.  Reaching 2 ms needs
-  a cheaper element Hessian (one forward pass with 12-direction dual numbers, or the
-  analytic second variation) in tr_element.c.
+- Cost: the goal is 2 ms; the default takes 6 to 7 ms of CPU (11 to 13 ms before the
+  element Hessians went from 78 hyper-dual passes to 45 on Cosserat elements:
+  `bench/results/verdict_cost.md`).  The element energies of the verdict's assembly
+  (tr_stab_energy.c) are still ~45 % of it (168 elements over the three grids, plus 9
+  first-order passes per taut displacement-held tendon for its bordered column), then the
+  shift-invert sweeps (8 a grid: the subspace iteration stops at the Ritz values'
+  round-off) and the LDL^T counts; the recording of the solution at the finest grid's
+  nodes is ~1 %.  Multi-directional jets were tried for the Hessians and were slower (a
+  55-double jet lives in memory, not registers); what is left is the closed-form second
+  variation, or fewer elements with a higher-order element.
 """
 
 
