@@ -259,6 +259,7 @@ static int friction_spatial(const sys6 *q, double *fw, int nfw, double L, const 
     return 0;
 }
 
+
 /* Per tendon, with t = w/|w|, c_t = tau/|w|, q = r x t (r^ t = q, t^T r^ = -q^T):
  *   A_i = c_t (I - t t^T)            a_i = A_i (u x w + u x r')
  *   A_i r^ = c_t (r^ + t q^T)        G = -sum A_i r^
@@ -276,9 +277,9 @@ static int rhs_spatial(const tr_model *m, const tr_data *d, double s, const doub
     const double EI = sg[TR_SR_EI], GJ = sg[TR_SR_GJ];
     const int kirch = m->kirchhoff, pc = gen && m->precurved;
     /* u - u* = K_bt^-1 m_b */
-    const double du[3] = {mb[0] / EI, mb[1] / EI, mb[2] / GJ};
-    const double u[3] = {pc ? du[0] + us[0] : du[0], pc ? du[1] + us[1] : du[1],
-                         pc ? du[2] + us[2] : du[2]};
+    double du[3] = {mb[0] / EI, mb[1] / EI, mb[2] / GJ};
+    double u[3] = {pc ? du[0] + us[0] : du[0], pc ? du[1] + us[1] : du[1],
+                   pc ? du[2] + us[2] : du[2]};
     double v[3] = {0.0, 0.0, 1.0};
     double sc = 0.0, sr2 = 0.0, sr[3] = {0, 0, 0};
     double TT[9] = {0}, TQ[9] = {0}, RR[9] = {0}, QQ[9] = {0};
@@ -299,6 +300,8 @@ static int rhs_spatial(const tr_model *m, const tr_data *d, double s, const doub
         ev3 = nb[2] / sg[TR_SR_EA];
         v[2] = 1.0 + ev3;
     }
+    if (TR_UNLIKELY(d->dyn != NULL) && tr_dyn_strains(m, d, s, y, sg, us, pc, du, u, v, &ev3) != 0)
+        return GSL_EBADFUNC;
     for (j = 0; j < nlen; j++) dy[TR_Y_LEN + j] = 0.0;
     if (TR_UNLIKELY(nf)) fric_reset(d, nf, dy + TR_Y_LEN + nlen);
 
@@ -432,6 +435,7 @@ static int rhs_spatial(const tr_model *m, const tr_data *d, double s, const doub
     rhs[3] = -tmp[0] - tmp2[0] - bsum[0];
     rhs[4] = -tmp[1] - tmp2[1] - bsum[1];
     rhs[5] = -tmp[2] - tmp2[2] - bsum[2];
+    if (TR_UNLIKELY(d->dyn != NULL)) tr_dyn_loads(d, y, sg, coupled, rhs, sc, sr, sr2, RR, TQ, QQ, TT);
 
     if (!coupled) {
         memcpy(dy + TR_Y_N, rhs, 6 * sizeof(double));
@@ -449,6 +453,13 @@ static int rhs_spatial(const tr_model *m, const tr_data *d, double s, const doub
             q.ks[2] = 1.0 / sg[TR_SR_EA];
         }
         RR[3] = RR[1];
+        if (TR_UNLIKELY(d->dyn != NULL)) { /* K^-1 / (1 + eta c0): the viscous part */
+            const double fd = 1.0 / (1.0 + d->dyn->eta * d->dyn->c0);
+            for (j = 0; j < 3; j++) {
+                q.kb[j] *= fd;
+                q.ks[j] *= fd;
+            }
+        }
         if (sys6_setup(&q, sr, sr2, sc, RR, TQ, QQ, TT) != 0 || sys6_solve(&q, rhs, out) != 0)
             return GSL_EBADFUNC;
         /* a friction iteration that does not settle (a trial state of an adaptive step far
@@ -461,6 +472,7 @@ static int rhs_spatial(const tr_model *m, const tr_data *d, double s, const doub
         memcpy(dy + TR_Y_N, out, 6 * sizeof(double));
     }
 
+    if (TR_UNLIKELY(d->dyn != NULL)) tr_dyn_store(d, dy, sg);
     /* kinematics: p' = R v, R' = R u^  (row j of R u^ = R_j x u) */
     tru_matvec3(dy + TR_Y_P, R, v);
     for (j = 0; j < 3; j++) tru_cross3(dy + TR_Y_R + 3 * j, R + 3 * j, u);
