@@ -47,6 +47,7 @@ from .results import ConvergenceError, ConvergenceWarning, Result
 from .solver import Solution, compliance, solve
 from .sweeps import ComplianceMeasure, SweepResult, sweep, tip_measure
 from .vibration import Modes, modes
+from .dynamics import Trajectory, simulate, simulation_options
 
 __all__ = [
     "__version__",
@@ -86,6 +87,9 @@ __all__ = [
     "Branch",
     "modes",
     "Modes",
+    "simulate",
+    "simulation_options",
+    "Trajectory",
     "SpecialPoint",
     # verdicts
     "Result",

@@ -22,7 +22,7 @@ from .loads import PointLoad, PointMass
 from .mounting import base_pose, points_out, rotations_out
 from .results import report_failure
 
-__all__ = ["simulate", "Trajectory"]
+__all__ = ["simulate", "Trajectory", "simulation_options"]
 
 _FORMAT = "tendonrod.Trajectory 1"
 _ARRAYS = ("t", "tip_position", "tip_rotation", "tension", "slack", "energy", "residual",

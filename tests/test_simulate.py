@@ -1,0 +1,138 @@
+"""tr.simulate: the dynamics in time against what is known independently.
+
+Work is bounded by counting: every run has a fixed number of steps, each step at most
+``max_iter`` Newton iterations (asserted through ``nit``), no wall-clock timing.
+"""
+
+import math
+
+import numpy as np
+import pytest
+
+import tendonrod as tr
+from tendonrod.dynamics import simulate, simulation_options
+
+ROD = tr.Rod(0.2, 2e-3, 207e9, 79.6e9, density=7800.0)
+FREE = tr.Scene(tr.Robot(ROD, []))
+
+
+def _released(force, steps=40):
+    """The static state under a tip force, the scene without it."""
+    held = tr.Scene(tr.Robot(ROD, []), loads=[tr.PointLoad(0.2, force)])
+    return tr.solve(held, options=simulation_options(steps))
+
+
+def _period(t, x):
+    """Mean period from the zero crossings of x (linear interpolation)."""
+    i = np.where(np.sign(x[:-1]) != np.sign(x[1:]))[0]
+    tc = t[i] - x[i] * (t[i + 1] - t[i]) / (x[i + 1] - x[i])
+    return 2.0 * float(np.mean(np.diff(tc)))
+
+
+@pytest.fixture(scope="module")
+def f1():
+    return float(tr.modes(FREE, n=1).frequencies[0])
+
+
+@pytest.fixture(scope="module")
+def ring(f1):
+    """Three periods of the released cantilever, omega dt = 0.04 (trapezoidal rule)."""
+    dt = 0.04 / (2 * math.pi * f1)
+    return dt, simulate(FREE, 3.0 / f1, dt, initial=_released((1e-4, 0.0, 0.0)))
+
+
+def test_period_is_first_mode(f1, ring):
+    dt, tj = ring
+    assert tj.success, tj.message
+    # bounded work: 471 steps, at most 8 iterations each (max_iter)
+    assert len(tj.t) == 472 and tj.nit <= 8 * 471
+    T = _period(tj.t, tj.tip_position[:, 0])
+    # the issue's 1e-3 against 1/f1 of tr.modes (the trapezoidal rule's own period error
+    # at omega dt = 0.04 is (omega dt)^2 / 12 = 1.3e-4)
+    assert abs(T * f1 - 1.0) < 1e-3
+    # with the trapezoidal rule's exact dispersion of a linear oscillator,
+    # omega_h = (2 / dt) atan(omega dt / 2), what is left (5.1e-4 measured, the same at
+    # omega dt = 0.08: not the time step's) is the zero crossings' shift by the higher
+    # modes the release excites, or the grid's: bounded here, not yet explained
+    w = 2 * math.pi * f1
+    wd = 2.0 / dt * math.atan(w * dt / 2.0)
+    assert abs(T * wd / (2 * math.pi) - 1.0) < 8e-4
+
+
+def test_euler_bernoulli_period(ring):
+    """The same period from Euler-Bernoulli's beta L = 1.875104, to the shear and rotary
+    inertia correction of a slender rod: (d / L)^2 = 1e-4 relative, well inside 1e-3."""
+    dt, tj = ring
+    EI = ROD.bending_stiffness
+    w = 1.875104**2 * math.sqrt(EI / (ROD.mass_per_length * 0.2**4))
+    assert abs(_period(tj.t, tj.tip_position[:, 0]) * w / (2 * math.pi) - 1.0) < 1e-3
+
+
+def test_undamped_energy(ring):
+    """Undamped: kinetic + elastic energy is kept by the trapezoidal rule up to its
+    documented oscillation (docs/guide/dynamics.md: below 1 % of the energy at
+    omega dt <= 0.08, shrinking with dt), and does not drift: the mean over the last
+    period equals the mean over the first to 1e-3."""
+    dt, tj = ring
+    E = tj.energy[:, 0] + tj.energy[:, 1]
+    E0 = E[0]
+    assert np.ptp(E) / E0 < 1e-2
+    n = len(E) // 3
+    assert abs(E[-n:].mean() - E[:n].mean()) / E0 < 1e-3
+    assert np.all(tj.energy[:, 3] == 0.0)  # nothing dissipates without damping
+
+
+def test_damped_decays_to_static():
+    """With damping, the motion decays to the static solve of the final actuation: a
+    tendon robot's displacement ramp; the end state against tr.solve on the same grid to
+    1e-7 L (the static solver's tolerance scaled, the decay left after 40 periods)."""
+    rod = tr.Rod(0.2, 2e-3, 207e9, 79.6e9, density=7800.0, damping=2e-3)
+    robot = tr.Robot(rod, [tr.Tendon(offset=0.004, angle=0.0, EA=2e4)])
+    q1 = 5e-4
+    scene0 = tr.Scene(robot, displacement=[0.0])
+    scene1 = tr.Scene(robot, displacement=[q1])
+
+    def act(t):
+        return [q1 * min(t / 0.02, 1.0)]
+
+    tj = simulate(scene0, 0.5, 1e-3, actuation=act, options={"alpha": 0.0})
+    assert tj.success, tj.message
+    ref = tr.solve(scene1, options=simulation_options())
+    assert np.linalg.norm(tj.tip_position[-1] - ref.tip_position) < 1e-7 * 0.2
+    assert abs(tj.tension[-1, 0] - ref.tension[0]) < 1e-6 * ref.tension[0]
+    assert tj.energy[-1, 3] > 0.0
+
+
+def test_slow_ramp_is_quasi_static():
+    """A ramp slow against the first period (1 s against 28 ms) follows the static
+    solutions along it: the tip within 1e-3 of the tip's travel (the inertial lag
+    rho A a L / k ~ (T1 / T_ramp)^2)."""
+    robot = tr.Robot(ROD, [tr.Tendon(offset=0.004, angle=0.0, EA=math.inf)])
+    tau1 = 2.0
+
+    def act(t):
+        return [tau1 * t]
+
+    tj = simulate(tr.Scene(robot, tension=[0.0]), 1.0, 0.01, actuation=act,
+                  options={"alpha": 0.0})
+    assert tj.success, tj.message
+    travel = np.linalg.norm(tj.tip_position[-1] - tj.tip_position[0])
+    for i in (50, 100):
+        ref = tr.solve(tr.Scene(robot, tension=[tau1 * tj.t[i]]), options=simulation_options())
+        assert np.linalg.norm(tj.tip_position[i] - ref.tip_position) < 1e-3 * travel
+
+
+def test_refusals_and_save(tmp_path, ring):
+    kir = tr.Rod(0.2, 2e-3, 207e9, 79.6e9, density=7800.0, kirchhoff=True)
+    with pytest.raises(ValueError, match="Kirchhoff"):
+        simulate(tr.Scene(tr.Robot(kir, [])), 0.01, 1e-3)
+    with pytest.raises(ValueError, match="mass"):
+        simulate(tr.Scene(tr.Robot(tr.Rod(0.2, 2e-3, 207e9, 79.6e9), [])), 0.01, 1e-3)
+    with pytest.raises(ValueError, match="dt"):
+        simulate(FREE, 0.01, -1.0)
+    with pytest.raises(ValueError, match="alpha"):
+        simulate(FREE, 0.01, 1e-3, options={"alpha": 0.5})
+    _, tj = ring
+    tj.save(tmp_path / "t.npz")
+    back = tr.Trajectory.load(tmp_path / "t.npz")
+    assert np.array_equal(back.tip_position, tj.tip_position) and back.success
