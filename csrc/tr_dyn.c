@@ -23,16 +23,22 @@
 #include "tr_internal.h"
 #include "tru_math.h"
 
+int tr_dyn_points(const tr_model *m, const tr_data *d)
+{
+    int seg, n = 0;
+    for (seg = 0; seg < m->nseg; seg++) n += 4 * tr_segment_steps(m, d, seg);
+    return n;
+}
+
 int tr_dyn_nodes(const tr_model *m, const tr_data *d)
 {
     return tr_dyn_points(m, d) / 4 + 1;
 }
 
-static int check(const tr_model *m, const tr_data *d, const tr_dyn_spec *sp, char *msg,
-                 size_t len)
+static int check(const tr_model *m, const tr_data *d, const tr_dyn_spec *sp, char *msg, size_t len)
 {
-    if (m->planar || m->kirchhoff || m->nfric || d->opt.integrator != TR_RK4 ||
-        d->opt.steps <= 0 || m->n_unknowns != 6 + m->ndisp) {
+    if (m->planar || m->kirchhoff || m->nfric || d->opt.integrator != TR_RK4 || d->opt.steps <= 0 ||
+        m->n_unknowns != 6 + m->ndisp) {
         snprintf(msg, len,
                  "the dynamics needs the spatial formulation of a Cosserat rod without channel "
                  "friction, fixed RK4 steps and one shooting segment (planar %d, Kirchhoff %d, "
@@ -42,8 +48,8 @@ static int check(const tr_model *m, const tr_data *d, const tr_dyn_spec *sp, cha
     }
     if (!(sp->nsteps >= 1) || !(sp->dt > 0.0) || !isfinite(sp->dt) || !(sp->alpha >= -0.5) ||
         !(sp->alpha <= 0.0) || !(sp->rhoA > 0.0) || !(sp->rhoJ[0] >= 0.0) ||
-        !(sp->rhoJ[1] >= 0.0) || !(sp->rhoJ[2] >= 0.0) || !(sp->eta >= 0.0) ||
-        !(sp->drag >= 0.0) || sp->max_iter < 1 || !sp->values) {
+        !(sp->rhoJ[1] >= 0.0) || !(sp->rhoJ[2] >= 0.0) || !(sp->eta >= 0.0) || !(sp->drag >= 0.0) ||
+        sp->max_iter < 1 || !sp->values) {
         snprintf(msg, len,
                  "dynamics: nsteps %d, dt %g, alpha %g (in [-0.5, 0]), rho A %g (> 0), eta %g, "
                  "drag %g, max_iter %d out of range",
@@ -62,7 +68,8 @@ typedef struct {
 static int bufs_alloc(bufs *b, int npt, int k)
 {
     const size_t n = (size_t)npt * TR_DH_N;
-    double *q = (double *)calloc(5 * n + (size_t)npt + 4 * (size_t)k + (size_t)k * k, sizeof(double));
+    double *q =
+        (double *)calloc(5 * n + (size_t)npt + 4 * (size_t)k + (size_t)k * k, sizeof(double));
     if (!q) return -1;
     b->block = q;
     b->X0 = q, q += n;
@@ -142,7 +149,8 @@ static void output(const tr_model *m, tr_data *d, const tr_dyn_spec *sp, tr_dyn_
     if (o->backbone) {
         const int nb = npt / 4 + 1;
         double *bb = o->backbone + (size_t)i * nb * 3;
-        for (p = 0; p < npt; p += 4) memcpy(bb + 3 * (p / 4), X + (size_t)p * TR_DH_N, 3 * sizeof(double));
+        for (p = 0; p < npt; p += 4)
+            memcpy(bb + 3 * (p / 4), X + (size_t)p * TR_DH_N, 3 * sizeof(double));
         memcpy(bb + 3 * (nb - 1), d->tip, 3 * sizeof(double));
     }
 }
@@ -215,8 +223,8 @@ int tr_dyn_run(const tr_model *m, tr_data *d, const double *x0, const tr_dyn_spe
         st = tr_residual(m, d, x0, b.f0);
     }
     if (st != TR_OK) {
-        snprintf(o->message, sizeof o->message, "dynamics: the initial state does not evaluate (%s)",
-                 tr_strerror(st));
+        snprintf(o->message, sizeof o->message,
+                 "dynamics: the initial state does not evaluate (%s)", tr_strerror(st));
         goto done;
     }
     o->residual[0] = tru_maxnorm(b.f0, k);

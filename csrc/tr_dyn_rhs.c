@@ -17,9 +17,8 @@
  * so the tendons' A v' + G u' keep their form with K^-1 scaled by 1 / (1 + eta c0) and
  * the history's part moved to the right-hand side.  The velocities follow the pose:
  * q = R^T p_t, w^ = skew(R^T R_t) with p_t = c0 p + p_h, R_t = c0 R + R_h. */
-int tr_dyn_strains(const tr_model *m, const tr_data *d, double s, const double *y,
-                        const double *sg, const double *us, int pc, double du[3], double u[3],
-                        double v[3], double *ev3)
+int tr_dyn_strains(const tr_model *m, const tr_data *d, double s, const double *y, const double *sg,
+                   const double *us, int pc, double du[3], double u[3], double v[3], double *ev3)
 {
     tr_dyn_ctx *c = d->dyn;
     const double f = 1.0 / (1.0 + c->eta * c->c0);
@@ -43,19 +42,18 @@ int tr_dyn_strains(const tr_model *m, const tr_data *d, double s, const double *
     memcpy(o + TR_DH_P, y + TR_Y_P, 12 * sizeof(double)); /* p, R */
     memcpy(o + TR_DH_V, v, 3 * sizeof(double));
     memcpy(o + TR_DH_U, u, 3 * sizeof(double));
-    o[TR_DH_EE] = 0.5 * (sg[TR_SR_GA] * (v[0] * v[0] + v[1] * v[1]) +
-                         sg[TR_SR_EA] * (*ev3) * (*ev3) + kb[0] * du[0] * du[0] +
-                         kb[1] * du[1] * du[1] + kb[2] * du[2] * du[2]);
+    o[TR_DH_EE] =
+        0.5 * (sg[TR_SR_GA] * (v[0] * v[0] + v[1] * v[1]) + sg[TR_SR_EA] * (*ev3) * (*ev3) +
+               kb[0] * du[0] * du[0] + kb[1] * du[1] * du[1] + kb[2] * du[2] * du[2]);
     return 0;
 }
 
 /* The inertia, drag and damping-history terms of the right-hand side rhs (6), given the
  * tendons' accumulators (A = sc I - TT, G = -(r^ + TQ), B = r^ - TQ^T,
  * H = sr2 I - RR - QQ); the velocities and energy densities into the stage point. */
-void tr_dyn_loads(const tr_data *d, const double *y, const double sg[], int coupled,
-                       double rhs[6], double sc, const double sr[3], double sr2,
-                       const double RR0[9], const double TQ[9], const double QQ[9],
-                       const double TT[9])
+void tr_dyn_loads(const tr_data *d, const double *y, const double sg[], int coupled, double rhs[6],
+                  double sc, const double sr[3], double sr2, const double RR0[9],
+                  const double TQ[9], const double QQ[9], const double TT[9])
 {
     tr_dyn_ctx *c = d->dyn;
     const double c0 = c->c0, f = 1.0 / (1.0 + c->eta * c0);
@@ -142,11 +140,3 @@ void tr_dyn_store(const tr_data *d, const double *dy, const double sg[])
     }
     c->k++;
 }
-
-int tr_dyn_points(const tr_model *m, const tr_data *d)
-{
-    int seg, n = 0;
-    for (seg = 0; seg < m->nseg; seg++) n += 4 * tr_segment_steps(m, d, seg);
-    return n;
-}
-

@@ -259,7 +259,6 @@ static int friction_spatial(const sys6 *q, double *fw, int nfw, double L, const 
     return 0;
 }
 
-
 /* Per tendon, with t = w/|w|, c_t = tau/|w|, q = r x t (r^ t = q, t^T r^ = -q^T):
  *   A_i = c_t (I - t t^T)            a_i = A_i (u x w + u x r')
  *   A_i r^ = c_t (r^ + t q^T)        G = -sum A_i r^
@@ -435,7 +434,8 @@ static int rhs_spatial(const tr_model *m, const tr_data *d, double s, const doub
     rhs[3] = -tmp[0] - tmp2[0] - bsum[0];
     rhs[4] = -tmp[1] - tmp2[1] - bsum[1];
     rhs[5] = -tmp[2] - tmp2[2] - bsum[2];
-    if (TR_UNLIKELY(d->dyn != NULL)) tr_dyn_loads(d, y, sg, coupled, rhs, sc, sr, sr2, RR, TQ, QQ, TT);
+    if (TR_UNLIKELY(d->dyn != NULL))
+        tr_dyn_loads(d, y, sg, coupled, rhs, sc, sr, sr2, RR, TQ, QQ, TT);
 
     if (!coupled) {
         memcpy(dy + TR_Y_N, rhs, 6 * sizeof(double));

@@ -36,6 +36,7 @@ from ._linearize import jacobian
 from .actuation import ActuationResult, actuate
 from .batch import BatchResult, solve_batch
 from .continuation import Branch, SpecialPoint, path
+from .dynamics import Trajectory, simulate, simulation_options
 from .fit import FitResult, fit
 from .friction import Slip, slip
 from .linearization import Jacobian
@@ -47,7 +48,6 @@ from .results import ConvergenceError, ConvergenceWarning, Result
 from .solver import Solution, compliance, solve
 from .sweeps import ComplianceMeasure, SweepResult, sweep, tip_measure
 from .vibration import Modes, modes
-from .dynamics import Trajectory, simulate, simulation_options
 
 __all__ = [
     "__version__",

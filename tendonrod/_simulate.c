@@ -23,9 +23,9 @@ static PyObject *rows(PyObject *a, int n)
 
 PyObject *glue_simulate(PyObject *self, PyObject *args, PyObject *kwds)
 {
-    static char *kwlist[] = {"problem", "unknowns", "values", "loads",    "dt",       "alpha",
-                             "rho_a",   "rho_j",    "eta",    "drag",     "max_iter", "backbone",
-                             "cancel",  NULL};
+    static char *kwlist[] = {"problem",  "unknowns", "values", "loads", "dt",
+                             "alpha",    "rho_a",    "rho_j",  "eta",   "drag",
+                             "max_iter", "backbone", "cancel", NULL};
     PyObject *op, *ox, *ov, *ol, *orj = Py_None, *cancel = Py_None, *res = NULL;
     PyArrayObject *x = NULL, *val = NULL, *ld = NULL, *rj = NULL;
     PyObject *tip = NULL, *ten = NULL, *sl = NULL, *en = NULL, *rs = NULL, *it = NULL, *bb = NULL;
@@ -40,8 +40,8 @@ PyObject *glue_simulate(PyObject *self, PyObject *args, PyObject *kwds)
     sp.alpha = -0.5;
     sp.max_iter = 8;
     if (!PyArg_ParseTupleAndKeywords(args, kwds, "O!OOOd|$ddOddipO", kwlist, &glue_problem_type,
-                                     &op, &ox, &ov, &ol, &sp.dt, &sp.alpha, &sp.rhoA, &orj,
-                                     &sp.eta, &sp.drag, &sp.max_iter, &backbone, &cancel))
+                                     &op, &ox, &ov, &ol, &sp.dt, &sp.alpha, &sp.rhoA, &orj, &sp.eta,
+                                     &sp.drag, &sp.max_iter, &backbone, &cancel))
         return NULL;
     pr = (ProblemObject *)op;
     if (glue_problem_check(pr) < 0 || glue_poll_init(&poll, cancel) < 0) return NULL;

@@ -25,12 +25,27 @@ from .results import report_failure
 __all__ = ["simulate", "Trajectory", "simulation_options"]
 
 _FORMAT = "tendonrod.Trajectory 1"
-_ARRAYS = ("t", "tip_position", "tip_rotation", "tension", "slack", "energy", "residual",
-           "iterations", "time_error")
+_ARRAYS = (
+    "t",
+    "tip_position",
+    "tip_rotation",
+    "tension",
+    "slack",
+    "energy",
+    "residual",
+    "iterations",
+    "time_error",
+)
 # the keys of ``options``: RK4 steps over the rod, BDF-alpha, Newton iterations per step
 # before a fresh Jacobian, air drag, record the backbone, estimate the time error
-_DEFAULTS = {"steps": 40, "alpha": -0.5, "max_iter": 8, "drag": 0.0, "backbone": False,
-             "estimate": False}
+_DEFAULTS = {
+    "steps": 40,
+    "alpha": -0.5,
+    "max_iter": 8,
+    "drag": 0.0,
+    "backbone": False,
+    "estimate": False,
+}
 
 
 @dataclass(frozen=True, eq=False)
@@ -90,8 +105,9 @@ class Trajectory:
         if self.backbone is not None:
             arrays["backbone"], arrays["s"] = self.backbone, self.s
         meta = np.array([self.success, self.status, self.nit, self.nfev], dtype=np.int64)
-        np.savez(path, format=np.array(_FORMAT), meta=meta, message=np.array(self.message),
-                 **arrays)
+        np.savez(
+            path, format=np.array(_FORMAT), meta=meta, message=np.array(self.message), **arrays
+        )
 
     @classmethod
     def load(cls, path) -> Trajectory:
@@ -101,12 +117,20 @@ class Trajectory:
                 raise ValueError(f"Trajectory.load: {path!r} is not a file written by save")
             kw = {k: (f[k] if k in f else None) for k in (*_ARRAYS, "backbone", "s")}
             meta = f["meta"]
-            return cls(**kw, success=bool(meta[0]), status=int(meta[1]),
-                       message=str(f["message"]), nit=int(meta[2]), nfev=int(meta[3]))
+            return cls(
+                **kw,
+                success=bool(meta[0]),
+                status=int(meta[1]),
+                message=str(f["message"]),
+                nit=int(meta[2]),
+                nfev=int(meta[3]),
+            )
 
     def __repr__(self) -> str:
-        return (f"Trajectory(n={len(self.t)}, t_end={self.t[-1]:.6g} s, success={self.success}, "
-                f"message={self.message!r})")
+        return (
+            f"Trajectory(n={len(self.t)}, t_end={self.t[-1]:.6g} s, success={self.success}, "
+            f"message={self.message!r})"
+        )
 
 
 def _options(options) -> dict:
@@ -114,8 +138,9 @@ def _options(options) -> dict:
     if options is None:
         return opt
     if not isinstance(options, dict):
-        raise TypeError(f"simulate: options must be a dict with keys {sorted(_DEFAULTS)}, "
-                        f"got {options!r}")
+        raise TypeError(
+            f"simulate: options must be a dict with keys {sorted(_DEFAULTS)}, got {options!r}"
+        )
     for k, v in options.items():
         if k not in _DEFAULTS:
             raise ValueError(f"simulate: options has no key {k!r} (keys: {sorted(_DEFAULTS)})")
@@ -125,8 +150,9 @@ def _options(options) -> dict:
         raise ValueError(f"simulate: options['steps'] must be an int in [2, 100000], got {st!r}")
     if not (isinstance(a, (int, float)) and -0.5 <= a <= 0.0):
         raise ValueError(f"simulate: options['alpha'] must be in [-0.5, 0], got {a!r}")
-    if not (isinstance(opt["drag"], (int, float)) and opt["drag"] >= 0 and
-            math.isfinite(opt["drag"])):
+    if not (
+        isinstance(opt["drag"], (int, float)) and opt["drag"] >= 0 and math.isfinite(opt["drag"])
+    ):
         raise ValueError(f"simulate: options['drag'] must be finite and >= 0, got {opt['drag']!r}")
     mi = opt["max_iter"]
     if isinstance(mi, bool) or not isinstance(mi, (int, np.integer)) or not 1 <= mi <= 100:
@@ -138,8 +164,9 @@ def _statics_options(steps: int):
     """The static solve's options on the dynamics' grid: spatial, fixed RK4, one segment."""
     from .options import Options
 
-    return Options(integrator="rk4", steps=steps, force_spatial=True, shooting_segments=1,
-                   auto_shooting=False)
+    return Options(
+        integrator="rk4", steps=steps, force_spatial=True, shooting_segments=1, auto_shooting=False
+    )
 
 
 def _values(scene, actuation, times) -> np.ndarray:
@@ -148,14 +175,17 @@ def _values(scene, actuation, times) -> np.ndarray:
     if actuation is None:
         return np.tile(np.asarray(held, dtype=float).reshape(1, nt), (len(times), 1))
     if not callable(actuation):
-        raise TypeError(f"simulate: actuation must be a callable actuation(t) or None, "
-                        f"got {actuation!r}")
+        raise TypeError(
+            f"simulate: actuation must be a callable actuation(t) or None, got {actuation!r}"
+        )
     out = np.empty((len(times), nt))
     for i, t in enumerate(times):
         v = np.asarray(actuation(float(t)), dtype=float).reshape(-1)
         if v.shape != (nt,) or not np.all(np.isfinite(v)):
-            raise ValueError(f"simulate: actuation({t!r}) must give {nt} finite values "
-                             f"(displacement [m] or tension [N] per tendon), got {v!r}")
+            raise ValueError(
+                f"simulate: actuation({t!r}) must give {nt} finite values "
+                f"(displacement [m] or tension [N] per tendon), got {v!r}"
+            )
         out[i] = v
     return out
 
@@ -170,12 +200,17 @@ def _loads(scene, loads, times):
     for t in times:
         got = list(loads(float(t)))
         ok = len(got) == len(base) and all(
-            isinstance(g, PointLoad) and g.s == b.s for g, b in zip(got, base))
+            isinstance(g, PointLoad) and g.s == b.s for g, b in zip(got, base)
+        )
         if not ok:
-            raise ValueError(f"simulate: loads({t!r}) must be {len(base)} PointLoads at the "
-                             f"scene's positions {[b.s for b in base]}, got {got!r}")
-        sc = replace(scene, loads=tuple(got) + tuple(ld for ld in scene.loads
-                                                     if not isinstance(ld, PointLoad)))
+            raise ValueError(
+                f"simulate: loads({t!r}) must be {len(base)} PointLoads at the "
+                f"scene's positions {[b.s for b in base]}, got {got!r}"
+            )
+        sc = replace(
+            scene,
+            loads=tuple(got) + tuple(ld for ld in scene.loads if not isinstance(ld, PointLoad)),
+        )
         rows.append(pack_scene(sc)[2][:, 1:7])
     return np.array(rows, dtype=float)
 
@@ -187,15 +222,25 @@ def _run(scene, sol, duration, dt, actuation, loads, opt, cancel=None) -> dict:
     d = rod.diameter
     rI = rod.density * math.pi * d**4 / 64.0
     return _core.simulate(
-        _compile(scene, sol.options), sol.unknowns, _values(scene, actuation, times),
-        _loads(scene, loads, times), dt, alpha=float(opt["alpha"]), rho_a=rod.mass_per_length,
-        rho_j=np.array([rI, rI, 2.0 * rI]), eta=float(rod.damping or 0.0),
-        drag=float(opt["drag"]), max_iter=int(opt["max_iter"]), backbone=bool(opt["backbone"]),
-        cancel=cancel)
+        _compile(scene, sol.options),
+        sol.unknowns,
+        _values(scene, actuation, times),
+        _loads(scene, loads, times),
+        dt,
+        alpha=float(opt["alpha"]),
+        rho_a=rod.mass_per_length,
+        rho_j=np.array([rI, rI, 2.0 * rI]),
+        eta=float(rod.damping or 0.0),
+        drag=float(opt["drag"]),
+        max_iter=int(opt["max_iter"]),
+        backbone=bool(opt["backbone"]),
+        cancel=cancel,
+    )
 
 
-def simulate(scene, duration, dt, *, actuation=None, loads=None, initial=None, options=None,
-             strict=False) -> Trajectory:
+def simulate(
+    scene, duration, dt, *, actuation=None, loads=None, initial=None, options=None, strict=False
+) -> Trajectory:
     """The robot's motion over ``duration`` [s] in implicit steps of ``dt`` [s].
 
     Parameters
@@ -256,16 +301,22 @@ def simulate(scene, duration, dt, *, actuation=None, loads=None, initial=None, o
     opt = _options(options)
     rod = scene.robot.rod
     if rod.kirchhoff:
-        raise ValueError("simulate: Kirchhoff rods are not supported by the dynamics yet "
-                         "(give a Cosserat rod: Rod(..., kirchhoff=False))")
+        raise ValueError(
+            "simulate: Kirchhoff rods are not supported by the dynamics yet "
+            "(give a Cosserat rod: Rod(..., kirchhoff=False))"
+        )
     if rod.density is None or rod.diameter is None or not rod.mass_per_length > 0:
-        raise ValueError(f"simulate: the rod needs a mass: Rod(density=..., diameter=...) "
-                         f"(density={rod.density!r}, diameter={rod.diameter!r})")
+        raise ValueError(
+            f"simulate: the rod needs a mass: Rod(density=..., diameter=...) "
+            f"(density={rod.density!r}, diameter={rod.diameter!r})"
+        )
     if any(t.friction > 0.0 for t in scene.robot.tendons):
         raise ValueError("simulate: channel friction is not supported by the dynamics")
     if any(isinstance(ld, PointMass) for ld in scene.loads):
-        raise ValueError("simulate: point masses (PointMass) are not supported by the "
-                         "dynamics yet: spread their mass into Rod(density=...)")
+        raise ValueError(
+            "simulate: point masses (PointMass) are not supported by the "
+            "dynamics yet: spread their mass into Rod(density=...)"
+        )
     stat = _statics_options(int(opt["steps"]))
     if initial is None:
         initial = solve(scene, options=stat, strict=strict)
@@ -278,8 +329,15 @@ def simulate(scene, duration, dt, *, actuation=None, loads=None, initial=None, o
     raw = _run(scene, initial, duration, dt, actuation, loads, opt)
     err = None
     if opt["estimate"] and raw["status"] == 0:
-        half = _run(scene, initial, duration, dt / 2, actuation if actuation is None else
-                    actuation, loads, opt)
+        half = _run(
+            scene,
+            initial,
+            duration,
+            dt / 2,
+            actuation if actuation is None else actuation,
+            loads,
+            opt,
+        )
         if half["status"] == 0:
             err = 4.0 / 3.0 * np.linalg.norm(raw["tip"][:, :3] - half["tip"][::2, :3], axis=1)
     pose = base_pose(scene.robot)
@@ -292,12 +350,23 @@ def simulate(scene, duration, dt, *, actuation=None, loads=None, initial=None, o
         s = np.append(np.linspace(0.0, rod.length, nb)[:-1], rod.length)
         bb = points_out(pose, bb)
     res = Trajectory(
-        t=dt * np.arange(k), tip_position=points_out(pose, tip[:, :3]),
+        t=dt * np.arange(k),
+        tip_position=points_out(pose, tip[:, :3]),
         tip_rotation=rotations_out(pose, tip[:, 3:].reshape(-1, 3, 3)),
-        tension=raw["tension"], slack=raw["slack"], energy=raw["energy"],
-        residual=raw["residual"], iterations=raw["iters"].astype(np.int64), time_error=err,
-        backbone=bb, s=s, success=raw["status"] == 0, status=int(raw["status"]),
-        message=raw["message"], nit=int(raw["nit"]), nfev=int(raw["nfev"]))
+        tension=raw["tension"],
+        slack=raw["slack"],
+        energy=raw["energy"],
+        residual=raw["residual"],
+        iterations=raw["iters"].astype(np.int64),
+        time_error=err,
+        backbone=bb,
+        s=s,
+        success=raw["status"] == 0,
+        status=int(raw["status"]),
+        message=raw["message"],
+        nit=int(raw["nit"]),
+        nfev=int(raw["nfev"]),
+    )
     if not res.success:
         report_failure(res, strict, f"simulate: {res.message}")
     return res

@@ -113,8 +113,7 @@ def test_slow_ramp_is_quasi_static():
     def act(t):
         return [tau1 * t]
 
-    tj = simulate(tr.Scene(robot, tension=[0.0]), 1.0, 0.01, actuation=act,
-                  options={"alpha": 0.0})
+    tj = simulate(tr.Scene(robot, tension=[0.0]), 1.0, 0.01, actuation=act, options={"alpha": 0.0})
     assert tj.success, tj.message
     travel = np.linalg.norm(tj.tip_position[-1] - tj.tip_position[0])
     for i in (50, 100):
