@@ -155,8 +155,56 @@ static void output(const tr_model *m, tr_data *d, const tr_dyn_spec *sp, tr_dyn_
     }
 }
 
+/* Newton with backtracking from xp and a fresh difference Jacobian at every iterate: the
+ * fallback of a step the lean solve does not converge (a kink of the actuation, a tendon
+ * going slack).  The last evaluation is at the converged unknowns (d->x). */
+static int damped_newton(const tr_model *m, tr_data *d, const tr_dyn_spec *sp, bufs *b,
+                         tr_dyn_out *o)
+{
+    const int k = d->k;
+    double fn;
+    int it, i, st;
+    memcpy(d->x, b->xp, (size_t)k * sizeof(double));
+    tr_poll_start(d);
+    if ((st = tr_residual(m, d, d->x, d->f)) != TR_OK) return st;
+    o->nfev++;
+    fn = tru_maxnorm(d->f, k);
+    for (it = 0; !(fn <= tr_tol(d)); it++) {
+        double lam = 1.0;
+        if (it >= 4 * sp->max_iter) return TR_EMAXITER;
+        for (i = 0; i < k; i++)
+            if ((st = tr_fd_column(m, d, d->x, d->f, i, d->J + i, (size_t)k, 0)) != TR_OK)
+                return st;
+        o->nfev += k;
+        o->njev++;
+        if (tr_lu_factor(d) != 0 || tr_lu_solve(d, d->f, d->dx) != 0)
+            return d->stop ? d->stop : TR_ESINGULAR;
+        for (;;) {
+            double fnt = INFINITY;
+            for (i = 0; i < k; i++) d->xt[i] = d->x[i] - lam * d->dx[i];
+            st = tr_residual(m, d, d->xt, d->ft);
+            o->nfev++;
+            if (d->stop) return d->stop;
+            if (st == TR_OK) fnt = tru_maxnorm(d->ft, k);
+            if (fnt < (1.0 - 1e-4 * lam) * fn) {
+                memcpy(d->x, d->xt, (size_t)k * sizeof(double));
+                memcpy(d->f, d->ft, (size_t)k * sizeof(double));
+                fn = fnt;
+                break;
+            }
+            lam *= 0.5;
+            if (lam < TR_DYN_MIN_LAMBDA) return TR_ENOPROGRESS;
+        }
+        o->nit++;
+    }
+    d->residual_norm = fn;
+    d->nit = it;
+    memcpy(b->J, d->J, (size_t)k * k * sizeof(double));
+    return TR_OK;
+}
+
 /* One step's Newton solve from the predictor xp: the carried Jacobian first, a fresh one
- * (at the last solution) when that fails. */
+ * when that fails, then Newton with backtracking. */
 static int step_solve(const tr_model *m, tr_data *d, const tr_dyn_spec *sp, bufs *b, int *fresh,
                       tr_dyn_out *o)
 {
@@ -182,6 +230,8 @@ static int step_solve(const tr_model *m, tr_data *d, const tr_dyn_spec *sp, bufs
         if (st == TR_EBUDGET || st == TR_EINTERRUPTED) return st;
         *fresh = 0;
     }
+    st = damped_newton(m, d, sp, b, o);
+    *fresh = st == TR_OK;
     return st;
 }
 

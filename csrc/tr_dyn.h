@@ -12,6 +12,11 @@
 
 #include "tendonrod.h"
 
+/* The smallest step fraction of a time step's backtracking Newton fallback: 2^-10, where
+ * the residual's decrease is below round-off for a Jacobian that is not a descent
+ * direction. */
+#define TR_DYN_MIN_LAMBDA (1.0 / 1024.0)
+
 /* What a run integrates: nsteps steps of dt from the solution x0 (scaled unknowns). */
 typedef struct tr_dyn_spec {
     int nsteps;           /* steps of the run (>= 1) */
