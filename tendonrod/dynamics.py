@@ -40,7 +40,7 @@ _ARRAYS = (
 # before a fresh Jacobian, air drag, record the backbone, estimate the time error
 _DEFAULTS = {
     "steps": 40,
-    "alpha": -0.5,
+    "alpha": 0.0,
     "max_iter": 8,
     "drag": 0.0,
     "backbone": False,
@@ -262,8 +262,9 @@ def simulate(
         It must be a solution on the dynamics' grid (spatial, ``integrator="rk4"``,
         ``steps=options["steps"]``), else it is solved again there from its unknowns.
     options : dict, optional
-        ``steps`` (40): RK4 steps over the rod; ``alpha`` (-0.5): BDF-alpha, -0.5 the
-        trapezoidal rule (no numerical damping), 0 BDF2; ``max_iter`` (8); ``drag`` (0):
+        ``steps`` (40): RK4 steps over the rod; ``alpha`` (0): BDF-alpha, 0 BDF2 (as Till et al.:
+        damps the fast axial and shear modes a kink of the actuation excites), -0.5 the
+        trapezoidal rule (no numerical damping: the energy of an undamped smooth motion); ``max_iter`` (8); ``drag`` (0):
         air drag per body-frame velocity component [N s^2/m^3]; ``backbone`` (False);
         ``estimate`` (False): a second run at dt/2 for the time error.
     strict : bool
@@ -299,6 +300,7 @@ def simulate(
     if not 1 <= round(duration / dt) <= 10_000_000:
         raise ValueError(f"simulate: duration / dt = {duration / dt!r} steps out of [1, 1e7]")
     opt = _options(options)
+    duration = round(duration / dt) * dt  # whole steps (the dt/2 run: twice as many)
     rod = scene.robot.rod
     if rod.kirchhoff:
         raise ValueError(
