@@ -79,6 +79,15 @@ class Trajectory:
     success, status, message, nit, nfev
         As every result; a failed step leaves ``success=False``, the message naming its
         time and why, and the trajectory up to the last good step.
+
+    Examples
+    --------
+    A rod at rest stays at rest: ten steps, nothing moves, no energy changes.
+
+    >>> rod = tr.Rod(0.2, 2e-3, 207e9, 79.6e9, density=7800.0)
+    >>> traj = tr.simulate(tr.Scene(tr.Robot(rod, [])), 1e-3, 1e-4)
+    >>> traj.t.shape, traj.energy.shape, float(np.abs(traj.tip_position[:, :2]).max())
+    ((11,), (11, 4), 0.0)
     """
 
     t: NDArray[np.float64]
@@ -376,5 +385,12 @@ def simulate(
 
 def simulation_options(steps: int = _DEFAULTS["steps"]):
     """The static solve's :class:`~tendonrod.Options` on the grid of :func:`simulate`
-    (``steps`` RK4 steps, spatial, one shooting segment): solve a start state with them."""
+    (``steps`` RK4 steps, spatial, one shooting segment): solve a start state with them.
+
+    Examples
+    --------
+    >>> opts = tr.simulation_options(40)
+    >>> opts.integrator, opts.steps, opts.force_spatial
+    ('rk4', 40, True)
+    """
     return _statics_options(steps)
