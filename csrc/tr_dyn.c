@@ -300,9 +300,10 @@ int tr_dyn_run(const tr_model *m, tr_data *d, const double *x0, const tr_dyn_spe
         st = step_solve(m, d, sp, &b, &fresh, o);
         if (st != TR_OK) {
             snprintf(o->message, sizeof o->message,
-                     "dynamics: step %d (t = %g s) failed: %s (%.100s); the trajectory up to "
-                     "t = %g s is kept",
-                     i, i * dt, tr_strerror(st), d->message, (i - 1) * dt);
+                     "dynamics: step %d (t = %g s) failed: %s%s%.100s%s; the trajectory up to "
+                     "t = %g s is kept (a shorter dt, or a smoother actuation, may pass)",
+                     i, i * dt, tr_strerror(st), d->message[0] ? " (" : "", d->message,
+                     d->message[0] ? ")" : "", (i - 1) * dt);
             goto done;
         }
         /* the last evaluation was at the solution: its stage values are the step's */

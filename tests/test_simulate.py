@@ -150,3 +150,14 @@ def test_time_error_estimate(f1):
     ref = simulate(FREE, 63 * dt, dt / 8, initial=start)
     err = np.linalg.norm(tj.tip_position - ref.tip_position[::8], axis=1)
     assert tj.time_error is not None and 0.5 < tj.time_error.max() / err.max() < 2.0
+
+
+def test_failed_step_is_reported():
+    """A retraction of a quarter of L in one step has no converging Newton step: the run
+    stops there, says when and why, and keeps the trajectory before it."""
+    robot = tr.Robot(ROD, [tr.Tendon(offset=0.004, angle=0.0, EA=2e4)])
+    scene = tr.Scene(robot, displacement=[0.0])
+    with pytest.warns(tr.ConvergenceWarning, match=r"step 5 \(t = 0.005 s\) failed"):
+        tj = simulate(scene, 0.01, 1e-3, actuation=lambda t: [0.0 if t < 0.005 else 0.05])
+    assert not tj.success and tj.status < 0
+    assert len(tj.t) == 5 and tj.t[-1] == pytest.approx(0.004)
