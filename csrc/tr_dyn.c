@@ -30,8 +30,15 @@ int tr_dyn_points(const tr_model *m, const tr_data *d)
     return n;
 }
 
-int tr_dyn_nodes(const tr_model *m, const tr_data *d)
+int tr_dyn_state_len(const tr_model *m, tr_data *d)
 {
+    tr_solve_reset(m, d, d->opt.steps); /* the run's grid */
+    return 3 * tr_dyn_points(m, d) * TR_DH_N + 2 * d->k + 3;
+}
+
+int tr_dyn_nodes(const tr_model *m, tr_data *d)
+{
+    tr_solve_reset(m, d, d->opt.steps); /* the run's grid */
     return tr_dyn_points(m, d) / 4 + 1;
 }
 
@@ -266,6 +273,26 @@ int tr_dyn_run(const tr_model *m, tr_data *d, const double *x0, const tr_dyn_spe
     ctx.npt = npt;
     weights(m, d, b.wt);
     d->dyn = &ctx;
+    if (sp->resume) { /* a previous run's last step: its history, unknowns, dissipation */
+        const double *r = sp->resume;
+        const size_t n = (size_t)npt * TR_DH_N;
+        if (!(fabs(r[3 * n + 2 * k + 2] - dt) <= 1e-12 * dt)) {
+            snprintf(o->message, sizeof o->message,
+                     "dynamics: the state to resume is of dt = %g s, not %g s",
+                     r[3 * n + 2 * k + 2], dt);
+            st = TR_EINVAL;
+            goto done;
+        }
+        memcpy(b.X1, r, n * sizeof(double));
+        memcpy(b.X2, r + n, n * sizeof(double));
+        memcpy(b.Xt, r + 2 * n, n * sizeof(double));
+        memcpy(b.x1, r + 3 * n, (size_t)k * sizeof(double));
+        memcpy(b.xm, r + 3 * n + k, (size_t)k * sizeof(double));
+        pd_prev = r[3 * n + 2 * k];
+        o->energy[3] = r[3 * n + 2 * k + 1];
+        memcpy(d->x, b.x1, (size_t)k * sizeof(double));
+        goto steps;
+    }
     /* the start: the static problem (c0 = 0, no history) at x0, at rest */
     st = set_row(m, d, sp, 0);
     if (st == TR_OK) {
@@ -285,6 +312,7 @@ int tr_dyn_run(const tr_model *m, tr_data *d, const double *x0, const tr_dyn_spe
     memcpy(b.X2, b.X0, (size_t)npt * TR_DH_N * sizeof(double));
     memcpy(b.x1, x0, (size_t)k * sizeof(double));
     memcpy(b.xm, x0, (size_t)k * sizeof(double));
+steps:
     ctx.c0 = c0;
     for (i = 1; i <= sp->nsteps; i++) {
         const size_t n = (size_t)npt * TR_DH_N;
@@ -320,6 +348,18 @@ int tr_dyn_run(const tr_model *m, tr_data *d, const double *x0, const tr_dyn_spe
     snprintf(o->message, sizeof o->message, "%d steps of %g s converged", sp->nsteps, dt);
     st = TR_OK;
 done:
+    if (o->state && (o->done > 0 || sp->resume)) { /* the last good step, to resume from */
+        const size_t n = (size_t)npt * TR_DH_N;
+        double *r = o->state;
+        memcpy(r, b.X1, n * sizeof(double));
+        memcpy(r + n, b.X2, n * sizeof(double));
+        memcpy(r + 2 * n, b.Xt, n * sizeof(double));
+        memcpy(r + 3 * n, b.x1, (size_t)k * sizeof(double));
+        memcpy(r + 3 * n + k, b.xm, (size_t)k * sizeof(double));
+        r[3 * n + 2 * k] = pd_prev;
+        r[3 * n + 2 * k + 1] = o->energy[4 * (size_t)o->done + 3];
+        r[3 * n + 2 * k + 2] = dt;
+    }
     d->dyn = NULL;
     free(b.block);
     return st;

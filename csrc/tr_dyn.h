@@ -29,6 +29,9 @@ typedef struct tr_dyn_spec {
     const double *values; /* ((nsteps + 1) x nt) actuation per time: q [m] or tau [N] */
     const double *loads;  /* ((nsteps + 1) x nl x 6) point loads per time, world, or NULL */
     int max_iter;         /* Newton iterations per step before a fresh Jacobian (>= 1) */
+    const double *resume; /* (tr_dyn_state_len) a previous run's final state (out->state) to
+                             go on from, with the same model, grid and dt (x0 then unused),
+                             or NULL: start from the solution x0 at rest */
 } tr_dyn_spec;
 
 /* What it returns: rows 0 .. done of caller-allocated arrays of nsteps + 1 rows. */
@@ -41,13 +44,20 @@ typedef struct tr_dyn_out {
     double *residual; /* (rows) scaled residual max-norm of each step */
     int *iters;       /* (rows) Newton iterations of each step */
     double *backbone; /* (rows x nb x 3) positions at the RK4 grid's nodes, or NULL */
+    double *state;    /* (tr_dyn_state_len) the last good step's state (history, unknowns,
+                         dissipation), to resume from, or NULL */
     int done;         /* the last step completed (0: none) */
     int nit, nfev, njev;
     char message[256];
 } tr_dyn_out;
 
-/* Backbone nodes of a run's workspace (the RK4 grid's step starts and the tip). */
-int tr_dyn_nodes(const tr_model *m, const tr_data *d);
+/* The length of a run's state (tr_dyn_out.state, tr_dyn_spec.resume): the history at every
+ * stage point of the last two steps and its time derivative, the last two unknowns, the
+ * dissipated power and energy, dt.  Call after the workspace's steps are set (opt.steps). */
+int tr_dyn_state_len(const tr_model *m, tr_data *d);
+/* Backbone nodes of a run's workspace (the RK4 grid's step starts and the tip), at its
+ * options' step count. */
+int tr_dyn_nodes(const tr_model *m, tr_data *d);
 /* The run.  TR_OK; TR_EINVAL (spec out of range or a model the dynamics does not cover:
  * message says which); a failed step's status (out->done the last good one, message with
  * its time and why); TR_EBUDGET / TR_EINTERRUPTED. */

@@ -7,13 +7,15 @@
 
 const char glue_simulate_doc[] =
     "simulate(problem, unknowns, values, loads, dt, *, alpha=-0.5, rho_a, rho_j, eta=0.0,\n"
-    "         drag=0.0, max_iter=8, backbone=False, cancel=None) -> dict\n\n"
+    "         drag=0.0, max_iter=8, backbone=False, resume=None, cancel=None) -> dict\n\n"
     "nsteps = len(values) - 1 implicit steps of dt [s] from the solution `unknowns` of a\n"
     "_core.Problem compiled spatial, Cosserat, fixed RK4 steps, one shooting segment:\n"
     "values (nsteps + 1, nt) actuation per time; loads (nsteps + 1, nl, 6) or None; rho_a\n"
     "[kg/m]; rho_j (3,) [kg m]; eta [s]; drag [N s^2/m^4].  Returns status, message, done,\n"
     "nit, nfev, njev, tip (done + 1, 12), tension, slack (done + 1, nt), energy (done + 1, 4),\n"
-    "residual (done + 1,), iters (done + 1,), backbone (done + 1, nb, 3) or None.";
+    "residual (done + 1,), iters (done + 1,), backbone (done + 1, nb, 3) or None, state (the\n"
+    "last good step's, to resume from: resume=state continues a run with the same problem\n"
+    "and dt; row 0 is then the previous run's last, whose outputs the caller keeps).";
 
 static PyObject *rows(PyObject *a, int n)
 {
@@ -23,25 +25,26 @@ static PyObject *rows(PyObject *a, int n)
 
 PyObject *glue_simulate(PyObject *self, PyObject *args, PyObject *kwds)
 {
-    static char *kwlist[] = {"problem",  "unknowns", "values", "loads", "dt",
-                             "alpha",    "rho_a",    "rho_j",  "eta",   "drag",
-                             "max_iter", "backbone", "cancel", NULL};
-    PyObject *op, *ox, *ov, *ol, *orj = Py_None, *cancel = Py_None, *res = NULL;
-    PyArrayObject *x = NULL, *val = NULL, *ld = NULL, *rj = NULL;
+    static char *kwlist[] = {"problem",  "unknowns", "values", "loads",  "dt",
+                             "alpha",    "rho_a",    "rho_j",  "eta",    "drag",
+                             "max_iter", "backbone", "resume", "cancel", NULL};
+    PyObject *op, *ox, *ov, *ol, *orj = Py_None, *ors = Py_None, *cancel = Py_None, *res = NULL;
+    PyArrayObject *x = NULL, *val = NULL, *ld = NULL, *rj = NULL, *rsm = NULL;
     PyObject *tip = NULL, *ten = NULL, *sl = NULL, *en = NULL, *rs = NULL, *it = NULL, *bb = NULL;
+    PyObject *stt = NULL;
     ProblemObject *pr;
     tr_dyn_spec sp;
     tr_dyn_out o;
     glue_poll poll;
-    int status, backbone = 0, n;
+    int status, backbone = 0, n, nstate;
     (void)self;
     memset(&sp, 0, sizeof sp);
     memset(&o, 0, sizeof o);
     sp.alpha = -0.5;
     sp.max_iter = 8;
-    if (!PyArg_ParseTupleAndKeywords(args, kwds, "O!OOOd|$ddOddipO", kwlist, &glue_problem_type,
+    if (!PyArg_ParseTupleAndKeywords(args, kwds, "O!OOOd|$ddOddipOO", kwlist, &glue_problem_type,
                                      &op, &ox, &ov, &ol, &sp.dt, &sp.alpha, &sp.rhoA, &orj, &sp.eta,
-                                     &sp.drag, &sp.max_iter, &backbone, &cancel))
+                                     &sp.drag, &sp.max_iter, &backbone, &ors, &cancel))
         return NULL;
     pr = (ProblemObject *)op;
     if (glue_problem_check(pr) < 0 || glue_poll_init(&poll, cancel) < 0) return NULL;
@@ -70,6 +73,17 @@ PyObject *glue_simulate(PyObject *self, PyObject *args, PyObject *kwds)
         goto done;
     }
     memcpy(sp.rhoJ, PyArray_DATA(rj), 3 * sizeof(double));
+    nstate = tr_dyn_state_len(pr->m, pr->d);
+    if (ors != Py_None) {
+        if (!(rsm = glue_coerce(ors, "resume"))) goto done;
+        if (PyArray_SIZE(rsm) != nstate) {
+            PyErr_Format(PyExc_ValueError,
+                         "resume must be a state of this problem and grid (%d values), got %ld",
+                         nstate, (long)PyArray_SIZE(rsm));
+            goto done;
+        }
+        sp.resume = (const double *)PyArray_DATA(rsm);
+    }
     sp.nsteps = n;
     sp.values = (const double *)PyArray_DATA(val);
     sp.loads = ld ? (const double *)PyArray_DATA(ld) : NULL;
@@ -82,8 +96,11 @@ PyObject *glue_simulate(PyObject *self, PyObject *args, PyObject *kwds)
         en = PyArray_ZEROS(2, d4, NPY_DOUBLE, 0);
         rs = PyArray_ZEROS(1, d1, NPY_DOUBLE, 0);
         it = PyArray_ZEROS(1, d1, NPY_INT, 0);
+        npy_intp dst[1] = {nstate};
         bb = backbone ? PyArray_ZEROS(3, db, NPY_DOUBLE, 0) : (Py_INCREF(Py_None), Py_None);
-        if (!tip || !ten || !sl || !en || !rs || !it || !bb) goto done;
+        stt = PyArray_ZEROS(1, dst, NPY_DOUBLE, 0);
+        if (!tip || !ten || !sl || !en || !rs || !it || !bb || !stt) goto done;
+        o.state = (double *)PyArray_DATA((PyArrayObject *)stt);
         o.tip = (double *)PyArray_DATA((PyArrayObject *)tip);
         o.tension = (double *)PyArray_DATA((PyArrayObject *)ten);
         o.slack = (double *)PyArray_DATA((PyArrayObject *)sl);
@@ -118,7 +135,8 @@ PyObject *glue_simulate(PyObject *self, PyObject *args, PyObject *kwds)
         glue_set(res, "residual", rows(rs, o.done + 1)) < 0 ||
         glue_set(res, "iters", rows(it, o.done + 1)) < 0 ||
         glue_set(res, "backbone", backbone ? rows(bb, o.done + 1) : (Py_INCREF(Py_None), Py_None)) <
-            0)
+            0 ||
+        glue_set(res, "state", (Py_INCREF(stt), stt)) < 0)
         Py_CLEAR(res);
 done:
     Py_XDECREF(x);
@@ -132,5 +150,7 @@ done:
     Py_XDECREF(rs);
     Py_XDECREF(it);
     Py_XDECREF(bb);
+    Py_XDECREF(stt);
+    Py_XDECREF(rsm);
     return res;
 }

@@ -25,6 +25,8 @@ from .results import report_failure
 __all__ = ["simulate", "Trajectory", "simulation_options"]
 
 _FORMAT = "tendonrod.Trajectory 1"
+# the core's per-step outputs whose last row a resumed run starts from
+_ROW = ("tip", "tension", "slack", "energy", "residual", "iters")
 _ARRAYS = (
     "t",
     "tip_position",
@@ -76,6 +78,9 @@ class Trajectory:
         Centre-line positions at the grid's nodes [m] (``options={"backbone": True}``).
     s : ndarray (nb,) or None
         Their arc lengths [m].
+    final : dict or None
+        The last step's state (time history on the grid, unknowns): ``initial=`` of a
+        next :func:`simulate` goes on from it.  Not saved by :meth:`save`.
     success, status, message, nit, nfev
         As every result; a failed step leaves ``success=False``, the message naming its
         time and why, and the trajectory up to the last good step.
@@ -224,9 +229,9 @@ def _loads(scene, loads, times):
     return np.array(rows, dtype=float)
 
 
-def _run(scene, sol, duration, dt, actuation, loads, opt, cancel=None) -> dict:
+def _run(scene, sol, duration, dt, actuation, loads, opt, t0=0.0, resume=None) -> dict:
     n = int(round(duration / dt))
-    times = dt * np.arange(n + 1)
+    times = t0 + dt * np.arange(n + 1)
     rod = scene.robot.rod
     d = rod.diameter
     rI = rod.density * math.pi * d**4 / 64.0
@@ -243,8 +248,26 @@ def _run(scene, sol, duration, dt, actuation, loads, opt, cancel=None) -> dict:
         drag=float(opt["drag"]),
         max_iter=int(opt["max_iter"]),
         backbone=bool(opt["backbone"]),
-        cancel=cancel,
+        resume=resume,
     )
+
+
+def _resumed(initial, dt, opt):
+    """The previous run's final state (Trajectory.final) checked against this run."""
+    fin = initial.final
+    if fin is None or not initial.success:
+        raise ValueError(
+            "simulate: initial is a Trajectory without a final state to go on from "
+            f"(success={initial.success}, loaded from a file: the state is not saved)"
+        )
+    if abs(fin["dt"] - dt) > 1e-12 * dt or fin["steps"] != int(opt["steps"]):
+        raise ValueError(
+            f"simulate: a run goes on with its dt and grid: dt={fin['dt']!r} s and "
+            f"steps={fin['steps']!r}, got dt={dt!r}, steps={opt['steps']!r}"
+        )
+    if opt["estimate"]:
+        raise ValueError("simulate: options['estimate'] needs a start at rest, not a resumed run")
+    return fin
 
 
 def simulate(
@@ -266,10 +289,12 @@ def simulate(
     loads : callable or None
         ``loads(t)`` -> the scene's point loads at t (PointLoads at the same positions);
         None: the scene's.
-    initial : Solution or None
+    initial : Solution, Trajectory or None
         The static state the motion starts from, at rest (None: the scene's equilibrium).
         It must be a solution on the dynamics' grid (spatial, ``integrator="rk4"``,
         ``steps=options["steps"]``), else it is solved again there from its unknowns.
+        A :class:`Trajectory` (of a scene of the same structure, the same dt and
+        ``steps``): the motion goes on from its last step, its times continuing.
     options : dict, optional
         ``steps`` (40): RK4 steps over the rod; ``alpha`` (0): BDF-alpha, 0 BDF2 (as Till et al.:
         damps the fast axial and shear modes a kink of the actuation excites), -0.5 the
@@ -329,26 +354,38 @@ def simulate(
             "dynamics yet: spread their mass into Rod(density=...)"
         )
     stat = _statics_options(int(opt["steps"]))
-    if initial is None:
+    fin = None
+    if isinstance(initial, Trajectory):
+        fin = _resumed(initial, dt, opt)
+        initial = fin["solution"]
+    elif initial is None:
         initial = solve(scene, options=stat, strict=strict)
     elif not isinstance(initial, Solution):
-        raise TypeError(f"simulate: initial must be a Solution or None, got {initial!r}")
+        raise TypeError(
+            f"simulate: initial must be a Solution, a Trajectory or None, got {initial!r}"
+        )
     if initial.options != stat:
         initial = solve(initial.scene, initial, options=stat, strict=strict)
     if not initial.success or initial.unknowns is None:
         raise ValueError(f"simulate: the initial state is not an equilibrium: {initial.message}")
-    raw = _run(scene, initial, duration, dt, actuation, loads, opt)
+    t0 = 0.0 if fin is None else fin["t"]
+    raw = _run(
+        scene,
+        initial,
+        duration,
+        dt,
+        actuation,
+        loads,
+        opt,
+        t0,
+        None if fin is None else fin["state"],
+    )
+    if fin is not None:  # row 0: the previous run's last
+        for key in ("tip", "tension", "slack", "energy", "residual", "iters"):
+            raw[key][0] = fin["row"][key]
     err = None
     if opt["estimate"] and raw["status"] == 0:
-        half = _run(
-            scene,
-            initial,
-            duration,
-            dt / 2,
-            actuation if actuation is None else actuation,
-            loads,
-            opt,
-        )
+        half = _run(scene, initial, duration, dt / 2, actuation, loads, opt)
         if half["status"] == 0:
             err = 4.0 / 3.0 * np.linalg.norm(raw["tip"][:, :3] - half["tip"][::2, :3], axis=1)
     pose = base_pose(scene.robot)
@@ -361,7 +398,7 @@ def simulate(
         s = np.append(np.linspace(0.0, rod.length, nb)[:-1], rod.length)
         bb = points_out(pose, bb)
     res = Trajectory(
-        t=dt * np.arange(k),
+        t=t0 + dt * np.arange(k),
         tip_position=points_out(pose, tip[:, :3]),
         tip_rotation=rotations_out(pose, tip[:, 3:].reshape(-1, 3, 3)),
         tension=raw["tension"],
@@ -377,6 +414,16 @@ def simulate(
         message=raw["message"],
         nit=int(raw["nit"]),
         nfev=int(raw["nfev"]),
+        final=None
+        if raw["done"] == 0
+        else {
+            "state": raw["state"],
+            "dt": dt,
+            "steps": int(opt["steps"]),
+            "t": t0 + dt * (k - 1),
+            "solution": initial,
+            "row": {key: np.copy(raw[key][k - 1]) for key in _ROW},
+        },
     )
     if not res.success:
         report_failure(res, strict, f"simulate: {res.message}")
