@@ -208,3 +208,26 @@ def test_resume_and_backbone():
     assert np.array_equal(full.backbone[:, -1], full.tip_position)
     with pytest.raises(ValueError, match="dt"):
         simulate(scene, 0.02, 1e-4, actuation=act, initial=first)
+
+
+def test_cancel_stops_the_run():
+    """The core polls its caller during a run (tr_poll): a cancelled token stops it, as for
+    the statics (KeyboardInterrupt from the glue)."""
+    from tendonrod import _core
+    from tendonrod.compiled import _compile
+
+    sol = tr.solve(FREE, options=simulation_options())
+    rI = 7800.0 * math.pi * 2e-3**4 / 64.0
+    token = _core.Cancel()
+    token.set()
+    with pytest.raises(KeyboardInterrupt):
+        _core.simulate(
+            _compile(FREE, sol.options),
+            sol.unknowns,
+            np.zeros((1001, 0)),
+            None,
+            1e-4,
+            rho_a=ROD.mass_per_length,
+            rho_j=np.array([rI, rI, 2 * rI]),
+            cancel=token,
+        )
