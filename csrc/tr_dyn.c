@@ -172,7 +172,6 @@ static int damped_newton(const tr_model *m, tr_data *d, const tr_dyn_spec *sp, b
     double fn;
     int it, i, st;
     memcpy(d->x, b->xp, (size_t)k * sizeof(double));
-    tr_poll_start(d);
     if ((st = tr_residual(m, d, d->x, d->f)) != TR_OK) return st;
     o->nfev++;
     fn = tru_maxnorm(d->f, k);
@@ -210,35 +209,52 @@ static int damped_newton(const tr_model *m, tr_data *d, const tr_dyn_spec *sp, b
     return TR_OK;
 }
 
-/* One step's Newton solve from the predictor xp: the carried Jacobian first, a fresh one
- * when that fails, then Newton with backtracking. */
-static int step_solve(const tr_model *m, tr_data *d, const tr_dyn_spec *sp, bufs *b, int *fresh,
+/* A step's work budget: the options' max_work per step. */
+static void step_budget(tr_data *d)
+{
+    d->spent = 0.0;
+}
+
+/* The caller's poll hook between steps, about every TR_POLL_INTERVAL of the run: a lean
+ * solve restarts the poll's clock (tr_solve_reset), so steps shorter than the interval
+ * would never reach the hook inside a solve.  1: stop (d->stop set). */
+static int step_poll(tr_data *d, double *t_poll)
+{
+    const double now = d->poll ? tr_clock() : 0.0;
+    if (!d->poll || now - *t_poll < TR_POLL_INTERVAL) return 0;
+    *t_poll = now;
+    if (!d->poll(d->poll_ctx)) return 0;
+    d->stop = TR_EINTERRUPTED;
+    return 1;
+}
+
+/* One step's Newton solve from the predictor xp: the Jacobian carried from the step before
+ * (Broyden-updated there) first, a fresh difference one at xp when that fails (or there is
+ * none), then Newton with backtracking. */
+static int step_solve(const tr_model *m, tr_data *d, const tr_dyn_spec *sp, bufs *b, int *have_J,
                       tr_dyn_out *o)
 {
-    int st, tries;
-    for (tries = 0; tries < 2; tries++) {
-        if (!*fresh) {
-            tr_poll_start(d);
-            if ((st = fd_jacobian(m, d, tries ? b->x1 : b->xp, b->f0, b->J)) != TR_OK) return st;
+    int st = TR_ENOPROGRESS, tries;
+    for (tries = *have_J ? 0 : 1; tries < 2; tries++) {
+        step_budget(d);
+        if (tries == 1) {
+            if ((st = fd_jacobian(m, d, b->xp, b->f0, b->J)) != TR_OK) return st;
             o->nfev += d->k + 1;
             o->njev++;
-            *fresh = 1;
-            tries = 1;
         }
-        tr_poll_start(d);
         st = tr_solve_lean(m, d, b->xp, b->J, sp->max_iter);
         o->nit += d->nit;
         o->nfev += d->nfev;
         if (st == TR_OK) {
             memcpy(b->J, d->J, (size_t)d->k * d->k * sizeof(double)); /* Broyden-updated */
-            *fresh = 0;
+            *have_J = 1;
             return TR_OK;
         }
         if (st == TR_EBUDGET || st == TR_EINTERRUPTED) return st;
-        *fresh = 0;
     }
+    step_budget(d);
     st = damped_newton(m, d, sp, b, o);
-    *fresh = st == TR_OK;
+    *have_J = st == TR_OK;
     return st;
 }
 
@@ -251,7 +267,8 @@ int tr_dyn_run(const tr_model *m, tr_data *d, const double *x0, const tr_dyn_spe
     const double c2 = (0.5 + a) / (dt * (1.0 + a)), d1 = a / (1.0 + a);
     tr_dyn_ctx ctx;
     bufs b;
-    int npt, i, st, fresh = 0;
+    int npt, i, st, have_J = 0;
+    double t_poll = tr_clock();
     double pd_prev = 0.0;
     o->done = 0;
     o->nit = o->nfev = o->njev = 0;
@@ -273,6 +290,7 @@ int tr_dyn_run(const tr_model *m, tr_data *d, const double *x0, const tr_dyn_spe
     ctx.npt = npt;
     weights(m, d, b.wt);
     d->dyn = &ctx;
+    tr_poll_start(d); /* the run's clock and its caller's hook; the work budget per step */
     if (sp->resume) { /* a previous run's last step: its history, unknowns, dissipation */
         const double *r = sp->resume;
         const size_t n = (size_t)npt * TR_DH_N;
@@ -295,10 +313,7 @@ int tr_dyn_run(const tr_model *m, tr_data *d, const double *x0, const tr_dyn_spe
     }
     /* the start: the static problem (c0 = 0, no history) at x0, at rest */
     st = set_row(m, d, sp, 0);
-    if (st == TR_OK) {
-        tr_poll_start(d);
-        st = tr_residual(m, d, x0, b.f0);
-    }
+    if (st == TR_OK) st = tr_residual(m, d, x0, b.f0);
     if (st != TR_OK) {
         snprintf(o->message, sizeof o->message,
                  "dynamics: the initial state does not evaluate (%s)", tr_strerror(st));
@@ -325,7 +340,7 @@ steps:
         }
         for (j = 0; j < n; j++) b.H[j] = c1 * b.X1[j] + c2 * b.X2[j] + d1 * b.Xt[j];
         for (j = 0; j < (size_t)k; j++) b.xp[j] = 2.0 * b.x1[j] - b.xm[j];
-        st = step_solve(m, d, sp, &b, &fresh, o);
+        st = step_poll(d, &t_poll) ? TR_EINTERRUPTED : step_solve(m, d, sp, &b, &have_J, o);
         if (st != TR_OK) {
             snprintf(o->message, sizeof o->message,
                      "dynamics: step %d (t = %g s) failed: %s%s%.100s%s; the trajectory up to "
