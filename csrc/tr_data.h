@@ -207,6 +207,9 @@ struct tr_data {
     int polish_once; /* 1: a converged solve takes one more Newton step whatever its size
                         (kept unless it raises the residual), so that a change of the values
                         too small to lift the residual above tol still moves the state */
+    /* dynamics (tr_dyn.c): a time step's context, read by the spatial right-hand side
+     * (inertia, damping, the history at each stage point); NULL for every static solve */
+    struct tr_dyn_ctx *dyn;
 };
 
 #endif /* TR_DATA_H */

@@ -720,4 +720,50 @@ int tr_verify_fixed(const tr_model *m, tr_data *d, int status);
 /* Full Newton steps from a converged point while the step is still large. */
 void tr_polish(const tr_model *m, tr_data *d);
 
+/* ------------------------------------------------------------ dynamics (tr_dyn.c) */
+/* A time step of the dynamics is a boundary-value problem in s on a fixed grid: the
+ * spatial right-hand side (tr_rod.c) reads this context from d->dyn.  Every time
+ * derivative is discretised as y_t = c0 y + y_h (BDF-alpha), with the history y_h of
+ * each quantity kept per stage point of the fixed-step RK4 grid (the k-th right-hand-side
+ * evaluation of a residual evaluation is the k-th point).  Per point, TR_DH_N numbers:
+ * p (3) world, R (9) row-major, q (3) body-frame velocity, w (3) angular velocity,
+ * v (3), u (3) strains, v_s (3), u_s (3) their s-derivatives, then the densities of the
+ * kinetic and elastic energy [J/m] and of the dissipated power [W/m]. */
+enum {
+    TR_DH_P = 0,
+    TR_DH_R = 3,
+    TR_DH_Q = 12,
+    TR_DH_W = 15,
+    TR_DH_V = 18,
+    TR_DH_U = 21,
+    TR_DH_VS = 24,
+    TR_DH_US = 27,
+    TR_DH_NHIST = 30, /* the entries with a time history */
+    TR_DH_EK = 30,
+    TR_DH_EE = 31,
+    TR_DH_PD = 32,
+    TR_DH_N = 33
+};
+typedef struct tr_dyn_ctx {
+    double c0;          /* y_t = c0 y + y_h [1/s]; 0 with hist all zero: the static problem */
+    double eta;         /* Kelvin-Voigt retardation time [s]: n = K_se (v - v* + eta v_t) */
+    double rhoA;        /* mass per length [kg/m] */
+    double rhoJ[3];     /* rotary inertia per length about the body axes [kg m] */
+    double drag;        /* air drag: body-frame force per length -drag q_i |q_i| [N s^2/m^3] */
+    const double *hist; /* (npt x TR_DH_N) y_h at each stage point (first TR_DH_NHIST) */
+    double *cur;        /* (npt x TR_DH_N) the current evaluation's values */
+    int npt;            /* stage points of one residual evaluation */
+    int k;              /* the next stage point */
+} tr_dyn_ctx;
+/* Stage points of one residual evaluation of a fixed-step RK4 model (4 per step). */
+int tr_dyn_points(const tr_model *m, const tr_data *d);
+
+/* tr_dyn_rhs.c: the spatial right-hand side's hooks (see there) */
+int tr_dyn_strains(const tr_model *m, const tr_data *d, double s, const double *y, const double *sg,
+                   const double *us, int pc, double du[3], double u[3], double v[3], double *ev3);
+void tr_dyn_loads(const tr_data *d, const double *y, const double sg[], int coupled, double rhs[6],
+                  double sc, const double sr[3], double sr2, const double RR0[9],
+                  const double TQ[9], const double QQ[9], const double TT[9]);
+void tr_dyn_store(const tr_data *d, const double *dy, const double sg[]);
+
 #endif

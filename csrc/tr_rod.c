@@ -268,17 +268,17 @@ static int friction_spatial(const sys6 *q, double *fw, int nfw, double L, const 
  * assembled once.  One function, longer than the house's 120 lines: it is the hot
  * kernel (78 % of a spatial solve's instructions), and its stages share a dozen
  * accumulators that a split would pass through memory. */
-static int rhs_spatial(const tr_model *m, const tr_data *d, double s, const double *y, double *dy,
-                       const int gen)
+TR_HOT_INLINE int rhs_spatial_body(const tr_model *m, const tr_data *d, double s, const double *y,
+                                   double *dy, const int gen, const int dyn)
 {
     const double *R = y + TR_Y_R, *nb = y + TR_Y_N, *mb = y + TR_Y_M;
     const double *sg = gen ? m->seg_rod + TR_SR_NCOL * d->seg : m->rod_k, *us = sg + TR_SR_U;
     const double EI = sg[TR_SR_EI], GJ = sg[TR_SR_GJ];
     const int kirch = m->kirchhoff, pc = gen && m->precurved;
     /* u - u* = K_bt^-1 m_b */
-    const double du[3] = {mb[0] / EI, mb[1] / EI, mb[2] / GJ};
-    const double u[3] = {pc ? du[0] + us[0] : du[0], pc ? du[1] + us[1] : du[1],
-                         pc ? du[2] + us[2] : du[2]};
+    double du[3] = {mb[0] / EI, mb[1] / EI, mb[2] / GJ};
+    double u[3] = {pc ? du[0] + us[0] : du[0], pc ? du[1] + us[1] : du[1],
+                   pc ? du[2] + us[2] : du[2]};
     double v[3] = {0.0, 0.0, 1.0};
     double sc = 0.0, sr2 = 0.0, sr[3] = {0, 0, 0};
     double TT[9] = {0}, TQ[9] = {0}, RR[9] = {0}, QQ[9] = {0};
@@ -299,6 +299,7 @@ static int rhs_spatial(const tr_model *m, const tr_data *d, double s, const doub
         ev3 = nb[2] / sg[TR_SR_EA];
         v[2] = 1.0 + ev3;
     }
+    if (dyn && tr_dyn_strains(m, d, s, y, sg, us, pc, du, u, v, &ev3) != 0) return GSL_EBADFUNC;
     for (j = 0; j < nlen; j++) dy[TR_Y_LEN + j] = 0.0;
     if (TR_UNLIKELY(nf)) fric_reset(d, nf, dy + TR_Y_LEN + nlen);
 
@@ -432,6 +433,7 @@ static int rhs_spatial(const tr_model *m, const tr_data *d, double s, const doub
     rhs[3] = -tmp[0] - tmp2[0] - bsum[0];
     rhs[4] = -tmp[1] - tmp2[1] - bsum[1];
     rhs[5] = -tmp[2] - tmp2[2] - bsum[2];
+    if (dyn) tr_dyn_loads(d, y, sg, coupled, rhs, sc, sr, sr2, RR, TQ, QQ, TT);
 
     if (!coupled) {
         memcpy(dy + TR_Y_N, rhs, 6 * sizeof(double));
@@ -449,6 +451,13 @@ static int rhs_spatial(const tr_model *m, const tr_data *d, double s, const doub
             q.ks[2] = 1.0 / sg[TR_SR_EA];
         }
         RR[3] = RR[1];
+        if (dyn) { /* K^-1 / (1 + eta c0): the viscous part */
+            const double fd = 1.0 / (1.0 + d->dyn->eta * d->dyn->c0);
+            for (j = 0; j < 3; j++) {
+                q.kb[j] *= fd;
+                q.ks[j] *= fd;
+            }
+        }
         if (sys6_setup(&q, sr, sr2, sc, RR, TQ, QQ, TT) != 0 || sys6_solve(&q, rhs, out) != 0)
             return GSL_EBADFUNC;
         /* a friction iteration that does not settle (a trial state of an adaptive step far
@@ -461,10 +470,26 @@ static int rhs_spatial(const tr_model *m, const tr_data *d, double s, const doub
         memcpy(dy + TR_Y_N, out, 6 * sizeof(double));
     }
 
+    if (dyn) tr_dyn_store(d, dy, sg);
     /* kinematics: p' = R v, R' = R u^  (row j of R u^ = R_j x u) */
     tru_matvec3(dy + TR_Y_P, R, v);
     for (j = 0; j < 3; j++) tru_cross3(dy + TR_Y_R + 3 * j, R + 3 * j, u);
     return GSL_SUCCESS;
+}
+
+/* The kernel compiled twice: the static one (dyn = 0: the hooks of a time step compiled
+ * out, the kernel as it was before the dynamics, bench/compare_instructions.py) and the
+ * one of a time step of the dynamics (tr_dyn_rhs.c), which reads the general rigidities. */
+static int rhs_spatial(const tr_model *m, const tr_data *d, double s, const double *y, double *dy,
+                       const int gen)
+{
+    return rhs_spatial_body(m, d, s, y, dy, gen, 0);
+}
+
+static int rhs_spatial_dyn(const tr_model *m, const tr_data *d, double s, const double *y,
+                           double *dy)
+{
+    return rhs_spatial_body(m, d, s, y, dy, 1, 1);
 }
 
 /* -------------------------------------------------------------- planar */
@@ -689,5 +714,7 @@ int tr_rhs(double s, const double y[], double dyds[], void *params)
         return m->nfric     ? rhs_planar_fric(m, d, s, y, dyds, m->general)
                : m->general ? rhs_planar(m, d, s, y, dyds, 1)
                             : rhs_planar(m, d, s, y, dyds, 0);
+    if (TR_UNLIKELY(d->dyn != NULL)) /* a time step of the dynamics (tr_dyn.c) */
+        return rhs_spatial_dyn(m, d, s, y, dyds);
     return m->general ? rhs_spatial(m, d, s, y, dyds, 1) : rhs_spatial(m, d, s, y, dyds, 0);
 }

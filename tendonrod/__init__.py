@@ -36,6 +36,7 @@ from ._linearize import jacobian
 from .actuation import ActuationResult, actuate
 from .batch import BatchResult, solve_batch
 from .continuation import Branch, SpecialPoint, path
+from .dynamics import Trajectory, simulate, simulation_options
 from .fit import FitResult, fit
 from .friction import Slip, slip
 from .linearization import Jacobian
@@ -86,6 +87,9 @@ __all__ = [
     "Branch",
     "modes",
     "Modes",
+    "simulate",
+    "simulation_options",
+    "Trajectory",
     "SpecialPoint",
     # verdicts
     "Result",

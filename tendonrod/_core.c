@@ -108,6 +108,8 @@ static PyMethodDef core_methods[] = {
     {"qp", (PyCFunction)(void (*)(void))glue_qp, METH_VARARGS | METH_KEYWORDS, glue_qp_doc},
     {"modes", (PyCFunction)(void (*)(void))glue_modes, METH_VARARGS | METH_KEYWORDS,
      glue_modes_doc},
+    {"simulate", (PyCFunction)(void (*)(void))glue_simulate, METH_VARARGS | METH_KEYWORDS,
+     glue_simulate_doc},
     {NULL, NULL, 0, NULL}};
 
 static int add_type(PyObject *module, const char *name, PyTypeObject *type)

@@ -175,6 +175,22 @@ def modes(
     rotary: bool = ...,
     cancel: Cancel | None = ...,
 ) -> dict[str, Any]: ...
+def simulate(
+    problem: Problem,
+    unknowns: ArrayLike,
+    values: ArrayLike,
+    loads: ArrayLike | None,
+    dt: float,
+    *,
+    alpha: float = ...,
+    rho_a: float = ...,
+    rho_j: ArrayLike = ...,
+    eta: float = ...,
+    drag: float = ...,
+    max_iter: int = ...,
+    backbone: bool = ...,
+    cancel: Cancel | None = ...,
+) -> dict[str, Any]: ...
 
 # the closed forms of the paper (csrc/tr_closed.c), NumPy ufuncs
 deflection: np.ufunc

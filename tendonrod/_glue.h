@@ -20,6 +20,8 @@
 /* _modes.c: the vibration modes of a Problem's solution (tr_modes) */
 PyObject *glue_modes(PyObject *self, PyObject *args, PyObject *kwds);
 extern const char glue_modes_doc[];
+PyObject *glue_simulate(PyObject *self, PyObject *args, PyObject *kwds);
+extern const char glue_simulate_doc[];
 
 #endif
 #include <numpy/arrayobject.h>
@@ -131,5 +133,7 @@ extern const char glue_qp_doc[];
 /* _modes.c: the vibration modes of a Problem's solution (tr_modes) */
 PyObject *glue_modes(PyObject *self, PyObject *args, PyObject *kwds);
 extern const char glue_modes_doc[];
+PyObject *glue_simulate(PyObject *self, PyObject *args, PyObject *kwds);
+extern const char glue_simulate_doc[];
 
 #endif

@@ -1,0 +1,67 @@
+/*
+ * tr_dyn.h -- the rod/tendon dynamics in time (tr_dyn.c): an implicit time step
+ * (BDF-alpha: alpha = -1/2 the trapezoidal rule, 0 BDF2) turns each step into a
+ * boundary-value problem in s, solved by the shooting core (tr_solve_lean, warm from the
+ * step before, its Jacobian Broyden-updated across steps, a fresh difference Jacobian
+ * only where a step does not converge with it).  Spatial Cosserat formulation, fixed-step
+ * RK4 in s: every step integrates over the same grid, whose stage points keep the
+ * history (tr_dyn_ctx, tr_internal.h).  docs/guide/dynamics.md states the design.
+ */
+#ifndef TR_DYN_H
+#define TR_DYN_H
+
+#include "tendonrod.h"
+
+/* The smallest step fraction of a time step's backtracking Newton fallback: 2^-10, where
+ * the residual's decrease is below round-off for a Jacobian that is not a descent
+ * direction. */
+#define TR_DYN_MIN_LAMBDA (1.0 / 1024.0)
+
+/* What a run integrates: nsteps steps of dt from the solution x0 (scaled unknowns). */
+typedef struct tr_dyn_spec {
+    int nsteps;           /* steps of the run (>= 1) */
+    double dt;            /* time step [s] (> 0) */
+    double alpha;         /* BDF-alpha parameter in [-1/2, 0] */
+    double rhoA;          /* mass per length [kg/m] (> 0) */
+    double rhoJ[3];       /* rotary inertia per length about the body axes [kg m] (>= 0) */
+    double eta;           /* Kelvin-Voigt retardation time [s] (>= 0) */
+    double drag;          /* air drag per body-frame component [N s^2/m^3] (>= 0) */
+    const double *values; /* ((nsteps + 1) x nt) actuation per time: q [m] or tau [N] */
+    const double *loads;  /* ((nsteps + 1) x nl x 6) point loads per time, world, or NULL */
+    int max_iter;         /* Newton iterations per step before a fresh Jacobian (>= 1) */
+    const double *resume; /* (tr_dyn_state_len) a previous run's final state (out->state) to
+                             go on from, with the same model, grid and dt (x0 then unused),
+                             or NULL: start from the solution x0 at rest */
+} tr_dyn_spec;
+
+/* What it returns: rows 0 .. done of caller-allocated arrays of nsteps + 1 rows. */
+typedef struct tr_dyn_out {
+    double *tip;      /* (rows x 12) tip position (3) world [m], rotation (9) row-major */
+    double *tension;  /* (rows x nt) [N] */
+    double *slack;    /* (rows x nt) [m] */
+    double *energy;   /* (rows x 4) kinetic, elastic, potential of the distributed loads,
+                         dissipated since the start [J] */
+    double *residual; /* (rows) scaled residual max-norm of each step */
+    int *iters;       /* (rows) Newton iterations of each step */
+    double *backbone; /* (rows x nb x 3) positions at the RK4 grid's nodes, or NULL */
+    double *state;    /* (tr_dyn_state_len) the last good step's state (history, unknowns,
+                         dissipation), to resume from, or NULL */
+    int done;         /* the last step completed (0: none) */
+    int nit, nfev, njev;
+    char message[256];
+} tr_dyn_out;
+
+/* The length of a run's state (tr_dyn_out.state, tr_dyn_spec.resume): the history at every
+ * stage point of the last two steps and its time derivative, the last two unknowns, the
+ * dissipated power and energy, dt.  Call after the workspace's steps are set (opt.steps). */
+int tr_dyn_state_len(const tr_model *m, tr_data *d);
+/* Backbone nodes of a run's workspace (the RK4 grid's step starts and the tip), at its
+ * options' step count. */
+int tr_dyn_nodes(const tr_model *m, tr_data *d);
+/* The run.  TR_OK; TR_EINVAL (spec out of range or a model the dynamics does not cover:
+ * message says which); a failed step's status (out->done the last good one, message with
+ * its time and why); TR_EBUDGET / TR_EINTERRUPTED. */
+int tr_dyn_run(const tr_model *m, tr_data *d, const double *x0, const tr_dyn_spec *sp,
+               tr_dyn_out *out);
+
+#endif /* TR_DYN_H */

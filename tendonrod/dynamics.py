@@ -1,0 +1,443 @@
+"""The rod/tendon dynamics in time: :func:`simulate` and its result :class:`Trajectory`.
+
+Each implicit time step (BDF-alpha: the trapezoidal rule by default, BDF2 with
+``alpha=0``) is a boundary-value problem in the arc length s, solved by the shooting core
+warm from the step before; the C side is ``csrc/tr_dyn.c`` (the time steps) and
+``csrc/tr_dyn_rhs.c`` (the inertia, damping and drag in the spatial right-hand side).
+The design, its scope and its accuracy are in ``docs/guide/dynamics.md``.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field, replace
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from . import _core
+from .compiled import _compile, pack_scene
+from .loads import PointLoad, PointMass
+from .mounting import base_pose, points_out, rotations_out
+from .results import report_failure
+
+__all__ = ["simulate", "Trajectory", "simulation_options"]
+
+_FORMAT = "tendonrod.Trajectory 1"
+# the core's per-step outputs whose last row a resumed run starts from
+_ROW = ("tip", "tension", "slack", "energy", "residual", "iters")
+_ARRAYS = (
+    "t",
+    "tip_position",
+    "tip_rotation",
+    "tension",
+    "slack",
+    "energy",
+    "residual",
+    "iterations",
+    "time_error",
+)
+# the keys of ``options``: RK4 steps over the rod, BDF-alpha, Newton iterations per step
+# before a fresh Jacobian, air drag, record the backbone, estimate the time error
+_DEFAULTS = {
+    "steps": 40,
+    "alpha": 0.0,
+    "max_iter": 8,
+    "drag": 0.0,
+    "backbone": False,
+    "estimate": False,
+}
+
+
+@dataclass(frozen=True, eq=False)
+class Trajectory:
+    """The motion computed by :func:`simulate`; row ``i`` is the time ``t[i]``.
+
+    Attributes
+    ----------
+    t : ndarray (n,)
+        Times [s], ``t[0] = 0`` the initial state.
+    tip_position : ndarray (n, 3)
+        Tip position, world frame [m].
+    tip_rotation : ndarray (n, 3, 3)
+        Tip rotation (body to world).
+    tension, slack : ndarray (n, ntendon)
+        Tendon tensions [N] and slacks [m] (slack: displacement-held tendons only).
+    energy : ndarray (n, 4)
+        Kinetic, elastic (rod strain), potential of the distributed loads (gravity) and
+        dissipated energy since the start [J]; the tendons' work is not in it.
+    residual : ndarray (n,)
+        Each step's scaled shooting residual (max-norm).
+    iterations : ndarray (n,)
+        Newton iterations of each step.
+    time_error : ndarray (n,) or None
+        With ``options={"estimate": True}``: the tip position's error estimate [m] from a
+        second run at dt/2 (Richardson, second order: |x_dt - x_dt/2| 4/3); else None.
+    backbone : ndarray (n, nb, 3) or None
+        Centre-line positions at the grid's nodes [m] (``options={"backbone": True}``).
+    s : ndarray (nb,) or None
+        Their arc lengths [m].
+    final : dict or None
+        The last step's state (time history on the grid, unknowns): ``initial=`` of a
+        next :func:`simulate` goes on from it.  Not saved by :meth:`save`.
+    success, status, message, nit, nfev
+        As every result; a failed step leaves ``success=False``, the message naming its
+        time and why, and the trajectory up to the last good step.
+
+    Examples
+    --------
+    A rod at rest stays at rest: ten steps, nothing moves, no energy changes.
+
+    >>> rod = tr.Rod(0.2, 2e-3, 207e9, 79.6e9, density=7800.0)
+    >>> traj = tr.simulate(tr.Scene(tr.Robot(rod, [])), 1e-3, 1e-4)
+    >>> traj.t.shape, traj.energy.shape, float(np.abs(traj.tip_position[:, :2]).max())
+    ((11,), (11, 4), 0.0)
+    """
+
+    t: NDArray[np.float64]
+    tip_position: NDArray[np.float64]
+    tip_rotation: NDArray[np.float64]
+    tension: NDArray[np.float64]
+    slack: NDArray[np.float64]
+    energy: NDArray[np.float64]
+    residual: NDArray[np.float64]
+    iterations: NDArray[np.int64]
+    time_error: NDArray[np.float64] | None = None
+    backbone: NDArray[np.float64] | None = None
+    s: NDArray[np.float64] | None = None
+    success: bool = False
+    status: int = 0
+    message: str = ""
+    nit: int = -1
+    nfev: int = -1
+    final: Any = field(default=None, repr=False)
+
+    def save(self, path) -> None:
+        """Write the trajectory to ``path`` (``.npz``); read back with :meth:`load`."""
+        arrays = {k: getattr(self, k) for k in _ARRAYS if getattr(self, k) is not None}
+        if self.backbone is not None:
+            arrays["backbone"], arrays["s"] = self.backbone, self.s
+        meta = np.array([self.success, self.status, self.nit, self.nfev], dtype=np.int64)
+        np.savez(
+            path, format=np.array(_FORMAT), meta=meta, message=np.array(self.message), **arrays
+        )
+
+    @classmethod
+    def load(cls, path) -> Trajectory:
+        """The trajectory written by :meth:`save`.  ValueError for a file of another kind."""
+        with np.load(path, allow_pickle=False) as f:
+            if "format" not in f or str(f["format"]) != _FORMAT:
+                raise ValueError(f"Trajectory.load: {path!r} is not a file written by save")
+            kw = {k: (f[k] if k in f else None) for k in (*_ARRAYS, "backbone", "s")}
+            meta = f["meta"]
+            return cls(
+                **kw,
+                success=bool(meta[0]),
+                status=int(meta[1]),
+                message=str(f["message"]),
+                nit=int(meta[2]),
+                nfev=int(meta[3]),
+            )
+
+    def __repr__(self) -> str:
+        return (
+            f"Trajectory(n={len(self.t)}, t_end={self.t[-1]:.6g} s, success={self.success}, "
+            f"message={self.message!r})"
+        )
+
+
+def _options(options) -> dict:
+    opt = dict(_DEFAULTS)
+    if options is None:
+        return opt
+    if not isinstance(options, dict):
+        raise TypeError(
+            f"simulate: options must be a dict with keys {sorted(_DEFAULTS)}, got {options!r}"
+        )
+    for k, v in options.items():
+        if k not in _DEFAULTS:
+            raise ValueError(f"simulate: options has no key {k!r} (keys: {sorted(_DEFAULTS)})")
+        opt[k] = v
+    st, a = opt["steps"], opt["alpha"]
+    if isinstance(st, bool) or not isinstance(st, (int, np.integer)) or not 2 <= st <= 100000:
+        raise ValueError(f"simulate: options['steps'] must be an int in [2, 100000], got {st!r}")
+    if not (isinstance(a, (int, float)) and -0.5 <= a <= 0.0):
+        raise ValueError(f"simulate: options['alpha'] must be in [-0.5, 0], got {a!r}")
+    if not (
+        isinstance(opt["drag"], (int, float)) and opt["drag"] >= 0 and math.isfinite(opt["drag"])
+    ):
+        raise ValueError(f"simulate: options['drag'] must be finite and >= 0, got {opt['drag']!r}")
+    mi = opt["max_iter"]
+    if isinstance(mi, bool) or not isinstance(mi, (int, np.integer)) or not 1 <= mi <= 100:
+        raise ValueError(f"simulate: options['max_iter'] must be an int in [1, 100], got {mi!r}")
+    return opt
+
+
+def _statics_options(steps: int):
+    """The static solve's options on the dynamics' grid: spatial, fixed RK4, one segment."""
+    from .options import Options
+
+    return Options(
+        integrator="rk4", steps=steps, force_spatial=True, shooting_segments=1, auto_shooting=False
+    )
+
+
+def _values(scene, actuation, times) -> np.ndarray:
+    nt = scene.robot.n_tendons
+    held = [d if d is not None else tau for d, tau in zip(scene.displacement, scene.tension)]
+    if actuation is None:
+        return np.tile(np.asarray(held, dtype=float).reshape(1, nt), (len(times), 1))
+    if not callable(actuation):
+        raise TypeError(
+            f"simulate: actuation must be a callable actuation(t) or None, got {actuation!r}"
+        )
+    out = np.empty((len(times), nt))
+    for i, t in enumerate(times):
+        v = np.asarray(actuation(float(t)), dtype=float).reshape(-1)
+        if v.shape != (nt,) or not np.all(np.isfinite(v)):
+            raise ValueError(
+                f"simulate: actuation({t!r}) must give {nt} finite values "
+                f"(displacement [m] or tension [N] per tendon), got {v!r}"
+            )
+        out[i] = v
+    return out
+
+
+def _loads(scene, loads, times):
+    if loads is None:
+        return None
+    if not callable(loads):
+        raise TypeError(f"simulate: loads must be a callable loads(t) or None, got {loads!r}")
+    base = [ld for ld in scene.loads if isinstance(ld, PointLoad)]
+    rows = []
+    for t in times:
+        got = list(loads(float(t)))
+        ok = len(got) == len(base) and all(
+            isinstance(g, PointLoad) and g.s == b.s for g, b in zip(got, base)
+        )
+        if not ok:
+            raise ValueError(
+                f"simulate: loads({t!r}) must be {len(base)} PointLoads at the "
+                f"scene's positions {[b.s for b in base]}, got {got!r}"
+            )
+        sc = replace(
+            scene,
+            loads=tuple(got) + tuple(ld for ld in scene.loads if not isinstance(ld, PointLoad)),
+        )
+        rows.append(pack_scene(sc)[2][:, 1:7])
+    return np.array(rows, dtype=float)
+
+
+def _run(scene, sol, duration, dt, actuation, loads, opt, t0=0.0, resume=None) -> dict:
+    n = int(round(duration / dt))
+    times = t0 + dt * np.arange(n + 1)
+    rod = scene.robot.rod
+    d = rod.diameter
+    rI = rod.density * math.pi * d**4 / 64.0
+    return _core.simulate(
+        _compile(scene, sol.options),
+        sol.unknowns,
+        _values(scene, actuation, times),
+        _loads(scene, loads, times),
+        dt,
+        alpha=float(opt["alpha"]),
+        rho_a=rod.mass_per_length,
+        rho_j=np.array([rI, rI, 2.0 * rI]),
+        eta=float(rod.damping or 0.0),
+        drag=float(opt["drag"]),
+        max_iter=int(opt["max_iter"]),
+        backbone=bool(opt["backbone"]),
+        resume=resume,
+    )
+
+
+def _resumed(initial, dt, opt):
+    """The previous run's final state (Trajectory.final) checked against this run."""
+    fin = initial.final
+    if fin is None or not initial.success:
+        raise ValueError(
+            "simulate: initial is a Trajectory without a final state to go on from "
+            f"(success={initial.success}, loaded from a file: the state is not saved)"
+        )
+    if abs(fin["dt"] - dt) > 1e-12 * dt or fin["steps"] != int(opt["steps"]):
+        raise ValueError(
+            f"simulate: a run goes on with its dt and grid: dt={fin['dt']!r} s and "
+            f"steps={fin['steps']!r}, got dt={dt!r}, steps={opt['steps']!r}"
+        )
+    if opt["estimate"]:
+        raise ValueError("simulate: options['estimate'] needs a start at rest, not a resumed run")
+    return fin
+
+
+def simulate(
+    scene, duration, dt, *, actuation=None, loads=None, initial=None, options=None, strict=False
+) -> Trajectory:
+    """The robot's motion over ``duration`` [s] in implicit steps of ``dt`` [s].
+
+    Parameters
+    ----------
+    scene : Scene
+        The robot, its actuation and loads; ``Rod(density=, diameter=)`` gives the mass
+        (rotary inertia of the round section), ``Rod(damping=eta)`` the Kelvin-Voigt
+        retardation time [s] on every strain rate, ``Scene(gravity=)`` the weight.
+    duration, dt : float
+        Simulated time and time step [s] (``round(duration / dt)`` steps).
+    actuation : callable or None
+        ``actuation(t)`` -> per tendon its displacement [m] or tension [N] (its control
+        kind in the scene) at time t; None: the scene's constant values.
+    loads : callable or None
+        ``loads(t)`` -> the scene's point loads at t (PointLoads at the same positions);
+        None: the scene's.
+    initial : Solution, Trajectory or None
+        The static state the motion starts from, at rest (None: the scene's equilibrium).
+        It must be a solution on the dynamics' grid (spatial, ``integrator="rk4"``,
+        ``steps=options["steps"]``), else it is solved again there from its unknowns.
+        A :class:`Trajectory` (of a scene of the same structure, the same dt and
+        ``steps``): the motion goes on from its last step, its times continuing.
+    options : dict, optional
+        ``steps`` (40): RK4 steps over the rod; ``alpha`` (0): BDF-alpha, 0 BDF2 (as Till et al.:
+        damps the fast axial and shear modes a kink of the actuation excites), -0.5 the
+        trapezoidal rule (no numerical damping: the energy of an undamped smooth motion); ``max_iter`` (8); ``drag`` (0):
+        air drag per body-frame velocity component [N s^2/m^3]; ``backbone`` (False);
+        ``estimate`` (False): a second run at dt/2 for the time error.
+    strict : bool
+        Raise :class:`~tendonrod.ConvergenceError` instead of warning on failure.
+
+    Notes
+    -----
+    Cosserat rods, spatial formulation, single shooting.  Refused (ValueError): Kirchhoff
+    rods, channel friction, point masses (their inertia at a breakpoint is not modelled
+    yet).  With damping, the tendon's direction at its anchor is taken from the elastic
+    part of the internal force (docs/guide/dynamics.md).
+
+    Examples
+    --------
+    A cantilever released from a small tip load rings at its first frequency:
+
+    >>> rod = tr.Rod(0.2, 2e-3, 207e9, 79.6e9, density=7800.0)
+    >>> held = tr.Scene(tr.Robot(rod, []), loads=[tr.PointLoad(0.2, (1e-3, 0, 0))])
+    >>> start = tr.solve(held, options=tr.simulation_options())
+    >>> traj = tr.simulate(tr.Scene(tr.Robot(rod, [])), 0.01, 2e-4, initial=start)
+    >>> traj.success, traj.tip_position.shape
+    (True, (51, 3))
+    """
+    from .model import Scene
+    from .solution import Solution
+    from .solver import solve
+
+    if not isinstance(scene, Scene):
+        raise TypeError(f"simulate: scene must be a Scene, got {type(scene).__name__}")
+    for name, x in (("duration", duration), ("dt", dt)):
+        if not (isinstance(x, (int, float)) and math.isfinite(x) and x > 0):
+            raise ValueError(f"simulate: {name} must be finite and > 0 [s], got {x!r}")
+    if not 1 <= round(duration / dt) <= 10_000_000:
+        raise ValueError(f"simulate: duration / dt = {duration / dt!r} steps out of [1, 1e7]")
+    opt = _options(options)
+    duration = round(duration / dt) * dt  # whole steps (the dt/2 run: twice as many)
+    rod = scene.robot.rod
+    if rod.kirchhoff:
+        raise ValueError(
+            "simulate: Kirchhoff rods are not supported by the dynamics yet "
+            "(give a Cosserat rod: Rod(..., kirchhoff=False))"
+        )
+    if rod.density is None or rod.diameter is None or not rod.mass_per_length > 0:
+        raise ValueError(
+            f"simulate: the rod needs a mass: Rod(density=..., diameter=...) "
+            f"(density={rod.density!r}, diameter={rod.diameter!r})"
+        )
+    if any(t.friction > 0.0 for t in scene.robot.tendons):
+        raise ValueError("simulate: channel friction is not supported by the dynamics")
+    if any(isinstance(ld, PointMass) for ld in scene.loads):
+        raise ValueError(
+            "simulate: point masses (PointMass) are not supported by the "
+            "dynamics yet: spread their mass into Rod(density=...)"
+        )
+    stat = _statics_options(int(opt["steps"]))
+    fin = None
+    if isinstance(initial, Trajectory):
+        fin = _resumed(initial, dt, opt)
+        initial = fin["solution"]
+    elif initial is None:
+        initial = solve(scene, options=stat, strict=strict)
+    elif not isinstance(initial, Solution):
+        raise TypeError(
+            f"simulate: initial must be a Solution, a Trajectory or None, got {initial!r}"
+        )
+    if initial.options != stat:
+        initial = solve(initial.scene, initial, options=stat, strict=strict)
+    if not initial.success or initial.unknowns is None:
+        raise ValueError(f"simulate: the initial state is not an equilibrium: {initial.message}")
+    t0 = 0.0 if fin is None else fin["t"]
+    raw = _run(
+        scene,
+        initial,
+        duration,
+        dt,
+        actuation,
+        loads,
+        opt,
+        t0,
+        None if fin is None else fin["state"],
+    )
+    if fin is not None:  # row 0: the previous run's last
+        for key in ("tip", "tension", "slack", "energy", "residual", "iters"):
+            raw[key][0] = fin["row"][key]
+    err = None
+    if opt["estimate"] and raw["status"] == 0:
+        half = _run(scene, initial, duration, dt / 2, actuation, loads, opt)
+        if half["status"] == 0:
+            err = 4.0 / 3.0 * np.linalg.norm(raw["tip"][:, :3] - half["tip"][::2, :3], axis=1)
+    pose = base_pose(scene.robot)
+    k = raw["done"] + 1
+    tip = raw["tip"]
+    bb = raw["backbone"]
+    s = None
+    if bb is not None:
+        nb = bb.shape[1]
+        s = np.append(np.linspace(0.0, rod.length, nb)[:-1], rod.length)
+        bb = points_out(pose, bb)
+    res = Trajectory(
+        t=t0 + dt * np.arange(k),
+        tip_position=points_out(pose, tip[:, :3]),
+        tip_rotation=rotations_out(pose, tip[:, 3:].reshape(-1, 3, 3)),
+        tension=raw["tension"],
+        slack=raw["slack"],
+        energy=raw["energy"],
+        residual=raw["residual"],
+        iterations=raw["iters"].astype(np.int64),
+        time_error=err,
+        backbone=bb,
+        s=s,
+        success=raw["status"] == 0,
+        status=int(raw["status"]),
+        message=raw["message"],
+        nit=int(raw["nit"]),
+        nfev=int(raw["nfev"]),
+        final=None
+        if raw["done"] == 0
+        else {
+            "state": raw["state"],
+            "dt": dt,
+            "steps": int(opt["steps"]),
+            "t": t0 + dt * (k - 1),
+            "solution": initial,
+            "row": {key: np.copy(raw[key][k - 1]) for key in _ROW},
+        },
+    )
+    if not res.success:
+        report_failure(res, strict, f"simulate: {res.message}")
+    return res
+
+
+def simulation_options(steps: int = _DEFAULTS["steps"]):
+    """The static solve's :class:`~tendonrod.Options` on the grid of :func:`simulate`
+    (``steps`` RK4 steps, spatial, one shooting segment): solve a start state with them.
+
+    Examples
+    --------
+    >>> opts = tr.simulation_options(40)
+    >>> opts.integrator, opts.steps, opts.force_spatial
+    ('rk4', 40, True)
+    """
+    return _statics_options(steps)

@@ -1,0 +1,234 @@
+"""tr.simulate: the dynamics in time against what is known independently.
+
+Work is bounded by counting: every run has a fixed number of steps, each step at most
+``max_iter`` Newton iterations (asserted through ``nit``), no wall-clock timing.
+"""
+
+import math
+
+import numpy as np
+import pytest
+
+import tendonrod as tr
+from tendonrod.dynamics import simulate, simulation_options
+
+ROD = tr.Rod(0.2, 2e-3, 207e9, 79.6e9, density=7800.0)
+FREE = tr.Scene(tr.Robot(ROD, []))
+
+
+def _released(force, steps=40):
+    """The static state under a tip force, the scene without it."""
+    held = tr.Scene(tr.Robot(ROD, []), loads=[tr.PointLoad(0.2, force)])
+    return tr.solve(held, options=simulation_options(steps))
+
+
+def _period(t, x):
+    """Mean period from the zero crossings of x (linear interpolation)."""
+    i = np.where(np.sign(x[:-1]) != np.sign(x[1:]))[0]
+    tc = t[i] - x[i] * (t[i + 1] - t[i]) / (x[i + 1] - x[i])
+    return 2.0 * float(np.mean(np.diff(tc)))
+
+
+@pytest.fixture(scope="module")
+def f1():
+    return float(tr.modes(FREE, n=1).frequencies[0])
+
+
+@pytest.fixture(scope="module")
+def ring(f1):
+    """Three periods of the released cantilever, omega dt = 0.04 (trapezoidal rule)."""
+    dt = 0.04 / (2 * math.pi * f1)
+    return dt, simulate(
+        FREE, 3.0 / f1, dt, initial=_released((1e-4, 0.0, 0.0)), options={"alpha": -0.5}
+    )
+
+
+def test_period_is_first_mode(f1, ring):
+    dt, tj = ring
+    assert tj.success, tj.message
+    # bounded work: 471 steps, at most 8 iterations each (max_iter)
+    assert len(tj.t) == 472 and tj.nit <= 8 * 471
+    T = _period(tj.t, tj.tip_position[:, 0])
+    # the issue's 1e-3 against 1/f1 of tr.modes (the trapezoidal rule's own period error
+    # at omega dt = 0.04 is (omega dt)^2 / 12 = 1.3e-4)
+    assert abs(T * f1 - 1.0) < 1e-3
+    # with the trapezoidal rule's exact dispersion of a linear oscillator,
+    # omega_h = (2 / dt) atan(omega dt / 2), what is left (5.1e-4 measured, the same at
+    # omega dt = 0.08: not the time step's) is the zero crossings' shift by the higher
+    # modes the release excites, or the grid's: bounded here, not yet explained
+    w = 2 * math.pi * f1
+    wd = 2.0 / dt * math.atan(w * dt / 2.0)
+    assert abs(T * wd / (2 * math.pi) - 1.0) < 8e-4
+
+
+def test_euler_bernoulli_period(ring):
+    """The same period from Euler-Bernoulli's beta L = 1.875104, to the shear and rotary
+    inertia correction of a slender rod: (d / L)^2 = 1e-4 relative, well inside 1e-3."""
+    dt, tj = ring
+    EI = ROD.bending_stiffness
+    w = 1.875104**2 * math.sqrt(EI / (ROD.mass_per_length * 0.2**4))
+    assert abs(_period(tj.t, tj.tip_position[:, 0]) * w / (2 * math.pi) - 1.0) < 1e-3
+
+
+def test_undamped_energy(ring):
+    """Undamped: kinetic + elastic energy is kept by the trapezoidal rule up to its
+    documented oscillation (docs/guide/dynamics.md: below 1 % of the energy at
+    omega dt <= 0.08, shrinking with dt), and does not drift: the mean over the last
+    period equals the mean over the first to 1e-3."""
+    dt, tj = ring
+    E = tj.energy[:, 0] + tj.energy[:, 1]
+    E0 = E[0]
+    assert np.ptp(E) / E0 < 1e-2
+    n = len(E) // 3
+    assert abs(E[-n:].mean() - E[:n].mean()) / E0 < 1e-3
+    assert np.all(tj.energy[:, 3] == 0.0)  # nothing dissipates without damping
+
+
+def test_damped_decays_to_static():
+    """With damping, the motion decays to the static solve of the final actuation: a
+    tendon robot's displacement ramp; the end state against tr.solve on the same grid to
+    1e-7 L (the static solver's tolerance scaled, the decay left after 40 periods)."""
+    rod = tr.Rod(0.2, 2e-3, 207e9, 79.6e9, density=7800.0, damping=2e-3)
+    robot = tr.Robot(rod, [tr.Tendon(offset=0.004, angle=0.0, EA=2e4)])
+    q1 = 5e-4
+    scene0 = tr.Scene(robot, displacement=[0.0])
+    scene1 = tr.Scene(robot, displacement=[q1])
+
+    def act(t):
+        return [q1 * min(t / 0.02, 1.0)]
+
+    tj = simulate(scene0, 0.5, 1e-3, actuation=act)  # BDF2, the default
+    assert tj.success, tj.message
+    ref = tr.solve(scene1, options=simulation_options())
+    assert np.linalg.norm(tj.tip_position[-1] - ref.tip_position) < 1e-7 * 0.2
+    assert abs(tj.tension[-1, 0] - ref.tension[0]) < 1e-6 * ref.tension[0]
+    assert tj.energy[-1, 3] > 0.0
+
+
+def test_slow_ramp_is_quasi_static():
+    """A ramp slow against the first period (1 s against 28 ms) follows the static
+    solutions along it: the tip within 1e-3 of the tip's travel (the inertial lag
+    rho A a L / k ~ (T1 / T_ramp)^2)."""
+    robot = tr.Robot(ROD, [tr.Tendon(offset=0.004, angle=0.0, EA=math.inf)])
+    tau1 = 2.0
+
+    def act(t):
+        return [tau1 * t]
+
+    tj = simulate(tr.Scene(robot, tension=[0.0]), 1.0, 0.01, actuation=act, options={"alpha": 0.0})
+    assert tj.success, tj.message
+    travel = np.linalg.norm(tj.tip_position[-1] - tj.tip_position[0])
+    for i in (50, 100):
+        ref = tr.solve(tr.Scene(robot, tension=[tau1 * tj.t[i]]), options=simulation_options())
+        assert np.linalg.norm(tj.tip_position[i] - ref.tip_position) < 1e-3 * travel
+
+
+def test_refusals_and_save(tmp_path, ring):
+    kir = tr.Rod(0.2, 2e-3, 207e9, 79.6e9, density=7800.0, kirchhoff=True)
+    with pytest.raises(ValueError, match="Kirchhoff"):
+        simulate(tr.Scene(tr.Robot(kir, [])), 0.01, 1e-3)
+    with pytest.raises(ValueError, match="mass"):
+        simulate(tr.Scene(tr.Robot(tr.Rod(0.2, 2e-3, 207e9, 79.6e9), [])), 0.01, 1e-3)
+    with pytest.raises(ValueError, match="dt"):
+        simulate(FREE, 0.01, -1.0)
+    with pytest.raises(ValueError, match="alpha"):
+        simulate(FREE, 0.01, 1e-3, options={"alpha": 0.5})
+    _, tj = ring
+    tj.save(tmp_path / "t.npz")
+    back = tr.Trajectory.load(tmp_path / "t.npz")
+    assert np.array_equal(back.tip_position, tj.tip_position) and back.success
+
+
+def test_time_error_estimate(f1):
+    """The dt-halving estimate against the error itself (a run at dt/8 as the reference,
+    BDF2): their maxima over one period within a factor 2 (second order: the estimate's
+    own error is the dt/2 run's, a quarter of the dt run's, plus higher order terms; a
+    single time is not compared, where the error passes through zero)."""
+    dt = 0.1 / (2 * math.pi * f1)
+    start = _released((1e-4, 0.0, 0.0))
+    tj = simulate(FREE, 63 * dt, dt, initial=start, options={"estimate": True})
+    ref = simulate(FREE, 63 * dt, dt / 8, initial=start)
+    err = np.linalg.norm(tj.tip_position - ref.tip_position[::8], axis=1)
+    assert tj.time_error is not None and 0.5 < tj.time_error.max() / err.max() < 2.0
+
+
+def test_failed_step_is_reported():
+    """A retraction of a quarter of L in one step has no converging Newton step: the run
+    stops there, says when and why, and keeps the trajectory before it."""
+    robot = tr.Robot(ROD, [tr.Tendon(offset=0.004, angle=0.0, EA=2e4)])
+    scene = tr.Scene(robot, displacement=[0.0])
+    with pytest.warns(tr.ConvergenceWarning, match=r"step 5 \(t = 0.005 s\) failed"):
+        tj = simulate(scene, 0.01, 1e-3, actuation=lambda t: [0.0 if t < 0.005 else 0.05])
+    assert not tj.success and tj.status < 0
+    assert len(tj.t) == 5 and tj.t[-1] == pytest.approx(0.004)
+
+
+def test_damped_energy_balance(f1):
+    """Kelvin-Voigt damping: kinetic + strain + dissipated energy stays the initial strain
+    energy (no external work after the release) to 2e-3 of it at omega dt = 0.04 (1.3e-3
+    measured, 4e-4 at half the dt: the scheme's error, not a leak); and the mechanical
+    energy decays as the first mode's exp(-eta omega1^2 t) (its damping ratio eta omega / 2)
+    to 5 % (the higher modes of the released shape, ~3 % of its energy, decay faster)."""
+    eta = 1e-4
+    rod = tr.Rod(0.2, 2e-3, 207e9, 79.6e9, density=7800.0, damping=eta)
+    held = tr.Scene(tr.Robot(rod, []), loads=[tr.PointLoad(0.2, (1e-4, 0.0, 0.0))])
+    start = tr.solve(held, options=simulation_options())
+    w = 2 * math.pi * f1
+    tj = simulate(
+        tr.Scene(tr.Robot(rod, [])), 3.0 / f1, 0.04 / w, initial=start, options={"alpha": -0.5}
+    )
+    assert tj.success, tj.message
+    E = tj.energy
+    total = E[:, 0] + E[:, 1] + E[:, 3]
+    assert np.abs(total - total[0]).max() < 2e-3 * E[0, 1]
+    mech = (E[-1, 0] + E[-1, 1]) / E[0, 1]
+    assert abs(mech / math.exp(-eta * w * w * 3.0 / f1) - 1.0) < 0.05
+
+
+def test_resume_and_backbone():
+    """A run resumed from another's last step continues it: its times and tip equal those
+    of one run over both halves (to 1e-12 m: the resumed first step starts from a fresh
+    difference Jacobian instead of the carried one: the same state to the Newton
+    tolerance).  The backbone's last node is the tip."""
+    rod = tr.Rod(0.2, 2e-3, 207e9, 79.6e9, density=7800.0, damping=1e-4)
+    robot = tr.Robot(rod, [tr.Tendon(offset=0.004, angle=0.0, EA=2e4)])
+    scene = tr.Scene(robot, displacement=[0.0])
+
+    def act(t):
+        return [5e-4 * min(t / 0.01, 1.0)]
+
+    full = simulate(scene, 0.04, 2e-4, actuation=act, options={"backbone": True})
+    first = simulate(scene, 0.02, 2e-4, actuation=act)
+    second = simulate(scene, 0.02, 2e-4, actuation=act, initial=first)
+    assert full.success and second.success
+    assert np.allclose(second.t, full.t[100:], rtol=0, atol=1e-15)
+    assert np.abs(second.tip_position - full.tip_position[100:]).max() < 1e-12
+    # the dissipated energy: to the Newton tolerance's share (1e-10 scaled), 5e-16 J measured
+    assert np.abs(second.energy[:, 3] - full.energy[100:, 3]).max() < 1e-9 * full.energy[-1, 3]
+    assert full.backbone.shape == (201, 41, 3) and full.s[-1] == 0.2
+    assert np.array_equal(full.backbone[:, -1], full.tip_position)
+    with pytest.raises(ValueError, match="dt"):
+        simulate(scene, 0.02, 1e-4, actuation=act, initial=first)
+
+
+def test_cancel_stops_the_run():
+    """The core polls its caller during a run (tr_poll): a cancelled token stops it, as for
+    the statics (KeyboardInterrupt from the glue)."""
+    from tendonrod import _core
+    from tendonrod.compiled import _compile
+
+    sol = tr.solve(FREE, options=simulation_options())
+    rI = 7800.0 * math.pi * 2e-3**4 / 64.0
+    token = _core.Cancel()
+    token.set()
+    with pytest.raises(KeyboardInterrupt):
+        _core.simulate(
+            _compile(FREE, sol.options),
+            sol.unknowns,
+            np.zeros((100001, 0)),  # a run far longer than the poll interval (2 ms)
+            None,
+            1e-4,
+            rho_a=ROD.mass_per_length,
+            rho_j=np.array([rI, rI, 2 * rI]),
+            cancel=token,
+        )
