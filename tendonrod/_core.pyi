@@ -189,6 +189,7 @@ def simulate(
     drag: float = ...,
     max_iter: int = ...,
     backbone: bool = ...,
+    resume: ArrayLike | None = ...,
     cancel: Cancel | None = ...,
 ) -> dict[str, Any]: ...
 

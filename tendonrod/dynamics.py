@@ -129,7 +129,9 @@ class Trajectory:
         with np.load(path, allow_pickle=False) as f:
             if "format" not in f or str(f["format"]) != _FORMAT:
                 raise ValueError(f"Trajectory.load: {path!r} is not a file written by save")
-            kw = {k: (f[k] if k in f else None) for k in (*_ARRAYS, "backbone", "s")}
+            kw: dict[str, Any] = {
+                k: (f[k] if k in f else None) for k in (*_ARRAYS, "backbone", "s")
+            }
             meta = f["meta"]
             return cls(
                 **kw,
@@ -430,7 +432,7 @@ def simulate(
     return res
 
 
-def simulation_options(steps: int = _DEFAULTS["steps"]):
+def simulation_options(steps: int = int(_DEFAULTS["steps"])):
     """The static solve's :class:`~tendonrod.Options` on the grid of :func:`simulate`
     (``steps`` RK4 steps, spatial, one shooting segment): solve a start state with them.
 
