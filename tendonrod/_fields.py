@@ -183,3 +183,21 @@ def _sliding(values, n: int) -> tuple[str, ...]:
         if v not in ("in", "out"):
             raise ValueError(f'Scene.sliding[{i}] must be "in" or "out", got {v!r}')
     return tuple(vals)
+
+
+def _option_dict(who: str, options, defaults: dict) -> dict:
+    """``defaults`` updated by ``options`` (None or a dict with only their keys): the
+    options dict of a study function (``tr.modes``, ``tr.simulate``); TypeError for
+    another type, ValueError for an unknown key, each naming ``who``."""
+    opt = dict(defaults)
+    if options is None:
+        return opt
+    if not isinstance(options, dict):
+        raise TypeError(
+            f"{who}: options must be a dict with keys {sorted(defaults)}, got {options!r}"
+        )
+    for k, v in options.items():
+        if k not in defaults:
+            raise ValueError(f"{who}: options has no key {k!r} (keys: {sorted(defaults)})")
+        opt[k] = v
+    return opt

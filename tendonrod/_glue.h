@@ -123,6 +123,9 @@ typedef struct {
 PyObject *glue_problem_form(ProblemObject *self);
 /* 0, or -1 with RuntimeError: not initialised, or busy in another thread. */
 int glue_problem_check(ProblemObject *self);
+/* A solution's scaled unknowns for this problem (float64, n_unknowns of them): a new
+ * reference, or NULL with ValueError/TypeError set. */
+PyArrayObject *glue_problem_unknowns(const ProblemObject *self, PyObject *obj);
 /* _actuate.c: Problem.actuate, the inverse actuation's run (tr_actuate) */
 PyObject *glue_problem_actuate(ProblemObject *self, PyObject *args, PyObject *kwds);
 extern const char glue_problem_actuate_doc[];

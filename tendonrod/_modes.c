@@ -49,12 +49,7 @@ PyObject *glue_modes(PyObject *self, PyObject *args, PyObject *kwds)
         return NULL;
     pr = (ProblemObject *)op;
     if (glue_problem_check(pr) < 0 || glue_poll_init(&poll, cancel) < 0) return NULL;
-    if (!(x = glue_coerce(ox, "unknowns"))) goto done;
-    if (PyArray_SIZE(x) != pr->m->n_unknowns) {
-        PyErr_Format(PyExc_ValueError, "unknowns must have %d values, got %ld", pr->m->n_unknowns,
-                     (long)PyArray_SIZE(x));
-        goto done;
-    }
+    if (!(x = glue_problem_unknowns(pr, ox))) goto done;
     if (steps < 1) {
         PyErr_Format(PyExc_ValueError, "steps must be >= 1, got %d", steps);
         goto done;

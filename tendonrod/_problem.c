@@ -29,6 +29,17 @@ int glue_problem_check(ProblemObject *self)
     return 0;
 }
 
+PyArrayObject *glue_problem_unknowns(const ProblemObject *self, PyObject *obj)
+{
+    PyArrayObject *x = glue_coerce(obj, "unknowns");
+    if (x && PyArray_SIZE(x) != self->m->n_unknowns) {
+        PyErr_Format(PyExc_ValueError, "unknowns must have %d values, got %ld", self->m->n_unknowns,
+                     (long)PyArray_SIZE(x));
+        Py_CLEAR(x);
+    }
+    return x;
+}
+
 static void problem_dealloc(ProblemObject *self)
 {
     Py_XDECREF(self->form);

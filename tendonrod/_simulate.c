@@ -48,12 +48,7 @@ PyObject *glue_simulate(PyObject *self, PyObject *args, PyObject *kwds)
         return NULL;
     pr = (ProblemObject *)op;
     if (glue_problem_check(pr) < 0 || glue_poll_init(&poll, cancel) < 0) return NULL;
-    if (!(x = glue_coerce(ox, "unknowns"))) goto done;
-    if (PyArray_SIZE(x) != pr->m->n_unknowns) {
-        PyErr_Format(PyExc_ValueError, "unknowns must have %d values, got %ld", pr->m->n_unknowns,
-                     (long)PyArray_SIZE(x));
-        goto done;
-    }
+    if (!(x = glue_problem_unknowns(pr, ox))) goto done;
     if (!(val = glue_coerce(ov, "values"))) goto done;
     if (PyArray_NDIM(val) != 2 || PyArray_DIM(val, 0) < 2 || PyArray_DIM(val, 1) != pr->m->nt) {
         PyErr_Format(PyExc_ValueError, "values must have shape (nsteps + 1 >= 2, %d)", pr->m->nt);

@@ -22,6 +22,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from . import _core
+from ._fields import _option_dict
 from .compiled import _compile
 from .loads import PointMass
 from .mounting import base_pose, points_out, vectors_out
@@ -166,17 +167,7 @@ class Modes:
 
 
 def _options(options) -> dict:
-    opt = dict(_DEFAULTS)
-    if options is None:
-        return opt
-    if not isinstance(options, dict):
-        raise TypeError(
-            f"modes: options must be a dict with keys {sorted(_DEFAULTS)}, got {options!r}"
-        )
-    for k, v in options.items():
-        if k not in _DEFAULTS:
-            raise ValueError(f"modes: options has no key {k!r} (keys: {sorted(_DEFAULTS)})")
-        opt[k] = v
+    opt = _option_dict("modes", options, _DEFAULTS)
     e, lv = opt["elements"], opt["levels"]
     if isinstance(e, bool) or not isinstance(e, (int, np.integer)) or not 2 <= e <= 4096:
         raise ValueError(f"modes: options['elements'] must be an int in [2, 4096], got {e!r}")
