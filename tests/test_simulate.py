@@ -232,3 +232,52 @@ def test_cancel_stops_the_run():
             rho_j=np.array([rI, rI, 2 * rI]),
             cancel=token,
         )
+
+
+@pytest.fixture(scope="module")
+def swing():
+    """A released cantilever with its backbone recorded: 60 steps (61 rows) of 41 nodes."""
+    start = _released((1e-3, 0.0, 0.0))
+    tj = simulate(FREE, 60 * 2e-4, 2e-4, initial=start, options={"backbone": True})
+    assert tj.success and tj.backbone is not None and tj.backbone.shape == (61, 41, 3)
+    return tj
+
+
+def test_load_reads_a_trajectory(tmp_path, swing):
+    """tr.load tells a trajectory's file from a solution's by its format marker: every
+    array comes back bit for bit, the scalars equal; a foreign .npz is refused by name."""
+    swing.save(tmp_path / "t.npz")
+    back = tr.load(tmp_path / "t.npz")
+    assert isinstance(back, tr.Trajectory)
+    for k in (
+        "t",
+        "tip_position",
+        "tip_rotation",
+        "tension",
+        "slack",
+        "energy",
+        "residual",
+        "iterations",
+        "backbone",
+        "s",
+    ):
+        a, b = getattr(swing, k), getattr(back, k)
+        assert a.dtype == b.dtype and a.shape == b.shape and a.tobytes() == b.tobytes(), k
+    assert back.time_error is None and back.final is None
+    assert (back.success, back.status, back.message, back.nit, back.nfev) == (
+        swing.success,
+        swing.status,
+        swing.message,
+        swing.nit,
+        swing.nfev,
+    )
+    sol = tr.solve(FREE, options=simulation_options())
+    sol.save(tmp_path / "s.npz")
+    assert isinstance(tr.load(tmp_path / "s.npz"), tr.Solution)
+    np.savez(tmp_path / "foreign.npz", format=np.array("something else"), x=np.zeros(3))
+    with pytest.raises(ValueError, match="foreign.npz.*not a file written by tendonrod"):
+        tr.load(tmp_path / "foreign.npz")
+    # a trajectory's marker with its arrays missing: refused by name, not a KeyError
+    np.savez(tmp_path / "cut.npz", format=np.array("tendonrod.Trajectory 1"))
+    with pytest.raises(ValueError, match="cut.npz.*not a valid Trajectory file"):
+        tr.load(tmp_path / "cut.npz")
