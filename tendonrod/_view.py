@@ -392,12 +392,6 @@ def view(
 ):
     """The figure of :func:`tendonrod.plot.view` (its docstring says the parameters)."""
     go = _plotly()
-    from .dynamics import Trajectory
-
-    if isinstance(x, Trajectory):
-        from ._view_motion import view_trajectory
-
-        return view_trajectory(go, x, scene, sides=sides, max_frames=max_frames, title=title)
     steps = _steps(x, scene, options, max_frames)
     first = steps[0][1].scene
     L = first.robot.rod.length

@@ -19,7 +19,7 @@ from __future__ import annotations
 import numpy as np
 
 from ._mesh import backbone_radius, tube
-from ._view import _animate, _bounds, _layout, _mesh_trace, _static_traces, _subsample
+from ._view import _animate, _bounds, _layout, _mesh_trace, _plotly, _static_traces, _subsample
 
 __all__ = ["view_trajectory"]
 
@@ -46,8 +46,11 @@ def _radius(traj, scene) -> tuple[np.ndarray, str]:
     return r, f"backbone (d = {2e3 * float(r[0]):.3g} mm)"
 
 
-def view_trajectory(go, traj, scene=None, *, sides: int = 24, max_frames: int = 60, title=None):
-    """The figure of :func:`tendonrod.plot.view` for a Trajectory (see the module)."""
+def view_trajectory(traj, scene=None, *, sides: int = 24, max_frames: int = 60, title=None):
+    """The figure of :func:`tendonrod.plot.view` for a Trajectory (see the module); the
+    keywords of a solution's view that do not apply to a motion (tendons, loads, disks,
+    options) are refused by the call (TypeError)."""
+    go = _plotly()
     if traj.backbone is None or traj.s is None:
         raise ValueError(
             "view: this Trajectory has no backbone states to draw: run "

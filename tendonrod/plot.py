@@ -468,8 +468,9 @@ def view(x, scene=None, **kwargs):
         animated, one frame per drawn time (slider labelled ``t = ... s``): the backbone
         as a tube around its recorded centre line (rings carried by rotation-minimising
         frames: a trajectory keeps no rotations) and the tip as a marker, with the tip's
-        path over every row fixed; no tendons (their states along the rod are not
-        recorded).  A trajectory without backbone states is refused (ValueError).
+        path over every row fixed; no tendons or loads (not recorded along the rod: their
+        keywords and ``disks``, ``options`` are refused).  A trajectory without backbone
+        states is refused (ValueError).
     scene : Scene or list of Scene, optional
         A sweep's base scene (its points are rebuilt from it and solved again, warm), or
         a batch's scenes in input order; a trajectory's scene (the rod's diameter, the
@@ -527,7 +528,12 @@ def view(x, scene=None, **kwargs):
     (20, 't = 0.01 s')
     """
     from ._view import view as _view
+    from .dynamics import Trajectory
 
+    if isinstance(x, Trajectory):
+        from ._view_motion import view_trajectory
+
+        return view_trajectory(x, scene, **kwargs)
     return _view(x, scene, **kwargs)
 
 
