@@ -73,7 +73,7 @@ class Trajectory:
         Newton iterations of each step.
     time_error : ndarray (n,) or None
         With ``options={"estimate": True}``: the tip position's error estimate [m] from a
-        second run at dt/2 (Richardson, second order: |x_dt - x_dt/2| 4/3); else None.
+        second run at dt/2 (Richardson, second order: ``4/3 |x_dt - x_dt/2|``); else None.
     backbone : ndarray (n, nb, 3) or None
         Centre-line positions at the grid's nodes [m] (``options={"backbone": True}``).
     s : ndarray (nb,) or None
