@@ -14,7 +14,8 @@ with prescribed tendon displacements (or tensions).
   (:class:`tendonrod.Result`); every entry point that can fail warns
   (:class:`ConvergenceWarning`) or, with ``strict=True``, raises
   (:class:`ConvergenceError`).
-- :meth:`Solution.save` / :func:`tendonrod.load` -- a solution to an ``.npz`` file and back.
+- :meth:`Solution.save` / :func:`tendonrod.load` -- a solution (or a :class:`Trajectory`) to
+  an ``.npz`` file and back.
 - :mod:`tendonrod.plot`, :mod:`tendonrod.paper` (the paper's studies and figures) and
   :mod:`tendonrod.scenefile` are imported on first use; :mod:`tendonrod.bench` holds
   the benchmark suites (``python -m tendonrod bench``).
@@ -31,6 +32,7 @@ gsl_version: str = _core.gsl_version
 """Version of the GSL library tendonrod._core was built against."""
 
 from . import analytic
+from ._io import file_kind as _file_kind
 from ._io import read_solution as _read_solution
 from ._linearize import jacobian
 from .actuation import ActuationResult, actuate
@@ -99,8 +101,11 @@ __all__ = [
 ]
 
 
-def load(path) -> Solution:
-    """Read a :class:`Solution` written by :meth:`Solution.save` (``.npz``).
+def load(path) -> Solution | Trajectory:
+    """Read a :class:`Solution` written by :meth:`Solution.save`, or a :class:`Trajectory`
+    written by :meth:`Trajectory.save` (``.npz``): which one, the file says (a trajectory's
+    archive holds a ``format`` entry ``"tendonrod.Trajectory <version>"``, a solution's a
+    ``__tendonrod__`` header).
 
     Parameters
     ----------
@@ -109,13 +114,20 @@ def load(path) -> Solution:
 
     Returns
     -------
-    Solution
-        Equal bit for bit to the one saved: its raw arrays and scalars, scene and options.
+    Solution or Trajectory
+        Equal bit for bit to the one saved: a solution's raw arrays and scalars, scene
+        and options; a trajectory's arrays and ``success/status/message/nit/nfev`` (its
+        ``final`` state is not saved: a loaded trajectory does not resume a run).  The
+        type is the union: check it with ``isinstance`` where it matters (both have
+        ``tip_position``, ``success`` and ``message``).
 
     Raises
     ------
     ValueError
-        The file is not a solution written by tendonrod (or of another format).
+        The file is neither a solution nor a trajectory written by tendonrod (or of
+        another format version); the message names the file and what is wrong.
+    FileNotFoundError, IsADirectoryError
+        ``path`` names no file.
 
     Examples
     --------
@@ -125,7 +137,18 @@ def load(path) -> Solution:
     >>> sol.save(path := os.path.join(tempfile.mkdtemp(), "sol.npz"))
     >>> bool((tr.load(path).tip_position == sol.tip_position).all())
     True
+
+    A trajectory comes back as a :class:`Trajectory`:
+
+    >>> rod = tr.Rod(0.2, 2e-3, 207e9, 79.6e9, density=7800.0)
+    >>> traj = tr.simulate(tr.Scene(tr.Robot(rod, [])), 1e-3, 1e-4)
+    >>> traj.save(path := os.path.join(tempfile.mkdtemp(), "traj.npz"))
+    >>> back = tr.load(path)
+    >>> isinstance(back, tr.Trajectory), bool((back.t == traj.t).all())
+    (True, True)
     """
+    if _file_kind(path) == "Trajectory":
+        return Trajectory.load(path)
     return Solution(*_read_solution(path))
 
 

@@ -185,6 +185,31 @@ _CONTENT_ERRORS = (
 _PATH_ERRORS = (FileNotFoundError, IsADirectoryError, NotADirectoryError, PermissionError)
 
 
+def file_kind(path: str | os.PathLike) -> str:
+    """``"Trajectory"`` when ``path`` is an ``.npz`` archive whose ``format`` entry is a
+    :meth:`Trajectory.save <tendonrod.Trajectory.save>` marker (a string starting with
+    ``"tendonrod.Trajectory"``), else ``"Solution"``: :func:`read_solution` then reads the
+    file or says what is wrong with it.  Only the archive's directory and that one entry are
+    read; an OSError about the path itself (missing, a directory) is raised as open() says."""
+    try:
+        with open(path, "rb") as fh:
+            npz = np.load(fh, allow_pickle=False)
+            if not isinstance(npz, np.lib.npyio.NpzFile):
+                return "Solution"
+            with npz:
+                if _META in npz.files or "format" not in npz.files:
+                    return "Solution"
+                mark = npz["format"]
+                if mark.shape == () and mark.dtype.kind == "U":
+                    if str(mark[()]).startswith("tendonrod.Trajectory"):
+                        return "Trajectory"
+    except _PATH_ERRORS:
+        raise
+    except _CONTENT_ERRORS:
+        pass
+    return "Solution"
+
+
 def read_solution(path: str | os.PathLike) -> tuple[dict, Any, Any]:
     """``(raw, scene, options)`` of a solution written by :func:`save_solution`
     (:func:`tendonrod.load` makes the :class:`~tendonrod.Solution`), re-validated: the

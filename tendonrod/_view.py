@@ -66,7 +66,7 @@ def _steps(x, scene, options, max_frames: int) -> list:
         return [(f"solution {i}", x[i]) for i in idx]
     raise ValueError(
         "view: x must be a Solution, a list of Solutions, a load path (tr.path's result), "
-        f"a SweepResult or a BatchResult, got {type(x).__name__}"
+        f"a SweepResult, a BatchResult or a Trajectory, got {type(x).__name__}"
     )
 
 
@@ -422,12 +422,23 @@ def view(
     box = _bounds([t for tr_ in per_step for t in tr_])
     static = _static_traces(go, first, L, box)
     box = _bounds([t for tr_ in per_step for t in tr_] + static)
-    c, h = box.mean(axis=0), 0.55 * float(np.ptp(box, axis=0).max())
-    rng = [[c[k] - h, c[k] + h] for k in range(3)]
     scale_txt = f"; load arrows: 1 N = {1e3 * scale:.3g} mm" if cfg["loads"] else ""
     fig = go.Figure(data=per_step[0] + static)
+    _layout(fig, box, (title or "tendonrod") + scale_txt)
     fig.update_layout(
-        title=dict(text=(title or "tendonrod") + scale_txt, x=0.02),
+        meta=dict(tendonrod_load_scale=scale, tendonrod_steps=[lb for lb, _ in steps]),
+    )
+    if len(steps) > 1:
+        _animate(go, fig, steps, per_step)
+    return fig
+
+
+def _layout(fig, box: np.ndarray, title: str) -> None:
+    """A cube of axes around ``box`` (2, 3) [m] (world frame), the title and legend."""
+    c, h = box.mean(axis=0), 0.55 * float(np.ptp(box, axis=0).max())
+    rng = [[c[k] - h, c[k] + h] for k in range(3)]
+    fig.update_layout(
+        title=dict(text=title, x=0.02),
         scene=dict(
             xaxis=dict(title=dict(text="x [m]"), range=rng[0]),
             yaxis=dict(title=dict(text="y [m]"), range=rng[1]),
@@ -436,11 +447,7 @@ def view(
         ),
         legend=dict(x=0.0, y=1.0, bgcolor="rgba(255,255,255,0.6)"),
         margin=dict(l=0, r=0, t=40, b=0),
-        meta=dict(tendonrod_load_scale=scale, tendonrod_steps=[lb for lb, _ in steps]),
     )
-    if len(steps) > 1:
-        _animate(go, fig, steps, per_step)
-    return fig
 
 
 def _animate(go, fig, steps, per_step) -> None:

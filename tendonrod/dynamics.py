@@ -73,7 +73,7 @@ class Trajectory:
         Newton iterations of each step.
     time_error : ndarray (n,) or None
         With ``options={"estimate": True}``: the tip position's error estimate [m] from a
-        second run at dt/2 (Richardson, second order: |x_dt - x_dt/2| 4/3); else None.
+        second run at dt/2 (Richardson, second order: ``4/3 |x_dt - x_dt/2|``); else None.
     backbone : ndarray (n, nb, 3) or None
         Centre-line positions at the grid's nodes [m] (``options={"backbone": True}``).
     s : ndarray (nb,) or None
@@ -125,22 +125,38 @@ class Trajectory:
 
     @classmethod
     def load(cls, path) -> Trajectory:
-        """The trajectory written by :meth:`save`.  ValueError for a file of another kind."""
-        with np.load(path, allow_pickle=False) as f:
-            if "format" not in f or str(f["format"]) != _FORMAT:
-                raise ValueError(f"Trajectory.load: {path!r} is not a file written by save")
-            kw: dict[str, Any] = {
-                k: (f[k] if k in f else None) for k in (*_ARRAYS, "backbone", "s")
-            }
-            meta = f["meta"]
-            return cls(
-                **kw,
-                success=bool(meta[0]),
-                status=int(meta[1]),
-                message=str(f["message"]),
-                nit=int(meta[2]),
-                nfev=int(meta[3]),
-            )
+        """The trajectory written by :meth:`save` (:func:`tendonrod.load` reads it too).
+        ValueError naming the file for a file of another kind or a malformed one."""
+        from ._io import _CONTENT_ERRORS, _PATH_ERRORS
+
+        try:
+            with open(path, "rb") as fh, np.load(fh, allow_pickle=False) as f:
+                if "format" not in f or str(f["format"]) != _FORMAT:
+                    raise ValueError(
+                        f"Trajectory.load: {str(path)!r} is not a file written by "
+                        f"Trajectory.save (format {_FORMAT!r})"
+                    )
+                kw: dict[str, Any] = {
+                    k: (f[k] if k in f else None) for k in (*_ARRAYS, "backbone", "s")
+                }
+                meta = f["meta"]
+                return cls(
+                    **kw,
+                    success=bool(meta[0]),
+                    status=int(meta[1]),
+                    message=str(f["message"]),
+                    nit=int(meta[2]),
+                    nfev=int(meta[3]),
+                )
+        except _PATH_ERRORS:
+            raise
+        except _CONTENT_ERRORS as e:
+            if isinstance(e, ValueError) and str(e).startswith("Trajectory.load:"):
+                raise
+            raise ValueError(
+                f"Trajectory.load: {str(path)!r} is not a valid Trajectory file: "
+                f"{type(e).__name__}: {e}"
+            ) from None
 
     def __repr__(self) -> str:
         return (

@@ -461,12 +461,20 @@ def view(x, scene=None, **kwargs):
 
     Parameters
     ----------
-    x : Solution, list of Solution, Branch, SweepResult or BatchResult
+    x : Solution, list of Solution, Branch, SweepResult, BatchResult or Trajectory
         What to show; several (a path's points, a sweep's or batch's converged points, a
-        list of solutions) get a slider and a play button, one step per point.
+        list of solutions) get a slider and a play button, one step per point.  A
+        :class:`~tendonrod.Trajectory` recorded with ``options={"backbone": True}`` is
+        animated, one frame per drawn time (slider labelled ``t = ... s``): the backbone
+        as a tube around its recorded centre line (rings carried by rotation-minimising
+        frames: a trajectory keeps no rotations) and the tip as a marker, with the tip's
+        path over every row fixed; no tendons or loads (not recorded along the rod: their
+        keywords and ``disks``, ``options`` are refused).  A trajectory without backbone
+        states is refused (ValueError).
     scene : Scene or list of Scene, optional
         A sweep's base scene (its points are rebuilt from it and solved again, warm), or
-        a batch's scenes in input order; unused otherwise.
+        a batch's scenes in input order; a trajectory's scene (the rod's diameter, the
+        frames and gravity; without it the tube is drawn L/50 thick); unused otherwise.
     options : Options, optional
         Options of the re-solves (a sweep's or batch's) and of a path's recording.
     disks : int or sequence of float, optional
@@ -480,7 +488,7 @@ def view(x, scene=None, **kwargs):
     sides : int
         Vertices per ring of the tube meshes.
     max_frames : int
-        At most this many steps (evenly chosen, first and last kept).
+        At most this many steps or frames (evenly chosen, first and last kept).
     title : str, optional
         Default: what is shown and the load scale.
 
@@ -507,9 +515,25 @@ def view(x, scene=None, **kwargs):
     >>> p = tr.path(scene, "displacement[0]", (0.0, 0.0157))
     >>> len(tr.plot.view(p).frames) == len(p)
     True
+
+    A motion, at most 20 frames of its 51 rows:
+
+    >>> rod = tr.Rod(0.2, 2e-3, 207e9, 79.6e9, density=7800.0)
+    >>> held = tr.Scene(tr.Robot(rod, []), loads=[tr.PointLoad(0.2, (1e-3, 0, 0))])
+    >>> start = tr.solve(held, options=tr.simulation_options())
+    >>> free = tr.Scene(tr.Robot(rod, []))
+    >>> traj = tr.simulate(free, 0.01, 2e-4, initial=start, options={"backbone": True})
+    >>> fig = tr.plot.view(traj, free, max_frames=20)
+    >>> len(fig.frames), fig.layout.sliders[0].steps[-1].label
+    (20, 't = 0.01 s')
     """
     from ._view import view as _view
+    from .dynamics import Trajectory
 
+    if isinstance(x, Trajectory):
+        from ._view_motion import view_trajectory
+
+        return view_trajectory(x, scene, **kwargs)
     return _view(x, scene, **kwargs)
 
 

@@ -232,3 +232,89 @@ def test_cancel_stops_the_run():
             rho_j=np.array([rI, rI, 2 * rI]),
             cancel=token,
         )
+
+
+@pytest.fixture(scope="module")
+def swing():
+    """A released cantilever with its backbone recorded: 60 steps (61 rows) of 41 nodes."""
+    start = _released((1e-3, 0.0, 0.0))
+    tj = simulate(FREE, 60 * 2e-4, 2e-4, initial=start, options={"backbone": True})
+    assert tj.success and tj.backbone is not None and tj.backbone.shape == (61, 41, 3)
+    return tj
+
+
+def test_load_reads_a_trajectory(tmp_path, swing):
+    """tr.load tells a trajectory's file from a solution's by its format marker: every
+    array comes back bit for bit, the scalars equal; a foreign .npz is refused by name."""
+    swing.save(tmp_path / "t.npz")
+    back = tr.load(tmp_path / "t.npz")
+    assert isinstance(back, tr.Trajectory)
+    for k in (
+        "t",
+        "tip_position",
+        "tip_rotation",
+        "tension",
+        "slack",
+        "energy",
+        "residual",
+        "iterations",
+        "backbone",
+        "s",
+    ):
+        a, b = getattr(swing, k), getattr(back, k)
+        assert a.dtype == b.dtype and a.shape == b.shape and a.tobytes() == b.tobytes(), k
+    assert back.time_error is None and back.final is None
+    assert (back.success, back.status, back.message, back.nit, back.nfev) == (
+        swing.success,
+        swing.status,
+        swing.message,
+        swing.nit,
+        swing.nfev,
+    )
+    sol = tr.solve(FREE, options=simulation_options())
+    sol.save(tmp_path / "s.npz")
+    assert isinstance(tr.load(tmp_path / "s.npz"), tr.Solution)
+    np.savez(tmp_path / "foreign.npz", format=np.array("something else"), x=np.zeros(3))
+    with pytest.raises(ValueError, match="foreign.npz.*not a file written by tendonrod"):
+        tr.load(tmp_path / "foreign.npz")
+    # a trajectory's marker with its arrays missing: refused by name, not a KeyError
+    np.savez(tmp_path / "cut.npz", format=np.array("tendonrod.Trajectory 1"))
+    with pytest.raises(ValueError, match="cut.npz.*not a valid Trajectory file"):
+        tr.load(tmp_path / "cut.npz")
+
+
+def test_view_animates_the_backbone(swing):
+    """tr.plot.view of a trajectory (no browser): one frame per drawn row, at most
+    max_frames of them (first and last kept), each the tube around that row's recorded
+    centre line at the rod's radius and the tip marker at that row's tip; a trajectory
+    without backbone states, or a scene of another rod, is refused."""
+    pytest.importorskip("plotly")
+    sides = 12
+    fig = tr.plot.view(swing, FREE, sides=sides, max_frames=25)
+    rows = fig.layout.meta["tendonrod_rows"]
+    assert len(fig.frames) == len(rows) == 25 and rows[0] == 0 and rows[-1] == 60
+    assert [s.label for s in fig.layout.sliders[0].steps] == [
+        f"t = {swing.t[i]:.6g} s" for i in rows
+    ]
+    nb = swing.backbone.shape[1]
+    for frame, i in zip(fig.frames, rows):
+        tube, tip = frame.data
+        V = np.stack([tube.x, tube.y, tube.z], -1)
+        assert V.shape == (nb * sides + 2, 3)  # the rings and the caps' two centres
+        P = swing.backbone[i]
+        # ring k's vertices at the rod's radius from node k (the rings are built at exactly
+        # the radius: round-off only)
+        rad = np.linalg.norm(V[: nb * sides].reshape(nb, sides, 3) - P[:, None, :], axis=-1)
+        assert np.abs(rad - 1e-3).max() < 1e-12
+        assert np.array_equal(np.array([tip.x[0], tip.y[0], tip.z[0]]), swing.tip_position[i])
+    names = [t.name for t in fig.data]
+    assert names[:3] == ["backbone (d = 2 mm)", "tip", "tip path"] and "world frame" in names
+    assert len(fig.data[2].x) == len(swing.t)  # the tip's path: every row
+    few = tr.plot.view(swing, max_frames=200)  # fewer rows than max_frames: every row
+    assert len(few.frames) == len(swing.t) and few.data[0].name.startswith("backbone (its")
+    plain = simulate(FREE, 2e-3, 1e-3)
+    with pytest.raises(ValueError, match="no backbone states.*backbone"):
+        tr.plot.view(plain)
+    short = tr.Scene(tr.Robot(tr.Rod(0.1, 2e-3, 207e9, 79.6e9, density=7800.0), []))
+    with pytest.raises(ValueError, match="0.1 m long"):
+        tr.plot.view(swing, short)
