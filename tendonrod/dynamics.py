@@ -17,6 +17,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from . import _core
+from ._fields import _option_dict
 from .compiled import _compile, pack_scene
 from .loads import PointLoad, PointMass
 from .mounting import base_pose, points_out, rotations_out
@@ -166,17 +167,7 @@ class Trajectory:
 
 
 def _options(options) -> dict:
-    opt = dict(_DEFAULTS)
-    if options is None:
-        return opt
-    if not isinstance(options, dict):
-        raise TypeError(
-            f"simulate: options must be a dict with keys {sorted(_DEFAULTS)}, got {options!r}"
-        )
-    for k, v in options.items():
-        if k not in _DEFAULTS:
-            raise ValueError(f"simulate: options has no key {k!r} (keys: {sorted(_DEFAULTS)})")
-        opt[k] = v
+    opt = _option_dict("simulate", options, _DEFAULTS)
     st, a = opt["steps"], opt["alpha"]
     if isinstance(st, bool) or not isinstance(st, (int, np.integer)) or not 2 <= st <= 100000:
         raise ValueError(f"simulate: options['steps'] must be an int in [2, 100000], got {st!r}")
