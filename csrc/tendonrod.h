@@ -448,11 +448,21 @@ tr_data *tr_data_alloc(const tr_model *m, const tr_options *opt, int nnode, cons
  *     (TR_STAB_MAX_ELEMENTS elements, Cosserat: two grids of ~800 nodes, ~2 MB each);
  *   TR_ALLOC_CONFIRM: the confirmation's second formulation (the scene compiled with 8 or
  *     2 M shooting segments, and its workspace), used on a rare path (continuation
- *     stalled, a direct solve converged off the load path).
+ *     stalled, a direct solve converged off the load path);
+ *   TR_ALLOC_CALLS: room for the buffers of tr_path and tr_actuate (tr_path.h,
+ *     tr_actuate.h) on this workspace, sized for the largest call of the model (a path:
+ *     its (k + 1)-square bordered system; an actuation: every tendon a control, a target
+ *     of 6 components); without it each call allocates its own and frees them.
  * Measured on a Python tr.solve warm from a guess (no verdict needed): GRIDS +25 us,
  * FINEST +160 us, FINEST | CONFIRM ~ +300 us.  GSL's LU factorisation still allocates its
  * pivot vector per call (GSL >= 2.7). */
-enum { TR_ALLOC_GRIDS = 1, TR_ALLOC_FINEST = 2, TR_ALLOC_CONFIRM = 4, TR_ALLOC_ALL = 7 };
+enum {
+    TR_ALLOC_GRIDS = 1,
+    TR_ALLOC_FINEST = 2,
+    TR_ALLOC_CONFIRM = 4,
+    TR_ALLOC_CALLS = 8,
+    TR_ALLOC_ALL = 15
+};
 tr_data *tr_data_alloc_ext(const tr_model *m, const tr_options *opt, int nnode,
                            const double *node_s, int flags, char *msg, size_t msglen);
 void tr_data_free(tr_data *d);

@@ -181,11 +181,10 @@ int tr_act_iter_alloc(act_iter *it, act_run *a, const tr_act_spec *sp)
     it->a = a, it->sp = sp, it->n = (int)n, it->nt = (int)nt, it->mt = (int)mt;
     for (j = 0; j < nd; j++) len += dv[j].len;
     for (j = 0; j < ni; j++) ilen += iv[j].len;
-    w = (double *)calloc(len, sizeof(double));
-    iw = (int *)calloc(ilen, sizeof(int));
+    it->wblock = w = (double *)tr_data_take(a->d, len * sizeof(double));
+    it->iblock = iw = (int *)tr_data_take(a->d, ilen * sizeof(int));
     if (!w || !iw) {
-        free(w);
-        free(iw);
+        tr_act_iter_free(it);
         return -1;
     }
     for (j = 0; j < nd; j++) *dv[j].p = w, w += dv[j].len;
@@ -201,6 +200,8 @@ int tr_act_iter_alloc(act_iter *it, act_run *a, const tr_act_spec *sp)
 
 void tr_act_iter_free(act_iter *it)
 {
-    free(it->c);
-    free(it->sw);
+    tr_data_drop(it->a->d, it->iblock);
+    tr_data_drop(it->a->d, it->wblock);
+    it->iblock = NULL;
+    it->wblock = NULL;
 }

@@ -37,6 +37,8 @@ typedef struct {
     double *cn, *c2, *ca, *u, *v, *dd, *u0, *gold, *gnew, *s, *y, *Hs, *g0, *qg;
     double *QH, *G, *h, *mu, *M, *rhs, *floor, *psi, *psin, *gbuf, *qpw;
     int *active, *rows, *keep;
+    double *wblock; /* the block of doubles and the block of ints the buffers are in */
+    int *iblock;
 } act_iter;
 
 /* The state the iterate stands at. */

@@ -68,26 +68,22 @@ int tr_act_check_spec(const tr_model *m_, tr_data *d, const tr_act_spec *sp)
     return TR_OK;
 }
 
-act_run *tr_act_run_alloc(const tr_model *m_, tr_data *d, const tr_act_spec *sp)
+int tr_act_run_alloc(act_run *a, const tr_model *m_, tr_data *d, const tr_act_spec *sp)
 {
     const tr_model *m = TR_IN(m_, d);
-    const int n = sp->n, nt = m->nt, k = d->k, ls = nt + sp->target.m > n ? nt + sp->target.m : n;
-    const size_t per = (size_t)(6 + 2 * nt) + 2 * (size_t)k + (size_t)k * k + 3 * (size_t)nt + n;
-    const size_t len = ACT_POOL * per + (size_t)k * k + nt + n + 6 * (size_t)nt +
-                       2 * (size_t)nt * nt + tr_lstsq_work_len(ls, n);
-    act_run *a = (act_run *)calloc(1, sizeof *a);
+    const int n = sp->n, nt = m->nt, k = d->k;
     double *w;
     int i;
-    if (!a) return NULL;
+    memset(a, 0, sizeof *a);
     a->m = m, a->d = d, a->sp = sp;
     a->n = n, a->nt = nt, a->k = k, a->mt = sp->target.m;
     a->last = a->cur = a->best = -1;
-    w = (double *)calloc(len, sizeof(double));
-    a->par = (tr_param *)calloc((size_t)nt + 1, sizeof(tr_param));
+    w = (double *)tr_data_take(d, tr_act_run_len(nt, k, n, sp->target.m) * sizeof(double));
+    a->block = w;
+    a->par = (tr_param *)tr_data_take(d, ((size_t)nt + 1) * sizeof(tr_param));
     if (!w || !a->par) {
-        free(w);
         tr_act_run_free(a);
-        return NULL;
+        return -1;
     }
     for (i = 0; i < ACT_POOL; i++) {
         act_state *s = a->pool + i;
@@ -111,15 +107,15 @@ act_run *tr_act_run_alloc(const tr_model *m_, tr_data *d, const tr_act_spec *sp)
         a->par[i].kind = TR_PAR_VALUE;
         a->par[i].index = i;
     }
-    return a;
+    return 0;
 }
 
 void tr_act_run_free(act_run *a)
 {
-    if (!a) return;
-    free(a->pool[0].g); /* the one block of doubles */
-    free(a->par);
-    free(a);
+    tr_data_drop(a->d, a->par);
+    tr_data_drop(a->d, a->block);
+    a->par = NULL;
+    a->block = NULL;
 }
 
 int tr_act_lstsq(act_run *a, int rows, int cols, const double *M, const double *b, double rcond,

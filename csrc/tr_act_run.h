@@ -9,11 +9,11 @@
 #include <stddef.h>
 
 #include "tendonrod.h"
+#include "tr_data.h"
 #include "tr_actuate.h"
 
-/* Converged states a run keeps (the current iterate, the last few solves, the trials a
- * step holds) and how many of the last solves a return to their controls restarts from. */
-#define ACT_POOL  16
+/* How many of the last solves a return to their controls restarts from (of the ACT_POOL
+ * converged states a run keeps, tr_data.h). */
 #define ACT_CACHE 8
 
 /* A step of Levenberg-Marquardt (square and least-squares targets) is accepted only where
@@ -74,13 +74,16 @@ typedef struct {
     double *pose, *ten, *sl; /* linearisation: (nt x 6), (nt x nt), (nt x nt) */
     tr_param *par;           /* (nt) its parameters: every tendon's value */
     double *lsq;             /* tr_act_lstsq's workspace */
+    double *block;           /* the one block of doubles the buffers above are in */
 } act_run;
 
 /* TR_OK, or TR_EINVAL (message in d->message) for a spec that does not fit the model or
  * a workspace without a converged solve to start from. */
 int tr_act_check_spec(const tr_model *m, tr_data *d, const tr_act_spec *sp);
-/* Allocate the run's buffers (NULL: out of memory); free with tr_act_run_free. */
-act_run *tr_act_run_alloc(const tr_model *m, tr_data *d, const tr_act_spec *sp);
+/* The run a (the caller's) set up, its buffers taken from the workspace (tr_data_take:
+ * its TR_ALLOC_CALLS reserve, else allocated); 0, or -1 out of memory.  Give them back
+ * with tr_act_run_free. */
+int tr_act_run_alloc(act_run *a, const tr_model *m, tr_data *d, const tr_act_spec *sp);
 void tr_act_run_free(act_run *a);
 /* The workspace's current state (a converged solve at the scene's controls) as the
  * run's first: its slot. */

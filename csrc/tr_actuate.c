@@ -460,12 +460,15 @@ int tr_actuate(const tr_model *m_, tr_data *d, const tr_act_spec *sp, tr_act_res
 {
     const tr_model *m = TR_IN(m_, d);
     const int n = sp->n;
-    act_run *a;
+    act_run run, *a = &run;
     act_iter it;
     int s, j, out = TR_ACT_MOVED, status, i, nit = 0, back = 0;
     memset(res->why, 0, sizeof res->why);
     if ((status = tr_act_check_spec(m, d, sp)) != TR_OK) return status;
-    if (!(a = tr_act_run_alloc(m, d, sp))) return TR_ENOMEM;
+    if (tr_act_run_alloc(a, m, d, sp) < 0) {
+        tr_set_message(d, "actuate: out of memory");
+        return TR_ENOMEM;
+    }
     if (tr_act_iter_alloc(&it, a, sp) < 0) {
         tr_act_run_free(a);
         return TR_ENOMEM;

@@ -3,8 +3,10 @@
  * freed in tr_data_free.  With TR_ALLOC_ALL nothing in between: the stability test's grid
  * workspaces with room for the finest grid the test refines to (tr_stab_workspace, below,
  * sets a grid in place) and the confirmation's second formulation come with it; without,
- * the first solve that needs them allocates them (tr_stab_workspace, tr_confirm.c).  The
- * workspace's inputs (the values its solves use) are tr_inputs.c's.
+ * the first solve that needs them allocates them (tr_stab_workspace, tr_confirm.c); and
+ * room for the buffers of the largest tr_path and tr_actuate call of the model, which the
+ * calls take (tr_data_take) and allocate only on a workspace without it.  The workspace's
+ * inputs (the values its solves use) are tr_inputs.c's.
  */
 #include <math.h>
 #include <stdlib.h>
@@ -13,6 +15,7 @@
 
 #include "tendonrod.h"
 #include "tr_internal.h"
+#include "tr_qp.h"
 #include "tr_stab.h"
 
 static tr_data *data_alloc(const tr_model *m, const tr_options *opt, int nnode,
@@ -193,6 +196,7 @@ void tr_data_free(tr_data *d)
     if (d->ad_ev_shoot) gsl_odeiv2_evolve_free(d->ad_ev_shoot);
     if (d->ad_ev_rec) gsl_odeiv2_evolve_free(d->ad_ev_rec);
     free(d->Yx);
+    free(d->calls);
     tr_inputs_free(d);
     free(d->x_last);
     free(d->x_guess);
@@ -411,6 +415,77 @@ int tr_data_alloc_confirm(const tr_model *m, tr_data *d, char *msg, size_t msgle
     return d->confirm_d ? 0 : -1;
 }
 
+/* ------------------------------------------------------------ a call's buffers */
+static size_t round16(size_t bytes)
+{
+    return (bytes + 15) / 16 * 16;
+}
+
+size_t tr_path_len(int nt, int nl, int k)
+{
+    const size_t n = (size_t)k + 1;
+    /* the value vector, the bordered Jacobian and its LU, 12 n-vectors, rhs and solution */
+    return (size_t)nt + 6 * (size_t)nl + 3 + 2 * n * n + 14 * n;
+}
+
+size_t tr_act_run_len(int nt, int k, int n, int mt)
+{
+    const int ls = nt + mt > n ? nt + mt : n;
+    const size_t per = (size_t)(6 + 2 * nt) + 2 * (size_t)k + (size_t)k * k + 3 * (size_t)nt + n;
+    return ACT_POOL * per + (size_t)k * k + nt + n + 6 * (size_t)nt + 2 * (size_t)nt * nt +
+           tr_lstsq_work_len(ls, n);
+}
+
+size_t tr_act_iter_len(int nt_, int n_, int mt_, size_t *ilen)
+{
+    const size_t n = (size_t)n_, nt = (size_t)nt_, mt = (size_t)mt_, gmax = nt + 5 * n + 1;
+    *ilen = 5 * nt + n + gmax;
+    return 16 * n + 5 * n * n + (mt + nt + gmax) * n + 2 * gmax + (mt + nt) * n + mt + nt + 7 * nt +
+           6 + tr_qp_work_len(n_, mt_, (int)gmax);
+}
+
+/* The reserve of TR_ALLOC_CALLS: the larger of a path's buffers and an actuation's with
+ * every tendon a control and a target of 6 components (the most a call of this model can
+ * take: the lengths grow with both). */
+static int alloc_calls(const tr_model *m, tr_data *d)
+{
+    const int nt = m->nt, k = d->k;
+    size_t ilen, path, act;
+    path = round16(tr_path_len(nt, m->nl, k) * sizeof(double)) +
+           round16(((size_t)k + 1) * sizeof(size_t));
+    act = round16(tr_act_run_len(nt, k, nt, 6) * sizeof(double)) +
+          round16(((size_t)nt + 1) * sizeof(tr_param));
+    act +=
+        round16(tr_act_iter_len(nt, nt, 6, &ilen) * sizeof(double)) + round16(ilen * sizeof(int));
+    d->calls_len = path > act ? path : act;
+    d->calls = (double *)malloc(d->calls_len);
+    return d->calls ? 0 : -1;
+}
+
+void *tr_data_take(tr_data *d, size_t bytes)
+{
+    const size_t b = round16(bytes ? bytes : 1);
+    if (d->calls && b <= d->calls_len - d->calls_used) {
+        char *p = (char *)d->calls + d->calls_used;
+        d->calls_used += b;
+        memset(p, 0, b);
+        return p;
+    }
+    return calloc(1, b);
+}
+
+void tr_data_drop(tr_data *d, void *p)
+{
+    const char *base = (const char *)d->calls, *q = (const char *)p;
+    if (!p) return;
+    if (base && q >= base && q < base + d->calls_len) {
+        const size_t off = (size_t)(q - base);
+        if (off < d->calls_used) d->calls_used = off;
+    } else {
+        free(p);
+    }
+}
+
 /* nested: 0 a caller's workspace (with TR_ALLOC_GRIDS or _FINEST the stability test's grids
  * unless accept_unstable, with TR_ALLOC_CONFIRM the confirmation's workspace when
  * continuation may need it), 1 a confirming one
@@ -454,6 +529,7 @@ static tr_data *data_alloc(const tr_model *m, const tr_options *opt, int nnode,
              !(d->stab_quick = stab_alloc(d->vm, opt, TR_STAB_QUICK, 0,
                                           fine ? TR_STAB_MAX_ELEMENTS : TR_STAB_QUICK, 3))))
             goto nomem;
+        if ((flags & TR_ALLOC_CALLS) && alloc_calls(m, d) != 0) goto nomem;
         if ((flags & TR_ALLOC_CONFIRM) && opt->continuation &&
             tr_data_alloc_confirm(d->vm, d, msg, msglen) != 0) {
             char why[TR_MSGLEN];

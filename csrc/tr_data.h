@@ -210,6 +210,29 @@ struct tr_data {
     /* dynamics (tr_dyn.c): a time step's context, read by the spatial right-hand side
      * (inertia, damping, the history at each stage point); NULL for every static solve */
     struct tr_dyn_ctx *dyn;
+    /* TR_ALLOC_CALLS: room for the buffers of the largest tr_path or tr_actuate call of the
+     * model (tr_data_take); calls_used bytes of it taken */
+    double *calls;
+    size_t calls_len, calls_used;
 };
+
+/* tr_data.c: the buffers of a tr_path or tr_actuate call (TR_ALLOC_CALLS).  The workspace
+ * reserves room for the largest call its model admits, and a call takes its buffers from
+ * there.  tr_data_take: `bytes` zeroed bytes (as calloc gives them, 16-byte aligned) from
+ * the reserve where they fit, else calloc'd (NULL: out of memory); tr_data_drop gives them
+ * back (frees a calloc'd block), in any order.  The sizes, in doubles (ints for *ilen), of
+ * a path's buffers (tr_path.c), an actuation run's (tr_act_run.c; n controls, mt target
+ * components) and an actuation iterate's (tr_act_iter.c, the sum of its table of buffers):
+ * the path and the run take their buffers by them, the workspace sizes its reserve by all
+ * three (csrc/tests/alloc_count.c's pose actuation is that largest call: every tendon a
+ * control, 6 components). */
+void *tr_data_take(tr_data *d, size_t bytes);
+void tr_data_drop(tr_data *d, void *p);
+size_t tr_path_len(int nt, int nl, int k);
+size_t tr_act_run_len(int nt, int k, int n, int mt);
+size_t tr_act_iter_len(int nt, int n, int mt, size_t *ilen);
+/* Converged states an actuation run keeps (the current iterate, the last few solves, the
+ * trials a step holds). */
+#define ACT_POOL 16
 
 #endif /* TR_DATA_H */

@@ -38,9 +38,9 @@ typedef struct {
     double *vals;   /* (nt + 6 nl + 3) the value vector (TR_PATH_SLOT) */
     double lam_set; /* lambda whose value is set in the model */
     double *A;      /* (n x n) bordered Jacobian, row-major */
-    gsl_matrix *LU; /* (n x n) */
+    gsl_matrix *LU; /* (n x n) a view of lu_v */
     gsl_permutation *perm;
-    gsl_vector *rhs, *sol;                          /* (n) */
+    gsl_vector *rhs, *sol;                          /* (n) views */
     double *F, *X, *Xa, *ta, *t, *c, *Xt, *Xb, *tb; /* (n) each */
     double *r, *dx, *Xs;                            /* (n) each: the corrector's */
     double det_sign;                                /* sign of the last factored determinant */
@@ -51,34 +51,44 @@ typedef struct {
     int last;          /* 1: the new point is at p1; 2: back at p0 */
     int jump;          /* 1: the last located sign change was a jump (refine) */
     char msg[TR_MSGLEN];
+    /* the buffers: one block of doubles and the permutation's indices, taken from the
+     * workspace (tr_data_take: its TR_ALLOC_CALLS reserve, else allocated) */
+    double *block;
+    size_t *pidx;
+    gsl_matrix_view lu_v;
+    gsl_vector_view rhs_v, sol_v;
+    gsl_permutation perm_s;
 } path_ws;
 
-static void ws_free(path_ws *w)
+static void ws_free(path_ws *w, tr_data *d)
 {
-    free(w->vals);
-    free(w->A);
-    if (w->LU) gsl_matrix_free(w->LU);
-    if (w->perm) gsl_permutation_free(w->perm);
-    if (w->rhs) gsl_vector_free(w->rhs);
-    if (w->sol) gsl_vector_free(w->sol);
-    free(w->F);
+    tr_data_drop(d, w->pidx);
+    tr_data_drop(d, w->block);
 }
 
-static int ws_alloc(path_ws *w, const tr_model *m, const tr_data *d, const tr_path_spec *sp)
+static int ws_alloc(path_ws *w, const tr_model *m, tr_data *d, const tr_path_spec *sp)
 {
-    const int n = d->k + 1, nv = m->nt + 6 * m->nl + 3;
+    const int n = d->k + 1;
+    const size_t n2 = (size_t)n * n;
     int i, c;
+    (void)sp;
     memset(w, 0, sizeof *w);
     w->k = d->k;
     w->n = n;
-    w->vals = (double *)malloc((size_t)nv * sizeof(double));
-    w->A = (double *)malloc((size_t)n * n * sizeof(double));
-    w->F = (double *)malloc((size_t)12 * n * sizeof(double));
-    w->LU = gsl_matrix_alloc((size_t)n, (size_t)n);
-    w->perm = gsl_permutation_alloc((size_t)n);
-    w->rhs = gsl_vector_alloc((size_t)n);
-    w->sol = gsl_vector_alloc((size_t)n);
-    if (!w->vals || !w->A || !w->F || !w->LU || !w->perm || !w->rhs || !w->sol) return TR_ENOMEM;
+    w->block = (double *)tr_data_take(d, tr_path_len(m->nt, m->nl, d->k) * sizeof(double));
+    w->pidx = (size_t *)tr_data_take(d, (size_t)n * sizeof(size_t));
+    if (!w->block || !w->pidx) return TR_ENOMEM;
+    w->A = w->block;
+    w->lu_v = gsl_matrix_view_array(w->A + n2, (size_t)n, (size_t)n);
+    w->rhs_v = gsl_vector_view_array(w->A + 2 * n2, (size_t)n);
+    w->sol_v = gsl_vector_view_array(w->A + 2 * n2 + n, (size_t)n);
+    w->LU = &w->lu_v.matrix;
+    w->rhs = &w->rhs_v.vector;
+    w->sol = &w->sol_v.vector;
+    w->perm_s.size = (size_t)n;
+    w->perm_s.data = w->pidx;
+    w->perm = &w->perm_s;
+    w->F = w->A + 2 * n2 + 2 * n;
     w->X = w->F + n;
     w->Xa = w->X + n;
     w->ta = w->Xa + n;
@@ -90,6 +100,7 @@ static int ws_alloc(path_ws *w, const tr_model *m, const tr_data *d, const tr_pa
     w->r = w->tb + n;
     w->dx = w->r + n;
     w->Xs = w->dx + n;
+    w->vals = w->F + 12 * n;
     for (i = 0; i < m->nt; i++) w->vals[i] = m->tendon[i].value;
     for (i = 0; i < m->nl; i++)
         for (c = 0; c < 6; c++) w->vals[m->nt + 6 * i + c] = m->load[TR_LD_NCOL * i + TR_LD_F + c];
@@ -667,7 +678,7 @@ int tr_path(const tr_model *m_, tr_data *d, const tr_path_spec *sp, tr_path_out 
     }
     st = ws_alloc(&w, m, d, sp);
     if (st != TR_OK) {
-        ws_free(&w);
+        ws_free(&w, d);
         tr_set_message(d, "tr_path: out of memory");
         return st;
     }
@@ -723,6 +734,6 @@ int tr_path(const tr_model *m_, tr_data *d, const tr_path_spec *sp, tr_path_out 
         w.ds = fmin(w.ds * 1.5, sp->ds_max);
     }
     st = end_message(&w, d, sp, o, st);
-    ws_free(&w);
+    ws_free(&w, d);
     return st;
 }

@@ -89,7 +89,10 @@ def test_solves_allocate_nothing(build):
     csrc/tests/alloc_count.c counts every malloc/calloc/realloc by caller.  The core's count
     is 0 in every family (the stability grids with room for the finest and the
     confirmation's workspace come with the workspace); GSL's LU factorisation allocates its
-    pivot vector per call (GSL >= 2.7), which is counted apart and not asserted."""
+    pivot vector per call (GSL >= 2.7), which is counted apart and not asserted.  Then the
+    calls over the driver on such workspaces: a path in a tendon's value (planar, spatial)
+    and an actuation toward each target kind (angle, direction, position, pose): 0 by the
+    core too (their buffers come from the workspace's TR_ALLOC_CALLS reserve)."""
     import sys
 
     if not sys.platform.startswith("linux"):
@@ -97,11 +100,24 @@ def test_solves_allocate_nothing(build):
     exe = build(CSRC / "tests" / "alloc_count.c", "-std=gnu99", "-ldl")
     r = subprocess.run([str(exe)], capture_output=True, text=True, timeout=300)
     assert r.returncode == 0, r.stderr + r.stdout
-    rows = [line.split() for line in r.stdout.splitlines()[1:] if line.strip()]
+    solves, calls = r.stdout.split("\n\n")
+    rows = [line.split() for line in solves.splitlines()[1:] if line.strip()]
     assert len(rows) == 10, r.stdout
     for name, core0, _gsl0, core1, _gsl1, status in rows:
         assert (int(core0), int(core1)) == (0, 0), f"{name}: {core0} + {core1} allocations"
         assert int(status) >= 0, f"{name}: the first solve failed ({status})"
+    rows = [line.split() for line in calls.splitlines()[1:] if line.strip()]
+    assert [row[0] for row in rows] == [
+        "path_planar",
+        "path_spatial",
+        "actuate_angle",
+        "actuate_direction",
+        "actuate_position",
+        "actuate_pose",
+    ], r.stdout
+    for name, core, _gsl, status in rows:
+        assert int(core) == 0, f"{name}: {core} allocations"
+        assert int(status) >= 0, f"{name}: the call failed ({status})"
 
 
 def test_the_extension_exports_only_its_init():
