@@ -48,7 +48,7 @@ typedef struct tr_dyn_out {
                          dissipation), to resume from, or NULL */
     int done;         /* the last step completed (0: none) */
     int nit, nfev, njev;
-    char message[256];
+    char message[512];
 } tr_dyn_out;
 
 /* The length of a run's state (tr_dyn_out.state, tr_dyn_spec.resume): the history at every
