@@ -201,3 +201,12 @@ def _option_dict(who: str, options, defaults: dict) -> dict:
             raise ValueError(f"{who}: options has no key {k!r} (keys: {sorted(defaults)})")
         opt[k] = v
     return opt
+
+
+def _int_option(who: str, options: dict, key: str, lo: int, hi: int) -> int:
+    """``options[key]`` checked to be an int (not a bool) in [lo, hi]: ValueError naming
+    ``who`` and the key otherwise."""
+    v = options[key]
+    if isinstance(v, bool) or not isinstance(v, (int, np.integer)) or not lo <= v <= hi:
+        raise ValueError(f"{who}: options[{key!r}] must be an int in [{lo}, {hi}], got {v!r}")
+    return int(v)

@@ -17,7 +17,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from . import _core
-from ._fields import _option_dict
+from ._fields import _int_option, _option_dict
 from .compiled import _compile, pack_scene
 from .loads import PointLoad, PointMass
 from .mounting import base_pose, points_out, rotations_out
@@ -168,18 +168,15 @@ class Trajectory:
 
 def _options(options) -> dict:
     opt = _option_dict("simulate", options, _DEFAULTS)
-    st, a = opt["steps"], opt["alpha"]
-    if isinstance(st, bool) or not isinstance(st, (int, np.integer)) or not 2 <= st <= 100000:
-        raise ValueError(f"simulate: options['steps'] must be an int in [2, 100000], got {st!r}")
+    _int_option("simulate", opt, "steps", 2, 100000)
+    a = opt["alpha"]
     if not (isinstance(a, (int, float)) and -0.5 <= a <= 0.0):
         raise ValueError(f"simulate: options['alpha'] must be in [-0.5, 0], got {a!r}")
     if not (
         isinstance(opt["drag"], (int, float)) and opt["drag"] >= 0 and math.isfinite(opt["drag"])
     ):
         raise ValueError(f"simulate: options['drag'] must be finite and >= 0, got {opt['drag']!r}")
-    mi = opt["max_iter"]
-    if isinstance(mi, bool) or not isinstance(mi, (int, np.integer)) or not 1 <= mi <= 100:
-        raise ValueError(f"simulate: options['max_iter'] must be an int in [1, 100], got {mi!r}")
+    _int_option("simulate", opt, "max_iter", 1, 100)
     return opt
 
 

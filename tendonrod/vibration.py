@@ -22,7 +22,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from . import _core
-from ._fields import _option_dict
+from ._fields import _int_option, _option_dict
 from .compiled import _compile
 from .loads import PointMass
 from .mounting import base_pose, points_out, vectors_out
@@ -168,11 +168,8 @@ class Modes:
 
 def _options(options) -> dict:
     opt = _option_dict("modes", options, _DEFAULTS)
-    e, lv = opt["elements"], opt["levels"]
-    if isinstance(e, bool) or not isinstance(e, (int, np.integer)) or not 2 <= e <= 4096:
-        raise ValueError(f"modes: options['elements'] must be an int in [2, 4096], got {e!r}")
-    if isinstance(lv, bool) or not isinstance(lv, (int, np.integer)) or not 1 <= lv <= 5:
-        raise ValueError(f"modes: options['levels'] must be an int in [1, 5], got {lv!r}")
+    _int_option("modes", opt, "elements", 2, 4096)
+    _int_option("modes", opt, "levels", 1, 5)
     if not isinstance(opt["rotary_inertia"], (bool, np.bool_)):
         raise ValueError(
             f"modes: options['rotary_inertia'] must be True or False, got {opt['rotary_inertia']!r}"
