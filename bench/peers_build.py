@@ -7,9 +7,8 @@ holding two public checkouts laid out as their repositories are,
     DIR/tdcr-modeling            github.com/SvenLilge/tdcr-modeling
 
 this module writes small drivers of its own into a build folder outside the repository
-(``--build-dir``, by default ``build-static`` beside DIR),
-compiles them with ``g++`` and the flags in ``CXXFLAGS`` (no ``-march``: the x86-64
-baseline), and runs them.  Each driver times N cold solves, each from the peer's own
+(``--build-dir``, by default ``build-static`` beside DIR), compiles them with ``g++`` and
+the flags in ``CXXFLAGS`` (no ``-march``: the x86-64 baseline), and runs them.  Each driver times N cold solves, each from the peer's own
 default guess, in thread CPU time (``CLOCK_THREAD_CPUTIME_ID``) and in wall time
 (``CLOCK_MONOTONIC``), one line per solve, then prints the tip of the last solve [m, world
 frame].
