@@ -6,7 +6,10 @@ r^2 k L / 3EI = 50, the first retracted to a 90 deg tip angle, out-of-plane tip 
 four tendons under gravity (spatial); Fig. 11a and Fig. 17 slack (planar); the peers'
 own loaded scenes (``../shared/peers.md``: Till's displacement-controlled T0-T3, Rao's
 scene R with a tip force of +x and -y), whose peer times are the fixed reference times
-recorded there (medians of 31 cold solves of each peer's C++ code on this machine kind).
+recorded there (medians of 31 cold solves of each peer's C++ code on this machine kind);
+with ``--peer-src DIR`` the peers' own codes are built from their checkouts in DIR and
+timed in rounds alternating with tendonrod's (``bench/peers_build.py``), and the table
+and csv say per scene which peer times were used.
 
 For each scene a sweep of 21 load sets, 1 % apart (the loads scaled by 1 + i/100; a scene
 without loads scales its actuation instead), and, per round:
@@ -21,7 +24,7 @@ between runs); the medians over rounds are reported, with the Python overhead pe
 against an adaptive reference (rtol 1e-13, tol 1e-12) and the goals of the issue.
 Not a test: it prints a table and writes bench/results/solve.csv and solve.png.
 
-    .venv/bin/python bench/solve.py [--rounds 15] [--quick]
+    .venv/bin/python bench/solve.py [--rounds 15] [--quick] [--peer-src DIR]
 """
 
 from __future__ import annotations
@@ -41,6 +44,7 @@ import time
 import warnings
 
 import numpy as np
+from peers_build import built_peers  # --peer-src: the peers' own codes, built and timed
 
 import tendonrod as tr
 from tendonrod.compiled import _TD, pack_scene
@@ -298,7 +302,7 @@ def python_round(sw, chain, reps: int) -> dict:
     }
 
 
-def bench_scene(name, scene, klass, peer_ms, harness, rounds):
+def bench_scene(name, scene, klass, peer_ms, harness, rounds, peer=None):
     L = scene.robot.rod.length
     sw = sweep_of(scene)
     chain, guess = [], None
@@ -307,9 +311,12 @@ def bench_scene(name, scene, klass, peer_ms, harness, rounds):
         chain.append(guess)
     text = harness_input(sw, 101)
     py, c = [], []
+    peer_runs = []
     for _ in range(rounds):
         c.append(harness.run(text, REPS))
         py.append(python_round(sw, chain, REPS))
+        if peer is not None:  # the built peer's round alternates with tendonrod's
+            peer_runs.append(peer.run(name))
     med = {}
     for key in ("cold_us", "warm_guess_us", "warm_us"):
         med["py_" + key] = statistics.median(r[key] for r in py)
@@ -328,6 +335,13 @@ def bench_scene(name, scene, klass, peer_ms, harness, rounds):
     pw = prob.solve(sw[1])
     ref = tr.solve(scene, options=REF, strict=True)
     goal = GOAL[klass]
+    peer_cpu, peer_times = PEER_CPU_MS.get(name), "fixed table" if peer_ms else ""
+    if peer_runs:
+        peer_cpu = statistics.median(t for r in peer_runs for t in r["cpu_ms"])
+        peer_ms = statistics.median(t for r in peer_runs for t in r["wall_ms"])
+        peer_times = "built, interleaved" + (
+            "" if all(r["ok"] for r in peer_runs) else " (peer failed)"
+        )
     row = dict(
         scene=name,
         formulation=repr(cold.formulation),
@@ -346,9 +360,9 @@ def bench_scene(name, scene, klass, peer_ms, harness, rounds):
         goal_warm_us=goal[2],
         peer_ms=peer_ms if peer_ms else math.nan,
         peer_ratio=(1e3 * peer_ms / med["py_cold_us"]) if peer_ms else math.nan,
-        peer_cpu_ratio=(
-            1e3 * PEER_CPU_MS[name] / med["py_cold_cpu_us"] if name in PEER_CPU_MS else math.nan
-        ),
+        peer_cpu_ms=peer_cpu if peer_cpu else math.nan,
+        peer_cpu_ratio=1e3 * peer_cpu / med["py_cold_cpu_us"] if peer_cpu else math.nan,
+        peer_times=peer_times,
     )
     return row
 
@@ -361,11 +375,18 @@ def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--rounds", type=int, default=15)
     ap.add_argument("--quick", action="store_true", help="3 rounds")
+    ap.add_argument(
+        "--peer-src",
+        metavar="DIR",
+        help="build and time the peers' own codes from their checkouts in DIR "
+        "(bench/peers_build.py), interleaved; else their fixed table",
+    )
     args = ap.parse_args(argv)
     rounds = 3 if args.quick else args.rounds
     warnings.simplefilter("error", tr.ConvergenceWarning)
     la0 = os.getloadavg()[0]
-    rows = []
+    rows, all_scenes = [], scenes()
+    peers, peer_note = built_peers(args.peer_src, all_scenes) if args.peer_src else ({}, "")
     with tempfile.TemporaryDirectory() as tmp:
         harness = Harness(tmp)
         print(
@@ -373,8 +394,8 @@ def main(argv=None):
             f"{'warm tr.solve (C)':>18s} {'warm Problem (C)':>17s} | overhead cold/warm/P "
             f"| goals | peer x | verdict % | nit"
         )
-        for name, (scene, klass, peer_ms) in scenes().items():
-            r = bench_scene(name, scene, klass, peer_ms, harness, rounds)
+        for name, (scene, klass, peer_ms) in all_scenes.items():
+            r = bench_scene(name, scene, klass, peer_ms, harness, rounds, peers.get(name))
             rows.append(r)
             goals = [
                 r["py_cold_us"] <= r["goal_cold_us"],
@@ -384,7 +405,7 @@ def main(argv=None):
             ]
             peer = (
                 f"{r['peer_ratio']:.0f}x wall, {r['peer_cpu_ratio']:.0f}x CPU "
-                f"{mark(r['peer_cpu_ratio'] >= GOAL_PEER_RATIO)}"
+                f"{mark(r['peer_cpu_ratio'] >= GOAL_PEER_RATIO)} ({r['peer_times']})"
                 if peer_ms
                 else ""
             )
@@ -406,7 +427,8 @@ def main(argv=None):
             f"# bench/solve.py {time.strftime('%Y-%m-%dT%H:%M:%SZ', time.gmtime())}; "
             f"{platform.processor() or platform.machine()}, {os.cpu_count()} cpus, python "
             f"{sys.version.split()[0]}, numpy {np.__version__}, GSL {tr.gsl_version}; "
-            f"{rounds} rounds x {REPS}; load average {la0:.2f} -> {la1:.2f}\n"
+            f"{rounds} rounds x {REPS}; load average {la0:.2f} -> {la1:.2f}"
+            f"{'; ' + peer_note if peer_note else ''}\n"
         )
         w = csv.DictWriter(f, fieldnames=list(rows[0]))
         w.writeheader()
@@ -417,6 +439,8 @@ def main(argv=None):
         f"<= {GOAL_OVERHEAD_US}, peers cold >= {GOAL_PEER_RATIO:.0f}x; load average "
         f"{la0:.2f} -> {la1:.2f}\nwrote {path}"
     )
+    if peer_note:
+        print(peer_note)
     plot(rows)
 
 
