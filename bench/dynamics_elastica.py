@@ -4,24 +4,27 @@ against PyElastica (Gazzola et al. 2018), each refined until it converges.
 The scene: a 1 m rod of 10 mm diameter (rho = 1000 kg/m^3, E = 0.5 GPa, G = E/3 as
 PyElastica's default Poisson ratio 0.5), clamped at the origin along world +z, gravity
 -9.81 m/s^2 along world -x (a horizontal cantilever, q L^3 / EI = 3.1), held at rest by
-a tip force of twice its weight along +x (tip 0.70 m above the base line), released at
-t = 0: it swings down through its sag, about 1.6 m of tip travel, over 1.5 s (1.5 periods
-of the first mode, f1 = 0.99 Hz).  Undamped in both codes (PyElastica's dampers are not
-Kelvin-Voigt).  Matched: GA = (27/28) G A (PyElastica's shear factor alpha_c; tendonrod is
-given that GA), EA = E A, EI = E I, GJ = 2 G I, rho A, rotary inertia rho (I, I, 2I).
-PyElastica starts from tendonrod's static state (positions at its nodes, rotations at its
-element centres from ``Solution.at``; the clamped first element keeps the base frame).
+a tip force of twice its weight along +x (tip 0.70 m above the base line), the force
+released over --tau = 0.2 s by a half cosine (--tau 0: at once, at t = 0): the rod swings
+down through its sag and back, 1.55 m of tip travel, over 1.5 s (f1 = 0.99 Hz).
+Undamped in both codes (PyElastica's dampers are not Kelvin-Voigt).  Matched:
+GA = (27/28) G A (PyElastica's shear factor alpha_c; tendonrod is given that GA),
+EA = E A, EI = E I, GJ = 2 G I, rho A, rotary inertia rho (I, I, 2I).  PyElastica starts
+from tendonrod's static state (positions at its nodes, rotations at its element centres
+from ``Solution.at``; the clamp holds the first element in that initial frame).
 
 PyElastica runs in its own virtual environment (``--elastica-python``, default
 /work/venv-elastica/bin/python), as a subprocess of this same file in worker mode
 (``--worker``: no tendonrod import), writing the tip every 2.5 ms and its loop's thread
 CPU and wall time to an .npz.  tendonrod runs here (BDF2; the trapezoidal rule fails on
-this scene, see the page).
+this scene below dt = 0.015 s: docs/validation/dynamics_elastica.md).
 
 Not a test: prints tables, writes bench/results/dynamics_elastica.csv and
-docs/images/dynamics_elastica.png.
+docs/images/dynamics_elastica.png (--tau 0: dynamics_elastica_sudden.csv and .png in
+bench/results; --quick: dynamics_elastica_quick.*, not kept).
 
-    .venv/bin/python bench/dynamics_elastica.py [--quick] [--elastica-python PATH]
+    .venv/bin/python bench/dynamics_elastica.py [--quick] [--tau 0] [--cache FILE]
+        [--elastica-python PATH]
 """
 
 from __future__ import annotations
@@ -284,7 +287,8 @@ def bench(args) -> None:
 
 def report(rows, refdiff, spread, grid, e_ref, t_ref, pe, ns, load, quick, tau, tdts) -> None:
     print(
-        f"\nreferences: PyElastica x + a/n + b/n^2 from n = {ns[-3:]} (spread against "
+        f"\nreferences: PyElastica {'2 x(n) - x(n/2)' if quick else 'x + a/n + b/n^2'} "
+        f"from n = {ns[-3:]} (spread against "
         f"2 x({ns[-1]}) - x({ns[-2]}): {spread['pyelastica']:.2e} L); tendonrod BDF2 "
         f"x + c dt^2 from dt = {tdts[0]}, {tdts[1]} s (spread against dt = {tdts[0]}, "
         f"{tdts[2]} s: {spread['tendonrod']:.2e} L)"
