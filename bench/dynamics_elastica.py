@@ -21,9 +21,10 @@ this scene below dt = 0.015 s: docs/validation/dynamics_elastica.md).
 
 Not a test: prints tables, writes bench/results/dynamics_elastica.csv and
 docs/images/dynamics_elastica.png (--tau 0: dynamics_elastica_sudden.csv and .png in
-bench/results; --quick: dynamics_elastica_quick.*, not kept).
+bench/results; --static: the static sag, dynamics_elastica_static.csv; --quick:
+dynamics_elastica_quick.*, not kept).
 
-    .venv/bin/python bench/dynamics_elastica.py [--quick] [--tau 0] [--cache FILE]
+    .venv/bin/python bench/dynamics_elastica.py [--quick] [--tau 0 | --static] [--cache FILE]
         [--elastica-python PATH]
 """
 
@@ -64,10 +65,10 @@ def held_force(t, tau):
 
 
 # --------------------------------------------------------------------------- PyElastica
-def _elastica_sim(n, pos=None, dirs=None, tau=0.0):
+def _elastica_sim(n, pos=None, dirs=None, tau=0.0, relax=0.0, dt=None):
     import elastica as ea
 
-    class Sim(ea.BaseSystemCollection, ea.Constraints, ea.Forcing):
+    class Sim(ea.BaseSystemCollection, ea.Constraints, ea.Forcing, ea.Damping):
         pass
 
     class Release(ea.NoForces):
@@ -98,6 +99,10 @@ def _elastica_sim(n, pos=None, dirs=None, tau=0.0):
     sim.add_forcing_to(rod).using(ea.GravityForces, acc_gravity=GRAVITY.copy())
     if tau > 0:
         sim.add_forcing_to(rod).using(Release)
+    if relax > 0:  # the static check: velocities decay as exp(-relax t)
+        sim.dampen(rod).using(
+            ea.AnalyticalLinearDamper, uniform_damping_constant=relax, time_step=dt
+        )
     sim.finalize()  # the clamp: node 0 at the origin, element 0 in its initial frame
     return sim, rod
 
@@ -106,13 +111,16 @@ def worker(args) -> None:
     """PyElastica's run (in its own venv): tip every SAMPLE s to args.out (.npz)."""
     import elastica as ea
 
-    init = np.load(args.init)
     n, dt = args.n, args.dt
     stepper = ea.PositionVerlet()
     warm, _ = _elastica_sim(5)  # numba's compilation outside the timing
     for _ in range(3):
         stepper.step(warm, 0.0, 1e-6)
-    sim, rod = _elastica_sim(n, init[f"pos{n}"], init[f"dirs{n}"], args.tau)
+    if args.relax > 0:  # from straight, under gravity alone, damped to rest
+        sim, rod = _elastica_sim(n, relax=args.relax, dt=dt)
+    else:
+        init = np.load(args.init)
+        sim, rod = _elastica_sim(n, init[f"pos{n}"], init[f"dirs{n}"], args.tau)
     per = int(round(SAMPLE / dt))
     nsteps = int(round(args.T / dt))
     tips = [rod.position_collection[:, -1].copy()]
@@ -124,7 +132,10 @@ def worker(args) -> None:
             tips.append(rod.position_collection[:, -1].copy())
     cpu, wall = time.thread_time() - c0, time.perf_counter() - w0
     tip = np.array(tips)
-    np.savez(args.out, t=SAMPLE * np.arange(len(tip)), tip=tip, cpu=cpu, wall=wall, n=n, dt=dt)
+    vmax = float(np.abs(rod.velocity_collection).max())
+    np.savez(
+        args.out, t=SAMPLE * np.arange(len(tip)), tip=tip, cpu=cpu, wall=wall, n=n, dt=dt, vmax=vmax
+    )
 
 
 # --------------------------------------------------------------------------- tendonrod
@@ -154,11 +165,12 @@ def elastica_initial(held, ns, path) -> None:
     np.savez(path, **out)
 
 
-def run_elastica(py, init, n, dt, T, tau):
+def run_elastica(py, init, n, dt, T, tau, relax=0.0):
     with tempfile.TemporaryDirectory() as tmp:
         out = os.path.join(tmp, "e.npz")
-        cmd = [py, os.path.abspath(__file__), "--worker", "--init", init, "--out", out]
+        cmd = [py, os.path.abspath(__file__), "--worker", "--init", str(init), "--out", out]
         cmd += ["--n", str(n), "--dt", repr(dt), "--T", repr(T), "--tau", repr(tau)]
+        cmd += ["--relax", repr(relax)]
         subprocess.run(cmd, check=True)
         with np.load(out) as f:
             return {k: f[k] for k in f}
@@ -471,11 +483,61 @@ def figure(rows, e_ref, t_ref, grid, ns, name) -> None:
     print("wrote", path)
 
 
+def static_check(args) -> None:
+    """The cantilever's static sag under its weight: PyElastica from straight, damped to
+    rest (4 s, velocities decaying as exp(-12 t)), against tendonrod's static solve; no
+    constructed state, PyElastica's own clamp."""
+    import tendonrod as tr
+
+    free, _ = scenes()
+    tip = tr.solve(free, options=tr.Options(integrator="rk4", steps=400, force_spatial=True))
+    tip = tip.tip_position
+    ns = (25, 50) if args.quick else (25, 50, 100)
+    load = os.getloadavg()
+    print(f"load average at start: {load[0]:.2f}; tendonrod's tip {tip} m")
+    x = {}
+    rows = []
+    for n in ns:
+        r = run_elastica(args.elastica_python, "", n, elastica_dt(n), 4.0, 0.0, relax=12.0)
+        x[n] = r["tip"][-1]
+        err = float(np.linalg.norm(x[n] - tip)) / L
+        rows.append(
+            [
+                n,
+                f"{float(r['dt']):.6e}",
+                f"{float(r['cpu']):.2f}",
+                f"{err:.3e}",
+                f"{float(r['vmax']):.1e}",
+                *(f"{v:.8f}" for v in x[n]),
+            ]
+        )
+        print(
+            f"PyElastica n={n}: tip {x[n]}, |tip - tendonrod's| / L = {err:.2e}, "
+            f"max |v| at the end {float(r['vmax']):.1e} m/s, CPU {float(r['cpu']):.1f} s"
+        )
+    ext = 2 * x[ns[-1]] - x[ns[-2]]
+    err = float(np.linalg.norm(ext - tip)) / L
+    print(f"PyElastica 2 x({ns[-1]}) - x({ns[-2]}): {ext}, |. - tendonrod's| / L = {err:.2e}")
+    rows.append([f"2x{ns[-1]}-x{ns[-2]}", "", "", f"{err:.3e}", "", *(f"{v:.8f}" for v in ext)])
+    rows.append(["tendonrod", "", "", "", "", *(f"{v:.8f}" for v in tip)])
+    name = "dynamics_elastica_static" + ("_quick" if args.quick else "")
+    with open(os.path.join(OUT, name + ".csv"), "w", newline="") as fh:
+        w = csv.writer(fh)
+        w.writerow(["n", "dt_s", "cpu_s", "err_vs_tendonrod_L", "vmax_end", "x", "y", "z"])
+        w.writerows(rows)
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--quick", action="store_true", help="smoke run (coarse, 0.3 s)")
     ap.add_argument("--elastica-python", default="/work/venv-elastica/bin/python")
     ap.add_argument("--cache", help="a pickle of the runs: read if it exists, else written")
+    ap.add_argument(
+        "--static",
+        action="store_true",
+        help="instead: the static sag under gravity alone, PyElastica damped to rest",
+    )
+    ap.add_argument("--relax", type=float, default=0.0, help=argparse.SUPPRESS)
     ap.add_argument("--worker", action="store_true", help=argparse.SUPPRESS)
     ap.add_argument("--init", help=argparse.SUPPRESS)
     ap.add_argument("--out", help=argparse.SUPPRESS)
@@ -491,8 +553,10 @@ def main() -> None:
     args = ap.parse_args()
     if args.worker:
         worker(args)
-        return
-    bench(args)
+    elif args.static:
+        static_check(args)
+    else:
+        bench(args)
 
 
 if __name__ == "__main__":
