@@ -42,15 +42,32 @@ int tr_dyn_nodes(const tr_model *m, tr_data *d)
     return tr_dyn_points(m, d) / 4 + 1;
 }
 
+double tr_dyn_growth(const tr_model *m, double rhoA, double dt, double alpha)
+{
+    const double c0 = (1.5 + alpha) / (dt * (1.0 + alpha));
+    const double k = rhoA * c0 * c0 / 4.0;
+    double g = m->shoot_growth;
+    int seg;
+    for (seg = 0; seg < m->nseg; seg++)
+        g += (m->bp[seg + 1] - m->bp[seg]) * pow(k / m->seg_rod[seg * TR_SR_NCOL + TR_SR_EI], 0.25);
+    return g;
+}
+
+int tr_dyn_segments(const tr_model *m, double rhoA, double dt, double alpha)
+{
+    const double M = ceil(tr_dyn_growth(m, rhoA, dt, alpha) / TR_DYN_SHOOT_PER);
+    if (!(M >= 1.0)) return 1;
+    return M > TR_MAX_SHOOTING_SEGMENTS ? TR_MAX_SHOOTING_SEGMENTS : (int)M;
+}
+
 static int check(const tr_model *m, const tr_data *d, const tr_dyn_spec *sp, char *msg, size_t len)
 {
-    if (m->planar || m->kirchhoff || m->nfric || d->opt.integrator != TR_RK4 || d->opt.steps <= 0 ||
-        m->n_unknowns != 6 + m->ndisp) {
+    if (m->planar || m->kirchhoff || m->nfric || d->opt.integrator != TR_RK4 || d->opt.steps <= 0) {
         snprintf(msg, len,
                  "the dynamics needs the spatial formulation of a Cosserat rod without channel "
-                 "friction, fixed RK4 steps and one shooting segment (planar %d, Kirchhoff %d, "
-                 "frictional tendons %d, steps %d, unknowns %d)",
-                 m->planar, m->kirchhoff, m->nfric, d->opt.steps, m->n_unknowns);
+                 "friction, fixed RK4 steps (planar %d, Kirchhoff %d, "
+                 "frictional tendons %d, steps %d)",
+                 m->planar, m->kirchhoff, m->nfric, d->opt.steps);
         return TR_EINVAL;
     }
     if (!(sp->nsteps >= 1) || !(sp->dt > 0.0) || !isfinite(sp->dt) || !(sp->alpha >= -0.5) ||

@@ -17,6 +17,15 @@
  * direction. */
 #define TR_DYN_MIN_LAMBDA (1.0 / 1024.0)
 
+/* A time step's shooting problem: the inertia rho A c0^2 (c0 the scheme's coefficient of
+ * y in y_t, 1.5 / dt for BDF2) acts on the bending like an elastic foundation, whose
+ * solutions in s grow like exp(s (rho A c0^2 / (4 EI))^(1/4)).  Each shooting segment is
+ * kept below TR_DYN_SHOOT_PER of that exponent: on Till's tendon robot (BDF2) one segment
+ * converges every step at exponents 12.1 (dt = 3.125 ms, the 25 s), 13.5 and 15.1 (2.5 and
+ * 2 ms, the first 6 s with the motor's ramp) and fails at 17.1 (1.5625 ms, at t = 0.27 s);
+ * two segments converge at 17.1 and 24.2 (8.6 and 12.1 each). */
+#define TR_DYN_SHOOT_PER 14.0
+
 /* What a run integrates: nsteps steps of dt from the solution x0 (scaled unknowns). */
 typedef struct tr_dyn_spec {
     int nsteps;           /* steps of the run (>= 1) */
@@ -58,6 +67,12 @@ int tr_dyn_state_len(const tr_model *m, tr_data *d);
 /* Backbone nodes of a run's workspace (the RK4 grid's step starts and the tip), at its
  * options' step count. */
 int tr_dyn_nodes(const tr_model *m, tr_data *d);
+/* The exponent of a step's shooting growth over the rod at mass rhoA [kg/m], time step dt
+ * [s] and BDF-alpha alpha (the foundation's, integrated over the segments' EI, plus the
+ * tensile loads' of tr_shooting_growth), and the shooting segments it takes (1 up to
+ * TR_DYN_SHOOT_PER; at most TR_MAX_SHOOTING_SEGMENTS). */
+double tr_dyn_growth(const tr_model *m, double rhoA, double dt, double alpha);
+int tr_dyn_segments(const tr_model *m, double rhoA, double dt, double alpha);
 /* The run.  TR_OK; TR_EINVAL (spec out of range or a model the dynamics does not cover:
  * message says which); a failed step's status (out->done the last good one, message with
  * its time and why); TR_EBUDGET / TR_EINTERRUPTED. */
