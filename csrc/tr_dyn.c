@@ -55,8 +55,8 @@ double tr_dyn_growth(const tr_model *m, double rhoA, double dt, double alpha)
 
 int tr_dyn_segments(const tr_model *m, double rhoA, double dt, double alpha)
 {
-    const double M = ceil(tr_dyn_growth(m, rhoA, dt, alpha) / TR_DYN_SHOOT_PER);
-    if (!(M >= 1.0)) return 1;
+    const double g = tr_dyn_growth(m, rhoA, dt, alpha), M = ceil(g / TR_DYN_SHOOT_PER);
+    if (!(g > TR_DYN_SHOOT_ONE)) return 1;
     return M > TR_MAX_SHOOTING_SEGMENTS ? TR_MAX_SHOOTING_SEGMENTS : (int)M;
 }
 
@@ -377,7 +377,8 @@ steps:
         memcpy(b.x1, d->x, (size_t)k * sizeof(double));
         o->done = i;
     }
-    snprintf(o->message, sizeof o->message, "%d steps of %g s converged", sp->nsteps, dt);
+    snprintf(o->message, sizeof o->message, "%d steps of %g s converged (%d shooting segment%s)",
+             sp->nsteps, dt, m->nshoot, m->nshoot > 1 ? "s" : "");
     st = TR_OK;
 done:
     if (o->state && (o->done > 0 || sp->resume)) { /* the last good step, to resume from */

@@ -19,12 +19,15 @@
 
 /* A time step's shooting problem: the inertia rho A c0^2 (c0 the scheme's coefficient of
  * y in y_t, 1.5 / dt for BDF2) acts on the bending like an elastic foundation, whose
- * solutions in s grow like exp(s (rho A c0^2 / (4 EI))^(1/4)).  Each shooting segment is
- * kept below TR_DYN_SHOOT_PER of that exponent: on Till's tendon robot (BDF2) one segment
- * converges every step at exponents 12.1 (dt = 3.125 ms, the 25 s), 13.5 and 15.1 (2.5 and
- * 2 ms, the first 6 s with the motor's ramp) and fails at 17.1 (1.5625 ms, at t = 0.27 s);
- * two segments converge at 17.1 and 24.2 (8.6 and 12.1 each). */
-#define TR_DYN_SHOOT_PER 14.0
+ * solutions in s grow like exp(s (rho A c0^2 / (4 EI))^(1/4)).  One shooting segment up
+ * to an exponent of TR_DYN_SHOOT_ONE, above it segments of at most TR_DYN_SHOOT_PER each.
+ * Measured: single shooting converges every step up to 15.1 on Till's tendon robot (BDF2,
+ * 20 RK4 steps; fails at 17.1) and 17.6 on a 0.2 m, 2 mm cantilever (40 steps; fails at
+ * 19.7); with several segments the cantilever's first step has a singular Jacobian from
+ * 9.3 per segment on (3 segments, the trapezoidal rule; 11.4 with 2) and converges at
+ * 6.0-8.0 per segment (2-4 segments), Till's robot at 5.7-12.1. */
+#define TR_DYN_SHOOT_ONE 14.0
+#define TR_DYN_SHOOT_PER 8.0
 
 /* What a run integrates: nsteps steps of dt from the solution x0 (scaled unknowns). */
 typedef struct tr_dyn_spec {
@@ -70,7 +73,7 @@ int tr_dyn_nodes(const tr_model *m, tr_data *d);
 /* The exponent of a step's shooting growth over the rod at mass rhoA [kg/m], time step dt
  * [s] and BDF-alpha alpha (the foundation's, integrated over the segments' EI, plus the
  * tensile loads' of tr_shooting_growth), and the shooting segments it takes (1 up to
- * TR_DYN_SHOOT_PER; at most TR_MAX_SHOOTING_SEGMENTS). */
+ * TR_DYN_SHOOT_ONE, else TR_DYN_SHOOT_PER each; at most TR_MAX_SHOOTING_SEGMENTS). */
 double tr_dyn_growth(const tr_model *m, double rhoA, double dt, double alpha);
 int tr_dyn_segments(const tr_model *m, double rhoA, double dt, double alpha);
 /* The run.  TR_OK; TR_EINVAL (spec out of range or a model the dynamics does not cover:
