@@ -33,7 +33,7 @@ int tr_dyn_points(const tr_model *m, const tr_data *d)
 int tr_dyn_state_len(const tr_model *m, tr_data *d)
 {
     tr_solve_reset(m, d, d->opt.steps); /* the run's grid */
-    return 3 * tr_dyn_points(m, d) * TR_DH_N + 2 * d->k + 3;
+    return 3 * tr_dyn_points(m, d) * TR_DH_N + 2 * d->k + 4 + m->nt;
 }
 
 int tr_dyn_nodes(const tr_model *m, tr_data *d)
@@ -147,7 +147,7 @@ static void output(const tr_model *m, tr_data *d, const tr_dyn_spec *sp, tr_dyn_
                    const double *X, const double *wt, int npt, double *pd_prev)
 {
     const tr_model *v = TR_IN(m, d);
-    double ek = 0.0, ee = 0.0, ep = 0.0, pd = 0.0;
+    double ek = 0.0, ee = 0.0, ep = 0.0, pd = 0.0, *e;
     int p, j;
     tr_tip_state(m, d);
     memcpy(o->tip + 12 * (size_t)i, d->tip, 12 * sizeof(double));
@@ -164,11 +164,24 @@ static void output(const tr_model *m, tr_data *d, const tr_dyn_spec *sp, tr_dyn_
             ep -= wt[p] * (v->dist[0] * x[TR_DH_P] + v->dist[1] * x[TR_DH_P + 1] +
                            v->dist[2] * x[TR_DH_P + 2]);
     }
-    o->energy[4 * (size_t)i] = ek;
-    o->energy[4 * (size_t)i + 1] = ee;
-    o->energy[4 * (size_t)i + 2] = ep;
-    o->energy[4 * (size_t)i + 3] =
-        i == 0 ? 0.0 : o->energy[4 * (size_t)(i - 1) + 3] + 0.5 * sp->dt * (*pd_prev + pd);
+    e = o->energy + TR_DYN_NE * (size_t)i;
+    e[0] = ek;
+    e[1] = ee;
+    e[2] = ep;
+    e[3] = i == 0 ? 0.0 : e[3 - TR_DYN_NE] + 0.5 * sp->dt * (*pd_prev + pd);
+    /* the displacement-held tendons: their strain energy tau^2 rest / (2 EA) and the
+     * motors' work, the trapezoidal sum of tau dq (q > 0 retracts against tau) */
+    e[4] = 0.0;
+    e[5] = i == 0 ? 0.0 : e[5 - TR_DYN_NE];
+    for (j = 0; j < m->nt; j++) {
+        const tr_tendon *t = &v->tendon[j];
+        const double tau = d->tension[j];
+        const size_t r = (size_t)i * m->nt + j;
+        if (t->control != TR_DISPLACEMENT) continue;
+        if (isfinite(t->EA)) e[4] += 0.5 * tau * tau * t->rest / (t->EA * d->ea_scale);
+        if (i > 0)
+            e[5] += 0.5 * (tau + o->tension[r - m->nt]) * (sp->values[r] - sp->values[r - m->nt]);
+    }
     *pd_prev = pd;
     if (o->backbone) {
         const int nb = npt / 4 + 1;
@@ -325,6 +338,8 @@ int tr_dyn_run(const tr_model *m, tr_data *d, const double *x0, const tr_dyn_spe
         memcpy(b.xm, r + 3 * n + k, (size_t)k * sizeof(double));
         pd_prev = r[3 * n + 2 * k];
         o->energy[3] = r[3 * n + 2 * k + 1];
+        o->energy[5] = r[3 * n + 2 * k + 3];
+        memcpy(o->tension, r + 3 * n + 2 * k + 4, (size_t)m->nt * sizeof(double));
         memcpy(d->x, b.x1, (size_t)k * sizeof(double));
         goto steps;
     }
@@ -390,8 +405,11 @@ done:
         memcpy(r + 3 * n, b.x1, (size_t)k * sizeof(double));
         memcpy(r + 3 * n + k, b.xm, (size_t)k * sizeof(double));
         r[3 * n + 2 * k] = pd_prev;
-        r[3 * n + 2 * k + 1] = o->energy[4 * (size_t)o->done + 3];
+        r[3 * n + 2 * k + 1] = o->energy[TR_DYN_NE * (size_t)o->done + 3];
         r[3 * n + 2 * k + 2] = dt;
+        r[3 * n + 2 * k + 3] = o->energy[TR_DYN_NE * (size_t)o->done + 5];
+        memcpy(r + 3 * n + 2 * k + 4, o->tension + (size_t)o->done * m->nt,
+               (size_t)m->nt * sizeof(double));
     }
     d->dyn = NULL;
     free(b.block);

@@ -46,13 +46,18 @@ typedef struct tr_dyn_spec {
                              or NULL: start from the solution x0 at rest */
 } tr_dyn_spec;
 
+/* Columns of tr_dyn_out.energy. */
+#define TR_DYN_NE 6
+
 /* What it returns: rows 0 .. done of caller-allocated arrays of nsteps + 1 rows. */
 typedef struct tr_dyn_out {
     double *tip;      /* (rows x 12) tip position (3) world [m], rotation (9) row-major */
     double *tension;  /* (rows x nt) [N] */
     double *slack;    /* (rows x nt) [m] */
-    double *energy;   /* (rows x 4) kinetic, elastic, potential of the distributed loads,
-                         dissipated since the start [J] */
+    double *energy;   /* (rows x TR_DYN_NE) kinetic, elastic (rod strain), potential of the
+                         distributed loads, dissipated since the start, the
+                         displacement-held tendons' strain energy, their motors' work since
+                         the start [J] */
     double *residual; /* (rows) scaled residual max-norm of each step */
     int *iters;       /* (rows) Newton iterations of each step */
     double *backbone; /* (rows x nb x 3) positions at the RK4 grid's nodes, or NULL */
@@ -65,7 +70,7 @@ typedef struct tr_dyn_out {
 
 /* The length of a run's state (tr_dyn_out.state, tr_dyn_spec.resume): the history at every
  * stage point of the last two steps and its time derivative, the last two unknowns, the
- * dissipated power and energy, dt.  Call after the workspace's steps are set (opt.steps). */
+ * dissipated power and energy, dt, the motors' work and the last tensions.  Call after the workspace's steps are set (opt.steps). */
 int tr_dyn_state_len(const tr_model *m, tr_data *d);
 /* Backbone nodes of a run's workspace (the RK4 grid's step starts and the tip), at its
  * options' step count. */

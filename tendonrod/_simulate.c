@@ -12,7 +12,7 @@ const char glue_simulate_doc[] =
     "_core.Problem compiled spatial, Cosserat, fixed RK4 steps (any shooting segments):\n"
     "values (nsteps + 1, nt) actuation per time; loads (nsteps + 1, nl, 6) or None; rho_a\n"
     "[kg/m]; rho_j (3,) [kg m]; eta [s]; drag [N s^2/m^4].  Returns status, message, done,\n"
-    "nit, nfev, njev, tip (done + 1, 12), tension, slack (done + 1, nt), energy (done + 1, 4),\n"
+    "nit, nfev, njev, tip (done + 1, 12), tension, slack (done + 1, nt), energy (done + 1, 6),\n"
     "residual (done + 1,), iters (done + 1,), backbone (done + 1, nb, 3) or None, state (the\n"
     "last good step's, to resume from: resume=state continues a run with the same problem\n"
     "and dt; row 0 is then the previous run's last, whose outputs the caller keeps).";
@@ -104,7 +104,7 @@ PyObject *glue_simulate(PyObject *self, PyObject *args, PyObject *kwds)
     sp.values = (const double *)PyArray_DATA(val);
     sp.loads = ld ? (const double *)PyArray_DATA(ld) : NULL;
     {
-        npy_intp d12[2] = {n + 1, 12}, dnt[2] = {n + 1, pr->m->nt}, d4[2] = {n + 1, 4},
+        npy_intp d12[2] = {n + 1, 12}, dnt[2] = {n + 1, pr->m->nt}, d4[2] = {n + 1, TR_DYN_NE},
                  d1[1] = {n + 1}, db[3] = {n + 1, tr_dyn_nodes(pr->m, pr->d), 3};
         tip = PyArray_ZEROS(2, d12, NPY_DOUBLE, 0);
         ten = PyArray_ZEROS(2, dnt, NPY_DOUBLE, 0);

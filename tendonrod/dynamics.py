@@ -68,9 +68,13 @@ class Trajectory:
         Tip rotation (body to world).
     tension, slack : ndarray (n, ntendon)
         Tendon tensions [N] and slacks [m] (slack: displacement-held tendons only).
-    energy : ndarray (n, 4)
-        Kinetic, elastic (rod strain), potential of the distributed loads (gravity) and
-        dissipated energy since the start [J]; the tendons' work is not in it.
+    energy : ndarray (n, 6)
+        Kinetic, elastic (rod strain), potential of the distributed loads (gravity),
+        dissipated energy since the start, the displacement-held tendons' strain energy
+        (``tau^2 rest / (2 EA)``) and their motors' work since the start (the trapezoidal
+        sum of ``tau dq``) [J]: kinetic + strain + potential + dissipated + tendon strain
+        - work is constant to the scheme's accuracy.  Not in it: the work of point loads
+        and of tension-held tendons (their path lengths are not integrated).
     residual : ndarray (n,)
         Each step's scaled shooting residual (max-norm).
     iterations : ndarray (n,)
@@ -98,7 +102,7 @@ class Trajectory:
     >>> rod = tr.Rod(0.2, 2e-3, 207e9, 79.6e9, density=7800.0)
     >>> traj = tr.simulate(tr.Scene(tr.Robot(rod, [])), 1e-3, 1e-4)
     >>> traj.t.shape, traj.energy.shape, float(np.abs(traj.tip_position[:, :2]).max())
-    ((11,), (11, 4), 0.0)
+    ((11,), (11, 6), 0.0)
     """
 
     t: NDArray[np.float64]
