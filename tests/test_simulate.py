@@ -205,6 +205,8 @@ def test_resume_and_backbone():
     assert np.abs(second.tip_position - full.tip_position[100:]).max() < 1e-12
     # the dissipated energy: to the Newton tolerance's share (1e-10 scaled), 5e-16 J measured
     assert np.abs(second.energy[:, 3] - full.energy[100:, 3]).max() < 1e-9 * full.energy[-1, 3]
+    # the motor's work goes on from the first run's (the same tolerance's share)
+    assert np.abs(second.energy[:, 5] - full.energy[100:, 5]).max() < 1e-9 * full.energy[-1, 5]
     assert full.backbone.shape == (201, 41, 3) and full.s[-1] == 0.2
     assert np.array_equal(full.backbone[:, -1], full.tip_position)
     with pytest.raises(ValueError, match="dt"):
