@@ -14,8 +14,12 @@ Two scenes:
   periods of its first mode (omega dt = 0.4 ... 0.1, the reference 0.05), undamped; BDF2 and the
   trapezoidal rule; error relative to the initial amplitude.
 
-Error: the largest tip distance over the run (sampled every 0.05 s / every step of the
-coarsest dt) from a reference run (the finest dt and grid), divided by L.  CPU: thread
+Till's scene: plain BDF2 for dt = 0.05 ... 1.5625 ms (the shooting segments of each step
+chosen from dt, the default), and ``extrapolate=True`` (Richardson from runs at dt, dt/2,
+dt/4) for dt = 0.05 ... 6.25 ms with its error estimate.  Error: the largest tip distance
+over the 25 s, at every time the run and the reference both have, from the reference
+(Richardson of dt = 1.5625 and 0.78125 ms at 40 RK4 steps, at the times of 3.125 ms),
+divided by L.  Cantilever: sampled every step of the coarsest dt.  CPU: thread
 CPU time of the whole ``tr.simulate`` call (the static start included), median of
 --rounds.  Not a test: prints a table, writes bench/results/dynamics.csv and
 dynamics.png.
@@ -29,6 +33,7 @@ import argparse
 import csv
 import math
 import os
+import re
 import statistics
 import time
 
@@ -36,6 +41,9 @@ import numpy as np
 
 import tendonrod as tr
 
+# Till's code at its defaults (dt = 0.05 s, 200 nodes): its CPU time [s] on this machine,
+# bench/dynamics_peer.py --rerun (the median of the runs interleaved with tendonrod's)
+TILL_CPU = 4.0
 HERE = os.path.dirname(os.path.abspath(__file__))
 OUT = os.path.join(HERE, "results")
 
@@ -78,44 +86,65 @@ def timed(fn, rounds):
     return statistics.median(cpus), out
 
 
+def till_sim(steps, dt, extrapolate=False):
+    """Till's scene over 25 s: BDF2, the shooting segments chosen per dt (the default)."""
+    return tr.simulate(
+        till_scene(),
+        25.0,
+        dt,
+        actuation=till_motor,
+        options={"steps": steps, "drag": 1e-4, "extrapolate": extrapolate},
+    )
+
+
+def till_reference(quick=False):
+    """The reference: Richardson of BDF2 at dt = 1.5625 and 0.78125 ms (40 RK4 steps; 3 and
+    4 shooting segments), at the times of dt = 3.125 ms (the quick one: 20 steps, 12.5 ms)."""
+    return (20, 0.0125) if quick else (40, 0.003125)
+
+
+def till_error(tj, dt, ref, ref_dt):
+    """The largest tip distance from the reference at the times both have, / L."""
+    a, b = tj.tip_position, ref.tip_position
+    if dt >= ref_dt:
+        b = b[:: int(round(dt / ref_dt))]
+    else:
+        a = a[:: int(round(ref_dt / dt))]
+    n = min(len(a), len(b))
+    return float(np.linalg.norm(a[:n] - b[:n], axis=1).max()) / till_scene().robot.rod.length
+
+
 def run_till(rounds, quick):
-    scene = till_scene()
-    L = scene.robot.rod.length
-    grid = [(10, 0.05), (20, 0.05), (20, 0.025), (20, 0.0125), (40, 0.0125), (20, 0.00625)]
-    ref_set = (40, 0.003125) if not quick else (20, 0.00625)
+    L = till_scene().robot.rod.length
+    plain = [(10, 0.05), (20, 0.05), (20, 0.025), (20, 0.0125), (40, 0.0125), (20, 0.00625)]
+    plain += [(20, 0.003125), (20, 0.0015625)]
+    extra = [(20, 0.05), (20, 0.025), (20, 0.0125), (20, 0.00625)]
+    ref_set = till_reference(quick)
     if quick:
-        grid = grid[:3]
-
-    def sim(steps, dt):
-        return tr.simulate(
-            scene,
-            25.0,
-            dt,
-            actuation=till_motor,
-            options={"steps": steps, "drag": 1e-4},
-        )
-
-    ref = sim(*ref_set)
+        plain, extra = plain[:3], extra[:2]
+    ref = till_sim(*ref_set, extrapolate=True)
     rows = []
-    for steps, dt in grid:
-        cpu, tj = timed(lambda: sim(steps, dt), rounds)
-        k = int(round(0.05 / dt))
-        kr = int(round(0.05 / ref_set[1]))
-        n = min(len(tj.t[::k]), len(ref.t[::kr]))
-        err = np.abs(tj.tip_position[::k][:n] - ref.tip_position[::kr][:n]).max() / L
-        rows.append(
-            dict(
-                scene="till",
-                alpha=0.0,
-                steps=steps,
-                dt=dt,
-                cpu=cpu,
-                error=err,
-                nit=tj.nit,
-                nsteps=len(tj.t) - 1,
-                overshoot=tj.tip_position[:, 0].max(),
+    for method, grid in (("plain", plain), ("extrapolated", extra)):
+        for steps, dt in grid:
+            ex = method == "extrapolated"
+            cpu, tj = timed(lambda: till_sim(steps, dt, ex), rounds)
+            seg = re.findall(r"\((\d+) shooting segment", tj.message)
+            rows.append(
+                dict(
+                    scene="till",
+                    method=method,
+                    alpha=0.0,
+                    steps=steps,
+                    dt=dt,
+                    segments=int(seg[0]) if seg else -1,
+                    cpu=cpu,
+                    error=till_error(tj, dt, ref, ref_set[1]),
+                    estimate=float(tj.time_error.max()) / L if ex else math.nan,
+                    nit=tj.nit,
+                    nsteps=len(tj.t) - 1,
+                    overshoot=tj.tip_position[:, 0].max(),
+                )
             )
-        )
     return rows, ref
 
 
@@ -145,11 +174,14 @@ def run_cantilever(rounds, quick):
                 rows.append(
                     dict(
                         scene="cantilever",
+                        method="plain",
                         alpha=alpha,
                         steps=steps,
                         dt=dt,
+                        segments=1,
                         cpu=cpu,
                         error=err,
+                        estimate=math.nan,
                         nit=tj.nit,
                         nsteps=len(tj.t) - 1,
                         overshoot=math.nan,
@@ -166,17 +198,20 @@ def main():
     till, ref = run_till(args.rounds, args.quick)
     cant = run_cantilever(args.rounds, args.quick)
     rows = till + cant
+    print(f"load average {os.getloadavg()[0]:.1f}")
     print(
-        f"{'scene':11s} {'alpha':>5s} {'steps':>5s} {'dt [s]':>10s} {'CPU [s]':>8s} "
-        f"{'error':>9s} {'nit':>6s} {'overshoot':>9s}"
+        f"{'scene':11s} {'method':12s} {'alpha':>5s} {'steps':>5s} {'dt [s]':>10s} {'M':>2s} "
+        f"{'CPU [s]':>8s} {'error':>9s} {'estimate':>9s} {'nit':>6s} {'overshoot':>9s}"
     )
     for r in rows:
         print(
-            f"{r['scene']:11s} {r['alpha']:5.1f} {r['steps']:5d} {r['dt']:10.3g} "
-            f"{r['cpu']:8.3f} {r['error']:9.2e} {r['nit']:6d} {r['overshoot']:9.4f}"
+            f"{r['scene']:11s} {r['method']:12s} {r['alpha']:5.1f} {r['steps']:5d} "
+            f"{r['dt']:10.3g} {r['segments']:2d} {r['cpu']:8.3f} {r['error']:9.2e} "
+            f"{r['estimate']:9.2e} {r['nit']:6d} {r['overshoot']:9.4f}"
         )
     print(
-        f"Till reference: first overshoot {ref.tip_position[:, 0].max():.4f} m, "
+        f"Till reference {till_reference(args.quick)} (steps, dt of the Richardson run): "
+        f"first overshoot {ref.tip_position[:, 0].max():.4f} m, "
         f"tension at rest {ref.tension[0, 0]:.4f} N"
     )
     os.makedirs(OUT, exist_ok=True)
@@ -191,17 +226,39 @@ def main():
 
     fig, axes = plt.subplots(1, 2, figsize=(10, 4))
     for ax, name, unit in ((axes[0], "till", "L"), (axes[1], "cantilever", "initial amplitude")):
-        for alpha in (0.0, -0.5):
-            for steps in sorted({r["steps"] for r in rows if r["scene"] == name}):
-                pts = [
-                    r
-                    for r in rows
-                    if r["scene"] == name and r["steps"] == steps and r["alpha"] == alpha
-                ]
-                if not pts:
-                    continue
-                lab = f"{'BDF2' if alpha == 0 else 'trapezoidal'}, {steps} RK4 steps"
-                ax.loglog([p["cpu"] for p in pts], [p["error"] for p in pts], "o-", label=lab)
+        for method in ("plain", "extrapolated"):
+            for alpha in (0.0, -0.5):
+                for steps in sorted({r["steps"] for r in rows if r["scene"] == name}):
+                    pts = [
+                        r
+                        for r in rows
+                        if r["scene"] == name
+                        and r["steps"] == steps
+                        and r["alpha"] == alpha
+                        and r["method"] == method
+                    ]
+                    if not pts:
+                        continue
+                    lab = f"{'BDF2' if alpha == 0 else 'trapezoidal'}, {steps} RK4 steps"
+                    if method == "extrapolated":
+                        lab += ", Richardson (dt, dt/2, dt/4)"
+                    ax.loglog(
+                        [p["cpu"] for p in pts],
+                        [p["error"] for p in pts],
+                        "s--" if method == "extrapolated" else "o-",
+                        label=lab,
+                    )
+                    if method == "extrapolated":
+                        ax.loglog(
+                            [p["cpu"] for p in pts],
+                            [p["estimate"] for p in pts],
+                            "x:",
+                            label="its error estimate",
+                        )
+        if name == "till":
+            ax.axhline(1e-4, color="k", lw=0.8, ls=":")
+            ax.axvline(TILL_CPU, color="r", lw=0.8, ls=":")
+            ax.text(TILL_CPU, 2e-4, " Till's code, dt 0.05 s", color="r", fontsize=7)
         ax.set_xlabel("thread CPU time [s]")
         ax.set_ylabel(f"max tip error / {unit}")
         ax.set_title(name)

@@ -33,7 +33,7 @@ int tr_dyn_points(const tr_model *m, const tr_data *d)
 int tr_dyn_state_len(const tr_model *m, tr_data *d)
 {
     tr_solve_reset(m, d, d->opt.steps); /* the run's grid */
-    return 3 * tr_dyn_points(m, d) * TR_DH_N + 2 * d->k + 3;
+    return 3 * tr_dyn_points(m, d) * TR_DH_N + 2 * d->k + 4 + m->nt;
 }
 
 int tr_dyn_nodes(const tr_model *m, tr_data *d)
@@ -42,15 +42,32 @@ int tr_dyn_nodes(const tr_model *m, tr_data *d)
     return tr_dyn_points(m, d) / 4 + 1;
 }
 
+double tr_dyn_growth(const tr_model *m, double rhoA, double dt, double alpha)
+{
+    const double c0 = (1.5 + alpha) / (dt * (1.0 + alpha));
+    const double k = rhoA * c0 * c0 / 4.0;
+    double g = m->shoot_growth;
+    int seg;
+    for (seg = 0; seg < m->nseg; seg++)
+        g += (m->bp[seg + 1] - m->bp[seg]) * pow(k / m->seg_rod[seg * TR_SR_NCOL + TR_SR_EI], 0.25);
+    return g;
+}
+
+int tr_dyn_segments(const tr_model *m, double rhoA, double dt, double alpha)
+{
+    const double g = tr_dyn_growth(m, rhoA, dt, alpha), M = ceil(g / TR_DYN_SHOOT_PER);
+    if (!(g > TR_DYN_SHOOT_ONE)) return 1;
+    return M > TR_MAX_SHOOTING_SEGMENTS ? TR_MAX_SHOOTING_SEGMENTS : (int)M;
+}
+
 static int check(const tr_model *m, const tr_data *d, const tr_dyn_spec *sp, char *msg, size_t len)
 {
-    if (m->planar || m->kirchhoff || m->nfric || d->opt.integrator != TR_RK4 || d->opt.steps <= 0 ||
-        m->n_unknowns != 6 + m->ndisp) {
+    if (m->planar || m->kirchhoff || m->nfric || d->opt.integrator != TR_RK4 || d->opt.steps <= 0) {
         snprintf(msg, len,
                  "the dynamics needs the spatial formulation of a Cosserat rod without channel "
-                 "friction, fixed RK4 steps and one shooting segment (planar %d, Kirchhoff %d, "
-                 "frictional tendons %d, steps %d, unknowns %d)",
-                 m->planar, m->kirchhoff, m->nfric, d->opt.steps, m->n_unknowns);
+                 "friction, fixed RK4 steps (planar %d, Kirchhoff %d, "
+                 "frictional tendons %d, steps %d)",
+                 m->planar, m->kirchhoff, m->nfric, d->opt.steps);
         return TR_EINVAL;
     }
     if (!(sp->nsteps >= 1) || !(sp->dt > 0.0) || !isfinite(sp->dt) || !(sp->alpha >= -0.5) ||
@@ -130,7 +147,7 @@ static void output(const tr_model *m, tr_data *d, const tr_dyn_spec *sp, tr_dyn_
                    const double *X, const double *wt, int npt, double *pd_prev)
 {
     const tr_model *v = TR_IN(m, d);
-    double ek = 0.0, ee = 0.0, ep = 0.0, pd = 0.0;
+    double ek = 0.0, ee = 0.0, ep = 0.0, pd = 0.0, *e;
     int p, j;
     tr_tip_state(m, d);
     memcpy(o->tip + 12 * (size_t)i, d->tip, 12 * sizeof(double));
@@ -147,11 +164,24 @@ static void output(const tr_model *m, tr_data *d, const tr_dyn_spec *sp, tr_dyn_
             ep -= wt[p] * (v->dist[0] * x[TR_DH_P] + v->dist[1] * x[TR_DH_P + 1] +
                            v->dist[2] * x[TR_DH_P + 2]);
     }
-    o->energy[4 * (size_t)i] = ek;
-    o->energy[4 * (size_t)i + 1] = ee;
-    o->energy[4 * (size_t)i + 2] = ep;
-    o->energy[4 * (size_t)i + 3] =
-        i == 0 ? 0.0 : o->energy[4 * (size_t)(i - 1) + 3] + 0.5 * sp->dt * (*pd_prev + pd);
+    e = o->energy + TR_DYN_NE * (size_t)i;
+    e[0] = ek;
+    e[1] = ee;
+    e[2] = ep;
+    e[3] = i == 0 ? 0.0 : e[3 - TR_DYN_NE] + 0.5 * sp->dt * (*pd_prev + pd);
+    /* the displacement-held tendons: their strain energy tau^2 rest / (2 EA) and the
+     * motors' work, the trapezoidal sum of tau dq (q > 0 retracts against tau) */
+    e[4] = 0.0;
+    e[5] = i == 0 ? 0.0 : e[5 - TR_DYN_NE];
+    for (j = 0; j < m->nt; j++) {
+        const tr_tendon *t = &v->tendon[j];
+        const double tau = d->tension[j];
+        const size_t r = (size_t)i * m->nt + j;
+        if (t->control != TR_DISPLACEMENT) continue;
+        if (isfinite(t->EA)) e[4] += 0.5 * tau * tau * t->rest / (t->EA * d->ea_scale);
+        if (i > 0)
+            e[5] += 0.5 * (tau + o->tension[r - m->nt]) * (sp->values[r] - sp->values[r - m->nt]);
+    }
     *pd_prev = pd;
     if (o->backbone) {
         const int nb = npt / 4 + 1;
@@ -308,6 +338,8 @@ int tr_dyn_run(const tr_model *m, tr_data *d, const double *x0, const tr_dyn_spe
         memcpy(b.xm, r + 3 * n + k, (size_t)k * sizeof(double));
         pd_prev = r[3 * n + 2 * k];
         o->energy[3] = r[3 * n + 2 * k + 1];
+        o->energy[5] = r[3 * n + 2 * k + 3];
+        memcpy(o->tension, r + 3 * n + 2 * k + 4, (size_t)m->nt * sizeof(double));
         memcpy(d->x, b.x1, (size_t)k * sizeof(double));
         goto steps;
     }
@@ -360,7 +392,8 @@ steps:
         memcpy(b.x1, d->x, (size_t)k * sizeof(double));
         o->done = i;
     }
-    snprintf(o->message, sizeof o->message, "%d steps of %g s converged", sp->nsteps, dt);
+    snprintf(o->message, sizeof o->message, "%d steps of %g s converged (%d shooting segment%s)",
+             sp->nsteps, dt, m->nshoot, m->nshoot > 1 ? "s" : "");
     st = TR_OK;
 done:
     if (o->state && (o->done > 0 || sp->resume)) { /* the last good step, to resume from */
@@ -372,8 +405,11 @@ done:
         memcpy(r + 3 * n, b.x1, (size_t)k * sizeof(double));
         memcpy(r + 3 * n + k, b.xm, (size_t)k * sizeof(double));
         r[3 * n + 2 * k] = pd_prev;
-        r[3 * n + 2 * k + 1] = o->energy[4 * (size_t)o->done + 3];
+        r[3 * n + 2 * k + 1] = o->energy[TR_DYN_NE * (size_t)o->done + 3];
         r[3 * n + 2 * k + 2] = dt;
+        r[3 * n + 2 * k + 3] = o->energy[TR_DYN_NE * (size_t)o->done + 5];
+        memcpy(r + 3 * n + 2 * k + 4, o->tension + (size_t)o->done * m->nt,
+               (size_t)m->nt * sizeof(double));
     }
     d->dyn = NULL;
     free(b.block);

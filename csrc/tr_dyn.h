@@ -17,6 +17,18 @@
  * direction. */
 #define TR_DYN_MIN_LAMBDA (1.0 / 1024.0)
 
+/* A time step's shooting problem: the inertia rho A c0^2 (c0 the scheme's coefficient of
+ * y in y_t, 1.5 / dt for BDF2) acts on the bending like an elastic foundation, whose
+ * solutions in s grow like exp(s (rho A c0^2 / (4 EI))^(1/4)).  One shooting segment up
+ * to an exponent of TR_DYN_SHOOT_ONE, above it segments of at most TR_DYN_SHOOT_PER each.
+ * Measured: single shooting converges every step up to 15.1 on Till's tendon robot (BDF2,
+ * 20 RK4 steps; fails at 17.1) and 17.6 on a 0.2 m, 2 mm cantilever (40 steps; fails at
+ * 19.7); with several segments the cantilever's first step has a singular Jacobian from
+ * 9.3 per segment on (3 segments, the trapezoidal rule; 11.4 with 2) and converges at
+ * 6.0-8.0 per segment (2-4 segments), Till's robot at 5.7-12.1. */
+#define TR_DYN_SHOOT_ONE 14.0
+#define TR_DYN_SHOOT_PER 8.0
+
 /* What a run integrates: nsteps steps of dt from the solution x0 (scaled unknowns). */
 typedef struct tr_dyn_spec {
     int nsteps;           /* steps of the run (>= 1) */
@@ -34,13 +46,18 @@ typedef struct tr_dyn_spec {
                              or NULL: start from the solution x0 at rest */
 } tr_dyn_spec;
 
+/* Columns of tr_dyn_out.energy. */
+#define TR_DYN_NE 6
+
 /* What it returns: rows 0 .. done of caller-allocated arrays of nsteps + 1 rows. */
 typedef struct tr_dyn_out {
     double *tip;      /* (rows x 12) tip position (3) world [m], rotation (9) row-major */
     double *tension;  /* (rows x nt) [N] */
     double *slack;    /* (rows x nt) [m] */
-    double *energy;   /* (rows x 4) kinetic, elastic, potential of the distributed loads,
-                         dissipated since the start [J] */
+    double *energy;   /* (rows x TR_DYN_NE) kinetic, elastic (rod strain), potential of the
+                         distributed loads, dissipated since the start, the
+                         displacement-held tendons' strain energy, their motors' work since
+                         the start [J] */
     double *residual; /* (rows) scaled residual max-norm of each step */
     int *iters;       /* (rows) Newton iterations of each step */
     double *backbone; /* (rows x nb x 3) positions at the RK4 grid's nodes, or NULL */
@@ -53,11 +70,17 @@ typedef struct tr_dyn_out {
 
 /* The length of a run's state (tr_dyn_out.state, tr_dyn_spec.resume): the history at every
  * stage point of the last two steps and its time derivative, the last two unknowns, the
- * dissipated power and energy, dt.  Call after the workspace's steps are set (opt.steps). */
+ * dissipated power and energy, dt, the motors' work and the last tensions.  Call after the workspace's steps are set (opt.steps). */
 int tr_dyn_state_len(const tr_model *m, tr_data *d);
 /* Backbone nodes of a run's workspace (the RK4 grid's step starts and the tip), at its
  * options' step count. */
 int tr_dyn_nodes(const tr_model *m, tr_data *d);
+/* The exponent of a step's shooting growth over the rod at mass rhoA [kg/m], time step dt
+ * [s] and BDF-alpha alpha (the foundation's, integrated over the segments' EI, plus the
+ * tensile loads' of tr_shooting_growth), and the shooting segments it takes (1 up to
+ * TR_DYN_SHOOT_ONE, else TR_DYN_SHOOT_PER each; at most TR_MAX_SHOOTING_SEGMENTS). */
+double tr_dyn_growth(const tr_model *m, double rhoA, double dt, double alpha);
+int tr_dyn_segments(const tr_model *m, double rhoA, double dt, double alpha);
 /* The run.  TR_OK; TR_EINVAL (spec out of range or a model the dynamics does not cover:
  * message says which); a failed step's status (out->done the last good one, message with
  * its time and why); TR_EBUDGET / TR_EINTERRUPTED. */

@@ -110,6 +110,8 @@ static PyMethodDef core_methods[] = {
      glue_modes_doc},
     {"simulate", (PyCFunction)(void (*)(void))glue_simulate, METH_VARARGS | METH_KEYWORDS,
      glue_simulate_doc},
+    {"dyn_segments", (PyCFunction)(void (*)(void))glue_dyn_segments, METH_VARARGS | METH_KEYWORDS,
+     glue_dyn_segments_doc},
     {NULL, NULL, 0, NULL}};
 
 static int add_type(PyObject *module, const char *name, PyTypeObject *type)

@@ -138,5 +138,7 @@ PyObject *glue_modes(PyObject *self, PyObject *args, PyObject *kwds);
 extern const char glue_modes_doc[];
 PyObject *glue_simulate(PyObject *self, PyObject *args, PyObject *kwds);
 extern const char glue_simulate_doc[];
+PyObject *glue_dyn_segments(PyObject *self, PyObject *args, PyObject *kwds);
+extern const char glue_dyn_segments_doc[];
 
 #endif

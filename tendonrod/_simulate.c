@@ -9,13 +9,34 @@ const char glue_simulate_doc[] =
     "simulate(problem, unknowns, values, loads, dt, *, alpha=-0.5, rho_a, rho_j, eta=0.0,\n"
     "         drag=0.0, max_iter=8, backbone=False, resume=None, cancel=None) -> dict\n\n"
     "nsteps = len(values) - 1 implicit steps of dt [s] from the solution `unknowns` of a\n"
-    "_core.Problem compiled spatial, Cosserat, fixed RK4 steps, one shooting segment:\n"
+    "_core.Problem compiled spatial, Cosserat, fixed RK4 steps (any shooting segments):\n"
     "values (nsteps + 1, nt) actuation per time; loads (nsteps + 1, nl, 6) or None; rho_a\n"
     "[kg/m]; rho_j (3,) [kg m]; eta [s]; drag [N s^2/m^4].  Returns status, message, done,\n"
-    "nit, nfev, njev, tip (done + 1, 12), tension, slack (done + 1, nt), energy (done + 1, 4),\n"
+    "nit, nfev, njev, tip (done + 1, 12), tension, slack (done + 1, nt), energy (done + 1, 6),\n"
     "residual (done + 1,), iters (done + 1,), backbone (done + 1, nb, 3) or None, state (the\n"
     "last good step's, to resume from: resume=state continues a run with the same problem\n"
     "and dt; row 0 is then the previous run's last, whose outputs the caller keeps).";
+
+const char glue_dyn_segments_doc[] =
+    "dyn_segments(problem, rho_a, dt, alpha) -> (segments, growth)\n\n"
+    "The shooting segments a time step of dt [s] (BDF-alpha alpha) of a rod of rho_a [kg/m]\n"
+    "takes, and the growth exponent they are chosen from (tr_dyn_segments, csrc/tr_dyn.h).";
+
+PyObject *glue_dyn_segments(PyObject *self, PyObject *args, PyObject *kwds)
+{
+    static char *kwlist[] = {"problem", "rho_a", "dt", "alpha", NULL};
+    PyObject *op;
+    double rhoA, dt, alpha;
+    ProblemObject *pr;
+    (void)self;
+    if (!PyArg_ParseTupleAndKeywords(args, kwds, "O!ddd", kwlist, &glue_problem_type, &op, &rhoA,
+                                     &dt, &alpha))
+        return NULL;
+    pr = (ProblemObject *)op;
+    if (glue_problem_check(pr) < 0) return NULL;
+    return Py_BuildValue("id", tr_dyn_segments(pr->m, rhoA, dt, alpha),
+                         tr_dyn_growth(pr->m, rhoA, dt, alpha));
+}
 
 static PyObject *rows(PyObject *a, int n)
 {
@@ -83,7 +104,7 @@ PyObject *glue_simulate(PyObject *self, PyObject *args, PyObject *kwds)
     sp.values = (const double *)PyArray_DATA(val);
     sp.loads = ld ? (const double *)PyArray_DATA(ld) : NULL;
     {
-        npy_intp d12[2] = {n + 1, 12}, dnt[2] = {n + 1, pr->m->nt}, d4[2] = {n + 1, 4},
+        npy_intp d12[2] = {n + 1, 12}, dnt[2] = {n + 1, pr->m->nt}, d4[2] = {n + 1, TR_DYN_NE},
                  d1[1] = {n + 1}, db[3] = {n + 1, tr_dyn_nodes(pr->m, pr->d), 3};
         tip = PyArray_ZEROS(2, d12, NPY_DOUBLE, 0);
         ten = PyArray_ZEROS(2, dnt, NPY_DOUBLE, 0);

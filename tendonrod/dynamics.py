@@ -40,7 +40,8 @@ _ARRAYS = (
     "time_error",
 )
 # the keys of ``options``: RK4 steps over the rod, BDF-alpha, Newton iterations per step
-# before a fresh Jacobian, air drag, record the backbone, estimate the time error
+# before a fresh Jacobian, air drag, record the backbone, estimate the time error,
+# extrapolate in dt, shooting segments per step (None: from the step's growth)
 _DEFAULTS = {
     "steps": 40,
     "alpha": 0.0,
@@ -48,6 +49,8 @@ _DEFAULTS = {
     "drag": 0.0,
     "backbone": False,
     "estimate": False,
+    "extrapolate": False,
+    "segments": None,
 }
 
 
@@ -65,16 +68,22 @@ class Trajectory:
         Tip rotation (body to world).
     tension, slack : ndarray (n, ntendon)
         Tendon tensions [N] and slacks [m] (slack: displacement-held tendons only).
-    energy : ndarray (n, 4)
-        Kinetic, elastic (rod strain), potential of the distributed loads (gravity) and
-        dissipated energy since the start [J]; the tendons' work is not in it.
+    energy : ndarray (n, 6)
+        Kinetic, elastic (rod strain), potential of the distributed loads (gravity),
+        dissipated energy since the start, the displacement-held tendons' strain energy
+        (``tau^2 rest / (2 EA)``) and their motors' work since the start (the trapezoidal
+        sum of ``tau dq``) [J]: kinetic + strain + potential + dissipated + tendon strain
+        - work is constant to the scheme's accuracy.  Not in it: the work of point loads
+        and of tension-held tendons (their path lengths are not integrated).
     residual : ndarray (n,)
         Each step's scaled shooting residual (max-norm).
     iterations : ndarray (n,)
         Newton iterations of each step.
     time_error : ndarray (n,) or None
         With ``options={"estimate": True}``: the tip position's error estimate [m] from a
-        second run at dt/2 (Richardson, second order: ``4/3 |x_dt - x_dt/2|``); else None.
+        second run at dt/2 (Richardson, second order: ``4/3 |x_dt - x_dt/2|``); with
+        ``options={"extrapolate": True}`` the error estimate [m] of the extrapolated tip
+        (:func:`simulate`); else None.
     backbone : ndarray (n, nb, 3) or None
         Centre-line positions at the grid's nodes [m] (``options={"backbone": True}``).
     s : ndarray (nb,) or None
@@ -93,7 +102,7 @@ class Trajectory:
     >>> rod = tr.Rod(0.2, 2e-3, 207e9, 79.6e9, density=7800.0)
     >>> traj = tr.simulate(tr.Scene(tr.Robot(rod, [])), 1e-3, 1e-4)
     >>> traj.t.shape, traj.energy.shape, float(np.abs(traj.tip_position[:, :2]).max())
-    ((11,), (11, 4), 0.0)
+    ((11,), (11, 6), 0.0)
     """
 
     t: NDArray[np.float64]
@@ -177,15 +186,27 @@ def _options(options) -> dict:
     ):
         raise ValueError(f"simulate: options['drag'] must be finite and >= 0, got {opt['drag']!r}")
     _int_option("simulate", opt, "max_iter", 1, 100)
+    if opt["segments"] is not None:
+        _int_option("simulate", opt, "segments", 1, 64)
+    if opt["extrapolate"] and (opt["estimate"] or opt["backbone"]):
+        raise ValueError(
+            "simulate: options['extrapolate'] brings its own error estimate and no backbone: "
+            "give it without 'estimate' and 'backbone'"
+        )
     return opt
 
 
-def _statics_options(steps: int):
-    """The static solve's options on the dynamics' grid: spatial, fixed RK4, one segment."""
+def _statics_options(steps: int, segments: int = 1):
+    """The static solve's options on the dynamics' grid: spatial, fixed RK4, ``segments``
+    shooting segments."""
     from .options import Options
 
     return Options(
-        integrator="rk4", steps=steps, force_spatial=True, shooting_segments=1, auto_shooting=False
+        integrator="rk4",
+        steps=steps,
+        force_spatial=True,
+        shooting_segments=segments,
+        auto_shooting=False,
     )
 
 
@@ -258,6 +279,61 @@ def _run(scene, sol, duration, dt, actuation, loads, opt, t0=0.0, resume=None) -
     )
 
 
+def _start(scene, initial, dt, opt, strict):
+    """The solution the run at dt starts from, on its grid and shooting segments (the
+    given ``initial`` solved again there if it is not): the scene's equilibrium for None."""
+    from .solver import solve
+
+    steps = int(opt["steps"])
+    seg = opt["segments"]
+    if seg is None:
+        prob = _compile(scene, _statics_options(steps))
+        seg = _core.dyn_segments(
+            prob, scene.robot.rod.mass_per_length, float(dt), float(opt["alpha"])
+        )[0]
+    stat = _statics_options(steps, int(seg))
+    if initial is None:
+        initial = solve(scene, options=stat, strict=strict)
+    elif initial.options != stat:
+        initial = solve(initial.scene, initial, options=stat, strict=strict)
+    if not initial.success or initial.unknowns is None:
+        raise ValueError(f"simulate: the initial state is not an equilibrium: {initial.message}")
+    return initial
+
+
+def _extrapolated(scene, initial, duration, dt, actuation, loads, opt, strict, raw):
+    """Richardson in dt: the runs at dt, dt/2 and dt/4 give two second-order extrapolations
+    R(dt, dt/2), R(dt/2, dt/4) at the times of dt; the rows are the second, the error
+    estimate of its tip position is |R(dt, dt/2) - R(dt/2, dt/4)| / 3 (the extrapolation's
+    error taken as falling by 4 per halving: the actuation's corners leave a second-order
+    part, docs/validation/dynamics.md).  A failed run ends it: its rows and message."""
+    runs = [raw]
+    for f in (2, 4):
+        if runs[-1]["status"] != 0:
+            break
+        h = dt / f
+        runs.append(
+            _run(scene, _start(scene, initial, h, opt, strict), duration, h, actuation, loads, opt)
+        )
+    out = dict(runs[-1])
+    out["nit"] = sum(r["nit"] for r in runs)
+    out["nfev"] = sum(r["nfev"] for r in runs)
+    if out["status"] != 0:
+        return out, None
+    out = dict(raw, nit=out["nit"], nfev=out["nfev"])
+    a, b, c = raw, runs[1], runs[2]
+    for key in ("tip", "tension", "slack", "energy"):
+        rb, rc = b[key][::2], c[key][::4]
+        out[key] = (4.0 * rc - rb) / 3.0
+        if key == "tip":
+            r1 = (4.0 * rb - a[key]) / 3.0
+            err = np.linalg.norm(r1[:, :3] - out[key][:, :3], axis=1) / 3.0
+    # the extrapolated rotations back onto SO(3): the nearest rotation (polar factor)
+    u, _, vt = np.linalg.svd(out["tip"][:, 3:].reshape(-1, 3, 3))
+    out["tip"][:, 3:] = (u @ vt).reshape(-1, 9)
+    return out, err
+
+
 def _resumed(initial, dt, opt):
     """The previous run's final state (Trajectory.final) checked against this run."""
     fin = initial.final
@@ -266,13 +342,22 @@ def _resumed(initial, dt, opt):
             "simulate: initial is a Trajectory without a final state to go on from "
             f"(success={initial.success}, loaded from a file: the state is not saved)"
         )
+    seg = fin["solution"].options.shooting_segments
+    if opt["segments"] is not None and opt["segments"] != seg:
+        raise ValueError(
+            f"simulate: a run goes on with its shooting segments: segments={seg!r}, "
+            f"got {opt['segments']!r}"
+        )
     if abs(fin["dt"] - dt) > 1e-12 * dt or fin["steps"] != int(opt["steps"]):
         raise ValueError(
             f"simulate: a run goes on with its dt and grid: dt={fin['dt']!r} s and "
             f"steps={fin['steps']!r}, got dt={dt!r}, steps={opt['steps']!r}"
         )
-    if opt["estimate"]:
-        raise ValueError("simulate: options['estimate'] needs a start at rest, not a resumed run")
+    if opt["estimate"] or opt["extrapolate"]:
+        raise ValueError(
+            "simulate: options['estimate'] and ['extrapolate'] need a start at rest, "
+            "not a resumed run"
+        )
     return fin
 
 
@@ -306,13 +391,22 @@ def simulate(
         damps the fast axial and shear modes a kink of the actuation excites), -0.5 the
         trapezoidal rule (no numerical damping: the energy of an undamped smooth motion); ``max_iter`` (8); ``drag`` (0):
         air drag per body-frame velocity component [N s^2/m^3]; ``backbone`` (False);
-        ``estimate`` (False): a second run at dt/2 for the time error.
+        ``estimate`` (False): a second run at dt/2 for the time error;
+        ``extrapolate`` (False): runs at dt, dt/2 and dt/4, the rows (tip, tensions,
+        slacks, energies at the times of dt) Richardson-extrapolated from the last two,
+        ``time_error`` the tip's error estimate from the first two's extrapolation (the
+        converged motion at a fraction of the cost of a fine dt; ``residual`` and
+        ``iterations`` are the dt run's, ``nit`` and ``nfev`` the three runs'; no
+        ``final`` state, no backbone); ``segments`` (None): shooting segments of each
+        step's boundary-value problem, None to choose them from the step's growth
+        (short steps make the inertia a stiff foundation for the bending: single shooting
+        fails below dt ~ 2 ms on Till's robot).
     strict : bool
         Raise :class:`~tendonrod.ConvergenceError` instead of warning on failure.
 
     Notes
     -----
-    Cosserat rods, spatial formulation, single shooting.  Refused (ValueError): Kirchhoff
+    Cosserat rods, spatial formulation, single or multiple shooting.  Refused (ValueError): Kirchhoff
     rods, channel friction, point masses (their inertia at a breakpoint is not modelled
     yet).  With damping, the tendon's direction at its anchor is taken from the elastic
     part of the internal force (docs/guide/dynamics.md).
@@ -330,7 +424,6 @@ def simulate(
     """
     from .model import Scene
     from .solution import Solution
-    from .solver import solve
 
     if not isinstance(scene, Scene):
         raise TypeError(f"simulate: scene must be a Scene, got {type(scene).__name__}")
@@ -359,21 +452,15 @@ def simulate(
             "simulate: point masses (PointMass) are not supported by the "
             "dynamics yet: spread their mass into Rod(density=...)"
         )
-    stat = _statics_options(int(opt["steps"]))
     fin = None
     if isinstance(initial, Trajectory):
         fin = _resumed(initial, dt, opt)
         initial = fin["solution"]
-    elif initial is None:
-        initial = solve(scene, options=stat, strict=strict)
-    elif not isinstance(initial, Solution):
+    elif initial is not None and not isinstance(initial, Solution):
         raise TypeError(
             f"simulate: initial must be a Solution, a Trajectory or None, got {initial!r}"
         )
-    if initial.options != stat:
-        initial = solve(initial.scene, initial, options=stat, strict=strict)
-    if not initial.success or initial.unknowns is None:
-        raise ValueError(f"simulate: the initial state is not an equilibrium: {initial.message}")
+    initial = _start(scene, initial, dt, opt, strict)
     t0 = 0.0 if fin is None else fin["t"]
     raw = _run(
         scene,
@@ -391,9 +478,19 @@ def simulate(
             raw[key][0] = fin["row"][key]
     err = None
     if opt["estimate"] and raw["status"] == 0:
-        half = _run(scene, initial, duration, dt / 2, actuation, loads, opt)
+        half = _run(
+            scene,
+            _start(scene, initial, dt / 2, opt, strict),
+            duration,
+            dt / 2,
+            actuation,
+            loads,
+            opt,
+        )
         if half["status"] == 0:
             err = 4.0 / 3.0 * np.linalg.norm(raw["tip"][:, :3] - half["tip"][::2, :3], axis=1)
+    if opt["extrapolate"]:
+        raw, err = _extrapolated(scene, initial, duration, dt, actuation, loads, opt, strict, raw)
     pose = base_pose(scene.robot)
     k = raw["done"] + 1
     tip = raw["tip"]
@@ -421,7 +518,7 @@ def simulate(
         nit=int(raw["nit"]),
         nfev=int(raw["nfev"]),
         final=None
-        if raw["done"] == 0
+        if raw["done"] == 0 or opt["extrapolate"]
         else {
             "state": raw["state"],
             "dt": dt,
@@ -436,9 +533,10 @@ def simulate(
     return res
 
 
-def simulation_options(steps: int = int(_DEFAULTS["steps"])):
+def simulation_options(steps: int = int(_DEFAULTS["steps"]), segments: int = 1):
     """The static solve's :class:`~tendonrod.Options` on the grid of :func:`simulate`
-    (``steps`` RK4 steps, spatial, one shooting segment): solve a start state with them.
+    (``steps`` RK4 steps, spatial, ``segments`` shooting segments): solve a start state
+    with them (:func:`simulate` solves it again on its segments where they differ).
 
     Examples
     --------
@@ -446,4 +544,4 @@ def simulation_options(steps: int = int(_DEFAULTS["steps"])):
     >>> opts.integrator, opts.steps, opts.force_spatial
     ('rk4', 40, True)
     """
-    return _statics_options(steps)
+    return _statics_options(steps, segments)

@@ -205,6 +205,8 @@ def test_resume_and_backbone():
     assert np.abs(second.tip_position - full.tip_position[100:]).max() < 1e-12
     # the dissipated energy: to the Newton tolerance's share (1e-10 scaled), 5e-16 J measured
     assert np.abs(second.energy[:, 3] - full.energy[100:, 3]).max() < 1e-9 * full.energy[-1, 3]
+    # the motor's work goes on from the first run's (the same tolerance's share)
+    assert np.abs(second.energy[:, 5] - full.energy[100:, 5]).max() < 1e-9 * full.energy[-1, 5]
     assert full.backbone.shape == (201, 41, 3) and full.s[-1] == 0.2
     assert np.array_equal(full.backbone[:, -1], full.tip_position)
     with pytest.raises(ValueError, match="dt"):
@@ -318,3 +320,81 @@ def test_view_animates_the_backbone(swing):
     short = tr.Scene(tr.Robot(tr.Rod(0.1, 2e-3, 207e9, 79.6e9, density=7800.0), []))
     with pytest.raises(ValueError, match="0.1 m long"):
         tr.plot.view(swing, short)
+
+
+def test_short_steps_take_multiple_shooting():
+    """Short steps make the inertia rho A c0^2 a stiff foundation for the bending: each
+    step's single-shooting problem grows like exp(19.7) here (omega1 dt = 0.0068) and its
+    first step fails, as every run at such a dt did before multiple shooting.  The default
+    takes the segments from that growth (3, tr_dyn_segments) and converges every step
+    within max_iter iterations; the trapezoidal rule then keeps the undamped energy to
+    1e-3 of it (1.3e-4 measured: the release's geometric nonlinearity and the Newton
+    tolerance; a linear motion's energy it keeps exactly)."""
+    dt = 3e-5
+    start = _released((1e-4, 0.0, 0.0))
+    with pytest.warns(tr.ConvergenceWarning, match=r"step 1 \(t = 3e-05 s\) failed"):
+        one = simulate(FREE, 40 * dt, dt, initial=start, options={"segments": 1, "alpha": -0.5})
+    assert not one.success and len(one.t) == 1
+    tj = simulate(FREE, 40 * dt, dt, initial=start, options={"alpha": -0.5})
+    assert tj.success, tj.message
+    assert "(3 shooting segments)" in tj.message
+    # bounded work: 40 steps, at most max_iter = 8 Newton iterations each
+    assert len(tj.t) == 41 and tj.nit <= 8 * 40
+    E = tj.energy[:, 0] + tj.energy[:, 1]
+    assert np.ptp(E) / E[0] < 1e-3
+
+
+def test_extrapolation_in_dt():
+    """options['extrapolate']: runs at dt, dt/2, dt/4 Richardson-extrapolated, on a damped
+    tendon robot under a displacement ramp (its corners as in Till's scene), against the
+    same at dt/8 (its own estimate 7e-7 of the travel).  The extrapolated tip is 10x closer
+    than the plain dt/4 run (4.1e-5 against 4.1e-4 of the travel measured; asserted 5x),
+    and its error estimate bounds the error from above within a factor 4 (2.65 measured:
+    the estimate takes the extrapolation's error as falling by 4 per halving, what corners
+    of the actuation leave in Till's scene; here it falls faster)."""
+    rod = tr.Rod(0.2, 2e-3, 207e9, 79.6e9, density=7800.0, damping=2e-3)
+    robot = tr.Robot(rod, [tr.Tendon(offset=0.004, angle=0.0, EA=2e4)])
+    scene = tr.Scene(robot, displacement=[0.0])
+
+    def act(t):
+        return [5e-4 * min(t / 0.02, 1.0)]
+
+    ex = simulate(scene, 0.06, 1e-3, actuation=act, options={"extrapolate": True})
+    ref = simulate(scene, 0.06, 1.25e-4, actuation=act, options={"extrapolate": True})
+    quarter = simulate(scene, 0.06, 2.5e-4, actuation=act)
+    assert ex.success and ref.success and ex.final is None
+    # bounded work: 60 + 120 + 240 steps of at most 8 iterations each
+    assert len(ex.t) == 61 and ex.nit <= 8 * 420
+    err = np.linalg.norm(ex.tip_position - ref.tip_position[::8], axis=1).max()
+    plain = np.linalg.norm(quarter.tip_position[::4] - ref.tip_position[::8], axis=1).max()
+    assert err < plain / 5.0
+    assert err <= ex.time_error.max() < 4.0 * err
+    R = ex.tip_rotation
+    assert np.abs(R @ R.transpose(0, 2, 1) - np.eye(3)).max() < 1e-12
+    with pytest.raises(ValueError, match="extrapolate"):
+        simulate(scene, 0.01, 1e-3, options={"extrapolate": True, "estimate": True})
+
+
+def test_energy_balance_with_the_motor():
+    """A displacement ramp of a tendon robot under gravity, damped: kinetic + rod strain +
+    gravity's potential + dissipated + the tendon's strain energy - the motor's work stays
+    its initial value to the scheme's accuracy: at dt = 0.5 ms within 1e-3 of the motor's
+    work (4.7e-4 measured, trapezoidal rule), and second order: a quarter of it, within
+    20 % (the ratio 4.0 measured), at dt = 0.25 ms."""
+    rod = tr.Rod(0.2, 2e-3, 207e9, 79.6e9, density=7800.0, damping=2e-3)
+    robot = tr.Robot(rod, [tr.Tendon(offset=0.004, angle=0.0, EA=2e4)])
+    scene = tr.Scene(robot, displacement=[0.0], gravity=(-9.81, 0.0, 0.0))
+
+    def act(t):
+        return [5e-4 * min(t / 0.02, 1.0)]
+
+    gaps = []
+    for dt in (5e-4, 2.5e-4):
+        tj = simulate(scene, 0.06, dt, actuation=act, options={"alpha": -0.5})
+        assert tj.success, tj.message
+        E = tj.energy
+        assert E.shape == (len(tj.t), 6) and E[0, 5] == 0.0 and E[-1, 5] > 0.0
+        total = E[:, 0] + E[:, 1] + E[:, 2] + E[:, 3] + E[:, 4] - E[:, 5]
+        gaps.append(np.abs(total - total[0]).max() / E[-1, 5])
+    assert gaps[0] < 1e-3
+    assert 0.8 * 4.0 < gaps[0] / gaps[1] < 1.2 * 4.0
