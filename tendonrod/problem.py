@@ -28,6 +28,7 @@ from ._secant import load_steps, secant_compliance
 from .compiled import (
     _TD,
     _compile,
+    _structure,
     compliance_point,
     pack_scene,
     structure_difference,
@@ -114,7 +115,14 @@ class Problem:
         """Make ``scene`` (same structure) the one whose values are set in C."""
         if not isinstance(scene, Scene):
             raise ValueError(f"scene must be a tendonrod.Scene, got {scene!r}")
-        diff = structure_difference(self._scene, scene, self._options.force_spatial)
+        # the same robot and the same scene structure (both cached on the frozen objects):
+        # nothing to compare field by field
+        same = scene.robot is self._scene.robot and (
+            scene.__dict__.get("_problem_structure") or _structure(scene)
+        ) == _structure(self._scene)
+        diff = (
+            None if same else structure_difference(self._scene, scene, self._options.force_spatial)
+        )
         if diff is not None:
             raise ValueError(
                 f"scene has another structure than this Problem: {diff}; a Problem keeps "

@@ -1,0 +1,157 @@
+"""Python overhead of a solve through the public API over the bare C core, for two builds
+measured interleaved in one run.
+
+Per build one worker process (``PYTHONPATH`` = that build's checkout) builds the C
+harness of its checkout's ``bench/solve.py`` (the bare core through ctypes, the
+extension's flags) once; then, round after round, the driver asks each worker in turn
+for one round of every scene: the harness's warm sweep and cold solve, then the same
+through the public API (``Problem.solve`` along the sweep of 21 load sets 1 % apart,
+``tr.solve`` cold), each as the median of REPS repetitions, in wall time and in the
+thread's CPU time.  The overhead of a round is API - C; the report gives the medians
+over rounds, per build, and the ratio new/old of the warm ``Problem.solve``.
+
+Scenes: ``bench/solve.py``'s Fig. 11c, Till T0, Fig. 17 and Rao R (tip 0.1 N x).
+
+    .venv/bin/python bench/python_overhead.py --old /path/to/old/checkout [--rounds 9]
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import statistics
+import subprocess
+import sys
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+NEW = os.path.dirname(HERE)
+SCENES = (
+    "fig11c 3 tendons, out-of-plane load",
+    "Till T0 (gravity +x)",
+    "fig17 slack 0.5 N (planar)",
+    "Rao R (tip 0.1 N x)",
+)
+
+WORKER = r"""
+import json, os, statistics, sys, tempfile, time, warnings
+sys.path.insert(0, os.path.join(sys.argv[1], "bench"))
+import solve as B
+import tendonrod as tr
+warnings.simplefilter("ignore")
+REPS = int(sys.argv[2])
+tmp = tempfile.mkdtemp()
+harness = B.Harness(tmp)
+names = json.loads(sys.argv[3])
+all_scenes = B.scenes()
+data = {}
+for name in names:
+    sw = B.sweep_of(all_scenes[name][0])
+    data[name] = (sw, B.harness_input(sw, 101))
+
+def api(sw):
+    wall, cpu = [], []
+    for _ in range(REPS):
+        prob = tr.Problem(sw[0])
+        prob.solve()
+        t0, c0 = time.perf_counter(), time.thread_time()
+        for i in range(1, len(sw)):
+            prob.solve(sw[i])
+        cpu.append((time.thread_time() - c0) / (len(sw) - 1))
+        wall.append((time.perf_counter() - t0) / (len(sw) - 1))
+    cw, cc = [], []
+    for _ in range(REPS):
+        t0, c0 = time.perf_counter(), time.thread_time()
+        tr.solve(sw[0])
+        cc.append(time.thread_time() - c0)
+        cw.append(time.perf_counter() - t0)
+    med = statistics.median
+    return {"warm": 1e6 * med(wall), "warm_cpu": 1e6 * med(cpu),
+            "cold": 1e6 * med(cw), "cold_cpu": 1e6 * med(cc)}
+
+print("ready", flush=True)
+for line in sys.stdin:
+    out = {}
+    for name in names:
+        sw, text = data[name]
+        c = harness.run(text, REPS)
+        p = api(sw)
+        out[name] = {"c_warm": c["warm_us"], "c_cold": c["cold_us"], **p}
+    print(json.dumps(out), flush=True)
+"""
+
+
+class Worker:
+    def __init__(self, checkout: str, reps: int):
+        env = dict(os.environ, PYTHONPATH=checkout)
+        self.p = subprocess.Popen(
+            [sys.executable, "-c", WORKER, checkout, str(reps), json.dumps(SCENES)],
+            stdin=subprocess.PIPE,
+            stdout=subprocess.PIPE,
+            text=True,
+            env=env,
+            cwd=checkout,
+        )
+        assert self.p.stdout is not None and self.p.stdin is not None
+        if self.p.stdout.readline().strip() != "ready":
+            raise RuntimeError(f"the worker of {checkout} did not start")
+
+    def round(self) -> dict:
+        assert self.p.stdout is not None and self.p.stdin is not None
+        self.p.stdin.write("go\n")
+        self.p.stdin.flush()
+        return json.loads(self.p.stdout.readline())
+
+    def close(self):
+        assert self.p.stdin is not None
+        self.p.stdin.close()
+        self.p.wait()
+
+
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--old", required=True, help="checkout of the old build (built in place)")
+    ap.add_argument("--rounds", type=int, default=9)
+    ap.add_argument("--reps", type=int, default=5)
+    args = ap.parse_args(argv)
+    la0 = os.getloadavg()
+    builds = {"old": Worker(os.path.abspath(args.old), args.reps), "new": Worker(NEW, args.reps)}
+    rounds: dict = {"old": [], "new": []}
+    for r in range(args.rounds):
+        order = ("old", "new") if r % 2 == 0 else ("new", "old")
+        for b in order:
+            rounds[b].append(builds[b].round())
+    for w in builds.values():
+        w.close()
+    la1 = os.getloadavg()
+    med = statistics.median
+    print(
+        f"{'scene':<38s} {'build':>5s} | {'C warm':>7s} {'API warm':>8s} {'(CPU)':>7s} "
+        f"{'overhead':>8s} | {'C cold':>7s} {'API cold':>8s} {'overhead':>8s}   [us]"
+    )
+    for name in SCENES:
+        warm = {}
+        for b in ("old", "new"):
+            rs = [x[name] for x in rounds[b]]
+            warm[b] = [x["warm"] for x in rs]
+            print(
+                f"{name:<38s} {b:>5s} | {med(x['c_warm'] for x in rs):7.1f} "
+                f"{med(warm[b]):8.1f} {med(x['warm_cpu'] for x in rs):7.1f} "
+                f"{med(x['warm'] - x['c_warm'] for x in rs):8.1f} | "
+                f"{med(x['c_cold'] for x in rs):7.1f} {med(x['cold'] for x in rs):8.1f} "
+                f"{med(x['cold'] - x['c_cold'] for x in rs):8.1f}"
+            )
+        ratio = med(n / o for n, o in zip(warm["new"], warm["old"]))
+        cpu = med(
+            x[name]["warm_cpu"] / y[name]["warm_cpu"] for x, y in zip(rounds["new"], rounds["old"])
+        )
+        print(f"{'':<38s} new/old warm Problem: {ratio:.3f} wall, {cpu:.3f} CPU")
+    print(
+        f"\nmedians of {args.rounds} rounds x {args.reps} reps; load average "
+        f"{la0[0]:.2f} -> {la1[0]:.2f}"
+    )
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
