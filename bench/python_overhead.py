@@ -42,6 +42,19 @@ warnings.simplefilter("ignore")
 REPS = int(sys.argv[2])
 tmp = tempfile.mkdtemp()
 harness = B.Harness(tmp)
+# the same harness timing the calling thread's CPU time: its clock_gettime renamed to a
+# function that reads CLOCK_THREAD_CPUTIME_ID (tr_poll's cadence then follows CPU time)
+clock_c = os.path.join(tmp, "thread_clock.c")
+with open(clock_c, "w") as fh:
+    fh.write("#include <time.h>\n#undef clock_gettime\n"
+             "int clock_gettime(clockid_t, struct timespec *);\n"
+             "int bench_thread_clock(clockid_t c, struct timespec *t)"
+             "{ (void)c; return clock_gettime(CLOCK_THREAD_CPUTIME_ID, t); }\n")
+flags = B.setup_flags
+B.setup_flags = lambda: flags() + ["-Dclock_gettime=bench_thread_clock", clock_c]
+os.makedirs(os.path.join(tmp, "cpu"))
+harness_cpu = B.Harness(os.path.join(tmp, "cpu"))
+B.setup_flags = flags
 names = json.loads(sys.argv[3])
 all_scenes = B.scenes()
 data = {}
@@ -75,8 +88,10 @@ for line in sys.stdin:
     for name in names:
         sw, text = data[name]
         c = harness.run(text, REPS)
+        cc = harness_cpu.run(text, REPS)
         p = api(sw)
-        out[name] = {"c_warm": c["warm_us"], "c_cold": c["cold_us"], **p}
+        out[name] = {"c_warm": c["warm_us"], "c_cold": c["cold_us"],
+                     "c_warm_cpu": cc["warm_us"], "c_cold_cpu": cc["cold_us"], **p}
     print(json.dumps(out), flush=True)
 """
 
@@ -126,26 +141,33 @@ def main(argv=None) -> int:
     la1 = os.getloadavg()
     med = statistics.median
     print(
-        f"{'scene':<38s} {'build':>5s} | {'C warm':>7s} {'API warm':>8s} {'(CPU)':>7s} "
-        f"{'overhead':>8s} | {'C cold':>7s} {'API cold':>8s} {'overhead':>8s}   [us]"
+        f"{'scene':<38s} {'build':>5s} | warm Problem.solve: C, API, overhead (wall; CPU) | "
+        f"cold tr.solve: C, API, overhead (wall; CPU)   [us]"
     )
     for name in SCENES:
-        warm = {}
         for b in ("old", "new"):
             rs = [x[name] for x in rounds[b]]
-            warm[b] = [x["warm"] for x in rs]
+
+            def m(key, rs=rs):
+                return med(x[key] for x in rs)
+
+            def over(api, c, rs=rs):
+                return med(x[api] - x[c] for x in rs)
+
             print(
-                f"{name:<38s} {b:>5s} | {med(x['c_warm'] for x in rs):7.1f} "
-                f"{med(warm[b]):8.1f} {med(x['warm_cpu'] for x in rs):7.1f} "
-                f"{med(x['warm'] - x['c_warm'] for x in rs):8.1f} | "
-                f"{med(x['c_cold'] for x in rs):7.1f} {med(x['cold'] for x in rs):8.1f} "
-                f"{med(x['cold'] - x['c_cold'] for x in rs):8.1f}"
+                f"{name:<38s} {b:>5s} | {m('c_warm'):7.1f} {m('warm'):7.1f} "
+                f"{over('warm', 'c_warm'):6.1f}; {m('c_warm_cpu'):7.1f} {m('warm_cpu'):7.1f} "
+                f"{over('warm_cpu', 'c_warm_cpu'):6.1f} | {m('c_cold'):7.1f} {m('cold'):7.1f} "
+                f"{over('cold', 'c_cold'):6.1f}; {m('c_cold_cpu'):7.1f} {m('cold_cpu'):7.1f} "
+                f"{over('cold_cpu', 'c_cold_cpu'):6.1f}"
             )
-        ratio = med(n / o for n, o in zip(warm["new"], warm["old"]))
-        cpu = med(
-            x[name]["warm_cpu"] / y[name]["warm_cpu"] for x, y in zip(rounds["new"], rounds["old"])
-        )
-        print(f"{'':<38s} new/old warm Problem: {ratio:.3f} wall, {cpu:.3f} CPU")
+        for key in ("warm", "cold"):
+            wall = med(x[name][key] / y[name][key] for x, y in zip(rounds["new"], rounds["old"]))
+            cpu = med(
+                x[name][key + "_cpu"] / y[name][key + "_cpu"]
+                for x, y in zip(rounds["new"], rounds["old"])
+            )
+            print(f"{'':<38s} new/old API {key}: {wall:.3f} wall, {cpu:.3f} CPU")
     print(
         f"\nmedians of {args.rounds} rounds x {args.reps} reps; load average "
         f"{la0[0]:.2f} -> {la1[0]:.2f}"

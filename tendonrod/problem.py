@@ -119,7 +119,7 @@ class Problem:
         # nothing to compare field by field
         same = scene.robot is self._scene.robot and (
             scene.__dict__.get("_problem_structure") or _structure(scene)
-        ) == _structure(self._scene)
+        ) == (self.__dict__.get("_structure") or self._cache_structure())
         diff = (
             None if same else structure_difference(self._scene, scene, self._options.force_spatial)
         )
@@ -136,6 +136,10 @@ class Problem:
                 self._c.set_values(pretension=new)
         self._c.set_value_vector(value_vector(scene))
         self._current = scene
+
+    def _cache_structure(self) -> tuple:
+        key = self.__dict__["_structure"] = _structure(self._scene)
+        return key
 
     # ------------------------------------------------------------------ solve
     def _run(self, guess):

@@ -241,7 +241,6 @@ class Solution:
         d["scene"] = scene
         d["options"] = options
         d["_formulation"] = None
-        d["_pose"] = None if scene is None else base_pose(scene.robot)
         if type(raw) is _core.Result:
             d["_res"] = raw
             # what every solve reads (the failure rule, the plausibility screen)
@@ -269,8 +268,12 @@ class Solution:
         d["truncation_carried"] = bool(raw.get("truncation_carried", False))
 
     def __getattr__(self, name: str):
-        # only for names not in __dict__: a field of a Solution of a core Result, built
-        # from it once and kept
+        # only for names not in __dict__: the base pose, or a field of a Solution of a
+        # core Result, built from it once and kept
+        if name == "_pose":
+            scene = self.__dict__.get("scene")
+            pose = self.__dict__["_pose"] = None if scene is None else base_pose(scene.robot)
+            return pose
         res = self.__dict__.get("_res")
         if res is not None:
             if name in _FIELDS:
