@@ -295,8 +295,16 @@ def compliance_point(s, L: float) -> float:
 def _compile(scene: Scene, options: Options):
     """The ``_core.Problem`` (compiled model and workspace) of ``scene`` with ``options``."""
     rod, tendons, loads, dist = pack_scene(scene)
-    kw = options._raw
-    nodes = _nodes_for(scene, options)
-    if nodes is not kw["nodes"]:
-        kw = dict(kw, nodes=nodes)
-    return _core.Problem(rod, tendons, loads, dist, **_with_dloads(kw, scene))
+    cached = scene.__dict__.get("_compile_kw")
+    if cached is not None and cached[0] is options:
+        kw = cached[1]
+    else:
+        # the options the core's defaults lack, and the scene's tables (cached on the
+        # frozen scene for the frozen options it was last compiled with)
+        kw = options._core_kw
+        nodes = _nodes_for(scene, options)
+        if nodes is not options.nodes:
+            kw = dict(kw, nodes=nodes)
+        kw = _with_dloads(kw, scene)
+        object.__setattr__(scene, "_compile_kw", (options, kw))
+    return _core.Problem(rod, tendons, loads, dist, **kw)

@@ -195,7 +195,11 @@ class Problem:
         scene = self._scene if scene is None else scene
         if scene is not self._current:
             self._set(scene)
-        sol = Solution(self._run(guess), scene, self._options)
+        if guess is None:  # warm from the last solution (the loop's path)
+            raw = self._c.solve(warm=True, cancel=current_token(), record=False)
+        else:
+            raw = self._run(guess)
+        sol = Solution(raw, scene, self._options)
         if sol.success:
             self._last = sol
         return sol

@@ -111,6 +111,31 @@ def _guess_vector(guess, scene: Scene, options: Options):
     return vec, None, None, None
 
 
+class _Lazy:
+    """A field of a Solution built on first access and kept in its __dict__ (which then
+    shadows this non-data descriptor): from its core Result (``name`` an attribute of
+    it), ``raw`` (the Result's dict) or ``_pose`` (the scene's base pose)."""
+
+    __slots__ = ("name",)
+
+    def __init__(self, name: str):
+        self.name = name
+
+    def __get__(self, sol, owner=None):
+        if sol is None:
+            return self
+        d, name = sol.__dict__, self.name
+        if name == "_pose":
+            scene = d.get("scene")
+            value = None if scene is None else base_pose(scene.robot)
+        elif name == "raw":
+            value = d["_res"].as_dict()
+        else:
+            value = getattr(d["_res"], name)
+        d[name] = value
+        return value
+
+
 class Solution:
     """Result of :func:`solve`.
 
@@ -235,7 +260,7 @@ class Solution:
     def __init__(self, raw, scene: Scene, options: Options):
         # Kept light: solve() runs in tight loops.  ``raw`` is the core's dict, or its
         # ``_core.Result`` (a lazy solve of a Problem): then every field is built on first
-        # access (__getattr__), ``raw`` too.  Written into __dict__ directly: a Solution
+        # access (_Lazy), ``raw`` too.  Written into __dict__ directly: a Solution
         # is read-only after the solve (__setattr__).
         d = self.__dict__
         d["scene"] = scene
@@ -266,25 +291,6 @@ class Solution:
         d["continuation_steps"] = int(raw.get("continuation_steps", 0))
         d["truncation_estimate"] = float(raw.get("truncation_estimate", math.nan))
         d["truncation_carried"] = bool(raw.get("truncation_carried", False))
-
-    def __getattr__(self, name: str):
-        # only for names not in __dict__: the base pose, or a field of a Solution of a
-        # core Result, built from it once and kept
-        if name == "_pose":
-            scene = self.__dict__.get("scene")
-            pose = self.__dict__["_pose"] = None if scene is None else base_pose(scene.robot)
-            return pose
-        res = self.__dict__.get("_res")
-        if res is not None:
-            if name in _FIELDS:
-                value = getattr(res, name)
-            elif name == "raw":
-                value = res.as_dict()
-            else:
-                raise AttributeError(f"'Solution' object has no attribute {name!r}")
-            self.__dict__[name] = value
-            return value
-        raise AttributeError(f"'Solution' object has no attribute {name!r}")
 
     def _get(self, key: str, default=None):
         """The raw result's ``key`` (``default`` when a dict lacks it), without building
@@ -583,3 +589,8 @@ class Solution:
             )
         lines.append(f"  {self.formulation!r}, {self.s.size} nodes)")
         return "\n".join(lines)
+
+
+for _name in (*_FIELDS, "raw", "_pose"):
+    setattr(Solution, _name, _Lazy(_name))
+del _name
