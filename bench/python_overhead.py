@@ -1,9 +1,11 @@
 """Python overhead of a solve through the public API over the bare C core, for two builds
 measured interleaved in one run.
 
-Per build one worker process (``PYTHONPATH`` = that build's checkout) builds the C
-harness of its checkout's ``bench/solve.py`` (the bare core through ctypes, the
-extension's flags) once; then, round after round, the driver asks each worker in turn
+The bare core is ``bench/solve.py``'s harness (``bench/solve_harness.c`` through ctypes,
+the extension's flags), built once from this checkout, twice: timing wall time and
+timing the thread's CPU time; the two checkouts must have the same ``csrc`` (this
+compares the Python and glue layers).  Per build one worker process (``PYTHONPATH`` =
+that build's checkout) loads both; then, round after round, the driver asks each worker in turn
 for one round of every scene: the harness's warm sweep and cold solve, then the same
 through the public API (``Problem.solve`` along the sweep of 21 load sets 1 % apart,
 ``tr.solve`` cold), each as the median of REPS repetitions, in wall time and in the
@@ -23,6 +25,7 @@ import os
 import statistics
 import subprocess
 import sys
+import tempfile
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 NEW = os.path.dirname(HERE)
@@ -34,27 +37,24 @@ SCENES = (
 )
 
 WORKER = r"""
-import json, os, statistics, sys, tempfile, time, warnings
+import json, os, statistics, sys, time, warnings
 sys.path.insert(0, os.path.join(sys.argv[1], "bench"))
 import solve as B
 import tendonrod as tr
 warnings.simplefilter("ignore")
 REPS = int(sys.argv[2])
-tmp = tempfile.mkdtemp()
-harness = B.Harness(tmp)
-# the same harness timing the calling thread's CPU time: its clock_gettime renamed to a
-# function that reads CLOCK_THREAD_CPUTIME_ID (tr_poll's cadence then follows CPU time)
-clock_c = os.path.join(tmp, "thread_clock.c")
-with open(clock_c, "w") as fh:
-    fh.write("#include <time.h>\n#undef clock_gettime\n"
-             "int clock_gettime(clockid_t, struct timespec *);\n"
-             "int bench_thread_clock(clockid_t c, struct timespec *t)"
-             "{ (void)c; return clock_gettime(CLOCK_THREAD_CPUTIME_ID, t); }\n")
-flags = B.setup_flags
-B.setup_flags = lambda: flags() + ["-Dclock_gettime=bench_thread_clock", clock_c]
-os.makedirs(os.path.join(tmp, "cpu"))
-harness_cpu = B.Harness(os.path.join(tmp, "cpu"))
-B.setup_flags = flags
+import ctypes
+
+def load(path):
+    # a bench/solve.py Harness of the library at path (built once by the driver)
+    h = B.Harness.__new__(B.Harness)
+    h._lib = ctypes.CDLL(path)
+    h._lib.harness_run_text.argtypes = [
+        ctypes.c_char_p, ctypes.c_int, ctypes.POINTER(ctypes.c_double)]
+    h._out = (ctypes.c_double * 6)()
+    return h
+
+harness, harness_cpu = load(sys.argv[4]), load(sys.argv[5])
 names = json.loads(sys.argv[3])
 all_scenes = B.scenes()
 data = {}
@@ -96,11 +96,52 @@ for line in sys.stdin:
 """
 
 
+def build_harnesses(tmp: str) -> tuple[str, str]:
+    """This checkout's bench/solve_harness.c built twice (bench/solve.py's Harness): timing
+    wall time, and timing the calling thread's CPU time (its clock_gettime renamed to a
+    function that reads CLOCK_THREAD_CPUTIME_ID; tr_poll's cadence then follows CPU
+    time).  Both builds call the same bare core: the csrc of the two checkouts must
+    agree (checked by the caller)."""
+    sys.path.insert(0, HERE)
+    import solve as B
+
+    B.Harness(tmp)
+    clock_c = os.path.join(tmp, "thread_clock.c")
+    with open(clock_c, "w") as fh:
+        fh.write(
+            "#include <time.h>\n#undef clock_gettime\n"
+            "int clock_gettime(clockid_t, struct timespec *);\n"
+            "int bench_thread_clock(clockid_t c, struct timespec *t)"
+            "{ (void)c; return clock_gettime(CLOCK_THREAD_CPUTIME_ID, t); }\n"
+        )
+    flags = B.setup_flags
+    B.setup_flags = lambda: flags() + ["-Dclock_gettime=bench_thread_clock", clock_c]
+    cpu = os.path.join(tmp, "cpu")
+    os.makedirs(cpu)
+    B.Harness(cpu)
+    B.setup_flags = flags
+    return os.path.join(tmp, "libsolve_harness.so"), os.path.join(cpu, "libsolve_harness.so")
+
+
+def same_core(old: str) -> bool:
+    """Whether the two checkouts' csrc (the bare core the harness builds) are identical."""
+    names = sorted(os.listdir(os.path.join(NEW, "csrc")))
+    if names != sorted(os.listdir(os.path.join(old, "csrc"))):
+        return False
+    for n in names:
+        a, b = os.path.join(NEW, "csrc", n), os.path.join(old, "csrc", n)
+        if os.path.isfile(a):
+            with open(a, "rb") as fa, open(b, "rb") as fb:
+                if fa.read() != fb.read():
+                    return False
+    return True
+
+
 class Worker:
-    def __init__(self, checkout: str, reps: int):
+    def __init__(self, checkout: str, reps: int, libs: tuple[str, str]):
         env = dict(os.environ, PYTHONPATH=checkout)
         self.p = subprocess.Popen(
-            [sys.executable, "-c", WORKER, checkout, str(reps), json.dumps(SCENES)],
+            [sys.executable, "-c", WORKER, checkout, str(reps), json.dumps(SCENES), *libs],
             stdin=subprocess.PIPE,
             stdout=subprocess.PIPE,
             text=True,
@@ -129,8 +170,13 @@ def main(argv=None) -> int:
     ap.add_argument("--rounds", type=int, default=9)
     ap.add_argument("--reps", type=int, default=5)
     args = ap.parse_args(argv)
+    old = os.path.abspath(args.old)
+    if not same_core(old):
+        raise SystemExit("the checkouts' csrc differ: the bare-core harness would not be one")
+    tmp = tempfile.mkdtemp()
+    libs = build_harnesses(tmp)
     la0 = os.getloadavg()
-    builds = {"old": Worker(os.path.abspath(args.old), args.reps), "new": Worker(NEW, args.reps)}
+    builds = {"old": Worker(old, args.reps, libs), "new": Worker(NEW, args.reps, libs)}
     rounds: dict = {"old": [], "new": []}
     for r in range(args.rounds):
         order = ("old", "new") if r % 2 == 0 else ("new", "old")
