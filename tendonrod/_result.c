@@ -42,22 +42,42 @@ enum {
     K_N
 };
 
-static const char *const key_names[K_N] = {
-    "status",          "message",           "success",           "nit",
-    "nfev",            "njev",              "work",              "residual_norm",
-    "jacobian_cond",   "truncation_estimate", "truncation_carried", "continuation_steps",
-    "tension",         "slack",             "displacement",      "tip_position",
-    "tip_force",       "tip_moment",        "tip_rotation",      "tip_angle",
-    "base_state",      "unknowns",          "verified_estimate", "verified_unknowns",
-    "verified_values", "jacobian",          "formulation",       "stability_carry",
-    "stability_verdict"};
+static const char *const key_names[K_N] = {"status",
+                                           "message",
+                                           "success",
+                                           "nit",
+                                           "nfev",
+                                           "njev",
+                                           "work",
+                                           "residual_norm",
+                                           "jacobian_cond",
+                                           "truncation_estimate",
+                                           "truncation_carried",
+                                           "continuation_steps",
+                                           "tension",
+                                           "slack",
+                                           "displacement",
+                                           "tip_position",
+                                           "tip_force",
+                                           "tip_moment",
+                                           "tip_rotation",
+                                           "tip_angle",
+                                           "base_state",
+                                           "unknowns",
+                                           "verified_estimate",
+                                           "verified_unknowns",
+                                           "verified_values",
+                                           "jacobian",
+                                           "formulation",
+                                           "stability_carry",
+                                           "stability_verdict"};
 
 typedef struct {
     PyObject_VAR_HEAD int status, nit, nfev, njev, cont_steps, carried, steps, nt, k, ncarry;
     int has_ver, has_ver_values, has_carry, has_verdict, v_stable, v_index;
     double work, resnorm, cond, trunc, tip_angle, ver_est, v_margin;
-    PyObject *form;       /* the formulation template (all but the step count) or NULL */
-    PyObject *slot[K_N];  /* the fields built so far */
+    PyObject *form;      /* the formulation template (all but the step count) */
+    PyObject *slot[K_N]; /* the fields built so far */
     double *tension, *slack, *disp, *tip, *base, *x, *J, *ver_x, *ver_values, *carry;
     char *message, *v_reason, *carry_reason;
     double data[1]; /* the arrays, then the strings (ob_size doubles in all) */
@@ -132,8 +152,13 @@ PyObject *glue_result_new(const tr_model *m, const tr_data *d, int status, PyObj
     r->v_stable = vd.stable;
     r->v_index = vd.index;
     r->v_margin = vd.margin;
-    r->form = form;
-    Py_XINCREF(form);
+    /* without a template (a one-shot solve) the model's, built now: m and d do not
+     * outlive this call */
+    r->form = form ? Py_NewRef(form) : glue_formulation(m, d);
+    if (!r->form) {
+        Py_DECREF(r);
+        return NULL;
+    }
     p = r->data;
     r->tension = take(&p, nt, o.tension);
     r->slack = take(&p, nt, o.slack);
@@ -180,7 +205,6 @@ static PyObject *writeable(npy_intp n, const double *src)
 static PyObject *formulation(ResultObject *r)
 {
     PyObject *f, *steps;
-    if (!r->form) return PyDict_New();
     if (!(f = PyDict_Copy(r->form))) return NULL;
     if (!(steps = PyLong_FromLong(r->steps)) || PyDict_SetItemString(f, "steps", steps) < 0) {
         Py_XDECREF(steps);
@@ -231,8 +255,7 @@ static PyObject *build(ResultObject *r, int key)
         if (!r->has_verdict) return Py_NewRef(Py_None);
         return Py_BuildValue("{s:N,s:d,s:i,s:s}", "stable",
                              r->v_stable < 0 ? Py_NewRef(Py_None) : PyBool_FromLong(r->v_stable),
-                             "stability", r->v_margin, "index", r->v_index, "reason",
-                             r->v_reason);
+                             "stability", r->v_margin, "index", r->v_index, "reason", r->v_reason);
     }
     PyErr_SetString(PyExc_SystemError, "Result: unknown key");
     return NULL;
@@ -375,24 +398,41 @@ static PyMethodDef result_methods[] = {
     {"__reduce__", (PyCFunction)result_reduce, METH_NOARGS, "Pickled as its dict."},
     {NULL, NULL, 0, NULL}};
 
-#define ATTR(name, key) {name, (getter)result_getattr, NULL, NULL, (void *)(intptr_t)(key)}
+#define ATTR(name, key)                                                                            \
+    {                                                                                              \
+        name, (getter)result_getattr, NULL, NULL, (void *)(intptr_t)(key)                          \
+    }
 /* stability_verdict as an attribute is None when the solve judged none */
-static PyGetSetDef result_getset[] = {
-    ATTR("status", K_STATUS),          ATTR("message", K_MESSAGE),
-    ATTR("success", K_SUCCESS),        ATTR("nit", K_NIT),
-    ATTR("nfev", K_NFEV),              ATTR("njev", K_NJEV),
-    ATTR("work", K_WORK),              ATTR("residual_norm", K_RESNORM),
-    ATTR("jacobian_cond", K_COND),     ATTR("truncation_estimate", K_TRUNC),
-    ATTR("truncation_carried", K_CARRIED), ATTR("continuation_steps", K_CONT),
-    ATTR("tension", K_TENSION),        ATTR("slack", K_SLACK),
-    ATTR("displacement", K_DISP),      ATTR("tip_position", K_TIP_POS),
-    ATTR("tip_force", K_TIP_FORCE),    ATTR("tip_moment", K_TIP_MOMENT),
-    ATTR("tip_rotation", K_TIP_ROT),   ATTR("tip_angle", K_TIP_ANGLE),
-    ATTR("base_state", K_BASE),        ATTR("unknowns", K_UNKNOWNS),
-    ATTR("verified_estimate", K_VER_EST), ATTR("verified_unknowns", K_VER_X),
-    ATTR("verified_values", K_VER_VALUES), ATTR("jacobian", K_JACOBIAN),
-    ATTR("formulation", K_FORM),       ATTR("stability_carry", K_CARRY),
-    ATTR("stability_verdict", K_VERDICT), {NULL, NULL, NULL, NULL, NULL}};
+static PyGetSetDef result_getset[] = {ATTR("status", K_STATUS),
+                                      ATTR("message", K_MESSAGE),
+                                      ATTR("success", K_SUCCESS),
+                                      ATTR("nit", K_NIT),
+                                      ATTR("nfev", K_NFEV),
+                                      ATTR("njev", K_NJEV),
+                                      ATTR("work", K_WORK),
+                                      ATTR("residual_norm", K_RESNORM),
+                                      ATTR("jacobian_cond", K_COND),
+                                      ATTR("truncation_estimate", K_TRUNC),
+                                      ATTR("truncation_carried", K_CARRIED),
+                                      ATTR("continuation_steps", K_CONT),
+                                      ATTR("tension", K_TENSION),
+                                      ATTR("slack", K_SLACK),
+                                      ATTR("displacement", K_DISP),
+                                      ATTR("tip_position", K_TIP_POS),
+                                      ATTR("tip_force", K_TIP_FORCE),
+                                      ATTR("tip_moment", K_TIP_MOMENT),
+                                      ATTR("tip_rotation", K_TIP_ROT),
+                                      ATTR("tip_angle", K_TIP_ANGLE),
+                                      ATTR("base_state", K_BASE),
+                                      ATTR("unknowns", K_UNKNOWNS),
+                                      ATTR("verified_estimate", K_VER_EST),
+                                      ATTR("verified_unknowns", K_VER_X),
+                                      ATTR("verified_values", K_VER_VALUES),
+                                      ATTR("jacobian", K_JACOBIAN),
+                                      ATTR("formulation", K_FORM),
+                                      ATTR("stability_carry", K_CARRY),
+                                      ATTR("stability_verdict", K_VERDICT),
+                                      {NULL, NULL, NULL, NULL, NULL}};
 #undef ATTR
 
 static PyMappingMethods result_mapping = {

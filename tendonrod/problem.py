@@ -196,7 +196,11 @@ class Problem:
         if scene is not self._current:
             self._set(scene)
         if guess is None:  # warm from the last solution (the loop's path)
-            raw = self._c.solve(warm=True, cancel=current_token(), record=False)
+            token = current_token()
+            if token is None:  # (one keyword fewer to parse)
+                raw = self._c.solve(record=False)
+            else:
+                raw = self._c.solve(cancel=token, record=False)
         else:
             raw = self._run(guess)
         sol = Solution(raw, scene, self._options)
