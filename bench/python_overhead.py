@@ -8,7 +8,9 @@ compares the Python and glue layers).  Per build one worker process (``PYTHONPAT
 that build's checkout) loads both; then, round after round, the driver asks each worker in turn
 for one round of every scene: the harness's warm sweep and cold solve, then the same
 through the public API (``Problem.solve`` along the sweep of 21 load sets 1 % apart,
-``tr.solve`` cold), each as the median of REPS repetitions, in wall time and in the
+``tr.solve`` cold; ``Problem.solve`` along the sweep again with new Scene objects of the
+same values, built before the clock starts, so that nothing cached on a scene helps),
+each as the median of REPS repetitions, in wall time and in the
 thread's CPU time.  The overhead of a round is API - C; the report gives the medians
 over rounds, per build, and the ratio new/old of the warm ``Problem.solve``.
 
@@ -37,7 +39,7 @@ SCENES = (
 )
 
 WORKER = r"""
-import json, os, statistics, sys, time, warnings
+import dataclasses, json, os, statistics, sys, time, warnings
 sys.path.insert(0, os.path.join(sys.argv[1], "bench"))
 import solve as B
 import tendonrod as tr
@@ -72,6 +74,18 @@ def api(sw):
             prob.solve(sw[i])
         cpu.append((time.thread_time() - c0) / (len(sw) - 1))
         wall.append((time.perf_counter() - t0) / (len(sw) - 1))
+    fw, fc = [], []
+    for _ in range(REPS):
+        # new Scene objects of the same values, made before the clock starts: what a
+        # loop that builds its scene per call costs beyond the scene's own construction
+        fresh = [dataclasses.replace(sc) for sc in sw]
+        prob = tr.Problem(fresh[0])
+        prob.solve()
+        t0, c0 = time.perf_counter(), time.thread_time()
+        for i in range(1, len(sw)):
+            prob.solve(fresh[i])
+        fc.append((time.thread_time() - c0) / (len(sw) - 1))
+        fw.append((time.perf_counter() - t0) / (len(sw) - 1))
     cw, cc = [], []
     for _ in range(REPS):
         t0, c0 = time.perf_counter(), time.thread_time()
@@ -80,6 +94,7 @@ def api(sw):
         cw.append(time.perf_counter() - t0)
     med = statistics.median
     return {"warm": 1e6 * med(wall), "warm_cpu": 1e6 * med(cpu),
+            "fresh": 1e6 * med(fw), "fresh_cpu": 1e6 * med(fc),
             "cold": 1e6 * med(cw), "cold_cpu": 1e6 * med(cc)}
 
 print("ready", flush=True)
@@ -207,7 +222,14 @@ def main(argv=None) -> int:
                 f"{over('cold', 'c_cold'):6.1f}; {m('c_cold_cpu'):7.1f} {m('cold_cpu'):7.1f} "
                 f"{over('cold_cpu', 'c_cold_cpu'):6.1f}"
             )
-        for key in ("warm", "cold"):
+        for b in ("old", "new"):
+            rs = [x[name] for x in rounds[b]]
+            print(
+                f"{'':<38s} {b:>5s} | warm Problem.solve of new Scene objects: overhead "
+                f"{med(x['fresh'] - x['c_warm'] for x in rs):6.1f} wall; "
+                f"{med(x['fresh_cpu'] - x['c_warm_cpu'] for x in rs):6.1f} CPU"
+            )
+        for key in ("warm", "cold", "fresh"):
             wall = med(x[name][key] / y[name][key] for x, y in zip(rounds["new"], rounds["old"]))
             cpu = med(
                 x[name][key + "_cpu"] / y[name][key + "_cpu"]
