@@ -99,14 +99,21 @@ def _robot_rows(robot):
     return rod, tendons
 
 
+_NO_DLOADS = np.empty((0, 5))
+_NO_DLOADS.setflags(write=False)
+
+
 def pack_dloads(scene: Scene) -> np.ndarray:
     """The partial distributed loads of ``scene`` as the core's rows (nd, 5)
     ``[start, end, f (3)]`` [m, m, N/m], forces in the base frame (cached)."""
     cached = scene.__dict__.get("_packed_dloads")
     if cached is not None:
         return cached
-    L = scene.robot.rod.length
     parts = scene.partial_loads
+    if not parts:  # (the common case: one shared empty table)
+        object.__setattr__(scene, "_packed_dloads", _NO_DLOADS)
+        return _NO_DLOADS
+    L = scene.robot.rod.length
     rows = np.empty((len(parts), 5))
     for k, ld in enumerate(parts):
         rows[k, 0], rows[k, 1] = ld.start, L if ld.end is None else min(ld.end, L)
