@@ -17,6 +17,7 @@ over rounds, per build, and the ratio new/old of the warm ``Problem.solve``.
 Scenes: ``bench/solve.py``'s Fig. 11c, Till T0, Fig. 17 and Rao R (tip 0.1 N x).
 
     .venv/bin/python bench/python_overhead.py --old /path/to/old/checkout [--rounds 9]
+    PYTHONPATH=$PWD .venv/bin/python bench/python_overhead.py --split "Till T0 (gravity +x)"
 """
 
 from __future__ import annotations
@@ -179,12 +180,54 @@ class Worker:
         self.p.wait()
 
 
+def split(name: str, reps: int = 100) -> None:
+    """This checkout only, one process: ``Problem.solve(scene_i)`` along the sweep against
+    the raw ``_core.Problem.solve(record=False)`` of a second Problem (values set, same
+    sequence), alternated call by call, thread CPU time: the Python layer's share (the
+    raw call includes the glue)."""
+    import time
+
+    sys.path.insert(0, HERE)
+    import solve as B
+
+    import tendonrod as tr
+    from tendonrod.compiled import value_vector
+
+    sw = B.sweep_of(B.scenes()[name][0])
+    pa, pb = tr.Problem(sw[0]), tr.Problem(sw[0])
+    pa.solve()
+    pb.solve()
+    c, tt, api, raw = pb._c, time.thread_time, [], []
+    for _ in range(reps):
+        for i in range(1, len(sw)):
+            t0 = tt()
+            pa.solve(sw[i])
+            t1 = tt()
+            c.set_value_vector(value_vector(sw[i]))
+            c.solve(record=False)
+            t2 = tt()
+            api.append(t1 - t0)
+            raw.append(t2 - t1)
+    med = statistics.median
+    print(
+        f"{name}: API {1e6 * med(api):.1f} us, raw {1e6 * med(raw):.1f} us, median of the "
+        f"per-call differences {1e6 * med(a - b for a, b in zip(api, raw)):.1f} us (thread CPU; "
+        f"load average {os.getloadavg()[0]:.2f})"
+    )
+
+
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--old", required=True, help="checkout of the old build (built in place)")
+    ap.add_argument("--split", metavar="SCENE", help="only the in-process split of one scene")
+    ap.add_argument("--old", help="checkout of the old build (built in place)")
     ap.add_argument("--rounds", type=int, default=9)
     ap.add_argument("--reps", type=int, default=5)
     args = ap.parse_args(argv)
+    if args.split:
+        split(args.split)
+        return 0
+    if not args.old:
+        ap.error("--old is required (or --split SCENE)")
     old = os.path.abspath(args.old)
     if not same_core(old):
         raise SystemExit("the checkouts' csrc differ: the bare-core harness would not be one")
