@@ -124,7 +124,8 @@ static int core_exec(PyObject *module)
 {
     if (add_constants(module) < 0) return -1;
     if (add_type(module, "Problem", &glue_problem_type) < 0 ||
-        add_type(module, "Cancel", &glue_cancel_type) < 0)
+        add_type(module, "Cancel", &glue_cancel_type) < 0 ||
+        add_type(module, "Result", &glue_result_type) < 0)
         return -1;
     if (glue_add_ufuncs(module) < 0) return -1;
     return 0;

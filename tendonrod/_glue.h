@@ -98,6 +98,12 @@ extern PyTypeObject glue_problem_type;
 PyObject *glue_formulation(const tr_model *m, const tr_data *d);
 /* The solve result dict of a workspace (_solve.c). */
 PyObject *glue_solve_result(const tr_model *m, const tr_data *d, int status, PyObject *form);
+/* _result.c: _core.Result, the fields of one solve copied out of the workspace, each
+ * built on first access; `form` the formulation template (may be NULL). */
+extern PyTypeObject glue_result_type;
+PyObject *glue_result_new(const tr_model *m, const tr_data *d, int status, PyObject *form);
+/* Its solve dict (no node arrays). */
+PyObject *glue_result_dict(PyObject *result);
 
 /* _solve.c, _batch.c: the entry points */
 PyObject *glue_solve(PyObject *self, PyObject *args, PyObject *kwds);

@@ -145,6 +145,16 @@ class Checker:
         return rec
 
     def check(self, sol, who: str, once: bool) -> None:
+        # the input findings warn when built; a failed solve has no others, nor does a
+        # successful one whose screen is clear (its findings are then computed on access)
+        if not sol.success:
+            return
+        scene = sol.scene
+        screen = scene.__dict__.get("_plausibility_screen")
+        if PR.screen_clear(
+            _scene_screen(scene) if screen is None else screen, sol.tension.tolist()
+        ):
+            return
         found = solution_findings(sol, self)
         n_in = len(P.input_findings(sol.scene))  # input findings warn when built
         if len(found) == n_in:

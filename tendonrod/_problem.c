@@ -255,7 +255,8 @@ static PyObject *problem_solve(ProblemObject *self, PyObject *args, PyObject *kw
     tr_set_poll(d, NULL, NULL);
     self->last_status = status;
     if (glue_poll_finish(&poll, status) == 0 && glue_problem_form(self))
-        result = glue_solve_result(self->m, d, status, self->form);
+        result = record ? glue_solve_result(self->m, d, status, self->form)
+                        : glue_result_new(self->m, d, status, self->form);
 done:
     tr_data_set_lazy(d, 0);
     Py_XDECREF(xv);
@@ -546,7 +547,8 @@ static PyMethodDef problem_methods[] = {
      "solve, its verdict record,\n"
      "which a solution close to it keeps instead of being judged again (one of another model\n"
      "is ignored).  The dict of\n"
-     "_core.solve; record=False leaves out the node arrays (record_from computes them).\n"
+     "_core.solve; record=False leaves out the node arrays (record_from computes them) and\n"
+     "returns a _core.Result instead (the same keys, each built on first access).\n"
      "Ctrl-C raises KeyboardInterrupt."},
     {"record_from", (PyCFunction)(void (*)(void))problem_record_from, METH_VARARGS | METH_KEYWORDS,
      "record_from(unknowns, steps) -> dict: the states at this problem's nodes of the solution\n"

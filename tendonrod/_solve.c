@@ -46,134 +46,33 @@ fail:
     return NULL;
 }
 
-static int set_counts(PyObject *res, const tr_data *d, int status)
-{
-    tr_result r;
-    tr_data_result(d, &r);
-    return glue_set(res, "status", PyLong_FromLong(status)) < 0 ||
-                   glue_set(res, "message", PyUnicode_FromString(r.message)) < 0 ||
-                   glue_set(res, "success", PyBool_FromLong(TR_SUCCEEDED(status))) < 0 ||
-                   glue_set(res, "nit", PyLong_FromLong(r.nit)) < 0 ||
-                   glue_set(res, "nfev", PyLong_FromLong(r.nfev)) < 0 ||
-                   glue_set(res, "njev", PyLong_FromLong(r.njev)) < 0 ||
-                   glue_set(res, "work", PyFloat_FromDouble(r.work)) < 0 ||
-                   glue_set(res, "residual_norm", PyFloat_FromDouble(r.residual_norm)) < 0 ||
-                   glue_set(res, "jacobian_cond", PyFloat_FromDouble(r.jacobian_cond)) < 0 ||
-                   glue_set(res, "truncation_estimate", PyFloat_FromDouble(r.truncation)) < 0 ||
-                   glue_set(res, "truncation_carried", PyBool_FromLong(r.ver_carried)) < 0 ||
-                   glue_set(res, "continuation_steps", PyLong_FromLong(r.cont_steps)) < 0
-               ? -1
-               : 0;
-}
-
-/* The formulation of a result: a copy of `form` (the model's, cached by a Problem) with
- * this solve's step count, or built afresh when form is NULL. */
-static PyObject *result_formulation(const tr_model *m, const tr_data *d, PyObject *form)
-{
-    PyObject *f;
-    tr_result r;
-    if (!form) return glue_formulation(m, d);
-    if (!(f = PyDict_Copy(form))) return NULL;
-    tr_data_result(d, &r);
-    if (glue_set(f, "steps",
-                 PyLong_FromLong(tr_data_options(d)->integrator == TR_ADAPTIVE ? 0 : r.steps)) <
-        0) {
-        Py_DECREF(f);
-        return NULL;
-    }
-    return f;
-}
-
+/* The solve dict of a workspace: the fields of its _core.Result (_result.c), and the
+ * node arrays when the solve recorded them. */
 PyObject *glue_solve_result(const tr_model *m, const tr_data *d, int status, PyObject *form)
 {
-    PyObject *res = PyDict_New(), *base = NULL;
+    PyObject *r = glue_result_new(m, d, status, form), *res;
     tr_outputs o;
-    tr_verified v;
-    tr_verdict vd;
-    const char *carry;
-    int N, nt = m->nt, k, have_ver;
     npy_intp dims[3];
+    int N;
+    if (!r) return NULL;
+    res = glue_result_dict(r);
+    Py_DECREF(r);
     if (!res) return NULL;
     tr_data_outputs(d, &o);
-    have_ver = tr_data_verified(d, &v);
-    tr_data_verdict(d, &vd);
-    carry = tr_data_carry_reason(d);
-    N = o.nnode, k = o.k;
-    if (set_counts(res, d, status) < 0) goto fail;
-    if (!o.lazy) {
-        dims[0] = N;
-        if (glue_set(res, "s", glue_array(1, dims, o.s)) < 0) goto fail;
-        dims[1] = 3;
-        if (glue_set(res, "position", glue_array(2, dims, o.pos)) < 0 ||
-            glue_set(res, "force", glue_array(2, dims, o.force)) < 0 ||
-            glue_set(res, "moment", glue_array(2, dims, o.moment)) < 0)
-            goto fail;
-        dims[2] = 3;
-        if (glue_set(res, "rotation", glue_array(3, dims, o.rot)) < 0) goto fail;
-        dims[1] = nt;
-        if (glue_set(res, "tendon_tension", glue_array(2, dims, o.node_tension)) < 0 ||
-            glue_set(res, "tendon_rest", glue_array(2, dims, o.node_rest)) < 0)
-            goto fail;
-    }
-    dims[0] = nt;
-    if (glue_set(res, "tension", glue_array(1, dims, o.tension)) < 0 ||
-        glue_set(res, "slack", glue_array(1, dims, o.slack)) < 0 ||
-        glue_set(res, "displacement", glue_array(1, dims, o.displacement)) < 0)
-        goto fail;
-    /* the tip state of the solution (the shooting tip, whatever the output nodes) */
-    dims[0] = 3;
-    if (glue_set(res, "tip_position", glue_array(1, dims, o.tip)) < 0 ||
-        glue_set(res, "tip_force", glue_array(1, dims, o.tip + 12)) < 0 ||
-        glue_set(res, "tip_moment", glue_array(1, dims, o.tip + 15)) < 0)
-        goto fail;
+    if (o.lazy) return res;
+    N = o.nnode;
+    dims[0] = N;
+    if (glue_set(res, "s", glue_array(1, dims, o.s)) < 0) goto fail;
     dims[1] = 3;
-    if (glue_set(res, "tip_rotation", glue_array(2, dims, o.tip + 3)) < 0 ||
-        glue_set(res, "tip_angle", PyFloat_FromDouble(o.tip_angle)) < 0)
+    if (glue_set(res, "position", glue_array(2, dims, o.pos)) < 0 ||
+        glue_set(res, "force", glue_array(2, dims, o.force)) < 0 ||
+        glue_set(res, "moment", glue_array(2, dims, o.moment)) < 0)
         goto fail;
-    dims[0] = 6 + 2 * nt;
-    if (!(base = glue_array(1, dims, NULL))) goto fail;
-    tr_base_state(m, d, (double *)PyArray_DATA((PyArrayObject *)base));
-    if (glue_set(res, "base_state", base) < 0) goto fail;
-    dims[0] = k;
-    if (glue_set(res, "unknowns", glue_array(1, dims, o.x)) < 0) goto fail;
-    /* the step verification that vouches for the step count (NaN: none) */
-    if (glue_set(res, "verified_estimate", PyFloat_FromDouble(have_ver ? v.estimate : NAN)) < 0 ||
-        glue_set(res, "verified_unknowns",
-                 have_ver ? glue_array(1, dims, v.x) : (Py_INCREF(Py_None), Py_None)) < 0)
-        goto fail;
-    dims[0] = nt;
-    if (glue_set(res, "verified_values",
-                 have_ver && v.values ? glue_array(1, dims, v.values)
-                                      : (Py_INCREF(Py_None), Py_None)) < 0)
-        goto fail;
-    dims[0] = k;
-    dims[1] = k;
-    if (glue_set(res, "jacobian", glue_array(2, dims, o.J)) < 0) goto fail;
-    if (glue_set(res, "formulation", result_formulation(m, d, form)) < 0) goto fail;
-    /* the verdict record a warm solve from this one may keep (None: there is none) */
-    {
-        PyObject *rec = Py_None;
-        npy_intp n = tr_carry_len(m, d);
-        Py_INCREF(rec);
-        if (carry && TR_SUCCEEDED(status)) {
-            Py_DECREF(rec);
-            if (!(rec = glue_array(1, &n, NULL))) goto fail;
-            tr_carry_get(m, d, (double *)PyArray_DATA((PyArrayObject *)rec));
-            {
-                PyObject *t = Py_BuildValue("(Ns)", rec, carry);
-                if (!t) goto fail;
-                rec = t;
-            }
-        }
-        if (glue_set(res, "stability_carry", rec) < 0) goto fail;
-    }
-    /* the verdict every converged solve judges (tr_branch.c); the margin may be NaN (the
-     * quick test decided without it) */
-    if (status >= 0 && status != TR_CONTINUE && !tr_data_options(d)->accept_unstable &&
-        glue_set(res, "stability_verdict",
-                 Py_BuildValue("{s:N,s:d,s:i,s:s}", "stable",
-                               vd.stable < 0 ? Py_NewRef(Py_None) : PyBool_FromLong(vd.stable),
-                               "stability", vd.margin, "index", vd.index, "reason", vd.reason)) < 0)
+    dims[2] = 3;
+    if (glue_set(res, "rotation", glue_array(3, dims, o.rot)) < 0) goto fail;
+    dims[1] = m->nt;
+    if (glue_set(res, "tendon_tension", glue_array(2, dims, o.node_tension)) < 0 ||
+        glue_set(res, "tendon_rest", glue_array(2, dims, o.node_rest)) < 0)
         goto fail;
     return res;
 fail:

@@ -41,28 +41,14 @@ def pack_scene(scene: Scene):
         return cached
     robot = scene.robot
     r = robot.rod
-    rod = np.empty(len(_core.ROD_COLUMNS))
-    rod[_ROD["length"]], rod[_ROD["EI"]], rod[_ROD["GJ"]] = (
-        r.length,
-        r.bending_stiffness,
-        r.torsional_stiffness,
-    )
-    rod[_ROD["EA"]], rod[_ROD["GA"]] = r.axial_stiffness, r.shear_stiffness
-    rod[_ROD["kirchhoff"]] = 1.0 if r.kirchhoff else 0.0
-    nt = robot.n_tendons
-    tendons = np.empty((nt, len(_core.TENDON_COLUMNS)))
+    rod, template = _robot_rows(robot)
+    tendons = template.copy()  # the robot's columns; the scene's control and value below
     assert scene.displacement is not None and scene.tension is not None  # (Scene fills them)
-    for i, t in enumerate(robot.tendons):
-        disp = scene.displacement[i]
+    c_control, c_value = _TD["control"], _TD["value"]
+    for i, disp in enumerate(scene.displacement):
         row = tendons[i]
-        row[_TD["offset"]], row[_TD["angle"]], row[_TD["slope"]] = t.offset, t.angle, t.slope
-        row[_TD["EA"]], row[_TD["end"]], row[_TD["pretension"]] = (
-            t.EA,
-            robot.tendon_end(i),
-            t.pretension,
-        )
-        row[_TD["control"]] = 0.0 if disp is not None else 1.0
-        row[_TD["value"]] = disp if disp is not None else scene.tension[i]
+        row[c_control] = 0.0 if disp is not None else 1.0
+        row[c_value] = disp if disp is not None else scene.tension[i]
     pls = scene.point_loads
     loads = np.empty((len(pls), len(_core.LOAD_COLUMNS)))
     for k, p in enumerate(pls):
@@ -82,14 +68,52 @@ def pack_scene(scene: Scene):
     return rod, tendons, loads, dist
 
 
+def _robot_rows(robot):
+    """``(rod (6,), tendons (nt, 8))`` of ``robot``: the rod row (read-only) and the
+    tendon rows with every column the robot fixes (control and value left 0), cached on
+    the frozen robot, which the scenes of a loop share."""
+    cached = robot.__dict__.get("_packed_rows")
+    if cached is not None:
+        return cached
+    r = robot.rod
+    rod = np.empty(len(_core.ROD_COLUMNS))
+    rod[_ROD["length"]], rod[_ROD["EI"]], rod[_ROD["GJ"]] = (
+        r.length,
+        r.bending_stiffness,
+        r.torsional_stiffness,
+    )
+    rod[_ROD["EA"]], rod[_ROD["GA"]] = r.axial_stiffness, r.shear_stiffness
+    rod[_ROD["kirchhoff"]] = 1.0 if r.kirchhoff else 0.0
+    rod.setflags(write=False)
+    tendons = np.zeros((robot.n_tendons, len(_core.TENDON_COLUMNS)))
+    for i, t in enumerate(robot.tendons):
+        row = tendons[i]
+        row[_TD["offset"]], row[_TD["angle"]], row[_TD["slope"]] = t.offset, t.angle, t.slope
+        row[_TD["EA"]], row[_TD["end"]], row[_TD["pretension"]] = (
+            t.EA,
+            robot.tendon_end(i),
+            t.pretension,
+        )
+    tendons.setflags(write=False)
+    object.__setattr__(robot, "_packed_rows", (rod, tendons))
+    return rod, tendons
+
+
+_NO_DLOADS = np.empty((0, 5))
+_NO_DLOADS.setflags(write=False)
+
+
 def pack_dloads(scene: Scene) -> np.ndarray:
     """The partial distributed loads of ``scene`` as the core's rows (nd, 5)
     ``[start, end, f (3)]`` [m, m, N/m], forces in the base frame (cached)."""
     cached = scene.__dict__.get("_packed_dloads")
     if cached is not None:
         return cached
-    L = scene.robot.rod.length
     parts = scene.partial_loads
+    if not parts:  # (the common case: one shared empty table)
+        object.__setattr__(scene, "_packed_dloads", _NO_DLOADS)
+        return _NO_DLOADS
+    L = scene.robot.rod.length
     rows = np.empty((len(parts), 5))
     for k, ld in enumerate(parts):
         rows[k, 0], rows[k, 1] = ld.start, L if ld.end is None else min(ld.end, L)
@@ -295,8 +319,16 @@ def compliance_point(s, L: float) -> float:
 def _compile(scene: Scene, options: Options):
     """The ``_core.Problem`` (compiled model and workspace) of ``scene`` with ``options``."""
     rod, tendons, loads, dist = pack_scene(scene)
-    kw = options._raw
-    nodes = _nodes_for(scene, options)
-    if nodes is not kw["nodes"]:
-        kw = dict(kw, nodes=nodes)
-    return _core.Problem(rod, tendons, loads, dist, **_with_dloads(kw, scene))
+    cached = scene.__dict__.get("_compile_kw")
+    if cached is not None and cached[0] is options:
+        kw = cached[1]
+    else:
+        # the options the core's defaults lack, and the scene's tables (cached on the
+        # frozen scene for the frozen options it was last compiled with)
+        kw = options._core_kw
+        nodes = _nodes_for(scene, options)
+        if nodes is not options.nodes:
+            kw = dict(kw, nodes=nodes)
+        kw = _with_dloads(kw, scene)
+        object.__setattr__(scene, "_compile_kw", (options, kw))
+    return _core.Problem(rod, tendons, loads, dist, **kw)

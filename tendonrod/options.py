@@ -155,6 +155,7 @@ class Options:
     accept_unstable: bool = _DEFAULTS["accept_unstable"]
     if TYPE_CHECKING:  # set per instance in __post_init__; not a field
         _raw: ClassVar[dict[str, Any]]
+        _core_kw: ClassVar[dict[str, Any]]
 
     def __post_init__(self):
         own = "Options"
@@ -233,7 +234,19 @@ class Options:
             arr.setflags(write=False)
             object.__setattr__(self, "nodes", arr)
         # the raw keyword arguments, built once (solve() is called in tight loops)
-        object.__setattr__(self, "_raw", {f.name: getattr(self, f.name) for f in fields(self)})
+        raw = {f.name: getattr(self, f.name) for f in fields(self)}
+        object.__setattr__(self, "_raw", raw)
+        # what the core must be told: the options that differ from its defaults (a
+        # compiled problem starts from those), so the default options parse as nothing
+        object.__setattr__(
+            self,
+            "_core_kw",
+            {
+                k: v
+                for k, v in raw.items()
+                if not (type(v) is type(_DEFAULTS[k]) and v == _DEFAULTS[k])
+            },
+        )
 
     def __hash__(self):  # nodes may be an array
         return hash(tuple((f.name, self._key(getattr(self, f.name))) for f in fields(self)))

@@ -28,6 +28,7 @@ from ._secant import load_steps, secant_compliance
 from .compiled import (
     _TD,
     _compile,
+    _structure,
     compliance_point,
     pack_scene,
     structure_difference,
@@ -114,7 +115,14 @@ class Problem:
         """Make ``scene`` (same structure) the one whose values are set in C."""
         if not isinstance(scene, Scene):
             raise ValueError(f"scene must be a tendonrod.Scene, got {scene!r}")
-        diff = structure_difference(self._scene, scene, self._options.force_spatial)
+        # the same robot and the same scene structure (both cached on the frozen objects):
+        # nothing to compare field by field
+        same = scene.robot is self._scene.robot and (
+            scene.__dict__.get("_problem_structure") or _structure(scene)
+        ) == (self.__dict__.get("_structure") or self._cache_structure())
+        diff = (
+            None if same else structure_difference(self._scene, scene, self._options.force_spatial)
+        )
         if diff is not None:
             raise ValueError(
                 f"scene has another structure than this Problem: {diff}; a Problem keeps "
@@ -128,6 +136,10 @@ class Problem:
                 self._c.set_values(pretension=new)
         self._c.set_value_vector(value_vector(scene))
         self._current = scene
+
+    def _cache_structure(self) -> tuple:
+        key = self.__dict__["_structure"] = _structure(self._scene)
+        return key
 
     # ------------------------------------------------------------------ solve
     def _run(self, guess):
@@ -183,7 +195,15 @@ class Problem:
         scene = self._scene if scene is None else scene
         if scene is not self._current:
             self._set(scene)
-        sol = Solution(self._run(guess), scene, self._options)
+        if guess is None:  # warm from the last solution (the loop's path)
+            token = current_token()
+            if token is None:  # (one keyword fewer to parse)
+                raw = self._c.solve(record=False)
+            else:
+                raw = self._c.solve(cancel=token, record=False)
+        else:
+            raw = self._run(guess)
+        sol = Solution(raw, scene, self._options)
         if sol.success:
             self._last = sol
         return sol

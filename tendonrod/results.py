@@ -9,11 +9,15 @@ core actually solved (:class:`Formulation`), the rod state at given arc lengths
 
 from __future__ import annotations
 
+import math
 import warnings
 from dataclasses import dataclass, fields
 from typing import Any, Protocol, runtime_checkable
 
 import numpy as np
+
+from . import _core
+from .plausibility import _user_stacklevel, tendon_radius
 
 __all__ = [
     "Result",
@@ -120,8 +124,6 @@ def report_failure(result: Any, strict: bool, message: str) -> None:
         return
     if strict:
         raise ConvergenceError(message, result)
-    from .plausibility import _user_stacklevel
-
     warnings.warn(message, ConvergenceWarning, stacklevel=_user_stacklevel())
 
 
@@ -295,3 +297,57 @@ class RodState:
     force: np.ndarray
     moment: np.ndarray
     tendon_tension: np.ndarray
+
+
+def _in_rod_units(sol) -> str:
+    """How large the scene's loads and the tendons' tensions are for its rod: the largest
+    force in EI/L^2, moment in EI/L, tension in EI/r^2 (r: the tendon's largest radius),
+    with those units in SI, so that a failure shows how far out the scene is."""
+    scene = sol.scene
+    if scene is None:
+        return ""
+    robot = scene.robot
+    L, EI = robot.rod.length, robot.rod.bending_stiffness
+    forces = [float(np.linalg.norm(p.force)) for p in scene.point_loads]
+    forces += [
+        float(np.linalg.norm(d.force)) * ((L if d.end is None else d.end) - d.start)
+        for d in scene.partial_loads
+    ]
+    forces.append(float(np.linalg.norm(scene.distributed_force)) * L)
+    moments = [float(np.linalg.norm(p.moment)) for p in scene.point_loads]
+    parts = [f"the largest load {max(forces) * L * L / EI:.3g} EI/L^2 (EI/L^2 = {EI / L**2:.3g} N)"]
+    if max(moments, default=0.0) > 0.0:
+        parts.append(f"moment {max(moments) * L / EI:.3g} EI/L (EI/L = {EI / L:.3g} N m)")
+    worst = None
+    for i, t in enumerate(robot.tendons):
+        r = tendon_radius(t, robot.tendon_end(i))
+        tau = float(sol.tension[i]) if i < len(sol.tension) else math.nan
+        given = scene.tension[i] if scene.tension is not None else None
+        if not math.isfinite(tau) and given is not None:
+            tau = float(given)  # the prescribed one
+        if r > 0.0 and math.isfinite(tau) and (worst is None or tau * r * r > worst[0]):
+            worst = (tau * r * r, i, r)
+    if worst is not None:
+        x, i, r = worst
+        parts.append(
+            f"tension {x / EI:.3g} EI/r^2 (tendon {i}, r = {r:.3g} m: EI/r^2 = {EI / r**2:.3g} N)"
+        )
+    return "; in the rod's units: " + ", ".join(parts)
+
+
+def _report(sol, strict: bool, who: str) -> None:
+    """A failed solve is never silent: ConvergenceError (strict) or ConvergenceWarning.
+    A success the core flags with a caveat its message explains (only as accurate as its
+    truncation error; held by friction only, its frictionless twin unstable) warns too."""
+    if sol.success:
+        if sol.status in (_core.STATUS_TRUNCATION, _core.STATUS_FRICTION_HELD):
+            warnings.warn(
+                f"{who}: {sol.message}", ConvergenceWarning, stacklevel=_user_stacklevel()
+            )
+        return
+    msg = (
+        f"{who} did not converge: {sol.message} (status {sol.status}, "
+        f"nit {sol.nit}, nfev {sol.nfev}, residual {sol.residual_norm:.3g})"
+        f"{_in_rod_units(sol)}"
+    )
+    report_failure(sol, strict, msg)

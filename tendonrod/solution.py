@@ -10,7 +10,6 @@ vectors in the world frame unless said otherwise.  The core solves in the base f
 from __future__ import annotations
 
 import math
-import warnings
 from typing import Any
 
 import numpy as np
@@ -21,10 +20,30 @@ from .compiled import _compile, _structure_key, structure_difference
 from .model import Scene
 from .mounting import base_pose, pairs_out, points_out, rotations_out, vectors_in, vectors_out
 from .options import Options, _replace
-from .plausibility import _user_stacklevel, tendon_radius
-from .results import ConvergenceWarning, Formulation, RodState, report_failure
+from .results import Formulation, RodState, _in_rod_units, _report  # noqa: F401 (re-exported)
 
 __all__ = ["Solution"]
+
+# The fields a Solution of a core Result builds from it on first access.
+_FIELDS = frozenset(
+    (
+        "success",
+        "status",
+        "message",
+        "nit",
+        "nfev",
+        "njev",
+        "residual_norm",
+        "tension",
+        "slack",
+        "unknowns",
+        "jacobian",
+        "jacobian_cond",
+        "continuation_steps",
+        "truncation_estimate",
+        "truncation_carried",
+    )
+)
 
 
 # Options that fix the layout and scaling of the unknowns and what a step verification
@@ -37,7 +56,7 @@ def _verification_of(guess: Solution, scene: Scene, options: Options):
     """``(steps, estimate, unknowns, values)`` of the step verification that vouches for the
     solution ``guess``, when it can carry to a solve of ``scene`` with ``options`` (same
     compiled structure and unknowns); else None."""
-    xv = guess.raw.get("verified_unknowns")
+    xv = guess._get("verified_unknowns")
     if xv is None or guess.scene is None or options.steps != 0:
         return None
     if any(getattr(guess.options, f) != getattr(options, f) for f in _VERIFICATION_OPTIONS):
@@ -45,10 +64,10 @@ def _verification_of(guess: Solution, scene: Scene, options: Options):
     if structure_difference(guess.scene, scene, options.force_spatial) is not None:
         return None
     return (
-        int(guess.raw["formulation"]["steps"]),
-        float(guess.raw["verified_estimate"]),
+        int(guess._get("formulation")["steps"]),
+        float(guess._get("verified_estimate")),
         xv,
-        guess.raw.get("verified_values"),
+        guess._get("verified_values"),
     )
 
 
@@ -64,14 +83,14 @@ def _guess_vector(guess, scene: Scene, options: Options):
                 f"guess: a Solution with {guess.tension.shape[0]} tendons cannot "
                 f"start a scene with {nt} tendons"
             )
-        vec = guess.raw["base_state"]  # base frame, as the core takes it
+        vec = guess._get("base_state")  # base frame, as the core takes it
         jac = carry = None
         if guess.scene is not None and _structure_key(guess.scene, guess.options) == _structure_key(
             scene, options
         ):
             # the same compiled structure: the same unknowns, scales and values
             jac = guess.jacobian
-            carry = guess.raw.get("stability_carry")
+            carry = guess._get("stability_carry")
         if not np.all(np.isfinite(vec)):
             return None, None, None, None
         return vec, jac, _verification_of(guess, scene, options), carry
@@ -90,6 +109,31 @@ def _guess_vector(guess, scene: Scene, options: Options):
     if pose is not None:  # n(0), m(0) given in the world frame
         vec = np.concatenate([vectors_in(pose, vec[:3]), vectors_in(pose, vec[3:6]), vec[6:]])
     return vec, None, None, None
+
+
+class _Lazy:
+    """A field of a Solution built on first access and kept in its __dict__ (which then
+    shadows this non-data descriptor): from its core Result (``name`` an attribute of
+    it), ``raw`` (the Result's dict) or ``_pose`` (the scene's base pose)."""
+
+    __slots__ = ("name",)
+
+    def __init__(self, name: str):
+        self.name = name
+
+    def __get__(self, sol, owner=None):
+        if sol is None:
+            return self
+        d, name = sol.__dict__, self.name
+        if name == "_pose":
+            scene = d.get("scene")
+            value = None if scene is None else base_pose(scene.robot)
+        elif name == "raw":
+            value = d["_res"].as_dict()
+        else:
+            value = getattr(d["_res"], name)
+        d[name] = value
+        return value
 
 
 class Solution:
@@ -179,7 +223,8 @@ class Solution:
     options : Options
         The options used.
     raw : dict
-        Everything ``_core.solve`` returned.
+        Everything ``_core.solve`` returned (built on first access from the core's
+        result object when the solve returned one).
 
     Examples
     --------
@@ -212,14 +257,24 @@ class Solution:
     _formulation: Formulation | None
     _pose: Any
 
-    def __init__(self, raw: dict, scene: Scene, options: Options):
-        # Kept light: solve() runs in tight loops. The glue returns float64 arrays of the
-        # documented shapes; they are used as they are.  Written into __dict__ directly:
-        # a Solution is read-only after the solve (__setattr__).
+    def __init__(self, raw, scene: Scene, options: Options):
+        # Kept light: solve() runs in tight loops.  ``raw`` is the core's dict, or its
+        # ``_core.Result`` (a lazy solve of a Problem): then every field is built on first
+        # access (_Lazy), ``raw`` too.  Written into __dict__ directly: a Solution
+        # is read-only after the solve (__setattr__).
         d = self.__dict__
-        d["raw"] = raw
         d["scene"] = scene
         d["options"] = options
+        d["_formulation"] = None
+        if type(raw) is _core.Result:
+            d["_res"] = raw
+            # what every solve reads (the failure rule, the plausibility screen)
+            d["success"] = raw.success
+            d["status"] = raw.status
+            d["tension"] = raw.tension
+            return
+        d["_res"] = None
+        d["raw"] = raw
         d["success"] = bool(raw["success"])
         d["status"] = int(raw["status"])
         msg = raw.get("message", "")
@@ -236,8 +291,28 @@ class Solution:
         d["continuation_steps"] = int(raw.get("continuation_steps", 0))
         d["truncation_estimate"] = float(raw.get("truncation_estimate", math.nan))
         d["truncation_carried"] = bool(raw.get("truncation_carried", False))
-        d["_formulation"] = None
-        d["_pose"] = None if scene is None else base_pose(scene.robot)
+
+    def _get(self, key: str, default=None):
+        """The raw result's ``key`` (``default`` when a dict lacks it), without building
+        ``raw`` from a core Result."""
+        d = self.__dict__
+        raw = d.get("raw")
+        if raw is not None:
+            return raw.get(key, default)
+        return getattr(d["_res"], key)
+
+    def __getstate__(self):
+        # pickled with its fields and raw dict (a core Result does not travel)
+        state = dict(self.__dict__)
+        if state.get("_res") is not None:
+            state["raw"] = self.raw
+            for name in _FIELDS:
+                state[name] = getattr(self, name)
+        state["_res"] = None
+        return state
+
+    def __setstate__(self, state) -> None:
+        self.__dict__.update(state)
 
     def __setattr__(self, name: str, value) -> None:
         # the lazy outputs cache themselves under private names; the results are the solve's
@@ -318,8 +393,9 @@ class Solution:
         """Actuator displacement [m] of every tendon, shape (ntendon,): the prescribed one,
         or for a tension-controlled tendon the one consistent with the solution (computed
         on first access)."""
-        d = self.raw["displacement"]
-        if "position" not in self.raw and np.isnan(d).any():
+        d = self._get("displacement")
+        raw = self.__dict__.get("raw")
+        if (raw is None or "position" not in raw) and np.isnan(d).any():
             d = self._recorded()["displacement"]
         return d
 
@@ -331,8 +407,7 @@ class Solution:
     # the margin NaN where a quick test decided); with Options(accept_unstable=True) it
     # is computed on first access; the margin, where the verdict lacks it, too.
     def _stability(self, margin: bool = False) -> dict:
-        raw = self.raw
-        st = raw.get("stability_verdict")
+        st = self._get("stability_verdict")
         if st is None or (margin and math.isnan(st["stability"]) and st["stable"] is not None):
             if self.unknowns is None or self.status < 0:
                 full = {
@@ -342,10 +417,10 @@ class Solution:
                     "reason": "not tested: no solution",
                 }
             else:
-                steps = max(1, int(raw["formulation"]["steps"]))
+                steps = max(1, int(self._get("formulation")["steps"]))
                 full = _compile(self.scene, self.options).stability(self.unknowns, steps)
             if st is None:
-                st = raw["stability_verdict"] = full
+                st = self.raw["stability_verdict"] = full
             else:
                 st["stability"] = full["stability"]
         return st
@@ -387,7 +462,7 @@ class Solution:
     def formulation(self) -> Formulation:
         """What was solved (:class:`Formulation`)."""
         if self._formulation is None:
-            form = self.raw.get("formulation", {})
+            form = self._get("formulation", {})
             if self._pose is not None:
                 form = dict(form, mounted=True)
             self._formulation = Formulation.from_dict(form)
@@ -398,14 +473,14 @@ class Solution:
         """Tip position (s = L), world frame [m], shape (3,): the end state of the shooting
         integration that the residual and the tolerance refer to, whatever the output
         nodes (it is ``position[-1]`` when the nodes end at L)."""
-        return points_out(self._pose, self.raw["tip_position"])
+        return points_out(self._pose, self._get("tip_position"))
 
     @property
     def tip_angle(self) -> float:
         """Tip angle [rad] of a planar solve: the signed angle of the tip tangent from the
         base axis (base +z) toward base +x, unwrapped along s (a curl past 180 degrees reads past
         pi); NaN for the spatial formulation (see :attr:`tip_rotation`)."""
-        return float(self.raw.get("tip_angle", math.nan))
+        return float(self._get("tip_angle", math.nan))
 
     @property
     def bending_angle(self) -> float:
@@ -413,20 +488,20 @@ class Solution:
         base frame's +z) and the tip tangent, for every formulation (planar or spatial,
         mounted or not).  Not the total turning along s: a planar curl by ``tip_angle`` =
         4 rad has a bending angle of ``2 pi - 4`` rad.  NaN where the tip is not finite."""
-        R = self.raw["tip_rotation"]  # base frame: the base tangent is e3
+        R = self._get("tip_rotation")  # base frame: the base tangent is e3
         return float(math.atan2(math.hypot(R[0, 2], R[1, 2]), R[2, 2]))
 
     @property
     def tip_rotation(self) -> NDArray[np.float64]:
         """Tip body-to-world rotation (s = L), shape (3, 3) (see :attr:`tip_position`)."""
-        return rotations_out(self._pose, self.raw["tip_rotation"])
+        return rotations_out(self._pose, self._get("tip_rotation"))
 
     @property
     def base_state(self) -> NDArray[np.float64]:
         """``[n(0), m(0), tension, slack]`` (6 + 2 ntendon,), world frame, SI: the raw guess
         format, from the core's map of the converged unknowns (so a warm start from it
         starts exactly at this solution)."""
-        b = self.raw["base_state"]
+        b = self._get("base_state")
         if self._pose is None:
             return b
         return np.concatenate([pairs_out(self._pose, b[:6]), b[6:]])
@@ -516,55 +591,6 @@ class Solution:
         return "\n".join(lines)
 
 
-def _in_rod_units(sol: Solution) -> str:
-    """How large the scene's loads and the tendons' tensions are for its rod: the largest
-    force in EI/L^2, moment in EI/L, tension in EI/r^2 (r: the tendon's largest radius),
-    with those units in SI, so that a failure shows how far out the scene is."""
-    scene = sol.scene
-    if scene is None:
-        return ""
-    robot = scene.robot
-    L, EI = robot.rod.length, robot.rod.bending_stiffness
-    forces = [float(np.linalg.norm(p.force)) for p in scene.point_loads]
-    forces += [
-        float(np.linalg.norm(d.force)) * ((L if d.end is None else d.end) - d.start)
-        for d in scene.partial_loads
-    ]
-    forces.append(float(np.linalg.norm(scene.distributed_force)) * L)
-    moments = [float(np.linalg.norm(p.moment)) for p in scene.point_loads]
-    parts = [f"the largest load {max(forces) * L * L / EI:.3g} EI/L^2 (EI/L^2 = {EI / L**2:.3g} N)"]
-    if max(moments, default=0.0) > 0.0:
-        parts.append(f"moment {max(moments) * L / EI:.3g} EI/L (EI/L = {EI / L:.3g} N m)")
-    worst = None
-    for i, t in enumerate(robot.tendons):
-        r = tendon_radius(t, robot.tendon_end(i))
-        tau = float(sol.tension[i]) if i < len(sol.tension) else math.nan
-        given = scene.tension[i] if scene.tension is not None else None
-        if not math.isfinite(tau) and given is not None:
-            tau = float(given)  # the prescribed one
-        if r > 0.0 and math.isfinite(tau) and (worst is None or tau * r * r > worst[0]):
-            worst = (tau * r * r, i, r)
-    if worst is not None:
-        x, i, r = worst
-        parts.append(
-            f"tension {x / EI:.3g} EI/r^2 (tendon {i}, r = {r:.3g} m: EI/r^2 = {EI / r**2:.3g} N)"
-        )
-    return "; in the rod's units: " + ", ".join(parts)
-
-
-def _report(sol: Solution, strict: bool, who: str) -> None:
-    """A failed solve is never silent: ConvergenceError (strict) or ConvergenceWarning.
-    A success the core flags with a caveat its message explains (only as accurate as its
-    truncation error; held by friction only, its frictionless twin unstable) warns too."""
-    if sol.success:
-        if sol.status in (_core.STATUS_TRUNCATION, _core.STATUS_FRICTION_HELD):
-            warnings.warn(
-                f"{who}: {sol.message}", ConvergenceWarning, stacklevel=_user_stacklevel()
-            )
-        return
-    msg = (
-        f"{who} did not converge: {sol.message} (status {sol.status}, "
-        f"nit {sol.nit}, nfev {sol.nfev}, residual {sol.residual_norm:.3g})"
-        f"{_in_rod_units(sol)}"
-    )
-    report_failure(sol, strict, msg)
+for _name in (*_FIELDS, "raw", "_pose"):
+    setattr(Solution, _name, _Lazy(_name))
+del _name

@@ -312,6 +312,21 @@ def test_every_entry_point_finds_the_same():
                 assert abs(a.value - b.value) <= 1e-9, (k, a, b)
 
 
+def test_problem_warns_when_its_values_turn_implausible():
+    """A Problem screens every solve: a curl of 300 deg stays silent, and the same
+    Problem with the tension of a 400 deg curl warns (curl and self-intersection), the
+    screen run on the new values, not kept from the first solve."""
+    base, taus = _ramp()
+    prob = tr.Problem(base)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", PW)
+        assert prob.solve().plausibility == ()
+    with pytest.warns(PW) as rec:
+        sol = prob.solve(tr.Scene(base.robot, tension=[taus[-1]]))
+    assert {f.rule for f in sol.plausibility} == {"curl", "self-intersection"}
+    assert len([w for w in rec if issubclass(w.category, PW)]) == 2
+
+
 def test_many_points_give_one_warning_per_rule():
     base, taus = _ramp()
     taus = np.repeat(taus[-3:], 40)  # 120 points, all beyond 360 deg
