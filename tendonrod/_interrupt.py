@@ -15,18 +15,22 @@ import threading
 
 from . import _core
 
-_local = threading.local()
+class _Local(threading.local):
+    token = None  # a class default: a thread without a scope reads None, no lookup miss
+
+
+_local = _Local()
 
 
 def current_token():
     """The Cancel token of this thread's current scope, or None."""
-    return getattr(_local, "token", None)
+    return _local.token
 
 
 @contextlib.contextmanager
 def cancel_scope(token):
     """Make ``token`` (a :class:`tendonrod._core.Cancel` or None) this thread's token."""
-    old = getattr(_local, "token", None)
+    old = _local.token
     _local.token = token
     try:
         yield token

@@ -51,7 +51,7 @@ def tip_measure(scene: Any, sol: Any) -> dict:
     >>> sorted(tr.tip_measure(None, tr.solve(tr.Scene(robot, displacement=[0.01]))))
     ['displacement', 'slack', 'stable', 'tension', 'tip_position', 'tip_rotation']
     """
-    verdict = sol.raw.get("stability_verdict") or {"stable": None}
+    verdict = sol._get("stability_verdict") or {"stable": None}  # not built from raw
     return {
         "tip_position": np.asarray(sol.tip_position, dtype=float),  # (3,) world [m]
         "tip_rotation": np.asarray(sol.tip_rotation, dtype=float),  # (3, 3) body-to-world
