@@ -15,6 +15,7 @@ import threading
 
 from . import _core
 
+
 class _Local(threading.local):
     token = None  # a class default: a thread without a scope reads None, no lookup miss
 
