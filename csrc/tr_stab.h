@@ -22,6 +22,16 @@
 /* The quick test measures the distance of the nearest eigenvalue from zero up to this
  * many bands (by doubling). */
 #define TR_STAB_QUICK_GAP 64.0
+/* The quick test's a posteriori check (tr_stability.c, verdict_check): a stable solution
+ * is decided when its smallest eigenvalue lies beyond this many times the discretisation
+ * error estimated from the quick grid and the full test's first grid (the full test
+ * calls a margin critical within 2 such errors, and refines it first), and on the quick
+ * grid beyond this fraction of the quick band (nearer zero the full test decides). */
+#define TR_STAB_POST     8.0
+#define TR_STAB_POST_MIN 0.1
+/* ... with each grid's smallest eigenvalue bracketed to this fraction of it (the
+ * brackets' widths count in the error). */
+#define TR_STAB_POST_RTOL 1e-3
 /* A margin (scaled by EI/L) within this of zero is round-off: a neutral direction. */
 #define TR_STAB_NEUTRAL 1e-7
 /* Margins (scaled) smaller than this times (1 + the load-induced stiffness scale) are

@@ -212,12 +212,13 @@ static int quick_neutral(const tr_model *m, tr_data *d, struct tr_stab_ws *w, in
  * (shear and extension, O((d/L)^2)) nor the coarse grid's error can move one across
  * zero.  Returns 1 when decided (the margin stays NaN: the full test gives it on
  * request). */
-static int verdict_quick(const tr_model *m, tr_data *d)
+static int verdict_quick(const tr_model *m, tr_data *d, double *band_out)
 {
     const double band = TR_STAB_QUICK_BAND * (1.0 + tr_stiffness_scale(m, d));
     double gap;
     int nuni = TR_STAB_QUICK, nn, j, n0, nlo, nhi, sing;
     struct tr_stab_ws *w;
+    *band_out = 0.0;
     for (;;) {
         w = tr_stab_workspace(m, d, &d->stab_quick, nuni, 0);
         if (!w || tr_record_from(m, w->rec, d->x, d->steps) != TR_OK) return 0;
@@ -231,14 +232,19 @@ static int verdict_quick(const tr_model *m, tr_data *d)
     if (sing) return 0;
     nhi = tr_btd_count(&w->h, band, &sing);
     if (sing || nlo < 0) return 0;
-    if (nhi - nlo == 1 && quick_neutral(m, d, w, nn, band)) return 1;
+    if (nhi - nlo == 1) return quick_neutral(m, d, w, nn, band);
+    *band_out = band; /* its Hessian stays the recorded state's, for verdict_check */
     if (nlo != nhi) return 0;
     n0 = nlo;
     /* how far from zero the nearest eigenvalue lies, in doublings of the band (a verdict
      * kept by warm solves lasts as long as their change stays small against it) */
     for (gap = band; gap < TR_STAB_QUICK_GAP * band; gap *= 2.0) {
-        nlo = tr_btd_count(&w->h, -2.0 * gap, &sing);
-        if (sing || nlo != n0) break;
+        /* with no eigenvalue below -band none lies below -2 gap either (the count is
+         * monotone in the shift): only the upper side needs counting */
+        if (n0 > 0) {
+            nlo = tr_btd_count(&w->h, -2.0 * gap, &sing);
+            if (sing || nlo != n0) break;
+        }
         nhi = tr_btd_count(&w->h, 2.0 * gap, &sing);
         if (sing || nhi != n0) break;
     }
@@ -249,6 +255,84 @@ static int verdict_quick(const tr_model *m, tr_data *d)
              "%s: %d negative %s, no eigenvalue within %.2g EI/L of zero",
              n0 ? "unstable" : "stable", n0, n0 == 1 ? "mode" : "modes", gap);
     return 1;
+}
+
+/* Where the quick test's a priori band is too wide to decide (a large load-induced
+ * stiffness scale widens it), an a posteriori one: the smallest eigenvalue at the
+ * recorded state on the quick grid (mc, its Hessian still in wq) and on the full test's
+ * first grid of twice the elements (mf), both without the discrete equilibrium (it
+ * moves them by O(h^2), which the two grids' difference measures with the rest of
+ * the discretisation error).  Decides only a stable solution whose smallest eigenvalue
+ * lies beyond TR_STAB_POST times the estimated error (Richardson's |mf - mc| / 3, plus
+ * the Kirchhoff elements' neglect of shear and extension on a Cosserat rod), on both
+ * grids; the margin is left to the full test (NaN).  Returns 1 when decided. */
+/* The smallest eigenvalue of a pencil without negative ones bracketed in [*lo, *hi]
+ * (count(*lo) = 0 < count(*hi) on entry) to TR_STAB_POST_RTOL of it, by bisection on
+ * the inertia; 0 when a count is singular. */
+static int bracket_smallest(tr_btd *h, double *lo, double *hi)
+{
+    int sing, it;
+    for (it = 0; it < 60 && *hi - *lo > 1e-9 + TR_STAB_POST_RTOL * *hi; it++) {
+        const double mid = 0.5 * (*lo + *hi);
+        const int cnt = tr_btd_count(h, mid, &sing);
+        if (sing) return 0;
+        if (cnt >= 1)
+            *hi = mid;
+        else
+            *lo = mid;
+    }
+    return 1;
+}
+
+static int verdict_check(const tr_model *m, tr_data *d, struct tr_stab_ws *wq, double band)
+{
+    const double scale = 1.0 + tr_stiffness_scale(m, d);
+    const int nuni = d->stab ? d->stab->nuni : TR_STAB_ELEMENTS;
+    double clo = 0.0, chi = band, flo, fhi, err, reduction = 0.0;
+    int n, nn, j, sing;
+    struct tr_stab_ws *w;
+    if (nuni != 2 * wq->nuni) return 0;
+    /* the quick grid: none below 0, some below band (why the quick test did not decide) */
+    n = tr_btd_count(&wq->h, 0.0, &sing);
+    if (sing || n != 0) return 0;
+    if (!bracket_smallest(&wq->h, &clo, &chi)) return 0;
+    /* an eigenvalue this close to zero on the coarse grid is the full test's (a
+     * symmetry's zero mode, or a margin within its discretisation error) */
+    if (!(clo > TR_STAB_POST_MIN * band)) return 0;
+    w = tr_stab_workspace(m, d, &d->stab, nuni, 0);
+    if (!w || tr_record_from(m, w->rec, d->x, d->steps) != TR_OK) return 0;
+    for (nn = j = 0; j < w->ngrid; j++) w->node[nn++] = j;
+    if (tr_stab_level_setup(m, d, w, nn) < 0) return 0;
+    tr_stab_assemble(m, w, nn, 3);
+    /* the finer grid's smallest eigenvalue, bracketed near the coarse one's first */
+    flo = 0.5 * clo, fhi = 2.0 * chi;
+    n = tr_btd_count(&w->h, flo, &sing);
+    if (sing || n != 0) return 0;
+    n = tr_btd_count(&w->h, fhi, &sing);
+    if (sing || n < 1) return 0;
+    if (!bracket_smallest(&w->h, &flo, &fhi)) return 0;
+    if (!m->kirchhoff)
+        reduction = scale * m->EI * (1.0 / m->GA + 1.0 / m->EA) / (m->L * m->L);
+    /* Richardson's estimate from the widest difference the brackets allow */
+    err = fmax(fabs(fhi - clo), fabs(chi - flo)) / 3.0 + reduction;
+    if (!(flo > TR_STAB_POST * err)) return 0;
+    d->stable = 1;
+    d->stab_index = 0;
+    d->stab_gap = flo - TR_STAB_POST * err;
+    snprintf(d->stab_reason, sizeof d->stab_reason,
+             "stable: 0 negative modes, no eigenvalue within %.2g EI/L of zero (on %d and %d "
+             "elements, discretisation error about %.2g)",
+             d->stab_gap, wq->nuni, nuni, err);
+    return 1;
+}
+
+/* The quick test, then the a posteriori check, then the full test. */
+static void verdict_quick_or_full(const tr_model *m, tr_data *d)
+{
+    double band;
+    if (verdict_quick(m, d, &band)) return;
+    if (band > 0.0 && verdict_check(m, d, d->stab_quick, band)) return;
+    verdict_full(m, d, 1);
 }
 
 /* Unstable with tendons at their switch: the sides they resist tested too (tr_switch.c);
@@ -280,7 +364,10 @@ static void friction_twin(const tr_model *m, tr_data *d, int quick)
                  g);
         return;
     }
-    if (!quick || !verdict_quick(m, d)) verdict_full(m, d, quick);
+    if (quick)
+        verdict_quick_or_full(m, d);
+    else
+        verdict_full(m, d, 0);
     d->stab_twin = d->stable;
     d->stab_twin_margin = d->stability;
     d->stab_twin_index = d->stab_index;
@@ -322,7 +409,7 @@ void tr_stability_quick(const tr_model *m_, tr_data *d)
         friction_twin(m, d, 1);
         return;
     }
-    if (!verdict_quick(m, d)) verdict_full(m, d, 1);
+    verdict_quick_or_full(m, d);
     switch_or_note(m, d);
 }
 
