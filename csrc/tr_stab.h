@@ -98,6 +98,14 @@ void tr_stab_assemble(const tr_model *m, struct tr_stab_ws *w, int nn, int nb);
 /* Newton steps of the level to the discrete equilibrium (reassembled). */
 void tr_stab_discrete_equilibrium(const tr_model *m, struct tr_stab_ws *w, int nn, int nb);
 
+/* tr_record.c: the states of a stability grid at the unknowns x (tr_record_from's), by
+ * RK4 steps of up to half a shooting step where they cost less than rk8's, accepted when
+ * the recorded tip agrees with tip (the shooting end state at x: its n_base base states)
+ * to TR_RECORD_COARSE_TOL (scaled), else recorded again to the shooting accuracy; tip NULL:
+ * tr_record_from. */
+int tr_record_coarse(const tr_model *m, tr_data *d, const double *x, int steps,
+                     const double *tip);
+
 /* tr_switch.c: the displacement-controlled tendons at their switch (tension and slack
  * both zero). */
 int tr_switch_count(const tr_model *m, const tr_data *d);

@@ -179,6 +179,13 @@ static void verdict_full(const tr_model *m, tr_data *d, int near_zero)
     }
 }
 
+/* The shooting tip's state at the solution when the solve's last evaluation left it
+ * (the reference of a coarse recording), else NULL. */
+static const double *shooting_tip(const tr_data *d)
+{
+    return tr_holds_end_state(d, d->x) ? d->y : NULL;
+}
+
 /* One eigenvalue in the quick test's band: a symmetry's zero mode?  At the discrete
  * equilibrium of the quick grid (where a symmetry's zero mode is exact to round-off) it
  * is neutral when that one eigenvalue lies within TR_STAB_NEUTRAL of zero and no other
@@ -221,7 +228,8 @@ static int verdict_quick(const tr_model *m, tr_data *d, double *band_out)
     *band_out = 0.0;
     for (;;) {
         w = tr_stab_workspace(m, d, &d->stab_quick, nuni, 0);
-        if (!w || tr_record_from(m, w->rec, d->x, d->steps) != TR_OK) return 0;
+        if (!w || tr_record_coarse(m, w->rec, d->x, d->steps, shooting_tip(d)) != TR_OK)
+            return 0;
         for (nn = j = 0; j < w->ngrid; j++) w->node[nn++] = j;
         if (tr_stab_level_setup(m, d, w, nn) == 0) break;
         if (2 * nuni > TR_STAB_MAX_ELEMENTS) return 0;
@@ -300,7 +308,10 @@ static int verdict_check(const tr_model *m, tr_data *d, struct tr_stab_ws *wq, d
      * symmetry's zero mode, or a margin within its discretisation error) */
     if (!(clo > TR_STAB_POST_MIN * band)) return 0;
     w = tr_stab_workspace(m, d, &d->stab, nuni, 0);
-    if (!w || tr_record_from(m, w->rec, d->x, d->steps) != TR_OK) return 0;
+    if (!w) return 0;
+    /* recorded like the quick grid (the full test records this workspace to the shooting
+     * accuracy) */
+    if (tr_record_coarse(m, w->rec, d->x, d->steps, shooting_tip(d)) != TR_OK) return 0;
     for (nn = j = 0; j < w->ngrid; j++) w->node[nn++] = j;
     if (tr_stab_level_setup(m, d, w, nn) < 0) return 0;
     tr_stab_assemble(m, w, nn, 3);
@@ -431,8 +442,12 @@ int tr_stability_of(const tr_model *m_, tr_data *d, const double *x, int steps, 
             snprintf(d->stab_reason, sizeof d->stab_reason, "not tested: no solution");
             return TR_OK;
         }
-    if (quick)
+    if (quick) {
+        /* the shooting end state at x, as a solve's verdict has it (its grids' recording
+         * is checked against it; without one they are recorded to the shooting accuracy) */
+        (void)tr_residual(m, d, d->x, d->ft);
         tr_stability_quick(m, d);
+    }
     else
         tr_stability(m, d);
     return TR_OK;
