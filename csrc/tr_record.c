@@ -27,17 +27,6 @@ static void store_node(const tr_model *m, tr_data *d, int j, const double *y)
     }
 }
 
-/* A stability grid's recording (tr_record_coarse) needs its states to well below the
- * verdict's bands (2 % of the stiffness scale and more), not to the shooting tolerance:
- * RK4 steps of up to this fraction of a shooting step, its tip checked against the
- * shooting tip (redone to the shooting accuracy beyond TR_RECORD_GROSS, scaled). */
-#define TR_RECORD_COARSE_FRACTION 0.5
-/* ... its tip within this of the shooting tip (scaled states): the verdict's bands leave
- * ~1e-2 (1 + stiffness scale) beyond its discretisation error, which a state error of
- * 1e-5 moves its eigenvalues by orders of magnitude less than; RK4 only where it costs at
- * most half of rk8 (else a redone recording would cost more than it saves). */
-#define TR_RECORD_COARSE_TOL 1e-5
-
 /* Integrate a span [s0, s1] of segment k in the recording pass with at least the
  * accuracy of the shooting steps (a stability grid's: rec_coarse).  Fixed-step rk8: where nodes are dense, a few
  * classical RK4 steps of at most an eighth of the shooting step cost less than

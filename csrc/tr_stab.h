@@ -98,6 +98,16 @@ void tr_stab_assemble(const tr_model *m, struct tr_stab_ws *w, int nn, int nb);
 /* Newton steps of the level to the discrete equilibrium (reassembled). */
 void tr_stab_discrete_equilibrium(const tr_model *m, struct tr_stab_ws *w, int nn, int nb);
 
+/* A stability grid's recording (tr_record_coarse) needs its states to well below the
+ * verdict's bands (2 % of the stiffness scale and more), not to the shooting tolerance:
+ * RK4 steps of up to this fraction of a shooting step, its tip checked against the
+ * shooting tip (redone to the shooting accuracy beyond TR_RECORD_COARSE_TOL). */
+#define TR_RECORD_COARSE_FRACTION 0.5
+/* ... its tip within this of the shooting tip (scaled states): the verdict's bands leave
+ * ~1e-2 (1 + stiffness scale) beyond its discretisation error, which a state error of
+ * 1e-5 moves its eigenvalues by orders of magnitude less than; RK4 only where it costs at
+ * most half of rk8 (else a redone recording would cost more than it saves). */
+#define TR_RECORD_COARSE_TOL 1e-5
 /* tr_record.c: the states of a stability grid at the unknowns x (tr_record_from's), by
  * RK4 steps of up to half a shooting step where they cost less than rk8's, accepted when
  * the recorded tip agrees with tip (the shooting end state at x: its n_base base states)
