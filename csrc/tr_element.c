@@ -249,7 +249,8 @@ static void coordinates(int nb, int *vr, double *sg)
  * h exp(W^) e3 + Q r_b - r_a in node a's frame); with Q = Q0 exp(z^) it is G(z).  Returns
  * G and the midpoint direction in node a's frame, m = exp(W^) e3, at the perturbation z;
  * only as tr_elem_energy's. */
-static tr_hd rel_energy(const tr_elem *e, const double *Q0, const tr_hd *z, int only, tr_hd *mdir)
+static tr_hd rel_energy(const tr_elem *e, const double *Q0, const tr_hd *z, int only, tr_hd *mdir,
+                        tr_hd *lens)
 {
     const tr_model *m = e->m;
     const double K[3] = {e->sr[TR_SR_EI], e->sr[TR_SR_EI], e->sr[TR_SR_GJ]};
@@ -268,8 +269,9 @@ static tr_hd rel_energy(const tr_elem *e, const double *Q0, const tr_hd *z, int 
         const tr_tendon *t = m->tendon + i;
         double ra[3], rb[3];
         tr_hd Qrb[3], ci[3], len;
+        if (lens) lens[i] = hd_c(0.0);
         if (only >= 0 && i != only) continue;
-        if (only < 0 && !(e->tau[i] > 0.0)) continue;
+        if (only < 0 && !(e->tau[i] > 0.0) && !lens) continue;
         if (!(e->sb <= t->t * (1.0 + 1e-12))) continue;
         eyelet(e, i, e->sa, ra);
         eyelet(e, i, e->sb, rb);
@@ -278,7 +280,8 @@ static tr_hd rel_energy(const tr_elem *e, const double *Q0, const tr_hd *z, int 
             ci[c] = hd_add(hd_scale(mdir[c], e->h), hd_sub(Qrb[c], hd_c(ra[c])));
         len = hd_sqrt(hd_dot3(ci, ci));
         if (only >= 0) return len;
-        E = hd_add(E, hd_scale(len, e->tau[i]));
+        if (lens) lens[i] = len;
+        if (e->tau[i] > 0.0) E = hd_add(E, hd_scale(len, e->tau[i]));
     }
     return only >= 0 ? hd_c(0.0) : E;
 }
@@ -290,9 +293,11 @@ static tr_hd rel_energy(const tr_elem *e, const double *Q0, const tr_hd *z, int 
  * (Q0 G'^)/2.  The dead loads, -h F . Ra exp(xa^) m(z) = -h f . exp(xa^) m(z)
  * (f = Ra^T F), add f . m(z) like G, xa . (m(z) x f) to first order in z (the bilinear
  * xa^T f^ Jm A x) and the quadratic (f . xa)(m0 . xa) - (f . m0)|xa|^2 over 2. */
-static double kirchhoff_hessian(const tr_elem *e, int clamped_a, double *g, double *H)
+static double kirchhoff_hessian(const tr_elem *e, int clamped_a, double *g, double *H, double *gc)
 {
-    const int only = -1;
+    const int only = -1, nt = gc ? e->m->nt : 0;
+    double gl[3 * TR_ELEM_CHORDS];
+    tr_hd lens[TR_ELEM_CHORDS];
     double Q0[9], A[18], gz[3], Hz[9], m0[3], Jm[9], Hf[9], f[3], C[18], gG[3];
     double fh = 0.0, E0 = 0.0;
     int u, v, i, j, k, c;
@@ -315,12 +320,13 @@ static double kirchhoff_hessian(const tr_elem *e, int clamped_a, double *g, doub
             for (c = 0; c < 3; c++) z[c] = hd_c(0.0);
             z[u].a += 1.0;
             z[v].b += 1.0;
-            G = rel_energy(e, Q0, z, only, md);
+            G = rel_energy(e, Q0, z, only, md, gc ? lens : NULL);
             Hz[3 * u + v] = Hz[3 * v + u] = G.c;
             Hf[3 * u + v] = Hf[3 * v + u] = f[0] * md[0].c + f[1] * md[1].c + f[2] * md[2].c;
             if (u == v) {
                 gz[u] = G.a, E0 = G.v;
                 for (c = 0; c < 3; c++) Jm[3 * c + u] = md[c].a, m0[c] = md[c].v;
+                for (i = 0; i < nt; i++) gl[3 * i + u] = lens[i].a;
             }
         }
     /* the dead load's share of z's energy: -h f . m(z) */
@@ -380,6 +386,14 @@ static double kirchhoff_hessian(const tr_elem *e, int clamped_a, double *g, doub
                         e->h * (0.5 * (f[i] * m0[j] + m0[i] * f[j]) - (i == j ? fm : 0.0));
         }
     }
+    /* the chords' gradients: A^T dlen/dz */
+    for (i = 0; i < nt; i++)
+        for (u = 0; u < 3; u++) {
+            double acc = 0.0;
+            for (k = 0; k < 3; k++) acc -= Q0[3 * u + k] * gl[3 * i + k];
+            gc[6 * i + 3 + u] = gl[3 * i + u];
+            gc[6 * i + u] = clamped_a ? 0.0 : acc;
+        }
     if (clamped_a) /* node a's rows and columns left zero */
         for (i = 0; i < 6; i++) {
             if (i < 3) g[i] = 0.0;
@@ -391,7 +405,7 @@ static double kirchhoff_hessian(const tr_elem *e, int clamped_a, double *g, doub
 
 double tr_elem_hessian(const tr_elem *e, int nb, int clamped_a, double *g, double *H)
 {
-    if (nb == 3 && !e->cosserat) return kirchhoff_hessian(e, clamped_a, g, H);
+    if (nb == 3 && !e->cosserat) return kirchhoff_hessian(e, clamped_a, g, H, NULL);
     const int n = 2 * nb, nv = nb == 6 ? 9 : 6;
     double Hv[81], gv[9], sg[2 * TR_ELEM_NB], E0 = 0.0;
     int vr[2 * TR_ELEM_NB], u, v, c, p, q;
@@ -414,6 +428,11 @@ double tr_elem_hessian(const tr_elem *e, int nb, int clamped_a, double *g, doubl
     return E0;
 }
 
+double tr_elem_hessian_chords(const tr_elem *e, int clamped_a, double *g, double *H, double *gc)
+{
+    return kirchhoff_hessian(e, clamped_a, g, H, gc);
+}
+
 void tr_elem_chord_gradient(const tr_elem *e, int nb, int clamped_a, int i, double *g)
 {
     const int nv = nb == 6 ? 9 : 6;
@@ -433,7 +452,7 @@ void tr_elem_chord_gradient(const tr_elem *e, int nb, int clamped_a, int i, doub
             tr_hd z[3], md[3];
             for (c = 0; c < 3; c++) z[c] = hd_c(0.0);
             z[u].a += 1.0;
-            gz[u] = rel_energy(e, Q0, z, i, md).a;
+            gz[u] = rel_energy(e, Q0, z, i, md, NULL).a;
         }
         for (u = 0; u < 3; u++) {
             g[3 + u] = gz[u];
