@@ -61,7 +61,11 @@ def run(checkout: str, reps: int) -> dict:
     env = dict(os.environ, PYTHONPATH=checkout)
     code = CHILD.format(bench=HERE, reps=reps)
     res = subprocess.run(
-        [sys.executable, "-c", code], env=env, cwd=checkout, capture_output=True, text=True,
+        [sys.executable, "-c", code],
+        env=env,
+        cwd=checkout,
+        capture_output=True,
+        text=True,
         check=True,
     )
     return json.loads(res.stdout.strip().splitlines()[-1])
@@ -101,7 +105,8 @@ def main(argv=None) -> int:
             return statistics.median(1 - r[n]["bare"][1] / r[n]["cold"][1] for r in rounds[b])
 
         ratio = statistics.median(
-            rn[n]["verdict"][1] / ro[n]["verdict"][1] for ro, rn in zip(rounds["old"], rounds["new"])
+            rn[n]["verdict"][1] / ro[n]["verdict"][1]
+            for ro, rn in zip(rounds["old"], rounds["new"])
         )
         print(
             f"| {n} | {m('old', 'cold', 1):.0f} / {m('new', 'cold', 1):.0f} | "

@@ -173,8 +173,7 @@ int tr_record(const tr_model *m_, tr_data *d)
     return status;
 }
 
-int tr_record_coarse(const tr_model *m_, tr_data *d, const double *x, int steps,
-                     const double *tip)
+int tr_record_coarse(const tr_model *m_, tr_data *d, const double *x, int steps, const double *tip)
 {
     const tr_model *m = TR_IN(m_, d);
     int used = 0, st, i;

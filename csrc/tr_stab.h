@@ -113,8 +113,7 @@ void tr_stab_discrete_equilibrium(const tr_model *m, struct tr_stab_ws *w, int n
  * the recorded tip agrees with tip (the shooting end state at x: its n_base base states)
  * to TR_RECORD_COARSE_TOL (scaled), else recorded again to the shooting accuracy; tip NULL:
  * tr_record_from. */
-int tr_record_coarse(const tr_model *m, tr_data *d, const double *x, int steps,
-                     const double *tip);
+int tr_record_coarse(const tr_model *m, tr_data *d, const double *x, int steps, const double *tip);
 
 /* tr_switch.c: the displacement-controlled tendons at their switch (tension and slack
  * both zero). */

@@ -19,8 +19,11 @@
  * inertia of H - lambda M.  The margin at half the elements gives the discretisation
  * error; a margin within it is "critical", one at round-off level "neutral".  The quick
  * test (tr_stability_quick) decides from the inertia at +-band on a coarse grid alone
- * where no eigenvalue lies near zero, and leaves the margin to the full test.  The
- * energy's assembly is tr_stab_energy.c's, the test at a taut/slack switch tr_switch.c's.
+ * where no eigenvalue lies near zero (its grid recorded coarsely, checked against the
+ * shooting tip: tr_record_coarse), and leaves the margin to the full test; where its a
+ * priori band is too wide, an a posteriori check on two grids may still decide a stable
+ * solution (verdict_check).  The energy's assembly is tr_stab_energy.c's, the test at a
+ * taut/slack switch tr_switch.c's.
  */
 #include <math.h>
 #include <stdio.h>
@@ -213,6 +216,20 @@ static int quick_neutral(const tr_model *m, tr_data *d, struct tr_stab_ws *w, in
     return 1;
 }
 
+/* No eigenvalue within band 2^j (j >= 1) of zero but the n0 below it.  With none below
+ * -band (n0 = 0) none lies below -band 2^j either (the count is monotone in the shift):
+ * only the upper side is counted then. */
+static int clear_within(tr_btd *h, double band, int j, int n0)
+{
+    int sing, c;
+    if (n0 > 0) {
+        c = tr_btd_count(h, -ldexp(band, j), &sing);
+        if (sing || c != n0) return 0;
+    }
+    c = tr_btd_count(h, ldexp(band, j), &sing);
+    return !sing && c == n0;
+}
+
 /* The quick test: Kirchhoff elements on a coarse grid (TR_STAB_QUICK elements, doubled
  * while an element turns too much), no refinement; decides only when no eigenvalue lies
  * within +-TR_STAB_QUICK_BAND (1 + stiffness scale), where neither the model reduction
@@ -223,13 +240,12 @@ static int verdict_quick(const tr_model *m, tr_data *d, double *band_out)
 {
     const double band = TR_STAB_QUICK_BAND * (1.0 + tr_stiffness_scale(m, d));
     double gap;
-    int nuni = TR_STAB_QUICK, nn, j, n0, nlo, nhi, sing;
+    int nuni = TR_STAB_QUICK, nn, j, n0, nlo, nhi, sing, jmax = 0, jlo = 0;
     struct tr_stab_ws *w;
     *band_out = 0.0;
     for (;;) {
         w = tr_stab_workspace(m, d, &d->stab_quick, nuni, 0);
-        if (!w || tr_record_coarse(m, w->rec, d->x, d->steps, shooting_tip(d)) != TR_OK)
-            return 0;
+        if (!w || tr_record_coarse(m, w->rec, d->x, d->steps, shooting_tip(d)) != TR_OK) return 0;
         for (nn = j = 0; j < w->ngrid; j++) w->node[nn++] = j;
         if (tr_stab_level_setup(m, d, w, nn) == 0) break;
         if (2 * nuni > TR_STAB_MAX_ELEMENTS) return 0;
@@ -245,17 +261,24 @@ static int verdict_quick(const tr_model *m, tr_data *d, double *band_out)
     if (nlo != nhi) return 0;
     n0 = nlo;
     /* how far from zero the nearest eigenvalue lies, in doublings of the band (a verdict
-     * kept by warm solves lasts as long as their change stays small against it) */
-    for (gap = band; gap < TR_STAB_QUICK_GAP * band; gap *= 2.0) {
-        /* with no eigenvalue below -band none lies below -2 gap either (the count is
-         * monotone in the shift): only the upper side needs counting */
-        if (n0 > 0) {
-            nlo = tr_btd_count(&w->h, -2.0 * gap, &sing);
-            if (sing || nlo != n0) break;
+     * kept by warm solves lasts as long as their change stays small against it): the
+     * largest band 2^j (up to TR_STAB_QUICK_GAP band) clear of eigenvalues but the n0
+     * below zero.  Being clear is monotone in j: the cap first (the common case, one
+     * count), then a bisection on j. */
+    while (ldexp(1.0, jmax) < TR_STAB_QUICK_GAP) jmax++;
+    if (clear_within(&w->h, band, jmax, n0)) {
+        jlo = jmax;
+    } else {
+        int jhi = jmax;
+        while (jhi - jlo > 1) {
+            const int mid = (jlo + jhi) / 2;
+            if (clear_within(&w->h, band, mid, n0))
+                jlo = mid;
+            else
+                jhi = mid;
         }
-        nhi = tr_btd_count(&w->h, 2.0 * gap, &sing);
-        if (sing || nhi != n0) break;
     }
+    gap = ldexp(band, jlo);
     d->stable = n0 == 0;
     d->stab_index = n0;
     d->stab_gap = gap;
@@ -322,8 +345,7 @@ static int verdict_check(const tr_model *m, tr_data *d, struct tr_stab_ws *wq, d
     n = tr_btd_count(&w->h, fhi, &sing);
     if (sing || n < 1) return 0;
     if (!bracket_smallest(&w->h, &flo, &fhi)) return 0;
-    if (!m->kirchhoff)
-        reduction = scale * m->EI * (1.0 / m->GA + 1.0 / m->EA) / (m->L * m->L);
+    if (!m->kirchhoff) reduction = scale * m->EI * (1.0 / m->GA + 1.0 / m->EA) / (m->L * m->L);
     /* Richardson's estimate from the widest difference the brackets allow */
     err = fmax(fabs(fhi - clo), fabs(chi - flo)) / 3.0 + reduction;
     if (!(flo > TR_STAB_POST * err)) return 0;
@@ -447,8 +469,7 @@ int tr_stability_of(const tr_model *m_, tr_data *d, const double *x, int steps, 
          * is checked against it; without one they are recorded to the shooting accuracy) */
         (void)tr_residual(m, d, d->x, d->ft);
         tr_stability_quick(m, d);
-    }
-    else
+    } else
         tr_stability(m, d);
     return TR_OK;
 }
