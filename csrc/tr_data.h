@@ -55,6 +55,8 @@ struct tr_data {
     double *tau, *beta; /* (nt) current tension [N] / slack [m] */
     int seg;            /* segment being integrated */
     int rec;            /* 1: recording layout (all path lengths) */
+    int rec_coarse;     /* 1: a stability grid's recording (tr_record.c: RK4 steps of up to
+                           TR_RECORD_COARSE_FRACTION of a shooting step, the tip checked) */
     int steps;          /* current total fixed steps */
     int steps_double;   /* 1: every segment takes twice its steps (step-doubling estimate) */
     int probe_bp;       /* breakpoint of the probe load of a linearisation, -1 none */

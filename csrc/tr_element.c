@@ -243,8 +243,169 @@ static void coordinates(int nb, int *vr, double *sg)
     }
 }
 
+/* A Kirchhoff element's energy apart from its dead loads -- bending, torsion and the
+ * tendons' chords -- sees its nodes' rotations only through the relative rotation
+ * Q = Ra^T Rb (a chord's length |h d + Rb r_b - Ra r_a| is that of
+ * h exp(W^) e3 + Q r_b - r_a in node a's frame); with Q = Q0 exp(z^) it is G(z).  Returns
+ * G and the midpoint direction in node a's frame, m = exp(W^) e3, at the perturbation z;
+ * only as tr_elem_energy's. */
+static tr_hd rel_energy(const tr_elem *e, const double *Q0, const tr_hd *z, int only, tr_hd *mdir,
+                        tr_hd *lens)
+{
+    const tr_model *m = e->m;
+    const double K[3] = {e->sr[TR_SR_EI], e->sr[TR_SR_EI], e->sr[TR_SR_GJ]};
+    tr_hd Q[9], w[3], W[3], E = hd_c(0.0);
+    int i, c;
+    perturbed(Q, Q0, z);
+    rot_log(w, Q);
+    for (c = 0; c < 3; c++) W[c] = hd_scale(w[c], 0.5);
+    exp_e3(mdir, W);
+    if (only < 0)
+        for (c = 0; c < 3; c++) {
+            const tr_hd dw = hd_sub(w[c], hd_c(e->h * e->sr[TR_SR_U + c]));
+            E = hd_add(E, hd_scale(hd_mul(dw, dw), 0.5 * K[c] / e->h));
+        }
+    for (i = 0; i < m->nt; i++) {
+        const tr_tendon *t = m->tendon + i;
+        double ra[3], rb[3];
+        tr_hd Qrb[3], ci[3], len;
+        if (lens) lens[i] = hd_c(0.0);
+        if (only >= 0 && i != only) continue;
+        if (only < 0 && !(e->tau[i] > 0.0) && !lens) continue;
+        if (!(e->sb <= t->t * (1.0 + 1e-12))) continue;
+        eyelet(e, i, e->sa, ra);
+        eyelet(e, i, e->sb, rb);
+        hd_matvec3c(Qrb, Q, rb);
+        for (c = 0; c < 3; c++)
+            ci[c] = hd_add(hd_scale(mdir[c], e->h), hd_sub(Qrb[c], hd_c(ra[c])));
+        len = hd_sqrt(hd_dot3(ci, ci));
+        if (only >= 0) return len;
+        if (lens) lens[i] = len;
+        if (e->tau[i] > 0.0) E = hd_add(E, hd_scale(len, e->tau[i]));
+    }
+    return only >= 0 ? hd_c(0.0) : E;
+}
+
+/* The Kirchhoff element's Hessian from six passes of rel_energy.  With the perturbations
+ * xa, xb of the nodes, Q = exp(-xa^) Q0 exp(xb^) = Q0 exp(z^), z = A x + (a x b) / 2 + O(3)
+ * (Baker-Campbell-Hausdorff), a = -Q0^T xa, b = xb, A = [-Q0^T, I]: the energy G(z) has
+ * gradient A^T G' and Hessian A^T G'' A plus G' . (a x b) / 2 in the mixed block,
+ * (Q0 G'^)/2.  The dead loads, -h F . Ra exp(xa^) m(z) = -h f . exp(xa^) m(z)
+ * (f = Ra^T F), add f . m(z) like G, xa . (m(z) x f) to first order in z (the bilinear
+ * xa^T f^ Jm A x) and the quadratic (f . xa)(m0 . xa) - (f . m0)|xa|^2 over 2. */
+static double kirchhoff_hessian(const tr_elem *e, int clamped_a, double *g, double *H, double *gc)
+{
+    const int only = -1, nt = gc ? e->m->nt : 0;
+    double gl[3 * TR_ELEM_CHORDS];
+    tr_hd lens[TR_ELEM_CHORDS];
+    double Q0[9], A[18], gz[3], Hz[9], m0[3], Jm[9], Hf[9], f[3], C[18], gG[3];
+    double fh = 0.0, E0 = 0.0;
+    int u, v, i, j, k, c;
+    for (i = 0; i < 3; i++)
+        for (j = 0; j < 3; j++) {
+            double acc = 0.0;
+            for (k = 0; k < 3; k++) acc += e->Ra[3 * k + i] * e->Rb[3 * k + j];
+            Q0[3 * i + j] = acc;
+        }
+    for (i = 0; i < 3; i++) {
+        f[i] = 0.0;
+        if (only < 0)
+            for (k = 0; k < 3; k++) f[i] += e->Ra[3 * k + i] * e->F[k];
+        fh += f[i] * f[i];
+    }
+    /* G and m, their gradients (Jm[c][u] = dm_c / dz_u) and Hessians (f . m's in Hf) */
+    for (u = 0; u < 3; u++)
+        for (v = u; v < 3; v++) {
+            tr_hd z[3], md[3], G;
+            for (c = 0; c < 3; c++) z[c] = hd_c(0.0);
+            z[u].a += 1.0;
+            z[v].b += 1.0;
+            G = rel_energy(e, Q0, z, only, md, gc ? lens : NULL);
+            Hz[3 * u + v] = Hz[3 * v + u] = G.c;
+            Hf[3 * u + v] = Hf[3 * v + u] = f[0] * md[0].c + f[1] * md[1].c + f[2] * md[2].c;
+            if (u == v) {
+                gz[u] = G.a, E0 = G.v;
+                for (c = 0; c < 3; c++) Jm[3 * c + u] = md[c].a, m0[c] = md[c].v;
+                for (i = 0; i < nt; i++) gl[3 * i + u] = lens[i].a;
+            }
+        }
+    /* the dead load's share of z's energy: -h f . m(z) */
+    for (u = 0; u < 3; u++) {
+        gG[u] = gz[u];
+        for (c = 0; c < 3; c++) gG[u] -= e->h * f[c] * Jm[3 * c + u];
+        for (v = 0; v < 3; v++) Hz[3 * u + v] -= e->h * Hf[3 * u + v];
+    }
+    if (fh > 0.0) E0 -= e->h * (f[0] * m0[0] + f[1] * m0[1] + f[2] * m0[2]);
+    /* A = [-Q0^T, I] (3 x 6) */
+    for (i = 0; i < 3; i++)
+        for (j = 0; j < 3; j++) A[6 * i + j] = -Q0[3 * j + i], A[6 * i + 3 + j] = i == j;
+    for (i = 0; i < 6; i++) {
+        g[i] = 0.0;
+        for (k = 0; k < 3; k++) g[i] += A[6 * k + i] * gG[k];
+        for (j = 0; j < 6; j++) {
+            double acc = 0.0;
+            for (k = 0; k < 3; k++)
+                for (c = 0; c < 3; c++) acc += A[6 * k + i] * Hz[3 * k + c] * A[6 * c + j];
+            H[6 * i + j] = acc;
+        }
+    }
+    /* the mixed block's BCH term: (Q0 gG^)[m][j] / 2 for xa_m, xb_j */
+    for (i = 0; i < 3; i++)
+        for (j = 0; j < 3; j++) {
+            const double gh[9] = {0, -gG[2], gG[1], gG[2], 0, -gG[0], -gG[1], gG[0], 0};
+            double acc = 0.0;
+            for (k = 0; k < 3; k++) acc += Q0[3 * i + k] * gh[3 * k + j];
+            H[6 * i + 3 + j] += 0.5 * acc;
+            H[6 * (3 + j) + i] += 0.5 * acc;
+        }
+    if (fh > 0.0) {
+        /* exp(xa^)'s first order: -h xa . (m(z) x f): gradient -h m0 x f, and the bilinear
+         * -h xa^T f^T Jm A x (C = h f^ Jm A, 3 x 6) */
+        const double fhat[9] = {0, -f[2], f[1], f[2], 0, -f[0], -f[1], f[0], 0};
+        g[0] -= e->h * (m0[1] * f[2] - m0[2] * f[1]);
+        g[1] -= e->h * (m0[2] * f[0] - m0[0] * f[2]);
+        g[2] -= e->h * (m0[0] * f[1] - m0[1] * f[0]);
+        for (i = 0; i < 3; i++)
+            for (j = 0; j < 6; j++) {
+                double acc = 0.0;
+                for (k = 0; k < 3; k++) {
+                    double fj = 0.0;
+                    for (c = 0; c < 3; c++) fj += Jm[3 * k + c] * A[6 * c + j];
+                    acc += fhat[3 * i + k] * fj;
+                }
+                C[6 * i + j] = e->h * acc;
+            }
+        for (i = 0; i < 3; i++)
+            for (j = 0; j < 6; j++) H[6 * i + j] += C[6 * i + j], H[6 * j + i] += C[6 * i + j];
+        /* exp(xa^)'s second order */
+        {
+            const double fm = f[0] * m0[0] + f[1] * m0[1] + f[2] * m0[2];
+            for (i = 0; i < 3; i++)
+                for (j = 0; j < 3; j++)
+                    H[6 * i + j] -=
+                        e->h * (0.5 * (f[i] * m0[j] + m0[i] * f[j]) - (i == j ? fm : 0.0));
+        }
+    }
+    /* the chords' gradients: A^T dlen/dz */
+    for (i = 0; i < nt; i++)
+        for (u = 0; u < 3; u++) {
+            double acc = 0.0;
+            for (k = 0; k < 3; k++) acc -= Q0[3 * u + k] * gl[3 * i + k];
+            gc[6 * i + 3 + u] = gl[3 * i + u];
+            gc[6 * i + u] = clamped_a ? 0.0 : acc;
+        }
+    if (clamped_a) /* node a's rows and columns left zero */
+        for (i = 0; i < 6; i++) {
+            if (i < 3) g[i] = 0.0;
+            for (j = 0; j < 6; j++)
+                if (i < 3 || j < 3) H[6 * i + j] = 0.0;
+        }
+    return E0;
+}
+
 double tr_elem_hessian(const tr_elem *e, int nb, int clamped_a, double *g, double *H)
 {
+    if (nb == 3 && !e->cosserat) return kirchhoff_hessian(e, clamped_a, g, H, NULL);
     const int n = 2 * nb, nv = nb == 6 ? 9 : 6;
     double Hv[81], gv[9], sg[2 * TR_ELEM_NB], E0 = 0.0;
     int vr[2 * TR_ELEM_NB], u, v, c, p, q;
@@ -267,11 +428,40 @@ double tr_elem_hessian(const tr_elem *e, int nb, int clamped_a, double *g, doubl
     return E0;
 }
 
+double tr_elem_hessian_chords(const tr_elem *e, int clamped_a, double *g, double *H, double *gc)
+{
+    return kirchhoff_hessian(e, clamped_a, g, H, gc);
+}
+
 void tr_elem_chord_gradient(const tr_elem *e, int nb, int clamped_a, int i, double *g)
 {
     const int nv = nb == 6 ? 9 : 6;
     double gv[9], sg[2 * TR_ELEM_NB];
     int vr[2 * TR_ELEM_NB], u, c, p;
+    if (nb == 3 && !e->cosserat) {
+        /* the chord's length is a function of z alone (rel_energy): g = A^T dlen/dz */
+        double Q0[9], gz[3];
+        int k;
+        for (u = 0; u < 3; u++)
+            for (c = 0; c < 3; c++) {
+                double acc = 0.0;
+                for (k = 0; k < 3; k++) acc += e->Ra[3 * k + u] * e->Rb[3 * k + c];
+                Q0[3 * u + c] = acc;
+            }
+        for (u = 0; u < 3; u++) {
+            tr_hd z[3], md[3];
+            for (c = 0; c < 3; c++) z[c] = hd_c(0.0);
+            z[u].a += 1.0;
+            gz[u] = rel_energy(e, Q0, z, i, md, NULL).a;
+        }
+        for (u = 0; u < 3; u++) {
+            g[3 + u] = gz[u];
+            g[u] = 0.0;
+            if (!clamped_a)
+                for (k = 0; k < 3; k++) g[u] -= Q0[3 * u + k] * gz[k];
+        }
+        return;
+    }
     for (u = 0; u < nv; u++) {
         tr_hd xa[TR_ELEM_NB], xb[TR_ELEM_NB];
         gv[u] = 0.0;

@@ -37,6 +37,12 @@ tr_hd tr_elem_energy(const tr_elem *e, const tr_hd *xa, const tr_hd *xb, int onl
  * passes on a Kirchhoff element, 45 on a Cosserat one (its positions enter only through
  * the chord p_b - p_a), 21 when node a is clamped (clamped_a: its rows are left zero). */
 double tr_elem_hessian(const tr_elem *e, int nb, int clamped_a, double *g, double *H);
+/* A Kirchhoff element (nb = 3) of a model with at most TR_ELEM_CHORDS tendons:
+ * tr_elem_hessian's g and H, and in gc (nt x 6) the gradient of each tendon's chord
+ * length as tr_elem_chord_gradient's, from the same passes (zero for a tendon that ends
+ * before the element). */
+#define TR_ELEM_CHORDS 16
+double tr_elem_hessian_chords(const tr_elem *e, int clamped_a, double *g, double *H, double *gc);
 /* The gradient g (2 nb, as tr_elem_hessian's) of the length of tendon i's chord on
  * element e, one first-order hyper-dual pass per variable. */
 void tr_elem_chord_gradient(const tr_elem *e, int nb, int clamped_a, int i, double *g);

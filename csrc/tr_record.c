@@ -9,6 +9,7 @@
 
 #include "tendonrod.h"
 #include "tr_internal.h"
+#include "tr_stab.h"
 
 static void store_node(const tr_model *m, tr_data *d, int j, const double *y)
 {
@@ -27,7 +28,7 @@ static void store_node(const tr_model *m, tr_data *d, int j, const double *y)
 }
 
 /* Integrate a span [s0, s1] of segment k in the recording pass with at least the
- * accuracy of the shooting steps.  Fixed-step rk8: where nodes are dense, a few
+ * accuracy of the shooting steps (a stability grid's: rec_coarse).  Fixed-step rk8: where nodes are dense, a few
  * classical RK4 steps of at most an eighth of the shooting step cost less than
  * one 13-stage rk8 step and stay as accurate (error ~ (h/8)^4 against h^8 for
  * the curvatures of a robot); where nodes are sparse, rk8 at the shooting step. */
@@ -41,9 +42,13 @@ static int record_span(const tr_model *m, tr_data *d, double s0, double s1, int 
     n8 = (int)ceil(len / h - 1e-9);
     if (n8 < 1) n8 = 1;
     if (d->opt.integrator != TR_RK8) return tr_integrate(m, d, s0, s1, n8, y);
-    n4 = (int)ceil(len / fmin(h / TR_RECORD_RK4_FRACTION, m->L / TR_RECORD_RK4_MIN_STEPS) - 1e-9);
+    n4 = d->rec_coarse
+             ? (int)ceil(len / (h * TR_RECORD_COARSE_FRACTION) - 1e-9)
+             : (int)ceil(len / fmin(h / TR_RECORD_RK4_FRACTION, m->L / TR_RECORD_RK4_MIN_STEPS) -
+                         1e-9);
     if (n4 < 1) n4 = 1;
-    if (!allow_rk4 || 4 * n4 >= 13 * n8) return tr_integrate(m, d, s0, s1, n8, y);
+    if (!allow_rk4 || 4 * n4 * (d->rec_coarse ? 2 : 1) >= 13 * n8)
+        return tr_integrate(m, d, s0, s1, n8, y);
     *used_rk4 = 1;
     return tr_integrate_with(m, d, TR_RK4, s0, s1, n4, y);
 }
@@ -166,6 +171,23 @@ int tr_record(const tr_model *m_, tr_data *d)
             store_node(m, d, d->nnode - 1, d->y);
     }
     return status;
+}
+
+int tr_record_coarse(const tr_model *m_, tr_data *d, const double *x, int steps, const double *tip)
+{
+    const tr_model *m = TR_IN(m_, d);
+    int used = 0, st, i;
+    double diff = 0.0;
+    if (!tip || tr_state_from(m, d, x, steps) != TR_OK) return tr_record_from(m, d, x, steps);
+    d->rec_coarse = 1;
+    st = record_pass(m, d, 1, &used);
+    d->rec_coarse = 0;
+    if (st != TR_OK || !used) return st;
+    for (i = 0; i < m->n_base; i++) {
+        const double e = fabs(d->y[i] - tip[i]) / m->xstate_scale[i];
+        if (e > diff) diff = e;
+    }
+    return diff <= TR_RECORD_COARSE_TOL ? TR_OK : tr_record(m, d);
 }
 
 int tr_tip_state(const tr_model *m_, tr_data *d)

@@ -22,6 +22,16 @@
 /* The quick test measures the distance of the nearest eigenvalue from zero up to this
  * many bands (by doubling). */
 #define TR_STAB_QUICK_GAP 64.0
+/* The quick test's a posteriori check (tr_stability.c, verdict_check): a stable solution
+ * is decided when its smallest eigenvalue lies beyond this many times the discretisation
+ * error estimated from the quick grid and the full test's first grid (the full test
+ * calls a margin critical within 2 such errors, and refines it first), and on the quick
+ * grid beyond this fraction of the quick band (nearer zero the full test decides). */
+#define TR_STAB_POST     8.0
+#define TR_STAB_POST_MIN 0.1
+/* ... with each grid's smallest eigenvalue bracketed to this fraction of it (the
+ * brackets' widths count in the error). */
+#define TR_STAB_POST_RTOL 1e-3
 /* A margin (scaled by EI/L) within this of zero is round-off: a neutral direction. */
 #define TR_STAB_NEUTRAL 1e-7
 /* Margins (scaled) smaller than this times (1 + the load-induced stiffness scale) are
@@ -87,6 +97,23 @@ int tr_stab_level_setup(const tr_model *m, const tr_data *d, struct tr_stab_ws *
 void tr_stab_assemble(const tr_model *m, struct tr_stab_ws *w, int nn, int nb);
 /* Newton steps of the level to the discrete equilibrium (reassembled). */
 void tr_stab_discrete_equilibrium(const tr_model *m, struct tr_stab_ws *w, int nn, int nb);
+
+/* A stability grid's recording (tr_record_coarse) needs its states to well below the
+ * verdict's bands (2 % of the stiffness scale and more), not to the shooting tolerance:
+ * RK4 steps of up to this fraction of a shooting step, its tip checked against the
+ * shooting tip (redone to the shooting accuracy beyond TR_RECORD_COARSE_TOL). */
+#define TR_RECORD_COARSE_FRACTION 0.5
+/* ... its tip within this of the shooting tip (scaled states): the verdict's bands leave
+ * ~1e-2 (1 + stiffness scale) beyond its discretisation error, which a state error of
+ * 1e-5 moves its eigenvalues by orders of magnitude less than; RK4 only where it costs at
+ * most half of rk8 (else a redone recording would cost more than it saves). */
+#define TR_RECORD_COARSE_TOL 1e-5
+/* tr_record.c: the states of a stability grid at the unknowns x (tr_record_from's), by
+ * RK4 steps of up to half a shooting step where they cost less than rk8's, accepted when
+ * the recorded tip agrees with tip (the shooting end state at x: its n_base base states)
+ * to TR_RECORD_COARSE_TOL (scaled), else recorded again to the shooting accuracy; tip NULL:
+ * tr_record_from. */
+int tr_record_coarse(const tr_model *m, tr_data *d, const double *x, int steps, const double *tip);
 
 /* tr_switch.c: the displacement-controlled tendons at their switch (tension and slack
  * both zero). */

@@ -124,14 +124,18 @@ void tr_stab_assemble(const tr_model *m, struct tr_stab_ws *w, int nn, int nb)
     }
     for (k = 0; k < nn - 1; k++) {
         const int off = k > 0 ? nb : 0;
-        double g[2 * TR_ELEM_NB], He[4 * TR_ELEM_NB * TR_ELEM_NB];
-        const int n2 = 2 * nb;
+        double g[2 * TR_ELEM_NB], He[4 * TR_ELEM_NB * TR_ELEM_NB], gc[6 * TR_ELEM_CHORDS];
+        const int n2 = 2 * nb, chords = nb == 3 && nbord > 0 && m->nt <= TR_ELEM_CHORDS;
         tr_elem e;
         int p, q;
         element(m, w, k, &e);
         /* coordinates p < nb are node a's (block k - 1; none on the clamped first node),
-         * the others node b's (block k) */
-        tr_elem_hessian(&e, nb, off == 0, g, He);
+         * the others node b's (block k); a Kirchhoff element's chord gradients come from
+         * its Hessian's passes */
+        if (chords)
+            tr_elem_hessian_chords(&e, off == 0, g, He, gc);
+        else
+            tr_elem_hessian(&e, nb, off == 0, g, He);
         for (p = nb - off; p < n2; p++) {
             const int bp_ = p < nb ? k - 1 : k, ip = p < nb ? p : p - nb;
             w->g[bp_ * nb + ip] += sc * g[p];
@@ -152,7 +156,10 @@ void tr_stab_assemble(const tr_model *m, struct tr_stab_ws *w, int nn, int nb)
         }
         for (i = 0; i < m->nt; i++) {
             if (w->col[i] < 0 || !(e.sb <= m->tendon[i].t * (1.0 + 1e-12))) continue;
-            tr_elem_chord_gradient(&e, nb, off == 0, i, g);
+            if (chords)
+                for (p = 0; p < n2; p++) g[p] = gc[6 * i + p];
+            else
+                tr_elem_chord_gradient(&e, nb, off == 0, i, g);
             for (p = nb - off; p < n2; p++) {
                 const int bp_ = p < nb ? k - 1 : k, ip = p < nb ? p : p - nb;
                 h->B[(bp_ * nb + ip) * nbord + w->col[i]] += g[p];

@@ -19,8 +19,11 @@
  * inertia of H - lambda M.  The margin at half the elements gives the discretisation
  * error; a margin within it is "critical", one at round-off level "neutral".  The quick
  * test (tr_stability_quick) decides from the inertia at +-band on a coarse grid alone
- * where no eigenvalue lies near zero, and leaves the margin to the full test.  The
- * energy's assembly is tr_stab_energy.c's, the test at a taut/slack switch tr_switch.c's.
+ * where no eigenvalue lies near zero (its grid recorded coarsely, checked against the
+ * shooting tip: tr_record_coarse), and leaves the margin to the full test; where its a
+ * priori band is too wide, an a posteriori check on two grids may still decide a stable
+ * solution (verdict_check).  The energy's assembly is tr_stab_energy.c's, the test at a
+ * taut/slack switch tr_switch.c's.
  */
 #include <math.h>
 #include <stdio.h>
@@ -179,6 +182,13 @@ static void verdict_full(const tr_model *m, tr_data *d, int near_zero)
     }
 }
 
+/* The shooting tip's state at the solution when the solve's last evaluation left it
+ * (the reference of a coarse recording), else NULL. */
+static const double *shooting_tip(const tr_data *d)
+{
+    return tr_holds_end_state(d, d->x) ? d->y : NULL;
+}
+
 /* One eigenvalue in the quick test's band: a symmetry's zero mode?  At the discrete
  * equilibrium of the quick grid (where a symmetry's zero mode is exact to round-off) it
  * is neutral when that one eigenvalue lies within TR_STAB_NEUTRAL of zero and no other
@@ -206,21 +216,36 @@ static int quick_neutral(const tr_model *m, tr_data *d, struct tr_stab_ws *w, in
     return 1;
 }
 
+/* No eigenvalue within band 2^j (j >= 1) of zero but the n0 below it.  With none below
+ * -band (n0 = 0) none lies below -band 2^j either (the count is monotone in the shift):
+ * only the upper side is counted then. */
+static int clear_within(tr_btd *h, double band, int j, int n0)
+{
+    int sing, c;
+    if (n0 > 0) {
+        c = tr_btd_count(h, -ldexp(band, j), &sing);
+        if (sing || c != n0) return 0;
+    }
+    c = tr_btd_count(h, ldexp(band, j), &sing);
+    return !sing && c == n0;
+}
+
 /* The quick test: Kirchhoff elements on a coarse grid (TR_STAB_QUICK elements, doubled
  * while an element turns too much), no refinement; decides only when no eigenvalue lies
  * within +-TR_STAB_QUICK_BAND (1 + stiffness scale), where neither the model reduction
  * (shear and extension, O((d/L)^2)) nor the coarse grid's error can move one across
  * zero.  Returns 1 when decided (the margin stays NaN: the full test gives it on
  * request). */
-static int verdict_quick(const tr_model *m, tr_data *d)
+static int verdict_quick(const tr_model *m, tr_data *d, double *band_out)
 {
     const double band = TR_STAB_QUICK_BAND * (1.0 + tr_stiffness_scale(m, d));
     double gap;
-    int nuni = TR_STAB_QUICK, nn, j, n0, nlo, nhi, sing;
+    int nuni = TR_STAB_QUICK, nn, j, n0, nlo, nhi, sing, jmax = 0, jlo = 0;
     struct tr_stab_ws *w;
+    *band_out = 0.0;
     for (;;) {
         w = tr_stab_workspace(m, d, &d->stab_quick, nuni, 0);
-        if (!w || tr_record_from(m, w->rec, d->x, d->steps) != TR_OK) return 0;
+        if (!w || tr_record_coarse(m, w->rec, d->x, d->steps, shooting_tip(d)) != TR_OK) return 0;
         for (nn = j = 0; j < w->ngrid; j++) w->node[nn++] = j;
         if (tr_stab_level_setup(m, d, w, nn) == 0) break;
         if (2 * nuni > TR_STAB_MAX_ELEMENTS) return 0;
@@ -231,17 +256,29 @@ static int verdict_quick(const tr_model *m, tr_data *d)
     if (sing) return 0;
     nhi = tr_btd_count(&w->h, band, &sing);
     if (sing || nlo < 0) return 0;
-    if (nhi - nlo == 1 && quick_neutral(m, d, w, nn, band)) return 1;
+    if (nhi - nlo == 1) return quick_neutral(m, d, w, nn, band);
+    *band_out = band; /* its Hessian stays the recorded state's, for verdict_check */
     if (nlo != nhi) return 0;
     n0 = nlo;
     /* how far from zero the nearest eigenvalue lies, in doublings of the band (a verdict
-     * kept by warm solves lasts as long as their change stays small against it) */
-    for (gap = band; gap < TR_STAB_QUICK_GAP * band; gap *= 2.0) {
-        nlo = tr_btd_count(&w->h, -2.0 * gap, &sing);
-        if (sing || nlo != n0) break;
-        nhi = tr_btd_count(&w->h, 2.0 * gap, &sing);
-        if (sing || nhi != n0) break;
+     * kept by warm solves lasts as long as their change stays small against it): the
+     * largest band 2^j (up to TR_STAB_QUICK_GAP band) clear of eigenvalues but the n0
+     * below zero.  Being clear is monotone in j: the cap first (the common case, one
+     * count), then a bisection on j. */
+    while (ldexp(1.0, jmax) < TR_STAB_QUICK_GAP) jmax++;
+    if (clear_within(&w->h, band, jmax, n0)) {
+        jlo = jmax;
+    } else {
+        int jhi = jmax;
+        while (jhi - jlo > 1) {
+            const int mid = (jlo + jhi) / 2;
+            if (clear_within(&w->h, band, mid, n0))
+                jlo = mid;
+            else
+                jhi = mid;
+        }
     }
+    gap = ldexp(band, jlo);
     d->stable = n0 == 0;
     d->stab_index = n0;
     d->stab_gap = gap;
@@ -249,6 +286,86 @@ static int verdict_quick(const tr_model *m, tr_data *d)
              "%s: %d negative %s, no eigenvalue within %.2g EI/L of zero",
              n0 ? "unstable" : "stable", n0, n0 == 1 ? "mode" : "modes", gap);
     return 1;
+}
+
+/* Where the quick test's a priori band is too wide to decide (a large load-induced
+ * stiffness scale widens it), an a posteriori one: the smallest eigenvalue at the
+ * recorded state on the quick grid (mc, its Hessian still in wq) and on the full test's
+ * first grid of twice the elements (mf), both without the discrete equilibrium (it
+ * moves them by O(h^2), which the two grids' difference measures with the rest of
+ * the discretisation error).  Decides only a stable solution whose smallest eigenvalue
+ * lies beyond TR_STAB_POST times the estimated error (Richardson's |mf - mc| / 3, plus
+ * the Kirchhoff elements' neglect of shear and extension on a Cosserat rod), on both
+ * grids; the margin is left to the full test (NaN).  Returns 1 when decided. */
+/* The smallest eigenvalue of a pencil without negative ones bracketed in [*lo, *hi]
+ * (count(*lo) = 0 < count(*hi) on entry) to TR_STAB_POST_RTOL of it, by bisection on
+ * the inertia; 0 when a count is singular. */
+static int bracket_smallest(tr_btd *h, double *lo, double *hi)
+{
+    int sing, it;
+    for (it = 0; it < 60 && *hi - *lo > 1e-9 + TR_STAB_POST_RTOL * *hi; it++) {
+        const double mid = 0.5 * (*lo + *hi);
+        const int cnt = tr_btd_count(h, mid, &sing);
+        if (sing) return 0;
+        if (cnt >= 1)
+            *hi = mid;
+        else
+            *lo = mid;
+    }
+    return 1;
+}
+
+static int verdict_check(const tr_model *m, tr_data *d, struct tr_stab_ws *wq, double band)
+{
+    const double scale = 1.0 + tr_stiffness_scale(m, d);
+    const int nuni = d->stab ? d->stab->nuni : TR_STAB_ELEMENTS;
+    double clo = 0.0, chi = band, flo, fhi, err, reduction = 0.0;
+    int n, nn, j, sing;
+    struct tr_stab_ws *w;
+    if (nuni != 2 * wq->nuni) return 0;
+    /* the quick grid: none below 0, some below band (why the quick test did not decide) */
+    n = tr_btd_count(&wq->h, 0.0, &sing);
+    if (sing || n != 0) return 0;
+    if (!bracket_smallest(&wq->h, &clo, &chi)) return 0;
+    /* an eigenvalue this close to zero on the coarse grid is the full test's (a
+     * symmetry's zero mode, or a margin within its discretisation error) */
+    if (!(clo > TR_STAB_POST_MIN * band)) return 0;
+    w = tr_stab_workspace(m, d, &d->stab, nuni, 0);
+    if (!w) return 0;
+    /* recorded like the quick grid (the full test records this workspace to the shooting
+     * accuracy) */
+    if (tr_record_coarse(m, w->rec, d->x, d->steps, shooting_tip(d)) != TR_OK) return 0;
+    for (nn = j = 0; j < w->ngrid; j++) w->node[nn++] = j;
+    if (tr_stab_level_setup(m, d, w, nn) < 0) return 0;
+    tr_stab_assemble(m, w, nn, 3);
+    /* the finer grid's smallest eigenvalue, bracketed near the coarse one's first */
+    flo = 0.5 * clo, fhi = 2.0 * chi;
+    n = tr_btd_count(&w->h, flo, &sing);
+    if (sing || n != 0) return 0;
+    n = tr_btd_count(&w->h, fhi, &sing);
+    if (sing || n < 1) return 0;
+    if (!bracket_smallest(&w->h, &flo, &fhi)) return 0;
+    if (!m->kirchhoff) reduction = scale * m->EI * (1.0 / m->GA + 1.0 / m->EA) / (m->L * m->L);
+    /* Richardson's estimate from the widest difference the brackets allow */
+    err = fmax(fabs(fhi - clo), fabs(chi - flo)) / 3.0 + reduction;
+    if (!(flo > TR_STAB_POST * err)) return 0;
+    d->stable = 1;
+    d->stab_index = 0;
+    d->stab_gap = flo - TR_STAB_POST * err;
+    snprintf(d->stab_reason, sizeof d->stab_reason,
+             "stable: 0 negative modes, no eigenvalue within %.2g EI/L of zero (on %d and %d "
+             "elements, discretisation error about %.2g)",
+             d->stab_gap, wq->nuni, nuni, err);
+    return 1;
+}
+
+/* The quick test, then the a posteriori check, then the full test. */
+static void verdict_quick_or_full(const tr_model *m, tr_data *d)
+{
+    double band;
+    if (verdict_quick(m, d, &band)) return;
+    if (band > 0.0 && verdict_check(m, d, d->stab_quick, band)) return;
+    verdict_full(m, d, 1);
 }
 
 /* Unstable with tendons at their switch: the sides they resist tested too (tr_switch.c);
@@ -280,7 +397,10 @@ static void friction_twin(const tr_model *m, tr_data *d, int quick)
                  g);
         return;
     }
-    if (!quick || !verdict_quick(m, d)) verdict_full(m, d, quick);
+    if (quick)
+        verdict_quick_or_full(m, d);
+    else
+        verdict_full(m, d, 0);
     d->stab_twin = d->stable;
     d->stab_twin_margin = d->stability;
     d->stab_twin_index = d->stab_index;
@@ -322,7 +442,7 @@ void tr_stability_quick(const tr_model *m_, tr_data *d)
         friction_twin(m, d, 1);
         return;
     }
-    if (!verdict_quick(m, d)) verdict_full(m, d, 1);
+    verdict_quick_or_full(m, d);
     switch_or_note(m, d);
 }
 
@@ -344,9 +464,12 @@ int tr_stability_of(const tr_model *m_, tr_data *d, const double *x, int steps, 
             snprintf(d->stab_reason, sizeof d->stab_reason, "not tested: no solution");
             return TR_OK;
         }
-    if (quick)
+    if (quick) {
+        /* the shooting end state at x, as a solve's verdict has it (its grids' recording
+         * is checked against it; without one they are recorded to the shooting accuracy) */
+        (void)tr_residual(m, d, d->x, d->ft);
         tr_stability_quick(m, d);
-    else
+    } else
         tr_stability(m, d);
     return TR_OK;
 }

@@ -112,6 +112,28 @@ int main(void)
                         return 1;
                     }
             }
+            if (kirch) {
+                /* the Kirchhoff element's Hessian with its chords' gradients from the same
+                 * passes: the same Hessian, and the chords' gradients to round-off */
+                double gk[6], Hk[36], gcs[3 * 6];
+                tr_elem_hessian(&e, nb, clamped, gj, Hj);
+                tr_elem_hessian_chords(&e, clamped, gk, Hk, gcs);
+                for (p = 0; p < 36; p++)
+                    if (Hk[p] != Hj[p] || (p < 6 && gk[p] != gj[p])) {
+                        fprintf(stderr, "hessian with chords %d differs\n", p);
+                        return 1;
+                    }
+                for (only = 0; only < 3; only++) {
+                    double gc[6];
+                    tr_elem_chord_gradient(&e, nb, clamped, only, gc);
+                    for (p = 0; p < 6; p++)
+                        if (!(fabs(gc[p] - gcs[6 * only + p]) <= 1e-14 * (1.0 + fabs(gc[p])))) {
+                            fprintf(stderr, "chord %d from the Hessian's passes %d: %.17g vs %.17g\n",
+                                    only, p, gcs[6 * only + p], gc[p]);
+                            return 1;
+                        }
+                }
+            }
             tr_elem_hessian(&e, nb, clamped, gj, Hj);
             for (p = 0; p < n; p++)
                 for (q = 0; q < n; q++) {
