@@ -166,11 +166,12 @@ static double shared_stiffness(const tr_model *m);
 
 static int solve_condition(const tr_model *m, tr_data *d, int status, const double *jac)
 {
-    /* The condition estimate and the polish use the last Newton Jacobian, Broyden-updated
-     * along the final steps, while its condition estimate is at most TR_COND_TRUST; above
-     * that (where an updated Jacobian's estimate can be far off, and the singular threshold
-     * is near) a cold solve takes a fresh finite-difference Jacobian at the solution.  Warm
-     * solves keep the updated one (it came from a nearby fresh one). */
+    /* A cold solve returns a finite-difference Jacobian at (or next to) the solution: it
+     * makes the condition estimate meaningful and warm starts from it Newton-fast.  The
+     * last Newton Jacobian (finite differences, then Broyden-updated along the final
+     * steps) serves when it was differenced at the same step count within TR_J_MOVE of the
+     * solution and its condition is at most TR_COND_TRUST; otherwise a fresh one is taken
+     * at the solution.  Warm solves keep the updated one (it came from a nearby fresh one). */
     /* a converged solve's final Jacobian, polish and condition estimate are its outputs,
      * paid beyond the budget (bounded: one Jacobian, TR_POLISH_STEPS + 2 LUs); an
      * interrupt still stops them */
@@ -178,7 +179,9 @@ static int solve_condition(const tr_model *m, tr_data *d, int status, const doub
     double cond = NAN;
     if (status >= 0) d->finishing = 1;
     if (status >= 0 && !jac && !d->J_fresh && d->k > 0) {
-        if (d->have_J) cond = tr_jacobian_cond(d);
+        if (d->have_J && d->njev > 0 && d->steps_J == d->steps &&
+            tr_rel_move(d->x, d->x_J, d->k) <= TR_J_MOVE)
+            cond = tr_jacobian_cond(d);
         if (!(cond <= TR_COND_TRUST) && !d->stop) {
             cond = NAN;
             if (tr_fd_jacobian(m, d) != TR_OK) d->have_J = 0;
