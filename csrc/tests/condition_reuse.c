@@ -52,8 +52,8 @@ static int one(double M, double F)
      * on bench/solve.py's scenes, 1e-3 leaves room; the condition within 0.67x..1.95x over
      * the stress suite (bench/results/error_estimate.md) */
     if (!(sqrt(num / den) <= 1e-3) || !(c0 <= 2.0 * c1 && c1 <= 2.0 * c0)) {
-        fprintf(stderr, "M %g F %g: |dJ|/|J| %.3g, cond %.6g against fresh %.6g (nfev %d)\n", M,
-                F, sqrt(num / den), c0, c1, nfev);
+        fprintf(stderr, "M %g F %g: |dJ|/|J| %.3g, cond %.6g against fresh %.6g (nfev %d)\n", M, F,
+                sqrt(num / den), c0, c1, nfev);
         return 1;
     }
     tr_data_free(d);
