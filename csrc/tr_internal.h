@@ -81,9 +81,9 @@ enum {
  * an updated Jacobian's condition was within 0.67x..1.95x of the fresh one's wherever it was
  * below 1e8, off by up to 7,400x above (2.3e12 against 3.2e8 near TR_COND_SINGULAR): 1e6
  * keeps six decades from the threshold.  Its other uses (the first warm solve after it,
- * inverse actuation's trial solves) take more iterations where it differs from the fresh
- * one by more than ~1e-3: a move of 1e-3 kept that difference below 2.3e-4 on the bench
- * scenes. */
+ * inverse actuation's trial solves) need it close to the fresh one: differences of 3e-3
+ * and more cost the first warm solve 1-4 iterations on the bench scenes; a move of 1e-3
+ * at the same step count kept the difference below 2.3e-4 there. */
 #define TR_COND_TRUST 1e6
 #define TR_J_MOVE     1e-3
 /* Automatic step count: initial totals for rk8 and rk4 ... */
