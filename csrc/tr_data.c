@@ -216,7 +216,7 @@ void tr_data_free(tr_data *d)
 static int alloc_buffers(const tr_model *m, tr_data *d)
 {
     const int k = d->k, nsr = m->n_states_rec, nt = m->nt, nd = m->ndisp;
-    d->x = (double *)calloc((size_t)12 * k + 1, sizeof(double));
+    d->x = (double *)calloc((size_t)13 * k + 1, sizeof(double));
     d->J = (double *)calloc((size_t)k * k + 1, sizeof(double));
     d->x_last = (double *)calloc((size_t)k * (k + 3) + 1, sizeof(double));
     d->LU = gsl_matrix_alloc(k > 0 ? k : 1, k > 0 ? k : 1);
@@ -253,6 +253,7 @@ static int alloc_buffers(const tr_model *m, tr_data *d)
     d->hyb_f = d->x + 9 * k;
     d->x_of_y = d->x + 10 * k;
     d->f_of_y = d->x + 11 * k;
+    d->x_J = d->x + 12 * k;
     d->y_steps = -1;
     d->beta = d->tau + nt;
     d->tension = d->tau + 2 * nt;

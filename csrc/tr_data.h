@@ -69,6 +69,8 @@ struct tr_data {
     double *ysave;  /* (n_states_rec) a saved end state (step verification, recording check) */
     double *x_of_y; /* (k) the unknowns of the last shooting evaluation whose end state is y */
     double *f_of_y; /* (k) its residual */
+    double *x_J;    /* (k) the unknowns of this solve's last finite-difference Jacobian */
+    int steps_J;    /* ... and its step count */
     int y_steps;    /* its step count; -1: y holds no such end state (recording, doubled
                        steps, a compliance probe, continuation) */
     gsl_odeiv2_system sys_shoot, sys_rec;

@@ -74,6 +74,18 @@ enum {
 #define TR_LEAN_BROYDEN_MIN_STEP 1e-10
 /* Condition number (1-norm, scaled) above which the Jacobian counts as singular. */
 #define TR_COND_SINGULAR 1e12
+/* A cold solve's last Newton Jacobian stands for the fresh one at the solution (its
+ * condition estimate, polish and output Jacobian) when it was differenced at the same step
+ * count within TR_J_MOVE (scaled, relative, max-norm) of the solution and its condition is
+ * at most TR_COND_TRUST.  Measured over the stress suite (bench/results/error_estimate.md):
+ * an updated Jacobian's condition was within 0.67x..1.95x of the fresh one's wherever it was
+ * below 1e8, off by up to 7,400x above (2.3e12 against 3.2e8 near TR_COND_SINGULAR): 1e6
+ * keeps six decades from the threshold.  Its other uses (the first warm solve after it,
+ * inverse actuation's trial solves) need it close to the fresh one: differences of 3e-3
+ * and more cost the first warm solve 1-4 iterations on the bench scenes; a move of 1e-3
+ * at the same step count kept the difference below 2.3e-4 there. */
+#define TR_COND_TRUST 1e6
+#define TR_J_MOVE     1e-3
 /* Automatic step count: initial totals for rk8 and rk4 ... */
 #define TR_AUTO_RK8 2
 #define TR_AUTO_RK4 16
@@ -713,6 +725,8 @@ int tr_verify_steps(const tr_model *m, tr_data *d);
 /* 1 when the workspace's verification record vouches for the current solution without
  * a new verification (d->truncation then holds the carried bound), else 0. */
 int tr_verify_carried(const tr_model *m, tr_data *d);
+/* How far x moved from x0: max_i |x_i - x0_i| / max(1, |x0_i|) (scaled unknowns, k). */
+double tr_rel_move(const double *x, const double *x0, int k);
 /* Fixed steps (steps > 0, a fixed-step integrator): the step-doubling estimate of the
  * converged solution's truncation error into d->truncation, never acted on; above
  * TR_FIXED_TRUNC_WARN tol a success becomes TR_TRUNCATION with a message that says so. */

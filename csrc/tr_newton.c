@@ -171,6 +171,8 @@ int tr_fd_jacobian(const tr_model *m_, tr_data *d)
         if (status != TR_OK) return status;
     }
     if (keep) tr_restore_end_state(m, d, d->x, d->f);
+    memcpy(d->x_J, d->x, (size_t)k * sizeof(double));
+    d->steps_J = d->steps;
     d->njev++;
     d->have_J = 1;
     d->J_fresh = 1;

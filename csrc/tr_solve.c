@@ -166,19 +166,30 @@ static double shared_stiffness(const tr_model *m);
 
 static int solve_condition(const tr_model *m, tr_data *d, int status, const double *jac)
 {
-    /* A cold solve returns a fresh finite-difference Jacobian at the solution (the
-     * Broyden-updated one is accurate only along recent steps): it makes the
-     * condition estimate meaningful and warm starts from it Newton-fast.  Warm
-     * solves keep the updated one (it came from a nearby fresh one). */
+    /* A cold solve returns a finite-difference Jacobian at (or next to) the solution: it
+     * makes the condition estimate meaningful and warm starts from it Newton-fast.  The
+     * last Newton Jacobian (finite differences, then Broyden-updated along the final
+     * steps) serves when it was differenced at the same step count within TR_J_MOVE of the
+     * solution and its condition is at most TR_COND_TRUST; otherwise a fresh one is taken
+     * at the solution.  Warm solves keep the updated one (it came from a nearby fresh one). */
     /* a converged solve's final Jacobian, polish and condition estimate are its outputs,
-     * paid beyond the budget (bounded: one Jacobian, TR_POLISH_STEPS + 1 LUs); an
+     * paid beyond the budget (bounded: one Jacobian, TR_POLISH_STEPS + 2 LUs); an
      * interrupt still stops them */
     const int finishing = d->finishing;
+    double cond = NAN;
     if (status >= 0) d->finishing = 1;
-    if (status >= 0 && !jac && !d->J_fresh && d->k > 0 && tr_fd_jacobian(m, d) != TR_OK)
-        d->have_J = 0;
+    if (status >= 0 && !jac && !d->J_fresh && d->k > 0) {
+        if (d->have_J && d->njev > 0 && d->steps_J == d->steps &&
+            tr_rel_move(d->x, d->x_J, d->k) <= TR_J_MOVE)
+            cond = tr_jacobian_cond(d);
+        if (!(cond <= TR_COND_TRUST) && !d->stop) {
+            cond = NAN;
+            if (tr_fd_jacobian(m, d) != TR_OK) d->have_J = 0;
+        }
+    }
+    /* (the polish moves the point, not the Jacobian: its condition stays) */
     if (status >= 0 && d->have_J) tr_polish(m, d);
-    if (!d->stop) d->jacobian_cond = d->have_J ? tr_jacobian_cond(d) : NAN;
+    if (!d->stop) d->jacobian_cond = !d->have_J ? NAN : isnan(cond) ? tr_jacobian_cond(d) : cond;
     d->finishing = finishing;
     if (d->stop) return d->stop;
     if (status >= 0 && d->shared_mode) {

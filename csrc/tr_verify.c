@@ -133,6 +133,18 @@ int tr_verify_steps(const tr_model *m_, tr_data *d)
     return TR_TRUNCATION;
 }
 
+double tr_rel_move(const double *x, const double *x0, int k)
+{
+    double delta = 0.0;
+    int i;
+    for (i = 0; i < k; i++) {
+        const double a = fabs(x0[i]);
+        const double e = fabs(x[i] - x0[i]) / (a > 1.0 ? a : 1.0);
+        if (!(e <= delta)) delta = e;
+    }
+    return delta;
+}
+
 /* A verification at x_v (truncation estimate e_v, N steps) vouches for a solution x at
  * the same N that moved delta = max_i |x_i - x_v,i| / max(1, |x_v,i|) from it, when
  * delta <= TR_CARRY_MAX_MOVE and TR_CARRY_SAFETY e_v (1 + delta)^(p+1) <= tol.  The
@@ -148,11 +160,7 @@ int tr_verify_carried(const tr_model *m_, tr_data *d)
     double delta = 0.0, bound;
     int i;
     if (!d->have_ver || d->steps_ver != d->steps || !isfinite(d->est_ver)) return 0;
-    for (i = 0; i < d->k; i++) {
-        const double a = fabs(d->x_ver[i]);
-        const double e = fabs(d->x[i] - d->x_ver[i]) / (a > 1.0 ? a : 1.0);
-        if (!(e <= delta)) delta = e;
-    }
+    delta = tr_rel_move(d->x, d->x_ver, d->k);
     /* a prescribed tension moves the state without moving the unknowns (the base reaction
      * balances the external loads whatever the tensions): its move counts too, scaled by
      * the tension scale */

@@ -196,7 +196,11 @@ class Solution:
     bending_angle : float
         Every solve: the angle [rad] in [0, pi] between the base and tip tangents.
     jacobian_cond : float
-        Condition number of the scaled shooting Jacobian at the solution.
+        Condition number (1-norm estimate) of the scaled shooting Jacobian at the
+        solution: of a finite-difference Jacobian there, or of the last Newton Jacobian
+        (Broyden-updated) when that was differenced within 1e-3 (scaled) of the solution
+        and its condition is <= 1e6 (where it was measured within a factor 2 of a fresh
+        one's), or for warm solves the updated one they kept.
     continuation_steps : int
         Continuation stages used (0: solved directly).
     truncation_estimate : float

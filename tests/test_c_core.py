@@ -181,3 +181,13 @@ def test_element_hessian_reduced_matches_all_coordinates(build):
     r = subprocess.run([str(exe)], capture_output=True, text=True, timeout=120)
     assert r.returncode == 0, r.stderr + r.stdout
     assert r.stdout.startswith("ok")
+
+
+def test_condition_from_the_last_newton_jacobian_matches_a_fresh_one(build):
+    """Where a cold solve returns its last Newton Jacobian instead of a fresh one at the
+    solution, it agrees with a fresh finite-difference Jacobian there to 1e-3 and its
+    condition to a factor 2 (the program's comment says why these bounds)."""
+    exe = build(CSRC / "tests" / "condition_reuse.c")
+    r = subprocess.run([str(exe)], capture_output=True, text=True, timeout=120)
+    assert r.returncode == 0, r.stderr + r.stdout
+    assert r.stdout.strip() == "ok"
