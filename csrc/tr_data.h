@@ -6,7 +6,6 @@
 #define TR_DATA_H
 
 #include <gsl/gsl_matrix.h>
-#include <gsl/gsl_permutation.h>
 #include <gsl/gsl_odeiv2.h>
 #include <gsl/gsl_multiroots.h>
 
@@ -42,8 +41,8 @@ struct tr_data {
     double *work;          /* (k) a right-hand side (condition number, compliance) */
     double *hyb_f;         /* (k) residual evaluated for GSL's hybrid Jacobian callback */
     int *switched;         /* (ndisp) a tendon switched between taut and slack in a step */
-    gsl_matrix *LU;        /* (k x k) LU factors */
-    gsl_permutation *perm; /* (k) */
+    double *LU;            /* (k x k) LU factors, row-major (tru_lu_factor) */
+    int *piv;              /* (k) their row swaps */
     double fnorm;          /* max-norm of f */
     int have_J, J_fresh, J_refresh;
     int jac_method;  /* tr_jacobian_method in use (continuation: TR_JAC_NEWTON) */

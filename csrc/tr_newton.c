@@ -6,10 +6,7 @@
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
-#include <gsl/gsl_blas.h>
 #include <gsl/gsl_errno.h>
-#include <gsl/gsl_linalg.h>
-#include <gsl/gsl_permute_vector.h>
 
 #include "tendonrod.h"
 #include "tr_internal.h"
@@ -188,22 +185,19 @@ int tr_lu_factor(tr_data *d)
     long nnz = 0;
     double cost;
     if (tr_poll(d)) return -1;
-    for (i = 0; i < k * k; i++) {
-        d->LU->data[(i / k) * d->LU->tda + i % k] = d->J[i];
-        nnz += d->J[i] != 0.0;
-    }
+    for (i = 0; i < k * k; i++) nnz += d->J[i] != 0.0;
     cost = tr_lu_work(k, k > 0 ? (double)nnz / ((double)k * k) : 1.0);
     if (!d->finishing && d->spent + cost > tr_work_budget(d)) {
         d->stop = TR_EBUDGET;
         return -1;
     }
     d->spent += cost;
-    d->lu_sign = 0;
-    if (gsl_linalg_LU_decomp(d->LU, d->perm, &signum) != GSL_SUCCESS) return -1;
+    memcpy(d->LU, d->J, (size_t)k * k * sizeof(double));
+    tru_lu_factor(k, d->LU, k, d->piv, &signum);
     d->lu_sign = signum;
     for (i = 0; i < k; i++) {
-        const double a = fabs(gsl_matrix_get(d->LU, i, i));
-        if (gsl_matrix_get(d->LU, i, i) < 0.0) d->lu_sign = -d->lu_sign;
+        const double a = fabs(d->LU[(size_t)i * k + i]);
+        if (!isfinite(a)) return -1;
         if (a > dmax) dmax = a;
         if (a < dmin) dmin = a;
     }
@@ -213,22 +207,19 @@ int tr_lu_factor(tr_data *d)
 
 int tr_lu_solve(tr_data *d, const double *rhs, double *res)
 {
-    gsl_vector_const_view b = gsl_vector_const_view_array(rhs, (size_t)d->k);
-    gsl_vector_view xv = gsl_vector_view_array(res, (size_t)d->k);
     d->spent += tr_trsv_work(d->k);
-    return gsl_linalg_LU_solve(d->LU, d->perm, &b.vector, &xv.vector) == GSL_SUCCESS ? 0 : -1;
+    if (res != rhs) memcpy(res, rhs, (size_t)d->k * sizeof(double));
+    tru_lu_solve(d->k, d->LU, d->k, d->piv, res);
+    return 0;
 }
 
 /* J^T res = rhs from the factors P J = L U: U^T L^T (P res) = rhs. */
 static int lu_solve_trans(tr_data *d, const double *rhs, double *res)
 {
-    gsl_vector_view xv = gsl_vector_view_array(res, (size_t)d->k);
     d->spent += tr_trsv_work(d->k);
-    memcpy(res, rhs, (size_t)d->k * sizeof(double));
-    if (gsl_blas_dtrsv(CblasUpper, CblasTrans, CblasNonUnit, d->LU, &xv.vector) != GSL_SUCCESS ||
-        gsl_blas_dtrsv(CblasLower, CblasTrans, CblasUnit, d->LU, &xv.vector) != GSL_SUCCESS)
-        return -1;
-    return gsl_permute_vector_inverse(d->perm, &xv.vector) == GSL_SUCCESS ? 0 : -1;
+    if (res != rhs) memcpy(res, rhs, (size_t)d->k * sizeof(double));
+    tru_lu_solve_trans(d->k, d->LU, d->k, d->piv, res);
+    return 0;
 }
 
 static double norm1(const double *v, int k)
