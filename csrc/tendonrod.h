@@ -59,6 +59,11 @@ enum tr_status {
                                 tested), but the frictionless twin of the state (mu = 0, the
                                 same tensions) is unstable: friction alone holds it, if it
                                 does; a success with a caveat (d->stab_twin) */
+    TR_ROUNDOFF = 7,        /* converged to the residual's round-off floor: the iteration
+                                made no more progress with the scaled residual above tol but
+                                below the floor (the unit round-off times the largest internal
+                                force and moment the residual sums, in EI/L^2 and EI/L), where
+                                it cannot be told from zero; a success with a caveat */
     TR_CONTINUE = 100,      /* iteration in progress (tr_solve_iterate/test only) */
     TR_EINVAL = -1,         /* invalid model or option value */
     TR_ENOMEM = -2,         /* allocation failed */
@@ -498,7 +503,10 @@ int tr_solve_init(const tr_model *m, tr_data *d, const double *guess, const doub
 /* One damped Newton/Broyden iteration with backtracking.  Returns TR_CONTINUE,
  * or a negative status. */
 int tr_solve_iterate(const tr_model *m, tr_data *d);
-/* TR_OK when the scaled residual max-norm <= tol, else TR_CONTINUE. */
+/* TR_OK when the scaled residual max-norm <= tol, or <= the residual's round-off floor
+ * (the unit round-off times the largest internal force and moment the residual sums, in
+ * EI/L^2 and EI/L: a smaller residual cannot be told from zero), else TR_CONTINUE.  A
+ * solve that converges above tol by the floor ends TR_ROUNDOFF. */
 int tr_solve_test(const tr_model *m, const tr_data *d);
 /* One-call driver: init, iterate, continuation on failure, confirmation of an
  * equilibrium found off the load path, step verification (steps = 0), conditioning

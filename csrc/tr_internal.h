@@ -612,7 +612,15 @@ static inline double tr_tol(const tr_data *d)
     return d->tol_override > 0.0 ? d->tol_override : d->opt.tol;
 }
 
+/* tr_error.c: the message of a solve that converged to its residual's round-off floor
+ * (TR_ROUNDOFF), the scaled residual above tol but below the floor. */
+void tr_message_floor(char *msg, size_t len, int nit, double residual, double tol, double floor);
+
 /* tr_newton.c */
+/* The round-off floor of the scaled residual at the last evaluation (d->tau, d->x): the
+ * unit round-off times the largest terms the residual sums.  tr_solve_test's second rule:
+ * a residual at or below it has converged (above tol: TR_ROUNDOFF). */
+double tr_roundoff_floor(const tr_model *m, const tr_data *d);
 /* Reset the counters and the per-solve state of d for a solve at `steps` steps. */
 void tr_solve_reset(const tr_model *m, tr_data *d, int steps);
 /* Forward-difference Jacobian at d->x (d->f) into d->J. */

@@ -3,6 +3,7 @@
  * update, init / iterate / test with a backtracking (Armijo) line search, the run
  * to convergence with a stagnation test, and the lean warm solve.
  */
+#include <float.h>
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
@@ -332,11 +333,32 @@ int tr_solve_init(const tr_model *m_, tr_data *d, const double *guess, const dou
     return status;
 }
 
+/* The round-off floor of the scaled residual at the current iterate: the unit round-off
+ * times the largest terms the residual sums.  The tip force is the backbone's internal
+ * force plus the tendons' pulls minus the load, and the backbone carries the tendons' pull
+ * back to the base, so its force is of the order of the tensions' sum however small the
+ * load: rounded along the integration at that size (then turned into every component by
+ * the curvature), it leaves a noise of eps sum|tau| / (EI/L^2) in the force residuals and
+ * eps sum|tau| r_max / (EI/L) in the moment ones, beside eps times the base reaction and
+ * the loads (scaled).  The length residuals are differences of lengths of the order of L,
+ * their noise eps L / r_max far below. */
+double tr_roundoff_floor(const tr_model *m_, const tr_data *d)
+{
+    const tr_model *m = TR_IN(m_, d);
+    double tau = 0.0, big = tr_load_scale(m), len = m->L / m->len_s;
+    int i;
+    for (i = 0; i < m->nt; i++)
+        if (isfinite(d->tau[i])) tau += fabs(d->tau[i]);
+    for (i = 0; i < tr_n_force(m); i++)
+        if (fabs(d->x[i]) > big) big = fabs(d->x[i]);
+    big += tau / m->F_s > tau * m->len_s / m->M_s ? tau / m->F_s : tau * m->len_s / m->M_s;
+    return DBL_EPSILON * (big > len ? big : len);
+}
+
 int tr_solve_test(const tr_model *m_, const tr_data *d)
 {
     const tr_model *m = TR_IN(m_, d);
-    (void)m;
-    return d->fnorm <= tr_tol(d) ? TR_OK : TR_CONTINUE;
+    return d->fnorm <= tr_tol(d) || d->fnorm <= tr_roundoff_floor(m, d) ? TR_OK : TR_CONTINUE;
 }
 
 /* Backtracking line search along d->dx from d->x: the first alpha with the Armijo
