@@ -532,12 +532,14 @@ int tr_solve_from(const tr_model *m, tr_data *d, const double *guess, const doub
                   const tr_verified *v);
 /* The same, warm from the last successful solve in this workspace (its unknowns,
  * Jacobian and verified step count, kept in the workspace); cold if there is none.
- * The model's values may have changed since (tr_model_set_values). */
+ * The workspace's values may have changed since (tr_data_set_values). */
 int tr_solve_warm(const tr_model *m, tr_data *d);
 /* Forget the last successful solve (the next tr_solve_warm starts cold). */
 void tr_forget(tr_data *d);
 /* A hook the solve calls about every TR_POLL_INTERVAL of wall time (at most), from the
  * thread that runs it; a nonzero return stops the solve promptly with TR_EINTERRUPTED.
+ * The interval runs across solves, so a loop of solves each shorter than it reaches the
+ * hook too.
  * NULL: none.  The workspace stays usable after an interrupted solve. */
 void tr_set_poll(tr_data *d, int (*poll)(void *ctx), void *ctx);
 /* Recording pass at the current unknowns: fills s, pos, rot, force, moment,

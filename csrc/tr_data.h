@@ -97,7 +97,7 @@ struct tr_data {
     int finishing;          /* 1 while the final outputs are computed: beyond the budget */
     int (*poll)(void *ctx); /* called about every TR_POLL_INTERVAL; nonzero: stop */
     void *poll_ctx;         /* its argument */
-    double t_start, t_poll; /* wall clock at the solve's start and at the last poll [s] */
+    double t_start, t_poll; /* wall clock at the solve's start and at the hook's last call [s] */
     /* the last successful solve, for tr_solve_warm */
     double *x_last; /* (k) its scaled unknowns */
     double *J_last; /* (k x k) its Jacobian */

@@ -68,6 +68,18 @@ def test_failed_record_keeps_output_nodes(build):
     assert r.stdout.strip() == "ok"
 
 
+def test_ctrl_c_reaches_a_loop_of_short_solves(build):
+    """The poll hook's interval runs across solves: a loop of warm solves (each far
+    shorter than TR_POLL_INTERVAL) and a batch of lean solves both reach a hook that says
+    stop at its first call, bounded by counting (at most 20000 solves or points), and the
+    batch's interrupt is not lost to its fallback from the lean to the full solve (the
+    hook is called exactly once)."""
+    exe = build(CSRC / "tests" / "poll_loop.c")
+    r = subprocess.run([str(exe)], capture_output=True, text=True, timeout=120)
+    assert r.returncode == 0, r.stderr + r.stdout
+    assert r.stdout.strip() == "ok"
+
+
 def test_threads_share_one_compiled_model(build):
     """One compiled model, several threads at once, each with its own workspace: the
     same calls (values set in the workspace, warm solves, linearisations in the rod's EI
