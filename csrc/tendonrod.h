@@ -459,8 +459,8 @@ tr_data *tr_data_alloc(const tr_model *m, const tr_options *opt, int nnode, cons
  *     its (k + 1)-square bordered system; an actuation: every tendon a control, a target
  *     of 6 components); without it each call allocates its own and frees them.
  * Measured on a Python tr.solve warm from a guess (no verdict needed): GRIDS +25 us,
- * FINEST +160 us, FINEST | CONFIRM ~ +300 us.  GSL's LU factorisation still allocates its
- * pivot vector per call (GSL >= 2.7). */
+ * FINEST +160 us, FINEST | CONFIRM ~ +300 us.  The LU factorisations are the core's own
+ * (GSL >= 2.7's allocated a pivot vector per call), so GSL allocates nothing either. */
 enum {
     TR_ALLOC_GRIDS = 1,
     TR_ALLOC_FINEST = 2,
