@@ -23,7 +23,7 @@ import golden_cases as G  # noqa: E402
 
 # keys that are round-off themselves (a converged residual's norm): their relative change
 # is reported apart
-NOISE = ("residual_norm", "residual")
+NOISE = ("residual_norm", "residual", "distance")
 
 
 def rel_change(old: np.ndarray, new: np.ndarray) -> float:
