@@ -20,7 +20,6 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
 import golden_cases as G  # noqa: E402
 
-
 # keys that are round-off themselves (a converged residual's norm, a target distance, a
 # truncation estimate): their relative change is reported apart
 NOISE = ("residual_norm", "residual", "distance", "truncation")

@@ -232,8 +232,8 @@ static int alloc_buffers(const tr_model *m, tr_data *d)
     d->x_guess =
         (double *)calloc((size_t)4 * k + nt + 7 * ((size_t)m->nseg + 1) + 4, sizeof(double));
     d->bp_pose = (double *)calloc((size_t)12 * (m->nseg + 1), sizeof(double));
-    if (!d->bp_pose || !d->lin_C || !d->lin_act || !d->x || !d->J || !d->LU || !d->piv ||
-        !d->tau || !d->y || !d->Yx || !d->x_last || !d->x_guess || !d->fric_done || !d->val_ver)
+    if (!d->bp_pose || !d->lin_C || !d->lin_act || !d->x || !d->J || !d->LU || !d->piv || !d->tau ||
+        !d->y || !d->Yx || !d->x_last || !d->x_guess || !d->fric_done || !d->val_ver)
         return -1;
     d->f_guess = d->x_guess + k;
     d->x_alt = d->x_guess + 2 * k;

@@ -33,17 +33,17 @@ struct tr_data {
     tr_options opt;   /* options of this workspace */
     int k;            /* number of unknowns */
     /* iteration */
-    double *x, *f;         /* (k) scaled unknowns / residual */
-    double *xt, *ft, *dx;  /* (k) trial point, trial residual, step */
-    double *xs, *xp, *fs;  /* (k) continuation: unknowns at the stage start and at the
+    double *x, *f;        /* (k) scaled unknowns / residual */
+    double *xt, *ft, *dx; /* (k) trial point, trial residual, step */
+    double *xs, *xp, *fs; /* (k) continuation: unknowns at the stage start and at the
                               previous stage, residual at the stage start */
-    double *J;             /* (k x k) scaled Jacobian, row-major */
-    double *work;          /* (k) a right-hand side (condition number, compliance) */
-    double *hyb_f;         /* (k) residual evaluated for GSL's hybrid Jacobian callback */
-    int *switched;         /* (ndisp) a tendon switched between taut and slack in a step */
-    double *LU;            /* (k x k) LU factors, row-major (tru_lu_factor) */
-    int *piv;              /* (k) their row swaps */
-    double fnorm;          /* max-norm of f */
+    double *J;            /* (k x k) scaled Jacobian, row-major */
+    double *work;         /* (k) a right-hand side (condition number, compliance) */
+    double *hyb_f;        /* (k) residual evaluated for GSL's hybrid Jacobian callback */
+    int *switched;        /* (ndisp) a tendon switched between taut and slack in a step */
+    double *LU;           /* (k x k) LU factors, row-major (tru_lu_factor) */
+    int *piv;             /* (k) their row swaps */
+    double fnorm;         /* max-norm of f */
     int have_J, J_fresh, J_refresh;
     int jac_method;  /* tr_jacobian_method in use (continuation: TR_JAC_NEWTON) */
     int steps_moved; /* 1 once the step verification ran: polish the residual below tol */

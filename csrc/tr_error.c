@@ -19,8 +19,7 @@ const char *tr_strerror(int status)
     case TR_UNSTABLE: return "converged to an unstable equilibrium";
     case TR_FRICTION_HELD:
         return "converged with channel friction; the frictionless twin of the state is unstable";
-    case TR_ROUNDOFF:
-        return "converged to the residual's round-off floor, which lies above tol";
+    case TR_ROUNDOFF: return "converged to the residual's round-off floor, which lies above tol";
     case TR_CONTINUE: return "iteration in progress";
     case TR_EINVAL: return "invalid model or option";
     case TR_ENOMEM: return "out of memory";

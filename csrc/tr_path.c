@@ -27,7 +27,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-
 #include "tr_internal.h"
 #include "tr_path.h"
 #include "tru_math.h"
