@@ -62,7 +62,9 @@ enum {
 #define TR_ARMIJO 1e-4
 /* Smallest line-search step before giving up. */
 #define TR_ALPHA_MIN 1e-6
-/* A stalled scaled residual below this is probably round-off, not a bad model. */
+/* A stalled scaled residual below this is probably round-off, not a bad model; and the
+ * largest round-off floor of the residual (tr_roundoff_floor) at which a solve counts as
+ * converged above tol (TR_ROUNDOFF). */
 #define TR_ROUNDOFF_HINT 1e-8
 /* A Broyden step reducing the residual by less than this factor triggers a
  * fresh finite-difference Jacobian. */

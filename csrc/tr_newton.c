@@ -339,26 +339,35 @@ int tr_solve_init(const tr_model *m_, tr_data *d, const double *guess, const dou
  * back to the base, so its force is of the order of the tensions' sum however small the
  * load: rounded along the integration at that size (then turned into every component by
  * the curvature), it leaves a noise of eps sum|tau| / (EI/L^2) in the force residuals and
- * eps sum|tau| r_max / (EI/L) in the moment ones, beside eps times the base reaction and
- * the loads (scaled).  The length residuals are differences of lengths of the order of L,
- * their noise eps L / r_max far below. */
+ * eps sum|tau_i| r_i / (EI/L) in the moment ones (r_i the tendon's largest offset), beside
+ * eps times the base reaction and the loads (scaled).  The length residuals are
+ * differences of lengths of the order of L, their noise eps L / r_max far below. */
 double tr_roundoff_floor(const tr_model *m_, const tr_data *d)
 {
     const tr_model *m = TR_IN(m_, d);
-    double tau = 0.0, big = tr_load_scale(m), len = m->L / m->len_s;
+    double tau = 0.0, taur = 0.0, big = tr_load_scale(m), len = m->L / m->len_s;
     int i;
-    for (i = 0; i < m->nt; i++)
-        if (isfinite(d->tau[i])) tau += fabs(d->tau[i]);
+    for (i = 0; i < m->nt; i++) {
+        const tr_tendon *t = m->tendon + i;
+        const double r = t->route == TR_ROUTE_LINEAR ? fabs(t->b) + fabs(t->a) * t->t : m->len_s;
+        if (!isfinite(d->tau[i])) continue;
+        tau += fabs(d->tau[i]);
+        taur += fabs(d->tau[i]) * r;
+    }
     for (i = 0; i < tr_n_force(m); i++)
         if (fabs(d->x[i]) > big) big = fabs(d->x[i]);
-    big += tau / m->F_s > tau * m->len_s / m->M_s ? tau / m->F_s : tau * m->len_s / m->M_s;
+    big += tau / m->F_s > taur / m->M_s ? tau / m->F_s : taur / m->M_s;
     return DBL_EPSILON * (big > len ? big : len);
 }
 
+/* tol, or the residual's round-off floor where that is below TR_ROUNDOFF_HINT (a floor
+ * above it leaves no digits worth the name: such a scene fails as it did). */
 int tr_solve_test(const tr_model *m_, const tr_data *d)
 {
     const tr_model *m = TR_IN(m_, d);
-    return d->fnorm <= tr_tol(d) || d->fnorm <= tr_roundoff_floor(m, d) ? TR_OK : TR_CONTINUE;
+    const double fl = tr_roundoff_floor(m, d);
+    return d->fnorm <= tr_tol(d) || (d->fnorm <= fl && fl <= TR_ROUNDOFF_HINT) ? TR_OK
+                                                                               : TR_CONTINUE;
 }
 
 /* Backtracking line search along d->dx from d->x: the first alpha with the Armijo

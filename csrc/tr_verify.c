@@ -12,11 +12,13 @@
 
 /* A truncation estimate no larger than tol, or than the round-off floor of the two
  * residuals it differences (tr_roundoff_floor each, divided by 1 - 2^-p as the estimate
- * is): below that, the estimate cannot be told from zero. */
+ * is; a floor below TR_ROUNDOFF_HINT, as tr_solve_test's): below that, the estimate
+ * cannot be told from zero. */
 static int estimate_within(const tr_model *m, const tr_data *d, double est, double tol)
 {
     const double order = d->opt.integrator == TR_RK4 ? 4.0 : 8.0;
-    return est <= tol || est <= 2.0 * tr_roundoff_floor(m, d) / (1.0 - pow(2.0, -order));
+    const double fl = tr_roundoff_floor(m, d);
+    return est <= tol || (est <= 2.0 * fl / (1.0 - pow(2.0, -order)) && fl <= TR_ROUNDOFF_HINT);
 }
 
 /* Step-doubling estimate of the truncation error at the current steps N and x:
