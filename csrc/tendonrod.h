@@ -59,6 +59,11 @@ enum tr_status {
                                 tested), but the frictionless twin of the state (mu = 0, the
                                 same tensions) is unstable: friction alone holds it, if it
                                 does; a success with a caveat (d->stab_twin) */
+    TR_ROUNDOFF = 7,        /* converged to the residual's round-off floor: the iteration
+                                made no more progress with the scaled residual above tol but
+                                below the floor (the unit round-off times the largest internal
+                                force and moment the residual sums, in EI/L^2 and EI/L), where
+                                it cannot be told from zero; a success with a caveat */
     TR_CONTINUE = 100,      /* iteration in progress (tr_solve_iterate/test only) */
     TR_EINVAL = -1,         /* invalid model or option value */
     TR_ENOMEM = -2,         /* allocation failed */
@@ -454,8 +459,8 @@ tr_data *tr_data_alloc(const tr_model *m, const tr_options *opt, int nnode, cons
  *     its (k + 1)-square bordered system; an actuation: every tendon a control, a target
  *     of 6 components); without it each call allocates its own and frees them.
  * Measured on a Python tr.solve warm from a guess (no verdict needed): GRIDS +25 us,
- * FINEST +160 us, FINEST | CONFIRM ~ +300 us.  GSL's LU factorisation still allocates its
- * pivot vector per call (GSL >= 2.7). */
+ * FINEST +160 us, FINEST | CONFIRM ~ +300 us.  The LU factorisations are the core's own
+ * (GSL >= 2.7's allocated a pivot vector per call), so GSL allocates nothing either. */
 enum {
     TR_ALLOC_GRIDS = 1,
     TR_ALLOC_FINEST = 2,
@@ -498,7 +503,10 @@ int tr_solve_init(const tr_model *m, tr_data *d, const double *guess, const doub
 /* One damped Newton/Broyden iteration with backtracking.  Returns TR_CONTINUE,
  * or a negative status. */
 int tr_solve_iterate(const tr_model *m, tr_data *d);
-/* TR_OK when the scaled residual max-norm <= tol, else TR_CONTINUE. */
+/* TR_OK when the scaled residual max-norm <= tol, or <= the residual's round-off floor
+ * (the unit round-off times the largest internal force and moment the residual sums, in
+ * EI/L^2 and EI/L: a smaller residual cannot be told from zero), else TR_CONTINUE.  A
+ * solve that converges above tol by the floor ends TR_ROUNDOFF. */
 int tr_solve_test(const tr_model *m, const tr_data *d);
 /* One-call driver: init, iterate, continuation on failure, confirmation of an
  * equilibrium found off the load path, step verification (steps = 0), conditioning
@@ -524,12 +532,14 @@ int tr_solve_from(const tr_model *m, tr_data *d, const double *guess, const doub
                   const tr_verified *v);
 /* The same, warm from the last successful solve in this workspace (its unknowns,
  * Jacobian and verified step count, kept in the workspace); cold if there is none.
- * The model's values may have changed since (tr_model_set_values). */
+ * The workspace's values may have changed since (tr_data_set_values). */
 int tr_solve_warm(const tr_model *m, tr_data *d);
 /* Forget the last successful solve (the next tr_solve_warm starts cold). */
 void tr_forget(tr_data *d);
 /* A hook the solve calls about every TR_POLL_INTERVAL of wall time (at most), from the
  * thread that runs it; a nonzero return stops the solve promptly with TR_EINTERRUPTED.
+ * The interval runs across solves, so a loop of solves each shorter than it reaches the
+ * hook too.
  * NULL: none.  The workspace stays usable after an interrupted solve. */
 void tr_set_poll(tr_data *d, int (*poll)(void *ctx), void *ctx);
 /* Recording pass at the current unknowns: fills s, pos, rot, force, moment,

@@ -254,7 +254,10 @@ static int solve_point(batch_ws *w, const tr_batch_in *in, int have, int record,
         *nit = d->nit;
         *nfev = d->nfev;
         spent = d->spent;
-        if (st == TR_OK || st == TR_EINTERRUPTED) return st;
+        /* an interrupt during the lean solve's verdict or recording stops the point too
+         * (the full solve would start a new poll and lose it) */
+        if (d->stop == TR_EINTERRUPTED) return TR_EINTERRUPTED;
+        if (st == TR_OK) return st;
     }
     if (*cold)
         st = tr_solve(m, d, NULL, NULL);

@@ -181,8 +181,8 @@ void tr_data_free(tr_data *d)
     if (!d) return;
     free(d->x);
     free(d->J);
-    if (d->LU) gsl_matrix_free(d->LU);
-    if (d->perm) gsl_permutation_free(d->perm);
+    free(d->LU);
+    free(d->piv);
     free(d->tau);
     free(d->fric_done);
     free(d->val_ver);
@@ -219,8 +219,8 @@ static int alloc_buffers(const tr_model *m, tr_data *d)
     d->x = (double *)calloc((size_t)13 * k + 1, sizeof(double));
     d->J = (double *)calloc((size_t)k * k + 1, sizeof(double));
     d->x_last = (double *)calloc((size_t)k * (k + 3) + 1, sizeof(double));
-    d->LU = gsl_matrix_alloc(k > 0 ? k : 1, k > 0 ? k : 1);
-    d->perm = gsl_permutation_alloc(k > 0 ? k : 1);
+    d->LU = (double *)calloc((size_t)k * k + 1, sizeof(double));
+    d->piv = (int *)calloc((size_t)k + 1, sizeof(int));
     d->tau = (double *)calloc((size_t)6 * nt + (TR_FRIC_NCOL + 9) * (size_t)m->nfric + 1,
                               sizeof(double));
     d->fric_done = (int *)calloc((size_t)m->nfric + 1, sizeof(int));
@@ -232,8 +232,8 @@ static int alloc_buffers(const tr_model *m, tr_data *d)
     d->x_guess =
         (double *)calloc((size_t)4 * k + nt + 7 * ((size_t)m->nseg + 1) + 4, sizeof(double));
     d->bp_pose = (double *)calloc((size_t)12 * (m->nseg + 1), sizeof(double));
-    if (!d->bp_pose || !d->lin_C || !d->lin_act || !d->x || !d->J || !d->LU || !d->perm ||
-        !d->tau || !d->y || !d->Yx || !d->x_last || !d->x_guess || !d->fric_done || !d->val_ver)
+    if (!d->bp_pose || !d->lin_C || !d->lin_act || !d->x || !d->J || !d->LU || !d->piv || !d->tau ||
+        !d->y || !d->Yx || !d->x_last || !d->x_guess || !d->fric_done || !d->val_ver)
         return -1;
     d->f_guess = d->x_guess + k;
     d->x_alt = d->x_guess + 2 * k;
@@ -425,8 +425,8 @@ static size_t round16(size_t bytes)
 size_t tr_path_len(int nt, int nl, int k)
 {
     const size_t n = (size_t)k + 1;
-    /* the value vector, the bordered Jacobian and its LU, 12 n-vectors, rhs and solution */
-    return (size_t)nt + 6 * (size_t)nl + 3 + 2 * n * n + 14 * n;
+    /* the value vector, the bordered Jacobian and its LU, 12 n-vectors */
+    return (size_t)nt + 6 * (size_t)nl + 3 + 2 * n * n + 12 * n;
 }
 
 size_t tr_act_run_len(int nt, int k, int n, int mt)
@@ -453,7 +453,7 @@ static int alloc_calls(const tr_model *m, tr_data *d)
     const int nt = m->nt, k = d->k;
     size_t ilen, path, act;
     path = round16(tr_path_len(nt, m->nl, k) * sizeof(double)) +
-           round16(((size_t)k + 1) * sizeof(size_t));
+           round16(((size_t)k + 1) * sizeof(int));
     act = round16(tr_act_run_len(nt, k, nt, 6) * sizeof(double)) +
           round16(((size_t)nt + 1) * sizeof(tr_param));
     act +=

@@ -6,7 +6,6 @@
 #define TR_DATA_H
 
 #include <gsl/gsl_matrix.h>
-#include <gsl/gsl_permutation.h>
 #include <gsl/gsl_odeiv2.h>
 #include <gsl/gsl_multiroots.h>
 
@@ -34,17 +33,17 @@ struct tr_data {
     tr_options opt;   /* options of this workspace */
     int k;            /* number of unknowns */
     /* iteration */
-    double *x, *f;         /* (k) scaled unknowns / residual */
-    double *xt, *ft, *dx;  /* (k) trial point, trial residual, step */
-    double *xs, *xp, *fs;  /* (k) continuation: unknowns at the stage start and at the
+    double *x, *f;        /* (k) scaled unknowns / residual */
+    double *xt, *ft, *dx; /* (k) trial point, trial residual, step */
+    double *xs, *xp, *fs; /* (k) continuation: unknowns at the stage start and at the
                               previous stage, residual at the stage start */
-    double *J;             /* (k x k) scaled Jacobian, row-major */
-    double *work;          /* (k) a right-hand side (condition number, compliance) */
-    double *hyb_f;         /* (k) residual evaluated for GSL's hybrid Jacobian callback */
-    int *switched;         /* (ndisp) a tendon switched between taut and slack in a step */
-    gsl_matrix *LU;        /* (k x k) LU factors */
-    gsl_permutation *perm; /* (k) */
-    double fnorm;          /* max-norm of f */
+    double *J;            /* (k x k) scaled Jacobian, row-major */
+    double *work;         /* (k) a right-hand side (condition number, compliance) */
+    double *hyb_f;        /* (k) residual evaluated for GSL's hybrid Jacobian callback */
+    int *switched;        /* (ndisp) a tendon switched between taut and slack in a step */
+    double *LU;           /* (k x k) LU factors, row-major (tru_lu_factor) */
+    int *piv;             /* (k) their row swaps */
+    double fnorm;         /* max-norm of f */
     int have_J, J_fresh, J_refresh;
     int jac_method;  /* tr_jacobian_method in use (continuation: TR_JAC_NEWTON) */
     int steps_moved; /* 1 once the step verification ran: polish the residual below tol */
@@ -102,7 +101,7 @@ struct tr_data {
     int finishing;          /* 1 while the final outputs are computed: beyond the budget */
     int (*poll)(void *ctx); /* called about every TR_POLL_INTERVAL; nonzero: stop */
     void *poll_ctx;         /* its argument */
-    double t_start, t_poll; /* wall clock at the solve's start and at the last poll [s] */
+    double t_start, t_poll; /* wall clock at the solve's start and at the hook's last call [s] */
     /* the last successful solve, for tr_solve_warm */
     double *x_last; /* (k) its scaled unknowns */
     double *J_last; /* (k x k) its Jacobian */

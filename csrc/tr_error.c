@@ -19,6 +19,7 @@ const char *tr_strerror(int status)
     case TR_UNSTABLE: return "converged to an unstable equilibrium";
     case TR_FRICTION_HELD:
         return "converged with channel friction; the frictionless twin of the state is unstable";
+    case TR_ROUNDOFF: return "converged to the residual's round-off floor, which lies above tol";
     case TR_CONTINUE: return "iteration in progress";
     case TR_EINVAL: return "invalid model or option";
     case TR_ENOMEM: return "out of memory";
@@ -51,6 +52,17 @@ void tr_message_converged(char *msg, size_t len, int nit, double residual, doubl
 {
     tr_msgf(msg, len, "converged in %d iterations (scaled residual %.3g <= tol %.3g)", nit,
             residual, tol);
+}
+
+void tr_message_floor(char *msg, size_t len, int nit, double residual, double tol, double floor)
+{
+    tr_msgf(msg, len,
+            "converged in %d iterations to the residual's round-off floor: the scaled residual "
+            "%.3g is above tol %.3g but at or below the floor %.3g (the unit round-off times the "
+            "largest internal force and moment the residual sums, in EI/L^2 and EI/L; large "
+            "tensions), where it cannot be told from zero; a tol below the floor cannot be "
+            "verified: loosen tol to at least %.2g",
+            nit, residual, tol, floor, floor);
 }
 
 void tr_set_message(tr_data *d, const char *fmt, ...)

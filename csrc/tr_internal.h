@@ -62,7 +62,9 @@ enum {
 #define TR_ARMIJO 1e-4
 /* Smallest line-search step before giving up. */
 #define TR_ALPHA_MIN 1e-6
-/* A stalled scaled residual below this is probably round-off, not a bad model. */
+/* A stalled scaled residual below this is probably round-off, not a bad model; and the
+ * largest round-off floor of the residual (tr_roundoff_floor) at which a solve counts as
+ * converged above tol (TR_ROUNDOFF). */
 #define TR_ROUNDOFF_HINT 1e-8
 /* A Broyden step reducing the residual by less than this factor triggers a
  * fresh finite-difference Jacobian. */
@@ -624,7 +626,15 @@ static inline double tr_tol(const tr_data *d)
     return d->tol_override > 0.0 ? d->tol_override : d->opt.tol;
 }
 
+/* tr_error.c: the message of a solve that converged to its residual's round-off floor
+ * (TR_ROUNDOFF), the scaled residual above tol but below the floor. */
+void tr_message_floor(char *msg, size_t len, int nit, double residual, double tol, double floor);
+
 /* tr_newton.c */
+/* The round-off floor of the scaled residual at the last evaluation (d->tau, d->x): the
+ * unit round-off times the largest terms the residual sums.  tr_solve_test's second rule:
+ * a residual at or below it has converged (above tol: TR_ROUNDOFF). */
+double tr_roundoff_floor(const tr_model *m, const tr_data *d);
 /* Reset the counters and the per-solve state of d for a solve at `steps` steps. */
 void tr_solve_reset(const tr_model *m, tr_data *d, int steps);
 /* Forward-difference Jacobian at d->x (d->f) into d->J. */

@@ -27,8 +27,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include <gsl/gsl_linalg.h>
-
 #include "tr_internal.h"
 #include "tr_path.h"
 #include "tru_math.h"
@@ -38,9 +36,8 @@ typedef struct {
     double *vals;   /* (nt + 6 nl + 3) the value vector (TR_PATH_SLOT) */
     double lam_set; /* lambda whose value is set in the model */
     double *A;      /* (n x n) bordered Jacobian, row-major */
-    gsl_matrix *LU; /* (n x n) a view of lu_v */
-    gsl_permutation *perm;
-    gsl_vector *rhs, *sol;                          /* (n) views */
+    double *LU;     /* (n x n) LU factors, row-major (tru_lu_factor) */
+    int *piv;       /* (n) their row swaps */
     double *F, *X, *Xa, *ta, *t, *c, *Xt, *Xb, *tb; /* (n) each */
     double *r, *dx, *Xs;                            /* (n) each: the corrector's */
     double det_sign;                                /* sign of the last factored determinant */
@@ -51,18 +48,14 @@ typedef struct {
     int last;          /* 1: the new point is at p1; 2: back at p0 */
     int jump;          /* 1: the last located sign change was a jump (refine) */
     char msg[TR_MSGLEN];
-    /* the buffers: one block of doubles and the permutation's indices, taken from the
-     * workspace (tr_data_take: its TR_ALLOC_CALLS reserve, else allocated) */
+    /* the buffers: one block of doubles and the row swaps, taken from the workspace
+     * (tr_data_take: its TR_ALLOC_CALLS reserve, else allocated) */
     double *block;
-    size_t *pidx;
-    gsl_matrix_view lu_v;
-    gsl_vector_view rhs_v, sol_v;
-    gsl_permutation perm_s;
 } path_ws;
 
 static void ws_free(path_ws *w, tr_data *d)
 {
-    tr_data_drop(d, w->pidx);
+    tr_data_drop(d, w->piv);
     tr_data_drop(d, w->block);
 }
 
@@ -76,19 +69,11 @@ static int ws_alloc(path_ws *w, const tr_model *m, tr_data *d, const tr_path_spe
     w->k = d->k;
     w->n = n;
     w->block = (double *)tr_data_take(d, tr_path_len(m->nt, m->nl, d->k) * sizeof(double));
-    w->pidx = (size_t *)tr_data_take(d, (size_t)n * sizeof(size_t));
-    if (!w->block || !w->pidx) return TR_ENOMEM;
+    w->piv = (int *)tr_data_take(d, (size_t)n * sizeof(int));
+    if (!w->block || !w->piv) return TR_ENOMEM;
     w->A = w->block;
-    w->lu_v = gsl_matrix_view_array(w->A + n2, (size_t)n, (size_t)n);
-    w->rhs_v = gsl_vector_view_array(w->A + 2 * n2, (size_t)n);
-    w->sol_v = gsl_vector_view_array(w->A + 2 * n2 + n, (size_t)n);
-    w->LU = &w->lu_v.matrix;
-    w->rhs = &w->rhs_v.vector;
-    w->sol = &w->sol_v.vector;
-    w->perm_s.size = (size_t)n;
-    w->perm_s.data = w->pidx;
-    w->perm = &w->perm_s;
-    w->F = w->A + 2 * n2 + 2 * n;
+    w->LU = w->A + n2;
+    w->F = w->A + 2 * n2;
     w->X = w->F + n;
     w->Xa = w->X + n;
     w->ta = w->Xa + n;
@@ -162,25 +147,20 @@ static int jacobian(path_ws *w, const tr_model *m, tr_data *d, const tr_path_spe
     if (st != TR_OK) return st;
     for (i = 0; i < k; i++) w->A[i * n + k] = (ft[i] - w->F[i]) / h;
     for (j = 0; j < n; j++) w->A[k * n + j] = c[j];
-    for (i = 0; i < n * n; i++) gsl_matrix_set(w->LU, (size_t)(i / n), (size_t)(i % n), w->A[i]);
+    memcpy(w->LU, w->A, (size_t)n * n * sizeof(double));
     d->spent += tr_lu_work(n, tr_nonzero_fraction(w->A, n, (size_t)n));
-    if (gsl_linalg_LU_decomp(w->LU, w->perm, &signum) != GSL_SUCCESS) return TR_ESINGULAR;
+    tru_lu_factor(n, w->LU, n, w->piv, &signum);
     w->det_sign = signum;
-    for (i = 0; i < n; i++) {
-        const double u = gsl_matrix_get(w->LU, (size_t)i, (size_t)i);
-        if (u == 0.0) return TR_ESINGULAR;
-        if (u < 0.0) w->det_sign = -w->det_sign;
-    }
+    for (i = 0; i < n; i++)
+        if (!(w->LU[(size_t)i * n + i] != 0.0)) return TR_ESINGULAR;
     return TR_OK;
 }
 
 /* The solution of the factored bordered system with right-hand side r (n) into out. */
 static void lu_solve(path_ws *w, const double *r, double *out)
 {
-    int i;
-    for (i = 0; i < w->n; i++) gsl_vector_set(w->rhs, (size_t)i, r[i]);
-    gsl_linalg_LU_solve(w->LU, w->perm, w->rhs, w->sol);
-    for (i = 0; i < w->n; i++) out[i] = gsl_vector_get(w->sol, (size_t)i);
+    if (out != r) memcpy(out, r, (size_t)w->n * sizeof(double));
+    tru_lu_solve(w->n, w->LU, w->n, w->piv, out);
 }
 
 static double dot(const double *a, const double *b, int n)
@@ -260,18 +240,14 @@ static int tangent(path_ws *w, const tr_model *m, tr_data *d, const tr_path_spec
     if (dot(t, dir, n) < 0.0) nrm = -nrm;
     for (i = 0; i < n; i++) t[i] /= nrm;
     /* the determinant with the tangent itself in the last row (LU refactored) */
-    for (i = 0; i < n; i++) gsl_matrix_set(w->LU, (size_t)(n - 1), (size_t)i, t[i]);
-    for (i = 0; i < n * n - n; i++)
-        gsl_matrix_set(w->LU, (size_t)(i / n), (size_t)(i % n), w->A[i]);
+    memcpy(w->LU, w->A, (size_t)(n * n - n) * sizeof(double));
+    memcpy(w->LU + (size_t)(n - 1) * n, t, (size_t)n * sizeof(double));
     {
         int signum;
         d->spent += tr_lu_work(n, tr_nonzero_fraction(w->A, n, (size_t)n));
-        if (gsl_linalg_LU_decomp(w->LU, w->perm, &signum) != GSL_SUCCESS) return TR_ESINGULAR;
+        tru_lu_factor(n, w->LU, n, w->piv, &signum);
         *det = signum;
-        for (i = 0; i < n; i++) {
-            const double u = gsl_matrix_get(w->LU, (size_t)i, (size_t)i);
-            *det *= u;
-        }
+        for (i = 0; i < n; i++) *det *= fabs(w->LU[(size_t)i * n + i]);
     }
     return TR_OK;
 }

@@ -6,7 +6,9 @@
  * weighted by their cost, tr_model.rhs_work) is checked every time (deterministic); the wall clock is read and,
  * at most every TR_POLL_INTERVAL, the caller's hook is called (the Python glue checks
  * for Ctrl-C there).  Once a poll says stop, the answer sticks (d->stop) until the next
- * solve starts, so every loop of the solver unwinds at once.
+ * solve starts, so every loop of the solver unwinds at once.  The interval runs from the
+ * hook's last call (or its installation), across solves: a caller's loop of solves each
+ * shorter than the interval (a batch's lean solves, a sweep) still reaches the hook.
  */
 #define _POSIX_C_SOURCE 200809L
 #include <math.h>
@@ -26,6 +28,7 @@ void tr_set_poll(tr_data *d, int (*poll)(void *ctx), void *ctx)
 {
     d->poll = poll;
     d->poll_ctx = ctx;
+    d->t_poll = tr_clock();
 }
 
 void tr_poll_start(tr_data *d)
@@ -33,7 +36,7 @@ void tr_poll_start(tr_data *d)
     d->stop = TR_OK;
     d->finishing = 0;
     d->spent = 0.0;
-    d->t_start = d->t_poll = tr_clock();
+    d->t_start = tr_clock(); /* the hook's interval (t_poll) runs on across solves */
 }
 
 int tr_poll(tr_data *d)

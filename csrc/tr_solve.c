@@ -583,7 +583,23 @@ static int solve_record(const tr_model *m, tr_data *d, int status)
         status = rs;
         tr_set_message(d, "the recording pass failed: %s", tr_strerror(rs));
     }
-    if (status == TR_OK) {
+    /* converged above tol: at the residual's round-off floor (tr_solve_test); a step
+     * count the doubling could not verify then says so after it */
+    if ((status == TR_OK || status == TR_TRUNCATION) && d->residual_norm > d->opt.tol) {
+        char trunc[TR_MSGLEN];
+        memcpy(trunc, d->message, TR_MSGLEN);
+        tr_message_floor(d->message, TR_MSGLEN, d->nit, d->residual_norm, d->opt.tol,
+                         tr_roundoff_floor(m, d));
+        if (status == TR_TRUNCATION && trunc[0]) {
+            const size_t len = strlen(d->message);
+            snprintf(d->message + len, TR_MSGLEN - len, "; %s", trunc);
+        }
+        status = TR_ROUNDOFF;
+        if (d->branch_note[0]) {
+            const size_t len = strlen(d->message);
+            snprintf(d->message + len, TR_MSGLEN - len, "; %s", d->branch_note);
+        }
+    } else if (status == TR_OK) {
         tr_message_converged(d->message, TR_MSGLEN, d->nit, d->residual_norm, d->opt.tol);
         if (d->branch_note[0]) {
             const size_t len = strlen(d->message);

@@ -10,6 +10,17 @@
 #include "tr_internal.h"
 #include "tru_math.h"
 
+/* A truncation estimate no larger than tol, or than the round-off floor of the two
+ * residuals it differences (tr_roundoff_floor each, divided by 1 - 2^-p as the estimate
+ * is; a floor below TR_ROUNDOFF_HINT, as tr_solve_test's): below that, the estimate
+ * cannot be told from zero. */
+static int estimate_within(const tr_model *m, const tr_data *d, double est, double tol)
+{
+    const double order = d->opt.integrator == TR_RK4 ? 4.0 : 8.0;
+    const double fl = tr_roundoff_floor(m, d);
+    return est <= tol || (est <= 2.0 * fl / (1.0 - pow(2.0, -order)) && fl <= TR_ROUNDOFF_HINT);
+}
+
 /* Step-doubling estimate of the truncation error at the current steps N and x:
  * the change of the residual (into d->f at N, d->ft at 2N) and of the scaled tip
  * state when every segment's steps are doubled, divided by (1 - 2^-p).  Returns
@@ -59,7 +70,7 @@ int tr_verify_fixed(const tr_model *m_, tr_data *d, int status)
     d->finishing = finishing;
     if (d->stop) return status;
     d->truncation = est;
-    if (status == TR_OK && !(est <= TR_FIXED_TRUNC_WARN * d->opt.tol)) {
+    if (status == TR_OK && !estimate_within(m, d, est, TR_FIXED_TRUNC_WARN * d->opt.tol)) {
         tr_set_message(d,
                        "converged, but the truncation error at the fixed %d steps is estimated "
                        "at %.3g (scaled, by step doubling), above %g x tol: the answer is "
@@ -103,7 +114,7 @@ int tr_verify_steps(const tr_model *m_, tr_data *d)
         int status;
         if (d->stop) return d->stop;
         d->truncation = est;
-        if (est <= d->opt.tol) {
+        if (estimate_within(m, d, est, d->opt.tol)) {
             /* N steps verified; the polish that follows may still reduce the
              * residual at N (a converged residual near tol is not polished yet) */
             d->steps_moved = 1;

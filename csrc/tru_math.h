@@ -137,4 +137,88 @@ static inline int tru_solve_dense(int n, double *A, double *b)
     return 0;
 }
 
+/* P A = L U in place by Gaussian elimination with partial pivoting (A n x n, row-major,
+ * leading dimension lda; L unit lower below the diagonal, U on and above): row c was
+ * swapped with row piv[c] >= c at step c.  *sign: the sign of det A (0 if a pivot
+ * column is zero: the column is then left as it is, U has a zero on its diagonal).
+ * Never fails and allocates nothing; whether U is usable is the caller's to judge. */
+static inline void tru_lu_factor(int n, double *A, int lda, int *piv, int *sign)
+{
+    int i, j, c, sg = 1;
+    for (c = 0; c < n; c++) {
+        double *rc = A + (size_t)c * lda, amax = fabs(rc[c]);
+        int p = c;
+        for (i = c + 1; i < n; i++) {
+            const double ai = fabs(A[(size_t)i * lda + c]);
+            if (ai > amax) amax = ai, p = i;
+        }
+        piv[c] = p;
+        if (p != c) {
+            double *rp = A + (size_t)p * lda;
+            for (j = 0; j < n; j++) {
+                const double t = rc[j];
+                rc[j] = rp[j], rp[j] = t;
+            }
+            sg = -sg;
+        }
+        if (!(amax > 0.0)) {
+            if (!(amax == amax)) continue; /* NaN: left for the caller's check */
+            sg = 0;
+            continue;
+        }
+        if (rc[c] < 0.0) sg = -sg;
+        for (i = c + 1; i < n; i++) {
+            double *ri = A + (size_t)i * lda;
+            const double l = ri[c] / rc[c];
+            ri[c] = l;
+            if (l != 0.0)
+                for (j = c + 1; j < n; j++) ri[j] -= l * rc[j];
+        }
+    }
+    *sign = sg;
+}
+
+/* A x = b from tru_lu_factor's factors, b overwritten by x. */
+static inline void tru_lu_solve(int n, const double *LU, int lda, const int *piv, double *b)
+{
+    int i, j;
+    for (i = 0; i < n; i++)
+        if (piv[i] != i) {
+            const double t = b[i];
+            b[i] = b[piv[i]], b[piv[i]] = t;
+        }
+    for (i = 1; i < n; i++) {
+        const double *ri = LU + (size_t)i * lda;
+        double s = b[i];
+        for (j = 0; j < i; j++) s -= ri[j] * b[j];
+        b[i] = s;
+    }
+    for (i = n - 1; i >= 0; i--) {
+        const double *ri = LU + (size_t)i * lda;
+        double s = b[i];
+        for (j = i + 1; j < n; j++) s -= ri[j] * b[j];
+        b[i] = s / ri[i];
+    }
+}
+
+/* A^T x = b from tru_lu_factor's factors (A^T = U^T L^T P), b overwritten by x. */
+static inline void tru_lu_solve_trans(int n, const double *LU, int lda, const int *piv, double *b)
+{
+    int i, j;
+    for (j = 0; j < n; j++) { /* U^T z = b: column j of U, forward */
+        const double bj = b[j] / LU[(size_t)j * lda + j];
+        b[j] = bj;
+        for (i = j + 1; i < n; i++) b[i] -= LU[(size_t)j * lda + i] * bj;
+    }
+    for (j = n - 1; j >= 0; j--) { /* L^T y = z: unit, backward */
+        const double bj = b[j];
+        for (i = 0; i < j; i++) b[i] -= LU[(size_t)j * lda + i] * bj;
+    }
+    for (i = n - 1; i >= 0; i--)
+        if (piv[i] != i) {
+            const double t = b[i];
+            b[i] = b[piv[i]], b[piv[i]] = t;
+        }
+}
+
 #endif /* TRU_MATH_H */

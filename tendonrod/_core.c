@@ -69,6 +69,7 @@ static int add_constants(PyObject *module)
         PyModule_AddIntConstant(module, "STATUS_CONFIRMED", TR_CONFIRMED) < 0 ||
         PyModule_AddIntConstant(module, "STATUS_TRUNCATION", TR_TRUNCATION) < 0 ||
         PyModule_AddIntConstant(module, "STATUS_FRICTION_HELD", TR_FRICTION_HELD) < 0 ||
+        PyModule_AddIntConstant(module, "STATUS_ROUNDOFF", TR_ROUNDOFF) < 0 ||
         PyModule_AddIntConstant(module, "STATUS_UNSTABLE", TR_UNSTABLE) < 0 ||
         PyModule_AddIntConstant(module, "STATUS_EBUDGET", TR_EBUDGET) < 0 ||
         PyModule_AddIntConstant(module, "STATUS_EINTERRUPTED", TR_EINTERRUPTED) < 0)

@@ -338,9 +338,14 @@ def _in_rod_units(sol) -> str:
 def _report(sol, strict: bool, who: str) -> None:
     """A failed solve is never silent: ConvergenceError (strict) or ConvergenceWarning.
     A success the core flags with a caveat its message explains (only as accurate as its
-    truncation error; held by friction only, its frictionless twin unstable) warns too."""
+    truncation error; held by friction only, its frictionless twin unstable; converged to
+    its round-off floor above tol) warns too."""
     if sol.success:
-        if sol.status in (_core.STATUS_TRUNCATION, _core.STATUS_FRICTION_HELD):
+        if sol.status in (
+            _core.STATUS_TRUNCATION,
+            _core.STATUS_FRICTION_HELD,
+            _core.STATUS_ROUNDOFF,
+        ):
             warnings.warn(
                 f"{who}: {sol.message}", ConvergenceWarning, stacklevel=_user_stacklevel()
             )

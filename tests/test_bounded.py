@@ -213,7 +213,10 @@ def test_pathological_solves_stay_within_their_caps(name):
     assert r["work"] <= opts.max_work + 1e6, note
     if r["success"]:
         sol = r["sol"]
-        assert r["residual"] <= opts.tol, note
+        # above tol only at the residual's round-off floor, and then saying so
+        assert r["residual"] <= opts.tol or (
+            r["status"] == tr._core.STATUS_ROUNDOFF and "round-off floor" in r["message"]
+        ), note
         for f in ("position", "rotation", "force", "moment", "tension", "slack"):
             assert np.all(np.isfinite(getattr(sol, f))), note
         assert np.all(sol.tension >= 0) and np.all(sol.slack >= 0), note

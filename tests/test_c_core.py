@@ -68,6 +68,18 @@ def test_failed_record_keeps_output_nodes(build):
     assert r.stdout.strip() == "ok"
 
 
+def test_ctrl_c_reaches_a_loop_of_short_solves(build):
+    """The poll hook's interval runs across solves: a loop of warm solves (each far
+    shorter than TR_POLL_INTERVAL) and a batch of lean solves both reach a hook that says
+    stop at its first call, bounded by counting (at most 20000 solves or points), and the
+    batch's interrupt is not lost to its fallback from the lean to the full solve (the
+    hook is called exactly once)."""
+    exe = build(CSRC / "tests" / "poll_loop.c")
+    r = subprocess.run([str(exe)], capture_output=True, text=True, timeout=120)
+    assert r.returncode == 0, r.stderr + r.stdout
+    assert r.stdout.strip() == "ok"
+
+
 def test_threads_share_one_compiled_model(build):
     """One compiled model, several threads at once, each with its own workspace: the
     same calls (values set in the workspace, warm solves, linearisations in the rod's EI
@@ -88,11 +100,11 @@ def test_solves_allocate_nothing(build):
     with a tension), solved cold, then warm and cold again in the same workspace, while
     csrc/tests/alloc_count.c counts every malloc/calloc/realloc by caller.  The core's count
     is 0 in every family (the stability grids with room for the finest and the
-    confirmation's workspace come with the workspace); GSL's LU factorisation allocates its
-    pivot vector per call (GSL >= 2.7), which is counted apart and not asserted.  Then the
+    confirmation's workspace come with the workspace), and so is GSL's: the LU factorisations
+    are the core's own (tru_lu_factor), GSL's steppers come with the workspace.  Then the
     calls over the driver on such workspaces: a path in a tendon's value (planar, spatial)
     and an actuation toward each target kind (angle, direction, position, pose): 0 by the
-    core too (their buffers come from the workspace's TR_ALLOC_CALLS reserve)."""
+    core and by GSL too (their buffers come from the workspace's TR_ALLOC_CALLS reserve)."""
     import sys
 
     if not sys.platform.startswith("linux"):
@@ -103,8 +115,9 @@ def test_solves_allocate_nothing(build):
     solves, calls = r.stdout.split("\n\n")
     rows = [line.split() for line in solves.splitlines()[1:] if line.strip()]
     assert len(rows) == 10, r.stdout
-    for name, core0, _gsl0, core1, _gsl1, status in rows:
+    for name, core0, gsl0, core1, gsl1, status in rows:
         assert (int(core0), int(core1)) == (0, 0), f"{name}: {core0} + {core1} allocations"
+        assert (int(gsl0), int(gsl1)) == (0, 0), f"{name}: {gsl0} + {gsl1} GSL allocations"
         assert int(status) >= 0, f"{name}: the first solve failed ({status})"
     rows = [line.split() for line in calls.splitlines()[1:] if line.strip()]
     assert [row[0] for row in rows] == [
@@ -115,8 +128,9 @@ def test_solves_allocate_nothing(build):
         "actuate_position",
         "actuate_pose",
     ], r.stdout
-    for name, core, _gsl, status in rows:
+    for name, core, gsl, status in rows:
         assert int(core) == 0, f"{name}: {core} allocations"
+        assert int(gsl) == 0, f"{name}: {gsl} GSL allocations"
         assert int(status) >= 0, f"{name}: the call failed ({status})"
 
 

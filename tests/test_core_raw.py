@@ -240,8 +240,17 @@ def test_displacement_tension_round_trip_spatial():
     taut = a["tension"] > 0
     assert taut.sum() >= 2
     t2 = [row[:5] + [1, ta, 0] for row, ta in zip(tendons, a["tension"])]
-    b = solve(COSS, t2, loads, **REF)
+    # Warm from the displacement-controlled state, as a user doing the round trip would:
+    # at these tensions (~190 N each, 4.5 EI/r^2) the tension-controlled
+    # scene has more than one stable equilibrium (a cold solve from the straight robot has
+    # reached a looped one, tip below the base, stable with margin 0.99 EI/L, as the
+    # rounding of the Newton steps varied).  The guess's base moment is off by 2 % of its
+    # largest component, so that the tension-controlled Newton iteration does work.
+    g = np.concatenate([a["force"][0], a["moment"][0], a["tension"], a["slack"]])
+    g[3:6] += 0.02 * np.max(np.abs(g[3:6]))
+    b = solve(COSS, t2, loads, guess=g, **REF)
     assert b["success"], b["message"]
+    assert b["nit"] >= 1
     # same state; the tension-controlled solve reports the actuator displacement back
     np.testing.assert_allclose(b["position"], a["position"], atol=1e-10 * L)
     np.testing.assert_allclose(b["displacement"][taut], a["displacement"][taut], atol=1e-11)
@@ -279,6 +288,43 @@ def test_slack_far_past_critical_load_converges():
     assert res["success"], res["message"]
     assert res["tension"][0] == 0 and res["slack"][0] > 0
     assert res["formulation"]["slack_model"] == "linear"
+
+
+def test_tol_below_the_round_off_floor_is_a_success_with_its_caveat():
+    """A tol below what the arithmetic can verify: the scaled residual sums terms of the
+    size of the tensions (in EI/L^2; the moments with r, the lengths of the size of L in
+    units of r), so it cannot be told from zero below eps times them.  The solve stops
+    there with TR_ROUNDOFF (7), a success whose message names the floor, at the same
+    state as a solve at a reachable tol."""
+    P = 0.2
+    ok = _fig17(P, tol=1e-10)
+    assert ok["status"] == 0 and ok["residual_norm"] <= 1e-10, ok["message"]
+    fl = _fig17(P, tol=1e-16)
+    assert fl["success"] and fl["status"] == _core.STATUS_ROUNDOFF, fl["message"]
+    assert "round-off floor" in fl["message"]
+    # the floor from the outputs: eps x (the tension and base reaction in EI/L^2, the
+    # tension's moment r tau in EI/L, the tendon's length L in units of its offset r)
+    tau = fl["tension"].sum()
+    reaction = np.abs(fl["unknowns"][:3]).max()
+    floor = np.finfo(float).eps * max(
+        L / R_OFF, reaction + max(tau * L**2 / EI, tau * R_OFF * L / EI)
+    )
+    assert 1e-16 < fl["residual_norm"] <= floor
+    # the same equilibrium: the tip within round-off of the reachable-tol solve's
+    # (1e-12 L: the residuals 1e-14 and 2e-15 scaled, times the condition of the
+    # shooting problem, ~1e2 here)
+    np.testing.assert_allclose(fl["position"][-1], ok["position"][-1], atol=1e-12 * L)
+    # the Python layer says so: a ConvergenceWarning on a success
+    import tendonrod as tr
+
+    rod = tr.Rod(length=L, diameter=D, E=E, G=G, kirchhoff=True)
+    robot = tr.Robot(rod, [tr.Tendon(offset=R_OFF, angle=0.0)])
+    scene = tr.Scene(
+        robot, displacement=[R_OFF * math.pi / 2], loads=[tr.PointLoad(s=L, force=(0, 0, -P))]
+    )
+    with pytest.warns(tr.ConvergenceWarning, match="round-off floor"):
+        sol = tr.solve(scene, options=tr.Options(tol=1e-16))
+    assert sol.success and sol.status == _core.STATUS_ROUNDOFF
 
 
 def test_squared_slack_model_same_solutions():

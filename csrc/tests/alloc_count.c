@@ -228,7 +228,8 @@ static int target_tip(const struct family *f, double tip[12], double *angle)
 
 /* One tr_actuate of kind `kind` with controls tendons 0..nc-1 toward target goal (rows:
  * of a position, m of them; 6 with a rotation: a pose) on family f's workspace, counted:
- * n[0] core, n[1] GSL allocations; its status. */
+ * n[0] core, n[1] GSL allocations; its final solve's status, or -100 - its outcome when
+ * it did not reach the target (every target here is reachable exactly). */
 static int count_actuate(const struct family *f, int kind, int nc, int goal, int mt, long n[2])
 {
     const double r = f->tendon[0][TR_TD_OFFSET], tau = f->EI / (r * f->L);
@@ -278,7 +279,8 @@ static int count_actuate(const struct family *f, int kind, int nc, int goal, int
     st = tr_actuate(m, d, &sp, &res);
     counting = 0;
     n[0] = allocations[0], n[1] = allocations[1];
-    if (st == TR_OK) st = res.status;
+    /* the target is reachable exactly: a run that does not reach it is a failure here */
+    if (st == TR_OK) st = res.success ? res.status : -100 - res.outcome;
     tr_data_free(d);
     tr_model_free(m);
     return st;
@@ -335,7 +337,11 @@ int main(void)
             {"actuate_angle", 2, TR_ACT_SQUARE, 1, TR_TARGET_ANGLE, 1},
             {"actuate_direction", 3, TR_ACT_SQUARE, 2, TR_TARGET_DIRECTION, 2},
             {"actuate_position", 3, TR_ACT_MIN_CHANGE, 3, TR_TARGET_POSITION, 2},
-            {"actuate_pose", 3, TR_ACT_LEAST_SQUARES, 3, TR_TARGET_POSITION, 6},
+            /* a pose by two of the three symmetric tendons: with all three the controls'
+             * common mode (every tendon retracted alike) only raises the tensions on the
+             * inextensible backbone and leaves the tip where it is, so the reachable
+             * controls are a line and the least-squares steps creep along it */
+            {"actuate_pose", 3, TR_ACT_LEAST_SQUARES, 2, TR_TARGET_POSITION, 6},
         };
         for (i = 0; i < (int)(sizeof call / sizeof call[0]); i++) {
             long count[2] = {-1, -1};
