@@ -398,9 +398,12 @@ steps:
         if (st != TR_OK) {
             snprintf(o->message, sizeof o->message,
                      "dynamics: step %d (t = %g s) failed: %s%s%.100s%s; the trajectory up to "
-                     "t = %g s is kept (a shorter dt, or a smoother actuation, may pass)",
+                     "t = %g s is kept (the step's shooting: %d segment%s, growth exponent "
+                     "%.3g over the rod; more segments, another dt or a smoother actuation may "
+                     "pass)",
                      i, i * dt, tr_strerror(st), d->message[0] ? " (" : "", d->message,
-                     d->message[0] ? ")" : "", (i - 1) * dt);
+                     d->message[0] ? ")" : "", (i - 1) * dt, m->nshoot, m->nshoot > 1 ? "s" : "",
+                     tr_dyn_growth(m, sp->rhoA, dt, a));
             goto done;
         }
         /* the last evaluation was at the solution: its stage values are the step's */

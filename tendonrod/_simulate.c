@@ -6,7 +6,7 @@
 #include "tr_dyn.h"
 
 const char glue_simulate_doc[] =
-    "simulate(problem, unknowns, values, loads, dt, *, alpha=-0.5, rho_a, rho_j, eta=0.0,\n"
+    "simulate(problem, unknowns, values, loads, dt, *, alpha=0.0, rho_a, rho_j, eta=0.0,\n"
     "         drag=0.0, max_iter=8, backbone=False, resume=None, dist0=None, cancel=None)\n"
     "         -> dict\n\n"
     "nsteps = len(values) - 1 implicit steps of dt [s] from the solution `unknowns` of a\n"
@@ -66,7 +66,7 @@ PyObject *glue_simulate(PyObject *self, PyObject *args, PyObject *kwds)
     (void)self;
     memset(&sp, 0, sizeof sp);
     memset(&o, 0, sizeof o);
-    sp.alpha = -0.5;
+    sp.alpha = 0.0; /* BDF2, as simulate's default */
     sp.max_iter = 8;
     if (!PyArg_ParseTupleAndKeywords(args, kwds, "O!OOOd|$ddOddipOOO", kwlist, &glue_problem_type,
                                      &op, &ox, &ov, &ol, &sp.dt, &sp.alpha, &sp.rhoA, &orj, &sp.eta,
