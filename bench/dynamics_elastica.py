@@ -16,15 +16,19 @@ from ``Solution.at``; the clamp holds the first element in that initial frame).
 PyElastica runs in its own virtual environment (``--elastica-python``, default
 /work/venv-elastica/bin/python), as a subprocess of this same file in worker mode
 (``--worker``: no tendonrod import), writing the tip every 2.5 ms and its loop's thread
-CPU and wall time to an .npz.  tendonrod runs here (BDF2; the trapezoidal rule fails on
-this scene below dt = 0.015 s: docs/validation/dynamics_elastica.md).
+CPU and wall time to an .npz.  tendonrod runs here (BDF2; with the shooting segments
+tr.simulate chooses, steps below 0.005 s fail on this scene, with two segments they pass
+down to 0.0025 s: --sweep, docs/validation/dynamics_elastica.md).
 
 Not a test: prints tables, writes bench/results/dynamics_elastica.csv and
 docs/images/dynamics_elastica.png (--tau 0: dynamics_elastica_sudden.csv and .png in
-bench/results; --static: the static sag, dynamics_elastica_static.csv; --quick:
-dynamics_elastica_quick.*, not kept).
+bench/results; --static: the static sag, dynamics_elastica_static.csv; --sweep:
+tendonrod alone over dt, alpha and shooting segments against the PyElastica runs of
+--cache, dynamics_elastica[_sudden]_sweep.csv; --quick: dynamics_elastica_quick.*, not
+kept).
 
-    .venv/bin/python bench/dynamics_elastica.py [--quick] [--tau 0 | --static] [--cache FILE]
+    .venv/bin/python bench/dynamics_elastica.py [--quick] [--tau 0] [--static | --sweep]
+        [--cache FILE]
         [--elastica-python PATH]
 """
 
@@ -561,6 +565,7 @@ def sweep(args) -> None:
     load = os.getloadavg()
     print(f"load average at start: {load[0]:.2f}; PyElastica's reference from n = {ns}")
     rows = []
+    kept = {}
     for alpha, dts, nseg in SWEEP:
         for dt in dts:
             c0, w0 = time.thread_time(), time.perf_counter()
@@ -582,6 +587,8 @@ def sweep(args) -> None:
             # dt = 0.004 s, every 0.09 s for 0.0045 s)
             g = grid[np.abs(grid / dt - np.rint(grid / dt)) < 1e-6]
             err = maxdiff(run, ref, g) if traj.success else float("nan")
+            if traj.success and alpha == 0.0 and nseg == 2:
+                kept[dt] = run
             its = int(traj.iterations.sum())
             steps = len(traj.t) - 1
             print(
@@ -604,6 +611,34 @@ def sweep(args) -> None:
                     f"{load[0]:.2f}",
                 ]
             )
+    # BDF2's extrapolation x + c dt^2 from its two finest dt (2 segments), against
+    # PyElastica's; its spread against the extrapolation from the finest and the third
+    fine = sorted(d for d in kept if abs(COMMON / d - round(COMMON / d)) < 1e-9)[:3]
+    if len(fine) == 3:
+        f, c, c2 = (on_grid(kept[d], grid) for d in fine)
+        ext = {"t": grid, "tip": f + (f - c) / ((fine[1] / fine[0]) ** 2 - 1)}
+        alt = {"t": grid, "tip": f + (f - c2) / ((fine[2] / fine[0]) ** 2 - 1)}
+        d_ref, d_alt = maxdiff(ext, ref, grid), maxdiff(ext, alt, grid)
+        print(
+            f"BDF2 (2 segments) extrapolated from dt = {fine[0]}, {fine[1]} s: "
+            f"{d_ref:.2e} L from PyElastica's extrapolation (its spread against dt = "
+            f"{fine[0]}, {fine[2]} s: {d_alt:.2e} L)"
+        )
+        rows.append(
+            [
+                "bdf2_extrapolated",
+                f"{fine[0]}/{fine[1]}",
+                2,
+                1,
+                f"{d_ref:.3e}",
+                "",
+                "",
+                "",
+                "",
+                f"spread {d_alt:.3e}",
+                f"{load[0]:.2f}",
+            ]
+        )
     name = "dynamics_elastica" + ("_sudden" if args.tau == 0 else "") + "_sweep"
     with open(os.path.join(OUT, name + ".csv"), "w", newline="") as fh:
         w = csv.writer(fh)
