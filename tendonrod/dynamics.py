@@ -372,13 +372,18 @@ def simulate(
     initial : Solution, Trajectory or None
         The static state the motion starts from, at rest (None: the scene's equilibrium).
         It must be a solution on the dynamics' grid (spatial, ``integrator="rk4"``,
-        ``steps=options["steps"]``), else it is solved again there from its unknowns.
-        A :class:`Trajectory` (of a scene of the same structure, the same dt and
+        ``steps=options["steps"]``), else it is solved again there, in its own scene.
+        The run starts from its pose, under its own scene's actuation values, point
+        loads and gravity; the run's act from the first step on (a rod released into
+        gravity, a load suddenly removed).  A solution of another structure (rod,
+        tendons, mounting, control kinds, partial distributed loads) is refused
+        (ValueError).  A :class:`Trajectory` (of a scene of the same structure, the same dt and
         ``steps``): the motion goes on from its last step, its times continuing.
     options : dict, optional
-        ``steps`` (40): RK4 steps over the rod; ``alpha`` (0): BDF-alpha, 0 BDF2 (as Till et al.:
-        damps the fast axial and shear modes a kink of the actuation excites), -0.5 the
-        trapezoidal rule (no numerical damping: the energy of an undamped smooth motion); ``max_iter`` (8); ``drag`` (0):
+        ``steps`` (40): RK4 steps over the rod; ``alpha`` (0): BDF-alpha, 0 BDF2 (the
+        default, as Till et al.: damps the fast axial and shear modes a kink of the
+        actuation excites), -0.5 the trapezoidal rule (no numerical damping: the energy
+        of an undamped smooth motion); ``max_iter`` (8); ``drag`` (0):
         air drag per body-frame velocity component [N s^2/m^3]; ``backbone`` (False);
         ``estimate`` (False): a second run at dt/2 for the time error;
         ``extrapolate`` (False): runs at dt, dt/2 and dt/4, the rows (tip, tensions,
@@ -389,7 +394,8 @@ def simulate(
         ``final`` state, no backbone); ``segments`` (None): shooting segments of each
         step's boundary-value problem, None to choose them from the step's growth
         (short steps make the inertia a stiff foundation for the bending: single shooting
-        fails below dt ~ 2 ms on Till's robot).
+        fails below dt ~ 2 ms on Till's robot; a large swing can need them sooner than
+        the growth says: a failed step's message names its segments and growth).
     strict : bool
         Raise :class:`~tendonrod.ConvergenceError` instead of warning on failure.
 

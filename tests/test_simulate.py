@@ -468,3 +468,19 @@ def test_backbone_arc_lengths_on_uneven_breakpoints():
     np.testing.assert_allclose(traj.s, want, rtol=0, atol=1e-15)
     # the same unknowns recorded on the same grid: round-off
     np.testing.assert_allclose(traj.backbone[0], sol.at(traj.s).position, rtol=0, atol=1e-12)
+
+
+def test_initial_potential_under_the_runs_gravity():
+    """The start's potential energy is taken under the run's gravity (the one the energy
+    balance of the steps holds with), not the start's scene's (none here): rho A g times
+    the integral of the height over the start's pose."""
+    held = tr.Scene(tr.Robot(ROD, []), loads=[tr.PointLoad(0.2, (0.3, 0, 0))])
+    start = tr.solve(held, options=simulation_options())
+    traj = simulate(tr.Scene(tr.Robot(ROD, []), gravity=(0, 0, -9.81)), 1e-3, 1e-4, initial=start)
+    assert traj.success, traj.message
+    assert np.abs(traj.tip_position[0] - start.tip_position).max() <= 1e-12 * ROD.length
+    z = start.position[:, 2]
+    want = ROD.mass_per_length * 9.81 * float(np.sum(0.5 * (z[1:] + z[:-1]) * np.diff(start.s)))
+    # the core's RK4 quadrature against the trapezoid on 101 nodes: z is nearly linear in
+    # s (a 2.5 % deflection), both far below 1e-6 of it
+    assert traj.energy[0, 2] == pytest.approx(want, rel=1e-6)
