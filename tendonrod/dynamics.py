@@ -43,7 +43,7 @@ _ARRAYS = (
 # the keys of ``options``: RK4 steps over the rod, BDF-alpha, Newton iterations per step
 # before a fresh Jacobian, air drag, record the backbone, estimate the time error,
 # extrapolate in dt, shooting segments per step (None: from the step's growth)
-_DEFAULTS = {
+_DEFAULTS: dict[str, Any] = {
     "steps": 40,
     "alpha": 0.0,
     "max_iter": 8,
