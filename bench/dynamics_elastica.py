@@ -16,15 +16,19 @@ from ``Solution.at``; the clamp holds the first element in that initial frame).
 PyElastica runs in its own virtual environment (``--elastica-python``, default
 /work/venv-elastica/bin/python), as a subprocess of this same file in worker mode
 (``--worker``: no tendonrod import), writing the tip every 2.5 ms and its loop's thread
-CPU and wall time to an .npz.  tendonrod runs here (BDF2; the trapezoidal rule fails on
-this scene below dt = 0.015 s: docs/validation/dynamics_elastica.md).
+CPU and wall time to an .npz.  tendonrod runs here (BDF2; with the shooting segments
+tr.simulate chooses, steps below 0.005 s fail on this scene, with two segments they pass
+down to 0.0025 s: --sweep, docs/validation/dynamics_elastica.md).
 
 Not a test: prints tables, writes bench/results/dynamics_elastica.csv and
 docs/images/dynamics_elastica.png (--tau 0: dynamics_elastica_sudden.csv and .png in
-bench/results; --static: the static sag, dynamics_elastica_static.csv; --quick:
-dynamics_elastica_quick.*, not kept).
+bench/results; --static: the static sag, dynamics_elastica_static.csv; --sweep:
+tendonrod alone over dt, alpha and shooting segments against the PyElastica runs of
+--cache, dynamics_elastica[_sudden]_sweep.csv; --quick: dynamics_elastica_quick.*, not
+kept).
 
-    .venv/bin/python bench/dynamics_elastica.py [--quick] [--tau 0 | --static] [--cache FILE]
+    .venv/bin/python bench/dynamics_elastica.py [--quick] [--tau 0] [--static | --sweep]
+        [--cache FILE]
         [--elastica-python PATH]
 """
 
@@ -527,6 +531,136 @@ def static_check(args) -> None:
         w.writerows(rows)
 
 
+# the dt sweep (--sweep): which steps tendonrod takes on this scene, by alpha, with the
+# shooting segments tr.simulate chooses (None) or forced
+SWEEP = (
+    (0.0, (0.006, 0.005, 0.0045, 0.004, 0.003, 0.0025), None),
+    (-0.5, (0.015, 0.01, 0.0075, 0.006, 0.005, 0.004, 0.003, 0.0025), None),
+    (0.0, (0.006, 0.005, 0.004, 0.003, 0.0025), 2),
+    (0.0, (0.006, 0.005, 0.004, 0.003, 0.0025), 4),
+    (-0.5, (0.01, 0.0075, 0.005), 2),
+    (-0.5, (0.01, 0.0075, 0.005), 4),
+)
+
+
+def sweep(args) -> None:
+    """tendonrod alone at the dt of SWEEP (20 RK4 steps, max_iter 30, shooting segments
+    chosen by tr.simulate), each against PyElastica's extrapolated tip from the runs in
+    --cache (required: the default run's pickle); writes <name>_sweep.csv."""
+    import re
+
+    import tendonrod as tr
+    from tendonrod import _core
+    from tendonrod.compiled import _compile
+
+    if not (args.cache and os.path.exists(args.cache)):
+        raise SystemExit("--sweep needs --cache FILE holding PyElastica's runs")
+    with open(args.cache, "rb") as fh:
+        pe = pickle.load(fh)
+    ns = sorted({n for n, _k in pe})[-3:]
+    grid = COMMON * np.arange(int(round(T_END / COMMON)) + 1)
+    x = [on_grid(pe[(n, 1)], grid) for n in ns]
+    ref = {"t": grid, "tip": (8 * x[2] - 6 * x[1] + x[0]) / 3}
+    free, held = scenes()
+    load = os.getloadavg()
+    print(f"load average at start: {load[0]:.2f}; PyElastica's reference from n = {ns}")
+    rows = []
+    kept = {}
+    for alpha, dts, nseg in SWEEP:
+        for dt in dts:
+            c0, w0 = time.thread_time(), time.perf_counter()
+            start = tr.solve(held, options=tr.simulation_options(20))
+            opts = {"steps": 20, "alpha": alpha, "max_iter": 30, "segments": nseg}
+            if args.tau > 0:
+                ld = lambda t: [tr.PointLoad(L, (held_force(t, args.tau), 0.0, 0.0))]  # noqa: E731
+                traj = tr.simulate(held, T_END, dt, loads=ld, initial=start, options=opts)
+            else:
+                traj = tr.simulate(free, T_END, dt, initial=start, options=opts)
+            cpu, wall = time.thread_time() - c0, time.perf_counter() - w0
+            m = re.search(r"(\d+) (?:shooting )?segment", traj.message)
+            seg = str(nseg) if nseg else m.group(1) if m else ""
+            if not seg:
+                prob = _compile(held, tr.simulation_options(20))
+                seg = str(_core.dyn_segments(prob, held.robot.rod.mass_per_length, dt, alpha)[0])
+            run = {"t": traj.t, "tip": traj.tip_position}
+            # the comparison's times that are samples of this dt (every 0.06 s for
+            # dt = 0.004 s, every 0.09 s for 0.0045 s)
+            g = grid[np.abs(grid / dt - np.rint(grid / dt)) < 1e-6]
+            err = maxdiff(run, ref, g) if traj.success else float("nan")
+            if traj.success and alpha == 0.0 and nseg == 2:
+                kept[dt] = run
+            its = int(traj.iterations.sum())
+            steps = len(traj.t) - 1
+            print(
+                f"alpha={alpha:5.2f} dt={dt:7.4f} segments={seg:>2s} ok={traj.success!s:5s} "
+                f"err={err:9.2e} L CPU={cpu:7.3f} s wall={wall:7.3f} s "
+                f"Newton/step={its / max(steps, 1):5.1f}  {'' if traj.success else traj.message}"
+            )
+            rows.append(
+                [
+                    alpha,
+                    dt,
+                    seg,
+                    int(traj.success),
+                    f"{err:.3e}",
+                    f"{cpu:.4f}",
+                    f"{wall:.4f}",
+                    f"{its / max(steps, 1):.2f}",
+                    f"{float(traj.t[-1]):.4f}",
+                    "" if traj.success else traj.message,
+                    f"{load[0]:.2f}",
+                ]
+            )
+    # BDF2's extrapolation x + c dt^2 from its two finest dt (2 segments), against
+    # PyElastica's; its spread against the extrapolation from the finest and the third
+    fine = sorted(d for d in kept if abs(COMMON / d - round(COMMON / d)) < 1e-9)[:3]
+    if len(fine) == 3:
+        f, c, c2 = (on_grid(kept[d], grid) for d in fine)
+        ext = {"t": grid, "tip": f + (f - c) / ((fine[1] / fine[0]) ** 2 - 1)}
+        alt = {"t": grid, "tip": f + (f - c2) / ((fine[2] / fine[0]) ** 2 - 1)}
+        d_ref, d_alt = maxdiff(ext, ref, grid), maxdiff(ext, alt, grid)
+        print(
+            f"BDF2 (2 segments) extrapolated from dt = {fine[0]}, {fine[1]} s: "
+            f"{d_ref:.2e} L from PyElastica's extrapolation (its spread against dt = "
+            f"{fine[0]}, {fine[2]} s: {d_alt:.2e} L)"
+        )
+        rows.append(
+            [
+                "bdf2_extrapolated",
+                f"{fine[0]}/{fine[1]}",
+                2,
+                1,
+                f"{d_ref:.3e}",
+                "",
+                "",
+                "",
+                "",
+                f"spread {d_alt:.3e}",
+                f"{load[0]:.2f}",
+            ]
+        )
+    name = "dynamics_elastica" + ("_sudden" if args.tau == 0 else "") + "_sweep"
+    with open(os.path.join(OUT, name + ".csv"), "w", newline="") as fh:
+        w = csv.writer(fh)
+        w.writerow(
+            [
+                "alpha",
+                "dt_s",
+                "segments",
+                "ok",
+                "err_vs_pyelastica_ref_L",
+                "cpu_s",
+                "wall_s",
+                "newton_per_step",
+                "t_reached_s",
+                "message",
+                "load1",
+            ]
+        )
+        w.writerows(rows)
+    print("wrote", os.path.join(OUT, name + ".csv"))
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--quick", action="store_true", help="smoke run (coarse, 0.3 s)")
@@ -536,6 +670,11 @@ def main() -> None:
         "--static",
         action="store_true",
         help="instead: the static sag under gravity alone, PyElastica damped to rest",
+    )
+    ap.add_argument(
+        "--sweep",
+        action="store_true",
+        help="instead: tendonrod alone over a range of dt and alpha (needs --cache)",
     )
     ap.add_argument("--relax", type=float, default=0.0, help=argparse.SUPPRESS)
     ap.add_argument("--worker", action="store_true", help=argparse.SUPPRESS)
@@ -555,6 +694,8 @@ def main() -> None:
         worker(args)
     elif args.static:
         static_check(args)
+    elif args.sweep:
+        sweep(args)
     else:
         bench(args)
 

@@ -124,12 +124,27 @@ static void weights(const tr_model *m, const tr_data *d, double *wt)
     }
 }
 
-/* Set the step's values (actuation, point loads) of time row i. */
+/* The arc lengths of the backbone nodes: the RK4 steps' starts in every segment between
+ * breakpoints (steps of unequal length where the breakpoints are uneven), and L. */
+static void node_s(const tr_model *m, const tr_data *d, double *s)
+{
+    int seg, j, p = 0;
+    for (seg = 0; seg < m->nseg; seg++) {
+        const int ns = tr_segment_steps(m, d, seg);
+        const double h = (m->bp[seg + 1] - m->bp[seg]) / ns;
+        for (j = 0; j < ns; j++) s[p++] = m->bp[seg] + j * h;
+    }
+    s[p] = m->bp[m->nseg];
+}
+
+/* Set the step's values (actuation, point loads, distributed load) of time row i: row 0
+ * the start's, the distributed load the model's from row 1 on. */
 static int set_row(const tr_model *m, tr_data *d, const tr_dyn_spec *sp, int i)
 {
     char msg[TR_MSGLEN];
     const double *ld = sp->loads ? sp->loads + (size_t)i * 6 * m->nl : NULL;
-    return tr_data_set_values(m, d, sp->values + (size_t)i * m->nt, ld, NULL, msg, sizeof msg);
+    const double *dist = i == 0 && sp->dist0 ? sp->dist0 : m->dist;
+    return tr_data_set_values(m, d, sp->values + (size_t)i * m->nt, ld, dist, msg, sizeof msg);
 }
 
 /* The finite-difference Jacobian at x into J (k x k row-major); f0 = residual at x. */
@@ -319,6 +334,7 @@ int tr_dyn_run(const tr_model *m, tr_data *d, const double *x0, const tr_dyn_spe
     ctx.cur = b.X0;
     ctx.npt = npt;
     weights(m, d, b.wt);
+    if (o->s) node_s(m, d, o->s);
     d->dyn = &ctx;
     tr_poll_start(d); /* the run's clock and its caller's hook; the work budget per step */
     if (sp->resume) { /* a previous run's last step: its history, unknowns, dissipation */
@@ -343,9 +359,15 @@ int tr_dyn_run(const tr_model *m, tr_data *d, const double *x0, const tr_dyn_spe
         memcpy(d->x, b.x1, (size_t)k * sizeof(double));
         goto steps;
     }
-    /* the start: the static problem (c0 = 0, no history) at x0, at rest */
+    /* the start: the static problem (c0 = 0, no history) at x0, at rest, under the start's
+     * values; its potential energy under the run's distributed load (the one the energy
+     * balance of the steps holds with) */
     st = set_row(m, d, sp, 0);
     if (st == TR_OK) st = tr_residual(m, d, x0, b.f0);
+    if (st == TR_OK && sp->dist0) {
+        char msg[TR_MSGLEN];
+        st = tr_data_set_values(m, d, NULL, NULL, m->dist, msg, sizeof msg);
+    }
     if (st != TR_OK) {
         snprintf(o->message, sizeof o->message,
                  "dynamics: the initial state does not evaluate (%s)", tr_strerror(st));
@@ -376,9 +398,12 @@ steps:
         if (st != TR_OK) {
             snprintf(o->message, sizeof o->message,
                      "dynamics: step %d (t = %g s) failed: %s%s%.100s%s; the trajectory up to "
-                     "t = %g s is kept (a shorter dt, or a smoother actuation, may pass)",
+                     "t = %g s is kept (the step's shooting: %d segment%s, growth exponent "
+                     "%.3g over the rod; more segments, another dt or a smoother actuation may "
+                     "pass)",
                      i, i * dt, tr_strerror(st), d->message[0] ? " (" : "", d->message,
-                     d->message[0] ? ")" : "", (i - 1) * dt);
+                     d->message[0] ? ")" : "", (i - 1) * dt, m->nshoot, m->nshoot > 1 ? "s" : "",
+                     tr_dyn_growth(m, sp->rhoA, dt, a));
             goto done;
         }
         /* the last evaluation was at the solution: its stage values are the step's */

@@ -40,6 +40,9 @@ typedef struct tr_dyn_spec {
     double drag;          /* air drag per body-frame component [N s^2/m^3] (>= 0) */
     const double *values; /* ((nsteps + 1) x nt) actuation per time: q [m] or tau [N] */
     const double *loads;  /* ((nsteps + 1) x nl x 6) point loads per time, world, or NULL */
+    const double *dist0;  /* (3) the start's distributed load [N/m], base frame, where it
+                             differs from the model's (which acts from step 1 on), or NULL;
+                             row 0 of values and loads is likewise the start's */
     int max_iter;         /* Newton iterations per step before a fresh Jacobian (>= 1) */
     const double *resume; /* (tr_dyn_state_len) a previous run's final state (out->state) to
                              go on from, with the same model, grid and dt (x0 then unused),
@@ -61,6 +64,7 @@ typedef struct tr_dyn_out {
     double *residual; /* (rows) scaled residual max-norm of each step */
     int *iters;       /* (rows) Newton iterations of each step */
     double *backbone; /* (rows x nb x 3) positions at the RK4 grid's nodes, or NULL */
+    double *s;        /* (nb) the nodes' arc lengths [m] (tr_dyn_nodes), or NULL */
     double *state;    /* (tr_dyn_state_len) the last good step's state (history, unknowns,
                          dissipation), to resume from, or NULL */
     int done;         /* the last step completed (0: none) */

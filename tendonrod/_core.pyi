@@ -190,6 +190,7 @@ def simulate(
     max_iter: int = ...,
     backbone: bool = ...,
     resume: ArrayLike | None = ...,
+    dist0: ArrayLike | None = ...,
     cancel: Cancel | None = ...,
 ) -> dict[str, Any]: ...
 

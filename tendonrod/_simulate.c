@@ -6,14 +6,18 @@
 #include "tr_dyn.h"
 
 const char glue_simulate_doc[] =
-    "simulate(problem, unknowns, values, loads, dt, *, alpha=-0.5, rho_a, rho_j, eta=0.0,\n"
-    "         drag=0.0, max_iter=8, backbone=False, resume=None, cancel=None) -> dict\n\n"
+    "simulate(problem, unknowns, values, loads, dt, *, alpha=0.0, rho_a, rho_j, eta=0.0,\n"
+    "         drag=0.0, max_iter=8, backbone=False, resume=None, dist0=None, cancel=None)\n"
+    "         -> dict\n\n"
     "nsteps = len(values) - 1 implicit steps of dt [s] from the solution `unknowns` of a\n"
     "_core.Problem compiled spatial, Cosserat, fixed RK4 steps (any shooting segments):\n"
     "values (nsteps + 1, nt) actuation per time; loads (nsteps + 1, nl, 6) or None; rho_a\n"
-    "[kg/m]; rho_j (3,) [kg m]; eta [s]; drag [N s^2/m^4].  Returns status, message, done,\n"
+    "[kg/m]; rho_j (3,) [kg m]; eta [s]; drag [N s^2/m^4]; dist0 (3,) the start's distributed\n"
+    "load [N/m] (base frame) where it differs from the problem's (row 0 of values and loads\n"
+    "is the start's likewise).  Returns status, message, done,\n"
     "nit, nfev, njev, tip (done + 1, 12), tension, slack (done + 1, nt), energy (done + 1, 6),\n"
-    "residual (done + 1,), iters (done + 1,), backbone (done + 1, nb, 3) or None, state (the\n"
+    "residual (done + 1,), iters (done + 1,), backbone (done + 1, nb, 3) or None, s (nb,) the\n"
+    "backbone nodes' arc lengths [m], state (the\n"
     "last good step's, to resume from: resume=state continues a run with the same problem\n"
     "and dt; row 0 is then the previous run's last, whose outputs the caller keeps).";
 
@@ -46,13 +50,14 @@ static PyObject *rows(PyObject *a, int n)
 
 PyObject *glue_simulate(PyObject *self, PyObject *args, PyObject *kwds)
 {
-    static char *kwlist[] = {"problem",  "unknowns", "values", "loads",  "dt",
-                             "alpha",    "rho_a",    "rho_j",  "eta",    "drag",
-                             "max_iter", "backbone", "resume", "cancel", NULL};
+    static char *kwlist[] = {"problem", "unknowns", "values", "loads", "dt",       "alpha",
+                             "rho_a",   "rho_j",    "eta",    "drag",  "max_iter", "backbone",
+                             "resume",  "dist0",    "cancel", NULL};
     PyObject *op, *ox, *ov, *ol, *orj = Py_None, *ors = Py_None, *cancel = Py_None, *res = NULL;
-    PyArrayObject *x = NULL, *val = NULL, *ld = NULL, *rj = NULL, *rsm = NULL;
+    PyObject *od0 = Py_None;
+    PyArrayObject *x = NULL, *val = NULL, *ld = NULL, *rj = NULL, *rsm = NULL, *d0 = NULL;
     PyObject *tip = NULL, *ten = NULL, *sl = NULL, *en = NULL, *rs = NULL, *it = NULL, *bb = NULL;
-    PyObject *stt = NULL;
+    PyObject *stt = NULL, *sn = NULL;
     ProblemObject *pr;
     tr_dyn_spec sp;
     tr_dyn_out o;
@@ -61,11 +66,11 @@ PyObject *glue_simulate(PyObject *self, PyObject *args, PyObject *kwds)
     (void)self;
     memset(&sp, 0, sizeof sp);
     memset(&o, 0, sizeof o);
-    sp.alpha = -0.5;
+    sp.alpha = 0.0; /* BDF2, as simulate's default */
     sp.max_iter = 8;
-    if (!PyArg_ParseTupleAndKeywords(args, kwds, "O!OOOd|$ddOddipOO", kwlist, &glue_problem_type,
+    if (!PyArg_ParseTupleAndKeywords(args, kwds, "O!OOOd|$ddOddipOOO", kwlist, &glue_problem_type,
                                      &op, &ox, &ov, &ol, &sp.dt, &sp.alpha, &sp.rhoA, &orj, &sp.eta,
-                                     &sp.drag, &sp.max_iter, &backbone, &ors, &cancel))
+                                     &sp.drag, &sp.max_iter, &backbone, &ors, &od0, &cancel))
         return NULL;
     pr = (ProblemObject *)op;
     if (glue_problem_check(pr) < 0 || glue_poll_init(&poll, cancel) < 0) return NULL;
@@ -89,6 +94,14 @@ PyObject *glue_simulate(PyObject *self, PyObject *args, PyObject *kwds)
         goto done;
     }
     memcpy(sp.rhoJ, PyArray_DATA(rj), 3 * sizeof(double));
+    if (od0 != Py_None) {
+        if (!(d0 = glue_coerce(od0, "dist0"))) goto done;
+        if (PyArray_SIZE(d0) != 3) {
+            PyErr_SetString(PyExc_ValueError, "dist0 must have 3 values");
+            goto done;
+        }
+        sp.dist0 = (const double *)PyArray_DATA(d0);
+    }
     nstate = tr_dyn_state_len(pr->m, pr->d);
     if (ors != Py_None) {
         if (!(rsm = glue_coerce(ors, "resume"))) goto done;
@@ -115,7 +128,9 @@ PyObject *glue_simulate(PyObject *self, PyObject *args, PyObject *kwds)
         npy_intp dst[1] = {nstate};
         bb = backbone ? PyArray_ZEROS(3, db, NPY_DOUBLE, 0) : (Py_INCREF(Py_None), Py_None);
         stt = PyArray_ZEROS(1, dst, NPY_DOUBLE, 0);
-        if (!tip || !ten || !sl || !en || !rs || !it || !bb || !stt) goto done;
+        sn = PyArray_ZEROS(1, db + 1, NPY_DOUBLE, 0);
+        if (!tip || !ten || !sl || !en || !rs || !it || !bb || !stt || !sn) goto done;
+        o.s = (double *)PyArray_DATA((PyArrayObject *)sn);
         o.state = (double *)PyArray_DATA((PyArrayObject *)stt);
         o.tip = (double *)PyArray_DATA((PyArrayObject *)tip);
         o.tension = (double *)PyArray_DATA((PyArrayObject *)ten);
@@ -152,7 +167,8 @@ PyObject *glue_simulate(PyObject *self, PyObject *args, PyObject *kwds)
         glue_set(res, "iters", rows(it, o.done + 1)) < 0 ||
         glue_set(res, "backbone", backbone ? rows(bb, o.done + 1) : (Py_INCREF(Py_None), Py_None)) <
             0 ||
-        glue_set(res, "state", (Py_INCREF(stt), stt)) < 0)
+        glue_set(res, "state", (Py_INCREF(stt), stt)) < 0 ||
+        glue_set(res, "s", (Py_INCREF(sn), sn)) < 0)
         Py_CLEAR(res);
 done:
     Py_XDECREF(x);
@@ -167,6 +183,8 @@ done:
     Py_XDECREF(it);
     Py_XDECREF(bb);
     Py_XDECREF(stt);
+    Py_XDECREF(sn);
     Py_XDECREF(rsm);
+    Py_XDECREF(d0);
     return res;
 }

@@ -1,7 +1,7 @@
 """The rod/tendon dynamics in time: :func:`simulate` and its result :class:`Trajectory`.
 
-Each implicit time step (BDF-alpha: the trapezoidal rule by default, BDF2 with
-``alpha=0``) is a boundary-value problem in the arc length s, solved by the shooting core
+Each implicit time step (BDF-alpha: BDF2, ``alpha=0``, by default; the trapezoidal rule
+with ``alpha=-0.5``) is a boundary-value problem in the arc length s, solved by the shooting core
 warm from the step before; the C side is ``csrc/tr_dyn.c`` (the time steps) and
 ``csrc/tr_dyn_rhs.c`` (the inertia, damping and drag in the spatial right-hand side).
 The design, its scope and its accuracy are in ``docs/guide/dynamics.md``.
@@ -17,6 +17,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from . import _core
+from ._dynstart import held_values, paired, start_inputs, start_solution, statics_options
 from ._fields import _int_option, _option_dict
 from .compiled import _compile, pack_scene
 from .loads import PointLoad, PointMass
@@ -42,7 +43,7 @@ _ARRAYS = (
 # the keys of ``options``: RK4 steps over the rod, BDF-alpha, Newton iterations per step
 # before a fresh Jacobian, air drag, record the backbone, estimate the time error,
 # extrapolate in dt, shooting segments per step (None: from the step's growth)
-_DEFAULTS = {
+_DEFAULTS: dict[str, Any] = {
     "steps": 40,
     "alpha": 0.0,
     "max_iter": 8,
@@ -87,7 +88,9 @@ class Trajectory:
     backbone : ndarray (n, nb, 3) or None
         Centre-line positions at the grid's nodes [m] (``options={"backbone": True}``).
     s : ndarray (nb,) or None
-        Their arc lengths [m].
+        Their arc lengths [m]: the starts of the RK4 steps of each segment between
+        breakpoints (point loads, tendon ends), and L; the steps are unequal where the
+        breakpoints are uneven.
     final : dict or None
         The last step's state (time history on the grid, unknowns): ``initial=`` of a
         next :func:`simulate` goes on from it.  Not saved by :meth:`save`.
@@ -196,25 +199,10 @@ def _options(options) -> dict:
     return opt
 
 
-def _statics_options(steps: int, segments: int = 1):
-    """The static solve's options on the dynamics' grid: spatial, fixed RK4, ``segments``
-    shooting segments."""
-    from .options import Options
-
-    return Options(
-        integrator="rk4",
-        steps=steps,
-        force_spatial=True,
-        shooting_segments=segments,
-        auto_shooting=False,
-    )
-
-
 def _values(scene, actuation, times) -> np.ndarray:
     nt = scene.robot.n_tendons
-    held = [d if d is not None else tau for d, tau in zip(scene.displacement, scene.tension)]
     if actuation is None:
-        return np.tile(np.asarray(held, dtype=float).reshape(1, nt), (len(times), 1))
+        return np.tile(held_values(scene).reshape(1, nt), (len(times), 1))
     if not callable(actuation):
         raise TypeError(
             f"simulate: actuation must be a callable actuation(t) or None, got {actuation!r}"
@@ -231,7 +219,9 @@ def _values(scene, actuation, times) -> np.ndarray:
     return out
 
 
-def _loads(scene, loads, times):
+def _loads(scene, loads, times, extra=()):
+    """The point loads per time (len(times), nl, 6) of ``loads(t)`` (None: None), with the
+    zero loads ``extra`` after the scene's (:func:`paired`)."""
     if loads is None:
         return None
     if not callable(loads):
@@ -250,23 +240,35 @@ def _loads(scene, loads, times):
             )
         sc = replace(
             scene,
-            loads=tuple(got) + tuple(ld for ld in scene.loads if not isinstance(ld, PointLoad)),
+            loads=(*got, *extra, *(ld for ld in scene.loads if not isinstance(ld, PointLoad))),
         )
         rows.append(pack_scene(sc)[2][:, 1:7])
     return np.array(rows, dtype=float)
 
 
 def _run(scene, sol, duration, dt, actuation, loads, opt, t0=0.0, resume=None) -> dict:
+    """The core's run of ``scene`` from ``sol`` (on the grid, of the start's scene): row 0
+    of the values the start's (unless resumed), the run's from the first step on."""
     n = int(round(duration / dt))
     times = t0 + dt * np.arange(n + 1)
     rod = scene.robot.rod
     d = rod.diameter
     rI = rod.density * math.pi * d**4 / 64.0
+    run, start, extra = paired(scene, sol.scene)
+    values = _values(scene, actuation, times)
+    ld = _loads(scene, loads, times, extra)
+    dist0 = None
+    if resume is None:
+        values[0], load0, dist0 = start_inputs(run, start)
+        if load0 is not None:
+            if ld is None:
+                ld = np.tile(pack_scene(run)[2][:, 1:7], (len(times), 1, 1))
+            ld[0] = load0
     return _core.simulate(
-        _compile(scene, sol.options),
+        _compile(run, sol.options),
         sol.unknowns,
-        _values(scene, actuation, times),
-        _loads(scene, loads, times),
+        values,
+        ld,
         dt,
         alpha=float(opt["alpha"]),
         rho_a=rod.mass_per_length,
@@ -276,29 +278,8 @@ def _run(scene, sol, duration, dt, actuation, loads, opt, t0=0.0, resume=None) -
         max_iter=int(opt["max_iter"]),
         backbone=bool(opt["backbone"]),
         resume=resume,
+        dist0=dist0,
     )
-
-
-def _start(scene, initial, dt, opt, strict):
-    """The solution the run at dt starts from, on its grid and shooting segments (the
-    given ``initial`` solved again there if it is not): the scene's equilibrium for None."""
-    from .solver import solve
-
-    steps = int(opt["steps"])
-    seg = opt["segments"]
-    if seg is None:
-        prob = _compile(scene, _statics_options(steps))
-        seg = _core.dyn_segments(
-            prob, scene.robot.rod.mass_per_length, float(dt), float(opt["alpha"])
-        )[0]
-    stat = _statics_options(steps, int(seg))
-    if initial is None:
-        initial = solve(scene, options=stat, strict=strict)
-    elif initial.options != stat:
-        initial = solve(initial.scene, initial, options=stat, strict=strict)
-    if not initial.success or initial.unknowns is None:
-        raise ValueError(f"simulate: the initial state is not an equilibrium: {initial.message}")
-    return initial
 
 
 def _extrapolated(scene, initial, duration, dt, actuation, loads, opt, strict, raw):
@@ -313,7 +294,15 @@ def _extrapolated(scene, initial, duration, dt, actuation, loads, opt, strict, r
             break
         h = dt / f
         runs.append(
-            _run(scene, _start(scene, initial, h, opt, strict), duration, h, actuation, loads, opt)
+            _run(
+                scene,
+                start_solution(scene, initial, h, opt, strict),
+                duration,
+                h,
+                actuation,
+                loads,
+                opt,
+            )
         )
     out = dict(runs[-1])
     out["nit"] = sum(r["nit"] for r in runs)
@@ -383,13 +372,18 @@ def simulate(
     initial : Solution, Trajectory or None
         The static state the motion starts from, at rest (None: the scene's equilibrium).
         It must be a solution on the dynamics' grid (spatial, ``integrator="rk4"``,
-        ``steps=options["steps"]``), else it is solved again there from its unknowns.
-        A :class:`Trajectory` (of a scene of the same structure, the same dt and
+        ``steps=options["steps"]``), else it is solved again there, in its own scene.
+        The run starts from its pose, under its own scene's actuation values, point
+        loads and gravity; the run's act from the first step on (a rod released into
+        gravity, a load suddenly removed).  A solution of another structure (rod,
+        tendons, mounting, control kinds, partial distributed loads) is refused
+        (ValueError).  A :class:`Trajectory` (of a scene of the same structure, the same dt and
         ``steps``): the motion goes on from its last step, its times continuing.
     options : dict, optional
-        ``steps`` (40): RK4 steps over the rod; ``alpha`` (0): BDF-alpha, 0 BDF2 (as Till et al.:
-        damps the fast axial and shear modes a kink of the actuation excites), -0.5 the
-        trapezoidal rule (no numerical damping: the energy of an undamped smooth motion); ``max_iter`` (8); ``drag`` (0):
+        ``steps`` (40): RK4 steps over the rod; ``alpha`` (0): BDF-alpha, 0 BDF2 (the
+        default, as Till et al.: damps the fast axial and shear modes a kink of the
+        actuation excites), -0.5 the trapezoidal rule (no numerical damping: the energy
+        of an undamped smooth motion); ``max_iter`` (8); ``drag`` (0):
         air drag per body-frame velocity component [N s^2/m^3]; ``backbone`` (False);
         ``estimate`` (False): a second run at dt/2 for the time error;
         ``extrapolate`` (False): runs at dt, dt/2 and dt/4, the rows (tip, tensions,
@@ -400,7 +394,8 @@ def simulate(
         ``final`` state, no backbone); ``segments`` (None): shooting segments of each
         step's boundary-value problem, None to choose them from the step's growth
         (short steps make the inertia a stiff foundation for the bending: single shooting
-        fails below dt ~ 2 ms on Till's robot).
+        fails below dt ~ 2 ms on Till's robot; a large swing can need them sooner than
+        the growth says: a failed step's message names its segments and growth).
     strict : bool
         Raise :class:`~tendonrod.ConvergenceError` instead of warning on failure.
 
@@ -460,7 +455,7 @@ def simulate(
         raise TypeError(
             f"simulate: initial must be a Solution, a Trajectory or None, got {initial!r}"
         )
-    initial = _start(scene, initial, dt, opt, strict)
+    initial = start_solution(scene, initial, dt, opt, strict)
     t0 = 0.0 if fin is None else fin["t"]
     raw = _run(
         scene,
@@ -480,7 +475,7 @@ def simulate(
     if opt["estimate"] and raw["status"] == 0:
         half = _run(
             scene,
-            _start(scene, initial, dt / 2, opt, strict),
+            start_solution(scene, initial, dt / 2, opt, strict),
             duration,
             dt / 2,
             actuation,
@@ -497,8 +492,7 @@ def simulate(
     bb = raw["backbone"]
     s = None
     if bb is not None:
-        nb = bb.shape[1]
-        s = np.append(np.linspace(0.0, rod.length, nb)[:-1], rod.length)
+        s = raw["s"]
         bb = points_out(pose, bb)
     res = Trajectory(
         t=t0 + dt * np.arange(k),
@@ -544,4 +538,4 @@ def simulation_options(steps: int = int(_DEFAULTS["steps"]), segments: int = 1):
     >>> opts.integrator, opts.steps, opts.force_spatial
     ('rk4', 40, True)
     """
-    return _statics_options(steps, segments)
+    return statics_options(steps, segments)

@@ -398,3 +398,89 @@ def test_energy_balance_with_the_motor():
         gaps.append(np.abs(total - total[0]).max() / E[-1, 5])
     assert gaps[0] < 1e-3
     assert 0.8 * 4.0 < gaps[0] / gaps[1] < 1.2 * 4.0
+
+
+SOFT = tr.Rod(1.0, 0.01, 5e8, 5e8 / 3, density=1000.0)
+
+
+def test_initial_released_into_gravity():
+    """``initial`` is the start's pose, under its own scene's loads: a straight rod (solved
+    without gravity) released into gravity along -x starts straight and falls along -x."""
+    start = tr.solve(tr.Scene(tr.Robot(SOFT, [])), options=simulation_options())
+    run = tr.Scene(tr.Robot(SOFT, []), gravity=(-9.81, 0, 0))
+    traj = simulate(run, 0.02, 0.005, initial=start)
+    assert traj.success, traj.message
+    # the straight pose exactly: only round-off in the integration of the start's unknowns
+    assert np.abs(traj.tip_position[0] - (0.0, 0.0, 1.0)).max() <= 1e-12 * SOFT.length
+    # it falls: the tip moves along -x at once, farther each step, nothing along y
+    x = traj.tip_position[:, 0]
+    assert x[1] < 0 and np.all(np.diff(x) < 0)
+    assert np.abs(traj.tip_position[:, 1]).max() <= 1e-12 * SOFT.length
+
+
+def test_initial_load_removed_keeps_its_pose():
+    """A load removed at the start: the run starts at the loaded pose (an interior load,
+    whose position the run's scene does not have), then springs back."""
+    held = tr.Scene(tr.Robot(ROD, []), loads=[tr.PointLoad(0.13, (2e-2, 0, 0))])
+    start = tr.solve(held, options=simulation_options())
+    traj = simulate(FREE, 6e-3, 2e-4, initial=start)
+    assert traj.success, traj.message
+    # round-off of the same integration of the same unknowns under the same loads
+    assert np.abs(traj.tip_position[0] - start.tip_position).max() <= 1e-12 * ROD.length
+    # released: a quarter period (1 / (4 f1) = 6.3 ms) later the tip is near the line
+    # (measured: a quarter of its start)
+    assert traj.tip_position[-1, 0] < 0.5 * traj.tip_position[0, 0]
+    # it starts with the held pose's strain energy and nothing else
+    assert traj.energy[0, 0] == 0.0 and traj.energy[0, 1] > 0.0
+
+
+def test_initial_of_another_structure_is_refused():
+    """What the start's values cannot carry over is refused, naming initial."""
+    tendon = tr.Tendon(offset=1e-3, angle=0.0)
+    robot = tr.Robot(ROD, [tendon])
+    start = tr.solve(tr.Scene(robot, tension=[0.5]), options=simulation_options())
+    others = (
+        tr.Scene(tr.Robot(ROD, [])),  # no tendon
+        tr.Scene(
+            tr.Robot(ROD, [tr.Tendon(offset=2e-3, angle=0.0)]), tension=[0.5]
+        ),  # another offset
+        tr.Scene(robot, displacement=[0.0]),  # displacement- instead of tension-held
+        tr.Scene(tr.Robot(SOFT, [tendon]), tension=[0.5]),  # another rod
+    )
+    for scene in others:
+        with pytest.raises(ValueError, match="initial"):
+            simulate(scene, 1e-3, 1e-4, initial=start)
+    # a tension value differing is honoured: it acts from the first step on
+    traj = simulate(tr.Scene(robot, tension=[1.0]), 1e-3, 1e-4, initial=start)
+    assert traj.success
+    assert np.abs(traj.tip_position[0] - start.tip_position).max() <= 1e-12 * ROD.length
+    assert traj.tension[0, 0] == pytest.approx(0.5) and traj.tension[1, 0] == pytest.approx(1.0)
+
+
+def test_backbone_arc_lengths_on_uneven_breakpoints():
+    """Trajectory.s is the true grid: with a point load at 0.35 L the RK4 steps on either
+    side differ (10 steps: 4 of 0.0875 m, 7 of 0.65/7 m); the backbone at t = 0 is the
+    static solution at those arc lengths."""
+    scene = tr.Scene(tr.Robot(SOFT, []), loads=[tr.PointLoad(0.35, (0.5, 0, 0))])
+    sol = tr.solve(scene, options=simulation_options(10))
+    traj = simulate(scene, 0.01, 0.005, options={"steps": 10, "backbone": True})
+    want = np.concatenate([np.linspace(0, 0.35, 5)[:-1], np.linspace(0.35, 1.0, 8)])
+    np.testing.assert_allclose(traj.s, want, rtol=0, atol=1e-15)
+    # the same unknowns recorded on the same grid: round-off
+    np.testing.assert_allclose(traj.backbone[0], sol.at(traj.s).position, rtol=0, atol=1e-12)
+
+
+def test_initial_potential_under_the_runs_gravity():
+    """The start's potential energy is taken under the run's gravity (the one the energy
+    balance of the steps holds with), not the start's scene's (none here): rho A g times
+    the integral of the height over the start's pose."""
+    held = tr.Scene(tr.Robot(ROD, []), loads=[tr.PointLoad(0.2, (0.3, 0, 0))])
+    start = tr.solve(held, options=simulation_options())
+    traj = simulate(tr.Scene(tr.Robot(ROD, []), gravity=(0, 0, -9.81)), 1e-3, 1e-4, initial=start)
+    assert traj.success, traj.message
+    assert np.abs(traj.tip_position[0] - start.tip_position).max() <= 1e-12 * ROD.length
+    z = start.position[:, 2]
+    want = ROD.mass_per_length * 9.81 * float(np.sum(0.5 * (z[1:] + z[:-1]) * np.diff(start.s)))
+    # the core's RK4 quadrature against the trapezoid on 101 nodes: z is nearly linear in
+    # s (a 2.5 % deflection), both far below 1e-6 of it
+    assert traj.energy[0, 2] == pytest.approx(want, rel=1e-6)
