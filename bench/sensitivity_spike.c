@@ -23,7 +23,8 @@
  *      stepper's vector work that a variational state would multiply);
  *   4. times default cold solves (compile + tr_solve + free, with and without the verdict)
  *      and counts their right-hand side calls, nfev and njev.
- * A third argument N replaces step 4 by N default cold solves (for perf record; blocks = 3).
+ * A third argument N replaces step 4 by N default cold solves (for perf record; blocks = 3),
+ * the first printing the right-hand side calls of each of its shooting passes.
  *
  *   gcc $(grep -v '^#' csrc/CFLAGS) -D_POSIX_C_SOURCE=200809L -Icsrc $(pkg-config --cflags gsl) \
  *       bench/sensitivity_spike.c $(ls csrc/tr_*.c | grep -v tr_rod.c) \
@@ -48,8 +49,8 @@ int tr_rhs(double s, const double y[], double dyds[], void *params);
 
 /* ------------------------------------------------------------ captured states */
 typedef struct {
-    long calls; /* every right-hand side call (shooting and recording layouts) */
-    int on, n, ny;
+    long calls, mark; /* every right-hand side call; the count at the last pass's start */
+    int on, n, ny;    /* on: 1 keep the states, 2 print each shooting pass's call count */
     double s[NSMAX], y[NSMAX][YMAX];
     int seg[NSMAX];
 } capture_buf;
@@ -59,8 +60,12 @@ static capture_buf cap; /* a prototype's recorder: one solve at a time */
 int tr_rhs(double s, const double y[], double dyds[], void *params)
 {
     const tr_data *d = (const tr_data *)params;
+    if (cap.on == 2 && s == 0.0 && !d->rec) { /* a shooting pass starts at s = 0 */
+        if (cap.calls > cap.mark) printf(" %ld", cap.calls - cap.mark);
+        cap.mark = cap.calls;
+    }
     cap.calls++;
-    if (cap.on && cap.n < NSMAX && !d->rec && cap.ny <= YMAX) {
+    if (cap.on == 1 && cap.n < NSMAX && !d->rec && cap.ny <= YMAX) {
         cap.s[cap.n] = s;
         cap.seg[cap.n] = d->seg;
         memcpy(cap.y[cap.n], y, (size_t)cap.ny * sizeof(double));
@@ -688,7 +693,12 @@ int main(int argc, char **argv)
             dc = tr_data_alloc(mc, &o, sc.nodes, NULL, msg, sizeof msg);
             if (!dc) return 1;
             tr_data_set_lazy(dc, 1);
+            if (b == 0) printf("right-hand side calls per shooting pass of a cold solve:");
+            cap.on = b == 0 ? 2 : 0;
+            cap.mark = cap.calls;
             tr_solve(mc, dc, NULL, NULL);
+            if (b == 0) printf(" %ld (and after)\n", cap.calls - cap.mark);
+            cap.on = 0;
             tr_data_free(dc);
             tr_model_free(mc);
         }
