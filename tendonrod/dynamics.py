@@ -425,7 +425,8 @@ def simulate(
         step's boundary-value problem, None to choose them from the step's growth
         (short steps make the inertia a stiff foundation for the bending: single shooting
         fails below dt ~ 2 ms on Till's robot; a large swing can need them sooner than
-        the growth says: a failed step's message names its segments and growth).
+        the growth says: a run whose step fails is then redone with twice the segments,
+        ``Trajectory.segments``; a given count is kept, its failure reported).
     strict : bool
         Raise :class:`~tendonrod.ConvergenceError` instead of warning on failure.
 
