@@ -36,8 +36,8 @@ PyObject *glue_dyn_segments(PyObject *self, PyObject *args, PyObject *kwds)
     int failed = 0;
     ProblemObject *pr;
     (void)self;
-    if (!PyArg_ParseTupleAndKeywords(args, kwds, "O!ddd|i", kwlist, &glue_problem_type, &op,
-                                     &rhoA, &dt, &alpha, &failed))
+    if (!PyArg_ParseTupleAndKeywords(args, kwds, "O!ddd|i", kwlist, &glue_problem_type, &op, &rhoA,
+                                     &dt, &alpha, &failed))
         return NULL;
     pr = (ProblemObject *)op;
     if (glue_problem_check(pr) < 0) return NULL;
