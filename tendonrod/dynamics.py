@@ -291,13 +291,12 @@ def _run(scene, sol, duration, dt, actuation, loads, opt, t0=0.0, resume=None) -
     )
 
 
-def _retried(scene, given, duration, dt, actuation, loads, opt, strict, sol=None):
+def _retried(scene, given, duration, dt, actuation, loads, opt, strict):
     """``(start, raw)``: the run at dt from ``given`` (a Solution or None: the scene's
-    equilibrium; ``sol`` that start already solved on the run's grid), redone from the start
-    with the segments ``tr_dyn_retry_segments`` gives while a step fails and ``segments``
-    is not fixed; ``raw["segments"]`` the last count, the message the counts tried."""
-    if sol is None:
-        sol = start_solution(scene, given, dt, opt, strict)
+    equilibrium), redone from the start with the segments ``tr_dyn_retry_segments`` gives
+    while a step fails and ``segments`` is not fixed; ``raw["segments"]`` the last count,
+    the message the counts tried (when redone)."""
+    sol = start_solution(scene, given, dt, opt, strict)
     raw = _run(scene, sol, duration, dt, actuation, loads, opt)
     tried = []
     while opt["segments"] is None and raw["status"] != 0:
@@ -317,7 +316,7 @@ def _retried(scene, given, duration, dt, actuation, loads, opt, strict, sol=None
         raw = _run(scene, sol, duration, dt, actuation, loads, opt)
         raw["nit"], raw["nfev"] = raw["nit"] + work[0], raw["nfev"] + work[1]
     raw["segments"] = sol.options.shooting_segments
-    if tried:
+    if len(tried) > 1 or (tried and raw["status"] == 0):  # redone at least once
         last = "" if raw["status"] != 0 else f", {raw['segments']}"
         raw["message"] += f"; shooting segments tried: {', '.join(tried)}{last}"
     return sol, raw
