@@ -60,6 +60,15 @@ int tr_dyn_segments(const tr_model *m, double rhoA, double dt, double alpha)
     return M > TR_MAX_SHOOTING_SEGMENTS ? TR_MAX_SHOOTING_SEGMENTS : (int)M;
 }
 
+int tr_dyn_retry_segments(const tr_model *m, double rhoA, double dt, double alpha, int st)
+{
+    const int M2 = 2 * m->nshoot;
+    if (st == TR_OK || st == TR_EINVAL || st == TR_ENOMEM || st == TR_EBUDGET ||
+        st == TR_EINTERRUPTED || M2 > TR_MAX_SHOOTING_SEGMENTS)
+        return 0;
+    return tr_dyn_growth(m, rhoA, dt, alpha) / M2 >= TR_DYN_SHOOT_RETRY_PER ? M2 : 0;
+}
+
 static int check(const tr_model *m, const tr_data *d, const tr_dyn_spec *sp, char *msg, size_t len)
 {
     if (m->planar || m->kirchhoff || m->nfric || d->opt.integrator != TR_RK4 || d->opt.steps <= 0) {

@@ -28,6 +28,11 @@
  * 6.0-8.0 per segment (2-4 segments), Till's robot at 5.7-12.1. */
 #define TR_DYN_SHOOT_ONE 14.0
 #define TR_DYN_SHOOT_PER 8.0
+/* A run whose step fails with M segments chosen from the growth is redone with 2M while
+ * each of the 2M segments still carries a growth of at least TR_DYN_SHOOT_RETRY_PER:
+ * below it a segment amplifies an error by at most exp(2) ~ 7, the shooting Jacobian is
+ * no longer what fails, and more segments only add unknowns (k^3 Newton work). */
+#define TR_DYN_SHOOT_RETRY_PER 2.0
 
 /* What a run integrates: nsteps steps of dt from the solution x0 (scaled unknowns). */
 typedef struct tr_dyn_spec {
@@ -85,6 +90,12 @@ int tr_dyn_nodes(const tr_model *m, tr_data *d);
  * TR_DYN_SHOOT_ONE, else TR_DYN_SHOOT_PER each; at most TR_MAX_SHOOTING_SEGMENTS). */
 double tr_dyn_growth(const tr_model *m, double rhoA, double dt, double alpha);
 int tr_dyn_segments(const tr_model *m, double rhoA, double dt, double alpha);
+/* The segments to redo a run with after it ended with status st on m's segments (chosen
+ * from the growth, not fixed by the caller): twice m->nshoot where st is a failed step
+ * (not TR_OK, TR_EINVAL, TR_ENOMEM, TR_EBUDGET, TR_EINTERRUPTED), the count is at most
+ * TR_MAX_SHOOTING_SEGMENTS and each segment keeps a growth of TR_DYN_SHOOT_RETRY_PER;
+ * else 0: the failure stands. */
+int tr_dyn_retry_segments(const tr_model *m, double rhoA, double dt, double alpha, int st);
 /* The run.  TR_OK; TR_EINVAL (spec out of range or a model the dynamics does not cover:
  * message says which); a failed step's status (out->done the last good one, message with
  * its time and why); TR_EBUDGET / TR_EINTERRUPTED. */

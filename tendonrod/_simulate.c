@@ -22,23 +22,28 @@ const char glue_simulate_doc[] =
     "and dt; row 0 is then the previous run's last, whose outputs the caller keeps).";
 
 const char glue_dyn_segments_doc[] =
-    "dyn_segments(problem, rho_a, dt, alpha) -> (segments, growth)\n\n"
+    "dyn_segments(problem, rho_a, dt, alpha, failed=0) -> (segments, growth)\n\n"
     "The shooting segments a time step of dt [s] (BDF-alpha alpha) of a rod of rho_a [kg/m]\n"
-    "takes, and the growth exponent they are chosen from (tr_dyn_segments, csrc/tr_dyn.h).";
+    "takes, and the growth exponent they are chosen from (tr_dyn_segments, csrc/tr_dyn.h);\n"
+    "with failed, the status of a run on problem's segments: the segments to redo it with\n"
+    "(0: none, tr_dyn_retry_segments).";
 
 PyObject *glue_dyn_segments(PyObject *self, PyObject *args, PyObject *kwds)
 {
-    static char *kwlist[] = {"problem", "rho_a", "dt", "alpha", NULL};
+    static char *kwlist[] = {"problem", "rho_a", "dt", "alpha", "failed", NULL};
     PyObject *op;
     double rhoA, dt, alpha;
+    int failed = 0;
     ProblemObject *pr;
     (void)self;
-    if (!PyArg_ParseTupleAndKeywords(args, kwds, "O!ddd", kwlist, &glue_problem_type, &op, &rhoA,
-                                     &dt, &alpha))
+    if (!PyArg_ParseTupleAndKeywords(args, kwds, "O!ddd|i", kwlist, &glue_problem_type, &op, &rhoA,
+                                     &dt, &alpha, &failed))
         return NULL;
     pr = (ProblemObject *)op;
     if (glue_problem_check(pr) < 0) return NULL;
-    return Py_BuildValue("id", tr_dyn_segments(pr->m, rhoA, dt, alpha),
+    return Py_BuildValue("id",
+                         failed ? tr_dyn_retry_segments(pr->m, rhoA, dt, alpha, failed)
+                                : tr_dyn_segments(pr->m, rhoA, dt, alpha),
                          tr_dyn_growth(pr->m, rhoA, dt, alpha));
 }
 

@@ -91,6 +91,11 @@ class Trajectory:
         Their arc lengths [m]: the starts of the RK4 steps of each segment between
         breakpoints (point loads, tendon ends), and L; the steps are unequal where the
         breakpoints are uneven.
+    segments : int
+        Shooting segments of the run's steps (-1: not known, a file of an older version):
+        with ``segments`` not fixed in ``options``, a run whose step fails is redone from
+        the start with twice the segments while the growth allows (``tr_dyn_retry_segments``,
+        ``csrc/tr_dyn.h``); the message then lists the counts tried.
     final : dict or None
         The last step's state (time history on the grid, unknowns): ``initial=`` of a
         next :func:`simulate` goes on from it.  Not saved by :meth:`save`.
@@ -124,6 +129,7 @@ class Trajectory:
     message: str = ""
     nit: int = -1
     nfev: int = -1
+    segments: int = -1
     final: Any = field(default=None, repr=False)
 
     def save(self, path) -> None:
@@ -131,7 +137,9 @@ class Trajectory:
         arrays = {k: getattr(self, k) for k in _ARRAYS if getattr(self, k) is not None}
         if self.backbone is not None:
             arrays["backbone"], arrays["s"] = self.backbone, self.s
-        meta = np.array([self.success, self.status, self.nit, self.nfev], dtype=np.int64)
+        meta = np.array(
+            [self.success, self.status, self.nit, self.nfev, self.segments], dtype=np.int64
+        )
         np.savez(
             path, format=np.array(_FORMAT), meta=meta, message=np.array(self.message), **arrays
         )
@@ -160,6 +168,7 @@ class Trajectory:
                     message=str(f["message"]),
                     nit=int(meta[2]),
                     nfev=int(meta[3]),
+                    segments=int(meta[4]) if len(meta) > 4 else -1,
                 )
         except _PATH_ERRORS:
             raise
@@ -282,6 +291,37 @@ def _run(scene, sol, duration, dt, actuation, loads, opt, t0=0.0, resume=None) -
     )
 
 
+def _retried(scene, given, duration, dt, actuation, loads, opt, strict):
+    """``(start, raw)``: the run at dt from ``given`` (a Solution or None: the scene's
+    equilibrium), redone from the start with the segments ``tr_dyn_retry_segments`` gives
+    while a step fails and ``segments`` is not fixed; ``raw["segments"]`` the last count,
+    the message the counts tried (when redone)."""
+    sol = start_solution(scene, given, dt, opt, strict)
+    raw = _run(scene, sol, duration, dt, actuation, loads, opt)
+    tried = []
+    while opt["segments"] is None and raw["status"] != 0:
+        seg = sol.options.shooting_segments
+        nxt = _core.dyn_segments(
+            _compile(scene, sol.options),
+            scene.robot.rod.mass_per_length,
+            float(dt),
+            float(opt["alpha"]),
+            failed=int(raw["status"]),
+        )[0]
+        tried.append(f"{seg} (step {raw['done'] + 1} failed)")
+        if not nxt:
+            break
+        sol = start_solution(scene, given, dt, {**opt, "segments": nxt}, strict)
+        work = raw["nit"], raw["nfev"]
+        raw = _run(scene, sol, duration, dt, actuation, loads, opt)
+        raw["nit"], raw["nfev"] = raw["nit"] + work[0], raw["nfev"] + work[1]
+    raw["segments"] = sol.options.shooting_segments
+    if len(tried) > 1 or (tried and raw["status"] == 0):  # redone at least once
+        last = "" if raw["status"] != 0 else f", {raw['segments']}"
+        raw["message"] += f"; shooting segments tried: {', '.join(tried)}{last}"
+    return sol, raw
+
+
 def _extrapolated(scene, initial, duration, dt, actuation, loads, opt, strict, raw):
     """Richardson in dt: the runs at dt, dt/2 and dt/4 give two second-order extrapolations
     R(dt, dt/2), R(dt/2, dt/4) at the times of dt; the rows are the second, the error
@@ -292,18 +332,7 @@ def _extrapolated(scene, initial, duration, dt, actuation, loads, opt, strict, r
     for f in (2, 4):
         if runs[-1]["status"] != 0:
             break
-        h = dt / f
-        runs.append(
-            _run(
-                scene,
-                start_solution(scene, initial, h, opt, strict),
-                duration,
-                h,
-                actuation,
-                loads,
-                opt,
-            )
-        )
+        runs.append(_retried(scene, initial, duration, dt / f, actuation, loads, opt, strict)[1])
     out = dict(runs[-1])
     out["nit"] = sum(r["nit"] for r in runs)
     out["nfev"] = sum(r["nfev"] for r in runs)
@@ -395,7 +424,8 @@ def simulate(
         step's boundary-value problem, None to choose them from the step's growth
         (short steps make the inertia a stiff foundation for the bending: single shooting
         fails below dt ~ 2 ms on Till's robot; a large swing can need them sooner than
-        the growth says: a failed step's message names its segments and growth).
+        the growth says: a run whose step fails is then redone with twice the segments,
+        ``Trajectory.segments``; a given count is kept, its failure reported).
     strict : bool
         Raise :class:`~tendonrod.ConvergenceError` instead of warning on failure.
 
@@ -455,33 +485,18 @@ def simulate(
         raise TypeError(
             f"simulate: initial must be a Solution, a Trajectory or None, got {initial!r}"
         )
-    initial = start_solution(scene, initial, dt, opt, strict)
     t0 = 0.0 if fin is None else fin["t"]
-    raw = _run(
-        scene,
-        initial,
-        duration,
-        dt,
-        actuation,
-        loads,
-        opt,
-        t0,
-        None if fin is None else fin["state"],
-    )
-    if fin is not None:  # row 0: the previous run's last
+    if fin is None:
+        initial, raw = _retried(scene, initial, duration, dt, actuation, loads, opt, strict)
+    else:  # a resumed run keeps its segments (its state is on them)
+        initial = start_solution(scene, initial, dt, opt, strict)
+        raw = _run(scene, initial, duration, dt, actuation, loads, opt, t0, fin["state"])
+        raw["segments"] = initial.options.shooting_segments
         for key in ("tip", "tension", "slack", "energy", "residual", "iters"):
-            raw[key][0] = fin["row"][key]
+            raw[key][0] = fin["row"][key]  # row 0: the previous run's last
     err = None
     if opt["estimate"] and raw["status"] == 0:
-        half = _run(
-            scene,
-            start_solution(scene, initial, dt / 2, opt, strict),
-            duration,
-            dt / 2,
-            actuation,
-            loads,
-            opt,
-        )
+        half = _retried(scene, initial, duration, dt / 2, actuation, loads, opt, strict)[1]
         if half["status"] == 0:
             err = 4.0 / 3.0 * np.linalg.norm(raw["tip"][:, :3] - half["tip"][::2, :3], axis=1)
     if opt["extrapolate"]:
@@ -511,6 +526,7 @@ def simulate(
         message=raw["message"],
         nit=int(raw["nit"]),
         nfev=int(raw["nfev"]),
+        segments=int(raw["segments"]),
         final=None
         if raw["done"] == 0 or opt["extrapolate"]
         else {
