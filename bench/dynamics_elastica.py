@@ -16,9 +16,9 @@ from ``Solution.at``; the clamp holds the first element in that initial frame).
 PyElastica runs in its own virtual environment (``--elastica-python``, default
 /work/venv-elastica/bin/python), as a subprocess of this same file in worker mode
 (``--worker``: no tendonrod import), writing the tip every 2.5 ms and its loop's thread
-CPU and wall time to an .npz.  tendonrod runs here (BDF2; with the shooting segments
-tr.simulate chooses, steps below 0.005 s fail on this scene, with two segments they pass
-down to 0.0025 s: --sweep, docs/validation/dynamics_elastica.md).
+CPU and wall time to an .npz.  tendonrod runs here (BDF2; single shooting fails below 0.005 s on this scene, and
+tr.simulate then redoes the run on two segments, which pass down to 0.0025 s: --sweep,
+docs/validation/dynamics_elastica.md).
 
 Not a test: prints tables, writes bench/results/dynamics_elastica.csv and
 docs/images/dynamics_elastica.png (--tau 0: dynamics_elastica_sudden.csv and .png in
