@@ -89,8 +89,9 @@ int main(int argc, char **argv)
     for (c = 0; c < n; c += chunk) {
         const int len = n - c < chunk ? n - c : chunk;
         tr_batch_in in = {len, NULL, F + 6 * c, NULL, 1, 1, pred, 0, skip, NULL, NULL};
-        tr_batch_out oc = {pos + 3 * c, rot + 9 * c, t + 3 * c, s + 3 * c, dd + 3 * c, res + c,
-                           st + c,      nit + c,     nfev + c,  cold + c,  NULL,       0};
+        tr_batch_out oc = {pos + 3 * c, rot + 9 * c, t + 3 * c, s + 3 * c, dd + 3 * c,
+                           res + c,     st + c,      nit + c,   nfev + c,  cold + c,
+                           NULL,        0,           NULL,      NULL,      NULL};
         if (tr_batch_solve(mod, &o, &in, &oc, msg, sizeof msg) != TR_OK) {
             puts(msg);
             return 1;
