@@ -7,7 +7,10 @@
  *
  *   gcc -O2 -std=c99 -D_POSIX_C_SOURCE=200809L -Icsrc $(pkg-config --cflags gsl) \
  *       bench/batch_harness.c csrc/tr_*.c -o /tmp/batch_harness $(pkg-config --libs gsl) -lm
- *   /tmp/batch_harness [m=100] [steps=4] [tol=3e-9] [predict=1] [skip_record=1]
+ *   /tmp/batch_harness [m=100] [steps=4] [tol=3e-9] [predict=1] [skip_record=1] [chunk=m]
+ *
+ * chunk: points per call of tr_batch_solve (m: one grid line per call; m*m: the whole
+ * grid in one call, as solve_batch's default chunk of 1000 points does for m <= 31).
  *   valgrind --tool=callgrind /tmp/batch_harness 50 4 3e-9 1 1
  */
 #include <math.h>
@@ -17,6 +20,9 @@
 #include <time.h>
 #include <gsl/gsl_errno.h>
 #include "tendonrod.h"
+#ifndef M_PI
+#define M_PI 3.14159265358979323846
+#endif
 #include "tr_batch.h"
 
 static double cpu_now(void)
@@ -31,6 +37,7 @@ int main(int argc, char **argv)
     const int m = argc > 1 ? atoi(argv[1]) : 100, steps = argc > 2 ? atoi(argv[2]) : 4;
     const double tol = argc > 3 ? atof(argv[3]) : 3e-9;
     const int pred = argc > 4 ? atoi(argv[4]) : 1, skip = argc > 5 ? atoi(argv[5]) : 1;
+    const int chunk = argc > 6 ? atoi(argv[6]) : m;
     const double dia = 0.8e-3, A = M_PI * dia * dia / 4, I = M_PI * pow(dia, 4) / 64, L = 0.2,
                  r = 0.01;
     const double rod[6] = {L, 207e9 * I, 79.6e9 * 2 * I, 207e9 * A, 79.6e9 * A, 0};
@@ -79,11 +86,12 @@ int main(int argc, char **argv)
             F[6 * (i * m + j) + 1] = -0.1 + 0.2 * j / (m - 1);
         }
     t0 = cpu_now();
-    for (c = 0; c < m; c++) {
-        tr_batch_in in = {m, NULL, F + 6 * c * m, NULL, 1, 1, pred, 0, skip, NULL, NULL};
-        tr_batch_out oc = {pos + 3 * c * m, rot + 9 * c * m, t + 3 * c * m, s + 3 * c * m,
-                           dd + 3 * c * m,  res + c * m,     st + c * m,    nit + c * m,
-                           nfev + c * m,    cold + c * m,    NULL,          0};
+    for (c = 0; c < n; c += chunk) {
+        const int len = n - c < chunk ? n - c : chunk;
+        tr_batch_in in = {len, NULL, F + 6 * c, NULL, 1, 1, pred, 0, skip, NULL, NULL};
+        tr_batch_out oc = {pos + 3 * c, rot + 9 * c, t + 3 * c, s + 3 * c, dd + 3 * c,
+                           res + c,     st + c,      nit + c,   nfev + c,  cold + c,
+                           NULL,        0,           NULL,      NULL,      NULL};
         if (tr_batch_solve(mod, &o, &in, &oc, msg, sizeof msg) != TR_OK) {
             puts(msg);
             return 1;
@@ -95,9 +103,9 @@ int main(int argc, char **argv)
         sf += nfev[i];
         bad += st[i] < 0;
     }
-    printf("%d points, rk8 x %d steps, tol %g, predict %d, skip_record %d: %.1f us CPU per solve "
-           "(%.0f solves per CPU-second), nit %.2f, nfev %.2f, failed %d\n",
-           n, steps, tol, pred, skip, (t1 - t0) / n * 1e6, n / (t1 - t0), (double)sn / n,
+    printf("%d points, rk8 x %d steps, tol %g, predict %d, skip_record %d, chunk %d: %.1f us CPU "
+           "per solve (%.0f solves per CPU-second), nit %.2f, nfev %.2f, failed %d\n",
+           n, steps, tol, pred, skip, chunk, (t1 - t0) / n * 1e6, n / (t1 - t0), (double)sn / n,
            (double)sf / n, bad);
     tr_model_free(mod);
     free(F);

@@ -4,8 +4,10 @@
  * batches of one model at once); each point's values are set in the one workspace that
  * serves every point (tr_data_set_values).  A warm point starts from the last converged one (its base state by
  * tr_base_state, its unknowns and Jacobian) or from an extrapolation along the line
- * of the last converged points; with a fixed step count it first tries the lean
- * solve (tr_solve_lean), then the full tr_solve.
+ * of the last converged points; a point off that line starts from the nearer (in scaled
+ * values) of the last converged point and the first point of the last line (the anchor:
+ * on a grid swept line by line, the neighbour of the next line's first point).  With a
+ * fixed step count it first tries the lean solve (tr_solve_lean), then the full tr_solve.
  */
 #include <math.h>
 #include <stdlib.h>
@@ -24,11 +26,16 @@ typedef struct batch_ws {
     double *hist_p[TR_BATCH_HIST]; /* (np) their varied values */
     double *P;                     /* (np) varied values of this point */
     double *gp, *xp;               /* (ng), (k) predicted base state and unknowns */
-    double *J;                     /* (k x k) Jacobian of the last converged point */
-    tr_verified ver;               /* its step verification (ver.x: (k), steps 0: none) */
-    double *xver;                  /* (k) the unknowns behind ver.x */
-    double *vver;                  /* (nt) the actuation values behind ver.values */
-    double *block;                 /* the one allocation behind the arrays above */
+    double *hist_J[TR_BATCH_HIST]; /* (k x k) their final Jacobians */
+    double *ag, *ax, *ap, *aJ;     /* the anchor: base state, unknowns, values, Jacobian */
+    double *scale;                 /* (np) scale of each varied value (its size in the
+                                      verdict's scaled values) */
+    int run;                       /* converged points on the line through the newest */
+    int have_anchor;
+    tr_verified ver; /* its step verification (ver.x: (k), steps 0: none) */
+    double *xver;    /* (k) the unknowns behind ver.x */
+    double *vver;    /* (nt) the actuation values behind ver.values */
+    double *block;   /* the one allocation behind the arrays above */
 } batch_ws;
 
 static void ws_free(batch_ws *w)
@@ -48,8 +55,8 @@ static int ws_alloc(batch_ws *w, const tr_model *base, const tr_options *opt, in
     w->k = base->n_unknowns;
     w->ng = 6 + 2 * base->nt;
     w->np = np;
-    len = (size_t)TR_BATCH_HIST * (w->ng + w->k + np) + np + w->ng + 2 * (size_t)w->k +
-          (size_t)w->k * w->k + (size_t)base->nt;
+    len = (size_t)(TR_BATCH_HIST + 1) * (w->ng + w->k + np + (size_t)w->k * w->k) + 2 * np + w->ng +
+          2 * (size_t)w->k + (size_t)base->nt;
     w->block = (double *)calloc(len + 1, sizeof(double));
     w->m = base;
     if (!w->block) {
@@ -61,13 +68,18 @@ static int ws_alloc(batch_ws *w, const tr_model *base, const tr_options *opt, in
         w->hist_g[h] = q, q += w->ng;
         w->hist_x[h] = q, q += w->k;
         w->hist_p[h] = q, q += np;
+        w->hist_J[h] = q, q += (size_t)w->k * w->k;
     }
+    w->ag = q, q += w->ng;
+    w->ax = q, q += w->k;
+    w->ap = q, q += np;
+    w->aJ = q, q += (size_t)w->k * w->k;
+    w->scale = q, q += np;
     w->P = q, q += np;
     w->gp = q, q += w->ng;
     w->xp = q, q += w->k;
     w->xver = q, q += w->k;
-    w->vver = q, q += base->nt;
-    w->J = q;
+    w->vver = q;
     o.tip_only = 1;
     w->d = tr_data_alloc(w->m, &o, 1, NULL, msg, msglen);
     return w->d ? TR_OK : TR_ENOMEM;
@@ -83,6 +95,33 @@ static void gather(const tr_model *m, const tr_batch_in *in, int p, double *P)
         for (i = 0; i < 6 * m->nl; i++) P[o++] = in->load[(size_t)p * 6 * m->nl + i];
     if (in->dist)
         for (i = 0; i < 3; i++) P[o++] = in->dist[(size_t)p * 3 + i];
+}
+
+/* The scale of each varied value, in gather's order: a displacement by the tendon's
+ * largest offset (L if none), a tension and a force by EI/L^2, a moment by EI/L, the
+ * distributed force by EI/L^3. */
+static void scales(const tr_model *m, const tr_batch_in *in, double *S)
+{
+    int o = 0, i;
+    if (in->value)
+        for (i = 0; i < m->nt; i++) {
+            const tr_tendon *t = m->tendon + i;
+            const double r = fmax(fabs(t->b), fabs(t->b + t->a * t->t));
+            S[o++] = t->control == TR_DISPLACEMENT ? (r > 0.0 ? r : m->L) : m->F_s;
+        }
+    if (in->load)
+        for (i = 0; i < 6 * m->nl; i++) S[o++] = i % 6 < 3 ? m->F_s : m->M_s;
+    if (in->dist)
+        for (i = 0; i < 3; i++) S[o++] = m->F_s / m->L;
+}
+
+/* Scaled distance squared between two points' varied values. */
+static double dist2(const double *a, const double *b, const double *S, int np)
+{
+    double s = 0.0;
+    int i;
+    for (i = 0; i < np; i++) s += (a[i] - b[i]) * (a[i] - b[i]) / (S[i] * S[i]);
+    return s;
 }
 
 /* c with b = c a (to 1e-9 relative), 0 < c <= 2; 0 if b is not such a multiple of a. */
@@ -157,24 +196,42 @@ static void extrapolate(const double wt[4], double *const hist[TR_BATCH_HIST], d
                  (wt[3] != 0.0 ? wt[3] * hist[3][i] : 0.0);
 }
 
-/* A converged point becomes the newest of the history (the oldest buffer is reused). */
-static void push_converged(batch_ws *w, const tr_model *m, const tr_data *d)
+/* A converged point becomes the newest of the history (the oldest buffer is reused);
+ * have: the points on record after it.  Where it starts a new line (it is not on the
+ * line through the two before it), the point before it -- the first of that line --
+ * becomes the anchor. */
+static void push_converged(batch_ws *w, const tr_model *m, const tr_data *d, int have)
 {
     double *g = w->hist_g[TR_BATCH_HIST - 1], *x = w->hist_x[TR_BATCH_HIST - 1];
-    double *p = w->hist_p[TR_BATCH_HIST - 1];
+    double *p = w->hist_p[TR_BATCH_HIST - 1], *J = w->hist_J[TR_BATCH_HIST - 1];
+    const size_t kk = (size_t)w->k * w->k;
     int h;
     for (h = TR_BATCH_HIST - 1; h > 0; h--) {
         w->hist_g[h] = w->hist_g[h - 1];
         w->hist_x[h] = w->hist_x[h - 1];
         w->hist_p[h] = w->hist_p[h - 1];
+        w->hist_J[h] = w->hist_J[h - 1];
     }
     w->hist_g[0] = g;
     w->hist_x[0] = x;
     w->hist_p[0] = p;
+    w->hist_J[0] = J;
     tr_base_state(m, d, g);
     memcpy(x, d->x, (size_t)w->k * sizeof(double));
     memcpy(p, w->P, (size_t)w->np * sizeof(double));
-    memcpy(w->J, d->J, (size_t)w->k * w->k * sizeof(double));
+    memcpy(J, d->J, kk * sizeof(double));
+    if (have >= 3 && collinear(p, w->hist_p[1], w->hist_p[1], w->hist_p[2], w->np) != 0.0) {
+        w->run++;
+    } else {
+        w->run = have >= 2 ? 2 : 1;
+        if (have >= 2) {
+            memcpy(w->ag, w->hist_g[1], (size_t)w->ng * sizeof(double));
+            memcpy(w->ax, w->hist_x[1], (size_t)w->k * sizeof(double));
+            memcpy(w->ap, w->hist_p[1], (size_t)w->np * sizeof(double));
+            memcpy(w->aJ, w->hist_J[1], kk * sizeof(double));
+            w->have_anchor = 1;
+        }
+    }
     w->ver.steps = d->have_ver ? d->steps_ver : 0;
     w->ver.estimate = d->est_ver;
     w->ver.x = w->xver;
@@ -234,20 +291,30 @@ static int solve_point(batch_ws *w, const tr_batch_in *in, int have, int record,
 {
     const tr_model *m = w->m;
     tr_data *d = w->d;
-    const double *g = w->hist_g[0];
+    const double *g = w->hist_g[0], *J = w->hist_J[0];
+    const tr_verified *ver = w->ver.steps > 0 ? &w->ver : NULL;
     double wt[4], spent = 0.0;
-    int st = TR_EINVAL;
+    int st = TR_EINVAL, order = 0;
     *cold = !(in->warm && have);
     *nit = *nfev = 0;
     if (have >= 1) memcpy(w->xp, w->hist_x[0], (size_t)w->k * sizeof(double));
-    if (!*cold && !in->exact && have >= 2 && in->predict && predict_weights(w, have, wt) > 0) {
-        extrapolate(wt, w->hist_g, w->gp, w->ng);
-        extrapolate(wt, w->hist_x, w->xp, w->k);
-        g = w->gp;
+    if (!*cold && !in->exact && in->predict) {
+        if (have >= 2) order = predict_weights(w, have, wt);
+        if (order > 0) {
+            extrapolate(wt, w->hist_g, w->gp, w->ng);
+            extrapolate(wt, w->hist_x, w->xp, w->k);
+            g = w->gp;
+        } else if (w->have_anchor && dist2(w->P, w->ap, w->scale, w->np) <
+                                         dist2(w->P, w->hist_p[0], w->scale, w->np)) {
+            memcpy(w->xp, w->ax, (size_t)w->k * sizeof(double));
+            g = w->ag;
+            J = w->aJ;
+            ver = NULL;
+        }
     }
     if (!*cold && !in->exact && d->opt.steps > 0 && d->opt.integrator != TR_ADAPTIVE) {
         const int iters = d->opt.max_iter < TR_LEAN_ITER ? d->opt.max_iter : TR_LEAN_ITER;
-        st = tr_solve_lean(m, d, w->xp, w->J, iters);
+        st = tr_solve_lean(m, d, w->xp, J, iters);
         /* an unstable answer goes to the full solve, which looks for a stable one */
         if (st == TR_OK && !tr_branch_lean(m, d)) st = TR_ENOPROGRESS;
         if (st == TR_OK) st = record ? tr_record(m, d) : tr_record_tip(m, d);
@@ -262,7 +329,7 @@ static int solve_point(batch_ws *w, const tr_batch_in *in, int have, int record,
     if (*cold)
         st = tr_solve(m, d, NULL, NULL);
     else
-        st = tr_solve_from(m, d, g, w->J, w->ver.steps > 0 ? &w->ver : NULL);
+        st = tr_solve_from(m, d, g, J, ver);
     *nit += d->nit;
     *nfev += d->nfev;
     spent += d->spent;
@@ -317,6 +384,7 @@ int tr_batch_solve(const tr_model *m, const tr_options *opt, const tr_batch_in *
      * displacement is wanted */
     for (i = 0; i < m->nt; i++) nten += m->tendon[i].control == TR_TENSION;
     record = nten > 0 && !in->skip_tension_displacement;
+    scales(m, in, w.scale);
     tr_set_poll(w.d, in->poll, in->poll_ctx);
     for (p = 0; p < in->n; p++) {
         char pmsg[TR_MSGLEN];
@@ -342,8 +410,8 @@ int tr_batch_solve(const tr_model *m, const tr_options *opt, const tr_batch_in *
         }
         write_point(out, p, w.m, w.d, st, nit, nfev, cold);
         if (TR_SUCCEEDED(st)) {
-            push_converged(&w, w.m, w.d);
             have = have < TR_BATCH_HIST ? have + 1 : TR_BATCH_HIST;
+            push_converged(&w, w.m, w.d, have);
         } else {
             have = have > 0 ? 1 : 0; /* no extrapolation across a failed point */
         }

@@ -12,8 +12,9 @@
  *   - the uniform distributed force (world frame).
  * Points are solved in order with the core's public API; each is warm-started from
  * the previous converged point (its base state, tr_base_state, and its final
- * Jacobian), as tendonrod.solve(scene, guess=previous) does, optionally from a
- * secant, quadratic or cubic prediction along a line of points.  With a fixed step
+ * Jacobian), as tendonrod.solve(scene, guess=previous) does, optionally (predict) from a
+ * secant, quadratic or cubic prediction along a line of points, and off that line from
+ * the nearer of the previous point and the first point of the last line.  With a fixed step
  * count (opt->steps > 0) a warm point first runs the lean solve (tr_solve_lean) and
  * goes to the full tr_solve only if that fails; with automatic steps every point runs
  * tr_solve (step verification included).  Only tip quantities are recorded.
@@ -45,8 +46,10 @@ typedef struct tr_batch_in {
     int warm;                      /* 1: warm-start each point from the previous converged one */
     int retry_cold;                /* 1: a warm start that fails is retried cold (no guess) */
     int predict;                   /* 1: when a point continues the line through the last two
-                               converged points, start from the secant extrapolation of
-                               their solutions instead of the last one */
+                               converged points, start from the extrapolation of their
+                               solutions instead of the last one; else from the nearer
+                               (scaled values) of the last one and the first point of
+                               the last line */
     int exact;                     /* 1: reproduce a loop of tendonrod.solve(scene,
                                       guess=previous tip-only solution) bit for bit: no
                                       predictor, no lean solve (every point runs tr_solve) */

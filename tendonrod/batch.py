@@ -198,7 +198,10 @@ def solve_batch(
     predict : bool
         When a point continues the line through the previous converged points, start from
         the (secant, quadratic or, for equally spaced points, cubic) extrapolation of
-        their solutions.
+        their solutions; when it does not, start from the nearer (in values scaled by
+        EI/L^2, EI/L, the tendon offset) of the previous converged point and the first
+        point of the last line (on a grid swept line by line: the neighbour of a line's
+        first point on the line before, instead of the far end of that line).
     exact : bool
         Reproduce, bit for bit, a loop of ``tr.solve(scene_p, guess=previous_solution,
         options=Options(tip_only=True, ...))`` restarted cold at every chunk (what

@@ -123,6 +123,36 @@ def test_spatial_loads_and_actuation_match_individual_solves(steps):
         assert res.tension[p, 1] == tau[p, 0]
 
 
+def test_grid_swept_line_by_line_starts_each_line_next_to_the_last():
+    """A tip-force grid in one chunk, swept line by line (F_y fastest): each line's first
+    point lies one grid step from the previous line's first point but a whole line
+    (0.2 N, ~FL^2/EI = 4) from the previous point.  Every point matches its own cold
+    solve, verdicts included, and a line's first point is started next to it: it costs
+    no more residual evaluations than a line's second point (also a plain warm start,
+    one grid step away, without a predictor)."""
+    scene = spatial_scene()
+    m = 6
+    f = np.linspace(-0.1, 0.1, m)
+    F = np.zeros((m * m, 2, 3))
+    F[:, 0, 0] = np.repeat(f, m)
+    F[:, 0, 1] = np.tile(f, m)
+    opts = tr.Options(steps=6)
+    res = tr.solve_batch(scene, forces=F, options=opts)
+    assert res.success.all(), res.failures()
+    assert res.cold.sum() == 1
+    for p in range(0, m * m, 5):
+        sol = tr.solve(
+            with_point(scene, forces=F[p]), options=dataclasses.replace(opts, tip_only=True)
+        )
+        np.testing.assert_allclose(res.tip_position[p], sol.tip_position, rtol=0, atol=TIP_TOL)
+        assert res.stable[p] == sol.stable
+    first = res.nfev[m::m]  # lines 2.., first point
+    second = res.nfev[m + 1 :: m]
+    # counts, not timings: a start one grid step away needs the same few Newton steps
+    # (the far start of the previous line's last point took tens of iterations)
+    assert first.max() <= second.max(), (first, second)
+
+
 def test_pure_end_moment_is_an_exact_circle():
     """A plain rod under a tip moment M bends into a circular arc of curvature M/EI
     (no internal force, so shear and extension stay zero): tip (1 - cos k L)/k, sin(k L)/k.
