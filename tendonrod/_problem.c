@@ -182,12 +182,44 @@ fail:
     return NULL;
 }
 
-static PyObject *problem_solve(ProblemObject *self, PyObject *args, PyObject *kwds)
+/* The keyword-only arguments of solve, in the order of SOLVE_KW. */
+enum { KW_GUESS, KW_JACOBIAN, KW_VERIFIED, KW_WARM, KW_CANCEL, KW_RECORD, KW_CARRY, KW_N };
+static const char *const SOLVE_KW[KW_N] = {"guess",  "jacobian", "verified", "warm",
+                                           "cancel", "record",   "carry"};
+
+/* The vectorcall arguments of solve into val[KW_N] (borrowed; unset ones keep their
+ * value): keywords only, each at most once, by name; the flags through truth. */
+static int solve_keywords(PyObject *const *args, Py_ssize_t nargs, PyObject *kwnames,
+                          PyObject **val, int *warm, int *record)
 {
-    static char *kwlist[] = {"guess",  "jacobian", "verified", "warm",
-                             "cancel", "record",   "carry",    NULL};
-    PyObject *og = Py_None, *oj = Py_None, *ov = Py_None, *cancel = Py_None, *result = NULL;
-    PyObject *oc = Py_None;
+    Py_ssize_t nkw = kwnames ? PyTuple_GET_SIZE(kwnames) : 0;
+    int seen = 0;
+    if (nargs) {
+        PyErr_Format(PyExc_TypeError, "solve() takes no positional arguments (%zd given)", nargs);
+        return -1;
+    }
+    for (Py_ssize_t i = 0; i < nkw; i++) {
+        PyObject *name = PyTuple_GET_ITEM(kwnames, i);
+        int k = 0;
+        while (k < KW_N && PyUnicode_CompareWithASCIIString(name, SOLVE_KW[k]) != 0) k++;
+        if (k == KW_N || (seen & (1 << k))) {
+            PyErr_Format(PyExc_TypeError, "solve() got %s keyword argument '%U'",
+                         k == KW_N ? "an unexpected" : "multiple values for", name);
+            return -1;
+        }
+        seen |= 1 << k;
+        val[k] = args[i];
+    }
+    if (seen & (1 << KW_WARM) && (*warm = PyObject_IsTrue(val[KW_WARM])) < 0) return -1;
+    if (seen & (1 << KW_RECORD) && (*record = PyObject_IsTrue(val[KW_RECORD])) < 0) return -1;
+    return 0;
+}
+
+static PyObject *problem_solve(ProblemObject *self, PyObject *const *args, Py_ssize_t nargs,
+                               PyObject *kwnames)
+{
+    PyObject *val[KW_N] = {Py_None, Py_None, Py_None, Py_None, Py_None, Py_None, Py_None};
+    PyObject *og, *oj, *ov, *cancel, *oc, *result = NULL;
     PyArrayObject *xv = NULL, *vv = NULL;
     glue_args a;
     glue_poll poll;
@@ -197,9 +229,9 @@ static PyObject *problem_solve(ProblemObject *self, PyObject *args, PyObject *kw
     int warm = 1, record = 1, status;
     memset(&a, 0, sizeof a);
     if (glue_problem_check(self) < 0) return NULL;
-    if (!PyArg_ParseTupleAndKeywords(args, kwds, "|$OOOpOpO", kwlist, &og, &oj, &ov, &warm, &cancel,
-                                     &record, &oc))
-        return NULL;
+    if (solve_keywords(args, nargs, kwnames, val, &warm, &record) < 0) return NULL;
+    og = val[KW_GUESS], oj = val[KW_JACOBIAN], ov = val[KW_VERIFIED];
+    cancel = val[KW_CANCEL], oc = val[KW_CARRY];
     a.nt = self->m->nt;
     if (glue_poll_init(&poll, cancel) < 0 || glue_warm_start(&a, og, oj) < 0) goto done;
     if (ov != Py_None) {
@@ -535,7 +567,7 @@ static PyMethodDef problem_methods[] = {
      "constraints of the displacement-controlled tendons `tendons`, one per component\n"
      "(tr_data_set_target); a solve then reports the displacements that reach it.\n"
      "ValueError naming what is wrong."},
-    {"solve", (PyCFunction)(void (*)(void))problem_solve, METH_VARARGS | METH_KEYWORDS,
+    {"solve", (PyCFunction)(void (*)(void))problem_solve, METH_FASTCALL | METH_KEYWORDS,
      "solve(*, guess=None, jacobian=None, verified=None, warm=True, cancel=None, record=True,\n"
      "carry=None)\n"
      "-> dict: from the guess (a base_state) if given, else warm from the last successful solve\n"
