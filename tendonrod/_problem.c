@@ -143,6 +143,34 @@ done:
     return result;
 }
 
+/* Whether the point loads and the distributed force of a value vector (as for
+ * set_value_vector) keep to the x-z plane: tr_is_planar on them alone (the tendons and
+ * the partial distributed loads are the structure's). */
+static PyObject *problem_values_planar(ProblemObject *self, PyObject *arg)
+{
+    const tr_model *m = self->m;
+    PyArrayObject *v = NULL;
+    double *rows;
+    const double *p;
+    int i, c, planar;
+    if (glue_problem_check(self) < 0) return NULL;
+    if (values_of(arg, "value vector", m->nt + 6 * (npy_intp)m->nl + 3, &v) < 0) return NULL;
+    p = (const double *)PyArray_DATA(v) + m->nt;
+    rows = PyMem_Malloc(sizeof(double) * TR_LD_NCOL * (size_t)(m->nl > 0 ? m->nl : 1));
+    if (!rows) {
+        Py_DECREF(v);
+        return PyErr_NoMemory();
+    }
+    for (i = 0; i < m->nl; i++) {
+        rows[TR_LD_NCOL * i + TR_LD_S] = 0.0;
+        for (c = 0; c < 6; c++) rows[TR_LD_NCOL * i + TR_LD_F + c] = p[6 * i + c];
+    }
+    planar = tr_is_planar(NULL, 0, rows, m->nl, p + 6 * m->nl);
+    PyMem_Free(rows);
+    Py_DECREF(v);
+    return PyBool_FromLong(planar);
+}
+
 static PyObject *problem_set_target(ProblemObject *self, PyObject *args)
 {
     int kind, i, n, status, idx[3];
@@ -561,6 +589,9 @@ static PyMethodDef problem_methods[] = {
     {"set_value_vector", (PyCFunction)problem_set_value_vector, METH_O,
      "set_value_vector(v): v = [values (nt), point loads (nl x 6), dist (3)] in one float64\n"
      "vector (the per-call values of set_values without the pretensions)."},
+    {"values_planar", (PyCFunction)problem_values_planar, METH_O,
+     "values_planar(v) -> bool: whether the point loads and the distributed force of the value\n"
+     "vector v (as for set_value_vector) keep to the x-z plane (tr_is_planar on them alone)."},
     {"set_target", (PyCFunction)problem_set_target, METH_VARARGS,
      "set_target(kind, values, tendons): the residual of a tip target (kind 1 angle [rad]\n"
      "(planar), 2 direction (3), 3 position (3) [m] world; 0 none) replaces the length\n"

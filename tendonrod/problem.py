@@ -30,7 +30,10 @@ from .compiled import (
     _compile,
     _structure,
     compliance_point,
+    fixed_planar,
+    is_planar,
     pack_scene,
+    same_fields,
     structure_difference,
     value_vector,
 )
@@ -115,6 +118,26 @@ class Problem:
         """Make ``scene`` (same structure) the one whose values are set in C."""
         if not isinstance(scene, Scene):
             raise ValueError(f"scene must be a tendonrod.Scene, got {scene!r}")
+        cur = self._current
+        if same_fields(cur, scene):
+            # only values differ from the scene set last (whose structure is this one's);
+            # the planar formulation follows the loads' values, the rest of the core's
+            # rule is the structure's: it must come out as that scene's
+            v = value_vector(scene)
+            if self._options.force_spatial:
+                self._c.set_value_vector(v)
+                self._current = scene
+                return
+            fixed = self.__dict__.get("_fixed_planar")
+            if fixed is None:
+                fixed = self.__dict__["_fixed_planar"] = fixed_planar(cur)
+            planar = fixed and self._c.values_planar(v)
+            if planar == is_planar(cur):
+                # (the core's rule, the conjunction of the two: cached as is_planar does)
+                object.__setattr__(scene, "_planar", planar)
+                self._c.set_value_vector(v)
+                self._current = scene
+                return
         # the same robot and the same scene structure (both cached on the frozen objects):
         # nothing to compare field by field
         same = scene.robot is self._scene.robot and (
