@@ -15,7 +15,7 @@ import tendonrod as tr
 from tendonrod import _core
 from tendonrod import _plausible as PL
 from tendonrod import _plausible_rules as PR
-from tendonrod.compiled import is_planar, pack_scene, structure_difference, value_vector
+from tendonrod.compiled import _structure, is_planar, pack_scene, structure_difference, value_vector
 
 pytestmark = pytest.mark.filterwarnings("ignore::tendonrod.PlausibilityWarning")
 
@@ -91,6 +91,8 @@ def check_pair(prob, a, b, spatial, where):
         # the planarity cached on b is the core's rule on b's packed tables
         ref = dataclasses.replace(b)
         assert is_planar(b) == is_planar(ref), where
+        # and the structure cached on it is the one of its fields
+        assert _structure(b) == _structure(ref), where
     else:
         with pytest.raises(ValueError, match=re_escape(want.split(" = ")[0])):
             prob._set(b)
