@@ -18,6 +18,10 @@ Scenes: ``bench/solve.py``'s Fig. 11c, Till T0, Fig. 17 and Rao R (tip 0.1 N x).
 
     .venv/bin/python bench/python_overhead.py --old /path/to/old/checkout [--rounds 9]
     PYTHONPATH=$PWD .venv/bin/python bench/python_overhead.py --split "Till T0 (gravity +x)"
+    .venv/bin/python bench/python_overhead.py --old /path/to/old/checkout --glue --rounds 6
+
+``--glue``: the raw ``_core.Problem.solve`` call alone (no Python layer), the two builds
+in alternating processes.
 """
 
 from __future__ import annotations
@@ -216,10 +220,54 @@ def split(name: str, reps: int = 100) -> None:
     )
 
 
+GLUE = r"""
+import json, statistics, time
+import tendonrod as tr
+robot = tr.Robot(tr.Rod(0.2, 0.8e-3, 207e9, 79.6e9, kirchhoff=True), [tr.Tendon(0.01)])
+p = tr.Problem(tr.Scene(robot, displacement=[0.01]))
+p.solve()
+c, tt, out = p._c, time.thread_time_ns, []
+for _ in range(30):
+    t0 = tt()
+    for _ in range(2000):
+        c.solve(record=False)
+    t1 = tt()
+    for _ in range(2000):
+        c.solve(record=False, warm=True, cancel=None)
+    out.append(((t1 - t0) / 2000e3, (tt() - t1) / 2000e3))
+print(json.dumps([statistics.median(o[k] for o in out) for k in (0, 1)]))
+"""
+
+
+def glue(old: str, rounds: int) -> None:
+    """The glue's share of a call, both builds in alternating processes: the raw
+    ``_core.Problem.solve`` of a scene already solved (the warm solve returns at its
+    first residual), with one keyword and with three, thread CPU time per call (median
+    of 30 x 2,000 calls per process)."""
+    res: dict = {"old": [], "new": []}
+    for r in range(rounds):
+        order = (("old", old), ("new", NEW)) if r % 2 == 0 else (("new", NEW), ("old", old))
+        for b, path in order:
+            env = dict(os.environ, PYTHONPATH=path)
+            o = subprocess.run(
+                [sys.executable, "-c", GLUE], env=env, cwd=path, capture_output=True, text=True
+            )
+            res[b].append(json.loads(o.stdout))
+    med = statistics.median
+    for k, what in enumerate(
+        ("solve(record=False)", "solve(record=False, warm=True, cancel=None)")
+    ):
+        o, n = med(x[k] for x in res["old"]), med(x[k] for x in res["new"])
+        d = med(b[k] - a[k] for a, b in zip(res["old"], res["new"]))
+        print(f"{what}: old {o:.2f} us, new {n:.2f} us, new - old per round {d:+.2f} us")
+    print(f"{rounds} rounds; load average {os.getloadavg()[0]:.2f}")
+
+
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--split", metavar="SCENE", help="only the in-process split of one scene")
     ap.add_argument("--old", help="checkout of the old build (built in place)")
+    ap.add_argument("--glue", action="store_true", help="only the raw call's glue, old vs new")
     ap.add_argument("--rounds", type=int, default=9)
     ap.add_argument("--reps", type=int, default=5)
     args = ap.parse_args(argv)
@@ -229,6 +277,9 @@ def main(argv=None) -> int:
     if not args.old:
         ap.error("--old is required (or --split SCENE)")
     old = os.path.abspath(args.old)
+    if args.glue:
+        glue(old, args.rounds)
+        return 0
     if not same_core(old):
         raise SystemExit("the checkouts' csrc differ: the bare-core harness would not be one")
     tmp = tempfile.mkdtemp()

@@ -48,14 +48,18 @@ def _scene_screen(scene) -> tuple:
     the frozen scene)."""
     v = scene.__dict__.get("_plausibility_screen")
     if v is None:
-        _, _, loads, dist = pack_scene(scene)  # cached on the scene; s clipped to [0, L]
-        rows = loads.tolist()
+        # the point loads' [F, M] and the distributed force from the value vector (base
+        # frame for a mounted robot: the norms are the same), arc lengths clipped to [0, L]
+        L = scene.robot.rod.length
+        pls = scene.point_loads
+        v = value_vector(scene).tolist()
+        k = scene.robot.n_tendons
         levers = PR.load_levers(
-            [r[0] for r in rows],
-            [math.hypot(r[1], r[2], r[3]) for r in rows],
-            [math.hypot(r[4], r[5], r[6]) for r in rows],
-            math.hypot(*dist.tolist()),
-            scene.robot.rod.length,
+            [min(p.s, L) for p in pls],
+            [math.hypot(*v[k + 6 * j : k + 6 * j + 3]) for j in range(len(pls))],
+            [math.hypot(*v[k + 6 * j + 3 : k + 6 * j + 6]) for j in range(len(pls))],
+            math.hypot(*v[-3:]),
+            L,
         )
         v = PR.screen(levers, _robot_constants(scene.robot)["bounds"])
         object.__setattr__(scene, "_plausibility_screen", v)

@@ -143,6 +143,34 @@ done:
     return result;
 }
 
+/* Whether the point loads and the distributed force of a value vector (as for
+ * set_value_vector) keep to the x-z plane: tr_is_planar on them alone (the tendons and
+ * the partial distributed loads are the structure's). */
+static PyObject *problem_values_planar(ProblemObject *self, PyObject *arg)
+{
+    const tr_model *m = self->m;
+    PyArrayObject *v = NULL;
+    double *rows;
+    const double *p;
+    int i, c, planar;
+    if (glue_problem_check(self) < 0) return NULL;
+    if (values_of(arg, "value vector", m->nt + 6 * (npy_intp)m->nl + 3, &v) < 0) return NULL;
+    p = (const double *)PyArray_DATA(v) + m->nt;
+    rows = PyMem_Malloc(sizeof(double) * TR_LD_NCOL * (size_t)(m->nl > 0 ? m->nl : 1));
+    if (!rows) {
+        Py_DECREF(v);
+        return PyErr_NoMemory();
+    }
+    for (i = 0; i < m->nl; i++) {
+        rows[TR_LD_NCOL * i + TR_LD_S] = 0.0;
+        for (c = 0; c < 6; c++) rows[TR_LD_NCOL * i + TR_LD_F + c] = p[6 * i + c];
+    }
+    planar = tr_is_planar(NULL, 0, rows, m->nl, p + 6 * m->nl);
+    PyMem_Free(rows);
+    Py_DECREF(v);
+    return PyBool_FromLong(planar);
+}
+
 static PyObject *problem_set_target(ProblemObject *self, PyObject *args)
 {
     int kind, i, n, status, idx[3];
@@ -182,12 +210,44 @@ fail:
     return NULL;
 }
 
-static PyObject *problem_solve(ProblemObject *self, PyObject *args, PyObject *kwds)
+/* The keyword-only arguments of solve, in the order of SOLVE_KW. */
+enum { KW_GUESS, KW_JACOBIAN, KW_VERIFIED, KW_WARM, KW_CANCEL, KW_RECORD, KW_CARRY, KW_N };
+static const char *const SOLVE_KW[KW_N] = {"guess",  "jacobian", "verified", "warm",
+                                           "cancel", "record",   "carry"};
+
+/* The vectorcall arguments of solve into val[KW_N] (borrowed; unset ones keep their
+ * value): keywords only, each at most once, by name; the flags through truth. */
+static int solve_keywords(PyObject *const *args, Py_ssize_t nargs, PyObject *kwnames,
+                          PyObject **val, int *warm, int *record)
 {
-    static char *kwlist[] = {"guess",  "jacobian", "verified", "warm",
-                             "cancel", "record",   "carry",    NULL};
-    PyObject *og = Py_None, *oj = Py_None, *ov = Py_None, *cancel = Py_None, *result = NULL;
-    PyObject *oc = Py_None;
+    Py_ssize_t nkw = kwnames ? PyTuple_GET_SIZE(kwnames) : 0;
+    int seen = 0;
+    if (nargs) {
+        PyErr_Format(PyExc_TypeError, "solve() takes no positional arguments (%zd given)", nargs);
+        return -1;
+    }
+    for (Py_ssize_t i = 0; i < nkw; i++) {
+        PyObject *name = PyTuple_GET_ITEM(kwnames, i);
+        int k = 0;
+        while (k < KW_N && PyUnicode_CompareWithASCIIString(name, SOLVE_KW[k]) != 0) k++;
+        if (k == KW_N || (seen & (1 << k))) {
+            PyErr_Format(PyExc_TypeError, "solve() got %s keyword argument '%U'",
+                         k == KW_N ? "an unexpected" : "multiple values for", name);
+            return -1;
+        }
+        seen |= 1 << k;
+        val[k] = args[i];
+    }
+    if (seen & (1 << KW_WARM) && (*warm = PyObject_IsTrue(val[KW_WARM])) < 0) return -1;
+    if (seen & (1 << KW_RECORD) && (*record = PyObject_IsTrue(val[KW_RECORD])) < 0) return -1;
+    return 0;
+}
+
+static PyObject *problem_solve(ProblemObject *self, PyObject *const *args, Py_ssize_t nargs,
+                               PyObject *kwnames)
+{
+    PyObject *val[KW_N] = {Py_None, Py_None, Py_None, Py_None, Py_None, Py_None, Py_None};
+    PyObject *og, *oj, *ov, *cancel, *oc, *result = NULL;
     PyArrayObject *xv = NULL, *vv = NULL;
     glue_args a;
     glue_poll poll;
@@ -197,9 +257,9 @@ static PyObject *problem_solve(ProblemObject *self, PyObject *args, PyObject *kw
     int warm = 1, record = 1, status;
     memset(&a, 0, sizeof a);
     if (glue_problem_check(self) < 0) return NULL;
-    if (!PyArg_ParseTupleAndKeywords(args, kwds, "|$OOOpOpO", kwlist, &og, &oj, &ov, &warm, &cancel,
-                                     &record, &oc))
-        return NULL;
+    if (solve_keywords(args, nargs, kwnames, val, &warm, &record) < 0) return NULL;
+    og = val[KW_GUESS], oj = val[KW_JACOBIAN], ov = val[KW_VERIFIED];
+    cancel = val[KW_CANCEL], oc = val[KW_CARRY];
     a.nt = self->m->nt;
     if (glue_poll_init(&poll, cancel) < 0 || glue_warm_start(&a, og, oj) < 0) goto done;
     if (ov != Py_None) {
@@ -529,13 +589,16 @@ static PyMethodDef problem_methods[] = {
     {"set_value_vector", (PyCFunction)problem_set_value_vector, METH_O,
      "set_value_vector(v): v = [values (nt), point loads (nl x 6), dist (3)] in one float64\n"
      "vector (the per-call values of set_values without the pretensions)."},
+    {"values_planar", (PyCFunction)problem_values_planar, METH_O,
+     "values_planar(v) -> bool: whether the point loads and the distributed force of the value\n"
+     "vector v (as for set_value_vector) keep to the x-z plane (tr_is_planar on them alone)."},
     {"set_target", (PyCFunction)problem_set_target, METH_VARARGS,
      "set_target(kind, values, tendons): the residual of a tip target (kind 1 angle [rad]\n"
      "(planar), 2 direction (3), 3 position (3) [m] world; 0 none) replaces the length\n"
      "constraints of the displacement-controlled tendons `tendons`, one per component\n"
      "(tr_data_set_target); a solve then reports the displacements that reach it.\n"
      "ValueError naming what is wrong."},
-    {"solve", (PyCFunction)(void (*)(void))problem_solve, METH_VARARGS | METH_KEYWORDS,
+    {"solve", (PyCFunction)(void (*)(void))problem_solve, METH_FASTCALL | METH_KEYWORDS,
      "solve(*, guess=None, jacobian=None, verified=None, warm=True, cancel=None, record=True,\n"
      "carry=None)\n"
      "-> dict: from the guess (a base_state) if given, else warm from the last successful solve\n"

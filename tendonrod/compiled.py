@@ -16,6 +16,7 @@ import numpy as np
 
 from . import _core
 from .backbone import pack_sections
+from .loads import DistributedLoad, PointLoad
 from .model import Scene
 from .mounting import base_pose, vectors_in
 from .options import Options
@@ -28,6 +29,7 @@ __all__ = ["pack_scene", "is_planar", "structure_difference", "compliance_point"
 _ROD = {name: i for i, name in enumerate(_core.ROD_COLUMNS)}
 _TD = {name: i for i, name in enumerate(_core.TENDON_COLUMNS)}
 _LD = {name: i for i, name in enumerate(_core.LOAD_COLUMNS)}
+assert _core.LOAD_COLUMNS == ("s", "Fx", "Fy", "Fz", "Mx", "My", "Mz")  # (pack_scene's rows)
 
 
 def pack_scene(scene: Scene):
@@ -44,17 +46,14 @@ def pack_scene(scene: Scene):
     rod, template = _robot_rows(robot)
     tendons = template.copy()  # the robot's columns; the scene's control and value below
     assert scene.displacement is not None and scene.tension is not None  # (Scene fills them)
-    c_control, c_value = _TD["control"], _TD["value"]
-    for i, disp in enumerate(scene.displacement):
-        row = tendons[i]
-        row[c_control] = 0.0 if disp is not None else 1.0
-        row[c_value] = disp if disp is not None else scene.tension[i]
-    pls = scene.point_loads
-    loads = np.empty((len(pls), len(_core.LOAD_COLUMNS)))
-    for k, p in enumerate(pls):
-        loads[k, _LD["s"]] = min(p.s, r.length)
-        loads[k, _LD["Fx"] : _LD["Fz"] + 1] = p.force
-        loads[k, _LD["Mx"] : _LD["Mz"] + 1] = p.moment
+    disp = scene.displacement
+    tendons[:, _TD["control"]] = [0.0 if d is not None else 1.0 for d in disp]
+    tendons[:, _TD["value"]] = [d if d is not None else t for d, t in zip(disp, scene.tension)]
+    L = r.length
+    # one row per point load, in the core's column order [s, F (3), M (3)]
+    loads = np.array(
+        [(min(p.s, L), *p.force, *p.moment) for p in scene.point_loads], dtype=float
+    ).reshape(-1, len(_core.LOAD_COLUMNS))
     dist = scene.distributed_force
     pose = base_pose(robot)
     if pose is not None:
@@ -206,6 +205,20 @@ def is_planar(scene: Scene) -> bool:
     return key
 
 
+_NO_LOADS = np.empty((0, len(_core.LOAD_COLUMNS)))
+
+
+def fixed_planar(scene: Scene) -> bool:
+    """:func:`is_planar` of ``scene`` with neither point loads nor a distributed force: the
+    verdict of what its structure fixes (the tendons, the partial distributed loads, the
+    sections and the routes)."""
+    _, tendons, _, _ = pack_scene(scene)
+    secs = pack_sections(scene.robot.rod)
+    routes = pack_routes(scene.robot)
+    dl = pack_dloads(scene)
+    return bool(_core.is_planar(tendons, _NO_LOADS, np.zeros(3), dl, secs, routes))
+
+
 def _robot_structure(robot) -> tuple:
     """(field path, value) pairs of the robot that fix a compiled structure (cached on the
     frozen robot, which scenes of a sweep share)."""
@@ -261,6 +274,38 @@ def _first_difference(ka: tuple, kb: tuple) -> str | None:
     return f"{ka[len(kb)][0] if len(ka) > len(kb) else kb[len(ka)][0]} differs"
 
 
+def same_fields(a: Scene, b: Scene) -> bool:
+    """True when scene ``b`` has the structure-defining fields of ``a`` (one robot, the
+    same gravity, sliding and control kinds, point loads and point masses at the same
+    arc lengths, equal partial distributed loads and point masses), so that
+    ``_structure(b) == _structure(a)`` exactly when both get the same planar formulation;
+    False may still be one structure (the caller then compares in full).  Only values
+    differ: actuation, point-load forces and moments, whole-rod distributed forces."""
+    if a.robot is not b.robot or a.gravity != b.gravity or a.sliding != b.sliding:
+        return False
+    da, db = a.displacement, b.displacement
+    assert da is not None and db is not None  # (Scene fills them)
+    if [d is None for d in da] != [d is None for d in db]:
+        return False
+    la, lb = a.loads, b.loads
+    if len(la) != len(lb):
+        return False
+    for x, y in zip(la, lb):
+        if x is y:
+            continue
+        kind = type(x)
+        if kind is not type(y):
+            return False
+        if kind is PointLoad:
+            if x.s != y.s:
+                return False
+        elif kind is DistributedLoad and a._whole(x) and b._whole(y):
+            continue
+        elif x != y:
+            return False
+    return True
+
+
 def structure_difference(a: Scene, b: Scene, spatial: bool = False) -> str | None:
     """None if scenes ``a`` and ``b`` share one structure, else the first field that
     differs, with both values.  ``spatial``: both are solved with the spatial
@@ -283,8 +328,18 @@ def value_vector(scene: Scene) -> np.ndarray:
     the frozen scene): what a compiled Problem takes per solve."""
     v = scene.__dict__.get("_value_vector")
     if v is None:
-        _, tendons, loads, dist = pack_scene(scene)
-        v = np.concatenate([tendons[:, _TD["value"]], loads[:, 1:7].ravel(), dist])
+        if base_pose(scene.robot) is None:  # world frame: from the fields, as pack_scene
+            disp = scene.displacement
+            assert disp is not None and scene.tension is not None  # (Scene fills them)
+            vals = [d if d is not None else t for d, t in zip(disp, scene.tension)]
+            for p in scene.point_loads:
+                vals += p.force
+                vals += p.moment
+            vals += scene.distributed_force.tolist()
+            v = np.array(vals, dtype=float)
+        else:
+            _, tendons, loads, dist = pack_scene(scene)
+            v = np.concatenate([tendons[:, _TD["value"]], loads[:, 1:7].ravel(), dist])
         v.setflags(write=False)
         object.__setattr__(scene, "_value_vector", v)
     return v

@@ -30,7 +30,10 @@ from .compiled import (
     _compile,
     _structure,
     compliance_point,
+    fixed_planar,
+    is_planar,
     pack_scene,
+    same_fields,
     structure_difference,
     value_vector,
 )
@@ -115,11 +118,14 @@ class Problem:
         """Make ``scene`` (same structure) the one whose values are set in C."""
         if not isinstance(scene, Scene):
             raise ValueError(f"scene must be a tendonrod.Scene, got {scene!r}")
+        key = scene.__dict__.get("_problem_structure")
+        if key is None and self._values_only(scene):
+            return
         # the same robot and the same scene structure (both cached on the frozen objects):
         # nothing to compare field by field
-        same = scene.robot is self._scene.robot and (
-            scene.__dict__.get("_problem_structure") or _structure(scene)
-        ) == (self.__dict__.get("_structure") or self._cache_structure())
+        same = scene.robot is self._scene.robot and (key or _structure(scene)) == (
+            self.__dict__.get("_structure") or self._cache_structure()
+        )
         diff = (
             None if same else structure_difference(self._scene, scene, self._options.force_spatial)
         )
@@ -136,6 +142,31 @@ class Problem:
                 self._c.set_values(pretension=new)
         self._c.set_value_vector(value_vector(scene))
         self._current = scene
+
+    def _values_only(self, scene: Scene) -> bool:
+        """Set ``scene`` when only values differ from the scene set last (whose structure
+        is this one's): the same robot and structure-defining fields, and the same planar
+        formulation, which follows the loads' values (the rest of the core's rule is the
+        structure's).  False: compare in full."""
+        cur = self._current
+        if not same_fields(cur, scene):
+            return False
+        v = value_vector(scene)
+        if not self._options.force_spatial:
+            fixed = self.__dict__.get("_fixed_planar")
+            if fixed is None:
+                fixed = self.__dict__["_fixed_planar"] = fixed_planar(cur)
+            planar = fixed and self._c.values_planar(v)
+            if planar != is_planar(cur):
+                return False
+            # the core's rule (the conjunction of the two), cached as is_planar does; the
+            # scene's structure is then this problem's, cached as _structure does
+            object.__setattr__(scene, "_planar", planar)
+            key = self.__dict__.get("_structure") or self._cache_structure()
+            object.__setattr__(scene, "_problem_structure", key)
+        self._c.set_value_vector(v)
+        self._current = scene
+        return True
 
     def _cache_structure(self) -> tuple:
         key = self.__dict__["_structure"] = _structure(self._scene)
