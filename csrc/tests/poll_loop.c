@@ -5,8 +5,9 @@
  *      counting: that many solves of this scene take far longer than the interval), must
  *      end TR_EINTERRUPTED, the hook called exactly once;
  *   2. a batch of BATCH_N warm points with fixed steps (each a lean solve) must return
- *      TR_EINTERRUPTED with the hook called once, its first point solved and its last
- *      point marked interrupted.
+ *      TR_EINTERRUPTED with the hook called once, every point before the interrupted one
+ *      solved and every point from it on marked interrupted (which point that is depends
+ *      on the clock: on a loaded machine it may be the first).
  * Prints "ok" and exits 0.  Build from the repository root:
  *   cc -std=c99 -Icsrc csrc/tests/poll_loop.c csrc/tr_*.c $(pkg-config --cflags --libs gsl) \
  *      -lm -o /tmp/poll_loop */
@@ -39,7 +40,7 @@ int main(void)
     tr_options o = tr_default_options();
     tr_model *m = NULL;
     tr_data *d;
-    int calls = 0, st = TR_OK, i, n;
+    int calls = 0, st = TR_OK, i, n, k;
     double *value, *buf;
     int *ibuf;
     tr_batch_in in = {0};
@@ -86,10 +87,14 @@ int main(void)
     out.status = ibuf, out.nit = ibuf + BATCH_N, out.nfev = ibuf + BATCH_N;
     calls = 0;
     st = tr_batch_solve(m, &o, &in, &out, msg, sizeof msg);
-    if (st != TR_EINTERRUPTED || calls != 1 || !TR_SUCCEEDED(out.status[0]) ||
-        out.status[BATCH_N - 1] != TR_EINTERRUPTED) {
-        fprintf(stderr, "batch: status %d, hook called %d times, first point %d, last %d\n", st,
-                calls, out.status[0], out.status[BATCH_N - 1]);
+    for (k = 0; k < BATCH_N && out.status[k] != TR_EINTERRUPTED; k++)
+        if (!TR_SUCCEEDED(out.status[k])) break;
+    for (i = k; i < BATCH_N && out.status[i] == TR_EINTERRUPTED; i++) {}
+    if (st != TR_EINTERRUPTED || calls != 1 || k == BATCH_N || i != BATCH_N) {
+        fprintf(stderr,
+                "batch: status %d, hook called %d times, points solved before the first "
+                "interrupted %d, status there %d, first point after it not interrupted %d\n",
+                st, calls, k, k < BATCH_N ? out.status[k] : 0, i);
         return 1;
     }
     free(value), free(buf), free(ibuf);
