@@ -293,13 +293,17 @@ def same_fields(a: Scene, b: Scene) -> bool:
     for x, y in zip(la, lb):
         if x is y:
             continue
-        kind = type(x)
-        if kind is not type(y):
+        if type(x) is not type(y):
             return False
-        if kind is PointLoad:
+        if isinstance(x, PointLoad) and isinstance(y, PointLoad):
             if x.s != y.s:
                 return False
-        elif kind is DistributedLoad and a._whole(x) and b._whole(y):
+        elif (
+            isinstance(x, DistributedLoad)
+            and isinstance(y, DistributedLoad)
+            and a._whole(x)
+            and b._whole(y)
+        ):
             continue
         elif x != y:
             return False
