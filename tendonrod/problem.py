@@ -25,6 +25,7 @@ from ._deprecation import keyword_only
 from ._interrupt import current_token
 from ._plausible import Checker
 from ._secant import load_steps, secant_compliance
+from ._warmstart import _guess_vector
 from .compiled import (
     _TD,
     _compile,
@@ -42,7 +43,7 @@ from .model import PointLoad, Scene
 from .mounting import base_pose, pairs_out
 from .options import Options, _check_options, _replace
 from .results import ConvergenceError
-from .solution import Solution, _guess_vector, _in_rod_units, _report
+from .solution import Solution, _in_rod_units, _report
 
 __all__ = ["Problem", "compliance"]
 
